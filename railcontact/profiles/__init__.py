@@ -1,0 +1,14 @@
+"""Profiles layer: wheel and rail cross-sections in SI units.
+
+See :class:`~railcontact.profiles.profile.Profile` for the conventions.
+"""
+
+from .io import read_profile, write_profile
+from .library import builtin_names, get_profile
+from .measures import wheel_measures
+from .profile import Profile
+from .rails import rail_profile
+from .s1002 import s1002
+
+__all__ = ["Profile", "read_profile", "write_profile", "get_profile", "builtin_names",
+           "rail_profile", "s1002", "wheel_measures"]

@@ -1,0 +1,64 @@
+"""Built-in profiles by name, and resolution of a name-or-path to a profile."""
+
+from __future__ import annotations
+
+import math
+from pathlib import Path
+
+from ..errors import ProfileError
+from .io import read_profile
+from .profile import Profile
+from .rails import ALIASES, HEADS, rail_profile
+from .s1002 import s1002
+
+WHEEL_PROFILES = ("S1002",)
+RAIL_PROFILES = tuple(sorted(HEADS)) + tuple(sorted(ALIASES))
+#: default rail inclination of built-in rails [rad]
+DEFAULT_INCLINATION = math.atan(1 / 40)
+
+
+def builtin_names() -> dict:
+    """Names of the built-in profiles, by body."""
+    return {"wheel": WHEEL_PROFILES, "rail": RAIL_PROFILES}
+
+
+def get_profile(spec, kind: str, inclination: float | None = None,
+                base_dir: Path | None = None, **read_kw) -> Profile:
+    """Resolve a built-in name or a file path to a :class:`Profile`.
+
+    Parameters
+    ----------
+    spec : str, Path or Profile
+        Built-in name (``"S1002"``, ``"60E1"``, ``"54E1"``, ``"60E2"``, ``"UIC60"``)
+        or a profile file.
+    kind : {"wheel", "rail"}
+    inclination : float, optional
+        Rail inclination [rad].  For built-in rails the default is 1:40; for rail
+        files it is 0, since a file usually holds the rail as mounted (canted).
+    base_dir : Path, optional
+        Directory relative to which file paths are resolved (the case file's).
+    """
+    if isinstance(spec, Profile):
+        prof = spec
+    else:
+        name = str(spec)
+        upper = name.upper()
+        if kind == "wheel" and upper in WHEEL_PROFILES:
+            return s1002()
+        if kind == "rail" and upper in RAIL_PROFILES:
+            return rail_profile(upper, DEFAULT_INCLINATION if inclination is None
+                                else inclination)
+        path = Path(name)
+        if base_dir is not None and not path.is_absolute():
+            path = Path(base_dir) / path
+        if not path.is_file():
+            builtins = WHEEL_PROFILES if kind == "wheel" else RAIL_PROFILES
+            raise ProfileError(f"{kind} profile {name!r}: neither a built-in name "
+                               f"({', '.join(builtins)}) nor an existing file")
+        prof = read_profile(path, kind=kind, **read_kw)
+    if prof.kind != kind:
+        raise ProfileError(f"profile {prof.name!r} is a {prof.kind} profile; expected a {kind} "
+                           "profile")
+    if kind == "rail" and inclination:
+        prof = prof.rotated(inclination).with_origin_at_top()
+    return prof

@@ -1,0 +1,233 @@
+"""The :class:`Profile` type: a wheel or rail cross-section in SI units.
+
+Conventions (see ``docs/conventions.md``)
+-----------------------------------------
+* ``y`` [m] is the lateral coordinate, increasing towards the *field side* of a
+  right wheel / right rail.  A left wheel or rail uses the mirrored profile.
+* ``z`` [m] points *downwards* for both bodies: into the rail head for a rail, and
+  away from the axle for a wheel (so a wheel's rolling radius is ``r0 + z``).
+* Wheel origin: the tape circle (for S1002, 70 mm from the flange back).
+  Rail origin: the highest point of the rail head as mounted (after inclination).
+
+A profile is evaluated through a cubic spline ``z(y)``: :meth:`Profile.z`,
+:meth:`Profile.slope` and :meth:`Profile.curvature`.  Interpolating splines are
+used by default; :meth:`Profile.smoothed` fits a penalised smoothing spline whose
+cut-off wavelength is a physical length.
+"""
+
+from __future__ import annotations
+
+import logging
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy import interpolate
+
+from ..errors import ProfileError
+
+log = logging.getLogger(__name__)
+
+#: plausible extent of a wheel or rail profile [m]
+MIN_WIDTH, MAX_WIDTH = 0.02, 0.4
+MAX_HEIGHT = 0.2
+
+
+def _trim_foldback(y: np.ndarray, z: np.ndarray, name: str):
+    """Remove folded-back ends so that y is strictly increasing.
+
+    A measured wheel profile may continue past the vertical tangent of the flange
+    back, and a rail profile past the vertical tangent of the head flank; there y
+    turns back.  Points at either end beyond the turning point are dropped.  A
+    reversal anywhere else means the data are not a function z(y): error.
+    """
+    dy = np.diff(y)
+    if np.all(dy > 0):
+        return y, z
+    pos = dy > 0
+    # longest run of increasing y
+    best_len, best_start, start = 0, 0, 0
+    for i in range(len(pos) + 1):  # runs over points, not grid elements: O(n) once
+        if i == len(pos) or not pos[i]:
+            if i - start > best_len:
+                best_len, best_start = i - start, start
+            start = i + 1
+    lo, hi = best_start, best_start + best_len + 1
+    removed_mid = False
+    # everything outside [lo, hi) must be a fold-back at an end: check its extent
+    for seg in (slice(0, lo), slice(hi, len(y))):
+        ys = y[seg]
+        if ys.size and ((ys.min() > y[lo]) and (ys.max() < y[hi - 1])):
+            removed_mid = True
+    frac = (hi - lo) / len(y)
+    if removed_mid or frac < 0.8:
+        i_bad = int(np.argmin(dy)) if frac >= 0.8 else lo
+        raise ProfileError(
+            f"profile {name!r} is not a function of y: y decreases at point {i_bad + 1} "
+            f"(y = {y[i_bad] * 1e3:.3f} mm) inside the profile; expected y increasing "
+            "except for a folded-back flange back or rail flank at the ends")
+    log.info("profile %s: dropped %d folded-back end points", name, len(y) - (hi - lo))
+    return y[lo:hi], z[lo:hi]
+
+
+@dataclass(eq=False)
+class Profile:
+    """Wheel or rail profile z(y) in SI units.
+
+    Parameters
+    ----------
+    y, z : array_like
+        Lateral and vertical (downward) coordinates [m].  Points are sorted so that
+        y increases; duplicate points are removed; folded-back ends are trimmed.
+    kind : {"wheel", "rail"}
+        Which body the profile belongs to.
+    name : str
+        Label used in messages and results.
+    smoothing : float, optional
+        Cut-off wavelength [m] of a smoothing spline; 0 (default) interpolates.
+    """
+
+    y: np.ndarray
+    z: np.ndarray
+    kind: str = "rail"
+    name: str = "profile"
+    smoothing: float = 0.0
+    _spline: object = field(init=False, repr=False, default=None)
+
+    def __post_init__(self) -> None:
+        if self.kind not in ("wheel", "rail"):
+            raise ProfileError(f"profile kind {self.kind!r}: expected 'wheel' or 'rail'")
+        y = np.asarray(self.y, dtype=float).ravel()
+        z = np.asarray(self.z, dtype=float).ravel()
+        if y.shape != z.shape:
+            raise ProfileError(f"profile {self.name!r}: y and z differ in length "
+                               f"({y.size} and {z.size})")
+        if y.size < 8:
+            raise ProfileError(f"profile {self.name!r}: {y.size} points; expected at least 8")
+        if not (np.all(np.isfinite(y)) and np.all(np.isfinite(z))):
+            bad = int(np.flatnonzero(~(np.isfinite(y) & np.isfinite(z)))[0])
+            raise ProfileError(f"profile {self.name!r}: point {bad + 1} is NaN or infinite; "
+                               "expected finite coordinates")
+        if y[-1] < y[0]:
+            y, z = y[::-1], z[::-1]
+        keep = np.concatenate(([True], np.hypot(np.diff(y), np.diff(z)) > 1e-9))
+        y, z = y[keep], z[keep]
+        y, z = _trim_foldback(y, z, self.name)
+        width, height = y[-1] - y[0], np.ptp(z)
+        if not (MIN_WIDTH <= width <= MAX_WIDTH) or height > MAX_HEIGHT:
+            raise ProfileError(
+                f"profile {self.name!r}: width {width:.4g} m and height {height:.4g} m are "
+                f"implausible; expected a width of {MIN_WIDTH * 1e3:.0f}-{MAX_WIDTH * 1e3:.0f} mm "
+                "(are the units right? files in mm must be read with units='mm')")
+        if self.smoothing < 0 or not np.isfinite(self.smoothing):
+            raise ProfileError(f"profile smoothing {self.smoothing!r}: expected a length >= 0 m")
+        self.y, self.z = y, z
+        self._spline = self._fit()
+
+    # ------------------------------------------------------------------ spline
+    def _fit(self):
+        y, z = self.y, self.z
+        if self.smoothing > 0:
+            # penalised cubic smoothing spline; lam ~ (L / 2 pi)^4 puts the half-power
+            # cut-off near wavelength L for unit point weights per unit length
+            h = np.median(np.diff(y))
+            lam = (self.smoothing / (2 * np.pi)) ** 4 / h
+            return interpolate.make_smoothing_spline(y, z, lam=lam)
+        return interpolate.make_interp_spline(y, z, k=3)
+
+    @property
+    def y_min(self) -> float:
+        return float(self.y[0])
+
+    @property
+    def y_max(self) -> float:
+        return float(self.y[-1])
+
+    def _eval(self, y, nu: int):
+        y = np.asarray(y, dtype=float)
+        out = self._spline(y, nu)
+        return np.where((y >= self.y[0]) & (y <= self.y[-1]), out, np.nan)
+
+    def z_at(self, y):
+        """Height z(y) [m]; NaN outside the profile."""
+        return self._eval(y, 0)
+
+    def slope(self, y):
+        """Slope dz/dy [-]; NaN outside the profile."""
+        return self._eval(y, 1)
+
+    def second_derivative(self, y):
+        """d2z/dy2 [1/m]; NaN outside the profile."""
+        return self._eval(y, 2)
+
+    def curvature(self, y):
+        """Signed curvature z'' / (1 + z'^2)^(3/2) [1/m] (positive: centre below, z down)."""
+        d1, d2 = self.slope(y), self.second_derivative(y)
+        return d2 / (1.0 + d1 * d1) ** 1.5
+
+    # ---------------------------------------------------------- transformations
+    def _new(self, y, z, name=None, smoothing=None) -> "Profile":
+        return Profile(y, z, kind=self.kind, name=name or self.name,
+                       smoothing=self.smoothing if smoothing is None else smoothing)
+
+    def smoothed(self, length: float) -> "Profile":
+        """Return the profile smoothed with cut-off wavelength ``length`` [m]."""
+        if not (length > 0):
+            raise ProfileError(f"smoothing length {length!r}: expected a length > 0 m")
+        return self._new(self.y, self.z, smoothing=length)
+
+    def resampled(self, step: float | None = None, n: int | None = None) -> "Profile":
+        """Return the profile resampled at uniform arc-length spacing.
+
+        Give either ``step`` [m] or the number of points ``n``.
+        """
+        yf = np.linspace(self.y[0], self.y[-1], 20 * self.y.size)
+        zf = self.z_at(yf)
+        s = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(yf), np.diff(zf)))))
+        if n is None:
+            if step is None or not step > 0:
+                raise ProfileError(f"resampling step {step!r}: expected a length > 0 m")
+            n = max(int(round(s[-1] / step)) + 1, 8)
+        si = np.linspace(0.0, s[-1], n)
+        return self._new(np.interp(si, s, yf), np.interp(si, s, zf), smoothing=0.0)
+
+    def mirrored(self) -> "Profile":
+        """Profile mirrored about y = 0 (right <-> left body)."""
+        return self._new(-self.y[::-1], self.z[::-1])
+
+    def shifted(self, dy: float = 0.0, dz: float = 0.0) -> "Profile":
+        """Profile with its origin moved: returns points (y + dy, z + dz)."""
+        return self._new(self.y + dy, self.z + dz)
+
+    def rotated(self, angle: float) -> "Profile":
+        """Rotate about the origin by ``angle`` [rad] about +x (x along the track).
+
+        With y to the field side and z down, a positive angle raises the field side:
+        this is a rail inclined (canted) towards the track centre by ``angle``.
+        """
+        c, s = np.cos(angle), np.sin(angle)
+        y = c * self.y + s * self.z
+        z = -s * self.y + c * self.z
+        return self._new(y, z)
+
+    def with_origin_at_top(self) -> "Profile":
+        """Shift so that the highest point (minimum z) is the origin."""
+        yy = np.linspace(self.y[0], self.y[-1], 40 * self.y.size)
+        zz = self.z_at(yy)
+        i = int(np.nanargmin(zz))
+        # refine with the zero of the slope around the sampled minimum
+        lo, hi = yy[max(i - 1, 0)], yy[min(i + 1, yy.size - 1)]
+        from scipy.optimize import brentq
+        y0 = yy[i]
+        if self.slope(lo) < 0 < self.slope(hi):
+            y0 = brentq(lambda t: float(self.slope(t)), lo, hi, xtol=1e-12)
+        return self.shifted(-y0, -float(self.z_at(y0)))
+
+    def arc_length(self, y):
+        """Curvilinear coordinate along the profile from its first point [m]."""
+        yf = np.linspace(self.y[0], self.y[-1], 20 * self.y.size)
+        s = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(yf), np.diff(self.z_at(yf))))))
+        return np.interp(y, yf, s)
+
+    def __repr__(self) -> str:
+        return (f"Profile({self.name!r}, kind={self.kind!r}, {self.y.size} points, "
+                f"y = [{self.y[0] * 1e3:.2f}, {self.y[-1] * 1e3:.2f}] mm)")
