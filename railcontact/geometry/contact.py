@@ -1,0 +1,105 @@
+"""Per-patch contact geometry: the :class:`ContactGeometry` result type.
+
+A patch is described in its contact-local frame: origin at the contact reference
+point on the undeformed rail surface, x along the track (rolling direction), y
+lateral in the tangent plane and n the normal pointing from the wheel into the
+rail.  In track coordinates (CONTACT's planar contact approach)
+
+    x_c = (1, 0, 0),   y_c = (0, cos d, sin d),   n = (0, -sin d, cos d),
+
+with d the contact angle (negative on the gauge side of the right rail's tread,
+positive on the left rail).  ``gap(x, y)`` is the undeformed distance along n
+between the surfaces at the wheelset position of the search: positive is a gap,
+negative an interpenetration.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+
+@dataclass
+class ContactGeometry:
+    """Geometry of one contact patch (SI units).
+
+    Attributes
+    ----------
+    side : str or None
+        ``"left"``/``"right"`` for wheel-rail contact, None for a bodies case.
+    curvatures : (A, B)
+        Relative principal curvatures [1/m] of the gap at the point of deepest
+        interpenetration, h ~ A x^2 + B y^2.
+    contact_angle : float
+        d [rad], rotation about +x from track vertical to the contact normal.
+    rolling_radius : float
+        Wheel radius [m] at the contact point.
+    y_rail, y_wheel : float
+        Lateral position [m] of the contact reference point in rail and wheel
+        profile coordinates (positive to the field side on both sides).
+    z_rail, z_wheel : float
+        Vertical profile coordinates [m] of the reference point.
+    position : ndarray (3,)
+        Reference point in track coordinates [m].
+    approach : float
+        Geometric interpenetration [m] along n at the search position (0 for rigid).
+    weight : float
+        Interpenetration weight of the patch, used to combine patches.
+    creepage : (xi, eta, phi) or None
+        Kinematic creepages [-, -, 1/m] from the wheelset motion.
+    velocity : float
+        Rolling velocity V [m/s] used for the creepages.
+    gap_function : callable (x, y) -> h, optional
+        Undeformed distance [m] on the contact-local tangent plane.
+    """
+
+    curvatures: tuple
+    side: str | None = None
+    contact_angle: float = 0.0
+    rolling_radius: float = math.nan
+    y_rail: float = math.nan
+    y_wheel: float = math.nan
+    z_rail: float = math.nan
+    z_wheel: float = math.nan
+    position: np.ndarray = field(default_factory=lambda: np.full(3, np.nan))
+    approach: float = 0.0
+    weight: float = 1.0
+    creepage: tuple | None = None
+    velocity: float = math.nan
+    extent: tuple | None = None     # (x_min, x_max, y_min, y_max) of the interpenetration [m]
+    gap_function: Callable | None = field(default=None, repr=False)
+
+    @property
+    def A(self) -> float:
+        return self.curvatures[0]
+
+    @property
+    def B(self) -> float:
+        return self.curvatures[1]
+
+    def gap(self, x, y):
+        """Undeformed distance h(x, y) [m]; quadratic A x^2 + B y^2 if no profiles."""
+        x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
+        if self.gap_function is None:
+            return self.A * x * x + self.B * y * y - self.approach
+        return self.gap_function(x, y)
+
+    def to_dict(self) -> dict:
+        """Geometry keys of the JSON patch contract (SI units)."""
+        d = {"side": self.side, "contact_angle": float(self.contact_angle),
+             "rolling_radius": _num(self.rolling_radius), "y_rail": _num(self.y_rail),
+             "y_wheel": _num(self.y_wheel), "curvatures": [float(c) for c in self.curvatures],
+             "position": [_num(v) for v in self.position], "approach": float(self.approach)}
+        if self.creepage is not None:
+            d["creepage"] = {"longitudinal": float(self.creepage[0]),
+                             "lateral": float(self.creepage[1]),
+                             "spin": float(self.creepage[2])}
+        return d
+
+
+def _num(v):
+    v = float(v)
+    return None if math.isnan(v) else v

@@ -1,0 +1,405 @@
+"""Contact search: wheelset position, contact patches and their geometry.
+
+Algorithm
+---------
+1. For a wheelset pose (lateral shift, yaw given; vertical position and roll
+   unknown) the contact locus of each side gives the vertical gap g(y_w) along the
+   wheel profile (:mod:`railcontact.geometry.locus`).
+2. Vertical position and roll are solved so that the deepest interpenetration of
+   each side equals its target: zero (rigid contact, both wheels touch) or the
+   elastic approach that carries the given vertical wheel load.  The approach is
+   found with Hertz's theory applied to every local minimum of the gap
+   (multi-Hertzian), so that two-point contact shares the load between tread and
+   flange.
+3. Each connected interpenetration region of the locus is a contact patch (regions
+   closer than ``combine_distance`` are merged).  Its reference point and contact
+   angle are the interpenetration-weighted means over the region (weight
+   (-g)^1.5, the integral of the interpenetration over x for a parabolic gap in x),
+   the rule CONTACT documents as "weighted centre, weighted angle".
+4. Per patch: lateral positions on wheel and rail, rolling radius, principal
+   relative curvatures (finite differences of the exact gap), kinematic creepages,
+   and the undeformed distance h(x, y) on any grid of the tangent plane, computed
+   from the rail cylinder and the wheel's surface of revolution with yaw and roll.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+from scipy.signal import find_peaks
+
+from ..errors import ContactNotFoundError, InputError
+from ..materials import STEEL, Material
+from ..normal.hertz_theory import hertz_ellipse
+from .contact import ContactGeometry
+from .locus import Locus, compute_locus
+from .track import SIDES, Track, Wheelset, WheelsetPose, rotation
+
+log = logging.getLogger(__name__)
+
+#: local minima of the gap deeper than the global minimum plus this are candidates [m]
+CANDIDATE_DEPTH = 3e-4
+#: finite-difference steps for the curvatures of the gap [m] (rolling, lateral)
+FD_STEP = (2e-3, 2e-4)
+
+
+@dataclass
+class WheelsetContact:
+    """Result of the contact search for one wheelset position.
+
+    Attributes
+    ----------
+    pose : WheelsetPose
+        Lateral shift and yaw as given; vertical position and roll as solved.
+    patches : list of ContactGeometry
+        All contact patches, left side first, each side from field to gauge side.
+    loci : dict
+        The contact locus of each side (side frame).
+    """
+
+    pose: WheelsetPose
+    patches: list
+    loci: dict = field(repr=False, default_factory=dict)
+    loads: dict | None = None
+
+    def side_patches(self, side: str) -> list:
+        return [p for p in self.patches if p.side == side]
+
+    def equivalent_point(self, side: str) -> dict:
+        """Weighted combination of a side's patches (CONTACT's patch-combination rule).
+
+        Returns rolling radius [m], contact angle [rad] and y positions [m].
+        """
+        ps = self.side_patches(side)
+        if not ps:
+            raise ContactNotFoundError(f"no contact on the {side} side")
+        w = np.array([p.weight for p in ps])
+        w = w / w.sum()
+        return {k: float(np.dot(w, [getattr(p, k) for p in ps]))
+                for k in ("rolling_radius", "contact_angle", "y_rail", "y_wheel")}
+
+
+# ----------------------------------------------------------------- helpers
+def _locus_curvatures(loc: Locus, i: int, r0: float):
+    """Relative curvatures (A, B) [1/m] at locus index i, in the normal section."""
+    ang = math.atan(loc.slope[i])
+    rho = r0 + loc.z_wheel[i]
+    A = math.cos(ang) / (2.0 * rho)
+    sel = np.abs(loc.y_rail - loc.y_rail[i]) <= 2.5e-4
+    sel &= np.isfinite(loc.gap)
+    if sel.sum() >= 5:
+        c = np.polyfit(loc.y_rail[sel] - loc.y_rail[i], loc.gap[sel], 2)
+        B = c[0] * math.cos(ang) ** 3
+    else:
+        B = 0.0
+    return A, max(B, 1e-3)
+
+
+def _candidates(loc: Locus):
+    g = np.where(np.isfinite(loc.gap), loc.gap, 1.0)
+    peaks, _ = find_peaks(-g, prominence=1e-7)
+    gmin = loc.gap_min
+    idx = [int(i) for i in peaks if g[i] <= gmin + CANDIDATE_DEPTH]
+    if loc.i_min not in idx:
+        idx.append(loc.i_min)
+    return sorted(idx)
+
+
+def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -> float:
+    """Vertical interpenetration [m] of the deepest point that carries ``load`` [N]."""
+    cands = _candidates(loc)
+    gmin = loc.gap_min
+    data = []
+    for i in cands:
+        A, B = _locus_curvatures(loc, i, r0)
+        data.append((loc.gap[i] - gmin, A, B, math.cos(math.atan(loc.slope[i]))))
+    Es = material.contact_modulus
+
+    def vertical_force(d):
+        total = 0.0
+        for off, A, B, c in data:
+            pen = (d - off) * c
+            if pen > 0:
+                total += hertz_ellipse(A, B, Es, penetration=pen).force * c
+        return total
+
+    hi = 1e-4
+    while vertical_force(hi) < load:
+        hi *= 2.0
+        if hi > 0.05:
+            raise ContactNotFoundError(f"wheel load {load:g} N cannot be carried "
+                                       "(interpenetration above 50 mm)")
+    return brentq(lambda d: vertical_force(d) - load, 0.0, hi, xtol=1e-13)
+
+
+def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-12):
+    """Vertical position and roll such that min gap of each side = -target.
+
+    The vertical gap of both sides decreases by exactly dz when the wheelset moves
+    down by dz, so z follows from the roll angle; the remaining condition
+    gap_left - gap_right = t_right - t_left increases monotonically with roll and
+    is solved by a bracketed root search (robust at jumps of the contact point).
+    """
+    cache = {}
+
+    def gaps(roll):
+        if roll not in cache:
+            lo = {s: compute_locus(wheelset, track, s, y_ws, 0.0, roll, yaw) for s in SIDES}
+            g = {s: lo[s].gap_min for s in SIDES}
+            if not all(np.isfinite(v) for v in g.values()):
+                raise ContactNotFoundError(
+                    f"no wheel-rail overlap found at lateral shift {y_ws * 1e3:.3f} mm: the "
+                    "wheel runs off the rail profile (check gauge, flange-back distance and "
+                    "profiles)")
+            cache[roll] = g
+        return cache[roll]
+
+    def f(roll):
+        g = gaps(roll)
+        return (g["left"] + targets["left"]) - (g["right"] + targets["right"])
+
+    span = 2e-3
+    lo, hi = roll0 - span, roll0 + span
+    while f(lo) > 0:
+        lo -= 4 * span
+        if lo < -0.1:
+            raise ContactNotFoundError(f"wheelset roll not found at lateral shift {y_ws * 1e3:.3f} mm")
+    while f(hi) < 0:
+        hi += 4 * span
+        if hi > 0.1:
+            raise ContactNotFoundError(f"wheelset roll not found at lateral shift {y_ws * 1e3:.3f} mm")
+    roll = brentq(f, lo, hi, xtol=tol, rtol=1e-15, maxiter=200)
+    g = gaps(roll)
+    z = g["right"] + targets["right"]
+    loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw) for s in SIDES}
+    return z, roll, loci
+
+
+def _regions(loc: Locus, rigid: bool, combine_distance: float):
+    """Index ranges [i0, i1] of the interpenetration regions of a locus."""
+    if rigid:
+        return [(loc.i_min, loc.i_min)]
+    inside = loc.gap < 0.0
+    if not inside.any():
+        return [(loc.i_min, loc.i_min)]
+    d = np.diff(inside.astype(int))
+    starts = list(np.flatnonzero(d == 1) + 1)
+    ends = list(np.flatnonzero(d == -1))
+    if inside[0]:
+        starts.insert(0, 0)
+    if inside[-1]:
+        ends.append(inside.size - 1)
+    runs = [[int(a), int(b)] for a, b in zip(starts, ends)]
+    merged = [runs[0]]
+    for a, b in runs[1:]:
+        if abs(loc.y_rail[a] - loc.y_rail[merged[-1][1]]) < combine_distance:
+            merged[-1][1] = b
+        else:
+            merged.append([a, b])
+    return [tuple(r) for r in merged]
+
+
+class _GapEvaluator:
+    """Undeformed distance along the normal in a patch's tangent plane."""
+
+    def __init__(self, wheelset: Wheelset, track: Track, side: str, loc: Locus,
+                 center: np.ndarray, angle_side: float):
+        self.rail = track.rail(side)
+        self.wheel = wheelset.wheel(side)
+        self.y_off = track.rail_offset(side)
+        self.r0 = wheelset.nominal_radius
+        self.e = wheelset.wheel_offset
+        self.O, self.R = loc.origin, loc.axes
+        self.C = center
+        self.sign = 1.0 if side == "right" else -1.0
+        self.n = np.array([0.0, -math.sin(angle_side), math.cos(angle_side)])
+        self.t = np.array([0.0, math.cos(angle_side), math.sin(angle_side)])
+
+    def __call__(self, x, y):
+        x = np.asarray(x, dtype=float)
+        ys = self.sign * np.asarray(y, dtype=float)
+        x, ys = np.broadcast_arrays(x, ys)
+        P = (self.C[:, None] + x.ravel()[None, :] * np.array([1.0, 0, 0])[:, None]
+             + ys.ravel()[None, :] * self.t[:, None])
+        n = self.n
+        # rail surface: z_r(Py + t ny - y_off) = Pz + t nz
+        tr = np.zeros(P.shape[1])
+        for _ in range(8):
+            yr = P[1] + tr * n[1] - self.y_off
+            f = self.rail.z_at(yr) - (P[2] + tr * n[2])
+            fp = self.rail.slope(yr) * n[1] - n[2]
+            tr = tr - f / fp
+        # wheel surface: radius of the point = r0 + z_w(eta - e)
+        Rt = self.R.T
+        L0 = Rt @ (P - self.O[:, None])
+        nl = Rt @ n
+        tw = np.zeros(P.shape[1])
+        for _ in range(8):
+            L = L0 + tw[None, :] * nl[:, None]
+            rho = np.hypot(L[0], L[2])
+            yw = L[1] - self.e
+            f = rho - (self.r0 + self.wheel.z_at(yw))
+            fp = (L[0] * nl[0] + L[2] * nl[2]) / rho - self.wheel.slope(yw) * nl[1]
+            tw = tw - f / fp
+        h = tr - tw
+        h = np.where(np.isfinite(h), h, 1.0)
+        return h.reshape(x.shape)
+
+
+def _curvatures_fd(gapf, x0, y0):
+    hx, hy = FD_STEP
+    h00 = gapf(x0, y0)
+    A = (gapf(x0 + hx, y0) + gapf(x0 - hx, y0) - 2 * h00) / (2 * hx * hx)
+    B = (gapf(x0, y0 + hy) + gapf(x0, y0 - hy) - 2 * h00) / (2 * hy * hy)
+    return float(A), float(B)
+
+
+def _creepage(side, q_side, n_tr, delta_tr, pose, r0, velocity, pitch_velocity,
+              lateral_velocity, yaw_rate):
+    sgn = 1.0 if side == "right" else -1.0
+    Q = np.array([q_side[0], sgn * q_side[1], q_side[2]])
+    O = np.array([0.0, pose.lateral_shift, pose.vertical - r0])
+    R = rotation(pose.yaw, pose.roll)
+    omega = R @ np.array([0.0, pitch_velocity, 0.0]) + np.array([0.0, 0.0, yaw_rate])
+    rot = np.cross(omega, Q - O)
+    v = np.array([velocity, lateral_velocity, 0.0]) + rot
+    V = 0.5 * (abs(velocity) + abs(rot[0]))
+    s_tr = np.array([0.0, math.cos(delta_tr), math.sin(delta_tr)])
+    xi = -v[0] / V
+    eta = -float(v @ s_tr) / V
+    phi = -float(omega @ n_tr) / V
+    return (float(xi), float(eta), float(phi)), float(V)
+
+
+def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
+                 yaw: float = 0.0, vertical_force=None, material: Material = STEEL,
+                 velocity: float = 30.0, pitch_velocity: float | None = None,
+                 lateral_velocity: float = 0.0, yaw_rate: float = 0.0,
+                 combine_distance: float = 0.0) -> WheelsetContact:
+    """Find the wheelset position and all contact patches.
+
+    Parameters
+    ----------
+    wheelset, track : Wheelset, Track
+    lateral_shift : float
+        Wheelset lateral displacement y [m], positive to the right.
+    yaw : float
+        Yaw angle [rad]; positive turns the front to the right.
+    vertical_force : float or (float, float), optional
+        Vertical wheel load [N] (one value for both wheels, or (left, right)).  When
+        given, the elastic approach is included (multi-Hertzian); otherwise the
+        wheelset rests rigidly on both rails.
+    material : Material
+    velocity : float
+        Forward speed V [m/s].
+    pitch_velocity : float, optional
+        Wheelset angular velocity about its axle [rad/s]; default pure rolling at the
+        nominal radius, -V / r0.
+    lateral_velocity, yaw_rate : float
+        [m/s], [rad/s] for the kinematic creepages.
+    combine_distance : float
+        Interpenetration regions closer than this [m] form one patch (default 0:
+        every region is its own patch).
+    """
+    for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
+                         ("wheelset.yaw", yaw, 0.1)):
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and abs(v) <= lim):
+            raise InputError(f"{name} = {v!r}: expected |value| <= {lim}")
+    if not (isinstance(velocity, (int, float)) and math.isfinite(velocity) and velocity > 0):
+        raise InputError(f"wheelset.velocity = {velocity!r} m/s: expected a value > 0")
+    loads = None
+    if vertical_force is not None:
+        vf = np.atleast_1d(np.asarray(vertical_force, dtype=float))
+        if vf.size == 1:
+            vf = np.repeat(vf, 2)
+        if vf.size != 2 or not np.all(np.isfinite(vf)) or np.any(vf <= 0):
+            raise InputError(f"wheelset.vertical_force = {vertical_force!r}: expected a load > 0 N"
+                             " per wheel, or (left, right)")
+        loads = {"left": float(vf[0]), "right": float(vf[1])}
+    r0 = wheelset.nominal_radius
+    if pitch_velocity is None:
+        pitch_velocity = -velocity / r0
+
+    targets = {"left": 0.0, "right": 0.0}
+    z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets)
+    if loads is not None:
+        for _ in range(10):
+            new = {s: _approach_for_load(loci[s], loads[s], r0, material) for s in SIDES}
+            change = max(abs(new[s] - targets[s]) for s in SIDES)
+            targets = new
+            z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets, z, roll)
+            if change < 1e-10:
+                break
+    pose = WheelsetPose(lateral_shift, z, roll, yaw)
+
+    patches = []
+    for side in SIDES:
+        loc = loci[side]
+        for i0, i1 in _regions(loc, loads is None, combine_distance):
+            patches.append(_make_patch(wheelset, track, side, loc, i0, i1, pose, loads is None,
+                                       velocity, pitch_velocity, lateral_velocity, yaw_rate))
+    return WheelsetContact(pose, patches, loci, loads)
+
+
+def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch_velocity,
+                lateral_velocity, yaw_rate) -> ContactGeometry:
+    sl = slice(i0, i1 + 1)
+    g = loc.gap[sl]
+    im = i0 + int(np.argmin(g))
+    ang = np.arctan(loc.slope[sl])
+    if rigid or i1 == i0:
+        # parabolic refinement of the minimum
+        j = min(max(im, 1), loc.gap.size - 2)
+        g3 = loc.gap[j - 1:j + 2]
+        den = g3[0] - 2 * g3[1] + g3[2]
+        frac = 0.5 * (g3[0] - g3[2]) / den if den > 0 else 0.0
+        frac = float(np.clip(frac, -1.0, 1.0))
+        y_ref = float(loc.y_rail[j] + frac * (loc.y_rail[j + 1] - loc.y_rail[j - 1]) / 2)
+        x_ref = float(loc.point[0, j])
+        a_ref = float(np.arctan(track.rail(side).slope(y_ref)))
+        weight = 1.0
+    else:
+        w = (-np.minimum(g, 0.0)) ** 1.5
+        weight = float(w.sum() * abs(loc.y_wheel[1] - loc.y_wheel[0]))
+        y_ref = float(np.dot(w, loc.y_rail[sl]) / w.sum())
+        x_ref = float(np.dot(w, loc.point[0, sl]) / w.sum())
+        a_ref = float(np.dot(w, ang) / w.sum())
+    rail = track.rail(side)
+    y_off = track.rail_offset(side)
+    z_ref = float(rail.z_at(y_ref))
+    C = np.array([x_ref, y_off + y_ref, z_ref])
+    gapf = _GapEvaluator(wheelset, track, side, loc, C, a_ref)
+    # wheel coordinates of the reference point
+    L = loc.axes.T @ (C - loc.origin)
+    y_w = float(L[1] - wheelset.wheel_offset)
+    z_w = float(wheelset.wheel(side).z_at(y_w))
+    rolling_radius = wheelset.nominal_radius + z_w
+    # curvatures at the deepest point, in the patch's tangent-plane coordinates
+    sgn = 1.0 if side == "right" else -1.0
+    Pm = np.array([loc.point[0, im], y_off + loc.y_rail[im], float(rail.z_at(loc.y_rail[im]))])
+    d = Pm - C
+    x_m = float(d[0])
+    y_m = sgn * float(d @ gapf.t)
+    A, B = _curvatures_fd(gapf, x_m, y_m)
+    approach = max(0.0, -float(gapf(x_m, y_m)))
+    n_side = gapf.n
+    delta_tr = sgn * a_ref
+    n_tr = np.array([0.0, sgn * n_side[1], n_side[2]])
+    Q = C + approach * n_side
+    creep, V = _creepage(side, Q, n_tr, delta_tr, pose, wheelset.nominal_radius, velocity,
+                         pitch_velocity, lateral_velocity, yaw_rate)
+    ys = loc.y_rail[sl]
+    ext_y = (sgn * (ys.min() - y_ref), sgn * (ys.max() - y_ref))
+    half_x = math.sqrt(max(approach, 0.0) / max(A, 1e-9))
+    extent = (x_m - half_x, x_m + half_x, min(ext_y) / math.cos(a_ref) if rigid is False else 0.0,
+              max(ext_y) / math.cos(a_ref) if rigid is False else 0.0)
+    pos_tr = np.array([C[0], sgn * C[1], C[2]])
+    return ContactGeometry(curvatures=(A, B), side=side, contact_angle=delta_tr,
+                           rolling_radius=rolling_radius, y_rail=y_ref, y_wheel=y_w,
+                           z_rail=z_ref, z_wheel=z_w, position=pos_tr, approach=approach,
+                           weight=weight, creepage=creep, velocity=V, extent=extent,
+                           gap_function=gapf)

@@ -1,0 +1,153 @@
+"""Wheelset and track: how the profiles are placed.
+
+Track frame (CONTACT's convention, see ``docs/conventions.md``): x along the track
+in the running direction, y to the right, z down; origin on the track centre line
+in the track plane (the plane through the rail tops).
+
+Each side is computed in a *side frame* whose lateral axis points to the field
+side: the right side's frame is the track frame, the left side's is its mirror
+image (y -> -y).  Wheel and rail profiles are given for a right body (y positive to
+the field side), so the same profile serves both sides.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..errors import InputError, ProfileError
+from ..profiles.profile import Profile
+
+SIDES = ("left", "right")
+
+
+def _check(name, value, lo, hi, unit):
+    if not (isinstance(value, (int, float)) and math.isfinite(value) and lo <= value <= hi):
+        raise InputError(f"{name} = {value!r}: expected a value in [{lo:g}, {hi:g}] {unit}")
+
+
+@dataclass
+class Track:
+    """Straight track with two rails.
+
+    Parameters
+    ----------
+    rail_right, rail_left : Profile
+        Rail profiles as mounted (inclination applied), right-rail convention;
+        ``rail_left`` defaults to ``rail_right``.
+    gauge : float
+        Track gauge [m] between the gauge faces (default 1.435).
+    gauge_height : float
+        Depth [m] below the rail top where the gauge is measured (default 0.014).
+    """
+
+    rail_right: Profile
+    rail_left: Profile | None = None
+    gauge: float = 1.435
+    gauge_height: float = 0.014
+    _offsets: dict = field(init=False, repr=False, default_factory=dict)
+
+    def __post_init__(self) -> None:
+        if self.rail_left is None:
+            self.rail_left = self.rail_right
+        _check("track.gauge", self.gauge, 0.5, 2.0, "m")
+        _check("track.gauge_height", self.gauge_height, 0.0, 0.05, "m")
+        for side in SIDES:
+            rail = self.rail(side)
+            if rail.kind != "rail":
+                raise ProfileError(f"{side} rail profile {rail.name!r} is a wheel profile")
+            self._offsets[side] = self.gauge / 2.0 - self.gauge_point(rail)
+
+    def rail(self, side: str) -> Profile:
+        return self.rail_right if side == "right" else self.rail_left
+
+    def gauge_point(self, rail: Profile) -> float:
+        """Lateral position [m] of the gauge point in rail-profile coordinates."""
+        top_y = float(rail.y[np.argmin(rail.z)])
+        z_top = float(np.min(rail.z))
+        zg = z_top + self.gauge_height
+        yy = np.linspace(rail.y_min, top_y, 4000)
+        below = rail.z_at(yy) >= zg
+        if not np.any(below):
+            raise ProfileError(f"rail profile {rail.name!r} does not reach {self.gauge_height * 1e3:.1f}"
+                               " mm below its top on the gauge side; cannot place it by gauge")
+        i = np.flatnonzero(below)[-1]
+        return brentq(lambda t: float(rail.z_at(t)) - zg, yy[i], yy[i + 1])
+
+    def rail_offset(self, side: str) -> float:
+        """Lateral position [m] of the rail-profile origin in the side frame."""
+        return self._offsets[side]
+
+
+@dataclass
+class Wheelset:
+    """Rigid wheelset with two wheels of revolution.
+
+    Parameters
+    ----------
+    wheel_right, wheel_left : Profile
+        Wheel profiles, right-wheel convention (flange at negative y, origin at the
+        tape circle); ``wheel_left`` defaults to ``wheel_right``.
+    nominal_radius : float
+        Radius [m] at the tape circle (default 0.46).
+    flange_back_distance : float
+        Distance [m] between the flange backs (default 1.360).
+    flange_back_position : float
+        Lateral position [m] of the flange back in wheel-profile coordinates
+        (default -0.070: S1002 tape circle 70 mm from the flange back).
+    """
+
+    wheel_right: Profile
+    wheel_left: Profile | None = None
+    nominal_radius: float = 0.46
+    flange_back_distance: float = 1.360
+    flange_back_position: float = -0.070
+
+    def __post_init__(self) -> None:
+        if self.wheel_left is None:
+            self.wheel_left = self.wheel_right
+        _check("wheel.nominal_radius", self.nominal_radius, 0.1, 1.5, "m")
+        _check("wheelset.flange_back_distance", self.flange_back_distance, 0.5, 2.0, "m")
+        _check("wheelset.flange_back_position", self.flange_back_position, -0.2, 0.0, "m")
+        for side in SIDES:
+            w = self.wheel(side)
+            if w.kind != "wheel":
+                raise ProfileError(f"{side} wheel profile {w.name!r} is a rail profile")
+
+    def wheel(self, side: str) -> Profile:
+        return self.wheel_right if side == "right" else self.wheel_left
+
+    @property
+    def wheel_offset(self) -> float:
+        """Lateral distance [m] from the wheelset centre to each wheel-profile origin."""
+        return self.flange_back_distance / 2.0 - self.flange_back_position
+
+
+@dataclass(frozen=True)
+class WheelsetPose:
+    """Position of the wheelset relative to the track (SI units).
+
+    Attributes
+    ----------
+    lateral_shift : float   y [m], positive to the right
+    vertical : float        z [m], positive down; 0 with the axle at the nominal radius
+                            above the track plane
+    roll : float            rotation [rad] about +x (right-hand)
+    yaw : float             rotation [rad] about +z; positive turns the front to the right
+    """
+
+    lateral_shift: float = 0.0
+    vertical: float = 0.0
+    roll: float = 0.0
+    yaw: float = 0.0
+
+
+def rotation(yaw: float, roll: float) -> np.ndarray:
+    """Rotation matrix Rz(yaw) Rx(roll) of the wheelset axes (columns) in the frame."""
+    cy, sy, cr, sr = math.cos(yaw), math.sin(yaw), math.cos(roll), math.sin(roll)
+    rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
+    rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
+    return rz @ rx
