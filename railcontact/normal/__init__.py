@@ -1,0 +1,11 @@
+"""Normal contact layer: models that give the pressure in a contact patch.
+
+Models are chosen by name (:func:`get_normal_model`): ``"hertz"``.
+"""
+
+from . import hertz  # noqa: F401  (registers the model)
+from .base import NormalSolution, get_normal_model, make_grid, normal_models
+from .hertz_theory import HertzEllipse, hertz_ellipse
+
+__all__ = ["NormalSolution", "get_normal_model", "normal_models", "make_grid",
+           "hertz_ellipse", "HertzEllipse"]

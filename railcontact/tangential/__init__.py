@@ -1,0 +1,11 @@
+"""Tangential contact layer: creep forces, traction, slip.
+
+Models are chosen by name (:func:`get_tangential_model`): ``"fastsim"``.
+"""
+
+from . import fastsim  # noqa: F401  (registers the model)
+from .base import TangentialSolution, get_tangential_model, tangential_models
+from .kalker import flexibilities, kalker_coefficients
+
+__all__ = ["TangentialSolution", "get_tangential_model", "tangential_models",
+           "kalker_coefficients", "flexibilities"]

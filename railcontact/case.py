@@ -1,0 +1,211 @@
+"""Case files (TOML, contract v1 of ``DESIGN.md``) and the :class:`Case` type."""
+
+from __future__ import annotations
+
+import copy
+import math
+import tomllib
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .errors import CaseFileError, InputError, RailContactError
+from .materials import Material
+
+_ALLOWED = {
+    "title": None,
+    "material": {"young_modulus", "poisson_ratio"},
+    "friction": {"coefficient"},
+    "wheel": {"profile", "nominal_radius", "profile_left", "units"},
+    "rail": {"profile", "inclination", "profile_left", "units"},
+    "track": {"gauge", "gauge_height"},
+    "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "side",
+                 "vertical_force", "velocity", "pitch_velocity", "lateral_velocity", "yaw_rate",
+                 "combine_distance"},
+    "creepage": {"longitudinal", "lateral", "spin"},
+    "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
+               "tangential_options"},
+    "bodies": {"radii", "normal_force", "velocity"},
+}
+_RADII = {"wheel_rolling", "wheel_lateral", "rail_rolling", "rail_lateral"}
+
+
+@dataclass
+class Case:
+    """One contact case, validated, in SI units.
+
+    ``raw`` keeps the parsed TOML so that a sweep can vary any dotted key.
+    """
+
+    raw: dict
+    title: str = ""
+    material: Material = field(default_factory=Material)
+    friction: float = 0.3
+    normal: str = "hertz"
+    tangential: str = "fastsim"
+    normal_options: dict = field(default_factory=dict)
+    tangential_options: dict = field(default_factory=dict)
+    grid: tuple | None = None
+    element_size: tuple | None = None
+    creepage: tuple | None = None
+    base_dir: Path = field(default_factory=Path.cwd)
+
+    @property
+    def is_bodies(self) -> bool:
+        return "bodies" in self.raw
+
+    # -- convenient access with validation -----------------------------------
+    def get(self, dotted: str, default=None):
+        node = self.raw
+        for part in dotted.split("."):
+            if not isinstance(node, dict) or part not in node:
+                return default
+            node = node[part]
+        return node
+
+    def number(self, dotted: str, default=None, lo=-math.inf, hi=math.inf, unit=""):
+        v = self.get(dotted, default)
+        if v is None:
+            raise CaseFileError(f"{dotted}: missing; expected a number in {unit or 'SI units'}")
+        if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
+            raise CaseFileError(f"{dotted} = {v!r}: expected a number in {unit or 'SI units'}")
+        if not lo <= v <= hi:
+            raise CaseFileError(f"{dotted} = {v!r}: expected a value in [{lo:g}, {hi:g}] {unit}")
+        return float(v)
+
+    def with_value(self, dotted: str, value) -> "Case":
+        """A copy of the case with one dotted key set (used by sweeps)."""
+        raw = copy.deepcopy(self.raw)
+        node = raw
+        parts = dotted.split(".")
+        for part in parts[:-1]:
+            node = node.setdefault(part, {})
+            if not isinstance(node, dict):
+                raise CaseFileError(f"{dotted}: {part} is not a table")
+        node[parts[-1]] = value
+        return case_from_dict(raw, self.base_dir)
+
+
+def _check_keys(raw: dict) -> None:
+    for key, value in raw.items():
+        if key not in _ALLOWED:
+            raise CaseFileError(f"unknown section or key [{key}]; expected one of "
+                                f"{sorted(_ALLOWED)}")
+        allowed = _ALLOWED[key]
+        if allowed is None:
+            continue
+        if not isinstance(value, dict):
+            raise CaseFileError(f"[{key}] must be a table")
+        for sub in value:
+            if sub not in allowed:
+                raise CaseFileError(f"unknown key {key}.{sub}; expected one of {sorted(allowed)}")
+    if "bodies" in raw and any(k in raw for k in ("wheel", "rail", "track", "wheelset")):
+        raise CaseFileError("a case has either [bodies] or [wheel]/[rail]/[track]/[wheelset], "
+                            "not both")
+    if "bodies" not in raw and not ("wheel" in raw and "rail" in raw):
+        raise CaseFileError("missing [wheel] and [rail] (or [bodies]); expected a wheel-rail "
+                            "case or a case given by curvatures")
+    if "bodies" in raw:
+        radii = raw["bodies"].get("radii")
+        if not isinstance(radii, dict) or set(radii) - _RADII or not radii:
+            raise CaseFileError(f"bodies.radii = {radii!r}: expected a table with keys "
+                                f"{sorted(_RADII)} (m; negative = concave, inf = flat)")
+
+
+def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
+    """Validate a parsed case and build a :class:`Case`."""
+    if not isinstance(raw, dict):
+        raise CaseFileError("case: expected a TOML table")
+    _check_keys(raw)
+    case = Case(raw=raw, base_dir=Path(base_dir or Path.cwd()))
+    case.title = str(raw.get("title", ""))
+    try:
+        case.material = Material(case.number("material.young_modulus", 2.1e11, unit="Pa"),
+                                 case.number("material.poisson_ratio", 0.28))
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
+    case.friction = case.number("friction.coefficient", 0.3, 0.0, 5.0)
+    sol = raw.get("solver", {})
+    case.normal = str(sol.get("normal", "hertz")).lower()
+    case.tangential = str(sol.get("tangential", "fastsim")).lower()
+    case.normal_options = dict(sol.get("normal_options", {}))
+    case.tangential_options = dict(sol.get("tangential_options", {}))
+    for key in ("grid", "element_size"):
+        v = sol.get(key)
+        if v is not None:
+            if not (isinstance(v, list) and len(v) == 2
+                    and all(isinstance(t, (int, float)) and t > 0 for t in v)):
+                raise CaseFileError(f"solver.{key} = {v!r}: expected two positive numbers "
+                                    "(rolling, lateral)")
+            if key == "grid" and not all(float(t).is_integer() for t in v):
+                raise CaseFileError(f"solver.grid = {v!r}: expected two integers")
+            setattr(case, key, tuple(int(t) if key == "grid" else float(t) for t in v))
+    if case.grid and case.element_size:
+        raise CaseFileError("solver: give either grid or element_size, not both")
+    if "creepage" in raw:
+        case.creepage = (case.number("creepage.longitudinal", 0.0, -1.0, 1.0),
+                         case.number("creepage.lateral", 0.0, -1.0, 1.0),
+                         case.number("creepage.spin", 0.0, -100.0, 100.0, "1/m"))
+    # resolve models early so that a bad name fails before any work
+    from .normal import get_normal_model
+    from .tangential import get_tangential_model
+    try:
+        get_normal_model(case.normal, **case.normal_options)
+        if case.tangential != "none":
+            get_tangential_model(case.tangential, **case.tangential_options)
+    except TypeError as exc:
+        raise CaseFileError(f"solver options: {exc}") from None
+    if case.is_bodies:
+        case.number("bodies.normal_force", None, 0.0, 1e8, "N")
+        _body_curvatures(case)
+    else:
+        side = case.get("wheelset.side", "both")
+        if side not in ("left", "right", "both"):
+            raise CaseFileError(f"wheelset.side = {side!r}: expected 'left', 'right' or 'both'")
+        case.number("wheelset.vertical_force", 70e3, 1.0, 1e7, "N")
+        case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
+        case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m")
+        case.number("wheelset.yaw", 0.0, -0.1, 0.1, "rad")
+        case.number("wheel.nominal_radius", 0.46, 0.1, 1.5, "m")
+        case.number("rail.inclination", 0.0, -0.1, 0.1, "rad")
+    return case
+
+
+def _body_curvatures(case: Case):
+    radii = case.get("bodies.radii")
+    curv = {}
+    for k in _RADII:
+        r = radii.get(k, math.inf)
+        if isinstance(r, bool) or not isinstance(r, (int, float)) or r == 0 or math.isnan(r):
+            raise CaseFileError(f"bodies.radii.{k} = {r!r}: expected a radius in m (non-zero; "
+                                "negative = concave, inf = flat)")
+        curv[k] = 0.0 if math.isinf(r) else 1.0 / r
+    A = 0.5 * (curv["wheel_rolling"] + curv["rail_rolling"])
+    B = 0.5 * (curv["wheel_lateral"] + curv["rail_lateral"])
+    if A <= 0 or B <= 0:
+        raise CaseFileError(f"bodies.radii give relative curvatures A = {A:.4g}, B = {B:.4g} 1/m; "
+                            "expected both > 0 (a concave body must have the larger radius)")
+    return A, B
+
+
+def load_case(path) -> Case:
+    """Read and validate a TOML case file."""
+    path = Path(path)
+    if not path.is_file():
+        raise CaseFileError(f"case file {str(path)!r} does not exist")
+    try:
+        raw = tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeError as exc:
+        raise CaseFileError(f"{path}: cannot decode: {exc}") from None
+    try:
+        return case_from_dict(raw, path.parent)
+    except CaseFileError as exc:
+        raise CaseFileError(f"{path.name}: {exc}") from None
+    except RailContactError:
+        raise
+
+
+def body_curvatures(case: Case):
+    """Relative curvatures (A, B) [1/m] of a ``[bodies]`` case."""
+    return _body_curvatures(case)

@@ -1,0 +1,156 @@
+"""The ``railcontact`` command line tool."""
+
+from __future__ import annotations
+
+import argparse
+import json
+import logging
+import sys
+from pathlib import Path
+
+from .errors import RailContactError
+
+log = logging.getLogger("railcontact")
+
+
+def _print_json(obj):
+    sys.stdout.write(json.dumps(obj, allow_nan=False, default=float) + "\n")
+
+
+def _print_table(result):
+    head = f"{'side':>6} {'area mm2':>9} {'pmax MPa':>9} {'Fn kN':>8} {'Fx kN':>8} {'Fy kN':>8} " \
+           f"{'Mz Nm':>8} {'angle deg':>9} {'r mm':>9}"
+    print(head)
+    import math
+    for p in result["patches"]:
+        print(f"{str(p['side']):>6} {p['area'] * 1e6:9.2f} {p['pmax'] / 1e6:9.1f} "
+              f"{p['Fn'] / 1e3:8.3f} {p['Fx'] / 1e3:8.3f} {p['Fy'] / 1e3:8.3f} {p['Mz']:8.3f} "
+              f"{math.degrees(p['contact_angle']):9.3f} "
+              f"{(p['rolling_radius'] or float('nan')) * 1e3:9.3f}")
+
+
+def cmd_solve(args):
+    from .case import load_case
+    from .solve import solve
+    res = solve(load_case(args.case), args.normal, args.tangential)
+    if args.json:
+        _print_json(res.to_dict())
+    else:
+        _print_table(res.to_dict())
+    if args.out:
+        out = Path(args.out)
+        tmp = out.with_name(out.name + ".tmp")
+        res.to_xarray().to_netcdf(tmp, engine="h5netcdf")
+        tmp.replace(out)
+
+
+def cmd_geometry(args):
+    from .case import load_case
+    from .solve import contact_search, geometry_dict
+    case = load_case(args.case)
+    if case.is_bodies:
+        raise RailContactError("geometry needs a wheel-rail case ([wheel], [rail]); this case "
+                               "gives [bodies]")
+    d = geometry_dict(contact_search(case), case.get("wheelset.side", "both"))
+    if args.json:
+        _print_json(d)
+    else:
+        for p in d["patches"]:
+            print(p)
+
+
+def cmd_sweep(args):
+    from .case import load_case
+    from .sweep import parse_vary, sweep
+    case = load_case(args.case)
+    vary = dict(parse_vary(v) for v in args.vary)
+    out = sweep(case, vary, args.normal, args.tangential, scheduler=args.scheduler,
+                progress=not args.json or sys.stderr.isatty())
+    if args.json:
+        _print_json(out)
+    else:
+        for c in out["cases"]:
+            print(c["params"], c.get("error", ""))
+            _print_table(c)
+
+
+def cmd_profile(args):
+    from .profiles import get_profile, write_profile
+    from .plotting import plot_profile
+    kind = args.kind
+    prof = get_profile(args.profile, kind, inclination=args.inclination)
+    if args.action == "plot":
+        path = plot_profile(prof, args.out or f"{prof.name}.png")
+    else:
+        if not args.out:
+            raise RailContactError("profile export needs --out FILE (.csv, .txt, .prr or .prw)")
+        path = write_profile(prof, args.out, units=args.units)
+    print(path)
+
+
+def cmd_demo(args):
+    from .demo import run_demo
+    run_demo(Path(args.out))
+
+
+def build_parser():
+    p = argparse.ArgumentParser(prog="railcontact",
+                                description="Wheel-rail rolling contact (SI units).")
+    p.add_argument("-v", "--verbose", action="store_true", help="log progress details")
+    sub = p.add_subparsers(dest="command", required=True)
+    s = sub.add_parser("solve", help="solve one contact case")
+    s.add_argument("case", help="case file (TOML)")
+    s.add_argument("--json", action="store_true", help="print the JSON result contract")
+    s.add_argument("--normal", help="normal model (overrides [solver])")
+    s.add_argument("--tangential", help="tangential model (overrides [solver]); 'none' to skip")
+    s.add_argument("--out", help="also write the patch results to NetCDF")
+    s.set_defaults(func=cmd_solve)
+    g = sub.add_parser("geometry", help="contact points from the geometry layer only")
+    g.add_argument("case")
+    g.add_argument("--json", action="store_true")
+    g.set_defaults(func=cmd_geometry)
+    w = sub.add_parser("sweep", help="solve every combination of varied case keys")
+    w.add_argument("case")
+    w.add_argument("--vary", action="append", required=True, metavar="KEY=START:STOP:STEP")
+    w.add_argument("--json", action="store_true")
+    w.add_argument("--normal")
+    w.add_argument("--tangential")
+    w.add_argument("--scheduler", default="auto",
+                   help="sync, threads, processes, auto, or a Dask scheduler address")
+    w.set_defaults(func=cmd_sweep)
+    pr = sub.add_parser("profile", help="plot or export a built-in or file profile")
+    pr.add_argument("action", choices=["plot", "export"])
+    pr.add_argument("profile", help="built-in name (S1002, 60E1, 54E1, 60E2) or file")
+    pr.add_argument("--kind", choices=["wheel", "rail"], default=None)
+    pr.add_argument("--inclination", type=float, default=None, help="rail inclination [rad]")
+    pr.add_argument("--units", choices=["mm", "m"], default="mm", help="units of exported files")
+    pr.add_argument("--out")
+    pr.set_defaults(func=cmd_profile)
+    d = sub.add_parser("demo", help="lateral-shift sweep S1002 on 60E1 1:40 (Hertz + FASTSIM)")
+    d.add_argument("--out", default="demo_output")
+    d.set_defaults(func=cmd_demo)
+    return p
+
+
+def main(argv=None) -> int:
+    parser = build_parser()
+    args = parser.parse_args(argv)
+    logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
+                        format="%(levelname)s %(name)s: %(message)s")
+    if getattr(args, "kind", "x") is None:
+        from .profiles.library import RAIL_PROFILES
+        args.kind = "rail" if args.profile.upper() in RAIL_PROFILES or \
+            args.profile.lower().endswith((".prr", ".ban")) else "wheel"
+    try:
+        args.func(args)
+    except RailContactError as exc:
+        print(f"railcontact: error: {exc}", file=sys.stderr)
+        return 2
+    except KeyboardInterrupt:
+        print("railcontact: interrupted", file=sys.stderr)
+        return 130
+    return 0
+
+
+if __name__ == "__main__":
+    sys.exit(main())

@@ -1,0 +1,127 @@
+"""Common result type and registry of the normal-contact models."""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from typing import Callable
+
+import numpy as np
+
+from ..errors import InputError, UnknownModelError
+
+_REGISTRY: dict = {}
+
+
+def register(name: str):
+    """Class decorator: make a normal model available by ``name``."""
+    def deco(cls):
+        cls.name = name
+        _REGISTRY[name] = cls
+        return cls
+    return deco
+
+
+def get_normal_model(name: str, **options):
+    """Instantiate the normal model registered as ``name``."""
+    try:
+        cls = _REGISTRY[str(name).lower()]
+    except KeyError:
+        raise UnknownModelError(f"unknown normal model {name!r}; expected one of "
+                                f"{sorted(_REGISTRY)}") from None
+    return cls(**options)
+
+
+def normal_models() -> list:
+    """Names of the registered normal models."""
+    return sorted(_REGISTRY)
+
+
+@dataclass
+class NormalSolution:
+    """Solution of the normal contact problem of one patch (SI units).
+
+    Attributes
+    ----------
+    model : str
+    x, y : ndarray
+        Cell centres [m] of the potential contact grid, rolling and lateral.
+    pressure : ndarray (mx, my)
+        Normal pressure p(x, y) [Pa] at the cell centres.
+    contact : ndarray of bool (mx, my)
+        Contact mask.
+    area : float         contact area [m^2]
+    pmax : float         maximum pressure [Pa]
+    penetration : float  approach of the bodies [m]
+    normal_force : float F_n [N]
+    semi_axes : (a, b) or None
+        Semi-axes [m] of the (equivalent) ellipse, used for the flexibilities of
+        simplified theory.
+    strips : (x_lead, x_trail) arrays over y, leading and trailing edge [m] of the
+        contact on each strip (rolling in +x: material enters at x_lead).
+    pressure_at : callable (x, y) -> p [Pa] evaluating the pressure anywhere.
+    """
+
+    model: str
+    x: np.ndarray
+    y: np.ndarray
+    pressure: np.ndarray
+    contact: np.ndarray
+    area: float
+    pmax: float
+    penetration: float
+    normal_force: float
+    semi_axes: tuple | None = None
+    strips: tuple | None = None
+    pressure_at: Callable | None = field(default=None, repr=False)
+    converged: bool = True
+    cpu_time: float = 0.0
+
+    @property
+    def dx(self) -> float:
+        return float(self.x[1] - self.x[0]) if self.x.size > 1 else math.nan
+
+    @property
+    def dy(self) -> float:
+        return float(self.y[1] - self.y[0]) if self.y.size > 1 else math.nan
+
+    def to_xarray(self):
+        """Pressure and contact mask as an :class:`xarray.Dataset` with units."""
+        import xarray as xr
+        ds = xr.Dataset(
+            {"pressure": (("x", "y"), self.pressure, {"units": "Pa", "long_name": "normal pressure"}),
+             "contact": (("x", "y"), self.contact.astype(np.int8),
+                         {"long_name": "contact mask (1 = in contact)"})},
+            coords={"x": ("x", self.x, {"units": "m", "long_name": "rolling direction"}),
+                    "y": ("y", self.y, {"units": "m", "long_name": "lateral, in the tangent plane"})},
+            attrs={"normal_model": self.model, "area_m2": self.area, "pmax_Pa": self.pmax,
+                   "penetration_m": self.penetration, "normal_force_N": self.normal_force})
+        return ds
+
+
+def make_grid(extent_x: float, extent_y: float, grid=None, element_size=None,
+              center=(0.0, 0.0)):
+    """Cell centres of a potential contact grid covering [-ex, ex] x [-ey, ey] + center.
+
+    Parameters
+    ----------
+    grid : (mx, my), optional   number of elements (default 40 x 40)
+    element_size : (dx, dy), optional  element size [m]; alternative to ``grid``
+    """
+    if grid is not None and element_size is not None:
+        raise InputError("solver: give either grid or element_size, not both")
+    if element_size is not None:
+        dx, dy = (float(v) for v in element_size)
+        if not (dx > 0 and dy > 0):
+            raise InputError(f"solver.element_size = {element_size!r}: expected two lengths > 0 m")
+        mx = max(int(math.ceil(2 * extent_x / dx)), 1)
+        my = max(int(math.ceil(2 * extent_y / dy)), 1)
+        ex, ey = mx * dx / 2, my * dy / 2
+    else:
+        mx, my = (40, 40) if grid is None else (int(v) for v in grid)
+        if not (2 <= mx <= 2000 and 2 <= my <= 2000):
+            raise InputError(f"solver.grid = {grid!r}: expected two element counts in [2, 2000]")
+        ex, ey = extent_x, extent_y
+    x = center[0] - ex + (np.arange(mx) + 0.5) * (2 * ex / mx)
+    y = center[1] - ey + (np.arange(my) + 0.5) * (2 * ey / my)
+    return x, y

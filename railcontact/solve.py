@@ -1,0 +1,180 @@
+"""One contact case from end to end: :func:`solve` and its result types."""
+
+from __future__ import annotations
+
+import json
+import logging
+import math
+import time
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from .case import Case, body_curvatures
+from .errors import ContactNotFoundError
+from .geometry.contact import ContactGeometry
+from .geometry.search import WheelsetContact, find_contact
+from .geometry.track import Track, Wheelset, WheelsetPose
+from .normal import NormalSolution, get_normal_model
+from .profiles.library import get_profile
+from .tangential import TangentialSolution, get_tangential_model
+
+log = logging.getLogger(__name__)
+
+
+@dataclass
+class PatchResult:
+    """Geometry, normal and tangential solution of one contact patch."""
+
+    geometry: ContactGeometry
+    normal: NormalSolution
+    tangential: TangentialSolution | None
+    creepage: tuple
+
+    def to_dict(self) -> dict:
+        """The JSON patch contract of ``DESIGN.md`` (SI units) plus extra keys."""
+        g, n, t = self.geometry, self.normal, self.tangential
+        d = {"side": g.side, "area": n.area, "pmax": n.pmax, "penetration": n.penetration,
+             "Fn": n.normal_force, "Fx": t.fx if t else 0.0, "Fy": t.fy if t else 0.0,
+             "Mz": t.mz if t else 0.0, "contact_angle": float(g.contact_angle),
+             "rolling_radius": _f(g.rolling_radius), "y_rail": _f(g.y_rail),
+             "y_wheel": _f(g.y_wheel),
+             "creepage": {"longitudinal": self.creepage[0], "lateral": self.creepage[1],
+                          "spin": self.creepage[2]}}
+        if n.semi_axes is not None:
+            d["semi_axes"] = [float(n.semi_axes[0]), float(n.semi_axes[1])]
+        d["curvatures"] = [float(c) for c in g.curvatures]
+        if t is not None:
+            d["stick_fraction"] = t.stick_fraction
+            d["frictional_power"] = t.frictional_power
+        return d
+
+
+@dataclass
+class SolveResult:
+    """All patches of one case, with the models used and the CPU time."""
+
+    patches: list
+    normal: str
+    tangential: str
+    cpu_time: float
+    title: str = ""
+    pose: WheelsetPose | None = None
+    contact: WheelsetContact | None = field(default=None, repr=False)
+
+    def to_dict(self) -> dict:
+        return {"patches": [p.to_dict() for p in self.patches], "normal": self.normal,
+                "tangential": self.tangential, "cpu_time": self.cpu_time}
+
+    def to_json(self, **kw) -> str:
+        return json.dumps(self.to_dict(), **kw)
+
+    def to_xarray(self):
+        """Patch results as an :class:`xarray.Dataset` along a ``patch`` dimension."""
+        import xarray as xr
+        rows = [p.to_dict() for p in self.patches]
+        units = {"area": "m2", "pmax": "Pa", "penetration": "m", "Fn": "N", "Fx": "N",
+                 "Fy": "N", "Mz": "N m", "contact_angle": "rad", "rolling_radius": "m",
+                 "y_rail": "m", "y_wheel": "m"}
+        data = {k: ("patch", np.array([np.nan if r[k] is None else r[k] for r in rows], float),
+                    {"units": u}) for k, u in units.items()}
+        for c, u in (("longitudinal", "1"), ("lateral", "1"), ("spin", "m-1")):
+            data[f"creepage_{c}"] = ("patch", np.array([r["creepage"][c] for r in rows]),
+                                     {"units": u})
+        return xr.Dataset(data, coords={"side": ("patch", [str(r["side"]) for r in rows])},
+                          attrs={"normal_model": self.normal, "tangential_model": self.tangential,
+                                 "title": self.title})
+
+
+def _f(v):
+    v = float(v)
+    return None if math.isnan(v) else v
+
+
+def build_wheelset_track(case: Case):
+    """Wheelset and track of a wheel-rail case."""
+    base = case.base_dir
+    wheel = get_profile(case.get("wheel.profile", "S1002"), "wheel", base_dir=base)
+    wl = case.get("wheel.profile_left")
+    wheel_left = get_profile(wl, "wheel", base_dir=base) if wl else None
+    incl = case.get("rail.inclination")
+    rail = get_profile(case.get("rail.profile", "60E1"), "rail", inclination=incl, base_dir=base)
+    rl = case.get("rail.profile_left")
+    rail_left = get_profile(rl, "rail", inclination=incl, base_dir=base) if rl else None
+    ws = Wheelset(wheel, wheel_left, nominal_radius=case.number("wheel.nominal_radius", 0.46),
+                  flange_back_distance=case.number("wheelset.flange_back_distance", 1.360),
+                  flange_back_position=case.number("wheelset.flange_back_position", -0.070))
+    tr = Track(rail, rail_left, gauge=case.number("track.gauge", 1.435),
+               gauge_height=case.number("track.gauge_height", 0.014))
+    return ws, tr
+
+
+def contact_search(case: Case) -> WheelsetContact:
+    """Geometry layer only: wheelset position and contact patches of a wheel-rail case."""
+    ws, tr = build_wheelset_track(case)
+    pv = case.get("wheelset.pitch_velocity")
+    return find_contact(ws, tr, case.number("wheelset.lateral_shift", 0.0),
+                        case.number("wheelset.yaw", 0.0),
+                        vertical_force=case.number("wheelset.vertical_force", 70e3),
+                        material=case.material, velocity=case.number("wheelset.velocity", 30.0),
+                        pitch_velocity=None if pv is None else case.number("wheelset.pitch_velocity"),
+                        lateral_velocity=case.number("wheelset.lateral_velocity", 0.0),
+                        yaw_rate=case.number("wheelset.yaw_rate", 0.0),
+                        combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1))
+
+
+def solve(case: Case, normal: str | None = None, tangential: str | None = None) -> SolveResult:
+    """Solve one contact case.
+
+    Parameters
+    ----------
+    case : Case
+        From :func:`railcontact.load_case` or :func:`railcontact.case.case_from_dict`.
+    normal, tangential : str, optional
+        Model names overriding the case's ``[solver]``.
+
+    For wheel-rail cases the geometry layer finds the wheelset position under the
+    vertical load and the patches; each patch is solved with its own penetration.
+    """
+    t0 = time.perf_counter()
+    nname = (normal or case.normal).lower()
+    tname = (tangential or case.tangential).lower()
+    nmodel = get_normal_model(nname, **(case.normal_options if normal is None else {}))
+    tmodel = None if tname == "none" else get_tangential_model(
+        tname, **(case.tangential_options if tangential is None else {}))
+    kw = {"grid": case.grid, "element_size": case.element_size}
+    results, pose, contact = [], None, None
+    if case.is_bodies:
+        A, B = body_curvatures(case)
+        r = case.get("bodies.radii").get("wheel_rolling", math.nan)
+        geom = ContactGeometry(curvatures=(A, B), rolling_radius=float(r))
+        ns = nmodel.solve(geom, case.material, normal_force=case.number("bodies.normal_force"),
+                          **kw)
+        creep = case.creepage or (0.0, 0.0, 0.0)
+        V = case.number("bodies.velocity", 1.0, 1e-6, 1e3, "m/s")
+        ts = tmodel.solve(ns, geom, case.material, creep, case.friction, V) if tmodel else None
+        results.append(PatchResult(geom, ns, ts, tuple(creep)))
+    else:
+        contact = contact_search(case)
+        pose = contact.pose
+        side = case.get("wheelset.side", "both")
+        for geom in contact.patches:
+            if side != "both" and geom.side != side:
+                continue
+            if geom.approach <= 0:
+                continue
+            ns = nmodel.solve(geom, case.material, penetration=geom.approach, **kw)
+            creep = case.creepage or geom.creepage
+            ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, geom.velocity)
+                  if tmodel else None)
+            results.append(PatchResult(geom, ns, ts, tuple(float(c) for c in creep)))
+        if not results:
+            raise ContactNotFoundError("no loaded contact patch found")
+    return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)
+
+
+def geometry_dict(contact: WheelsetContact, side: str = "both") -> dict:
+    """JSON of the contact points found by the geometry layer (no forces)."""
+    patches = [p.to_dict() for p in contact.patches if side == "both" or p.side == side]
+    return {"patches": patches, "roll": contact.pose.roll, "vertical": contact.pose.vertical,
+            "lateral_shift": contact.pose.lateral_shift, "yaw": contact.pose.yaw}

@@ -1,0 +1,107 @@
+"""Common result type and registry of the tangential-contact models."""
+
+from __future__ import annotations
+
+from dataclasses import dataclass, field
+
+import numpy as np
+
+from ..errors import UnknownModelError
+
+_REGISTRY: dict = {}
+
+
+def register(name: str):
+    """Class decorator: make a tangential model available by ``name``."""
+    def deco(cls):
+        cls.name = name
+        _REGISTRY[name] = cls
+        return cls
+    return deco
+
+
+def get_tangential_model(name: str, **options):
+    """Instantiate the tangential model registered as ``name``."""
+    try:
+        cls = _REGISTRY[str(name).lower()]
+    except KeyError:
+        raise UnknownModelError(f"unknown tangential model {name!r}; expected one of "
+                                f"{sorted(_REGISTRY)}") from None
+    return cls(**options)
+
+
+def tangential_models() -> list:
+    return sorted(_REGISTRY)
+
+
+@dataclass
+class TangentialSolution:
+    """Solution of the tangential (creep) problem of one patch (SI units).
+
+    Tractions are those the rail exerts on the wheel; slip is the slip of the rail
+    relative to the wheel, divided by the rolling velocity (the creepage convention),
+    so that in slip areas the traction points along the slip.
+
+    Attributes
+    ----------
+    model : str
+    x, y : ndarray            cell centres [m] (same grid as the normal solution)
+    traction_x, traction_y : ndarray (mx, my)   tangential tractions [Pa]
+    slip_x, slip_y : ndarray (mx, my)           relative slip [-]
+    stick : ndarray of bool (mx, my)            adhesion (stick) area
+    contact : ndarray of bool (mx, my)          contact area
+    fx, fy : float            creep forces [N] on the wheel, contact-local frame
+    mz : float                spin moment [N m] about the normal through the origin
+    power_density : ndarray   frictional power per unit area [W/m^2]
+    velocity : float          rolling velocity [m/s]
+    """
+
+    model: str
+    x: np.ndarray
+    y: np.ndarray
+    traction_x: np.ndarray
+    traction_y: np.ndarray
+    slip_x: np.ndarray
+    slip_y: np.ndarray
+    stick: np.ndarray
+    contact: np.ndarray
+    fx: float
+    fy: float
+    mz: float
+    velocity: float
+    creepage: tuple = (0.0, 0.0, 0.0)
+    friction: float = 0.3
+    cpu_time: float = 0.0
+    options: dict = field(default_factory=dict)
+
+    @property
+    def power_density(self) -> np.ndarray:
+        """Frictional power density |traction . slip| V [W/m^2]."""
+        return np.abs(self.traction_x * self.slip_x + self.traction_y * self.slip_y) * self.velocity
+
+    @property
+    def frictional_power(self) -> float:
+        """Total frictional power [W] of the patch."""
+        dA = (self.x[1] - self.x[0]) * (self.y[1] - self.y[0])
+        return float(self.power_density.sum() * dA)
+
+    @property
+    def stick_fraction(self) -> float:
+        n = int(self.contact.sum())
+        return float((self.stick & self.contact).sum() / n) if n else 0.0
+
+    def to_xarray(self):
+        """Tractions, slip, stick map and power density as an :class:`xarray.Dataset`."""
+        import xarray as xr
+        dims = ("x", "y")
+        ds = xr.Dataset(
+            {"traction_x": (dims, self.traction_x, {"units": "Pa"}),
+             "traction_y": (dims, self.traction_y, {"units": "Pa"}),
+             "slip_x": (dims, self.slip_x, {"units": "1", "long_name": "relative slip, x"}),
+             "slip_y": (dims, self.slip_y, {"units": "1", "long_name": "relative slip, y"}),
+             "stick": (dims, self.stick.astype(np.int8), {"long_name": "1 = adhesion"}),
+             "power_density": (dims, self.power_density, {"units": "W m-2"})},
+            coords={"x": ("x", self.x, {"units": "m"}), "y": ("y", self.y, {"units": "m"})},
+            attrs={"tangential_model": self.model, "Fx_N": self.fx, "Fy_N": self.fy,
+                   "Mz_Nm": self.mz, "velocity_m_s": self.velocity, "friction": self.friction})
+        return ds

@@ -1,0 +1,220 @@
+"""FASTSIM: Kalker's simplified theory of rolling contact (``tangential="fastsim"``).
+
+Kalker, J.J. (1982), "A fast algorithm for the simplified theory of rolling
+contact", *Vehicle System Dynamics* 11, 1-13.
+
+The surface displacement is taken proportional to the local traction, u = L p,
+with one flexibility per creepage component (L1 for xi, L2 for eta, L3 for spin),
+chosen so that the theory reproduces Kalker's linear theory (C11, C22, C23) at
+small creepage.  Each strip of the patch (fixed lateral position y) is integrated
+from its leading edge in the rolling direction: in adhesion the traction follows
+dp/dx = u(x, y) / L with the rigid slip (xi - phi y, eta + phi x); where |p|
+exceeds the traction bound mu p_n the traction is scaled back to the bound
+(slip).  Tractions are evaluated at element mid-points, so that the linear
+(adhesion) limit is integrated exactly.
+
+The traction bound is the Hertzian (elliptic) pressure by default, as CONTACT's user
+guide recommends; ``bound="parabolic"`` gives Kalker's original parabolic bound
+p = 2 F_n / (pi a b) (1 - x^2/a^2 - y^2/b^2).
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from numba import njit
+
+from ..errors import InputError
+from ..materials import STEEL, Material
+from .base import TangentialSolution, register
+from .kalker import flexibilities
+
+
+@njit(cache=True)
+def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgrid,
+                    px_out, py_out, sx_out, sy_out, stick_out):
+    """March all strips; fill grid fields (traction on body 1 = rail) and return forces."""
+    my = y.size
+    nx = bound.shape[1]
+    mx = xgrid.size
+    fx = 0.0
+    fy = 0.0
+    mz = 0.0
+    xs = np.empty(nx)
+    pxs = np.empty(nx)
+    pys = np.empty(nx)
+    sxs = np.empty(nx)
+    sys_ = np.empty(nx)
+    sts = np.empty(nx, dtype=np.bool_)
+    for j in range(my):
+        length = x_lead[j] - x_trail[j]
+        if length <= 0.0:
+            continue
+        dx = length / nx
+        px = 0.0
+        py = 0.0
+        prev = x_lead[j]
+        for k in range(nx):
+            xm = x_lead[j] - (k + 0.5) * dx
+            step = prev - xm
+            xmid = 0.5 * (prev + xm)
+            ux = xi / L1 - phi * y[j] / L3
+            uy = eta / L2 + phi * xmid / L3
+            hx = px - step * ux
+            hy = py - step * uy
+            g = bound[j, k]
+            mag = math.sqrt(hx * hx + hy * hy)
+            if mag > g:
+                sc = g / mag if mag > 0.0 else 0.0
+                px = hx * sc
+                py = hy * sc
+                sxs[k] = L1 * (px - hx) / step
+                sys_[k] = L2 * (py - hy) / step
+                sts[k] = False
+            else:
+                px = hx
+                py = hy
+                sxs[k] = 0.0
+                sys_[k] = 0.0
+                sts[k] = True
+            xs[k] = xm
+            pxs[k] = px
+            pys[k] = py
+            fx += px * dx * dy
+            fy += py * dx * dy
+            mz += (xm * py - y[j] * px) * dx * dy
+            prev = xm
+        # transfer to the regular grid by linear interpolation between mid-points
+        for i in range(mx):
+            xc = xgrid[i]
+            if xc > x_lead[j] or xc < x_trail[j]:
+                continue
+            t = (x_lead[j] - xc) / dx - 0.5
+            k0 = int(math.floor(t))
+            if k0 < 0:
+                k0 = 0
+                w = 0.0
+            elif k0 >= nx - 1:
+                k0 = nx - 1
+                w = 0.0
+            else:
+                w = t - k0
+            k1 = min(k0 + 1, nx - 1)
+            px_out[i, j] = (1 - w) * pxs[k0] + w * pxs[k1]
+            py_out[i, j] = (1 - w) * pys[k0] + w * pys[k1]
+            kn = k0 if w < 0.5 else k1
+            sx_out[i, j] = sxs[kn]
+            sy_out[i, j] = sys_[kn]
+            stick_out[i, j] = sts[kn]
+    return fx, fy, mz
+
+
+def equivalent_ellipse(normal) -> tuple:
+    """Semi-axes (a, b) [m] of the ellipse equivalent to a patch.
+
+    Uses the model's own ellipse when it has one; otherwise the Kik-Piotrowski rule
+    a = sqrt(A/pi) sqrt(L/W), b = sqrt(A/pi) sqrt(W/L) from the area A and the
+    extents L (rolling) and W (lateral) of the contact.
+    """
+    if normal.semi_axes is not None:
+        return normal.semi_axes
+    mask = normal.contact
+    if not mask.any():
+        return (0.0, 0.0)
+    xs, ys = normal.x[mask.any(axis=1)], normal.y[mask.any(axis=0)]
+    L = xs.max() - xs.min() + normal.dx
+    W = ys.max() - ys.min() + normal.dy
+    r = math.sqrt(normal.area / math.pi)
+    return r * math.sqrt(L / W), r * math.sqrt(W / L)
+
+
+@register("fastsim")
+class FastsimModel:
+    """Kalker's FASTSIM with three flexibilities.
+
+    Parameters
+    ----------
+    bound : {"elliptic", "parabolic"}
+        Traction bound: Hertzian pressure (default) or Kalker's parabolic one.
+    elements : int, optional
+        Elements per strip in the rolling direction (default: the grid's mx).
+    flexibility : {"three", "single"}
+        Three flexibilities L1, L2, L3 (default, exact in the linear range), or
+        Kalker's single weighted flexibility.
+    """
+
+    def __init__(self, bound: str = "elliptic", elements: int | None = None,
+                 flexibility: str = "three"):
+        if bound not in ("elliptic", "parabolic"):
+            raise InputError(f"fastsim bound {bound!r}: expected 'elliptic' or 'parabolic'")
+        if flexibility not in ("three", "single"):
+            raise InputError(f"fastsim flexibility {flexibility!r}: expected 'three' or 'single'")
+        if elements is not None and not (isinstance(elements, int) and 2 <= elements <= 5000):
+            raise InputError(f"fastsim elements {elements!r}: expected an integer in [2, 5000]")
+        self.bound = bound
+        self.elements = elements
+        self.flexibility = flexibility
+
+    def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
+              friction: float = 0.3, velocity: float = 1.0) -> TangentialSolution:
+        """Creep forces for creepages (xi [-], eta [-], phi [1/m]).
+
+        Parameters
+        ----------
+        normal : NormalSolution
+        creepage : (xi, eta, phi)
+            Rigid slip of the rail relative to the wheel / V (CONTACT's convention).
+        friction : float
+            Coulomb friction coefficient mu.
+        velocity : float
+            Rolling velocity V [m/s] (scales slip velocities and frictional power).
+        """
+        t0 = time.perf_counter()
+        xi, eta, phi = (float(c) for c in creepage)
+        if not all(math.isfinite(c) for c in (xi, eta, phi)):
+            raise InputError(f"creepage = {creepage!r}: expected finite values")
+        if not (math.isfinite(friction) and 0.0 <= friction <= 5.0):
+            raise InputError(f"friction.coefficient = {friction!r}: expected a value in [0, 5]")
+        a, b = equivalent_ellipse(normal)
+        mx, my = normal.x.size, normal.y.size
+        zeros = np.zeros((mx, my))
+        if a <= 0 or b <= 0 or normal.normal_force <= 0:
+            return TangentialSolution("fastsim", normal.x, normal.y, zeros, zeros.copy(),
+                                      zeros.copy(), zeros.copy(), np.zeros((mx, my), bool),
+                                      normal.contact, 0.0, 0.0, 0.0, velocity, (xi, eta, phi),
+                                      friction)
+        G, nu = material.shear_modulus, material.poisson_ratio
+        L1, L2, L3 = flexibilities(a, b, G, nu)
+        if self.flexibility == "single":
+            c = math.sqrt(a * b)
+            den = math.sqrt(xi * xi + eta * eta + (c * phi) ** 2)
+            if den > 0:
+                L = (abs(xi) * L1 + abs(eta) * L2 + c * abs(phi) * L3) / den
+                L1 = L2 = L3 = L
+        x_lead, x_trail = normal.strips
+        nx = self.elements or mx
+        frac = (np.arange(nx) + 0.5) / nx
+        xm = x_lead[:, None] - frac[None, :] * (x_lead - x_trail)[:, None]
+        ym = np.broadcast_to(normal.y[:, None], xm.shape)
+        if self.bound == "elliptic":
+            pn = normal.pressure_at(xm, ym)
+        else:
+            pn = (2 * normal.normal_force / (math.pi * a * b)
+                  * np.clip(1 - (xm / a) ** 2 - (ym / b) ** 2, 0.0, None))
+        bound = friction * np.ascontiguousarray(pn, dtype=float)
+        px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
+        stick = np.zeros((mx, my), dtype=bool)
+        fx1, fy1, mz1 = _fastsim_strips(np.ascontiguousarray(normal.y), normal.dy,
+                                        np.ascontiguousarray(x_lead, dtype=float),
+                                        np.ascontiguousarray(x_trail, dtype=float), bound,
+                                        L1, L2, L3, xi, eta, phi, np.ascontiguousarray(normal.x),
+                                        px, py, sx, sy, stick)
+        contact = normal.contact
+        stick &= contact
+        # body 1 is the rail: the tractions on the wheel are the opposite
+        return TangentialSolution("fastsim", normal.x, normal.y, -px, -py, sx, sy, stick,
+                                  contact, -fx1, -fy1, -mz1, velocity, (xi, eta, phi), friction,
+                                  time.perf_counter() - t0,
+                                  {"bound": self.bound, "flexibilities": (L1, L2, L3)})

@@ -1,0 +1,108 @@
+"""Kalker's creep coefficients C11, C22, C23 of linear rolling-contact theory.
+
+Values: Kalker (1990), *Three-Dimensional Elastic Bodies in Rolling Contact*,
+Table E.3, for nu = 0, 0.25, 0.5 and g = a/b (a <= b) or b/a (a > b) from 0.1 to 1
+(transcription checked in ``REFERENCES.md`` section 4.2; C23 at a/b = 0.8, nu = 0.25
+is 1.25).  Interpolation as in CONTACT: linear in g, a parabola in 1/C through the
+three values of nu.  Below g = 0.1, Kalker's asymptotic expressions for slender
+ellipses are used.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+
+from ..errors import InputError
+
+_G = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0])
+_NU = (0.0, 0.25, 0.5)
+# rows: g = 0.1 ... 1.0; columns: nu = 0, 0.25, 0.5
+_C11_AB = np.array([[2.51, 3.31, 4.85], [2.59, 3.37, 4.81], [2.68, 3.44, 4.80],
+                    [2.78, 3.53, 4.82], [2.88, 3.62, 4.83], [2.98, 3.72, 4.91],
+                    [3.09, 3.81, 4.97], [3.19, 3.91, 5.05], [3.29, 4.01, 5.12],
+                    [3.40, 4.12, 5.20]])
+_C22_AB = np.array([[2.51, 2.52, 2.53], [2.59, 2.63, 2.66], [2.68, 2.75, 2.81],
+                    [2.78, 2.88, 2.98], [2.88, 3.01, 3.14], [2.98, 3.14, 3.31],
+                    [3.09, 3.28, 3.48], [3.19, 3.41, 3.65], [3.29, 3.54, 3.82],
+                    [3.40, 3.67, 3.98]])
+_C23_AB = np.array([[0.334, 0.473, 0.731], [0.483, 0.603, 0.809], [0.607, 0.715, 0.889],
+                    [0.720, 0.823, 0.977], [0.827, 0.929, 1.07], [0.930, 1.03, 1.18],
+                    [1.03, 1.14, 1.29], [1.13, 1.25, 1.40], [1.23, 1.36, 1.51],
+                    [1.33, 1.47, 1.63]])
+# b/a rows g = b/a = 0.1 ... 1.0 (a > b)
+_C11_BA = np.array([[10.7, 11.7, 12.9], [6.96, 7.78, 8.82], [5.57, 6.34, 7.34],
+                    [4.84, 5.57, 6.57], [4.37, 5.10, 6.11], [4.06, 4.78, 5.80],
+                    [3.82, 4.54, 5.58], [3.65, 4.36, 5.42], [3.51, 4.22, 5.30],
+                    [3.40, 4.12, 5.20]])
+_C22_BA = np.array([[10.7, 12.8, 16.0], [6.96, 8.14, 9.79], [5.57, 6.40, 7.51],
+                    [4.84, 5.48, 6.31], [4.37, 4.90, 5.56], [4.06, 4.50, 5.04],
+                    [3.82, 4.21, 4.67], [3.65, 3.99, 4.39], [3.51, 3.81, 4.16],
+                    [3.40, 3.67, 3.98]])
+_C23_BA = np.array([[12.2, 14.6, 18.0], [5.72, 6.63, 7.89], [3.79, 4.32, 5.01],
+                    [2.88, 3.24, 3.70], [2.35, 2.62, 2.96], [2.01, 2.23, 2.50],
+                    [1.76, 1.95, 2.18], [1.58, 1.75, 1.94], [1.44, 1.59, 1.77],
+                    [1.33, 1.47, 1.63]])
+
+
+def _nu_interp(values, nu):
+    """Parabola in 1/C through nu = 0, 0.25, 0.5, evaluated at nu."""
+    inv = 1.0 / np.asarray(values)
+    x0, x1, x2 = _NU
+    l0 = (nu - x1) * (nu - x2) / ((x0 - x1) * (x0 - x2))
+    l1 = (nu - x0) * (nu - x2) / ((x1 - x0) * (x1 - x2))
+    l2 = (nu - x0) * (nu - x1) / ((x2 - x0) * (x2 - x1))
+    return 1.0 / (l0 * inv[..., 0] + l1 * inv[..., 1] + l2 * inv[..., 2])
+
+
+def _asymptotic(a_over_b, nu):
+    if a_over_b < 1.0:
+        g = a_over_b
+        c11 = math.pi ** 2 / (4 * (1 - nu))
+        c22 = math.pi ** 2 / 4
+        c23 = math.pi * math.sqrt(g) / (3 * (1 - nu)) * (1 + nu * (math.log(16 / g) - 5))
+    else:
+        g = 1.0 / a_over_b
+        lam = math.log(16 / g ** 2)
+        c11 = 2 * math.pi / ((lam - 2 * nu) * g) * (1 + (3 - math.log(4)) / (lam - 2 * nu))
+        c22 = (2 * math.pi / g) * (1 + (1 - nu) * (3 - math.log(4)) / ((1 - nu) * lam + 2 * nu)) \
+            / ((1 - nu) * lam + 2 * nu)
+        c23 = 2 * math.pi / (3 * g ** 1.5 * ((1 - nu) * lam - 2 + 4 * nu))
+    return c11, c22, c23
+
+
+def kalker_coefficients(a_over_b: float, nu: float):
+    """Creep coefficients (C11, C22, C23) for semi-axis ratio a/b and Poisson's ratio.
+
+    Parameters
+    ----------
+    a_over_b : float
+        Ratio of the semi-axis in the rolling direction to the lateral one.
+    nu : float
+        Poisson's ratio in [0, 0.5].
+    """
+    if not (math.isfinite(a_over_b) and a_over_b > 0):
+        raise InputError(f"semi-axis ratio a/b = {a_over_b!r}: expected a value > 0")
+    if not 0.0 <= nu <= 0.5:
+        raise InputError(f"poisson_ratio = {nu!r}: expected a value in [0, 0.5]")
+    g = a_over_b if a_over_b <= 1.0 else 1.0 / a_over_b
+    if g < 0.1:
+        return _asymptotic(a_over_b, nu)
+    tabs = (_C11_AB, _C22_AB, _C23_AB) if a_over_b <= 1.0 else (_C11_BA, _C22_BA, _C23_BA)
+    out = []
+    for tab in tabs:
+        row = np.array([np.interp(g, _G, tab[:, k]) for k in range(3)])
+        out.append(float(_nu_interp(row, nu)))
+    return tuple(out)
+
+
+def flexibilities(a: float, b: float, shear_modulus: float, nu: float):
+    """FASTSIM flexibilities L1, L2, L3 [m/Pa] of Kalker (1982).
+
+    L1 = 8a / (3 C11 G),  L2 = 8a / (3 C22 G),  L3 = pi a sqrt(a/b) / (4 G C23).
+    """
+    c11, c22, c23 = kalker_coefficients(a / b, nu)
+    G = shear_modulus
+    return (8 * a / (3 * c11 * G), 8 * a / (3 * c22 * G),
+            math.pi * a * math.sqrt(a / b) / (4 * G * c23))
