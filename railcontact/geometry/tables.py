@@ -92,11 +92,11 @@ def equivalent_conicity(table, amplitude: float, method: str = "wavelength",
     def rhs(s, u):
         return [u[1], -np.interp(u[0], y, dr) / (2 * e0 * r0)]
 
-    def up_cross(s, u):
+    def crest(s, u):          # velocity turns from + to -: the next crest, one wavelength
         return u[1]
-    up_cross.direction = 1.0
+    crest.direction = -1.0
     span = 2 * np.pi * math.sqrt(e0 * r0 / 1e-3) * 4
-    sol = solve_ivp(rhs, (0.0, span), [amplitude, 0.0], events=up_cross, rtol=1e-10,
+    sol = solve_ivp(rhs, (0.0, span), [amplitude, 0.0], events=crest, rtol=1e-10,
                     atol=1e-13, max_step=1.0)
     ev = sol.t_events[0]
     ev = ev[ev > 1e-6]

@@ -52,18 +52,13 @@ def _trim_foldback(y: np.ndarray, z: np.ndarray, name: str):
                 best_len, best_start = i - start, start
             start = i + 1
     lo, hi = best_start, best_start + best_len + 1
-    removed_mid = False
-    # everything outside [lo, hi) must be a fold-back at an end: check its extent
-    for seg in (slice(0, lo), slice(hi, len(y))):
-        ys = y[seg]
-        if ys.size and ((ys.min() > y[lo]) and (ys.max() < y[hi - 1])):
-            removed_mid = True
+    # the parts outside [lo, hi) lie at the ends; they are a fold-back only if short
     frac = (hi - lo) / len(y)
-    if removed_mid or frac < 0.8:
-        i_bad = int(np.argmin(dy)) if frac >= 0.8 else lo
+    if frac < 0.8:
+        i_bad = int(np.flatnonzero(~pos)[0]) if lo == 0 else lo - 1
         raise ProfileError(
-            f"profile {name!r} is not a function of y: y decreases at point {i_bad + 1} "
-            f"(y = {y[i_bad] * 1e3:.3f} mm) inside the profile; expected y increasing "
+            f"profile {name!r} is not a function of y: y decreases at point {i_bad + 2} "
+            f"(y = {y[i_bad + 1] * 1e3:.3f} mm) inside the profile; expected y increasing "
             "except for a folded-back flange back or rail flank at the ends")
     log.info("profile %s: dropped %d folded-back end points", name, len(y) - (hi - lo))
     return y[lo:hi], z[lo:hi]
