@@ -109,7 +109,7 @@ def build_wheelset_track(case: Case):
     return ws, tr
 
 
-def contact_search(case: Case) -> WheelsetContact:
+def contact_search(case: Case, interpenetration: dict | None = None) -> WheelsetContact:
     """Geometry layer only: wheelset position and contact patches of a wheel-rail case."""
     ws, tr = build_wheelset_track(case)
     pv = case.get("wheelset.pitch_velocity")
@@ -120,7 +120,8 @@ def contact_search(case: Case) -> WheelsetContact:
                         pitch_velocity=None if pv is None else case.number("wheelset.pitch_velocity"),
                         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0),
                         yaw_rate=case.number("wheelset.yaw_rate", 0.0),
-                        combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1))
+                        combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1),
+                        interpenetration=interpenetration)
 
 
 def solve(case: Case, normal: str | None = None, tangential: str | None = None) -> SolveResult:
@@ -155,22 +156,81 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None) 
         ts = tmodel.solve(ns, geom, case.material, creep, case.friction, V) if tmodel else None
         results.append(PatchResult(geom, ns, ts, tuple(creep)))
     else:
-        contact = contact_search(case)
+        results, contact = _solve_wheel_rail(case, nmodel, tmodel, kw)
         pose = contact.pose
-        side = case.get("wheelset.side", "both")
-        for geom in contact.patches:
-            if side != "both" and geom.side != side:
-                continue
-            if geom.approach <= 0:
-                continue
-            ns = nmodel.solve(geom, case.material, penetration=geom.approach, **kw)
-            creep = case.creepage or geom.creepage
-            ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, geom.velocity)
-                  if tmodel else None)
-            results.append(PatchResult(geom, ns, ts, tuple(float(c) for c in creep)))
-        if not results:
-            raise ContactNotFoundError("no loaded contact patch found")
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)
+
+
+def _solve_patches(case, contact, nmodel, tmodel, kw):
+    out = []
+    for geom in contact.patches:
+        if geom.approach <= 0:
+            continue
+        ns = nmodel.solve(geom, case.material, penetration=geom.approach, **kw)
+        creep = case.creepage or geom.creepage
+        ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, geom.velocity)
+              if tmodel else None)
+        out.append(PatchResult(geom, ns, ts, tuple(float(c) for c in creep)))
+    return out
+
+
+def vertical_force_on_rail(results, side: str) -> float:
+    """Total vertical force [N] the wheel exerts on the rail of one side (track z).
+
+    On the rail, F_z = f_n cos(d) + f_s sin(d) with f_s = -F_y the lateral force on
+    the rail (the patch results hold forces on the wheel).
+    """
+    total = 0.0
+    for r in results:
+        if r.geometry.side == side:
+            d = r.geometry.contact_angle
+            fy = r.tangential.fy if r.tangential is not None else 0.0
+            total += r.normal.normal_force * math.cos(d) - fy * math.sin(d)
+    return total
+
+
+def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 12, rtol: float = 1e-4):
+    """Patches of a wheel-rail case with the vertical wheel load met per side.
+
+    The geometry layer's multi-Hertzian estimate gives the first wheelset height;
+    then the vertical interpenetration of each side is corrected by secant steps
+    until the vertical force of normal plus tangential contact forces (the chosen
+    models) equals the load, as CONTACT does with its Newton iteration on z.
+    """
+    contact = contact_search(case)
+    load = case.number("wheelset.vertical_force", 70e3)
+    side = case.get("wheelset.side", "both")
+    results = _solve_patches(case, contact, nmodel, tmodel, kw)
+    d = dict(contact.interpenetration)
+    hist = {s: [] for s in ("left", "right")}
+    for _ in range(max_iter):
+        err = {}
+        for s in ("left", "right"):
+            fz = vertical_force_on_rail(results, s)
+            err[s] = fz - load
+            hist[s].append((d[s], fz))
+        if all(abs(e) <= rtol * load for e in err.values()):
+            break
+        new = {}
+        for s in ("left", "right"):
+            pts = hist[s]
+            if len(pts) >= 2 and pts[-1][1] != pts[-2][1]:
+                (d0, f0), (d1, f1) = pts[-2], pts[-1]
+                new[s] = d1 + (load - f1) * (d1 - d0) / (f1 - f0)
+            else:  # Hertz-like F ~ d^1.5
+                fz = max(pts[-1][1], 1e-9 * load)
+                new[s] = pts[-1][0] * (load / fz) ** (2.0 / 3.0)
+            new[s] = min(max(new[s], 0.2 * d[s]), 5.0 * d[s] + 1e-7)
+        d = new
+        contact = contact_search(case, interpenetration=d)
+        results = _solve_patches(case, contact, nmodel, tmodel, kw)
+    else:
+        log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)
+    if side != "both":
+        results = [r for r in results if r.geometry.side == side]
+    if not results:
+        raise ContactNotFoundError("no loaded contact patch found")
+    return results, contact
 
 
 def geometry_dict(contact: WheelsetContact, side: str = "both") -> dict:

@@ -65,6 +65,7 @@ class WheelsetContact:
     patches: list
     loci: dict = field(repr=False, default_factory=dict)
     loads: dict | None = None
+    interpenetration: dict | None = None
 
     def side_patches(self, side: str) -> list:
         return [p for p in self.patches if p.side == side]
@@ -279,7 +280,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                  yaw: float = 0.0, vertical_force=None, material: Material = STEEL,
                  velocity: float = 30.0, pitch_velocity: float | None = None,
                  lateral_velocity: float = 0.0, yaw_rate: float = 0.0,
-                 combine_distance: float = 0.0) -> WheelsetContact:
+                 combine_distance: float = 0.0,
+                 interpenetration: dict | None = None) -> WheelsetContact:
     """Find the wheelset position and all contact patches.
 
     Parameters
@@ -304,6 +306,11 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     combine_distance : float
         Interpenetration regions closer than this [m] form one patch (default 0:
         every region is its own patch).
+    interpenetration : dict, optional
+        Prescribed vertical interpenetration [m] of the deepest point per side
+        (``{"left": d, "right": d}``) instead of one derived from ``vertical_force``;
+        used by :func:`railcontact.solve` to meet the vertical force with the
+        normal and tangential model of the case.
     """
     for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
                          ("wheelset.yaw", yaw, 0.1)):
@@ -325,8 +332,13 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         pitch_velocity = -velocity / r0
 
     targets = {"left": 0.0, "right": 0.0}
+    if interpenetration is not None:
+        targets = {s: float(interpenetration[s]) for s in SIDES}
+        if not all(math.isfinite(v) and v >= 0 for v in targets.values()):
+            raise InputError(f"interpenetration = {interpenetration!r}: expected values >= 0 m")
+        loads = loads or {s: math.nan for s in SIDES}
     z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets)
-    if loads is not None:
+    if loads is not None and interpenetration is None:
         for _ in range(10):
             new = {s: _approach_for_load(loci[s], loads[s], r0, material) for s in SIDES}
             change = max(abs(new[s] - targets[s]) for s in SIDES)
@@ -342,7 +354,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         for i0, i1 in _regions(loc, loads is None, combine_distance):
             patches.append(_make_patch(wheelset, track, side, loc, i0, i1, pose, loads is None,
                                        velocity, pitch_velocity, lateral_velocity, yaw_rate))
-    return WheelsetContact(pose, patches, loci, loads)
+    return WheelsetContact(pose, patches, loci, loads, targets)
 
 
 def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch_velocity,
