@@ -130,6 +130,26 @@ def equivalent_ellipse(normal) -> tuple:
     return r * math.sqrt(L / W), r * math.sqrt(W / L)
 
 
+def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn):
+    """Flexibilities blended towards a combined value as the creepage grows."""
+    from .kalker import kalker_coefficients
+    c11, c22, _ = kalker_coefficients(a / b, nu)
+    c2 = a * b
+    if mu <= 0 or fn <= 0:
+        return L1, L2, L3
+    xi_c = mu * fn / (c2 * G * c11)
+    eta_c = mu * fn / (c2 * G * c22)
+    f = math.hypot(xi / xi_c, eta / eta_c)
+    w = min(1.0, f / 3.0)
+    if w <= 0.0:
+        return L1, L2, L3
+    ps = phi * (math.pi * a * a / 4) / (8 * a / 3)
+    num = xi * xi + eta * eta + ps * ps
+    den = xi * xi / L1 + eta * eta / L2 + ps * ps / L3
+    Lc = num / den
+    return ((1 - w) * L1 + w * Lc, (1 - w) * L2 + w * Lc, (1 - w) * L3 + w * Lc)
+
+
 @register("fastsim")
 class FastsimModel:
     """Kalker's FASTSIM with three flexibilities.
@@ -140,17 +160,25 @@ class FastsimModel:
         Traction bound: Hertzian pressure (default) or Kalker's parabolic one.
     elements : int, optional
         Elements per strip in the rolling direction (default: the grid's mx).
-    flexibility : {"three", "single"}
-        Three flexibilities L1, L2, L3 (default, exact in the linear range), or
-        Kalker's single weighted flexibility.
+    flexibility : {"blended", "three", "single"}
+        ``"three"``: Kalker's L1, L2, L3 (exact in the linear range, but at large
+        creepage the force direction is distorted when L1 != L2).
+        ``"blended"`` (default): the three flexibilities are blended towards one
+        combined flexibility as the creepage grows (after Vollebregt & Voltr, VSD 61,
+        2023, as CONTACT does for automatically computed flexibilities): weight
+        w = min(1, f/3), f = |(xi/xi_c, eta/eta_c)| with xi_c = mu F_n/(c^2 G C11),
+        eta_c = mu F_n/(c^2 G C22); combined L = (xi^2 + eta^2 + (phi f4/f3)^2) /
+        (xi^2/L1 + eta^2/L2 + (phi f4/f3)^2/L3), f3 = 8a/3, f4 = pi a^2/4.
+        ``"single"``: Kalker's single weighted flexibility.
     """
 
     def __init__(self, bound: str = "elliptic", elements: int | None = None,
-                 flexibility: str = "three"):
+                 flexibility: str = "blended"):
         if bound not in ("elliptic", "parabolic"):
             raise InputError(f"fastsim bound {bound!r}: expected 'elliptic' or 'parabolic'")
-        if flexibility not in ("three", "single"):
-            raise InputError(f"fastsim flexibility {flexibility!r}: expected 'three' or 'single'")
+        if flexibility not in ("blended", "three", "single"):
+            raise InputError(f"fastsim flexibility {flexibility!r}: expected 'blended', 'three' "
+                             "or 'single'")
         if elements is not None and not (isinstance(elements, int) and 2 <= elements <= 5000):
             raise InputError(f"fastsim elements {elements!r}: expected an integer in [2, 5000]")
         self.bound = bound
@@ -187,7 +215,10 @@ class FastsimModel:
                                       friction)
         G, nu = material.shear_modulus, material.poisson_ratio
         L1, L2, L3 = flexibilities(a, b, G, nu)
-        if self.flexibility == "single":
+        if self.flexibility == "blended":
+            L1, L2, L3 = blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi,
+                                               friction, normal.normal_force)
+        elif self.flexibility == "single":
             c = math.sqrt(a * b)
             den = math.sqrt(xi * xi + eta * eta + (c * phi) ** 2)
             if den > 0:

@@ -1,0 +1,95 @@
+"""Hertz against independent closed forms and numerical integration."""
+
+import math
+
+import numpy as np
+import pytest
+from scipy import integrate
+
+from railcontact.errors import InputError
+from railcontact.geometry import ContactGeometry
+from railcontact.materials import Material
+from railcontact.normal import get_normal_model, hertz_ellipse
+
+MAT = Material(2.1e11, 0.28)
+ES = MAT.contact_modulus
+
+
+def test_circle_closed_form():
+    R, F = 0.3, 5e4
+    h = hertz_ellipse(1 / (2 * R), 1 / (2 * R), ES, force=F)
+    a = (3 * F * R / (4 * ES)) ** (1 / 3)
+    assert h.a == pytest.approx(a, rel=1e-12) and h.b == pytest.approx(a, rel=1e-12)
+    assert h.penetration == pytest.approx(a * a / R, rel=1e-12)
+    assert h.p0 == pytest.approx(3 * F / (2 * math.pi * a * a), rel=1e-12)
+
+
+def _displacement(a, b, p0, x0, y0):
+    """Surface approach at (x0, y0) under the Hertz pressure, by direct integration
+    of the Boussinesq kernel in polar coordinates about the field point."""
+    def ray(th):
+        c, s = math.cos(th), math.sin(th)
+        q = (c / a) ** 2 + (s / b) ** 2
+        lin = 2 * (x0 * c / a ** 2 + y0 * s / b ** 2)
+        c0 = 1 - (x0 / a) ** 2 - (y0 / b) ** 2
+        rmax = (-lin + math.sqrt(lin * lin + 4 * q * c0)) / (2 * q)
+        return integrate.quad(lambda r: math.sqrt(max(c0 - lin * r - q * r * r, 0.0)),
+                              0, rmax, epsabs=0, epsrel=1e-11)[0]
+    val = integrate.quad(ray, 0, 2 * math.pi, epsabs=0, epsrel=1e-10, limit=400)[0]
+    return p0 * val / (math.pi * ES)
+
+
+@pytest.mark.parametrize("ratio", [0.05, 0.2, 1.0, 3.0, 20.0])
+def test_ellipse_against_boussinesq_integration(ratio):
+    # pick curvatures; check a/b spans 0.05..20 and the surface displacement field
+    A = 1.0
+    from scipy.optimize import brentq
+    B = brentq(lambda B: hertz_ellipse(A, B, ES, force=1e5).a / hertz_ellipse(A, B, ES, force=1e5).b
+               - ratio, 1e-6, 1e7) if ratio != 1.0 else 1.0
+    h = hertz_ellipse(A, B, ES, force=1e5)
+    assert h.a / h.b == pytest.approx(ratio, rel=1e-9)
+    d0 = _displacement(h.a, h.b, h.p0, 0.0, 0.0)
+    assert d0 == pytest.approx(h.penetration, rel=1e-3)
+    # inside the contact u = delta - A x^2 - B y^2
+    ux = _displacement(h.a, h.b, h.p0, 0.5 * h.a, 0.0)
+    uy = _displacement(h.a, h.b, h.p0, 0.0, 0.5 * h.b)
+    assert (d0 - ux) / (0.5 * h.a) ** 2 == pytest.approx(A, rel=1e-3)
+    assert (d0 - uy) / (0.5 * h.b) ** 2 == pytest.approx(B, rel=1e-3)
+    # force = integral of the pressure
+    assert 2 * math.pi * h.p0 * h.a * h.b / 3 == pytest.approx(1e5, rel=1e-12)
+
+
+def test_force_and_penetration_inverse():
+    h = hertz_ellipse(1.1, 25.0, ES, force=3e4)
+    g = hertz_ellipse(1.1, 25.0, ES, penetration=h.penetration)
+    assert g.force == pytest.approx(3e4, rel=1e-10)
+    assert g.a == pytest.approx(h.a, rel=1e-10)
+
+
+def test_concave_wheel_conformal_case():
+    # wheel flange root concave (R = -15 mm) on a 13 mm gauge corner
+    B = 0.5 * (1 / 0.013 - 1 / 0.015)
+    A = 0.5 / 0.46
+    h = hertz_ellipse(A, B, ES, force=4e4)
+    assert h.a > h.b   # B = 5.1 1/m > A = 1.09 1/m: the lateral semi-axis is the short one
+    assert _displacement(h.a, h.b, h.p0, 0, 0) == pytest.approx(h.penetration, rel=1e-3)
+    with pytest.raises(InputError, match="curvature"):
+        hertz_ellipse(A, 0.5 * (1 / 0.015 - 1 / 0.013), ES, force=4e4)
+
+
+def test_model_grid_and_errors():
+    g = ContactGeometry(curvatures=(1.0, 3.0))
+    ns = get_normal_model("hertz").solve(g, MAT, normal_force=8e4, grid=(80, 80))
+    dA = ns.dx * ns.dy
+    assert ns.pressure.sum() * dA == pytest.approx(8e4, rel=2e-3)
+    assert ns.contact.sum() * dA == pytest.approx(ns.area, rel=2e-2)
+    assert ns.pmax == pytest.approx(3 * 8e4 / (2 * ns.area), rel=1e-12)
+    ds = ns.to_xarray()
+    assert ds["pressure"].attrs["units"] == "Pa"
+    with pytest.raises(InputError, match="normal force"):
+        get_normal_model("hertz").solve(g, MAT, normal_force=-1.0)
+    with pytest.raises(InputError, match="exactly one"):
+        get_normal_model("hertz").solve(g, MAT)
+    from railcontact.errors import UnknownModelError
+    with pytest.raises(UnknownModelError, match="unknown normal model 'hurtz'"):
+        get_normal_model("hurtz")

@@ -1,0 +1,152 @@
+"""Case files, the JSON contract, the command line, and bad input."""
+
+import json
+import math
+import subprocess
+import sys
+from pathlib import Path
+
+import pytest
+
+import railcontact as rc
+from railcontact.cli import main
+from railcontact.errors import CaseFileError, UnknownModelError
+
+EX = Path(__file__).resolve().parents[1] / "examples"
+CONTRACT_KEYS = {"side", "area", "pmax", "penetration", "Fn", "Fx", "Fy", "Mz", "contact_angle",
+                 "rolling_radius", "y_rail", "y_wheel", "creepage"}
+
+
+def run_cli(args, capsys):
+    code = main(args)
+    out = capsys.readouterr()
+    return code, out.out, out.err
+
+
+def test_bodies_case_json(capsys):
+    code, out, err = run_cli(["solve", str(EX / "bodies.toml"), "--json"], capsys)
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["normal"] == "hertz" and d["tangential"] == "fastsim" and d["cpu_time"] > 0
+    (p,) = d["patches"]
+    assert CONTRACT_KEYS <= set(p)
+    assert p["side"] is None
+    # Hertz: A = 1/(2 * 0.46), B = 1/(2 * 0.3)
+    h = rc.normal.hertz_ellipse(1 / 0.92, 1 / 0.6, rc.Material().contact_modulus, force=111.5e3)
+    assert p["area"] == pytest.approx(math.pi * h.a * h.b, rel=1e-12)
+    assert p["pmax"] == pytest.approx(h.p0, rel=1e-12)
+    assert p["Fn"] == pytest.approx(111.5e3)
+    # positive longitudinal creepage (rail faster than wheel) pulls the wheel forward
+    assert p["Fx"] > 0
+
+
+def test_wheel_rail_case_json(capsys):
+    code, out, err = run_cli(["solve", str(EX / "wheel_rail.toml"), "--json"], capsys)
+    assert code == 0, err
+    d = json.loads(out)
+    assert d["patches"] and all(p["side"] == "right" for p in d["patches"])
+    p = d["patches"][0]
+    assert CONTRACT_KEYS <= set(p)
+    assert p["creepage"]["longitudinal"] == -0.001        # overridden by [creepage]
+    assert p["Fx"] < 0                                      # braking
+    fz = sum(q["Fn"] * math.cos(q["contact_angle"]) - q["Fy"] * math.sin(q["contact_angle"])
+             for q in d["patches"])
+    assert fz == pytest.approx(70e3, rel=2e-4)              # vertical load met
+
+
+def test_model_override_and_geometry(capsys):
+    code, out, _ = run_cli(["solve", str(EX / "wheel_rail.toml"), "--json", "--tangential",
+                            "none"], capsys)
+    assert code == 0 and json.loads(out)["patches"][0]["Fx"] == 0.0
+    code, out, _ = run_cli(["geometry", str(EX / "wheel_rail.toml"), "--json"], capsys)
+    d = json.loads(out)
+    assert code == 0 and {"roll", "vertical", "patches"} <= set(d)
+    assert all(p["side"] == "right" for p in d["patches"])
+
+
+def test_sweep_cli(capsys):
+    code, out, err = run_cli(["sweep", str(EX / "wheel_rail.toml"), "--vary",
+                              "wheelset.lateral_shift=0:0.002:0.001", "--json",
+                              "--scheduler", "sync"], capsys)
+    assert code == 0, err
+    d = json.loads(out)
+    assert [c["params"]["wheelset.lateral_shift"] for c in d["cases"]] == [0.0, 0.001, 0.002]
+    assert all(c["patches"] for c in d["cases"])
+
+
+def test_sweep_threads_equals_sync():
+    case = rc.load_case(EX / "bodies.toml")
+    vary = {"creepage.longitudinal": [0.0, 1e-3, 2e-3], "bodies.normal_force": [5e4, 1e5]}
+    a = rc.sweep(case, vary, scheduler="sync", progress=False)
+    b = rc.sweep(case, vary, scheduler="threads", progress=False)
+    assert len(a["cases"]) == 6
+    assert [c["patches"][0]["Fx"] for c in a["cases"]] == [c["patches"][0]["Fx"] for c in b["cases"]]
+
+
+@pytest.mark.parametrize("text, msg", [
+    ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[solver]\nnormal='hurtz'\n", "hurtz"),
+    ("[wheel]\nprofile='S1003'\n[rail]\nprofile='60E1'\n", "S1003"),
+    ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[wheelset]\nvertical_force=-5\n",
+     "vertical_force"),
+    ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[wheelset]\nlateral_shift=3\n",
+     "lateral_shift"),
+    ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[wheelset]\nlateral_shift=nan\n",
+     "lateral_shift"),
+    ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[wheelset]\nlateral_shft=0.0\n",
+     "lateral_shft"),
+    ("[bodies]\nradii={wheel_rolling=0.46, rail_lateral=-0.3}\nnormal_force=1e4\n", "curvatures"),
+    ("title = 'x'\n", "missing"),
+    ("[wheel\nprofile='S1002'\n", "not valid TOML"),
+])
+def test_bad_case_files_one_line_error(tmp_path, capsys, text, msg):
+    f = tmp_path / "bad.toml"
+    f.write_text(text)
+    out_file = tmp_path / "res.nc"
+    code, out, err = run_cli(["solve", str(f), "--json", "--out", str(out_file)], capsys)
+    assert code == 2
+    assert err.startswith("railcontact: error:") and msg in err
+    assert len(err.strip().splitlines()) == 1
+    assert out == "" and not out_file.exists()
+
+
+def test_missing_case_file_and_bad_profile_file(tmp_path, capsys):
+    code, _, err = run_cli(["solve", str(tmp_path / "nope.toml")], capsys)
+    assert code == 2 and "does not exist" in err
+    prof = tmp_path / "w.csv"
+    prof.write_text("y,z\n1,2\n2,1\n1.5,3\n")
+    case = tmp_path / "c.toml"
+    case.write_text(f"[wheel]\nprofile='{prof}'\n[rail]\nprofile='60E1'\n")
+    code, _, err = run_cli(["solve", str(case)], capsys)
+    assert code == 2 and "profile" in err
+
+
+def test_api_errors():
+    with pytest.raises(CaseFileError):
+        rc.case_from_dict({"wheel": {"profile": "S1002"}})
+    with pytest.raises(UnknownModelError):
+        rc.solve(rc.load_case(EX / "bodies.toml"), normal="nope")
+
+
+def test_profile_cli(tmp_path, capsys):
+    out = tmp_path / "s1002.prw"
+    code, _, err = run_cli(["profile", "export", "S1002", "--out", str(out)], capsys)
+    assert code == 0, err
+    assert rc.profiles.read_profile(out).kind == "wheel"
+    png = tmp_path / "r.png"
+    code, _, err = run_cli(["profile", "plot", "60E1", "--out", str(png)], capsys)
+    assert code == 0 and png.stat().st_size > 1000
+
+
+def test_netcdf_output(tmp_path, capsys):
+    out = tmp_path / "res.nc"
+    code, _, err = run_cli(["solve", str(EX / "bodies.toml"), "--out", str(out)], capsys)
+    assert code == 0, err
+    import xarray as xr
+    ds = xr.open_dataset(out, engine="h5netcdf")
+    assert ds["Fn"].attrs["units"] == "N" and float(ds["Fn"][0]) == pytest.approx(111.5e3)
+
+
+def test_console_script_entry_point():
+    r = subprocess.run([sys.executable, "-m", "railcontact.cli", "--help"], capture_output=True,
+                       text=True)
+    assert r.returncode == 0 and "solve" in r.stdout

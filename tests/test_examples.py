@@ -1,0 +1,22 @@
+"""Every example in examples/ runs."""
+
+import runpy
+from pathlib import Path
+
+import pytest
+
+import railcontact as rc
+
+EX = Path(__file__).resolve().parents[1] / "examples"
+
+
+@pytest.mark.parametrize("path", sorted(EX.glob("*.py")), ids=lambda p: p.name)
+def test_python_examples(path, capsys):
+    runpy.run_path(str(path), run_name="__main__")
+    assert capsys.readouterr().out.strip()
+
+
+@pytest.mark.parametrize("path", sorted(EX.glob("*.toml")), ids=lambda p: p.name)
+def test_case_examples(path):
+    res = rc.solve(rc.load_case(path))
+    assert res.patches and all(p.normal.normal_force > 0 for p in res.patches)
