@@ -109,9 +109,13 @@ def build_wheelset_track(case: Case):
     return ws, tr
 
 
-def contact_search(case: Case, interpenetration: dict | None = None) -> WheelsetContact:
-    """Geometry layer only: wheelset position and contact patches of a wheel-rail case."""
-    ws, tr = build_wheelset_track(case)
+def contact_search(case: Case, interpenetration: dict | None = None,
+                   bodies=None) -> WheelsetContact:
+    """Geometry layer only: wheelset position and contact patches of a wheel-rail case.
+
+    ``bodies`` = (Wheelset, Track) built once by the caller, else built here.
+    """
+    ws, tr = bodies or build_wheelset_track(case)
     pv = case.get("wheelset.pitch_velocity")
     return find_contact(ws, tr, case.number("wheelset.lateral_shift", 0.0),
                         case.number("wheelset.yaw", 0.0),
@@ -197,7 +201,8 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 12, rtol: float 
     until the vertical force of normal plus tangential contact forces (the chosen
     models) equals the load, as CONTACT does with its Newton iteration on z.
     """
-    contact = contact_search(case)
+    bodies = build_wheelset_track(case)
+    contact = contact_search(case, bodies=bodies)
     load = case.number("wheelset.vertical_force", 70e3)
     side = case.get("wheelset.side", "both")
     results = _solve_patches(case, contact, nmodel, tmodel, kw)
@@ -222,7 +227,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 12, rtol: float 
                 new[s] = pts[-1][0] * (load / fz) ** (2.0 / 3.0)
             new[s] = min(max(new[s], 0.2 * d[s]), 5.0 * d[s] + 1e-7)
         d = new
-        contact = contact_search(case, interpenetration=d)
+        contact = contact_search(case, interpenetration=d, bodies=bodies)
         results = _solve_patches(case, contact, nmodel, tmodel, kw)
     else:
         log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)

@@ -18,6 +18,7 @@ from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
+from numba import njit
 
 from .track import Track, Wheelset, rotation
 
@@ -30,6 +31,78 @@ def _wheel_samples(wheel, step):
     n = int((wheel.y_max - wheel.y_min) / step) + 1
     yw = np.linspace(wheel.y_min, wheel.y_max, n)
     return yw, wheel.z_at(yw)
+
+
+@njit(cache=True)
+def _pp(x, breaks, c, nu):
+    n = breaks.size - 1
+    if not (breaks[0] <= x <= breaks[n]):
+        return np.nan
+    k = np.searchsorted(breaks, x, side="right") - 1
+    k = min(max(k, 0), n - 1)
+    t = x - breaks[k]
+    if nu == 0:
+        return ((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]
+    return (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k]
+
+
+@njit(cache=True)
+def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
+    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope."""
+    n = eta.size
+    theta = np.empty(n)
+    P = np.empty((3, n))
+    yr = np.empty(n)
+    gap = np.empty(n)
+    slope = np.empty(n)
+    for i in range(n):
+        s = 0.0
+        th = 0.0
+        py = 0.0
+        pz = 0.0
+        for _ in range(3):
+            th = np.arctan((s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2]))
+            st = np.sin(th)
+            ct = np.cos(th)
+            px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
+            py = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
+            pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
+            s = _pp(py - y_off, rb, rc, 1)
+            if s != s:
+                s = 0.0
+        theta[i] = th
+        P[0, i] = px
+        P[1, i] = py
+        P[2, i] = pz
+        yr[i] = py - y_off
+        zr = _pp(yr[i], rb, rc, 0)
+        gap[i] = zr - pz if zr == zr else np.inf
+        slope[i] = s
+    return theta, P, yr, gap, slope
+
+
+@njit(cache=True)
+def _min_gap_kernel(eta, rho, R, O, y_off, rb, rc, stride, window):
+    """Minimum vertical gap along the locus: coarse pass every ``stride`` samples,
+    then every sample around the coarse points within ``window`` [m] of the coarse
+    minimum."""
+    n = eta.size
+    idx = np.arange(0, n, stride)
+    _, _, _, gc, _ = _locus_kernel(eta[idx], rho[idx], R, O, y_off, rb, rc)
+    gmin = np.inf
+    for g in gc:
+        if g < gmin:
+            gmin = g
+    best = np.inf
+    for k in range(idx.size):
+        if gc[k] <= gmin + window:
+            lo = max(idx[k] - stride, 0)
+            hi = min(idx[k] + stride + 1, n)
+            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi], R, O, y_off, rb, rc)
+            for g in gf:
+                if g < best:
+                    best = g
+    return best
 
 
 @dataclass
@@ -80,14 +153,19 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
     y_off = track.rail_offset(side)
-    s = np.zeros_like(yw)
-    for _ in range(3):
-        theta = np.arctan((s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2]))
-        st, ct = np.sin(theta), np.cos(theta)
-        P = (O[:, None] + eta[None, :] * R[:, 1:2]
-             + rho[None, :] * (st[None, :] * R[:, 0:1] + ct[None, :] * R[:, 2:3]))
-        yr = P[1] - y_off
-        s = np.nan_to_num(rail.slope(yr))
-    zr = rail.z_at(yr)
-    gap = np.where(np.isfinite(zr), zr - P[2], np.inf)
+    theta, P, yr, gap, s = _locus_kernel(eta, rho, R, O, y_off, rail._breaks, rail._coefs)
     return Locus(yw, zw, theta, P, yr, gap, s, O, R)
+
+
+def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, vertical: float,
+            roll: float, yaw: float, step: float = LOCUS_STEP, stride: int = 8) -> float:
+    """Minimum vertical gap [m] of one side (fast: coarse pass, local refinement)."""
+    wheel, rail = wheelset.wheel(side), track.rail(side)
+    y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
+    r0 = wheelset.nominal_radius
+    yw, zw = _wheel_samples(wheel, step)
+    R = rotation(yaw_s, roll_s)
+    O = np.array([0.0, y_ws, z_ws - r0])
+    return float(_min_gap_kernel(wheelset.wheel_offset + yw, r0 + zw, R, O,
+                                 track.rail_offset(side), rail._breaks, rail._coefs, stride,
+                                 2e-6))

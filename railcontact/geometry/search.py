@@ -36,7 +36,7 @@ from ..errors import ContactNotFoundError, InputError
 from ..materials import STEEL, Material
 from ..normal.hertz_theory import hertz_ellipse
 from .contact import ContactGeometry
-from .locus import Locus, compute_locus
+from .locus import Locus, compute_locus, min_gap
 from .track import SIDES, Track, Wheelset, WheelsetPose, rotation
 
 log = logging.getLogger(__name__)
@@ -149,8 +149,7 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
 
     def gaps(roll):
         if roll not in cache:
-            lo = {s: compute_locus(wheelset, track, s, y_ws, 0.0, roll, yaw) for s in SIDES}
-            g = {s: lo[s].gap_min for s in SIDES}
+            g = {s: min_gap(wheelset, track, s, y_ws, 0.0, roll, yaw) for s in SIDES}
             if not all(np.isfinite(v) for v in g.values()):
                 raise ContactNotFoundError(
                     f"no wheel-rail overlap found at lateral shift {y_ws * 1e3:.3f} mm: the "
@@ -344,7 +343,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
             change = max(abs(new[s] - targets[s]) for s in SIDES)
             targets = new
             z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets, z, roll)
-            if change < 1e-10:
+            if change < 1e-9:
                 break
     pose = WheelsetPose(lateral_shift, z, roll, yaw)
 

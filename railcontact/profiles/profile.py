@@ -21,6 +21,7 @@ import logging
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 from scipy import interpolate
 
 from ..errors import ProfileError
@@ -62,6 +63,36 @@ def _trim_foldback(y: np.ndarray, z: np.ndarray, name: str):
             "except for a folded-back flange back or rail flank at the ends")
     log.info("profile %s: dropped %d folded-back end points", name, len(y) - (hi - lo))
     return y[lo:hi], z[lo:hi]
+
+
+@njit(cache=True)
+def _ppoly_eval(x, breaks, c, nu):
+    """Evaluate a cubic piecewise polynomial (or its derivative nu <= 2) at x.
+
+    NaN outside [breaks[0], breaks[-1]].  c has shape (4, n_intervals), highest
+    power first (scipy's PPoly layout).
+    """
+    out = np.empty(x.size)
+    n = breaks.size - 1
+    lo, hi = breaks[0], breaks[n]
+    for i in range(x.size):
+        xi = x[i]
+        if not (lo <= xi <= hi):
+            out[i] = np.nan
+            continue
+        k = np.searchsorted(breaks, xi, side="right") - 1
+        if k >= n:
+            k = n - 1
+        if k < 0:
+            k = 0
+        t = xi - breaks[k]
+        if nu == 0:
+            out[i] = ((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]
+        elif nu == 1:
+            out[i] = (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k]
+        else:
+            out[i] = 6.0 * c[0, k] * t + 2.0 * c[1, k]
+    return out
 
 
 @dataclass(eq=False)
@@ -117,6 +148,12 @@ class Profile:
             raise ProfileError(f"profile smoothing {self.smoothing!r}: expected a length >= 0 m")
         self.y, self.z = y, z
         self._spline = self._fit()
+        pp = interpolate.PPoly.from_spline(self._spline)
+        keep = np.concatenate(([True], np.diff(pp.x) > 0))   # drop repeated end knots
+        xk = pp.x[keep]
+        ck = pp.c[:, keep[:-1]][:, :xk.size - 1]
+        self._breaks = np.ascontiguousarray(xk)
+        self._coefs = np.ascontiguousarray(ck)
 
     # ------------------------------------------------------------------ spline
     def _fit(self):
@@ -139,8 +176,10 @@ class Profile:
 
     def _eval(self, y, nu: int):
         y = np.asarray(y, dtype=float)
-        out = self._spline(y, nu)
-        return np.where((y >= self.y[0]) & (y <= self.y[-1]), out, np.nan)
+        flat = np.ascontiguousarray(y.ravel())
+        out = _ppoly_eval(flat, self._breaks, self._coefs, nu)
+        out[(flat < self.y[0]) | (flat > self.y[-1])] = np.nan
+        return out.reshape(y.shape) if y.ndim else out[0]
 
     def z_at(self, y):
         """Height z(y) [m]; NaN outside the profile."""

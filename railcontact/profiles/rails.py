@@ -15,6 +15,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
+from functools import lru_cache
 
 import numpy as np
 
@@ -78,6 +79,7 @@ def head_points(geom: HeadGeometry, step: float = 0.05):
     return np.concatenate(ys), np.concatenate(zs)
 
 
+@lru_cache(maxsize=32)
 def rail_profile(name: str = "60E1", inclination: float = math.atan(1 / 40),
                  step: float = 5e-5) -> Profile:
     """Built-in rail head profile, mounted with the given inclination.

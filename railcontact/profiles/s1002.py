@@ -15,6 +15,8 @@ S = -35 and S = -26 mm.
 
 from __future__ import annotations
 
+from functools import lru_cache
+
 import numpy as np
 
 from .profile import Profile
@@ -92,6 +94,7 @@ def s1002_height(S) -> np.ndarray:
     return out
 
 
+@lru_cache(maxsize=8)
 def s1002(step: float = 1e-4, flange_back_margin: float = 1e-6) -> Profile:
     """Built-in S1002 wheel profile.
 
