@@ -59,7 +59,7 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
         Dotted case key -> list of values, e.g. ``{"wheelset.lateral_shift": [0, 0.001]}``.
     scheduler : str
         Dask scheduler: ``"sync"``, ``"threads"``, ``"processes"``, ``"auto"``
-        (processes for 8 cases or more) or the address of a Dask scheduler
+        (processes from 64 cases: worker start-up costs about a second) or the address of a Dask scheduler
         (``tcp://host:8786``) to run on a cluster.
     progress : bool
         Show a progress bar.
@@ -81,7 +81,7 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
         raws.append(c.raw)
     tasks = [dask.delayed(_solve_one)(r, case.base_dir, normal, tangential) for r in raws]
     if scheduler == "auto":
-        scheduler = "processes" if len(tasks) >= 8 else "sync"
+        scheduler = "processes" if len(tasks) >= 64 else "sync"
     kwargs = {}
     if scheduler.startswith(("tcp://", "tls://", "inproc://")):
         from distributed import Client

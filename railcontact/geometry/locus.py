@@ -33,7 +33,7 @@ def _wheel_samples(wheel, step):
     return yw, wheel.z_at(yw)
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _pp(x, breaks, c, nu):
     n = breaks.size - 1
     if not (breaks[0] <= x <= breaks[n]):
@@ -46,7 +46,7 @@ def _pp(x, breaks, c, nu):
     return (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
     """Angle theta, wheel point, rail coordinate, vertical gap and rail slope."""
     n = eta.size
@@ -81,7 +81,7 @@ def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
     return theta, P, yr, gap, slope
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _min_gap_kernel(eta, rho, R, O, y_off, rb, rc, stride, window):
     """Minimum vertical gap along the locus: coarse pass every ``stride`` samples,
     then every sample around the coarse points within ``window`` [m] of the coarse

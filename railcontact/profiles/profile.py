@@ -65,7 +65,7 @@ def _trim_foldback(y: np.ndarray, z: np.ndarray, name: str):
     return y[lo:hi], z[lo:hi]
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _ppoly_eval(x, breaks, c, nu):
     """Evaluate a cubic piecewise polynomial (or its derivative nu <= 2) at x.
 

@@ -32,7 +32,7 @@ from .base import TangentialSolution, register
 from .kalker import flexibilities
 
 
-@njit(cache=True)
+@njit(cache=True, nogil=True)
 def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgrid,
                     px_out, py_out, sx_out, sy_out, stick_out):
     """March all strips; fill grid fields (traction on body 1 = rail) and return forces."""

@@ -1,0 +1,132 @@
+"""Timings and validations too long for the test suite (``make bench``).
+
+Reports ratios measured in this run, and writes ``benchmarks/results.md``.
+"""
+
+from __future__ import annotations
+
+import csv
+import math
+import os
+import statistics
+import sys
+import time
+from pathlib import Path
+
+import numpy as np
+
+import railcontact as rc
+from railcontact.geometry import ContactGeometry
+from railcontact.normal import get_normal_model
+from railcontact.tangential import get_tangential_model
+
+HERE = Path(__file__).resolve().parent
+REF = Path(os.environ.get("RAILCONTACT_REFERENCE", HERE.parent.parent / "shared" / "reference"))
+lines = []
+
+
+def out(s=""):
+    print(s)
+    lines.append(s)
+
+
+def best_of(fn, repeat=5, number=1):
+    ts = []
+    for _ in range(repeat):
+        t = time.perf_counter()
+        for _ in range(number):
+            fn()
+        ts.append((time.perf_counter() - t) / number)
+    return min(ts)
+
+
+def bench_hertz_fastsim():
+    out("## Hertz + FASTSIM on one contact")
+    mat = rc.Material()
+    geom = ContactGeometry(curvatures=(1 / 0.92, 1 / 0.6))
+    hz, fs = get_normal_model("hertz"), get_tangential_model("fastsim")
+
+    def one(grid):
+        ns = hz.solve(geom, mat, normal_force=1e5, grid=grid)
+        fs.solve(ns, geom, mat, (1e-3, -5e-4, 0.2), 0.3, 30.0)
+    one((20, 20))
+    for grid in ((20, 20), (40, 40), (80, 80)):
+        t = best_of(lambda: one(grid), 5, 20)
+        out(f"* grid {grid[0]}x{grid[1]}: {t * 1e6:.0f} µs per Hertz+FASTSIM evaluation")
+    return best_of(lambda: one((40, 40)), 5, 20)
+
+
+def bench_contact_sweep(t_hf):
+    out("\n## Wheel-rail cases: Manchester 10 kN sweep (right wheel, yaw 0, -2..10 mm)")
+    if not (REF / "mbench_sweep_10kN.csv").is_file():
+        out("reference data not found; skipped")
+        return
+    rows = list(csv.DictReader(open(REF / "mbench_sweep_10kN.csv")))
+    prof = REF / "profiles"
+    ours, theirs, dfn, dpm, darea = [], [], [], [], []
+    for r in rows:
+        y = float(r["y_ws_mm"])
+        raw = {"material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
+               "friction": {"coefficient": 0.3},
+               "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
+               "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
+               "wheelset": {"lateral_shift": y * 1e-3, "vertical_force": 1e4, "velocity": 2.0,
+                            "pitch_velocity": float(r["vpitch_rad_s"]), "side": "right"}}
+        case = rc.case_from_dict(raw)
+        rc.solve(case)
+        t = best_of(lambda: rc.solve(case), 3)
+        res = rc.solve(case)
+        ours.append(t * 1e3)
+        theirs.append(float(r["time_ms_mkl_1thread"]))
+        fn = sum(p.normal.normal_force for p in res.patches)
+        dfn.append(fn / float(r["fn_N"]) - 1)
+        pm = max(p.normal.pmax for p in res.patches)
+        dpm.append(pm / (float(r["pmax_MPa"]) * 1e6) - 1)
+        ar = sum(p.normal.area for p in res.patches)
+        darea.append(ar / (float(r["area_mm2"]) * 1e-6) - 1)
+    ratio = [a / b for a, b in zip(ours, theirs)]
+    out(f"* ours (Hertz+FASTSIM, geometry of both wheels, vertical-force iteration): median "
+        f"{statistics.median(ours):.1f} ms per case")
+    out(f"* CONTACT exact (one wheel, MKL, 1 thread, reference timing): median "
+        f"{statistics.median(theirs):.1f} ms per case")
+    out(f"* ratio ours / CONTACT: median {statistics.median(ratio):.2f} "
+        f"(min {min(ratio):.2f}, max {max(ratio):.2f})")
+    out(f"* Hertz+FASTSIM alone, 40x40 grid: {t_hf * 1e6:.0f} µs, i.e. "
+        f"{statistics.median(ours) * 1e-3 / t_hf:.0f}x less than a whole case: the geometry dominates")
+    out(f"* Hertz vs CONTACT exact, normal force: median |dFn| {100 * statistics.median(np.abs(dfn)):.2f} %,"
+        f" max {100 * max(np.abs(dfn)):.2f} %")
+    out(f"* Hertz vs CONTACT exact, pmax: median {100 * statistics.median(dpm):+.1f} %, "
+        f"range [{100 * min(dpm):+.1f}, {100 * max(dpm):+.1f}] % (non-Hertzian patches)")
+    out(f"* Hertz vs CONTACT exact, area: median {100 * statistics.median(darea):+.1f} %, "
+        f"range [{100 * min(darea):+.1f}, {100 * max(darea):+.1f}] %")
+
+
+def bench_sweep_parallel():
+    out("\n## Parallel sweep (Dask)")
+    case = rc.load_case(HERE.parent / "examples" / "wheel_rail.toml")
+    vary = {"wheelset.lateral_shift": [round(0.0005 * i, 6) for i in range(16)]}
+    rc.sweep(case, vary, scheduler="sync", progress=False)
+    t_sync = best_of(lambda: rc.sweep(case, vary, scheduler="sync", progress=False), 2)
+    t_thr = best_of(lambda: rc.sweep(case, vary, scheduler="threads", progress=False), 2)
+    t_proc = best_of(lambda: rc.sweep(case, vary, scheduler="processes", progress=False), 2)
+    out(f"* 16 wheel-rail cases: sync {t_sync:.2f} s, threads {t_thr:.2f} s, processes "
+        f"{t_proc:.2f} s (speed-up {t_sync / t_proc:.2f} on {os.cpu_count()} cores, worker "
+        "start-up included)")
+    vary = {"wheelset.lateral_shift": [round(0.0001 * i, 6) for i in range(128)]}
+    t_sync = best_of(lambda: rc.sweep(case, vary, scheduler="sync", progress=False), 1)
+    t_proc = best_of(lambda: rc.sweep(case, vary, scheduler="processes", progress=False), 1)
+    out(f"* 128 wheel-rail cases: sync {t_sync:.2f} s, processes {t_proc:.2f} s "
+        f"(speed-up {t_sync / t_proc:.2f})")
+
+
+def main():
+    out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
+        f"Python {sys.version.split()[0]})\n")
+    t = bench_hertz_fastsim()
+    bench_contact_sweep(t)
+    bench_sweep_parallel()
+    (HERE / "results.md").write_text("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()
