@@ -1,9 +1,9 @@
 """Tangential contact layer: creep forces, traction, slip.
 
-Models are chosen by name (:func:`get_tangential_model`): ``"fastsim"``.
+Models are chosen by name (:func:`get_tangential_model`): ``"fastsim"``, ``"exact"``.
 """
 
-from . import fastsim  # noqa: F401  (registers the model)
+from . import exact, fastsim  # noqa: F401  (register the models)
 from .base import TangentialSolution, get_tangential_model, tangential_models
 from .kalker import flexibilities, kalker_coefficients
 

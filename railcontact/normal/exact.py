@@ -1,0 +1,189 @@
+"""Exact (boundary-element) normal contact: ``normal="exact"``.
+
+Kalker's variational formulation of the normal problem for two identical elastic
+half-spaces (Kalker 1990, ch. 2 and 5): on a grid of mx x my equal rectangles with
+piecewise-constant pressure p, find p >= 0 with the deformed distance
+e = h + A p - delta >= 0 and p e = 0, where h is the undeformed distance (from the
+geometry layer's exact gap function), A the influence matrix of uniform pressures on
+rectangles (:mod:`railcontact.normal.influence`) and delta the approach.
+
+Solver: the constrained conjugate-gradient method of Polonsky & Keer (Wear 231,
+1999), in its force-controlled form (the mean gap over the contact area is the
+unknown approach) or displacement-controlled form (approach given).  Matrix-vector
+products are FFT convolutions, so the cost per iteration is O(N log N).  A solution
+that does not reach the tolerance is flagged (``converged=False``) and logged.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+from scipy.interpolate import RegularGridInterpolator
+
+from ..errors import InputError
+from ..materials import STEEL, Material
+from .base import NormalSolution, make_grid, register
+from .hertz_theory import hertz_ellipse
+from .influence import normal_operator
+
+log = logging.getLogger(__name__)
+
+
+def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
+    """Solve the discrete normal contact problem.
+
+    Parameters
+    ----------
+    op : Convolution   p -> A p [m]
+    h : ndarray        undeformed distance [m]; for a given approach delta pass
+                       h - delta and ``force=None``
+    dA : float         element area [m^2]
+    force : float      total force [N] (force-controlled), or None
+
+    Returns
+    -------
+    p [Pa], approach [m] (force-controlled; else 0), iterations, converged
+    """
+    if p0 is None:
+        if force is not None:
+            p = np.where(h <= np.min(h) + 0.5 * (np.median(h) - np.min(h)), 1.0, 0.0)
+            p *= force / (p.sum() * dA)
+        else:
+            p = np.maximum(-h, 0.0) / op.diag * 0.5
+    else:
+        p = p0.copy()
+    t = np.zeros_like(p)
+    G_old, restart = 1.0, True
+    converged = False
+    gbar = 0.0
+    scale = max(float(np.max(np.abs(h))), 1e-12)
+    it = 0
+    for it in range(1, maxiter + 1):
+        g = op(p) + h
+        S = p > 0
+        if not S.any():
+            S = g <= np.min(g) + 1e-15
+        if force is not None:
+            gbar = float(g[S].mean())
+            g = g - gbar
+        G = float(np.sum(g[S] ** 2))
+        t = np.where(S, g + (0.0 if restart else G / G_old) * t, 0.0)
+        G_old = G
+        r = op(t)
+        if force is not None:
+            r = r - float(r[S].mean())
+        den = float(np.sum(r[S] * t[S]))
+        if den == 0.0:
+            converged = True
+            break
+        tau = float(np.sum(g[S] * t[S])) / den
+        p_old = p
+        p = p - tau * t
+        p[p < 0] = 0.0
+        overlap = (p == 0) & (g < 0)
+        restart = bool(overlap.any())
+        if restart:
+            p[overlap] -= tau * g[overlap]
+        if force is not None:
+            tot = p.sum() * dA
+            if tot > 0:
+                p *= force / tot
+        ref = max(float(np.sum(p)), 1e-300)
+        err = float(np.sum(np.abs(p - p_old))) / ref
+        if err < tol and G <= (tol * scale) ** 2 * max(S.sum(), 1):
+            converged = True
+            break
+    approach = gbar if force is not None else 0.0
+    return p, approach, it, converged
+
+
+@register("exact")
+class ExactNormalModel:
+    """Kalker's exact theory of the normal contact problem on a boundary-element grid.
+
+    Parameters
+    ----------
+    tol : float        relative tolerance of the pressure iteration
+    maxiter : int      iteration limit
+    margin : float     the potential contact area extends the expected contact by
+                       this fraction on each side
+    """
+
+    def __init__(self, tol: float = 1e-8, maxiter: int = 3000, margin: float = 0.25):
+        if not (0 < tol < 1e-2):
+            raise InputError(f"exact tol {tol!r}: expected a value in (0, 0.01)")
+        self.tol, self.maxiter, self.margin = tol, int(maxiter), margin
+
+    def _potential_area(self, geometry, material, normal_force, penetration):
+        """Centre and half-extents [m] of the potential contact area."""
+        ext = geometry.extent
+        app = geometry.approach
+        if ext is not None and app > 0 and geometry.gap_function is not None:
+            x0, x1, y0, y1 = ext
+            f = 1.0 + self.margin
+            if penetration is not None and penetration > app:
+                f *= math.sqrt(penetration / app)
+            cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+            return (cx, cy), (0.5 * (x1 - x0) * f + 1e-5, 0.5 * (y1 - y0) * f + 1e-5)
+        A, B = geometry.curvatures
+        hz = hertz_ellipse(A, B, material.contact_modulus, force=normal_force,
+                           penetration=penetration)
+        f = 1.0 + self.margin
+        return (0.0, 0.0), (hz.a * f, hz.b * f)
+
+    def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
+              penetration: float | None = None, grid=None, element_size=None) -> NormalSolution:
+        """Solve for a given normal force [N] or approach [m].
+
+        The undeformed distance is taken from ``geometry.gap`` (the exact gap of the
+        geometry layer, shifted so that ``penetration`` is measured from the
+        search position's approach), or from its curvatures for a bodies case.
+        """
+        t0 = time.perf_counter()
+        if (normal_force is None) == (penetration is None):
+            raise InputError("give exactly one of normal force and penetration")
+        if normal_force is not None and not (math.isfinite(normal_force) and normal_force >= 0):
+            raise InputError(f"normal force {normal_force!r} N: expected a finite value >= 0")
+        if penetration is not None and not (math.isfinite(penetration) and penetration >= 0):
+            raise InputError(f"penetration {penetration!r} m: expected a finite value >= 0")
+        (cx, cy), (ex, ey) = self._potential_area(geometry, material, normal_force, penetration)
+        x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
+        dx, dy = x[1] - x[0], y[1] - y[0]
+        h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach   # touching: min ~ 0
+        op = normal_operator(x.size, y.size, float(dx), float(dy), material.contact_modulus)
+        dA = dx * dy
+        if normal_force is not None:
+            p, app, it, ok = polonsky_keer(op, h0, dA, force=normal_force, tol=self.tol,
+                                           maxiter=self.maxiter)
+        else:
+            p, _, it, ok = polonsky_keer(op, h0 - penetration, dA, None, self.tol, self.maxiter)
+            app = penetration
+        if not ok:
+            log.warning("exact normal solver: no convergence in %d iterations", it)
+        contact = p > 0
+        edge = contact[0, :].any() or contact[-1, :].any() or contact[:, 0].any() or \
+            contact[:, -1].any()
+        if edge:
+            log.warning("exact normal solver: contact reaches the edge of the potential contact "
+                        "area; results may be truncated")
+        F = float(p.sum() * dA)
+        # leading/trailing edges per strip from the contact mask
+        anyc = contact.any(axis=0)
+        xi = np.where(contact, x[:, None], np.nan)
+        with np.errstate(all="ignore"):
+            x_lead = np.where(anyc, np.nanmax(np.where(contact, xi, -np.inf), axis=0) + dx / 2, 0.0)
+            x_trail = np.where(anyc, np.nanmin(np.where(contact, xi, np.inf), axis=0) - dx / 2, 0.0)
+        interp = RegularGridInterpolator((x, y), p, bounds_error=False, fill_value=0.0)
+
+        def pressure_at(xq, yq, interp=interp):
+            xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
+            return np.maximum(interp(np.stack([xq.ravel(), yq.ravel()], -1)), 0.0).reshape(xq.shape)
+
+        return NormalSolution(model="exact", x=x, y=y, pressure=p, contact=contact,
+                              area=float(contact.sum() * dA), pmax=float(p.max()),
+                              penetration=float(app), normal_force=F, semi_axes=None,
+                              strips=(x_lead, x_trail), pressure_at=pressure_at, converged=ok,
+                              cpu_time=time.perf_counter() - t0)

@@ -1,0 +1,161 @@
+"""Influence coefficients of the elastic half-space and FFT convolution.
+
+Normal surface displacement (difference of two identical half-spaces) at the
+centre of element (i, j) due to a unit uniform pressure on element (k, l) of a
+uniform grid (Love 1929; Johnson 1985, section 3.9):
+
+    A = 1 / (pi E*) * [F(x + dx/2, y + dy/2) - F(x - dx/2, y + dy/2)
+                       - F(x + dx/2, y - dy/2) + F(x - dx/2, y - dy/2)],
+    F(x, y) = x ln(y + r) + y ln(x + r),  r = sqrt(x^2 + y^2),
+
+with (x, y) the offset between the element centres and 1/E* = 2 (1 - nu^2) / E.
+The matrix is block-Toeplitz, so products A p are computed as zero-padded
+convolutions with real FFTs (never as a dense N x N matrix).
+"""
+
+from __future__ import annotations
+
+from functools import lru_cache
+
+import numpy as np
+from scipy import fft
+
+
+def _log_sum(a, b, r):
+    """ln(a + r) with r = hypot(a, b), accurate when a < 0 (a + r = b^2 / (r - a))."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        s = np.where(a >= 0, a + r, b * b / (r - a))
+        return np.log(s)
+
+
+def _F(x, y):
+    """Antiderivative of 1/r over a rectangle: x ln(y + r) + y ln(x + r)."""
+    r = np.hypot(x, y)
+    t1 = np.where(x != 0, x * np.where(x != 0, _log_sum(y, x, r), 0.0), 0.0)
+    t2 = np.where(y != 0, y * np.where(y != 0, _log_sum(x, y, r), 0.0), 0.0)
+    return t1 + t2
+
+
+def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float) -> np.ndarray:
+    """Kernel A[di, dj] for offsets di in [-(mx-1), mx-1], dj in [-(my-1), my-1] [m/Pa]."""
+    ix = np.arange(-(mx - 1), mx) * dx
+    iy = np.arange(-(my - 1), my) * dy
+    X, Y = np.meshgrid(ix, iy, indexing="ij")
+    hx, hy = dx / 2, dy / 2
+    val = (_F(X + hx, Y + hy) - _F(X - hx, Y + hy)
+           - _F(X + hx, Y - hy) + _F(X - hx, Y - hy))
+    return val / (np.pi * contact_modulus)
+
+
+class Convolution:
+    """y = A p on an mx x my grid, by zero-padded real FFTs."""
+
+    def __init__(self, kernel: np.ndarray, mx: int, my: int):
+        self.mx, self.my = mx, my
+        self.shape = (fft.next_fast_len(2 * mx - 1, real=True),
+                      fft.next_fast_len(2 * my - 1, real=True))
+        k = np.zeros(self.shape)
+        # place offsets so that circular convolution equals linear convolution
+        k[:mx, :my] = kernel[mx - 1:, my - 1:]
+        k[-(mx - 1):, :my] = kernel[:mx - 1, my - 1:] if mx > 1 else k[-(mx - 1):, :my]
+        k[:mx, -(my - 1):] = kernel[mx - 1:, :my - 1] if my > 1 else k[:mx, -(my - 1):]
+        if mx > 1 and my > 1:
+            k[-(mx - 1):, -(my - 1):] = kernel[:mx - 1, :my - 1]
+        self.khat = fft.rfft2(k)
+        self.diag = float(kernel[mx - 1, my - 1])
+
+    def __call__(self, p: np.ndarray) -> np.ndarray:
+        ph = fft.rfft2(p, s=self.shape)
+        return fft.irfft2(ph * self.khat, s=self.shape)[:self.mx, :self.my]
+
+
+@lru_cache(maxsize=64)
+def normal_operator(mx: int, my: int, dx: float, dy: float, contact_modulus: float) -> Convolution:
+    """Cached convolution operator for a grid and material."""
+    return Convolution(normal_kernel(mx, my, dx, dy, contact_modulus), mx, my)
+
+
+def _Lx(x, y):
+    """Antiderivative of y^2 / r^3 over a rectangle: x ln(y + r)."""
+    r = np.hypot(x, y)
+    return np.where(x != 0, x * np.where(x != 0, _log_sum(y, x, r), 0.0), 0.0)
+
+
+def _Ly(x, y):
+    """Antiderivative of x^2 / r^3 over a rectangle: y ln(x + r)."""
+    r = np.hypot(x, y)
+    return np.where(y != 0, y * np.where(y != 0, _log_sum(x, y, r), 0.0), 0.0)
+
+
+def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: float,
+                       poisson_ratio: float, extra_rows: int = 0):
+    """Tangential influence kernels (xx, xy, yy) [m/Pa] for identical bodies.
+
+    Displacement difference at offset (x, y) from a unit uniform traction on an
+    element (Cerruti; Johnson 1985, eq. 3.86-3.87, doubled for two bodies):
+
+        u_x = 1/(pi G) [ (1 - nu) I(1/r) + nu I(x^2/r^3) ] t_x + nu/(pi G) I(xy/r^3) t_y
+        u_y = nu/(pi G) I(xy/r^3) t_x + 1/(pi G) [ (1 - nu) I(1/r) + nu I(y^2/r^3) ] t_y
+
+    with the rectangle integrals from the antiderivatives I(y^2/r^3) = x ln(y + r),
+    I(x^2/r^3) = y ln(x + r), I(xy/r^3) = -r.  Offsets in x run over
+    [-(mx-1), mx-1+extra_rows].
+    """
+    ix = np.arange(-(mx - 1), mx + extra_rows) * dx
+    iy = np.arange(-(my - 1), my) * dy
+    X, Y = np.meshgrid(ix, iy, indexing="ij")
+    hx, hy = dx / 2, dy / 2
+
+    def rect(f):
+        return f(X + hx, Y + hy) - f(X - hx, Y + hy) - f(X + hx, Y - hy) + f(X - hx, Y - hy)
+
+    Lx, Ly = rect(_Lx), rect(_Ly)
+    Rr = rect(lambda x, y: -np.hypot(x, y))
+    nu, c = poisson_ratio, 1.0 / (np.pi * shear_modulus)
+    kxx = c * ((1 - nu) * (Lx + Ly) + nu * Ly)
+    kyy = c * ((1 - nu) * (Lx + Ly) + nu * Lx)
+    kxy = c * nu * Rr
+    return kxx, kxy, kyy
+
+
+class ShiftedConvolution:
+    """u = K p on an (mx + rows) x my output grid for p on mx x my (rows above)."""
+
+    def __init__(self, kernel: np.ndarray, mx: int, my: int, rows: int = 1):
+        self.mx, self.my, self.rows = mx, my, rows
+        mo = mx + rows
+        self.shape = (fft.next_fast_len(mx + mo - 1, real=True),
+                      fft.next_fast_len(2 * my - 1, real=True))
+        # kernel offsets di in [-(mx-1), mo-1], dj in [-(my-1), my-1]
+        k = np.zeros(self.shape)
+        nneg = mx - 1
+        k[:mo, :my] = kernel[nneg:, my - 1:]
+        if my > 1:
+            k[:mo, -(my - 1):] = kernel[nneg:, :my - 1]
+        if nneg > 0:
+            k[-nneg:, :my] = kernel[:nneg, my - 1:]
+            if my > 1:
+                k[-nneg:, -(my - 1):] = kernel[:nneg, :my - 1]
+        self.khat = fft.rfft2(k)
+
+    def __call__(self, p: np.ndarray) -> np.ndarray:
+        return fft.irfft2(fft.rfft2(p, s=self.shape) * self.khat,
+                          s=self.shape)[:self.mx + self.rows, :self.my]
+
+
+class TangentialOperator:
+    """(u_x, u_y) = B (p_x, p_y) on an (mx + rows) x my grid with shared FFTs."""
+
+    def __init__(self, kernels, mx: int, my: int, rows: int = 1):
+        convs = [ShiftedConvolution(k, mx, my, rows) for k in kernels]
+        self.shape = convs[0].shape
+        self.kxx, self.kxy, self.kyy = (c.khat for c in convs)
+        self.mx, self.my, self.rows = mx, my, rows
+
+    def __call__(self, px: np.ndarray, py: np.ndarray):
+        fx = fft.rfft2(px, s=self.shape)
+        fy = fft.rfft2(py, s=self.shape)
+        n = self.mx + self.rows
+        ux = fft.irfft2(self.kxx * fx + self.kxy * fy, s=self.shape)[:n, :self.my]
+        uy = fft.irfft2(self.kxy * fx + self.kyy * fy, s=self.shape)[:n, :self.my]
+        return ux, uy

@@ -1,0 +1,92 @@
+"""Exact (boundary-element) normal solver against Hertz and CONTACT."""
+
+import math
+
+import numpy as np
+import pytest
+
+import railcontact as rc
+from railcontact.geometry import ContactGeometry
+from railcontact.materials import Material
+from railcontact.normal import get_normal_model, hertz_ellipse
+from railcontact.normal.influence import Convolution, normal_kernel
+from tests.conftest import read_csv
+
+MAT = Material(2.1e11, 0.28)
+
+
+def test_fft_product_equals_dense_matrix():
+    mx, my, dx, dy = 6, 5, 1e-3, 1.5e-3
+    K = normal_kernel(mx, my, dx, dy, MAT.contact_modulus)
+    p = np.random.default_rng(2).random((mx, my))
+    dense = np.zeros((mx, my))
+    for i in range(mx):
+        for j in range(my):
+            dense[i, j] = sum(K[i - k + mx - 1, j - m + my - 1] * p[k, m]
+                              for k in range(mx) for m in range(my))
+    assert np.allclose(Convolution(K, mx, my)(p), dense, rtol=1e-12, atol=0)
+    # centre of a square element of side 2c: 8 c ln(1 + sqrt 2) / (pi E*)
+    K1 = normal_kernel(1, 1, 2e-3, 2e-3, MAT.contact_modulus)
+    assert K1[0, 0] == pytest.approx(8e-3 * math.log(1 + math.sqrt(2)) /
+                                     (math.pi * MAT.contact_modulus), rel=1e-12)
+
+
+@pytest.mark.parametrize("AB", [(1.0, 1.0), (1.0, 4.0), (3.0, 1.0)])
+def test_hertzian_geometry_40x40(AB):
+    g = ContactGeometry(curvatures=AB)
+    hz = hertz_ellipse(*AB, MAT.contact_modulus, force=1e5)
+    ns = get_normal_model("exact").solve(g, MAT, normal_force=1e5, grid=(40, 40))
+    assert ns.converged
+    assert ns.normal_force == pytest.approx(1e5, rel=1e-9)
+    assert ns.pmax == pytest.approx(hz.p0, rel=0.01)
+    assert ns.penetration == pytest.approx(hz.penetration, rel=0.01)
+    assert ns.area == pytest.approx(hz.area, rel=0.02)   # element count: O(dx) error
+
+
+def test_converges_with_refinement():
+    g = ContactGeometry(curvatures=(1.0, 2.0))
+    hz = hertz_ellipse(1.0, 2.0, MAT.contact_modulus, force=1e5)
+    errs = []
+    for n in (20, 40, 80):
+        ns = get_normal_model("exact").solve(g, MAT, normal_force=1e5, grid=(n, n))
+        errs.append(abs(ns.pmax / hz.p0 - 1) + abs(ns.penetration / hz.penetration - 1))
+    assert errs[0] > errs[1] > errs[2]
+    assert errs[2] < 1e-3
+
+
+def test_penetration_given():
+    g = ContactGeometry(curvatures=(1.0, 3.0))
+    hz = hertz_ellipse(1.0, 3.0, MAT.contact_modulus, force=5e4)
+    ns = get_normal_model("exact").solve(g, MAT, penetration=hz.penetration, grid=(40, 40))
+    assert ns.normal_force == pytest.approx(5e4, rel=0.01)
+
+
+def test_manchester_sweep_tread_cases(refdir):
+    """Exact normal problem on our gap function vs CONTACT (0.25 mm elements)."""
+    rows = read_csv(refdir / "mbench_sweep_10kN.csv")
+    prof = refdir / "profiles"
+    for r in rows:
+        y = float(r["y_ws_mm"])
+        if y not in (-2.0, 2.0, 3.0, 4.0):
+            continue
+        raw = {"material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
+               "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
+               "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
+               "wheelset": {"lateral_shift": y * 1e-3, "vertical_force": 1e4, "velocity": 2.0,
+                            "pitch_velocity": float(r["vpitch_rad_s"]), "side": "right"},
+               "solver": {"normal": "exact", "tangential": "fastsim",
+                          "element_size": [0.25e-3, 0.25e-3]}}
+        (p,) = rc.solve(rc.case_from_dict(raw)).patches
+        assert p.normal.normal_force == pytest.approx(float(r["fn_N"]), rel=0.01), y
+        assert p.normal.pmax == pytest.approx(float(r["pmax_mat_MPa"]) * 1e6, rel=0.015), y
+        assert p.normal.area == pytest.approx(float(r["area_mm2"]) * 1e-6, rel=0.04), y
+        assert p.normal.penetration == pytest.approx(float(r["approach_mm"]) * 1e-3, rel=0.01), y
+
+
+def test_bad_input():
+    from railcontact.errors import InputError
+    g = ContactGeometry(curvatures=(1.0, 1.0))
+    with pytest.raises(InputError):
+        get_normal_model("exact").solve(g, MAT)
+    with pytest.raises(InputError):
+        get_normal_model("exact").solve(g, MAT, normal_force=-5.0)
