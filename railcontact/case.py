@@ -18,7 +18,8 @@ _ALLOWED = {
     "wheel": {"profile", "nominal_radius", "profile_left", "units"},
     "rail": {"profile", "inclination", "profile_left", "units"},
     "track": {"gauge", "gauge_height"},
-    "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "side",
+    "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
+                 "side",
                  "vertical_force", "velocity", "pitch_velocity", "lateral_velocity", "yaw_rate",
                  "combine_distance"},
     "creepage": {"longitudinal", "lateral", "spin"},
@@ -165,6 +166,11 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
         case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m")
         case.number("wheelset.yaw", 0.0, -0.1, 0.1, "rad")
+        if case.get("wheelset.roll") is not None:
+            case.number("wheelset.roll", None, -0.1, 0.1, "rad")
+            if side == "both":
+                raise CaseFileError("wheelset.roll is prescribed: give wheelset.side = 'left' or "
+                                    "'right' (with a given roll only one wheel is in equilibrium)")
         case.number("wheel.nominal_radius", 0.46, 0.1, 1.5, "m")
         case.number("rail.inclination", 0.0, -0.1, 0.1, "rad")
     return case

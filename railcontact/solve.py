@@ -165,15 +165,28 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None) 
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)
 
 
-def _solve_patches(case, contact, nmodel, tmodel, kw):
+def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None):
+    """Solve every loaded patch; ``previous`` results of the same case (an earlier
+    iteration) serve as warm starts where a model accepts them."""
     out = []
+    warm = getattr(tmodel, "accepts_warm_start", False)
     for geom in contact.patches:
         if geom.approach <= 0:
             continue
         ns = nmodel.solve(geom, case.material, penetration=geom.approach, **kw)
         creep = case.creepage or geom.creepage
-        ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, geom.velocity)
-              if tmodel else None)
+        ts = None
+        if tmodel is not None:
+            extra = {}
+            if warm and previous:
+                near = [r for r in previous if r.geometry.side == geom.side
+                        and r.tangential is not None
+                        and r.tangential.traction_x.shape == ns.pressure.shape]
+                if near:
+                    best = min(near, key=lambda r: abs(r.geometry.y_rail - geom.y_rail))
+                    extra["warm_start"] = best.tangential
+            ts = tmodel.solve(ns, geom, case.material, creep, case.friction, geom.velocity,
+                              **extra)
         out.append(PatchResult(geom, ns, ts, tuple(float(c) for c in creep)))
     return out
 
@@ -228,7 +241,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 12, rtol: float 
             new[s] = min(max(new[s], 0.2 * d[s]), 5.0 * d[s] + 1e-7)
         d = new
         contact = contact_search(case, interpenetration=d, bodies=bodies)
-        results = _solve_patches(case, contact, nmodel, tmodel, kw)
+        results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results)
     else:
         log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)
     if side != "both":

@@ -137,7 +137,8 @@ def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -
     return brentq(lambda d: vertical_force(d) - load, 0.0, hi, xtol=1e-13)
 
 
-def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-12):
+def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-12,
+                roll_given=None, sides=SIDES):
     """Vertical position and roll such that min gap of each side = -target.
 
     The vertical gap of both sides decreases by exactly dz when the wheelset moves
@@ -146,6 +147,15 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
     is solved by a bracketed root search (robust at jumps of the contact point).
     """
     cache = {}
+    if roll_given is not None:
+        (side,) = sides
+        g = min_gap(wheelset, track, side, y_ws, 0.0, roll_given, yaw)
+        if not np.isfinite(g):
+            raise ContactNotFoundError(f"no wheel-rail overlap found on the {side} side at "
+                                       f"lateral shift {y_ws * 1e3:.3f} mm")
+        z = g + targets[side]
+        loci = {side: compute_locus(wheelset, track, side, y_ws, z, roll_given, yaw)}
+        return z, roll_given, loci
 
     def gaps(roll):
         if roll not in cache:
@@ -280,7 +290,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                  velocity: float = 30.0, pitch_velocity: float | None = None,
                  lateral_velocity: float = 0.0, yaw_rate: float = 0.0,
                  combine_distance: float = 0.0,
-                 interpenetration: dict | None = None) -> WheelsetContact:
+                 interpenetration: dict | None = None, roll: float | None = None,
+                 side: str = "both") -> WheelsetContact:
     """Find the wheelset position and all contact patches.
 
     Parameters
@@ -310,6 +321,11 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         (``{"left": d, "right": d}``) instead of one derived from ``vertical_force``;
         used by :func:`railcontact.solve` to meet the vertical force with the
         normal and tangential model of the case.
+    roll : float, optional
+        Prescribed roll angle [rad].  Then only one wheel (``side``) is considered and
+        its vertical position alone is solved (CONTACT's single-wheel mode).
+    side : {"both", "left", "right"}
+        Wheels to consider; a prescribed roll needs "left" or "right".
     """
     for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
                          ("wheelset.yaw", yaw, 0.1)):
@@ -329,29 +345,41 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     r0 = wheelset.nominal_radius
     if pitch_velocity is None:
         pitch_velocity = -velocity / r0
+    if side not in ("both", "left", "right"):
+        raise InputError(f"wheelset.side = {side!r}: expected 'left', 'right' or 'both'")
+    if roll is not None:
+        if side == "both":
+            raise InputError("wheelset.roll is prescribed: give wheelset.side = 'left' or "
+                             "'right' (with a given roll only one wheel can be in equilibrium)")
+        if not (math.isfinite(roll) and abs(roll) <= 0.1):
+            raise InputError(f"wheelset.roll = {roll!r}: expected |roll| <= 0.1 rad")
+    sides = SIDES if roll is None else (side,)
+    pose_kw = {"roll_given": roll, "sides": sides}
 
     targets = {"left": 0.0, "right": 0.0}
     if interpenetration is not None:
-        targets = {s: float(interpenetration[s]) for s in SIDES}
+        targets = {s: float(interpenetration.get(s, 0.0)) for s in SIDES}
         if not all(math.isfinite(v) and v >= 0 for v in targets.values()):
             raise InputError(f"interpenetration = {interpenetration!r}: expected values >= 0 m")
         loads = loads or {s: math.nan for s in SIDES}
-    z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets)
+    z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets, **pose_kw)
     if loads is not None and interpenetration is None:
         for _ in range(10):
-            new = {s: _approach_for_load(loci[s], loads[s], r0, material) for s in SIDES}
-            change = max(abs(new[s] - targets[s]) for s in SIDES)
+            new = dict(targets)
+            new.update({s: _approach_for_load(loci[s], loads[s], r0, material) for s in sides})
+            change = max(abs(new[s] - targets[s]) for s in sides)
             targets = new
-            z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets, z, roll)
+            z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets, z, roll,
+                                        **pose_kw)
             if change < 1e-9:
                 break
     pose = WheelsetPose(lateral_shift, z, roll, yaw)
 
     patches = []
-    for side in SIDES:
-        loc = loci[side]
+    for sd in sides:
+        loc = loci[sd]
         for i0, i1 in _regions(loc, loads is None, combine_distance):
-            patches.append(_make_patch(wheelset, track, side, loc, i0, i1, pose, loads is None,
+            patches.append(_make_patch(wheelset, track, sd, loc, i0, i1, pose, loads is None,
                                        velocity, pitch_velocity, lateral_velocity, yaw_rate))
     return WheelsetContact(pose, patches, loci, loads, targets)
 
