@@ -117,6 +117,7 @@ def contact_search(case: Case, interpenetration: dict | None = None,
     """
     ws, tr = bodies or build_wheelset_track(case)
     pv = case.get("wheelset.pitch_velocity")
+    roll = case.get("wheelset.roll")
     return find_contact(ws, tr, case.number("wheelset.lateral_shift", 0.0),
                         case.number("wheelset.yaw", 0.0),
                         vertical_force=case.number("wheelset.vertical_force", 70e3),
@@ -125,7 +126,9 @@ def contact_search(case: Case, interpenetration: dict | None = None,
                         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0),
                         yaw_rate=case.number("wheelset.yaw_rate", 0.0),
                         combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1),
-                        interpenetration=interpenetration)
+                        interpenetration=interpenetration,
+                        roll=None if roll is None else case.number("wheelset.roll"),
+                        side=case.get("wheelset.side", "both") if roll is not None else "both")
 
 
 def solve(case: Case, normal: str | None = None, tangential: str | None = None) -> SolveResult:
@@ -220,17 +223,18 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 12, rtol: float 
     side = case.get("wheelset.side", "both")
     results = _solve_patches(case, contact, nmodel, tmodel, kw)
     d = dict(contact.interpenetration)
-    hist = {s: [] for s in ("left", "right")}
+    sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
+    hist = {s: [] for s in sides}
     for _ in range(max_iter):
         err = {}
-        for s in ("left", "right"):
+        for s in sides:
             fz = vertical_force_on_rail(results, s)
             err[s] = fz - load
             hist[s].append((d[s], fz))
         if all(abs(e) <= rtol * load for e in err.values()):
             break
-        new = {}
-        for s in ("left", "right"):
+        new = dict(d)
+        for s in sides:
             pts = hist[s]
             if len(pts) >= 2 and pts[-1][1] != pts[-2][1]:
                 (d0, f0), (d1, f1) = pts[-2], pts[-1]
