@@ -11,6 +11,7 @@ ellipses are used.
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 
 import numpy as np
 
@@ -72,6 +73,25 @@ def _asymptotic(a_over_b, nu):
     return c11, c22, c23
 
 
+@lru_cache(maxsize=4096)
+def _coefficients(a_over_b: float, nu: float):
+    g = a_over_b if a_over_b <= 1.0 else 1.0 / a_over_b
+    if g < 0.1:
+        return _asymptotic(a_over_b, nu)
+    tabs = (_C11_AB, _C22_AB, _C23_AB) if a_over_b <= 1.0 else (_C11_BA, _C22_BA, _C23_BA)
+    k = min(int((g - 0.1) / 0.1 + 1e-12), 8)          # rows are spaced 0.1 apart
+    t = (g - _G[k]) / (_G[k + 1] - _G[k])
+    x0, x1, x2 = _NU
+    l0 = (nu - x1) * (nu - x2) / ((x0 - x1) * (x0 - x2))
+    l1 = (nu - x0) * (nu - x2) / ((x1 - x0) * (x1 - x2))
+    l2 = (nu - x0) * (nu - x1) / ((x2 - x0) * (x2 - x1))
+    out = []
+    for tab in tabs:
+        row = (1 - t) * tab[k] + t * tab[k + 1]
+        out.append(1.0 / (l0 / row[0] + l1 / row[1] + l2 / row[2]))
+    return tuple(float(c) for c in out)
+
+
 def kalker_coefficients(a_over_b: float, nu: float):
     """Creep coefficients (C11, C22, C23) for semi-axis ratio a/b and Poisson's ratio.
 
@@ -86,15 +106,7 @@ def kalker_coefficients(a_over_b: float, nu: float):
         raise InputError(f"semi-axis ratio a/b = {a_over_b!r}: expected a value > 0")
     if not 0.0 <= nu <= 0.5:
         raise InputError(f"poisson_ratio = {nu!r}: expected a value in [0, 0.5]")
-    g = a_over_b if a_over_b <= 1.0 else 1.0 / a_over_b
-    if g < 0.1:
-        return _asymptotic(a_over_b, nu)
-    tabs = (_C11_AB, _C22_AB, _C23_AB) if a_over_b <= 1.0 else (_C11_BA, _C22_BA, _C23_BA)
-    out = []
-    for tab in tabs:
-        row = np.array([np.interp(g, _G, tab[:, k]) for k in range(3)])
-        out.append(float(_nu_interp(row, nu)))
-    return tuple(out)
+    return _coefficients(float(a_over_b), float(nu))
 
 
 def flexibilities(a: float, b: float, shear_modulus: float, nu: float):
