@@ -211,6 +211,12 @@ def _ssn_precond(rx, ry, contact, stick, M, rho, dxx, dyy):
 
 
 @lru_cache(maxsize=32)
+def _self_terms(mx, my, dx, dy, G, nu):
+    kxx, _, kyy = tangential_kernels(1, 1, dx, dy, G, nu)
+    return float(kxx[0, 0]), float(kyy[0, 0])
+
+
+@lru_cache(maxsize=32)
 def _operators(mx, my, dx, dy, G, nu):
     kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, G, nu, extra_rows=1)
     ops = TangentialOperator((kxx, kxy, kyy), mx, my, rows=1)
@@ -220,8 +226,14 @@ def _operators(mx, my, dx, dy, G, nu):
     return ops, (dxx, dyy)
 
 
-def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, p0=None):
-    """Solve the discrete steady-rolling problem by a semi-smooth Newton method.
+def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, p0=None,
+                   mode="rolling"):
+    """Solve the discrete steady-rolling (or shift) problem by a semi-smooth Newton method.
+
+    ``mode="rolling"``: s = w - (u_I+ - u_I)/dx with w from the creepages.
+    ``mode="shift"``: Cattaneo's transient shift from an unloaded state,
+    s = w + u (slip displacement [m]), with ``creepage`` = (shift_x, shift_y, rotation)
+    the rigid shift [m, m] and rotation about n [rad] of body 1.
 
     Returns p (on body 1), slip, stick mask, Newton iterations and a convergence
     flag.  Convergence: max |F| <= tol * max bound, with F the complementarity
@@ -231,6 +243,9 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     mx, my = x.size, y.size
     dx = float(x[1] - x[0])
     op, (dxx, dyy) = _operators(mx, my, dx, float(y[1] - y[0]), G, nu)
+    if mode == "shift":
+        kx, ky = _self_terms(mx, my, dx, float(y[1] - y[0]), G, nu)
+        dxx, dyy = kx, ky
     xi, eta, phi = creepage
     wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
     wy = np.ascontiguousarray(np.where(contact, eta + phi * x[:, None], 0.0))
@@ -238,11 +253,15 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
 
     def c_of(px, py):  # the linear part: s - w
         ux, uy = op(px, py)
+        if mode == "shift":
+            return np.ascontiguousarray(ux[:-1]), np.ascontiguousarray(uy[:-1])
         return (np.ascontiguousarray(-(ux[1:] - ux[:-1]) / dx),
                 np.ascontiguousarray(-(uy[1:] - uy[:-1]) / dx))
 
     if p0 is not None:
         px, py = p0[0].copy(), p0[1].copy()
+    elif mode == "shift":
+        px, py = np.zeros((mx, my)), np.zeros((mx, my))
     else:
         px, py = _initial_march(wx, wy, contact, bound, dxx, dyy)
     gmax = max(float(bound.max()), 1e-300)
@@ -272,13 +291,32 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
             return np.concatenate((ox_.ravel(), oy_.ravel()))
 
         def prec(v, stick=stick, M=M):
+            if mode == "shift":
+                return _shift_precond(v, stick, M)
             zx, zy = _ssn_precond(np.ascontiguousarray(v[:N].reshape(mx, my)),
                                   np.ascontiguousarray(v[N:].reshape(mx, my)),
                                   contact, stick, M, rho, dxx, dyy)
             return np.concatenate((zx.ravel(), zy.ravel()))
 
-        A = LinearOperator((2 * N, 2 * N), matvec=mv)
-        P = LinearOperator((2 * N, 2 * N), matvec=prec)
+        def _shift_precond(v, stick, M):
+            # Jacobian with C replaced by its diagonal (self term) only
+            zx, zy = v[:N].reshape(mx, my).copy(), v[N:].reshape(mx, my).copy()
+            st = contact & stick
+            zx[st] /= rho * dxx
+            zy[st] /= rho * dyy
+            sl = contact & ~stick
+            a00 = 1 - M[..., 0, 0] + rho * M[..., 0, 0] * dxx
+            a01 = -M[..., 0, 1] + rho * M[..., 0, 1] * dyy
+            a10 = -M[..., 1, 0] + rho * M[..., 1, 0] * dxx
+            a11 = 1 - M[..., 1, 1] + rho * M[..., 1, 1] * dyy
+            det = np.where(sl, a00 * a11 - a01 * a10, 1.0)
+            bx, by = zx.copy(), zy.copy()
+            zx = np.where(sl, (a11 * bx - a01 * by) / det, zx)
+            zy = np.where(sl, (-a10 * bx + a00 * by) / det, zy)
+            return np.concatenate((zx.ravel(), zy.ravel()))
+
+        A = LinearOperator((2 * N, 2 * N), matvec=mv, dtype=float)
+        P = LinearOperator((2 * N, 2 * N), matvec=prec, dtype=float)
         rhs = -np.concatenate((F[:, :, 0].ravel(), F[:, :, 1].ravel()))
         # inexact Newton (Eisenstat-Walker): loose linear solves far from the solution
         if it > 1:
@@ -319,14 +357,22 @@ class ExactTangentialModel:
     tol : float      convergence: largest traction change per iteration / largest
                      bound, and largest change of a slip direction
     maxiter : int    limit of Newton iterations
+    mode : {"rolling", "shift"}
+        ``"rolling"``: steady-state rolling with creepages (xi, eta, phi).
+        ``"shift"``: transient shift from the unloaded state (Cattaneo-Mindlin); the
+        "creepage" argument is then the rigid shift (dx [m], dy [m], rotation [rad])
+        of the rail relative to the wheel, and the slip a displacement [m].
     """
 
     accepts_warm_start = True
 
-    def __init__(self, tol: float = 1e-6, maxiter: int = 60):
+    def __init__(self, tol: float = 1e-6, maxiter: int = 60, mode: str = "rolling"):
         if not 0 < tol < 1e-2:
             raise InputError(f"exact tangential tol {tol!r}: expected a value in (0, 0.01)")
-        self.tol, self.maxiter = tol, int(maxiter)
+        if mode not in ("rolling", "shift"):
+            raise InputError(f"exact tangential mode {mode!r}: expected 'rolling' (steady "
+                             "rolling) or 'shift' (transient shift, Cattaneo)")
+        self.tol, self.maxiter, self.mode = tol, int(maxiter), mode
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
@@ -349,15 +395,27 @@ class ExactTangentialModel:
         if warm_start is not None and warm_start.traction_x.shape == contact.shape:
             p0 = (np.where(contact, -warm_start.traction_x, 0.0),
                   np.where(contact, -warm_start.traction_y, 0.0))
-        px, py, sx, sy, stick, it, ok = steady_rolling(
-            x, y, contact, bound, (xi, eta, phi), material.shear_modulus, material.poisson_ratio,
-            self.tol, self.maxiter, p0=p0)
+        args = (x, y, contact, bound, (xi, eta, phi), material.shear_modulus,
+                material.poisson_ratio, self.tol)
+        px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode)
+        fallback = False
         if not ok:
-            log.warning("exact tangential solver: not converged after %d sweeps", it)
+            # fall back: restart from zero traction with damped steps and more iterations
+            log.info("exact tangential solver: no convergence in %d iterations; restarting "
+                     "from zero traction with %d iterations", it, 4 * self.maxiter)
+            q = steady_rolling(*args, 4 * self.maxiter, p0=(np.zeros_like(bound),
+                                                               np.zeros_like(bound)),
+                               mode=self.mode)
+            fallback = True
+            if q[-1] or not ok:
+                px, py, sx, sy, stick, it, ok = q
+        if not ok:
+            log.warning("exact tangential solver: not converged (flagged in the result)")
         dA = (x[1] - x[0]) * (y[1] - y[0])
         fx, fy = float(px.sum() * dA), float(py.sum() * dA)
         mz = float(((x[:, None] * py) - (y[None, :] * px)).sum() * dA)
         return TangentialSolution("exact", x, y, -px, -py, sx, sy, stick, contact, -fx, -fy,
                                   -mz, velocity, (xi, eta, phi), friction,
                                   time.perf_counter() - t0,
-                                  {"iterations": it, "converged": ok})
+                                  {"iterations": it, "converged": ok, "fallback": fallback,
+                                   "mode": self.mode})

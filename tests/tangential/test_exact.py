@@ -140,3 +140,25 @@ def test_saturation_and_signs():
     # partial slip: between the linear and the saturated values
     t2 = ex.solve(ns, None, mat, (-1e-3, 0, 0), 0.3)
     assert -0.3 * 5e4 < t2.fx < 0 and 0 < t2.stick_fraction < 1
+
+
+@pytest.mark.parametrize("q", [0.2, 0.5, 0.8])
+def test_cattaneo_mindlin_shift(q):
+    """Transient shift of two spheres (Mindlin 1949; Johnson 1985, eq. 7.42):
+    delta = 3 mu P (2 - nu) / (8 G a) [1 - (1 - Q / mu P)^(2/3)], stick radius
+    c = a (1 - Q / mu P)^(1/3)."""
+    from railcontact.geometry import ContactGeometry
+    from railcontact.normal import get_normal_model
+    mat = Material(2.1e11, 0.28)
+    R, P, mu = 0.1, 2e4, 0.3
+    ns = get_normal_model("hertz", margin=0.05).solve(
+        ContactGeometry(curvatures=(1 / (2 * R), 1 / (2 * R))), mat, normal_force=P,
+        grid=(60, 60))
+    a = ns.semi_axes[0]
+    delta = 3 * mu * P * (2 - mat.poisson_ratio) / (8 * mat.shear_modulus * a) * \
+        (1 - (1 - q) ** (2 / 3))
+    t = get_tangential_model("exact", mode="shift").solve(ns, None, mat, (delta, 0, 0), mu)
+    assert t.options["converged"]
+    assert t.fx / (mu * P) == pytest.approx(q, rel=2e-3)      # the rail drags the wheel along
+    c = math.sqrt(t.stick.sum() * ns.dx * ns.dy / math.pi)
+    assert c / a == pytest.approx((1 - q) ** (1 / 3), rel=0.015)
