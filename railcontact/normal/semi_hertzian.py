@@ -1,0 +1,246 @@
+"""Semi-Hertzian (strip) normal models: ``kik-piotrowski``, ``kpec``, ``analyn``.
+
+All three work on the undeformed distance h(x, y) of the geometry layer on a grid
+of the tangent plane (as the exact model) and give a semi-elliptic pressure in the
+rolling direction on every strip.  With ``h* = h - delta`` (delta the approach,
+negative h* = interpenetration) and ``h_min`` its minimum:
+
+* **Kik-Piotrowski** (Kik & Piotrowski 1996; Piotrowski & Kik, VSD 46, 2008): the
+  contact area is the virtual interpenetration region h* <= (1 - eps) h_min with a
+  constant scaling eps (0.55 by default); each strip carries
+  p = p0 sqrt((l/2)^2 - (x - x_m)^2) / (l_max/2) between its trailing and leading
+  edges, and p0 follows from the elastic displacement at the point of deepest
+  interpenetration, A p = -h_min (exact half-space influence coefficients).
+* **KPEC** (Kik-Piotrowski with ellipse correction, as in CONTACT): eps varies per
+  strip so that an elliptic (Hertzian) gap gives the Hertz ellipse:
+  eps(y) = max(0, (A a^2 - (A a^2 - B b^2) ((y - y_m)/b)^2) / delta), with A, B the
+  curvatures of an equivalent ellipse fitted to h* (A from a parabola along the
+  row of the minimum through the KP (eps = 0.5) region, B from the lateral extent
+  of that region) and a, b its Hertz semi-axes at the approach.
+* **ANALYN** (Sichani, Enblom & Berg, VSD 52, 2014; CONTACT's "modified ANALYN"):
+  per strip, local curvatures A(y), B(y) at the strip's minimum x_lc(y), the Hertz
+  semi-axes for the total approach, shape factors alpha1 = delta/(A a^2),
+  beta1 = delta/(B b^2), local approach delta_l = delta - beta1 g(y), half-length
+  sqrt(delta_l/(alpha1 A)) and maximum pressure 3 F_H/(2 pi a b) of the Hertz
+  solution for delta_l.
+
+A given normal force is met by a secant iteration on the approach.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from scipy.interpolate import RegularGridInterpolator
+from scipy.optimize import brentq
+
+from ..errors import InputError
+from ..materials import STEEL, Material
+from .base import NormalSolution, make_grid, register
+from .exact import ExactNormalModel
+from .hertz_theory import hertz_ellipse
+from .influence import normal_operator
+
+#: smallest curvature used where the fitted one is not positive [1/m] (CONTACT: 1e-4/mm)
+MIN_CURVATURE = 0.1
+
+
+def _semi_ellipse_rows(h, thr, x, dx):
+    """Contact mask h <= thr (thr per row), trailing/leading edges by interpolation,
+    and the unit semi-elliptic pressure shape per row."""
+    mx, my = h.shape
+    mask = h <= thr[None, :]
+    anyc = mask.any(axis=0)
+    idx = np.arange(mx)[:, None]
+    first = np.where(anyc, np.argmax(mask, axis=0), 0)
+    last = np.where(anyc, mx - 1 - np.argmax(mask[::-1], axis=0), 0)
+    cols = np.arange(my)
+    # trailing edge between first-1 and first, leading edge between last and last+1
+    i0 = np.clip(first - 1, 0, mx - 1)
+    i1 = np.clip(last + 1, 0, mx - 1)
+    h0, hf = h[i0, cols], h[first, cols]
+    hl, h1 = h[last, cols], h[i1, cols]
+    with np.errstate(divide="ignore", invalid="ignore"):
+        xtrl = np.where(first > 0, x[i0] + dx * (thr - h0) / (hf - h0), x[first] - dx / 2)
+        xled = np.where(last < mx - 1, x[last] + dx * (thr - hl) / (h1 - hl), x[last] + dx / 2)
+    xtrl = np.minimum(np.nan_to_num(xtrl, nan=x[first] - dx / 2), x[first])
+    xled = np.maximum(np.nan_to_num(xled, nan=x[last] + dx / 2), x[last])
+    leny = np.where(anyc, xled - xtrl, 0.0)
+    xmid = 0.5 * (xtrl + xled)
+    half = 0.5 * leny
+    shape = np.sqrt(np.clip(half[None, :] ** 2 - (x[:, None] - xmid[None, :]) ** 2, 0.0, None))
+    shape = np.where(mask & (idx >= first[None, :]) & (idx <= last[None, :]), shape, 0.0)
+    return mask & (shape > 0), shape, np.where(anyc, xled, 0.0), np.where(anyc, xtrl, 0.0), \
+        float(leny.max()) if anyc.any() else 0.0
+
+
+class _StripModel(ExactNormalModel):
+    """Common driver: grid, approach iteration and result for the strip models."""
+
+    label = "strip"
+
+    def __init__(self, margin: float = 0.25):
+        super().__init__(margin=margin)
+
+    def _pressure(self, hstar, x, y, dx, dy, material):
+        raise NotImplementedError
+
+    def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
+              penetration: float | None = None, grid=None, element_size=None) -> NormalSolution:
+        """Solve for a given normal force [N] or approach [m] on the geometry's gap."""
+        t0 = time.perf_counter()
+        if (normal_force is None) == (penetration is None):
+            raise InputError("give exactly one of normal force and penetration")
+        for name, v in (("normal force", normal_force), ("penetration", penetration)):
+            if v is not None and not (math.isfinite(v) and v >= 0):
+                raise InputError(f"{name} {v!r}: expected a finite value >= 0")
+        guess = penetration
+        if guess is None:
+            A, B = geometry.curvatures
+            guess = hertz_ellipse(max(A, MIN_CURVATURE), max(B, MIN_CURVATURE),
+                                  material.contact_modulus, force=normal_force).penetration
+        (cx, cy), (ex, ey) = self._potential_area(geometry, material, None, 1.5 * guess)
+        x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
+        dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+        h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach
+
+        def at(delta):
+            return self._pressure(h0 - delta, x, y, dx, dy, material)
+
+        if penetration is not None:
+            p, contact, strips = at(penetration)
+            delta = penetration
+        else:
+            def f(d):
+                return float(at(d)[0].sum() * dx * dy) - normal_force
+            lo, hi = 0.2 * guess, 2.0 * guess
+            while f(hi) < 0:
+                hi *= 2
+            while f(lo) > 0 and lo > 1e-12:
+                lo *= 0.5
+            delta = brentq(f, lo, hi, rtol=1e-10, xtol=1e-15)
+            p, contact, strips = at(delta)
+        interp = RegularGridInterpolator((x, y), p, bounds_error=False, fill_value=0.0)
+
+        def pressure_at(xq, yq, interp=interp):
+            xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
+            return np.maximum(interp(np.stack([xq.ravel(), yq.ravel()], -1)), 0.0).reshape(xq.shape)
+
+        dA = dx * dy
+        return NormalSolution(model=self.name, x=x, y=y, pressure=p, contact=contact,
+                              area=float(contact.sum() * dA), pmax=float(p.max(initial=0.0)),
+                              penetration=float(delta), normal_force=float(p.sum() * dA),
+                              semi_axes=None, strips=strips, pressure_at=pressure_at,
+                              cpu_time=time.perf_counter() - t0)
+
+
+class _KPBase(_StripModel):
+    def _eps(self, hstar, x, y, dx, dy, material, hmin):
+        raise NotImplementedError
+
+    def _pressure(self, hstar, x, y, dx, dy, material):
+        mx, my = hstar.shape
+        imin = np.unravel_index(np.argmin(hstar), hstar.shape)
+        hmin = float(hstar[imin])
+        if hmin >= 0:
+            z = np.zeros_like(hstar)
+            return z, z > 0, (np.zeros(my), np.zeros(my))
+        eps = self._eps(hstar, x, y, dx, dy, material, hmin)
+        thr = (1.0 - eps) * hmin
+        contact, shape, xled, xtrl, lenmax = _semi_ellipse_rows(hstar, thr, x, dx)
+        shape = shape / (0.5 * lenmax) if lenmax > 0 else shape
+        op = normal_operator(mx, my, dx, dy, material.contact_modulus)
+        u = op(shape)[imin]
+        p0 = -hmin / u if u > 0 else 0.0
+        return p0 * shape, contact, (xled, xtrl)
+
+
+@register("kik-piotrowski")
+class KikPiotrowskiModel(_KPBase):
+    """Kik-Piotrowski with a constant virtual-penetration scaling ``eps`` (0.55)."""
+
+    def __init__(self, eps: float = 0.55, margin: float = 0.25):
+        if not 0 < eps <= 1:
+            raise InputError(f"kik-piotrowski eps {eps!r}: expected a value in (0, 1]")
+        super().__init__(margin=margin)
+        self.eps = eps
+
+    def _eps(self, hstar, x, y, dx, dy, material, hmin):
+        return np.full(hstar.shape[1], self.eps)
+
+
+@register("kpec")
+class KPECModel(_KPBase):
+    """Kik-Piotrowski with ellipse correction (variable scaling per strip)."""
+
+    def _eps(self, hstar, x, y, dx, dy, material, hmin):
+        mx, my = hstar.shape
+        ix, iy = np.unravel_index(np.argmin(hstar), hstar.shape)
+        thr = 0.5 * hmin                              # original KP scaling 0.5
+        row = hstar[:, iy]
+        k = 1
+        while ix - k > 0 and ix + k < mx - 1 and max(row[ix - k], row[ix + k]) <= thr:
+            k += 1
+        i0, i1 = max(ix - k, 0), min(ix + k, mx - 1)
+        A = (row[i1] - 2 * row[ix] + row[i0]) / (2 * (x[i1] - x[ix]) ** 2)
+        rows = np.flatnonzero((hstar <= thr).any(axis=0))
+        j0, j1 = int(rows[0]), int(rows[-1])
+        if j0 == 0:
+            j0 = 1
+        if j1 >= my - 1:
+            j1 = my - 2
+        c0 = int(np.argmin(hstar[:, j0]))
+        ysta = y[j0] - (thr - hstar[c0, j0]) * dy / (hstar[c0, j0 - 1] - hstar[c0, j0])
+        c1 = int(np.argmin(hstar[:, j1]))
+        yend = y[j1] + (thr - hstar[c1, j1]) * dy / (hstar[c1, j1 + 1] - hstar[c1, j1])
+        ymid = 0.5 * (ysta + yend)
+        B = max(MIN_CURVATURE, (thr - hmin) / (yend - ymid) ** 2)
+        A = max(A, MIN_CURVATURE)
+        hz = hertz_ellipse(A, B, material.contact_modulus, penetration=-hmin)
+        a, b = hz.a, hz.b
+        if j0 >= j1:
+            b = max(b, 1.1 * abs(y[iy] - ymid))
+        return np.maximum(0.0, (A * a * a - (A * a * a - B * b * b) * ((y - ymid) / b) ** 2)
+                          / (-hmin))
+
+
+@register("analyn")
+class AnalynModel(_StripModel):
+    """ANALYN: strip-wise Hertzian pressure from local curvatures and approach."""
+
+    def _pressure(self, hstar, x, y, dx, dy, material):
+        mx, my = hstar.shape
+        hmin = float(hstar.min())
+        pen = -hmin
+        p = np.zeros_like(hstar)
+        xled, xtrl = np.zeros(my), np.zeros(my)
+        if pen <= 0:
+            return p, p > 0, (xled, xtrl)
+        Es = material.contact_modulus
+        ixm = np.clip(np.argmin(hstar, axis=0), 1, mx - 2)
+        cols = np.arange(my)
+        xlc = x[ixm]
+        g = hstar[ixm, cols] + pen
+        A = 0.5 * (hstar[ixm + 1, cols] - 2 * hstar[ixm, cols] + hstar[ixm - 1, cols]) / dx ** 2
+        jp, jm = np.clip(cols + 1, 0, my - 1), np.clip(cols - 1, 0, my - 1)
+        jc = np.clip(cols, 1, my - 2)
+        B = 0.5 * (hstar[ixm, np.clip(jc + 1, 0, my - 1)] - 2 * hstar[ixm, jc]
+                   + hstar[ixm, np.clip(jc - 1, 0, my - 1)]) / dy ** 2
+        A = np.maximum(A, MIN_CURVATURE)
+        B = np.maximum(B, MIN_CURVATURE)
+        for j in range(my):     # one Hertz solution per strip (not per element)
+            hz = hertz_ellipse(A[j], B[j], Es, penetration=pen)
+            alpha1 = pen / (A[j] * hz.a ** 2)
+            beta1 = pen / (B[j] * hz.b ** 2)
+            penloc = pen - beta1 * g[j]
+            if penloc <= 0:
+                continue
+            xl = math.sqrt(penloc / (alpha1 * A[j]))
+            hl = hertz_ellipse(A[j], B[j], Es, penetration=penloc)
+            pmax = 1.5 * hl.force / (math.pi * hl.a * hl.b)
+            r = (x - xlc[j]) / xl
+            p[:, j] = np.where(np.abs(r) < 1, pmax * np.sqrt(np.clip(1 - r * r, 0, None)), 0.0)
+            xled[j], xtrl[j] = xlc[j] + xl, xlc[j] - xl
+        return p, p > 0, (xled, xtrl)
