@@ -160,6 +160,10 @@ class FastsimModel:
         Traction bound: Hertzian pressure (default) or Kalker's parabolic one.
     elements : int, optional
         Elements per strip in the rolling direction (default: the grid's mx).
+    falling : dict, optional
+        {"A": mu_inf/mu0, "B": s/m}: slip-velocity dependent friction
+        mu = mu0 ((1 - A) exp(-B w) + A) (Polach 2005), with w the local slip velocity
+        |s| V, solved by a damped fixed-point iteration on the local coefficients.
     flexibility : {"blended", "three", "single"}
         ``"three"``: Kalker's L1, L2, L3 (exact in the linear range, but at large
         creepage the force direction is distorted when L1 != L2).
@@ -173,7 +177,7 @@ class FastsimModel:
     """
 
     def __init__(self, bound: str = "elliptic", elements: int | None = None,
-                 flexibility: str = "blended"):
+                 flexibility: str = "blended", falling=None):
         if bound not in ("elliptic", "parabolic"):
             raise InputError(f"fastsim bound {bound!r}: expected 'elliptic' or 'parabolic'")
         if flexibility not in ("blended", "three", "single"):
@@ -184,6 +188,8 @@ class FastsimModel:
         self.bound = bound
         self.elements = elements
         self.flexibility = flexibility
+        from .friction import falling_friction
+        self.falling = falling_friction(falling)
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0) -> TangentialSolution:
@@ -234,18 +240,33 @@ class FastsimModel:
         else:
             pn = (2 * normal.normal_force / (math.pi * a * b)
                   * np.clip(1 - (xm / a) ** 2 - (ym / b) ** 2, 0.0, None))
-        bound = friction * np.ascontiguousarray(pn, dtype=float)
-        px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
-        stick = np.zeros((mx, my), dtype=bool)
-        fx1, fy1, mz1 = _fastsim_strips(np.ascontiguousarray(normal.y), normal.dy,
-                                        np.ascontiguousarray(x_lead, dtype=float),
-                                        np.ascontiguousarray(x_trail, dtype=float), bound,
-                                        L1, L2, L3, xi, eta, phi, np.ascontiguousarray(normal.x),
-                                        px, py, sx, sy, stick)
+        pn = np.ascontiguousarray(pn, dtype=float)
+        mu_mid = np.full(pn.shape, float(friction))
+        ix = np.clip(np.searchsorted(normal.x, xm) , 0, mx - 1)      # grid cell of each mid-point
+        iy = np.broadcast_to(np.arange(my)[:, None], xm.shape)
+        iters = 0
+        for iters in range(1, 61 if self.falling is not None else 2):
+            bound = np.ascontiguousarray(mu_mid * pn)
+            px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
+            stick = np.zeros((mx, my), dtype=bool)
+            fx1, fy1, mz1 = _fastsim_strips(np.ascontiguousarray(normal.y), normal.dy,
+                                            np.ascontiguousarray(x_lead, dtype=float),
+                                            np.ascontiguousarray(x_trail, dtype=float), bound,
+                                            L1, L2, L3, xi, eta, phi,
+                                            np.ascontiguousarray(normal.x), px, py, sx, sy, stick)
+            if self.falling is None:
+                break
+            w = np.hypot(sx, sy)[ix, iy] * velocity
+            new = self.falling(friction, w)
+            change = float(np.max(np.abs(new - mu_mid)))
+            mu_mid = 0.5 * mu_mid + 0.5 * new
+            if change < 1e-5 * friction:
+                break
         contact = normal.contact
         stick &= contact
         # body 1 is the rail: the tractions on the wheel are the opposite
         return TangentialSolution("fastsim", normal.x, normal.y, -px, -py, sx, sy, stick,
                                   contact, -fx1, -fy1, -mz1, velocity, (xi, eta, phi), friction,
                                   time.perf_counter() - t0,
-                                  {"bound": self.bound, "flexibilities": (L1, L2, L3)})
+                                  {"bound": self.bound, "flexibilities": (L1, L2, L3),
+                                   "friction_iterations": iters})
