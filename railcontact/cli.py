@@ -74,6 +74,21 @@ def cmd_sweep(args):
             _print_table(c)
 
 
+def cmd_compare(args):
+    from .case import load_case
+    from .compare import DEFAULT_MODELS, compare, format_table, write_outputs
+    case = load_case(args.case)
+    models = tuple(m.strip() for m in args.models.split(",")) if args.models else DEFAULT_MODELS
+    rows, results = compare(case, models, args.tangential)
+    if args.json:
+        _print_json({"rows": rows})
+    else:
+        print(format_table(rows))
+    if args.out:
+        side = case.get("wheelset.side", "both")
+        write_outputs(rows, results, Path(args.out), None if side == "both" else side)
+
+
 def cmd_profile(args):
     from .profiles import get_profile, write_profile
     from .plotting import plot_profile
@@ -118,6 +133,13 @@ def build_parser():
     w.add_argument("--scheduler", default="auto",
                    help="sync, threads, processes, auto, or a Dask scheduler address")
     w.set_defaults(func=cmd_sweep)
+    c = sub.add_parser("compare", help="run several normal models on one case")
+    c.add_argument("case")
+    c.add_argument("--models", help="comma-separated normal models (default: all)")
+    c.add_argument("--tangential", help="tangential model (default: the case's)")
+    c.add_argument("--out", help="directory for comparison.csv and plots")
+    c.add_argument("--json", action="store_true")
+    c.set_defaults(func=cmd_compare)
     pr = sub.add_parser("profile", help="plot or export a built-in or file profile")
     pr.add_argument("action", choices=["plot", "export"])
     pr.add_argument("profile", help="built-in name (S1002, 60E1, 54E1, 60E2) or file")
