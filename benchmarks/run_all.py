@@ -40,6 +40,19 @@ def best_of(fn, repeat=5, number=1):
     return min(ts)
 
 
+def mbench_case(prof, y_mm, vpitch, extra=None, solver=None):
+    """Case dict of the Manchester 10 kN sweep (right wheel) at shift y_mm."""
+    raw = {"material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
+           "friction": {"coefficient": 0.3},
+           "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
+           "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
+           "wheelset": {"lateral_shift": y_mm * 1e-3, "vertical_force": 1e4, "velocity": 2.0,
+                        "pitch_velocity": vpitch, "side": "right", **(extra or {})}}
+    if solver:
+        raw["solver"] = solver
+    return rc.case_from_dict(raw)
+
+
 def bench_hertz_fastsim():
     out("## Hertz + FASTSIM on one contact")
     mat = rc.Material()
@@ -66,13 +79,7 @@ def bench_contact_sweep(t_hf):
     ours, theirs, dfn, dpm, darea = [], [], [], [], []
     for r in rows:
         y = float(r["y_ws_mm"])
-        raw = {"material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
-               "friction": {"coefficient": 0.3},
-               "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
-               "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
-               "wheelset": {"lateral_shift": y * 1e-3, "vertical_force": 1e4, "velocity": 2.0,
-                            "pitch_velocity": float(r["vpitch_rad_s"]), "side": "right"}}
-        case = rc.case_from_dict(raw)
+        case = mbench_case(prof, y, float(r["vpitch_rad_s"]))
         rc.solve(case)
         t = best_of(lambda: rc.solve(case), 3)
         res = rc.solve(case)
@@ -156,16 +163,9 @@ def bench_exact_wheel_rail():
     ratio, dfn, dfx, dpm, dar = [], [], [], [], []
     for r in rows:
         y = float(r["y_ws_mm"])
-        raw = {"material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
-               "friction": {"coefficient": 0.3},
-               "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
-               "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
-               "wheelset": {"lateral_shift": y * 1e-3, "vertical_force": 1e4, "velocity": 2.0,
-                            "pitch_velocity": float(r["vpitch_rad_s"]), "side": "right",
-                            "roll": 0.0},
-               "solver": {"normal": "exact", "tangential": "exact",
-                          "element_size": [0.25e-3, 0.25e-3]}}
-        case = rc.case_from_dict(raw)
+        case = mbench_case(prof, y, float(r["vpitch_rad_s"]), {"roll": 0.0},
+                           {"normal": "exact", "tangential": "exact",
+                            "element_size": [0.25e-3, 0.25e-3]})
         rc.solve(case)
         t = best_of(lambda: rc.solve(case), 2)
         res = rc.solve(case)

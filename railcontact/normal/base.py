@@ -8,33 +8,21 @@ from typing import Callable
 
 import numpy as np
 
-from ..errors import InputError, UnknownModelError
+from ..errors import InputError
+from ..registry import Registry
 
-_REGISTRY: dict = {}
-
-
-def register(name: str):
-    """Class decorator: make a normal model available by ``name``."""
-    def deco(cls):
-        cls.name = name
-        _REGISTRY[name] = cls
-        return cls
-    return deco
+_REGISTRY = Registry("normal")
+register = _REGISTRY.register
 
 
 def get_normal_model(name: str, **options):
     """Instantiate the normal model registered as ``name``."""
-    try:
-        cls = _REGISTRY[str(name).lower()]
-    except KeyError:
-        raise UnknownModelError(f"unknown normal model {name!r}; expected one of "
-                                f"{sorted(_REGISTRY)}") from None
-    return cls(**options)
+    return _REGISTRY.create(name, **options)
 
 
 def normal_models() -> list:
     """Names of the registered normal models."""
-    return sorted(_REGISTRY)
+    return _REGISTRY.names()
 
 
 @dataclass

@@ -6,32 +6,37 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import UnknownModelError
+from ..registry import Registry
 
-_REGISTRY: dict = {}
-
-
-def register(name: str):
-    """Class decorator: make a tangential model available by ``name``."""
-    def deco(cls):
-        cls.name = name
-        _REGISTRY[name] = cls
-        return cls
-    return deco
+_REGISTRY = Registry("tangential")
+register = _REGISTRY.register
 
 
 def get_tangential_model(name: str, **options):
     """Instantiate the tangential model registered as ``name``."""
-    try:
-        cls = _REGISTRY[str(name).lower()]
-    except KeyError:
-        raise UnknownModelError(f"unknown tangential model {name!r}; expected one of "
-                                f"{sorted(_REGISTRY)}") from None
-    return cls(**options)
+    return _REGISTRY.create(name, **options)
 
 
 def tangential_models() -> list:
-    return sorted(_REGISTRY)
+    """Names of the registered tangential models."""
+    return _REGISTRY.names()
+
+
+def check_inputs(creepage, friction):
+    """Validate creepages (xi, eta, phi) and the friction coefficient; return floats."""
+    import math
+
+    from ..errors import InputError
+    try:
+        xi, eta, phi = (float(c) for c in creepage)
+    except (TypeError, ValueError):
+        raise InputError(f"creepage = {creepage!r}: expected three numbers (xi, eta, phi)") \
+            from None
+    if not all(math.isfinite(c) for c in (xi, eta, phi)):
+        raise InputError(f"creepage = {creepage!r}: expected finite values")
+    if not (math.isfinite(friction) and 0.0 <= friction <= 5.0):
+        raise InputError(f"friction.coefficient = {friction!r}: expected a value in [0, 5]")
+    return xi, eta, phi
 
 
 @dataclass

@@ -40,7 +40,7 @@ from numba import njit
 from ..errors import InputError
 from ..materials import STEEL, Material
 from ..normal.influence import TangentialOperator, tangential_kernels
-from .base import TangentialSolution, register
+from .base import TangentialSolution, check_inputs, register
 
 log = logging.getLogger(__name__)
 
@@ -381,11 +381,7 @@ class ExactTangentialModel:
         solution's grid.  ``warm_start``: a previous solution on the same grid (e.g.
         of a neighbouring case) used as the initial estimate."""
         t0 = time.perf_counter()
-        xi, eta, phi = (float(c) for c in creepage)
-        if not all(math.isfinite(c) for c in (xi, eta, phi)):
-            raise InputError(f"creepage = {creepage!r}: expected finite values")
-        if not (math.isfinite(friction) and 0.0 <= friction <= 5.0):
-            raise InputError(f"friction.coefficient = {friction!r}: expected a value in [0, 5]")
+        xi, eta, phi = check_inputs(creepage, friction)
         x, y = normal.x, normal.y
         if x.size < 2 or y.size < 2:
             raise InputError("exact tangential solver needs a grid of at least 2 x 2 elements")

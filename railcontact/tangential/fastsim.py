@@ -28,7 +28,7 @@ from numba import njit
 
 from ..errors import InputError
 from ..materials import STEEL, Material
-from .base import TangentialSolution, register
+from .base import TangentialSolution, check_inputs, register
 from .kalker import flexibilities
 
 
@@ -206,11 +206,7 @@ class FastsimModel:
             Rolling velocity V [m/s] (scales slip velocities and frictional power).
         """
         t0 = time.perf_counter()
-        xi, eta, phi = (float(c) for c in creepage)
-        if not all(math.isfinite(c) for c in (xi, eta, phi)):
-            raise InputError(f"creepage = {creepage!r}: expected finite values")
-        if not (math.isfinite(friction) and 0.0 <= friction <= 5.0):
-            raise InputError(f"friction.coefficient = {friction!r}: expected a value in [0, 5]")
+        xi, eta, phi = check_inputs(creepage, friction)
         a, b = equivalent_ellipse(normal)
         mx, my = normal.x.size, normal.y.size
         zeros = np.zeros((mx, my))
