@@ -424,7 +424,12 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
     x_m = float(d[0])
     y_m = sgn * float(d @ gapf.t)
     A, B = _curvatures_fd(gapf, x_m, y_m)
-    approach = max(0.0, -float(gapf(x_m, y_m)))
+    approach = -float(gapf(x_m, y_m))
+    # robust fallback: vertical interpenetration of the deepest locus point projected on n
+    vertical = -float(loc.gap[im]) * math.cos(math.atan(float(loc.slope[im])))
+    if not math.isfinite(approach) or (approach <= 0.0 < vertical):
+        approach = vertical
+    approach = max(0.0, approach)
     n_side = gapf.n
     delta_tr = sgn * a_ref
     n_tr = np.array([0.0, sgn * n_side[1], n_side[2]])

@@ -87,6 +87,10 @@ class NormalSolution:
         return ds
 
 
+#: largest number of elements per direction; finer requests are coarsened (logged)
+MAX_ELEMENTS = 400
+
+
 def make_grid(extent_x: float, extent_y: float, grid=None, element_size=None,
               center=(0.0, 0.0)):
     """Cell centres of a potential contact grid covering [-ex, ex] x [-ey, ey] + center.
@@ -94,22 +98,35 @@ def make_grid(extent_x: float, extent_y: float, grid=None, element_size=None,
     Parameters
     ----------
     grid : (mx, my), optional   number of elements (default 40 x 40)
-    element_size : (dx, dy), optional  element size [m]; alternative to ``grid``
+    element_size : (dx, dy), optional
+        Element size [m]; alternative to ``grid``.  The element centres then lie on a
+        lattice through the origin (the contact reference point), as in CONTACT, so
+        that results do not depend on where the potential area happens to start.
     """
+    import logging
     if grid is not None and element_size is not None:
         raise InputError("solver: give either grid or element_size, not both")
     if element_size is not None:
         dx, dy = (float(v) for v in element_size)
         if not (dx > 0 and dy > 0):
             raise InputError(f"solver.element_size = {element_size!r}: expected two lengths > 0 m")
-        mx = max(int(math.ceil(2 * extent_x / dx)), 1)
-        my = max(int(math.ceil(2 * extent_y / dy)), 1)
-        ex, ey = mx * dx / 2, my * dy / 2
-    else:
-        mx, my = (40, 40) if grid is None else (int(v) for v in grid)
-        if not (2 <= mx <= 2000 and 2 <= my <= 2000):
-            raise InputError(f"solver.grid = {grid!r}: expected two element counts in [2, 2000]")
-        ex, ey = extent_x, extent_y
-    x = center[0] - ex + (np.arange(mx) + 0.5) * (2 * ex / mx)
-    y = center[1] - ey + (np.arange(my) + 0.5) * (2 * ey / my)
+        coarsen = max((2 * extent_x / dx) / MAX_ELEMENTS, (2 * extent_y / dy) / MAX_ELEMENTS, 1.0)
+        if coarsen > 1.0:
+            logging.getLogger(__name__).warning(
+                "potential contact area %.1f x %.1f mm needs more than %d elements per "
+                "direction; element size enlarged by %.2f", 2e3 * extent_x, 2e3 * extent_y,
+                MAX_ELEMENTS, coarsen)
+            dx, dy = dx * coarsen, dy * coarsen
+        i0 = int(math.floor((center[0] - extent_x) / dx))
+        i1 = int(math.ceil((center[0] + extent_x) / dx))
+        j0 = int(math.floor((center[1] - extent_y) / dy))
+        j1 = int(math.ceil((center[1] + extent_y) / dy))
+        x = np.arange(i0, max(i1, i0 + 1) + 1) * dx
+        y = np.arange(j0, max(j1, j0 + 1) + 1) * dy
+        return x, y
+    mx, my = (40, 40) if grid is None else (int(v) for v in grid)
+    if not (2 <= mx <= 2000 and 2 <= my <= 2000):
+        raise InputError(f"solver.grid = {grid!r}: expected two element counts in [2, 2000]")
+    x = center[0] - extent_x + (np.arange(mx) + 0.5) * (2 * extent_x / mx)
+    y = center[1] - extent_y + (np.arange(my) + 0.5) * (2 * extent_y / my)
     return x, y

@@ -122,17 +122,42 @@ class ExactNormalModel:
         ext = geometry.extent
         app = geometry.approach
         if ext is not None and app > 0 and geometry.gap_function is not None:
-            x0, x1, y0, y1 = ext
-            f = 1.0 + self.margin
-            if penetration is not None and penetration > app:
-                f *= math.sqrt(penetration / app)
-            cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
-            return (cx, cy), (0.5 * (x1 - x0) * f + 1e-5, 0.5 * (y1 - y0) * f + 1e-5)
+            return self._area_from_gap(geometry, penetration if penetration is not None
+                                       else app)
         A, B = geometry.curvatures
         hz = hertz_ellipse(A, B, material.contact_modulus, force=normal_force,
                            penetration=penetration)
         f = 1.0 + self.margin
         return (0.0, 0.0), (hz.a * f, hz.b * f)
+
+    def _area_from_gap(self, geometry, penetration):
+        """Bounding box of the interpenetration region h + approach - penetration < 0
+        (which contains the contact area), from a coarse sampling of the exact gap,
+        widened by the margin."""
+        x0, x1, y0, y1 = geometry.extent
+        cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
+        hx, hy = max(0.5 * (x1 - x0), 1e-4), max(0.5 * (y1 - y0), 1e-4)
+        for _ in range(6):
+            xs = cx + np.linspace(-2 * hx, 2 * hx, 49)
+            ys = cy + np.linspace(-2 * hy, 2 * hy, 49)
+            h = geometry.gap(xs[:, None], ys[None, :]) + geometry.approach - penetration
+            inside = h < 0
+            if not inside.any():
+                break
+            ix = np.flatnonzero(inside.any(axis=1))
+            iy = np.flatnonzero(inside.any(axis=0))
+            if ix[0] == 0 or ix[-1] == xs.size - 1:
+                hx *= 2
+            if iy[0] == 0 or iy[-1] == ys.size - 1:
+                hy *= 2
+            if 0 < ix[0] and ix[-1] < xs.size - 1 and 0 < iy[0] and iy[-1] < ys.size - 1:
+                dx, dy = xs[1] - xs[0], ys[1] - ys[0]
+                lo_x, hi_x = xs[ix[0]] - dx, xs[ix[-1]] + dx
+                lo_y, hi_y = ys[iy[0]] - dy, ys[iy[-1]] + dy
+                f = 1.0 + self.margin
+                return ((0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y)),
+                        (0.5 * (hi_x - lo_x) * f, 0.5 * (hi_y - lo_y) * f))
+        return (cx, cy), (hx * (1 + self.margin), hy * (1 + self.margin))
 
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
               penetration: float | None = None, grid=None, element_size=None) -> NormalSolution:
