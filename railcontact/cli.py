@@ -89,6 +89,21 @@ def cmd_compare(args):
         write_outputs(rows, results, Path(args.out), None if side == "both" else side)
 
 
+def cmd_wear(args):
+    from .wear import WearSimulation, load_scenario
+    from .wear.plots import plot_wear
+    sc = load_scenario(args.scenario)
+    if args.scheduler:
+        sc.scheduler = args.scheduler
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    sim = WearSimulation(sc, out)
+    ds = sim.run(resume=not args.restart)
+    plot_wear(ds, sim, out)
+    print(f"{ds.sizes['step']} steps, {ds.attrs['total_distance_m'] / 1e3:.1f} km; wrote "
+          f"{out / 'wear.nc'} and plots")
+
+
 def cmd_profile(args):
     from .profiles import get_profile, write_profile
     from .plotting import plot_profile
@@ -140,6 +155,12 @@ def build_parser():
     c.add_argument("--out", help="directory for comparison.csv and plots")
     c.add_argument("--json", action="store_true")
     c.set_defaults(func=cmd_compare)
+    wr = sub.add_parser("wear", help="wear simulation of a scenario (profile evolution)")
+    wr.add_argument("scenario", help="wear scenario (TOML)")
+    wr.add_argument("--out", default="wear_output")
+    wr.add_argument("--restart", action="store_true", help="ignore an existing checkpoint")
+    wr.add_argument("--scheduler", help="sync, threads, processes or a Dask scheduler address")
+    wr.set_defaults(func=cmd_wear)
     pr = sub.add_parser("profile", help="plot or export a built-in or file profile")
     pr.add_argument("action", choices=["plot", "export"])
     pr.add_argument("profile", help="built-in name (S1002, 60E1, 54E1, 60E2) or file")

@@ -72,6 +72,25 @@ def run_demo(out: Path, load: float = 75e3, velocity: float = 30.0, friction: fl
     plot_patches(shown, out / "patches.png", "S1002 / 60E1 1:40, right wheel: pressure "
                  "(stick area outlined)")
     print(f"equivalent conicity at 3 mm amplitude: {ds.attrs['equivalent_conicity_3mm']:.4f}")
+    # a short wear run on the built-in profiles (examples/wear_demo.toml settings)
+    from .wear import WearSimulation, scenario_from_dict
+    from .wear.plots import plot_wear
+    wear_raw = {"friction": {"coefficient": friction}, "wheel": {"profile": "S1002"},
+                "rail": {"profile": "60E1"},
+                "wheelset": {"vertical_force": load, "velocity": velocity},
+                "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [30, 30]},
+                "wear": {"law": "frictional-power", "parameters": {"k": 1e-13}, "steps": 3,
+                         "max_depth_per_step": 1e-4, "smoothing": 2e-3},
+                "condition": [{"lateral_shift": 0.0, "yaw": 0.002, "weight": 2.0},
+                              {"lateral_shift": 0.004, "yaw": 0.004},
+                              {"lateral_shift": -0.004, "yaw": -0.004}]}
+    wear_dir = out / "wear"
+    wear_dir.mkdir(exist_ok=True)
+    sim = WearSimulation(scenario_from_dict(wear_raw), wear_dir)
+    wds = sim.run(resume=False)
+    plot_wear(wds, sim, wear_dir)
+    print(f"wear: {wds.sizes['step']} steps, {wds.attrs['total_distance_m'] / 1e3:.0f} km, "
+          f"wrote {wear_dir / 'wear.nc'} and {wear_dir / 'wear.png'}")
     print(f"wrote {out / 'contact_table.nc'}, {out / 'contact_positions.png'}, "
           f"{out / 'patches.png'}")
     return ds
