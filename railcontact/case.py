@@ -73,6 +73,25 @@ class Case:
             raise CaseFileError(f"{dotted} = {v!r}: expected a value in [{lo:g}, {hi:g}] {unit}")
         return float(v)
 
+    def wheel_loads(self) -> dict:
+        """Vertical wheel loads [N] per side: ``vertical_force`` is one value for both
+        wheels or [left, right]."""
+        v = self.get("wheelset.vertical_force", 70e3)
+        if isinstance(v, list):
+            if len(v) != 2:
+                raise CaseFileError(f"wheelset.vertical_force = {v!r}: expected one load or "
+                                    "[left, right] in N")
+            vals = v
+        else:
+            vals = [v, v]
+        out = {}
+        for side, x in zip(("left", "right"), vals):
+            if isinstance(x, bool) or not isinstance(x, (int, float)) or not 1.0 <= x <= 1e7:
+                raise CaseFileError(f"wheelset.vertical_force = {v!r}: expected loads in "
+                                    "[1, 1e7] N")
+            out[side] = float(x)
+        return out
+
     def with_value(self, dotted: str, value) -> "Case":
         """A copy of the case with one dotted key set (used by sweeps)."""
         raw = copy.deepcopy(self.raw)
@@ -162,7 +181,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         side = case.get("wheelset.side", "both")
         if side not in ("left", "right", "both"):
             raise CaseFileError(f"wheelset.side = {side!r}: expected 'left', 'right' or 'both'")
-        case.number("wheelset.vertical_force", 70e3, 1.0, 1e7, "N")
+        case.wheel_loads()
         case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
         case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m")
         case.number("wheelset.yaw", 0.0, -0.1, 0.1, "rad")

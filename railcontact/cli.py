@@ -104,6 +104,16 @@ def cmd_wear(args):
           f"{out / 'wear.nc'} and plots")
 
 
+def cmd_wear_compare(args):
+    from .wear import load_scenario
+    from .wear.compare import compare_wear, parse_models
+    sc = load_scenario(args.scenario)
+    res = compare_wear(sc, parse_models(args.models), Path(args.out))
+    for label, ds in res.items():
+        print(f"{label:>24}: {ds.attrs['total_distance_m'] / 1e3:10.1f} km")
+    print(f"wrote {Path(args.out) / 'wear_comparison.png'} and wear_comparison.csv")
+
+
 def cmd_profile(args):
     from .profiles import get_profile, write_profile
     from .plotting import plot_profile
@@ -161,6 +171,12 @@ def build_parser():
     wr.add_argument("--restart", action="store_true", help="ignore an existing checkpoint")
     wr.add_argument("--scheduler", help="sync, threads, processes or a Dask scheduler address")
     wr.set_defaults(func=cmd_wear)
+    wc = sub.add_parser("wear-compare", help="one wear scenario with several contact models")
+    wc.add_argument("scenario")
+    wc.add_argument("--models", default="hertz+fastsim,kpec+fastsim,analyn+fastsim",
+                    help="NORMAL+TANGENTIAL pairs, comma separated")
+    wc.add_argument("--out", default="wear_comparison")
+    wc.set_defaults(func=cmd_wear_compare)
     pr = sub.add_parser("profile", help="plot or export a built-in or file profile")
     pr.add_argument("action", choices=["plot", "export"])
     pr.add_argument("profile", help="built-in name (S1002, 60E1, 54E1, 60E2) or file")

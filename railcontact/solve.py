@@ -131,7 +131,7 @@ def contact_search(case: Case, interpenetration: dict | None = None,
     roll = case.get("wheelset.roll")
     return find_contact(ws, tr, case.number("wheelset.lateral_shift", 0.0),
                         case.number("wheelset.yaw", 0.0),
-                        vertical_force=case.number("wheelset.vertical_force", 70e3),
+                        vertical_force=(case.wheel_loads()["left"], case.wheel_loads()["right"]),
                         material=case.material, velocity=case.number("wheelset.velocity", 30.0),
                         pitch_velocity=None if pv is None else case.number("wheelset.pitch_velocity"),
                         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0),
@@ -231,7 +231,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     bodies = build_wheelset_track(case)
     converged = True
     contact = contact_search(case, bodies=bodies)
-    load = case.number("wheelset.vertical_force", 70e3)
+    loads = case.wheel_loads()
     side = case.get("wheelset.side", "both")
     results = _solve_patches(case, contact, nmodel, tmodel, kw)
     d = dict(contact.interpenetration)
@@ -241,17 +241,17 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         err = {}
         for s in sides:
             fz = vertical_force_on_rail(results, s)
-            err[s] = fz - load
+            err[s] = fz - loads[s]
             hist[s].append((d[s], fz))
-        if all(abs(e) <= rtol * load for e in err.values()):
+        if all(abs(err[s]) <= rtol * loads[s] for s in sides):
             break
         # a model whose force jumps with the interpenetration (a strip entering the
         # contact) may have no exact solution: stop when the bracket has collapsed
         collapsed = True
         for s in sides:
-            lo = [p[0] for p in hist[s] if p[1] < load]
-            hi = [p[0] for p in hist[s] if p[1] > load]
-            if abs(err[s]) > rtol * load and not (lo and hi and min(hi) - max(lo) < 1e-11):
+            lo = [p[0] for p in hist[s] if p[1] < loads[s]]
+            hi = [p[0] for p in hist[s] if p[1] > loads[s]]
+            if abs(err[s]) > rtol * loads[s] and not (lo and hi and min(hi) - max(lo) < 1e-11):
                 collapsed = False
         if collapsed:
             log.info("vertical force: the model's force jumps at the solution; residual %s N",
@@ -259,6 +259,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             break
         new = dict(d)
         for s in sides:
+            load = loads[s]
             pts = hist[s]
             # bracket of the load from the history (force grows with the interpenetration)
             below = [p for p in pts if p[1] < load]

@@ -168,3 +168,17 @@ def test_compare_cli(tmp_path, capsys):
     code, out, err = run_cli(["compare", str(EX / "bodies.toml"), "--models", "hertz,nope"],
                              capsys)
     assert code == 2 and "nope" in err
+
+
+def test_per_wheel_loads():
+    res = rc.solve(rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+                                      "wheelset": {"lateral_shift": 0.002,
+                                                   "vertical_force": [50e3, 90e3]}}))
+    for side, load in (("left", 50e3), ("right", 90e3)):
+        fz = sum(p.normal.normal_force * math.cos(p.geometry.contact_angle)
+                 - p.tangential.fy * math.sin(p.geometry.contact_angle)
+                 for p in res.patches if p.geometry.side == side)
+        assert fz == pytest.approx(load, rel=2e-4)
+    with pytest.raises(CaseFileError, match="vertical_force"):
+        rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+                           "wheelset": {"vertical_force": [1.0, 2.0, 3.0]}})

@@ -44,7 +44,12 @@ log = logging.getLogger(__name__)
 
 BODIES = ("wheel_left", "wheel_right", "rail_left", "rail_right")
 _WEAR_KEYS = {"law", "parameters", "body", "steps", "max_depth_per_step", "step_distance",
-              "smoothing", "rail_passages_per_meter", "grid_step", "scheduler"}
+              "smoothing", "rail_passages_per_meter", "grid_step", "scheduler", "history",
+              "history_stride"}
+#: columns of an imported time history (SI units); the first six are required
+HISTORY_COLUMNS = ("time", "lateral_shift", "yaw", "vertical_force_left", "vertical_force_right",
+                   "velocity", "pitch_velocity", "creepage_longitudinal", "creepage_lateral",
+                   "creepage_spin")
 _COND_KEYS = {"weight", "lateral_shift", "yaw", "vertical_force", "velocity", "pitch_velocity",
               "lateral_velocity", "yaw_rate", "roll", "side", "creepage"}
 
@@ -85,6 +90,11 @@ def scenario_from_dict(raw: dict, base_dir=None) -> WearScenario:
     conds = raw.pop("condition", None)
     if not isinstance(wear, dict):
         raise CaseFileError("[wear] must be a table")
+    if "history" in wear:
+        if conds:
+            raise CaseFileError("give either [[condition]] tables or wear.history, not both")
+        conds = read_history(Path(base_dir or Path.cwd()) / str(wear["history"]),
+                             int(wear.get("history_stride", 1)))
     unknown = set(wear) - _WEAR_KEYS
     if unknown:
         raise CaseFileError(f"unknown key(s) wear.{sorted(unknown)}; expected {sorted(_WEAR_KEYS)}")
@@ -118,6 +128,58 @@ def scenario_from_dict(raw: dict, base_dir=None) -> WearScenario:
     # validate the base case with the first condition
     case_from_dict(_condition_raw(sc, conds[0], None), sc.base_dir)
     return sc
+
+
+def read_history(path: Path, stride: int = 1) -> list:
+    """Operating conditions from a time history (CSV with a header row).
+
+    Columns (SI units): time [s], lateral_shift [m], yaw [rad], vertical_force_left [N],
+    vertical_force_right [N], velocity [m/s]; optional pitch_velocity [rad/s] and
+    creepage_longitudinal, creepage_lateral [-], creepage_spin [1/m] (these override
+    the kinematic creepages).  Every ``stride``-th row becomes a condition weighted by
+    the distance it stands for (velocity x time step).
+    """
+    if not path.is_file():
+        raise CaseFileError(f"wear.history {str(path)!r} does not exist")
+    if stride < 1:
+        raise CaseFileError(f"wear.history_stride = {stride}: expected an integer >= 1")
+    try:
+        data = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
+    except ValueError as exc:
+        raise CaseFileError(f"{path}: cannot read the time history: {exc}") from None
+    names = data.dtype.names or ()
+    missing = [c for c in HISTORY_COLUMNS[:6] if c not in names]
+    if missing:
+        raise CaseFileError(f"{path}: missing column(s) {missing}; expected "
+                            f"{list(HISTORY_COLUMNS[:6])} (SI units)")
+    data = np.atleast_1d(data)
+    if data.size < 2:
+        raise CaseFileError(f"{path}: expected at least two rows")
+    for c in names:
+        if not np.all(np.isfinite(data[c])):
+            raise CaseFileError(f"{path}: column {c!r} has non-numeric or NaN values")
+    t = data["time"]
+    if np.any(np.diff(t) <= 0):
+        raise CaseFileError(f"{path}: time must increase")
+    dt = np.gradient(t)
+    conds = []
+    for i in range(0, data.size, stride):
+        sl = slice(i, min(i + stride, data.size))
+        c = {"lateral_shift": float(data["lateral_shift"][i]), "yaw": float(data["yaw"][i]),
+             "vertical_force": [float(data["vertical_force_left"][i]),
+                                float(data["vertical_force_right"][i])],
+             "velocity": float(data["velocity"][i]),
+             "weight": float(np.sum(np.abs(data["velocity"][sl]) * dt[sl]))}
+        if "pitch_velocity" in names:
+            c["pitch_velocity"] = float(data["pitch_velocity"][i])
+        if "creepage_longitudinal" in names:
+            c["creepage"] = {"longitudinal": float(data["creepage_longitudinal"][i]),
+                             "lateral": float(data["creepage_lateral"][i])
+                             if "creepage_lateral" in names else 0.0,
+                             "spin": float(data["creepage_spin"][i])
+                             if "creepage_spin" in names else 0.0}
+        conds.append(c)
+    return conds
 
 
 def _condition_raw(sc: WearScenario, cond: dict, profiles: dict | None) -> dict:

@@ -117,3 +117,39 @@ def test_demo_scenario_file():
     from pathlib import Path
     sc = load_scenario(Path(__file__).resolve().parents[2] / "examples" / "wear_demo.toml")
     assert sc.steps == 3 and len(sc.conditions) == 3
+
+
+def test_time_history_conditions(tmp_path):
+    """A recorded history (CSV) drives the wear loop; rows weighted by distance."""
+    t = np.linspace(0.0, 2.0, 21)
+    y = 0.003 * np.sin(2 * np.pi * t / 2.0)
+    rows = ["time,lateral_shift,yaw,vertical_force_left,vertical_force_right,velocity"]
+    rows += [f"{a},{b},{b * 0.5},{70e3 - 2e5 * b},{70e3 + 2e5 * b},20.0" for a, b in zip(t, y)]
+    (tmp_path / "run.csv").write_text("\n".join(rows) + "\n")
+    raw = copy.deepcopy(BASE)
+    raw["wear"] = {"law": "frictional-power", "parameters": {"k": 1e-13}, "steps": 1,
+                   "history": "run.csv", "history_stride": 4}
+    sc = scenario_from_dict(raw, tmp_path)
+    assert len(sc.conditions) == 6
+    assert sum(c["weight"] for c in sc.conditions) == pytest.approx(40.0, rel=0.06)
+    assert sc.conditions[1]["vertical_force"][1] > sc.conditions[1]["vertical_force"][0]
+    ds = WearSimulation(sc, tmp_path, progress=False).run(resume=False)
+    assert float(ds["wear_depth_wheel_right"].max()) == pytest.approx(1e-4, rel=0.02)
+    bad = tmp_path / "bad.csv"
+    bad.write_text("time,lateral_shift\n0,0\n1,0\n")
+    raw["wear"]["history"] = "bad.csv"
+    with pytest.raises(CaseFileError, match="missing column"):
+        scenario_from_dict(raw, tmp_path)
+
+
+def test_wear_compare(tmp_path):
+    from railcontact.wear.compare import compare_wear, parse_models
+    res = compare_wear(scenario(SYMMETRIC, steps=1), parse_models("hertz+fastsim,kpec+fastsim"),
+                       tmp_path, progress=False)
+    assert set(res) == {"hertz+fastsim", "kpec+fastsim"}
+    assert (tmp_path / "wear_comparison.png").stat().st_size > 10000
+    import csv
+    rows = list(csv.DictReader(open(tmp_path / "wear_comparison.csv")))
+    assert {r["models"] for r in rows} == {"hertz+fastsim", "kpec+fastsim"}
+    with pytest.raises(InputError):
+        parse_models("hertz")
