@@ -45,13 +45,13 @@ log = logging.getLogger(__name__)
 BODIES = ("wheel_left", "wheel_right", "rail_left", "rail_right")
 _WEAR_KEYS = {"law", "parameters", "body", "steps", "max_depth_per_step", "step_distance",
               "smoothing", "rail_passages_per_meter", "grid_step", "scheduler", "history",
-              "history_stride"}
+              "history_stride", "profile_smoothing"}
 #: columns of an imported time history (SI units); the first six are required
 HISTORY_COLUMNS = ("time", "lateral_shift", "yaw", "vertical_force_left", "vertical_force_right",
                    "velocity", "pitch_velocity", "creepage_longitudinal", "creepage_lateral",
                    "creepage_spin")
 _COND_KEYS = {"weight", "lateral_shift", "yaw", "vertical_force", "velocity", "pitch_velocity",
-              "lateral_velocity", "yaw_rate", "roll", "side", "creepage"}
+              "lateral_velocity", "yaw_rate", "roll", "side", "creepage", "curve_radius"}
 
 
 @dataclass
@@ -64,9 +64,10 @@ class WearScenario:
     max_depth_per_step: float = 1e-4
     step_distance: float | None = None
     smoothing: float = 2e-3
+    profile_smoothing: float = 0.0
     rail_passages_per_meter: float = 1.0
     grid_step: float = 1e-4
-    scheduler: str = "sync"
+    scheduler: str = "threads"
     conditions: list = field(default_factory=list)
     base_dir: Path = field(default_factory=Path.cwd)
 
@@ -115,7 +116,8 @@ def scenario_from_dict(raw: dict, base_dir=None) -> WearScenario:
             setattr(sc, key, str(wear[key]))
     sc.parameters = dict(wear.get("parameters", {}))
     for key, lo, hi in (("steps", 1, 100000), ("max_depth_per_step", 1e-9, 1e-2),
-                        ("smoothing", 0.0, 0.05), ("rail_passages_per_meter", 1e-9, 1e3),
+                        ("smoothing", 0.0, 0.05), ("profile_smoothing", 0.0, 0.05),
+                        ("rail_passages_per_meter", 1e-9, 1e3),
                         ("grid_step", 1e-6, 1e-3), ("step_distance", 1e-6, 1e12)):
         if key in wear:
             v = wear[key]
@@ -188,7 +190,14 @@ def _condition_raw(sc: WearScenario, cond: dict, profiles: dict | None) -> dict:
     for k, v in cond.items():
         if k in ("weight",):
             continue
-        if k == "creepage":
+        if k == "curve_radius":
+            # steady curving: the wheelset turns with the track at V / R (positive R:
+            # curve to the right); cant enters through the per-wheel vertical loads
+            if not (isinstance(v, (int, float)) and abs(v) >= 10.0):
+                raise CaseFileError(f"condition curve_radius = {v!r}: expected |R| >= 10 m")
+            vel = cond.get("velocity", raw.get("wheelset", {}).get("velocity", 30.0))
+            ws["yaw_rate"] = float(vel) / float(v)
+        elif k == "creepage":
             raw["creepage"] = dict(v)
         else:
             ws[k] = v
@@ -311,7 +320,11 @@ class WearSimulation:
             import dask
             tasks = [dask.delayed(condition_wear)(r, sc.base_dir, sc.law, sc.parameters, grids,
                                                   self.profiles) for r in raws]
-            results = list(dask.compute(*tasks, scheduler=sc.scheduler))
+            if sc.scheduler.startswith(("tcp://", "tls://", "inproc://")):
+                from distributed import Client
+                results = list(dask.compute(*tasks, scheduler=Client(sc.scheduler).get))
+            else:
+                results = list(dask.compute(*tasks, scheduler=sc.scheduler))
         per_m = {b: np.zeros_like(grids[b]) for b in BODIES}
         energy = 0.0
         for wi, r in zip(w, results):
@@ -338,7 +351,10 @@ class WearSimulation:
             rec[f"law_area_{b}"] = law_area[b] * dist if b in worn else 0.0
             old = self.profiles[b]
             if b in worn:
-                self.profiles[b] = wear_profile(old, grids[b], depth, b.split("_")[0])
+                new = wear_profile(old, grids[b], depth, b.split("_")[0])
+                if sc.profile_smoothing > 0:
+                    new = new.smoothed(sc.profile_smoothing)
+                self.profiles[b] = new
             # record on the lateral coordinate of the original profile
             s_old = old.arc_length(self.initial[b].y)
             rec[f"depth_{b}"] = np.interp(s_old, grids[b], depth, left=0.0, right=0.0)

@@ -153,3 +153,28 @@ def test_wear_compare(tmp_path):
     assert {r["models"] for r in rows} == {"hertz+fastsim", "kpec+fastsim"}
     with pytest.raises(InputError):
         parse_models("hertz")
+
+
+@pytest.mark.parametrize("body", ["rail", "both"])
+def test_rail_wear_conservation(body):
+    sim = WearSimulation(scenario(SYMMETRIC, steps=1, body=body, scheduler="threads"),
+                         progress=False)
+    ds = sim.run(resume=False)
+    for b in ("rail_left", "rail_right"):
+        law = float(ds[f"law_area_{b}"].sum())
+        assert law > 0
+        assert removed_area(sim.initial[b], sim.profiles[b], "rail") == pytest.approx(law,
+                                                                                   rel=5e-3)
+    if body == "rail":
+        assert float(ds["wear_depth_wheel_left"].max()) == 0.0
+
+
+def test_curve_radius_condition():
+    sim = WearSimulation(scenario([{"lateral_shift": 0.005, "yaw": 0.0, "curve_radius": 500.0,
+                                    "vertical_force": [60e3, 90e3]}], steps=1),
+                         progress=False)
+    ds = sim.run(resume=False)
+    assert float(ds["distance"][0]) > 0
+    with pytest.raises(CaseFileError, match="curve_radius"):
+        from railcontact.wear.simulation import _condition_raw
+        _condition_raw(scenario(SYMMETRIC), {"curve_radius": 1.0}, None)
