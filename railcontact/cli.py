@@ -114,6 +114,13 @@ def cmd_wear_compare(args):
     print(f"wrote {Path(args.out) / 'wear_comparison.png'} and wear_comparison.csv")
 
 
+def cmd_simulate(args):
+    from .dynamics.scenario import run_scenario
+    ds = run_scenario(args.scenario, args.out)
+    print(f"simulated {float(ds['time'][-1]):.2f} s; linear critical speed "
+          f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
+
+
 def cmd_profile(args):
     from .profiles import get_profile, write_profile
     from .plotting import plot_profile
@@ -177,6 +184,10 @@ def build_parser():
                     help="NORMAL+TANGENTIAL pairs, comma separated")
     wc.add_argument("--out", default="wear_comparison")
     wc.set_defaults(func=cmd_wear_compare)
+    sm = sub.add_parser("simulate", help="vehicle dynamics (single wheelset so far)")
+    sm.add_argument("scenario")
+    sm.add_argument("--out", default="simulation_output")
+    sm.set_defaults(func=cmd_simulate)
     pr = sub.add_parser("profile", help="plot or export a built-in or file profile")
     pr.add_argument("action", choices=["plot", "export"])
     pr.add_argument("profile", help="built-in name (S1002, 60E1, 54E1, 60E2) or file")

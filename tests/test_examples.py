@@ -18,6 +18,12 @@ def test_python_examples(path, capsys):
 
 @pytest.mark.parametrize("path", sorted(EX.glob("*.toml")), ids=lambda p: p.name)
 def test_case_examples(path, tmp_path):
+    if "[vehicle]" in path.read_text():
+        from railcontact.dynamics.scenario import run_scenario
+        ds = run_scenario(path, tmp_path)
+        assert ds.sizes["time"] > 10 and (tmp_path / "simulation.nc").is_file()
+        assert abs(float(ds["lateral_displacement"][-1])) < 3e-3   # below the critical speed
+        return
     if "[wear]" in path.read_text():
         from railcontact.wear import WearSimulation, load_scenario
         ds = WearSimulation(load_scenario(path), tmp_path, progress=False).run()
