@@ -18,6 +18,21 @@ _SIM = {"velocity", "duration", "initial_lateral_shift", "initial_yaw", "sample_
         "table_range", "table_step"}
 
 
+def write_history(ds, path, wheel_load: float):
+    """Write a run as a time history in the format of ``wear.history``
+    (see docs/wear.md): time, lateral_shift, yaw, wheel loads, velocity."""
+    path = Path(path)
+    v = float(ds.attrs["velocity_m_s"])
+    rows = ["time,lateral_shift,yaw,vertical_force_left,vertical_force_right,velocity"]
+    for t, y, psi in zip(ds["time"].values, ds["lateral_displacement"].values,
+                         ds["yaw"].values):
+        rows.append(f"{t:.6g},{y:.9g},{psi:.9g},{wheel_load:.6g},{wheel_load:.6g},{v:.6g}")
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text("\n".join(rows) + "\n")
+    tmp.replace(path)
+    return path
+
+
 def run_scenario(path, out=None):
     """Run a dynamics scenario; returns the dataset (written to ``out/simulation.nc``)."""
     path = Path(path)
@@ -75,6 +90,7 @@ def run_scenario(path, out=None):
         tmp = out / "simulation.nc.tmp"
         ds.to_netcdf(tmp, engine="h5netcdf")
         tmp.replace(out / "simulation.nc")
+        write_history(ds, out / "history.csv", load)
         import matplotlib
         matplotlib.use("Agg")
         import matplotlib.pyplot as plt
