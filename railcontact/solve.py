@@ -184,10 +184,17 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None):
     iteration) serve as warm starts where a model accepts them."""
     out = []
     warm = getattr(tmodel, "accepts_warm_start", False)
+    nwarm = getattr(nmodel, "accepts_warm_start", False)
     for geom in contact.patches:
         if geom.approach <= 0:
             continue
-        ns = nmodel.solve(geom, case.material, penetration=geom.approach, **kw)
+        nkw = dict(kw)
+        if nwarm and previous:
+            near = [r for r in previous if r.geometry.side == geom.side]
+            if near:
+                nkw["warm_start"] = min(near, key=lambda r: abs(r.geometry.y_rail
+                                                                - geom.y_rail)).normal
+        ns = nmodel.solve(geom, case.material, penetration=geom.approach, **nkw)
         creep = case.creepage or geom.creepage
         ts = None
         if tmodel is not None:

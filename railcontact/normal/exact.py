@@ -159,9 +159,15 @@ class ExactNormalModel:
                         (0.5 * (hi_x - lo_x) * f, 0.5 * (hi_y - lo_y) * f))
         return (cx, cy), (hx * (1 + self.margin), hy * (1 + self.margin))
 
+    accepts_warm_start = True
+
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
-              penetration: float | None = None, grid=None, element_size=None) -> NormalSolution:
+              penetration: float | None = None, grid=None, element_size=None,
+              warm_start: NormalSolution | None = None) -> NormalSolution:
         """Solve for a given normal force [N] or approach [m].
+
+        ``warm_start``: a previous solution; its pressure is the initial estimate when
+        it lies on the same grid (e.g. in the vertical-force iteration).
 
         The undeformed distance is taken from ``geometry.gap`` (the exact gap of the
         geometry layer, shifted so that ``penetration`` is measured from the
@@ -180,11 +186,19 @@ class ExactNormalModel:
         h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach   # touching: min ~ 0
         op = normal_operator(x.size, y.size, float(dx), float(dy), material.contact_modulus)
         dA = dx * dy
+        p0 = None
+        if (warm_start is not None and warm_start.pressure.shape == h0.shape
+                and np.allclose(warm_start.x, x) and np.allclose(warm_start.y, y)
+                and warm_start.pressure.max() > 0):
+            p0 = warm_start.pressure
         if normal_force is not None:
+            if p0 is not None:
+                p0 = p0 * normal_force / max(float(p0.sum() * dA), 1e-300)
             p, app, it, ok = polonsky_keer(op, h0, dA, force=normal_force, tol=self.tol,
-                                           maxiter=self.maxiter)
+                                           maxiter=self.maxiter, p0=p0)
         else:
-            p, _, it, ok = polonsky_keer(op, h0 - penetration, dA, None, self.tol, self.maxiter)
+            p, _, it, ok = polonsky_keer(op, h0 - penetration, dA, None, self.tol, self.maxiter,
+                                         p0=p0)
             app = penetration
         if not ok:
             log.warning("exact normal solver: no convergence in %d iterations", it)

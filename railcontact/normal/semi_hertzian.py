@@ -80,6 +80,7 @@ class _StripModel(ExactNormalModel):
     """Common driver: grid, approach iteration and result for the strip models."""
 
     label = "strip"
+    accepts_warm_start = False
 
     def __init__(self, margin: float = 0.25):
         super().__init__(margin=margin)
