@@ -141,9 +141,19 @@ def side_pose(side: str, lateral_shift: float, vertical: float, roll: float, yaw
     return -lateral_shift, vertical, -roll, -yaw
 
 
+#: the fine locus covers the part of the wheel whose coarse gap is within this of the minimum
+LOCUS_WINDOW = 1e-3
+
+
 def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: float,
-                  vertical: float, roll: float, yaw: float, step: float = LOCUS_STEP) -> Locus:
-    """Contact locus and vertical gap for one side at the given wheelset pose."""
+                  vertical: float, roll: float, yaw: float, step: float = LOCUS_STEP,
+                  stride: int = 8) -> Locus:
+    """Contact locus and vertical gap for one side at the given wheelset pose.
+
+    A coarse pass (every ``stride``-th wheel sample) finds the part of the wheel that
+    comes within ``LOCUS_WINDOW`` of the rail; the locus is computed at full
+    resolution there only.
+    """
     wheel, rail = wheelset.wheel(side), track.rail(side)
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
     r0 = wheelset.nominal_radius
@@ -153,6 +163,14 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
     y_off = track.rail_offset(side)
+    _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride], R, O, y_off, rail._breaks,
+                                   rail._coefs)
+    near = np.flatnonzero(gc <= np.min(gc) + LOCUS_WINDOW)
+    if near.size:
+        i0 = max(int(near[0]) * stride - 2 * stride, 0)
+        i1 = min(int(near[-1]) * stride + 2 * stride + 1, yw.size)
+        sl = slice(i0, i1)
+        yw, zw, eta, rho = yw[sl], zw[sl], eta[sl], rho[sl]
     theta, P, yr, gap, s = _locus_kernel(eta, rho, R, O, y_off, rail._breaks, rail._coefs)
     return Locus(yw, zw, theta, P, yr, gap, s, O, R)
 

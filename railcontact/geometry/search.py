@@ -261,11 +261,15 @@ class _GapEvaluator:
 
 
 def _curvatures_fd(gapf, x0, y0):
+    """Curvatures (A, B) [1/m] of the gap and the gap itself at (x0, y0): one
+    vectorised evaluation of the five-point stencil."""
     hx, hy = FD_STEP
-    h00 = gapf(x0, y0)
-    A = (gapf(x0 + hx, y0) + gapf(x0 - hx, y0) - 2 * h00) / (2 * hx * hx)
-    B = (gapf(x0, y0 + hy) + gapf(x0, y0 - hy) - 2 * h00) / (2 * hy * hy)
-    return float(A), float(B)
+    xs = np.array([x0, x0 + hx, x0 - hx, x0, x0])
+    ys = np.array([y0, y0, y0, y0 + hy, y0 - hy])
+    h = gapf(xs, ys)
+    A = (h[1] + h[2] - 2 * h[0]) / (2 * hx * hx)
+    B = (h[3] + h[4] - 2 * h[0]) / (2 * hy * hy)
+    return float(A), float(B), float(h[0])
 
 
 def _creepage(side, q_side, n_tr, delta_tr, pose, r0, velocity, pitch_velocity,
@@ -423,8 +427,8 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
     d = Pm - C
     x_m = float(d[0])
     y_m = sgn * float(d @ gapf.t)
-    A, B = _curvatures_fd(gapf, x_m, y_m)
-    approach = -float(gapf(x_m, y_m))
+    A, B, h_m = _curvatures_fd(gapf, x_m, y_m)
+    approach = -h_m
     # robust fallback: vertical interpenetration of the deepest locus point projected on n
     vertical = -float(loc.gap[im]) * math.cos(math.atan(float(loc.slope[im])))
     if not math.isfinite(approach) or (approach <= 0.0 < vertical):
