@@ -6,7 +6,6 @@ Reports ratios measured in this run, and writes ``benchmarks/results.md``.
 from __future__ import annotations
 
 import csv
-import math
 import os
 import statistics
 import sys

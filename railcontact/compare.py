@@ -7,7 +7,6 @@ import logging
 import time
 from pathlib import Path
 
-import numpy as np
 
 from .case import Case
 from .errors import RailContactError

@@ -225,7 +225,6 @@ class AnalynModel(_StripModel):
         xlc = x[ixm]
         g = hstar[ixm, cols] + pen
         A = 0.5 * (hstar[ixm + 1, cols] - 2 * hstar[ixm, cols] + hstar[ixm - 1, cols]) / dx ** 2
-        jp, jm = np.clip(cols + 1, 0, my - 1), np.clip(cols - 1, 0, my - 1)
         jc = np.clip(cols, 1, my - 2)
         B = 0.5 * (hstar[ixm, np.clip(jc + 1, 0, my - 1)] - 2 * hstar[ixm, jc]
                    + hstar[ixm, np.clip(jc - 1, 0, my - 1)]) / dy ** 2

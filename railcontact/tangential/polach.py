@@ -38,7 +38,6 @@ from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import TangentialSolution, register
 from .fastsim import equivalent_ellipse
-from .friction import FallingFriction
 from .kalker import kalker_coefficients
 
 #: extended-model presets: (k_A, k_S, mu0, A, B [s/m]); source REFERENCES.md 6.4

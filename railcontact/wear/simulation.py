@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
-from ..case import _ALLOWED, case_from_dict
+from ..case import case_from_dict
 from ..errors import CaseFileError, InputError, RailContactError
 from ..profiles.profile import Profile
 from .laws import get_wear_law
