@@ -23,6 +23,7 @@ _ALLOWED = {
                  "vertical_force", "velocity", "pitch_velocity", "lateral_velocity", "yaw_rate",
                  "combine_distance"},
     "creepage": {"longitudinal", "lateral", "spin"},
+    "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options"},
     "bodies": {"radii", "normal_force", "velocity"},
@@ -174,6 +175,12 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
             get_tangential_model(case.tangential, **case.tangential_options)
     except TypeError as exc:
         raise CaseFileError(f"solver options: {exc}") from None
+    if "force" in raw:
+        if "bodies" not in raw:
+            raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "
+                                "for wheel-rail cases give [creepage]")
+        case.number("force.longitudinal", 0.0, -1e8, 1e8, "N")
+        case.number("force.lateral", 0.0, -1e8, 1e8, "N")
     if case.is_bodies:
         case.number("bodies.normal_force", None, 0.0, 1e8, "N")
         _body_curvatures(case)

@@ -171,7 +171,15 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None) 
                           **kw)
         creep = case.creepage or (0.0, 0.0, 0.0)
         V = case.number("bodies.velocity", 1.0, 1e-6, 1e3, "m/s")
-        ts = tmodel.solve(ns, geom, case.material, creep, case.friction, V) if tmodel else None
+        if "force" in case.raw and tmodel is not None:
+            from .tangential.inverse import solve_for_forces
+            ts = solve_for_forces(tmodel, ns, geom, case.material,
+                                  (case.number("force.longitudinal", 0.0),
+                                   case.number("force.lateral", 0.0)),
+                                  spin=creep[2], friction=case.friction, velocity=V)
+            creep = ts.creepage
+        else:
+            ts = tmodel.solve(ns, geom, case.material, creep, case.friction, V) if tmodel else None
         results.append(PatchResult(geom, ns, ts, tuple(creep)))
     else:
         results, contact = _solve_wheel_rail(case, nmodel, tmodel, kw)

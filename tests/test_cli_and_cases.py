@@ -182,3 +182,19 @@ def test_per_wheel_loads():
     with pytest.raises(CaseFileError, match="vertical_force"):
         rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
                            "wheelset": {"vertical_force": [1.0, 2.0, 3.0]}})
+
+
+def test_prescribed_forces_bodies_case(tmp_path, capsys):
+    text = (EX / "bodies.toml").read_text() + "\n[force]\nlongitudinal = 12000.0\nlateral = -3000.0\n"
+    f = tmp_path / "forces.toml"
+    f.write_text(text)
+    code, out, err = run_cli(["solve", str(f), "--json"], capsys)
+    assert code == 0, err
+    (p,) = json.loads(out)["patches"]
+    assert p["Fx"] == pytest.approx(12000.0, abs=1.0)
+    assert p["Fy"] == pytest.approx(-3000.0, abs=1.0)
+    assert p["creepage"]["longitudinal"] > 0
+    bad = tmp_path / "bad.toml"
+    bad.write_text((EX / "wheel_rail.toml").read_text() + "\n[force]\nlongitudinal = 1.0\n")
+    code, out, err = run_cli(["solve", str(bad)], capsys)
+    assert code == 2 and "[force]" in err
