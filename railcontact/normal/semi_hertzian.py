@@ -40,7 +40,7 @@ from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
 from .exact import ExactNormalModel
-from .hertz_theory import hertz_ellipse
+from .hertz_theory import hertz_ellipse, hertz_ellipses
 from .influence import normal_operator
 
 #: smallest curvature used where the fitted one is not positive [1/m] (CONTACT: 1e-4/mm)
@@ -230,17 +230,19 @@ class AnalynModel(_StripModel):
                    + hstar[ixm, np.clip(jc - 1, 0, my - 1)]) / dy ** 2
         A = np.maximum(A, MIN_CURVATURE)
         B = np.maximum(B, MIN_CURVATURE)
-        for j in range(my):     # one Hertz solution per strip (not per element)
-            hz = hertz_ellipse(A[j], B[j], Es, penetration=pen)
-            alpha1 = pen / (A[j] * hz.a ** 2)
-            beta1 = pen / (B[j] * hz.b ** 2)
-            penloc = pen - beta1 * g[j]
-            if penloc <= 0:
-                continue
-            xl = math.sqrt(penloc / (alpha1 * A[j]))
-            hl = hertz_ellipse(A[j], B[j], Es, penetration=penloc)
-            pmax = 1.5 * hl.force / (math.pi * hl.a * hl.b)
-            r = (x - xlc[j]) / xl
-            p[:, j] = np.where(np.abs(r) < 1, pmax * np.sqrt(np.clip(1 - r * r, 0, None)), 0.0)
-            xled[j], xtrl[j] = xlc[j] + xl, xlc[j] - xl
+        a, b, _ = hertz_ellipses(A, B, Es, pen)       # one Hertz solution per strip
+        alpha1 = pen / (A * a * a)
+        beta1 = pen / (B * b * b)
+        penloc = pen - beta1 * g
+        ok = penloc > 0
+        penloc = np.where(ok, penloc, 0.0)
+        xl = np.sqrt(penloc / (alpha1 * A))
+        al, bl, fl = hertz_ellipses(A, B, Es, penloc)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            pmax = np.where(ok, 1.5 * fl / (math.pi * al * bl), 0.0)
+            r = (x[:, None] - xlc[None, :]) / np.where(ok, xl, 1.0)[None, :]
+        inside = ok[None, :] & (np.abs(r) < 1)
+        p = np.where(inside, pmax[None, :] * np.sqrt(np.clip(1 - r * r, 0, None)), 0.0)
+        xled = np.where(ok, xlc + xl, 0.0)
+        xtrl = np.where(ok, xlc - xl, 0.0)
         return p, p > 0, (xled, xtrl)

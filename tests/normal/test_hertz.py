@@ -2,6 +2,8 @@
 
 import math
 
+import numpy as np
+
 import pytest
 from scipy import integrate
 
@@ -92,3 +94,32 @@ def test_model_grid_and_errors():
     from railcontact.errors import UnknownModelError
     with pytest.raises(UnknownModelError, match="unknown normal model 'hurtz'"):
         get_normal_model("hurtz")
+
+
+def test_vectorised_hertz_equals_scalar():
+    from railcontact.normal.hertz_theory import hertz_ellipses
+    rng = np.random.default_rng(7)
+    A = 10 ** rng.uniform(-1, 3, 300)
+    B = 10 ** rng.uniform(-1, 3, 300)
+    B[:5] = A[:5]                      # circles
+    B[5:10] = A[5:10] * (1 + 1e-6)     # nearly circles
+    B[10:15] = A[10:15] * 1e4          # slender ellipses
+    d = 10 ** rng.uniform(-6, -4, 300)
+    Es = 1.15e11
+    a, b, f = hertz_ellipses(A, B, Es, d)
+    for i in range(300):
+        h = hertz_ellipse(A[i], B[i], Es, penetration=d[i])
+        assert (a[i], b[i], f[i]) == pytest.approx((h.a, h.b, h.force), rel=1e-10)
+    a0, b0, f0 = hertz_ellipses(1.0, 2.0, Es, [0.0, -1e-6])
+    assert np.all(a0 == 0) and np.all(f0 == 0)
+
+
+def test_ratio_is_continuous_where_the_series_takes_over():
+    from railcontact.normal.hertz_theory import SERIES_M, _ratio
+    # series below SERIES_M, elliptic integrals above: both must agree there
+    lo, hi = _ratio(SERIES_M * (1 - 1e-9)) - 1, _ratio(SERIES_M * (1 + 1e-9)) - 1
+    assert lo == pytest.approx(hi, rel=1e-8)
+    assert _ratio(1e-6) - 1 == pytest.approx(0.75e-6, rel=1e-5)
+    # monotone through the switch, so that the inversion has one root
+    m = np.linspace(0.5 * SERIES_M, 2 * SERIES_M, 2001)
+    assert np.all(np.diff([_ratio(v) for v in m]) > 0)
