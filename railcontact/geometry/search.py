@@ -213,6 +213,10 @@ def _regions(loc: Locus, rigid: bool, combine_distance: float):
     return [tuple(r) for r in merged]
 
 
+#: Newton steps of the gap evaluation stop below this correction [m]
+NEWTON_TOL = 1e-14
+
+
 class _GapEvaluator:
     """Undeformed distance along the normal in a patch's tangent plane."""
 
@@ -242,7 +246,10 @@ class _GapEvaluator:
             yr = P[1] + tr * n[1] - self.y_off
             f = self.rail.z_at(yr) - (P[2] + tr * n[2])
             fp = self.rail.slope(yr) * n[1] - n[2]
-            tr = tr - f / fp
+            step = f / fp
+            tr = tr - step
+            if not np.any(np.abs(step) > NEWTON_TOL):   # NaN (off the profile) stops too
+                break
         # wheel surface: radius of the point = r0 + z_w(eta - e)
         Rt = self.R.T
         L0 = Rt @ (P - self.O[:, None])
@@ -254,7 +261,10 @@ class _GapEvaluator:
             yw = L[1] - self.e
             f = rho - (self.r0 + self.wheel.z_at(yw))
             fp = (L[0] * nl[0] + L[2] * nl[2]) / rho - self.wheel.slope(yw) * nl[1]
-            tw = tw - f / fp
+            step = f / fp
+            tw = tw - step
+            if not np.any(np.abs(step) > NEWTON_TOL):
+                break
         h = tr - tw
         h = np.where(np.isfinite(h), h, 1.0)
         return h.reshape(x.shape)
