@@ -1,7 +1,7 @@
 """Tangential contact layer: creep forces, traction, slip.
 
-Models are chosen by name (:func:`get_tangential_model`): ``"fastsim"``, ``"exact"``,
-``"polach"``.
+Models are chosen by name (:func:`get_tangential_model`): ``"fastsim"``, ``"fastsim-strips"``,
+``"exact"``, ``"polach"``.
 """
 
 from . import exact, fastsim, polach  # noqa: F401  (register the models)

@@ -35,7 +35,9 @@ from .kalker import flexibilities
 @njit(cache=True, nogil=True)
 def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgrid,
                     px_out, py_out, sx_out, sy_out, stick_out):
-    """March all strips; fill grid fields (traction on body 1 = rail) and return forces."""
+    """March all strips; fill grid fields (traction on body 1 = rail) and return forces.
+
+    ``L1, L2, L3`` and ``phi`` are given per strip (length my)."""
     my = y.size
     nx = bound.shape[1]
     mx = xgrid.size
@@ -60,8 +62,8 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgr
             xm = x_lead[j] - (k + 0.5) * dx
             step = prev - xm
             xmid = 0.5 * (prev + xm)
-            ux = xi / L1 - phi * y[j] / L3
-            uy = eta / L2 + phi * xmid / L3
+            ux = xi / L1[j] - phi[j] * y[j] / L3[j]
+            uy = eta / L2[j] + phi[j] * xmid / L3[j]
             hx = px - step * ux
             hy = py - step * uy
             g = bound[j, k]
@@ -70,8 +72,8 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgr
                 sc = g / mag if mag > 0.0 else 0.0
                 px = hx * sc
                 py = hy * sc
-                sxs[k] = L1 * (px - hx) / step
-                sys_[k] = L2 * (py - hy) / step
+                sxs[k] = L1[j] * (px - hx) / step
+                sys_[k] = L2[j] * (py - hy) / step
                 sts[k] = False
             else:
                 px = hx
@@ -191,6 +193,29 @@ class FastsimModel:
         from .friction import falling_friction
         self.falling = falling_friction(falling)
 
+    def _strip_parameters(self, normal, geometry, material, a, b, creepage, friction):
+        """Flexibilities L1, L2, L3 [m/Pa] and spin [1/m] per strip (arrays over y)."""
+        xi, eta, phi = creepage
+        G, nu = material.shear_modulus, material.poisson_ratio
+        L = self._flexibilities(a, b, G, nu, creepage, friction, normal.normal_force)
+        my = normal.y.size
+        return (*(np.full(my, v) for v in L), np.full(my, phi))
+
+    def _flexibilities(self, a, b, G, nu, creepage, friction, fn):
+        """The three flexibilities of an ellipse (a, b) with this model's option."""
+        xi, eta, phi = creepage
+        L1, L2, L3 = flexibilities(a, b, G, nu)
+        if self.flexibility == "blended":
+            L1, L2, L3 = blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi,
+                                               friction, fn)
+        elif self.flexibility == "single":
+            c = math.sqrt(a * b)
+            den = math.sqrt(xi * xi + eta * eta + (c * phi) ** 2)
+            if den > 0:
+                L = (abs(xi) * L1 + abs(eta) * L2 + c * abs(phi) * L3) / den
+                L1 = L2 = L3 = L
+        return L1, L2, L3
+
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0) -> TangentialSolution:
         """Creep forces for creepages (xi [-], eta [-], phi [1/m]).
@@ -211,21 +236,12 @@ class FastsimModel:
         mx, my = normal.x.size, normal.y.size
         zeros = np.zeros((mx, my))
         if a <= 0 or b <= 0 or normal.normal_force <= 0:
-            return TangentialSolution("fastsim", normal.x, normal.y, zeros, zeros.copy(),
+            return TangentialSolution(self.name, normal.x, normal.y, zeros, zeros.copy(),
                                       zeros.copy(), zeros.copy(), np.zeros((mx, my), bool),
                                       normal.contact, 0.0, 0.0, 0.0, velocity, (xi, eta, phi),
                                       friction)
-        G, nu = material.shear_modulus, material.poisson_ratio
-        L1, L2, L3 = flexibilities(a, b, G, nu)
-        if self.flexibility == "blended":
-            L1, L2, L3 = blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi,
-                                               friction, normal.normal_force)
-        elif self.flexibility == "single":
-            c = math.sqrt(a * b)
-            den = math.sqrt(xi * xi + eta * eta + (c * phi) ** 2)
-            if den > 0:
-                L = (abs(xi) * L1 + abs(eta) * L2 + c * abs(phi) * L3) / den
-                L1 = L2 = L3 = L
+        L1, L2, L3, phis = self._strip_parameters(normal, geometry, material, a, b,
+                                                  (xi, eta, phi), friction)
         x_lead, x_trail = normal.strips
         nx = self.elements or mx
         frac = (np.arange(nx) + 0.5) / nx
@@ -248,7 +264,7 @@ class FastsimModel:
             fx1, fy1, mz1 = _fastsim_strips(np.ascontiguousarray(normal.y), normal.dy,
                                             np.ascontiguousarray(x_lead, dtype=float),
                                             np.ascontiguousarray(x_trail, dtype=float), bound,
-                                            L1, L2, L3, xi, eta, phi,
+                                            L1, L2, L3, xi, eta, phis,
                                             np.ascontiguousarray(normal.x), px, py, sx, sy, stick)
             if self.falling is None:
                 break
@@ -261,8 +277,80 @@ class FastsimModel:
         contact = normal.contact
         stick &= contact
         # body 1 is the rail: the tractions on the wheel are the opposite
-        return TangentialSolution("fastsim", normal.x, normal.y, -px, -py, sx, sy, stick,
+        flex = (L1, L2, L3) if self.name != "fastsim" else (L1[0], L2[0], L3[0])
+        return TangentialSolution(self.name, normal.x, normal.y, -px, -py, sx, sy, stick,
                                   contact, -fx1, -fy1, -mz1, velocity, (xi, eta, phi), friction,
                                   time.perf_counter() - t0,
-                                  {"bound": self.bound, "flexibilities": (L1, L2, L3),
+                                  {"bound": self.bound, "flexibilities": flex,
                                    "friction_iterations": iters})
+
+
+#: smallest local curvature used for a local ellipse [1/m] (as the strip normal models)
+_MIN_CURVATURE = 0.1
+
+
+def local_curvatures(normal, geometry):
+    """Relative curvatures (A(y), B(y)) [1/m] of the gap at each strip's minimum.
+
+    Second differences of h(x, y) on the normal solution's grid: along x at the
+    strip's point of smallest gap, and across the neighbouring strips there.
+    Curvatures below 0.1 1/m are raised to that value.
+    """
+    x, y = normal.x, normal.y
+    mx, my = x.size, y.size
+    if mx < 3 or my < 3:
+        raise InputError("fastsim-strips needs a grid of at least 3 x 3 elements")
+    h = geometry.gap(x[:, None], y[None, :])
+    dx, dy = normal.dx, normal.dy
+    ixm = np.clip(np.argmin(h, axis=0), 1, mx - 2)
+    cols = np.arange(my)
+    A = 0.5 * (h[ixm + 1, cols] - 2 * h[ixm, cols] + h[ixm - 1, cols]) / dx ** 2
+    jc = np.clip(cols, 1, my - 2)
+    B = 0.5 * (h[ixm, jc + 1] - 2 * h[ixm, jc] + h[ixm, jc - 1]) / dy ** 2
+    return np.maximum(A, _MIN_CURVATURE), np.maximum(B, _MIN_CURVATURE)
+
+
+@register("fastsim-strips")
+class FastsimStripsModel(FastsimModel):
+    """FASTSIM with a local ellipse per strip (Ayasse & Chollet's STRIPES approach).
+
+    Each strip (fixed lateral position y) gets its own flexibilities L1, L2, L3,
+    computed from a *local ellipse*: the Hertz ellipse of the gap's relative
+    curvatures A(y), B(y) at the strip's centre line, for the patch's approach
+    (Ayasse & Chollet, VSD 43, 2005; described as used with STRIPES and ANALYN in
+    Tao et al., CM2015).  On a Hertzian (quadratic) gap every local ellipse is the
+    Hertz ellipse, so the model reduces to :class:`FastsimModel` and Kalker's linear
+    theory.  Where the lateral curvature varies across the patch (worn profiles,
+    gauge corner, the tread-flange transition) the flexibilities vary with it.
+
+    The spin is the patch's kinematic spin on every strip; strip-wise spin from the
+    local contact angle is not included.
+
+    Needs the patch geometry (``solve(normal, geometry, ...)``) unless the normal
+    solution is an ellipse (Hertz), in which case it equals ``fastsim``.
+    Options as :class:`FastsimModel`.
+    """
+
+    def _strip_parameters(self, normal, geometry, material, a, b, creepage, friction):
+        from ..normal.hertz_theory import hertz_ellipses
+        my = normal.y.size
+        if geometry is None:
+            if normal.semi_axes is None:
+                raise InputError("fastsim-strips: the patch geometry is needed for the local "
+                                 "curvatures of a non-elliptic patch (solve(normal, geometry, ...))")
+            return super()._strip_parameters(normal, geometry, material, a, b, creepage,
+                                             friction)
+        G, nu = material.shear_modulus, material.poisson_ratio
+        A, B = local_curvatures(normal, geometry)
+        x_lead, x_trail = normal.strips
+        active = np.flatnonzero(np.asarray(x_lead) > np.asarray(x_trail))
+        L = np.empty((3, my))
+        L[:] = np.asarray(super()._flexibilities(a, b, G, nu, creepage, friction,
+                                                 normal.normal_force))[:, None]
+        la, lb, _ = hertz_ellipses(A[active], B[active], material.contact_modulus,
+                                   normal.penetration)      # one local ellipse per strip
+        for j, aj, bj in zip(active, la, lb):                # per strip, not per element
+            L[:, j] = self._flexibilities(aj, bj, G, nu, creepage, friction,
+                                          normal.normal_force)
+        return (np.ascontiguousarray(L[0]), np.ascontiguousarray(L[1]),
+                np.ascontiguousarray(L[2]), np.full(my, creepage[2]))

@@ -12,7 +12,7 @@ from railcontact.tangential.inverse import solve_for_forces
 MAT = Material(2.1e11, 0.28)
 
 
-@pytest.mark.parametrize("model", ["fastsim", "exact", "polach"])
+@pytest.mark.parametrize("model", ["fastsim", "fastsim-strips", "exact", "polach"])
 def test_round_trip(model):
     g = ContactGeometry(curvatures=(1 / 0.92, 1 / 0.6))
     ns = get_normal_model("exact" if model == "exact" else "hertz").solve(

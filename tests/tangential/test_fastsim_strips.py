@@ -1,0 +1,92 @@
+"""Strip-wise FASTSIM (local ellipse per strip) on Hertzian and non-Hertzian gaps."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railcontact.errors import InputError
+from railcontact.geometry import ContactGeometry
+from railcontact.materials import Material
+from railcontact.normal import get_normal_model, hertz_ellipse
+from railcontact.tangential import flexibilities, get_tangential_model, kalker_coefficients
+from railcontact.tangential.fastsim import local_curvatures
+
+MAT = Material(2.1e11, 0.28)
+FN = 5e4
+A0, B0 = 1.0, 2.5
+
+
+def quartic_gap(C):
+    """h = A x^2 + B y^2 + C y^4: the lateral curvature grows away from the centre."""
+    return ContactGeometry(curvatures=(A0, B0),
+                           gap_function=lambda x, y: A0 * x * x + B0 * y * y + C * y ** 4)
+
+
+@pytest.mark.parametrize("normal_model", ["hertz", "kpec", "analyn"])
+def test_hertzian_gap_reduces_to_fastsim(normal_model):
+    g = ContactGeometry(curvatures=(A0, B0))
+    ns = get_normal_model(normal_model).solve(g, MAT, normal_force=FN, grid=(60, 60))
+    strips = get_tangential_model("fastsim-strips")
+    plain = get_tangential_model("fastsim")
+    for creep in [(1e-6, 0, 0), (0, 1e-6, 0), (0, 0, 1e-3), (2e-3, -1e-3, 0.5)]:
+        t1 = strips.solve(ns, g, MAT, creep, 0.3)
+        t0 = plain.solve(ns, g, MAT, creep, 0.3)
+        scale = math.hypot(t0.fx, t0.fy)
+        assert t1.fx == pytest.approx(t0.fx, abs=2e-3 * scale)
+        assert t1.fy == pytest.approx(t0.fy, abs=2e-3 * scale)
+    assert t1.model == "fastsim-strips"
+
+
+def test_linear_theory_on_hertz_patch():
+    g = ContactGeometry(curvatures=(A0, B0))
+    ns = get_normal_model("hertz", margin=0.0).solve(g, MAT, normal_force=FN, grid=(60, 60))
+    a, b = ns.semi_axes
+    c2 = a * b
+    C11, C22, _ = kalker_coefficients(a / b, MAT.poisson_ratio)
+    ts = get_tangential_model("fastsim-strips")
+    e = 1e-6
+    assert ts.solve(ns, g, MAT, (e, 0, 0), 0.3).fx / (MAT.shear_modulus * c2 * e) \
+        == pytest.approx(C11, rel=0.02)
+    assert ts.solve(ns, g, MAT, (0, e, 0), 0.3).fy / (MAT.shear_modulus * c2 * e) \
+        == pytest.approx(C22, rel=0.02)
+
+
+def test_local_ellipses_follow_the_lateral_curvature():
+    C = 4e5                       # B(y) = B0 + 6 C y^2: x2.9 at y = 4 mm
+    g = quartic_gap(C)
+    ns = get_normal_model("analyn").solve(g, MAT, normal_force=FN, grid=(50, 50))
+    A, B = local_curvatures(ns, g)
+    sel = np.asarray(ns.strips[0]) > np.asarray(ns.strips[1])
+    # second differences of the quartic are exact up to O(dy^2) C
+    Bexact = B0 + 6 * C * ns.y ** 2 + C * ns.dy ** 2
+    assert np.allclose(B[sel], Bexact[sel], rtol=1e-6)
+    assert np.allclose(A[sel], A0, rtol=1e-6)
+    t = get_tangential_model("fastsim-strips", flexibility="three").solve(
+        ns, g, MAT, (1e-6, 0, 0), 0.3)
+    L1 = np.asarray(t.options["flexibilities"][0])
+    j = int(np.flatnonzero(sel)[-1])          # outermost strip in contact
+    hz = hertz_ellipse(A0, B[j], MAT.contact_modulus, penetration=ns.penetration)
+    assert L1[j] == pytest.approx(flexibilities(hz.a, hz.b, MAT.shear_modulus,
+                                                MAT.poisson_ratio)[0], rel=1e-12)
+    jc = int(np.argmin(np.abs(ns.y)))
+    assert L1[j] < L1[jc]                     # larger B -> smaller local a -> stiffer
+    # the strip-wise stiffness differs from the equivalent-ellipse one
+    t0 = get_tangential_model("fastsim", flexibility="three").solve(
+        ns, g, MAT, (1e-6, 0, 0), 0.3)
+    assert abs(t.fx / t0.fx - 1) > 0.01
+
+
+def test_saturation_on_non_elliptic_patch():
+    g = quartic_gap(4e5)
+    ns = get_normal_model("analyn").solve(g, MAT, normal_force=FN, grid=(50, 50))
+    t = get_tangential_model("fastsim-strips").solve(ns, g, MAT, (0.03, -0.04, 0.0), 0.3)
+    assert math.hypot(t.fx, t.fy) == pytest.approx(0.3 * ns.normal_force, rel=5e-3)
+    assert t.fy / t.fx == pytest.approx(-0.04 / 0.03, rel=1e-3)
+
+
+def test_needs_geometry_for_non_elliptic_patch():
+    g = quartic_gap(4e5)
+    ns = get_normal_model("analyn").solve(g, MAT, normal_force=FN, grid=(30, 30))
+    with pytest.raises(InputError, match="geometry"):
+        get_tangential_model("fastsim-strips").solve(ns, None, MAT, (1e-4, 0, 0), 0.3)
