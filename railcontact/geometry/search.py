@@ -244,8 +244,9 @@ class _GapEvaluator:
         tr = np.zeros(P.shape[1])
         for _ in range(8):
             yr = P[1] + tr * n[1] - self.y_off
-            f = self.rail.z_at(yr) - (P[2] + tr * n[2])
-            fp = self.rail.slope(yr) * n[1] - n[2]
+            zr, dzr = self.rail.z_and_slope(yr)
+            f = zr - (P[2] + tr * n[2])
+            fp = dzr * n[1] - n[2]
             step = f / fp
             tr = tr - step
             if not np.any(np.abs(step) > NEWTON_TOL):   # NaN (off the profile) stops too
@@ -259,8 +260,9 @@ class _GapEvaluator:
             L = L0 + tw[None, :] * nl[:, None]
             rho = np.hypot(L[0], L[2])
             yw = L[1] - self.e
-            f = rho - (self.r0 + self.wheel.z_at(yw))
-            fp = (L[0] * nl[0] + L[2] * nl[2]) / rho - self.wheel.slope(yw) * nl[1]
+            zw, dzw = self.wheel.z_and_slope(yw)
+            f = rho - (self.r0 + zw)
+            fp = (L[0] * nl[0] + L[2] * nl[2]) / rho - dzw * nl[1]
             step = f / fp
             tw = tw - step
             if not np.any(np.abs(step) > NEWTON_TOL):

@@ -95,6 +95,27 @@ def _ppoly_eval(x, breaks, c, nu):
     return out
 
 
+@njit(cache=True, nogil=True)
+def _ppoly_eval01(x, breaks, c):
+    """Value and first derivative of a cubic piecewise polynomial at x in one pass
+    (NaN outside [breaks[0], breaks[-1]])."""
+    val = np.empty(x.size)
+    der = np.empty(x.size)
+    n = breaks.size - 1
+    lo, hi = breaks[0], breaks[n]
+    for i in range(x.size):
+        xi = x[i]
+        if not (lo <= xi <= hi):
+            val[i] = np.nan
+            der[i] = np.nan
+            continue
+        k = min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)
+        t = xi - breaks[k]
+        val[i] = ((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]
+        der[i] = (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k]
+    return val, der
+
+
 @dataclass(eq=False)
 class Profile:
     """Wheel or rail profile z(y) in SI units.
@@ -188,6 +209,16 @@ class Profile:
     def slope(self, y):
         """Slope dz/dy [-]; NaN outside the profile."""
         return self._eval(y, 1)
+
+    def z_and_slope(self, y):
+        """Height z(y) [m] and slope dz/dy [-] together (one pass); NaN outside."""
+        y = np.asarray(y, dtype=float)
+        flat = np.ascontiguousarray(y.ravel())
+        z, d = _ppoly_eval01(flat, self._breaks, self._coefs)
+        out = (flat < self.y[0]) | (flat > self.y[-1])
+        z[out] = np.nan
+        d[out] = np.nan
+        return z.reshape(y.shape), d.reshape(y.shape)
 
     def second_derivative(self, y):
         """d2z/dy2 [1/m]; NaN outside the profile."""
