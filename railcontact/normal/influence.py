@@ -69,6 +69,24 @@ class Convolution:
         return fft.irfft2(ph * self.khat, s=self.shape)[:self.mx, :self.my]
 
 
+def normal_displacement_at(p: np.ndarray, dx: float, dy: float, i0: int, j0: int,
+                           contact_modulus: float) -> float:
+    """Normal displacement difference [m] at element (i0, j0) from pressures p [Pa].
+
+    The same sum as ``normal_operator(...)(p)[i0, j0]``, evaluated directly: one row
+    of the influence matrix costs O(mx my), without building the kernel and its FFT
+    (the strip models need the displacement at one point only, on a grid that
+    changes with every patch).
+    """
+    mx, my = p.shape
+    X = ((np.arange(mx) - i0) * dx)[:, None]
+    Y = ((np.arange(my) - j0) * dy)[None, :]
+    hx, hy = dx / 2, dy / 2
+    val = (_F(X + hx, Y + hy) - _F(X - hx, Y + hy)
+           - _F(X + hx, Y - hy) + _F(X - hx, Y - hy))
+    return float(np.sum(val * p) / (np.pi * contact_modulus))
+
+
 @lru_cache(maxsize=64)
 def normal_operator(mx: int, my: int, dx: float, dy: float, contact_modulus: float) -> Convolution:
     """Cached convolution operator for a grid and material."""

@@ -41,7 +41,7 @@ from ..materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
 from .exact import ExactNormalModel
 from .hertz_theory import hertz_ellipse, hertz_ellipses
-from .influence import normal_operator
+from .influence import normal_displacement_at
 
 #: smallest curvature used where the fitted one is not positive [1/m] (CONTACT: 1e-4/mm)
 MIN_CURVATURE = 0.1
@@ -152,8 +152,7 @@ class _KPBase(_StripModel):
         thr = (1.0 - eps) * hmin
         contact, shape, xled, xtrl, lenmax = _semi_ellipse_rows(hstar, thr, x, dx)
         shape = shape / (0.5 * lenmax) if lenmax > 0 else shape
-        op = normal_operator(mx, my, dx, dy, material.contact_modulus)
-        u = op(shape)[imin]
+        u = normal_displacement_at(shape, dx, dy, imin[0], imin[1], material.contact_modulus)
         p0 = -hmin / u if u > 0 else 0.0
         return p0 * shape, contact, (xled, xtrl)
 

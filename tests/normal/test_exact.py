@@ -90,3 +90,13 @@ def test_bad_input():
         get_normal_model("exact").solve(g, MAT)
     with pytest.raises(InputError):
         get_normal_model("exact").solve(g, MAT, normal_force=-5.0)
+
+
+def test_displacement_at_one_point_equals_the_fft_product():
+    from railcontact.normal.influence import normal_displacement_at, normal_operator
+    rng = np.random.default_rng(3)
+    p = rng.uniform(0, 1e9, (23, 17))
+    u = normal_operator(23, 17, 1e-4, 2.5e-4, 1.1e11)(p)
+    for i0, j0 in [(0, 0), (11, 8), (22, 3)]:
+        assert normal_displacement_at(p, 1e-4, 2.5e-4, i0, j0, 1.1e11) \
+            == pytest.approx(u[i0, j0], rel=1e-12)
