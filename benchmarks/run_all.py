@@ -203,6 +203,49 @@ def bench_sweep_parallel():
         f"(speed-up {t_sync / t_proc:.2f})")
 
 
+FAST_MODELS = [("hertz", "fastsim"), ("kik-piotrowski", "fastsim"), ("kpec", "fastsim"),
+               ("analyn", "fastsim"), ("analyn", "fastsim-strips"), ("hertz", "polach")]
+
+
+def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
+    """Every fast model on the same 1000 wheel-rail cases (S1002 on 60E1 1:40)."""
+    import math
+
+    from railcontact.geometry import Track, Wheelset, find_contact
+    from railcontact.profiles import rail_profile, s1002
+    n = n_shift * len(yaws)
+    out(f"\n## Fast models on a {n}-case sweep (S1002 on 60E1 1:40, shift -4..9 mm, "
+        f"yaw 0..6 mrad, 60 kN per wheel)")
+    mat = rc.Material()
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    t0 = time.perf_counter()
+    patches = []
+    for yaw in yaws:
+        for y in np.linspace(-4e-3, 9e-3, n_shift):
+            c = find_contact(ws, tr, lateral_shift=float(y), yaw=yaw, vertical_force=6e4,
+                             material=mat)
+            patches.extend(p for p in c.patches if p.approach > 0)
+    t_geom = time.perf_counter() - t0
+    out(f"* geometry (contact search, both wheels): {1e3 * t_geom / n:.1f} ms per case; "
+        f"{len(patches)} loaded patches")
+    times = {}
+    for nname, tname in FAST_MODELS:
+        nm, tm = get_normal_model(nname), get_tangential_model(tname)
+        nm.solve(patches[0], mat, penetration=patches[0].approach)      # compile/warm caches
+        t0 = time.perf_counter()
+        for g in patches:
+            ns = nm.solve(g, mat, penetration=g.approach)
+            tm.solve(ns, g, mat, g.creepage, 0.3, g.velocity)
+        times[(nname, tname)] = (time.perf_counter() - t0) / n
+    ref = times[FAST_MODELS[0]]
+    out("\n| normal | tangential | time per case (both wheels) | ratio to Hertz+FASTSIM |")
+    out("|---|---|---|---|")
+    for (nname, tname), t in times.items():
+        out(f"| {nname} | {tname} | {t * 1e3:.2f} ms | {t / ref:.1f} |")
+    out(f"\nThe contact search itself costs {1e3 * t_geom / n:.1f} ms per case, "
+        f"{t_geom / n / ref:.0f}x Hertz+FASTSIM.")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -211,6 +254,7 @@ def main():
     bench_exact_module3()
     bench_exact_wheel_rail()
     bench_sweep_parallel()
+    bench_fast_models()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
 
 
