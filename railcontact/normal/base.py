@@ -48,6 +48,9 @@ class NormalSolution:
     strips : (x_lead, x_trail) arrays over y, leading and trailing edge [m] of the
         contact on each strip (rolling in +x: material enters at x_lead).
     pressure_at : callable (x, y) -> p [Pa] evaluating the pressure anywhere.
+    gap : ndarray (mx, my) or None
+        Undeformed distance h(x, y) [m] on the grid, where the model computed it
+        (strip models); lets strip-wise tangential models reuse it.
     """
 
     model: str
@@ -64,6 +67,7 @@ class NormalSolution:
     pressure_at: Callable | None = field(default=None, repr=False)
     converged: bool = True
     cpu_time: float = 0.0
+    gap: np.ndarray | None = field(default=None, repr=False)
 
     @property
     def dx(self) -> float:

@@ -134,7 +134,7 @@ class _StripModel(ExactNormalModel):
                               area=float(contact.sum() * dA), pmax=float(p.max(initial=0.0)),
                               penetration=float(delta), normal_force=float(p.sum() * dA),
                               semi_axes=None, strips=strips, pressure_at=pressure_at,
-                              cpu_time=time.perf_counter() - t0)
+                              cpu_time=time.perf_counter() - t0, gap=h0)
 
 
 class _KPBase(_StripModel):

@@ -292,7 +292,8 @@ _MIN_CURVATURE = 0.1
 def local_curvatures(normal, geometry):
     """Relative curvatures (A(y), B(y)) [1/m] of the gap at each strip's minimum.
 
-    Second differences of h(x, y) on the normal solution's grid: along x at the
+    Second differences of h(x, y) on the normal solution's grid (reused from the
+    normal solution where it holds it): along x at the
     strip's point of smallest gap, and across the neighbouring strips there.
     Curvatures below 0.1 1/m are raised to that value.
     """
@@ -300,7 +301,7 @@ def local_curvatures(normal, geometry):
     mx, my = x.size, y.size
     if mx < 3 or my < 3:
         raise InputError("fastsim-strips needs a grid of at least 3 x 3 elements")
-    h = geometry.gap(x[:, None], y[None, :])
+    h = normal.gap if normal.gap is not None else geometry.gap(x[:, None], y[None, :])
     dx, dy = normal.dx, normal.dy
     ixm = np.clip(np.argmin(h, axis=0), 1, mx - 2)
     cols = np.arange(my)
