@@ -6,6 +6,7 @@ Reports ratios measured in this run, and writes ``benchmarks/results.md``.
 from __future__ import annotations
 
 import csv
+import math
 import os
 import statistics
 import sys
@@ -15,8 +16,9 @@ from pathlib import Path
 import numpy as np
 
 import railcontact as rc
-from railcontact.geometry import ContactGeometry
+from railcontact.geometry import ContactGeometry, Track, Wheelset, find_contact
 from railcontact.normal import get_normal_model
+from railcontact.profiles import rail_profile, s1002
 from railcontact.tangential import get_tangential_model
 
 HERE = Path(__file__).resolve().parent
@@ -209,10 +211,6 @@ FAST_MODELS = [("hertz", "fastsim"), ("kik-piotrowski", "fastsim"), ("kpec", "fa
 
 def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     """Every fast model on the same 1000 wheel-rail cases (S1002 on 60E1 1:40)."""
-    import math
-
-    from railcontact.geometry import Track, Wheelset, find_contact
-    from railcontact.profiles import rail_profile, s1002
     n = n_shift * len(yaws)
     out(f"\n## Fast models on a {n}-case sweep (S1002 on 60E1 1:40, shift -4..9 mm, "
         f"yaw 0..6 mrad, 60 kN per wheel)")

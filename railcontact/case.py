@@ -219,17 +219,24 @@ def _body_curvatures(case: Case):
     return A, B
 
 
-def load_case(path) -> Case:
-    """Read and validate a TOML case file."""
+def read_toml(path, what: str = "case file") -> dict:
+    """Parse a TOML input file; a missing or unreadable file is a CaseFileError
+    naming ``what`` the file was meant to be."""
     path = Path(path)
     if not path.is_file():
-        raise CaseFileError(f"case file {str(path)!r} does not exist")
+        raise CaseFileError(f"{what} {str(path)!r} does not exist")
     try:
-        raw = tomllib.loads(path.read_text())
+        return tomllib.loads(path.read_text())
     except tomllib.TOMLDecodeError as exc:
         raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
     except UnicodeError as exc:
         raise CaseFileError(f"{path}: cannot decode: {exc}") from None
+
+
+def load_case(path) -> Case:
+    """Read and validate a TOML case file."""
+    path = Path(path)
+    raw = read_toml(path, "case file")
     try:
         return case_from_dict(raw, path.parent)
     except CaseFileError as exc:

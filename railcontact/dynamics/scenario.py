@@ -2,14 +2,12 @@
 
 from __future__ import annotations
 
-import copy
 import math
-import tomllib
 from pathlib import Path
 
 import numpy as np
 
-from ..case import case_from_dict
+from ..case import case_from_dict, read_toml
 from ..errors import CaseFileError
 from .wheelset import WheelsetModel, critical_speed, simulate
 
@@ -36,13 +34,7 @@ def write_history(ds, path, wheel_load: float):
 def run_scenario(path, out=None):
     """Run a dynamics scenario; returns the dataset (written to ``out/simulation.nc``)."""
     path = Path(path)
-    if not path.is_file():
-        raise CaseFileError(f"dynamics scenario {str(path)!r} does not exist")
-    try:
-        raw = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
-    raw = copy.deepcopy(raw)
+    raw = read_toml(path, "dynamics scenario")
     veh = raw.pop("vehicle", {})
     sim = raw.pop("simulation", {})
     for sec, allowed, name in ((veh, _VEHICLE, "vehicle"), (sim, _SIM, "simulation")):

@@ -205,15 +205,3 @@ def hertz_ellipses(A, B, contact_modulus: float, penetration):
     b = np.where(A <= B, a_minor, a_major)
     return a, b, force
 
-
-def hertz_force_vectorised(A: np.ndarray, B: np.ndarray, contact_modulus: float,
-                           penetration: np.ndarray) -> np.ndarray:
-    """Hertz normal force [N] for arrays of curvatures and penetrations (0 where <= 0)."""
-    out = np.zeros(np.broadcast(A, B, penetration).shape)
-    for idx in np.ndindex(out.shape):  # few patches per wheel; not a grid loop
-        d = float(np.broadcast_to(penetration, out.shape)[idx])
-        if d > 0:
-            out[idx] = hertz_ellipse(float(np.broadcast_to(A, out.shape)[idx]),
-                                     float(np.broadcast_to(B, out.shape)[idx]),
-                                     contact_modulus, penetration=d).force
-    return out

@@ -47,6 +47,20 @@ from .influence import normal_displacement_at
 MIN_CURVATURE = 0.1
 
 
+def strip_curvatures(h, dx: float, dy: float):
+    """Per strip (column of h): the row of the smallest gap and the relative
+    curvatures A(y), B(y) [1/m] there, from second differences of h on the grid
+    (along x, and across the neighbouring strips).  Values below
+    ``MIN_CURVATURE`` are raised to it.  Needs a grid of at least 3 x 3."""
+    mx, my = h.shape
+    ixm = np.clip(np.argmin(h, axis=0), 1, mx - 2)
+    cols = np.arange(my)
+    A = 0.5 * (h[ixm + 1, cols] - 2 * h[ixm, cols] + h[ixm - 1, cols]) / dx ** 2
+    jc = np.clip(cols, 1, my - 2)
+    B = 0.5 * (h[ixm, jc + 1] - 2 * h[ixm, jc] + h[ixm, jc - 1]) / dy ** 2
+    return ixm, np.maximum(A, MIN_CURVATURE), np.maximum(B, MIN_CURVATURE)
+
+
 def _semi_ellipse_rows(h, thr, x, dx):
     """Contact mask h <= thr (thr per row), trailing/leading edges by interpolation,
     and the unit semi-elliptic pressure shape per row."""
@@ -219,16 +233,9 @@ class AnalynModel(_StripModel):
         if pen <= 0:
             return p, p > 0, (xled, xtrl)
         Es = material.contact_modulus
-        ixm = np.clip(np.argmin(hstar, axis=0), 1, mx - 2)
-        cols = np.arange(my)
+        ixm, A, B = strip_curvatures(hstar, dx, dy)
         xlc = x[ixm]
-        g = hstar[ixm, cols] + pen
-        A = 0.5 * (hstar[ixm + 1, cols] - 2 * hstar[ixm, cols] + hstar[ixm - 1, cols]) / dx ** 2
-        jc = np.clip(cols, 1, my - 2)
-        B = 0.5 * (hstar[ixm, np.clip(jc + 1, 0, my - 1)] - 2 * hstar[ixm, jc]
-                   + hstar[ixm, np.clip(jc - 1, 0, my - 1)]) / dy ** 2
-        A = np.maximum(A, MIN_CURVATURE)
-        B = np.maximum(B, MIN_CURVATURE)
+        g = hstar[ixm, np.arange(my)] + pen
         a, b, _ = hertz_ellipses(A, B, Es, pen)       # one Hertz solution per strip
         alpha1 = pen / (A * a * a)
         beta1 = pen / (B * b * b)

@@ -66,6 +66,13 @@ def _trim_foldback(y: np.ndarray, z: np.ndarray, name: str):
 
 
 @njit(cache=True, nogil=True)
+def _segment(breaks, xi):
+    """Index of the polynomial piece holding xi (end points to the end pieces)."""
+    n = breaks.size - 1
+    return min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)
+
+
+@njit(cache=True, nogil=True)
 def _ppoly_eval(x, breaks, c, nu):
     """Evaluate a cubic piecewise polynomial (or its derivative nu <= 2) at x.
 
@@ -80,11 +87,7 @@ def _ppoly_eval(x, breaks, c, nu):
         if not (lo <= xi <= hi):
             out[i] = np.nan
             continue
-        k = np.searchsorted(breaks, xi, side="right") - 1
-        if k >= n:
-            k = n - 1
-        if k < 0:
-            k = 0
+        k = _segment(breaks, xi)
         t = xi - breaks[k]
         if nu == 0:
             out[i] = ((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]
@@ -109,7 +112,7 @@ def _ppoly_eval01(x, breaks, c):
             val[i] = np.nan
             der[i] = np.nan
             continue
-        k = min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)
+        k = _segment(breaks, xi)
         t = xi - breaks[k]
         val[i] = ((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]
         der[i] = (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k]

@@ -28,6 +28,8 @@ from numba import njit
 
 from ..errors import InputError
 from ..materials import STEEL, Material
+from ..normal.hertz_theory import hertz_ellipses
+from ..normal.semi_hertzian import strip_curvatures
 from .base import TangentialSolution, check_inputs, register
 from .kalker import flexibilities
 
@@ -201,6 +203,10 @@ class FastsimModel:
         my = normal.y.size
         return (*(np.full(my, v) for v in L), np.full(my, phi))
 
+    def _reported_flexibilities(self, L1, L2, L3):
+        """Flexibilities for the solution's options: one value each (uniform)."""
+        return (float(L1[0]), float(L2[0]), float(L3[0]))
+
     def _flexibilities(self, a, b, G, nu, creepage, friction, fn):
         """The three flexibilities of an ellipse (a, b) with this model's option."""
         xi, eta, phi = creepage
@@ -277,7 +283,7 @@ class FastsimModel:
         contact = normal.contact
         stick &= contact
         # body 1 is the rail: the tractions on the wheel are the opposite
-        flex = (L1, L2, L3) if self.name != "fastsim" else (L1[0], L2[0], L3[0])
+        flex = self._reported_flexibilities(L1, L2, L3)
         return TangentialSolution(self.name, normal.x, normal.y, -px, -py, sx, sy, stick,
                                   contact, -fx1, -fy1, -mz1, velocity, (xi, eta, phi), friction,
                                   time.perf_counter() - t0,
@@ -285,30 +291,18 @@ class FastsimModel:
                                    "friction_iterations": iters})
 
 
-#: smallest local curvature used for a local ellipse [1/m] (as the strip normal models)
-_MIN_CURVATURE = 0.1
-
-
 def local_curvatures(normal, geometry):
     """Relative curvatures (A(y), B(y)) [1/m] of the gap at each strip's minimum.
 
-    Second differences of h(x, y) on the normal solution's grid (reused from the
-    normal solution where it holds it): along x at the
-    strip's point of smallest gap, and across the neighbouring strips there.
-    Curvatures below 0.1 1/m are raised to that value.
+    :func:`~railcontact.normal.semi_hertzian.strip_curvatures` of h(x, y) on the
+    normal solution's grid, reusing the normal solution's gap where it holds one.
     """
     x, y = normal.x, normal.y
-    mx, my = x.size, y.size
-    if mx < 3 or my < 3:
+    if x.size < 3 or y.size < 3:
         raise InputError("fastsim-strips needs a grid of at least 3 x 3 elements")
     h = normal.gap if normal.gap is not None else geometry.gap(x[:, None], y[None, :])
-    dx, dy = normal.dx, normal.dy
-    ixm = np.clip(np.argmin(h, axis=0), 1, mx - 2)
-    cols = np.arange(my)
-    A = 0.5 * (h[ixm + 1, cols] - 2 * h[ixm, cols] + h[ixm - 1, cols]) / dx ** 2
-    jc = np.clip(cols, 1, my - 2)
-    B = 0.5 * (h[ixm, jc + 1] - 2 * h[ixm, jc] + h[ixm, jc - 1]) / dy ** 2
-    return np.maximum(A, _MIN_CURVATURE), np.maximum(B, _MIN_CURVATURE)
+    _, A, B = strip_curvatures(h, normal.dx, normal.dy)
+    return A, B
 
 
 @register("fastsim-strips")
@@ -332,8 +326,11 @@ class FastsimStripsModel(FastsimModel):
     Options as :class:`FastsimModel`.
     """
 
+    def _reported_flexibilities(self, L1, L2, L3):
+        """Flexibilities per strip (arrays over y)."""
+        return (L1, L2, L3)
+
     def _strip_parameters(self, normal, geometry, material, a, b, creepage, friction):
-        from ..normal.hertz_theory import hertz_ellipses
         my = normal.y.size
         if geometry is None:
             if normal.semi_axes is None:
@@ -346,8 +343,8 @@ class FastsimStripsModel(FastsimModel):
         x_lead, x_trail = normal.strips
         active = np.flatnonzero(np.asarray(x_lead) > np.asarray(x_trail))
         L = np.empty((3, my))
-        L[:] = np.asarray(super()._flexibilities(a, b, G, nu, creepage, friction,
-                                                 normal.normal_force))[:, None]
+        L[:] = np.asarray(self._flexibilities(a, b, G, nu, creepage, friction,
+                                                normal.normal_force))[:, None]
         la, lb, _ = hertz_ellipses(A[active], B[active], material.contact_modulus,
                                    normal.penetration)      # one local ellipse per strip
         for j, aj, bj in zip(active, la, lb):                # per strip, not per element

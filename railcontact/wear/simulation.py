@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
-from ..case import case_from_dict
+from ..case import case_from_dict, read_toml
 from ..errors import CaseFileError, InputError, RailContactError
 from ..profiles.profile import Profile
 from .laws import get_wear_law
@@ -74,15 +74,8 @@ class WearScenario:
 
 def load_scenario(path) -> WearScenario:
     """Read and validate a wear scenario TOML file."""
-    import tomllib
     path = Path(path)
-    if not path.is_file():
-        raise CaseFileError(f"wear scenario {str(path)!r} does not exist")
-    try:
-        raw = tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
-    return scenario_from_dict(raw, path.parent)
+    return scenario_from_dict(read_toml(path, "wear scenario"), path.parent)
 
 
 def scenario_from_dict(raw: dict, base_dir=None) -> WearScenario:
