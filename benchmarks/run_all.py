@@ -244,6 +244,28 @@ def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
         f"{t_geom / n / ref:.0f}x Hertz+FASTSIM.")
 
 
+def bench_strips_accuracy():
+    """Equivalent ellipse vs local ellipses against the exact solver, quartic gap."""
+    out("\n## FASTSIM on a non-Hertzian gap h = x^2 + 2.5 y^2 + 4e5 y^4 [m], 50 kN, "
+        "ANALYN pressure, vs the exact solver")
+    mat = rc.Material(2.1e11, 0.28)
+    g = ContactGeometry(curvatures=(1.0, 2.5),
+                        gap_function=lambda x, y: x * x + 2.5 * y * y + 4e5 * y ** 4)
+    ns = get_normal_model("analyn").solve(g, mat, normal_force=5e4, grid=(50, 50))
+    ne = get_normal_model("exact").solve(g, mat, normal_force=5e4, grid=(50, 50))
+    out("\n| creepage | exact | fastsim (equivalent ellipse) | fastsim-strips (local ellipses) |")
+    out("|---|---|---|---|")
+    for label, creep, comp in (("xi = 1e-4", (1e-4, 0, 0), "fx"), ("eta = 1e-4", (0, 1e-4, 0), "fy"),
+                               ("phi = 0.05 1/m", (0, 0, 0.05), "fy")):
+        ref = getattr(get_tangential_model("exact").solve(ne, g, mat, creep, 0.3), comp)
+        cells = []
+        for name in ("fastsim", "fastsim-strips"):
+            v = getattr(get_tangential_model(name, flexibility="three").solve(ns, g, mat, creep, 0.3),
+                        comp)
+            cells.append(f"{v:.1f} N ({100 * (v / ref - 1):+.1f} %)")
+        out(f"| {label} | {comp} {ref:.1f} N | {cells[0]} | {cells[1]} |")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -253,6 +275,7 @@ def main():
     bench_exact_wheel_rail()
     bench_sweep_parallel()
     bench_fast_models()
+    bench_strips_accuracy()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
 
 
