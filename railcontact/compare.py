@@ -14,7 +14,7 @@ from .normal import normal_models
 
 log = logging.getLogger(__name__)
 
-DEFAULT_MODELS = ("hertz", "kik-piotrowski", "kpec", "analyn", "exact")
+DEFAULT_MODELS = ("hertz", "kik-piotrowski", "kpec", "stripes", "analyn", "exact")
 COLUMNS = ("model", "side", "patches", "area_mm2", "pmax_MPa", "penetration_mm", "Fn_kN",
            "Fx_kN", "Fy_kN", "Mz_Nm", "cpu_ms")
 

@@ -1,6 +1,7 @@
-"""Semi-Hertzian (strip) normal models: ``kik-piotrowski``, ``kpec``, ``analyn``.
+"""Semi-Hertzian (strip) normal models: ``kik-piotrowski``, ``kpec``, ``stripes``,
+``analyn``.
 
-All three work on the undeformed distance h(x, y) of the geometry layer on a grid
+All four work on the undeformed distance h(x, y) of the geometry layer on a grid
 of the tangent plane (as the exact model) and give a semi-elliptic pressure in the
 rolling direction on every strip.  With ``h* = h - delta`` (delta the approach,
 negative h* = interpenetration) and ``h_min`` its minimum:
@@ -23,6 +24,17 @@ negative h* = interpenetration) and ``h_min`` its minimum:
   beta1 = delta/(B b^2), local approach delta_l = delta - beta1 g(y), half-length
   sqrt(delta_l/(alpha1 A)) and maximum pressure 3 F_H/(2 pi a b) of the Hertz
   solution for delta_l.
+* **STRIPES** (Ayasse & Chollet, VSD 43, 2005; correction strategy 3 as used by
+  Tao et al., CM2015): constant longitudinal curvature A (that of the first-contact
+  strip), local lateral curvature per strip; both curvatures of every strip are
+  corrected by the shape factors of its local Hertz ellipse (A* = alpha1(y) A,
+  B* = beta1(y) B(y)), the corrected lateral gap g*(y) is the double integral of
+  the corrected curvature from the first-contact point, and each strip is a Hertz
+  strip: local approach delta - g*(y), half-length sqrt((delta - g*)/A*) and
+  maximum pressure of the Hertz solution (A, B(y)) at that approach.  The
+  equations are our reading of the method as described in the literature; the
+  original paper was not available to check them.  On a Hertzian gap
+  g* = beta1 B y^2 and the result is the Hertz solution.
 
 A given normal force is met by a secant iteration on the approach.
 """
@@ -244,6 +256,70 @@ class AnalynModel(_StripModel):
         penloc = np.where(ok, penloc, 0.0)
         xl = np.sqrt(penloc / (alpha1 * A))
         al, bl, fl = hertz_ellipses(A, B, Es, penloc)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            pmax = np.where(ok, 1.5 * fl / (math.pi * al * bl), 0.0)
+            r = (x[:, None] - xlc[None, :]) / np.where(ok, xl, 1.0)[None, :]
+        inside = ok[None, :] & (np.abs(r) < 1)
+        p = np.where(inside, pmax[None, :] * np.sqrt(np.clip(1 - r * r, 0, None)), 0.0)
+        xled = np.where(ok, xlc + xl, 0.0)
+        xtrl = np.where(ok, xlc - xl, 0.0)
+        return p, p > 0, (xled, xtrl)
+
+
+def _corrected_gap(g, beta, j0):
+    """Double integral of the corrected curvature beta(y) g''(y) on the strip grid,
+    starting from strip ``j0`` with g*(j0) = g(j0) and the slope there scaled by
+    beta(j0).  With a constant beta this is beta g (up to g(j0))."""
+    d = np.diff(g)                                 # d[j] = g[j+1] - g[j]
+    n = d.size
+    ds = np.empty(n)
+    if n == 0:
+        return g.copy()
+    jr = min(j0, n - 1)                             # first difference to the right of j0
+    ds[jr] = beta[j0] * d[jr]
+    if jr + 1 < n:                                  # march right: ds[j] = ds[j-1] + beta[j] s[j]
+        s = beta[jr + 1:n] * (d[jr + 1:] - d[jr:n - 1])
+        ds[jr + 1:] = ds[jr] + np.cumsum(s)
+    if jr >= 1:                                     # march left from ds[jr-1]
+        ds[jr - 1] = beta[j0] * d[jr - 1]
+        if jr >= 2:
+            s = beta[1:jr] * (d[1:jr] - d[:jr - 1])         # s at strips 1..jr-1
+            ds[:jr - 1] = ds[jr - 1] - np.cumsum(s[::-1])[::-1]
+    gs = np.empty_like(g)
+    gs[0] = 0.0
+    gs[1:] = np.cumsum(ds)
+    return gs - gs[j0] + g[j0]
+
+
+@register("stripes")
+class StripesModel(_StripModel):
+    """STRIPES (Ayasse & Chollet): Hertz strips with constant longitudinal and
+    corrected local lateral curvature (see the module notes)."""
+
+    def _pressure(self, hstar, x, y, dx, dy, material):
+        mx, my = hstar.shape
+        hmin = float(hstar.min())
+        pen = -hmin
+        p = np.zeros_like(hstar)
+        xled, xtrl = np.zeros(my), np.zeros(my)
+        if pen <= 0:
+            return p, p > 0, (xled, xtrl)
+        Es = material.contact_modulus
+        ixm, Aloc, B = strip_curvatures(hstar, dx, dy)
+        cols = np.arange(my)
+        g = hstar[ixm, cols] + pen                  # lateral gap along the strip minima
+        j0 = int(np.argmin(g))
+        A = np.full(my, Aloc[j0])                   # constant longitudinal curvature
+        a, b, _ = hertz_ellipses(A, B, Es, pen)      # local ellipses: shape factors
+        alpha1 = pen / (A * a * a)
+        beta1 = pen / (B * b * b)
+        gs = _corrected_gap(g, beta1, j0)
+        penloc = pen - gs
+        ok = penloc > 0
+        penloc = np.where(ok, penloc, 0.0)
+        xl = np.sqrt(penloc / (alpha1 * A))
+        al, bl, fl = hertz_ellipses(A, B, Es, penloc)
+        xlc = x[ixm]
         with np.errstate(divide="ignore", invalid="ignore"):
             pmax = np.where(ok, 1.5 * fl / (math.pi * al * bl), 0.0)
             r = (x[:, None] - xlc[None, :]) / np.where(ok, xl, 1.0)[None, :]

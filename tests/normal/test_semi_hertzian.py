@@ -1,4 +1,4 @@
-"""Kik-Piotrowski, KPEC and ANALYN: Hertzian limit and CONTACT's reference results."""
+"""Kik-Piotrowski, KPEC, STRIPES and ANALYN: Hertzian limit and CONTACT's reference results."""
 
 import pytest
 
@@ -12,7 +12,7 @@ MAT = Material(2.1e11, 0.28)
 
 
 @pytest.mark.parametrize("AB", [(1.0, 1.0), (1.0, 4.0), (3.0, 1.0)])
-@pytest.mark.parametrize("model", ["kpec", "analyn"])
+@pytest.mark.parametrize("model", ["kpec", "stripes", "analyn"])
 def test_reproduce_hertz(model, AB):
     hz = hertz_ellipse(*AB, MAT.contact_modulus, force=1e5)
     ns = get_normal_model(model).solve(ContactGeometry(curvatures=AB), MAT, normal_force=1e5,
