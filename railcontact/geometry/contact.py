@@ -54,6 +54,13 @@ class ContactGeometry:
         Rolling velocity V [m/s] used for the creepages.
     gap_function : callable (x, y) -> h, optional
         Undeformed distance [m] on the contact-local tangent plane.
+    spin_derivative : float
+        d(phi)/d(delta) [1/m]: the change of the spin creepage with the contact angle
+        of a surface element, (omega . s)/V with s the lateral tangent.  The spin on a
+        strip whose local contact angle differs by D from ``contact_angle`` is
+        phi cos D + spin_derivative sin D (NaN where unknown).
+    local_contact_angle : callable y -> delta(y), optional
+        Local contact angle [rad] across the patch (patch coordinate y [m]).
     """
 
     curvatures: tuple
@@ -71,6 +78,19 @@ class ContactGeometry:
     velocity: float = math.nan
     extent: tuple | None = None     # (x_min, x_max, y_min, y_max) of the interpenetration [m]
     gap_function: Callable | None = field(default=None, repr=False)
+    spin_derivative: float = math.nan
+    local_contact_angle: Callable | None = field(default=None, repr=False)
+
+    def spin_at(self, y, phi: float):
+        """Spin creepage [1/m] per strip at patch coordinates ``y`` [m] for the patch
+        spin ``phi``, from the local contact angle (constant ``phi`` where the patch
+        has no profile geometry)."""
+        y = np.asarray(y, dtype=float)
+        if self.local_contact_angle is None or not math.isfinite(self.spin_derivative):
+            return np.full(y.shape, float(phi))
+        d = self.local_contact_angle(y) - self.contact_angle
+        d = np.where(np.isfinite(d), d, 0.0)          # off the profile: patch value
+        return phi * np.cos(d) + self.spin_derivative * np.sin(d)
 
     @property
     def A(self) -> float:

@@ -232,6 +232,16 @@ class _GapEvaluator:
         self.sign = 1.0 if side == "right" else -1.0
         self.n = np.array([0.0, -math.sin(angle_side), math.cos(angle_side)])
         self.t = np.array([0.0, math.cos(angle_side), math.sin(angle_side)])
+        self.angle = angle_side
+        self.y_ref = float(center[1] - self.y_off)
+
+    def contact_angle_at(self, y):
+        """Local contact angle [rad] (track convention, as ``contact_angle``) at
+        patch coordinate ``y`` [m]: the rail-surface inclination where the strip at
+        y meets the rail, y_rail ~ y_ref + y cos(delta) on the side's profile axis."""
+        ys = self.sign * np.asarray(y, dtype=float)
+        yr = self.y_ref + ys * math.cos(self.angle)
+        return self.sign * np.arctan(self.rail.slope(yr))
 
     def __call__(self, x, y):
         x = np.asarray(x, dtype=float)
@@ -298,7 +308,10 @@ def _creepage(side, q_side, n_tr, delta_tr, pose, r0, velocity, pitch_velocity,
     xi = -v[0] / V
     eta = -float(v @ s_tr) / V
     phi = -float(omega @ n_tr) / V
-    return (float(xi), float(eta), float(phi)), float(V)
+    # d(phi)/d(delta): the spin on a surface element whose normal is turned by
+    # d(delta) about x is phi cos + dphi sin (n' = -s for the normal (0, -sin, cos))
+    dphi = float(omega @ s_tr) / V
+    return (float(xi), float(eta), float(phi)), float(V), dphi
 
 
 def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
@@ -450,7 +463,7 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
     delta_tr = sgn * a_ref
     n_tr = np.array([0.0, sgn * n_side[1], n_side[2]])
     Q = C + approach * n_side
-    creep, V = _creepage(side, Q, n_tr, delta_tr, pose, wheelset.nominal_radius, velocity,
+    creep, V, dphi = _creepage(side, Q, n_tr, delta_tr, pose, wheelset.nominal_radius, velocity,
                          pitch_velocity, lateral_velocity, yaw_rate)
     ys = loc.y_rail[sl]
     ext_y = (sgn * (ys.min() - y_ref), sgn * (ys.max() - y_ref))
@@ -462,4 +475,5 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
                            rolling_radius=rolling_radius, y_rail=y_ref, y_wheel=y_w,
                            z_rail=z_ref, z_wheel=z_w, position=pos_tr, approach=approach,
                            weight=weight, creepage=creep, velocity=V, extent=extent,
-                           gap_function=gapf)
+                           gap_function=gapf, spin_derivative=dphi,
+                           local_contact_angle=gapf.contact_angle_at)

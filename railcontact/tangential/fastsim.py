@@ -318,8 +318,11 @@ class FastsimStripsModel(FastsimModel):
     theory.  Where the lateral curvature varies across the patch (worn profiles,
     gauge corner, the tread-flange transition) the flexibilities vary with it.
 
-    The spin is the patch's kinematic spin on every strip; strip-wise spin from the
-    local contact angle is not included.
+    The spin varies per strip with the local contact angle delta(y) of the rail
+    surface under the strip (as in STRIPES and ANALYN, Tao et al. CM2015):
+    phi(y) = phi cos(D) + (omega . s / V) sin(D), D = delta(y) - delta, from the
+    wheelset's angular velocity (:meth:`ContactGeometry.spin_at`).  Patches without
+    profile geometry (bodies cases) keep the constant spin.
 
     Needs the patch geometry (``solve(normal, geometry, ...)``) unless the normal
     solution is an ellipse (Hertz), in which case it equals ``fastsim``.
@@ -350,5 +353,6 @@ class FastsimStripsModel(FastsimModel):
         for j, aj, bj in zip(active, la, lb):                # per strip, not per element
             L[:, j] = self._flexibilities(aj, bj, G, nu, creepage, friction,
                                           normal.normal_force)
+        phi = np.ascontiguousarray(geometry.spin_at(normal.y, creepage[2]), dtype=float)
         return (np.ascontiguousarray(L[0]), np.ascontiguousarray(L[1]),
-                np.ascontiguousarray(L[2]), np.full(my, creepage[2]))
+                np.ascontiguousarray(L[2]), phi)
