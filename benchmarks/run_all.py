@@ -206,7 +206,8 @@ def bench_sweep_parallel():
 
 
 FAST_MODELS = [("hertz", "fastsim"), ("kik-piotrowski", "fastsim"), ("kpec", "fastsim"),
-               ("analyn", "fastsim"), ("analyn", "fastsim-strips"), ("hertz", "polach")]
+               ("stripes", "fastsim"), ("analyn", "fastsim"), ("analyn", "fastsim-strips"),
+               ("analyn", "fastrip"), ("hertz", "fastrip"), ("hertz", "polach")]
 
 
 def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
@@ -266,6 +267,27 @@ def bench_strips_accuracy():
         out(f"| {label} | {comp} {ref:.1f} N | {cells[0]} | {cells[1]} |")
 
 
+def bench_tangential_accuracy():
+    """FASTSIM and FaStrip against the exact solver on Hertzian patches."""
+    out("\n## FASTSIM and FaStrip vs the exact solver, Hertz patches (100 kN, mu 0.3, 60x60)")
+    mat = rc.Material(2 * 82e9 * 1.28, 0.28)
+    out("\n| A:B | creepage (xi, eta, phi [1/m]) | exact Fx, Fy [N] | fastsim | fastrip |")
+    out("|---|---|---|---|---|")
+    for AB in ((1.0, 1.0), (1.0, 4.0), (4.0, 1.0)):
+        g = ContactGeometry(curvatures=AB)
+        ns = get_normal_model("hertz").solve(g, mat, normal_force=1e5, grid=(60, 60))
+        for creep in ((1e-3, 0, 0), (2e-3, 1e-3, 0), (0, 0, 0.3), (1e-3, 0, 0.5),
+                      (-0.01, 0, 0.5)):
+            ex = get_tangential_model("exact").solve(ns, g, mat, creep, 0.3)
+            cells = []
+            for name in ("fastsim", "fastrip"):
+                t = get_tangential_model(name).solve(ns, g, mat, creep, 0.3)
+                cells.append(f"{100 * (t.fx - ex.fx) / 3e4:+.1f} / {100 * (t.fy - ex.fy) / 3e4:+.1f} %")
+            out(f"| {AB[0]:g}:{AB[1]:g} | {creep} | {ex.fx:.0f}, {ex.fy:.0f} | {cells[0]} | "
+                f"{cells[1]} |")
+    out("\nDifferences in % of mu Fn (Fx / Fy).")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -273,6 +295,7 @@ def main():
     bench_contact_sweep(t)
     bench_exact_module3()
     bench_exact_wheel_rail()
+    bench_tangential_accuracy()
     bench_sweep_parallel()
     bench_fast_models()
     bench_strips_accuracy()

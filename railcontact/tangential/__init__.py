@@ -1,10 +1,10 @@
 """Tangential contact layer: creep forces, traction, slip.
 
 Models are chosen by name (:func:`get_tangential_model`): ``"fastsim"``, ``"fastsim-strips"``,
-``"exact"``, ``"polach"``.
+``"fastrip"``, ``"exact"``, ``"polach"``.
 """
 
-from . import exact, fastsim, polach  # noqa: F401  (register the models)
+from . import exact, fastrip, fastsim, polach  # noqa: F401  (register the models)
 from .base import TangentialSolution, get_tangential_model, tangential_models
 from .kalker import flexibilities, kalker_coefficients
 

@@ -1,0 +1,292 @@
+"""FaStrip-type tangential model: strip theory for xi, eta and FASTSIM for spin
+(``tangential="fastrip"``).
+
+Sichani, Enblom & Berg (2016), "An alternative to FASTSIM for tangential solution
+of the wheel-rail contact", *Vehicle System Dynamics* 54(6), 748-764, combine
+Kalker's strip theory (longitudinal and lateral creepage) with a FASTSIM-type
+treatment of spin.  The paper was not available to check its equations; this
+module is our own formulation of that combination, from the facts below.
+
+**Strip theory** (Haines & Ollerton; Kalker's extension to combined creepage).
+Every strip (fixed y) is a 2-D rolling contact with a semi-elliptic pressure of
+half-length l(y), centre x_c(y) and peak p0(y) (the strip's load is conserved).
+Carter's solution holds per strip: the adhesion zone of half-length k l lies at the
+leading edge, the traction is
+
+    q = mu p0 [ sqrt(1 - ((x - x_c)/l)^2) - k sqrt(1 - ((x - x_s)/(k l))^2) ],
+
+x_s = x_c + l - k l, with the second term only inside the adhesion zone, and
+1 - k(y) = |w| / (mu p0(y)) (clipped to [0, 1]) with the weighted creepage
+w = (2 G / pi^2) (C11 xi, C22 eta).  The factor 2 G C/pi^2 makes the small-creepage
+force of an elliptic patch G a b (C11 xi, C22 eta), Kalker's linear theory; for a
+slender ellipse (b >> a, C -> pi^2/(4 (1 - nu))) it is the 2-D E*/2 of Carter's
+solution.  The traction direction is that of w in the linear range, blended
+towards the creepage direction as the creepage grows (the weight min(1, f/3) of
+``fastsim``'s blended flexibilities), so that full sliding follows the creepage.
+The slip in the slip zone is Carter's, |s| = mu p0 / (K l) sqrt((x - x_s)^2 -
+(k l)^2), K = |w| / |(xi, eta)|; beyond full slip (|w| > mu p0) the rigid excess
+(|w| - mu p0)/K is added.  Slip starts at the lateral edges of the patch, where p0
+is small (the lens-shaped adhesion area of strip theory).
+
+**Spin** is added by FASTSIM's march (Kalker 1982) along every strip, with the
+spin flexibility L3 of the equivalent ellipse.  From the leading edge, the trial
+traction is the previous one plus the increment of the strip-theory traction (cell
+means, so that the march integrates it exactly), plus, in the strip-theory slip
+zone, the strip's slip times step / L3 (FASTSIM's rigid-slip increment), plus
+FASTSIM's spin increment; where it exceeds mu p it is scaled back and the excess
+is the slip.  Without spin this is strip theory exactly; a pure spin gives
+FASTSIM's spin solution; with both, the slip direction weighs the translational
+against the spin slip.
+
+C11, C22 and L3 come from the patch's equivalent ellipse (as ``fastsim``).  The
+strip quantities come from the normal solution: edges from ``normal.strips``,
+p0 = 2 (integral of p dx) / (pi l).  Optional falling friction (same law as
+``fastsim``) is applied per strip, from the mean slip velocity of the strip's
+slipping elements.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+
+import numpy as np
+from numba import njit
+
+from ..errors import InputError
+from ..materials import STEEL, Material
+from .base import TangentialSolution, check_inputs, register
+from .fastsim import equivalent_ellipse
+from .kalker import flexibilities, kalker_coefficients
+
+
+@njit(cache=True, nogil=True)
+def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid,
+           px_out, py_out, sx_out, sy_out, stick_out):
+    """March every strip from its leading edge: the trial traction (on the rail) is
+    the previous one plus the strip-theory increment (dqx, dqy) and FASTSIM's spin
+    increment; where it exceeds the bound it is scaled back, and the excess over
+    the bound is the slip (times L3 / step, as in FASTSIM).  Returns the forces on
+    the rail (mid-point rule) and fills the grid fields."""
+    my = y.size
+    nx = bound.shape[1]
+    mx = xgrid.size
+    fx = 0.0
+    fy = 0.0
+    mz = 0.0
+    pxs = np.empty(nx)
+    pys = np.empty(nx)
+    sxs = np.empty(nx)
+    sys_ = np.empty(nx)
+    sts = np.empty(nx, dtype=np.bool_)
+    for j in range(my):
+        length = x_lead[j] - x_trail[j]
+        if length <= 0.0:
+            continue
+        dx = length / nx
+        px = 0.0
+        py = 0.0
+        prev = x_lead[j]
+        for k in range(nx):
+            xm = x_lead[j] - (k + 0.5) * dx
+            step = prev - xm
+            xmid = 0.5 * (prev + xm)
+            hx = px + dqx[j, k] + step * phi * y[j] / L3
+            hy = py + dqy[j, k] - step * phi * xmid / L3
+            g = bound[j, k]
+            mag = math.sqrt(hx * hx + hy * hy)
+            slip = 0.0
+            if mag > g * (1.0 + 1e-9):
+                sc = g / mag
+                px = hx * sc
+                py = hy * sc
+                slip = L3 * (mag - g) / step
+            else:
+                if mag > g:
+                    sc = g / mag
+                    hx *= sc
+                    hy *= sc
+                px = hx
+                py = hy
+            pm = math.sqrt(px * px + py * py)
+            if slip > 0.0 and pm > 0.0:
+                sxs[k] = -slip * px / pm          # along the traction on the wheel
+                sys_[k] = -slip * py / pm
+                sts[k] = False
+            else:
+                sxs[k] = 0.0
+                sys_[k] = 0.0
+                sts[k] = True
+            pxs[k] = px
+            pys[k] = py
+            fx += px * dx * dy
+            fy += py * dx * dy
+            mz += (xm * py - y[j] * px) * dx * dy
+            prev = xm
+        for i in range(mx):
+            xc = xgrid[i]
+            if xc > x_lead[j] or xc < x_trail[j]:
+                continue
+            t = (x_lead[j] - xc) / dx - 0.5
+            k0 = int(math.floor(t))
+            if k0 < 0:
+                k0 = 0
+                w = 0.0
+            elif k0 >= nx - 1:
+                k0 = nx - 1
+                w = 0.0
+            else:
+                w = t - k0
+            k1 = min(k0 + 1, nx - 1)
+            px_out[i, j] = (1 - w) * pxs[k0] + w * pxs[k1]
+            py_out[i, j] = (1 - w) * pys[k0] + w * pys[k1]
+            kn = k0 if w < 0.5 else k1
+            sx_out[i, j] = sxs[kn]
+            sy_out[i, j] = sys_[kn]
+            stick_out[i, j] = sts[kn]
+    return fx, fy, mz
+
+
+def _cell_mean_ellipse(x0, x1, c, r):
+    """Mean of sqrt(1 - ((x - c)/r)^2)_+ over [x0, x1] (arrays; r >= 0)."""
+    def prim(u):
+        u = np.clip(u, -1.0, 1.0)
+        return 0.5 * (u * np.sqrt(1.0 - u * u) + np.arcsin(u))
+    with np.errstate(divide="ignore", invalid="ignore"):
+        m = r * (prim((x1 - c) / r) - prim((x0 - c) / r)) / (x1 - x0)
+    return np.where(r > 0, m, 0.0)
+
+
+def _strip_traction(x, xc, half, p0, k, mu):
+    """Strip-theory traction magnitude [Pa], slip-zone flag and Carter slip factor
+    sqrt((x - x_s)^2 - (k l)^2) [m] at points x (arrays broadcast over strips)."""
+    with np.errstate(divide="ignore", invalid="ignore"):
+        r1 = (x - xc) / half
+        e1 = np.sqrt(np.clip(1.0 - r1 * r1, 0.0, None))
+        ka = k * half
+        xs = xc + half - ka
+        r2 = np.where(ka > 0, (x - xs) / ka, 2.0)
+        e2 = np.sqrt(np.clip(1.0 - r2 * r2, 0.0, None))
+        q = mu * p0 * (e1 - k * e2)
+        slipzone = (x < xs - ka) & (e1 > 0)
+        fac = np.where(slipzone, np.sqrt(np.clip((x - xs) ** 2 - ka * ka, 0.0, None)), 0.0)
+    return np.maximum(q, 0.0), slipzone, fac
+
+
+@register("fastrip")
+class FastripModel:
+    """Strip theory for longitudinal and lateral creepage, FASTSIM for spin.
+
+    Parameters
+    ----------
+    elements : int, optional
+        Elements per strip for the spin march (default: the grid's mx).
+    falling : dict, optional
+        {"A": mu_inf/mu0, "B": s/m}: slip-velocity dependent friction (Polach 2005),
+        one coefficient per strip from the mean slip velocity of its slip zone.
+    """
+
+    def __init__(self, elements: int | None = None, falling=None):
+        if elements is not None and not (isinstance(elements, int) and 2 <= elements <= 5000):
+            raise InputError(f"fastrip elements {elements!r}: expected an integer in [2, 5000]")
+        self.elements = elements
+        from .friction import falling_friction
+        self.falling = falling_friction(falling)
+
+    def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
+              friction: float = 0.3, velocity: float = 1.0) -> TangentialSolution:
+        """Creep forces for creepages (xi [-], eta [-], phi [1/m]); see the module notes."""
+        t0 = time.perf_counter()
+        xi, eta, phi = check_inputs(creepage, friction)
+        x, y = normal.x, normal.y
+        mx, my = x.size, y.size
+        a, b = equivalent_ellipse(normal)
+        zeros = np.zeros((mx, my))
+        if a <= 0 or b <= 0 or normal.normal_force <= 0 or friction <= 0:
+            return TangentialSolution(self.name, x, y, zeros, zeros.copy(), zeros.copy(),
+                                      zeros.copy(), np.zeros((mx, my), bool), normal.contact,
+                                      0.0, 0.0, 0.0, velocity, (xi, eta, phi), friction)
+        G, nu = material.shear_modulus, material.poisson_ratio
+        c11, c22, _ = kalker_coefficients(a / b, nu)
+        wx = 2 * G * c11 * xi / math.pi ** 2
+        wy = 2 * G * c22 * eta / math.pi ** 2
+        wn = math.hypot(wx, wy)
+        ex, ey = (wx / wn, wy / wn) if wn > 0 else (0.0, 0.0)
+        cn = math.hypot(xi, eta)
+        K = wn / cn if cn > 0 else 1.0
+        # strips: edges, centre, half-length and peak pressure (load conserving)
+        x_lead, x_trail = (np.asarray(v, dtype=float) for v in normal.strips)
+        half = 0.5 * np.maximum(x_lead - x_trail, 0.0)
+        xc = 0.5 * (x_lead + x_trail)
+        load = normal.pressure.sum(axis=0) * normal.dx
+        active = half > 0
+        with np.errstate(divide="ignore", invalid="ignore"):
+            p0 = np.where(active, 2 * load / (math.pi * half), 0.0)
+        # FASTSIM spin march: mid-points of nx elements per strip
+        nx = self.elements or mx
+        frac = (np.arange(nx) + 0.5) / nx
+        xm = x_lead[:, None] - frac[None, :] * (x_lead - x_trail)[:, None]
+        ym = np.broadcast_to(y[:, None], xm.shape)
+        pn = np.ascontiguousarray(normal.pressure_at(xm, ym), dtype=float)
+        L3 = flexibilities(a, b, G, nu)[2]
+        mu = np.full(my, float(friction))
+        # traction direction: that of w in the linear range, blended towards the
+        # creepage direction as the creepage grows (as fastsim's flexibilities)
+        f = math.hypot(xi * G * a * b * c11, eta * G * a * b * c22) / (friction *
+                                                                     normal.normal_force)
+        wb = min(1.0, f / 3.0)
+        dx_, dy_ = (1 - wb) * ex + wb * (xi / cn if cn > 0 else 0.0), \
+            (1 - wb) * ey + wb * (eta / cn if cn > 0 else 0.0)
+        dn = math.hypot(dx_, dy_)
+        ex, ey = (dx_ / dn, dy_ / dn) if dn > 0 else (0.0, 0.0)
+        hdx = (0.5 * (x_lead - x_trail) / nx)[:, None]
+        steps = np.repeat(2 * hdx, nx, axis=1)
+        steps[:, 0] *= 0.5
+        xl = np.ascontiguousarray(x_lead)
+        xt_ = np.ascontiguousarray(x_trail)
+        iters = 0
+        for iters in range(1, 61 if self.falling is not None else 2):
+            with np.errstate(divide="ignore", invalid="ignore"):
+                k = np.where(active & (p0 > 0), np.clip(1 - wn / (mu * p0), 0.0, 1.0), 0.0)
+            qm, zone, fac = _strip_traction(xm, xc[:, None], half[:, None], p0[:, None],
+                                            k[:, None], mu[:, None])
+            # cell means of the strip traction, so that the march integrates it exactly
+            ka = (k * half)[:, None]
+            qm = mu[:, None] * p0[:, None] * (
+                _cell_mean_ellipse(xm + hdx, xm - hdx, xc[:, None], half[:, None])
+                - k[:, None] * _cell_mean_ellipse(xm + hdx, xm - hdx,
+                                                  (xc + half)[:, None] - ka, ka))
+            dq = np.diff(np.concatenate([np.zeros((my, 1)), qm], axis=1), axis=1)
+            # in the strip-theory slip zone the trial traction also carries Carter's
+            # slip (as FASTSIM's rigid-slip increment), so that the slip direction
+            # weighs translational against spin slip; the bound removes it again
+            with np.errstate(divide="ignore", invalid="ignore"):
+                carter = np.where(zone, mu[:, None] * p0[:, None] / (K * half[:, None]) * fac
+                                  + np.maximum(wn - mu * p0, 0.0)[:, None] / K, 0.0)
+            dq = dq + steps * carter / L3
+            bound = np.ascontiguousarray(mu[:, None] * np.maximum(pn, qm / mu[:, None]))
+            px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
+            stick = np.zeros((mx, my), dtype=bool)
+            # rail tractions: opposite to the wheel's (direction e)
+            fxr, fyr, mzr = _march(np.ascontiguousarray(y), normal.dy, xl, xt_, bound,
+                                   np.ascontiguousarray(-ex * dq), np.ascontiguousarray(-ey * dq),
+                                   L3, phi,
+                                   np.ascontiguousarray(x), px, py, sx, sy, stick)
+            if self.falling is None:
+                break
+            w = np.hypot(sx, sy) * velocity
+            nslip = np.maximum((w > 0).sum(axis=0), 1)
+            new = self.falling(friction, w.sum(axis=0) / nslip)
+            change = float(np.max(np.abs(new - mu)))
+            mu = 0.5 * mu + 0.5 * new
+            if change < 1e-5 * friction:
+                break
+        tx, ty = -px, -py
+        stick &= normal.contact
+        fx, fy, mz = -fxr, -fyr, -mzr
+        return TangentialSolution(self.name, x, y, tx, ty, sx, sy, stick, normal.contact,
+                                  float(fx), float(fy), float(mz), velocity, (xi, eta, phi),
+                                  friction,
+                                  time.perf_counter() - t0,
+                                  {"friction_iterations": iters,
+                                   "creep_coefficients": (c11, c22), "L3": L3})
