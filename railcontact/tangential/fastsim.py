@@ -31,7 +31,7 @@ from ..materials import STEEL, Material
 from ..normal.hertz_theory import hertz_ellipses
 from ..normal.semi_hertzian import strip_curvatures
 from .base import TangentialSolution, check_inputs, register
-from .kalker import flexibilities
+from .kalker import flexibilities, flexibilities_array
 
 
 @njit(cache=True, nogil=True)
@@ -135,23 +135,28 @@ def equivalent_ellipse(normal) -> tuple:
 
 
 def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn):
-    """Flexibilities blended towards a combined value as the creepage grows."""
-    from .kalker import kalker_coefficients
-    c11, c22, _ = kalker_coefficients(a / b, nu)
-    c2 = a * b
+    """Flexibilities blended towards a combined value as the creepage grows
+    (scalars, or arrays of semi-axes and flexibilities, elementwise)."""
+    from .kalker import kalker_coefficients, kalker_coefficients_array
     if mu <= 0 or fn <= 0:
         return L1, L2, L3
-    xi_c = mu * fn / (c2 * G * c11)
-    eta_c = mu * fn / (c2 * G * c22)
-    f = math.hypot(xi / xi_c, eta / eta_c)
-    w = min(1.0, f / 3.0)
-    if w <= 0.0:
-        return L1, L2, L3
+    if np.ndim(a) == 0:
+        c11, c22, _ = kalker_coefficients(a / b, nu)          # cached scalar path
+    else:
+        a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+        c11, c22, _ = kalker_coefficients_array(a / b, nu)
+    c2 = a * b
+    f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
+    w = np.minimum(1.0, f / 3.0)
     ps = phi * (math.pi * a * a / 4) / (8 * a / 3)
     num = xi * xi + eta * eta + ps * ps
-    den = xi * xi / L1 + eta * eta / L2 + ps * ps / L3
-    Lc = num / den
-    return ((1 - w) * L1 + w * Lc, (1 - w) * L2 + w * Lc, (1 - w) * L3 + w * Lc)
+    den = np.float64(xi * xi / L1 + eta * eta / L2 + ps * ps / L3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        Lc = np.where(den > 0, num / den, L1)
+    out = ((1 - w) * L1 + w * Lc, (1 - w) * L2 + w * Lc, (1 - w) * L3 + w * Lc)
+    if np.ndim(out[0]) == 0:
+        return tuple(float(v) for v in out)
+    return out
 
 
 @register("fastsim")
@@ -210,14 +215,17 @@ class FastsimModel:
     def _flexibilities(self, a, b, G, nu, creepage, friction, fn):
         """The three flexibilities of an ellipse (a, b) with this model's option."""
         xi, eta, phi = creepage
-        L1, L2, L3 = flexibilities(a, b, G, nu)
+        if np.ndim(a):
+            L1, L2, L3 = flexibilities_array(a, b, G, nu)
+        else:
+            L1, L2, L3 = flexibilities(a, b, G, nu)
         if self.flexibility == "blended":
             L1, L2, L3 = blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi,
                                                friction, fn)
         elif self.flexibility == "single":
-            c = math.sqrt(a * b)
-            den = math.sqrt(xi * xi + eta * eta + (c * phi) ** 2)
-            if den > 0:
+            c = np.sqrt(a * b)
+            den = np.sqrt(xi * xi + (c * phi) ** 2 + eta * eta)
+            if np.all(den > 0):
                 L = (abs(xi) * L1 + abs(eta) * L2 + c * abs(phi) * L3) / den
                 L1 = L2 = L3 = L
         return L1, L2, L3
@@ -350,9 +358,9 @@ class FastsimStripsModel(FastsimModel):
                                                 normal.normal_force))[:, None]
         la, lb, _ = hertz_ellipses(A[active], B[active], material.contact_modulus,
                                    normal.penetration)      # one local ellipse per strip
-        for j, aj, bj in zip(active, la, lb):                # per strip, not per element
-            L[:, j] = self._flexibilities(aj, bj, G, nu, creepage, friction,
-                                          normal.normal_force)
+        if active.size:
+            L[:, active] = np.asarray(self._flexibilities(la, lb, G, nu, creepage, friction,
+                                                          normal.normal_force))
         phi = np.ascontiguousarray(geometry.spin_at(normal.y, creepage[2]), dtype=float)
         return (np.ascontiguousarray(L[0]), np.ascontiguousarray(L[1]),
                 np.ascontiguousarray(L[2]), phi)

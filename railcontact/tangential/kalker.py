@@ -14,6 +14,7 @@ import math
 from functools import lru_cache
 
 import numpy as np
+from numba import njit
 
 from ..errors import InputError
 
@@ -45,6 +46,10 @@ _C23_BA = np.array([[12.2, 14.6, 18.0], [5.72, 6.63, 7.89], [3.79, 4.32, 5.01],
                     [2.88, 3.24, 3.70], [2.35, 2.62, 2.96], [2.01, 2.23, 2.50],
                     [1.76, 1.95, 2.18], [1.58, 1.75, 1.94], [1.44, 1.59, 1.77],
                     [1.33, 1.47, 1.63]])
+
+
+_TAB_AB = np.stack([_C11_AB, _C22_AB, _C23_AB])      # (3 coefficients, 10 ratios, 3 nu)
+_TAB_BA = np.stack([_C11_BA, _C22_BA, _C23_BA])
 
 
 def _nu_interp(values, nu):
@@ -109,6 +114,53 @@ def kalker_coefficients(a_over_b: float, nu: float):
     return _coefficients(float(a_over_b), float(nu))
 
 
+@njit(cache=True)
+def _coefficients_kernel(r, nu, tab_ab, tab_ba, out):
+    """Compiled :func:`_coefficients` for every ratio in ``r`` (out: (3, n))."""
+    x0, x1, x2 = 0.0, 0.25, 0.5
+    l0 = (nu - x1) * (nu - x2) / ((x0 - x1) * (x0 - x2))
+    l1 = (nu - x0) * (nu - x2) / ((x1 - x0) * (x1 - x2))
+    l2 = (nu - x0) * (nu - x1) / ((x2 - x0) * (x2 - x1))
+    for i in range(r.size):
+        ri = r[i]
+        g = ri if ri <= 1.0 else 1.0 / ri
+        if g < 0.1:
+            if ri < 1.0:
+                out[0, i] = math.pi ** 2 / (4 * (1 - nu))
+                out[1, i] = math.pi ** 2 / 4
+                out[2, i] = (math.pi * math.sqrt(g) / (3 * (1 - nu))
+                             * (1 + nu * (math.log(16 / g) - 5)))
+            else:
+                lam = math.log(16 / g ** 2)
+                out[0, i] = (2 * math.pi / ((lam - 2 * nu) * g)
+                             * (1 + (3 - math.log(4)) / (lam - 2 * nu)))
+                out[1, i] = ((2 * math.pi / g)
+                             * (1 + (1 - nu) * (3 - math.log(4)) / ((1 - nu) * lam + 2 * nu))
+                             / ((1 - nu) * lam + 2 * nu))
+                out[2, i] = 2 * math.pi / (3 * g ** 1.5 * ((1 - nu) * lam - 2 + 4 * nu))
+            continue
+        tab = tab_ab if ri <= 1.0 else tab_ba
+        k = min(int((g - 0.1) / 0.1 + 1e-12), 8)
+        t = (g - (0.1 + 0.1 * k)) / 0.1
+        for c in range(3):
+            r0 = (1 - t) * tab[c, k, 0] + t * tab[c, k + 1, 0]
+            r1 = (1 - t) * tab[c, k, 1] + t * tab[c, k + 1, 1]
+            r2 = (1 - t) * tab[c, k, 2] + t * tab[c, k + 1, 2]
+            out[c, i] = 1.0 / (l0 / r0 + l1 / r1 + l2 / r2)
+
+
+def kalker_coefficients_array(a_over_b, nu: float):
+    """:func:`kalker_coefficients` for an array of ratios a/b (compiled loop)."""
+    r = np.asarray(a_over_b, dtype=float)
+    if not np.all(np.isfinite(r) & (r > 0)):
+        raise InputError("semi-axis ratios a/b: expected finite values > 0")
+    if not 0.0 <= nu <= 0.5:
+        raise InputError(f"poisson_ratio = {nu!r}: expected a value in [0, 0.5]")
+    out = np.empty((3, r.size))
+    _coefficients_kernel(np.ascontiguousarray(r.ravel()), float(nu), _TAB_AB, _TAB_BA, out)
+    return tuple(o.reshape(r.shape) for o in out)
+
+
 def flexibilities(a: float, b: float, shear_modulus: float, nu: float):
     """FASTSIM flexibilities L1, L2, L3 [m/Pa] of Kalker (1982).
 
@@ -118,3 +170,12 @@ def flexibilities(a: float, b: float, shear_modulus: float, nu: float):
     G = shear_modulus
     return (8 * a / (3 * c11 * G), 8 * a / (3 * c22 * G),
             math.pi * a * math.sqrt(a / b) / (4 * G * c23))
+
+
+def flexibilities_array(a, b, shear_modulus: float, nu: float):
+    """:func:`flexibilities` for arrays of semi-axes (vectorised)."""
+    a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
+    c11, c22, c23 = kalker_coefficients_array(a / b, nu)
+    G = shear_modulus
+    return (8 * a / (3 * c11 * G), 8 * a / (3 * c22 * G),
+            math.pi * a * np.sqrt(a / b) / (4 * G * c23))

@@ -34,3 +34,16 @@ def test_bad_input():
         kalker_coefficients(-1.0, 0.25)
     with pytest.raises(InputError):
         kalker_coefficients(1.0, 0.6)
+
+
+def test_vectorised_coefficients_equal_scalar():
+    """The compiled array version (used per strip) equals the scalar table lookup,
+    asymptotic ranges included."""
+    import numpy as np
+
+    from railcontact.tangential.kalker import kalker_coefficients_array
+    r = np.concatenate([np.geomspace(0.01, 100, 200), [0.1, 0.2, 1.0, 10.0]])
+    for nu in (0.0, 0.28, 0.5):
+        v = np.array(kalker_coefficients_array(r, nu)).T
+        s = np.array([kalker_coefficients(x, nu) for x in r])
+        np.testing.assert_allclose(v, s, rtol=1e-12)
