@@ -102,6 +102,30 @@ def _semi_ellipse_rows(h, thr, x, dx):
         float(leny.max()) if anyc.any() else 0.0
 
 
+def _no_contact(hstar):
+    """Pressure, contact mask and strip edges of a grid without interpenetration."""
+    z = np.zeros_like(hstar)
+    my = hstar.shape[1]
+    return z, z > 0, (np.zeros(my), np.zeros(my))
+
+
+def _hertz_strips(x, xlc, penloc, A, B, alpha1, Es):
+    """Semi-elliptic pressure of Hertz strips (ANALYN, STRIPES): strip centres xlc,
+    local approach penloc (<= 0: no contact), half-length sqrt(penloc/(alpha1 A)) and
+    maximum pressure 3 F_H / (2 pi a b) of the Hertz solution (A, B) at penloc.
+    Returns the pressure, contact mask and strip edges (x_lead, x_trail)."""
+    ok = penloc > 0
+    penloc = np.where(ok, penloc, 0.0)
+    xl = np.sqrt(penloc / (alpha1 * A))
+    al, bl, fl = hertz_ellipses(A, B, Es, penloc)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        pmax = np.where(ok, 1.5 * fl / (math.pi * al * bl), 0.0)
+        r = (x[:, None] - xlc[None, :]) / np.where(ok, xl, 1.0)[None, :]
+    inside = ok[None, :] & (np.abs(r) < 1)
+    p = np.where(inside, pmax[None, :] * np.sqrt(np.clip(1 - r * r, 0, None)), 0.0)
+    return p, p > 0, (np.where(ok, xlc + xl, 0.0), np.where(ok, xlc - xl, 0.0))
+
+
 class _StripModel(ExactNormalModel):
     """Common driver: grid, approach iteration and result for the strip models."""
 
@@ -172,8 +196,7 @@ class _KPBase(_StripModel):
         imin = np.unravel_index(np.argmin(hstar), hstar.shape)
         hmin = float(hstar[imin])
         if hmin >= 0:
-            z = np.zeros_like(hstar)
-            return z, z > 0, (np.zeros(my), np.zeros(my))
+            return _no_contact(hstar)
         eps = self._eps(hstar, x, y, dx, dy, material, hmin)
         thr = (1.0 - eps) * hmin
         contact, shape, xled, xtrl, lenmax = _semi_ellipse_rows(hstar, thr, x, dx)
@@ -237,13 +260,10 @@ class AnalynModel(_StripModel):
     """ANALYN: strip-wise Hertzian pressure from local curvatures and approach."""
 
     def _pressure(self, hstar, x, y, dx, dy, material):
-        mx, my = hstar.shape
-        hmin = float(hstar.min())
-        pen = -hmin
-        p = np.zeros_like(hstar)
-        xled, xtrl = np.zeros(my), np.zeros(my)
+        my = hstar.shape[1]
+        pen = -float(hstar.min())
         if pen <= 0:
-            return p, p > 0, (xled, xtrl)
+            return _no_contact(hstar)
         Es = material.contact_modulus
         ixm, A, B = strip_curvatures(hstar, dx, dy)
         xlc = x[ixm]
@@ -251,19 +271,7 @@ class AnalynModel(_StripModel):
         a, b, _ = hertz_ellipses(A, B, Es, pen)       # one Hertz solution per strip
         alpha1 = pen / (A * a * a)
         beta1 = pen / (B * b * b)
-        penloc = pen - beta1 * g
-        ok = penloc > 0
-        penloc = np.where(ok, penloc, 0.0)
-        xl = np.sqrt(penloc / (alpha1 * A))
-        al, bl, fl = hertz_ellipses(A, B, Es, penloc)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            pmax = np.where(ok, 1.5 * fl / (math.pi * al * bl), 0.0)
-            r = (x[:, None] - xlc[None, :]) / np.where(ok, xl, 1.0)[None, :]
-        inside = ok[None, :] & (np.abs(r) < 1)
-        p = np.where(inside, pmax[None, :] * np.sqrt(np.clip(1 - r * r, 0, None)), 0.0)
-        xled = np.where(ok, xlc + xl, 0.0)
-        xtrl = np.where(ok, xlc - xl, 0.0)
-        return p, p > 0, (xled, xtrl)
+        return _hertz_strips(x, xlc, pen - beta1 * g, A, B, alpha1, Es)
 
 
 def _corrected_gap(g, beta, j0):
@@ -297,13 +305,10 @@ class StripesModel(_StripModel):
     corrected local lateral curvature (see the module notes)."""
 
     def _pressure(self, hstar, x, y, dx, dy, material):
-        mx, my = hstar.shape
-        hmin = float(hstar.min())
-        pen = -hmin
-        p = np.zeros_like(hstar)
-        xled, xtrl = np.zeros(my), np.zeros(my)
+        my = hstar.shape[1]
+        pen = -float(hstar.min())
         if pen <= 0:
-            return p, p > 0, (xled, xtrl)
+            return _no_contact(hstar)
         Es = material.contact_modulus
         ixm, Aloc, B = strip_curvatures(hstar, dx, dy)
         cols = np.arange(my)
@@ -314,17 +319,4 @@ class StripesModel(_StripModel):
         alpha1 = pen / (A * a * a)
         beta1 = pen / (B * b * b)
         gs = _corrected_gap(g, beta1, j0)
-        penloc = pen - gs
-        ok = penloc > 0
-        penloc = np.where(ok, penloc, 0.0)
-        xl = np.sqrt(penloc / (alpha1 * A))
-        al, bl, fl = hertz_ellipses(A, B, Es, penloc)
-        xlc = x[ixm]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            pmax = np.where(ok, 1.5 * fl / (math.pi * al * bl), 0.0)
-            r = (x[:, None] - xlc[None, :]) / np.where(ok, xl, 1.0)[None, :]
-        inside = ok[None, :] & (np.abs(r) < 1)
-        p = np.where(inside, pmax[None, :] * np.sqrt(np.clip(1 - r * r, 0, None)), 0.0)
-        xled = np.where(ok, xlc + xl, 0.0)
-        xtrl = np.where(ok, xlc - xl, 0.0)
-        return p, p > 0, (xled, xtrl)
+        return _hertz_strips(x, x[ixm], pen - gs, A, B, alpha1, Es)

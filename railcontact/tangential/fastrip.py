@@ -56,7 +56,7 @@ from numba import njit
 from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import TangentialSolution, check_inputs, register
-from .fastsim import equivalent_ellipse
+from .fastsim import _strip_to_grid, equivalent_ellipse
 from .kalker import flexibilities, kalker_coefficients
 
 
@@ -70,7 +70,6 @@ def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid,
     the rail (mid-point rule) and fills the grid fields."""
     my = y.size
     nx = bound.shape[1]
-    mx = xgrid.size
     fx = 0.0
     fy = 0.0
     mz = 0.0
@@ -123,27 +122,8 @@ def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid,
             fy += py * dx * dy
             mz += (xm * py - y[j] * px) * dx * dy
             prev = xm
-        for i in range(mx):
-            xc = xgrid[i]
-            if xc > x_lead[j] or xc < x_trail[j]:
-                continue
-            t = (x_lead[j] - xc) / dx - 0.5
-            k0 = int(math.floor(t))
-            if k0 < 0:
-                k0 = 0
-                w = 0.0
-            elif k0 >= nx - 1:
-                k0 = nx - 1
-                w = 0.0
-            else:
-                w = t - k0
-            k1 = min(k0 + 1, nx - 1)
-            px_out[i, j] = (1 - w) * pxs[k0] + w * pxs[k1]
-            py_out[i, j] = (1 - w) * pys[k0] + w * pys[k1]
-            kn = k0 if w < 0.5 else k1
-            sx_out[i, j] = sxs[kn]
-            sy_out[i, j] = sys_[kn]
-            stick_out[i, j] = sts[kn]
+        _strip_to_grid(j, x_lead[j], x_trail[j], dx, xgrid, pxs, pys, sxs, sys_, sts,
+                       px_out, py_out, sx_out, sy_out, stick_out)
     return fx, fy, mz
 
 
@@ -157,20 +137,15 @@ def _cell_mean_ellipse(x0, x1, c, r):
     return np.where(r > 0, m, 0.0)
 
 
-def _strip_traction(x, xc, half, p0, k, mu):
-    """Strip-theory traction magnitude [Pa], slip-zone flag and Carter slip factor
-    sqrt((x - x_s)^2 - (k l)^2) [m] at points x (arrays broadcast over strips)."""
-    with np.errstate(divide="ignore", invalid="ignore"):
-        r1 = (x - xc) / half
-        e1 = np.sqrt(np.clip(1.0 - r1 * r1, 0.0, None))
-        ka = k * half
-        xs = xc + half - ka
-        r2 = np.where(ka > 0, (x - xs) / ka, 2.0)
-        e2 = np.sqrt(np.clip(1.0 - r2 * r2, 0.0, None))
-        q = mu * p0 * (e1 - k * e2)
-        slipzone = (x < xs - ka) & (e1 > 0)
-        fac = np.where(slipzone, np.sqrt(np.clip((x - xs) ** 2 - ka * ka, 0.0, None)), 0.0)
-    return np.maximum(q, 0.0), slipzone, fac
+def _slip_zone(x, xc, half, k):
+    """Strip-theory slip zone (trailing side of the adhesion zone of half-length
+    k l at the leading edge) and Carter's slip factor sqrt((x - x_s)^2 - (k l)^2) [m]
+    at points x (arrays broadcast over strips)."""
+    ka = k * half
+    xs = xc + half - ka
+    zone = (x < xs - ka) & (np.abs(x - xc) < half)
+    fac = np.where(zone, np.sqrt(np.clip((x - xs) ** 2 - ka * ka, 0.0, None)), 0.0)
+    return zone, fac
 
 
 @register("fastrip")
@@ -248,8 +223,7 @@ class FastripModel:
         for iters in range(1, 61 if self.falling is not None else 2):
             with np.errstate(divide="ignore", invalid="ignore"):
                 k = np.where(active & (p0 > 0), np.clip(1 - wn / (mu * p0), 0.0, 1.0), 0.0)
-            qm, zone, fac = _strip_traction(xm, xc[:, None], half[:, None], p0[:, None],
-                                            k[:, None], mu[:, None])
+            zone, fac = _slip_zone(xm, xc[:, None], half[:, None], k[:, None])
             # cell means of the strip traction, so that the march integrates it exactly
             ka = (k * half)[:, None]
             qm = mu[:, None] * p0[:, None] * (

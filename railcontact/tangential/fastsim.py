@@ -35,6 +35,36 @@ from .kalker import flexibilities, flexibilities_array
 
 
 @njit(cache=True, nogil=True)
+def _strip_to_grid(j, x_lead, x_trail, dx, xgrid, pxs, pys, sxs, sys_, sts,
+                   px_out, py_out, sx_out, sy_out, stick_out):
+    """Copy one strip's mid-point values (element length dx from the leading edge)
+    to column j of the regular grid: tractions interpolated linearly, slip and
+    stick from the nearest mid-point."""
+    nx = pxs.size
+    for i in range(xgrid.size):
+        xc = xgrid[i]
+        if xc > x_lead or xc < x_trail:
+            continue
+        t = (x_lead - xc) / dx - 0.5
+        k0 = int(math.floor(t))
+        if k0 < 0:
+            k0 = 0
+            w = 0.0
+        elif k0 >= nx - 1:
+            k0 = nx - 1
+            w = 0.0
+        else:
+            w = t - k0
+        k1 = min(k0 + 1, nx - 1)
+        px_out[i, j] = (1 - w) * pxs[k0] + w * pxs[k1]
+        py_out[i, j] = (1 - w) * pys[k0] + w * pys[k1]
+        kn = k0 if w < 0.5 else k1
+        sx_out[i, j] = sxs[kn]
+        sy_out[i, j] = sys_[kn]
+        stick_out[i, j] = sts[kn]
+
+
+@njit(cache=True, nogil=True)
 def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgrid,
                     px_out, py_out, sx_out, sy_out, stick_out):
     """March all strips; fill grid fields (traction on body 1 = rail) and return forces.
@@ -42,11 +72,9 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgr
     ``L1, L2, L3`` and ``phi`` are given per strip (length my)."""
     my = y.size
     nx = bound.shape[1]
-    mx = xgrid.size
     fx = 0.0
     fy = 0.0
     mz = 0.0
-    xs = np.empty(nx)
     pxs = np.empty(nx)
     pys = np.empty(nx)
     sxs = np.empty(nx)
@@ -83,35 +111,14 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgr
                 sxs[k] = 0.0
                 sys_[k] = 0.0
                 sts[k] = True
-            xs[k] = xm
             pxs[k] = px
             pys[k] = py
             fx += px * dx * dy
             fy += py * dx * dy
             mz += (xm * py - y[j] * px) * dx * dy
             prev = xm
-        # transfer to the regular grid by linear interpolation between mid-points
-        for i in range(mx):
-            xc = xgrid[i]
-            if xc > x_lead[j] or xc < x_trail[j]:
-                continue
-            t = (x_lead[j] - xc) / dx - 0.5
-            k0 = int(math.floor(t))
-            if k0 < 0:
-                k0 = 0
-                w = 0.0
-            elif k0 >= nx - 1:
-                k0 = nx - 1
-                w = 0.0
-            else:
-                w = t - k0
-            k1 = min(k0 + 1, nx - 1)
-            px_out[i, j] = (1 - w) * pxs[k0] + w * pxs[k1]
-            py_out[i, j] = (1 - w) * pys[k0] + w * pys[k1]
-            kn = k0 if w < 0.5 else k1
-            sx_out[i, j] = sxs[kn]
-            sy_out[i, j] = sys_[kn]
-            stick_out[i, j] = sts[kn]
+        _strip_to_grid(j, x_lead[j], x_trail[j], dx, xgrid, pxs, pys, sxs, sys_, sts,
+                       px_out, py_out, sx_out, sy_out, stick_out)
     return fx, fy, mz
 
 

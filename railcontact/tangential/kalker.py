@@ -18,8 +18,6 @@ from numba import njit
 
 from ..errors import InputError
 
-_G = np.array([0.1, 0.2, 0.3, 0.4, 0.5, 0.6, 0.7, 0.8, 0.9, 1.0])
-_NU = (0.0, 0.25, 0.5)
 # rows: g = 0.1 ... 1.0; columns: nu = 0, 0.25, 0.5
 _C11_AB = np.array([[2.51, 3.31, 4.85], [2.59, 3.37, 4.81], [2.68, 3.44, 4.80],
                     [2.78, 3.53, 4.82], [2.88, 3.62, 4.83], [2.98, 3.72, 4.91],
@@ -52,49 +50,11 @@ _TAB_AB = np.stack([_C11_AB, _C22_AB, _C23_AB])      # (3 coefficients, 10 ratio
 _TAB_BA = np.stack([_C11_BA, _C22_BA, _C23_BA])
 
 
-def _nu_interp(values, nu):
-    """Parabola in 1/C through nu = 0, 0.25, 0.5, evaluated at nu."""
-    inv = 1.0 / np.asarray(values)
-    x0, x1, x2 = _NU
-    l0 = (nu - x1) * (nu - x2) / ((x0 - x1) * (x0 - x2))
-    l1 = (nu - x0) * (nu - x2) / ((x1 - x0) * (x1 - x2))
-    l2 = (nu - x0) * (nu - x1) / ((x2 - x0) * (x2 - x1))
-    return 1.0 / (l0 * inv[..., 0] + l1 * inv[..., 1] + l2 * inv[..., 2])
-
-
-def _asymptotic(a_over_b, nu):
-    if a_over_b < 1.0:
-        g = a_over_b
-        c11 = math.pi ** 2 / (4 * (1 - nu))
-        c22 = math.pi ** 2 / 4
-        c23 = math.pi * math.sqrt(g) / (3 * (1 - nu)) * (1 + nu * (math.log(16 / g) - 5))
-    else:
-        g = 1.0 / a_over_b
-        lam = math.log(16 / g ** 2)
-        c11 = 2 * math.pi / ((lam - 2 * nu) * g) * (1 + (3 - math.log(4)) / (lam - 2 * nu))
-        c22 = (2 * math.pi / g) * (1 + (1 - nu) * (3 - math.log(4)) / ((1 - nu) * lam + 2 * nu)) \
-            / ((1 - nu) * lam + 2 * nu)
-        c23 = 2 * math.pi / (3 * g ** 1.5 * ((1 - nu) * lam - 2 + 4 * nu))
-    return c11, c22, c23
-
-
 @lru_cache(maxsize=4096)
 def _coefficients(a_over_b: float, nu: float):
-    g = a_over_b if a_over_b <= 1.0 else 1.0 / a_over_b
-    if g < 0.1:
-        return _asymptotic(a_over_b, nu)
-    tabs = (_C11_AB, _C22_AB, _C23_AB) if a_over_b <= 1.0 else (_C11_BA, _C22_BA, _C23_BA)
-    k = min(int((g - 0.1) / 0.1 + 1e-12), 8)          # rows are spaced 0.1 apart
-    t = (g - _G[k]) / (_G[k + 1] - _G[k])
-    x0, x1, x2 = _NU
-    l0 = (nu - x1) * (nu - x2) / ((x0 - x1) * (x0 - x2))
-    l1 = (nu - x0) * (nu - x2) / ((x1 - x0) * (x1 - x2))
-    l2 = (nu - x0) * (nu - x1) / ((x2 - x0) * (x2 - x1))
-    out = []
-    for tab in tabs:
-        row = (1 - t) * tab[k] + t * tab[k + 1]
-        out.append(1.0 / (l0 / row[0] + l1 / row[1] + l2 / row[2]))
-    return tuple(float(c) for c in out)
+    out = np.empty((3, 1))
+    _coefficients_kernel(np.array([a_over_b]), nu, _TAB_AB, _TAB_BA, out)
+    return tuple(float(c) for c in out[:, 0])
 
 
 def kalker_coefficients(a_over_b: float, nu: float):
@@ -116,7 +76,9 @@ def kalker_coefficients(a_over_b: float, nu: float):
 
 @njit(cache=True)
 def _coefficients_kernel(r, nu, tab_ab, tab_ba, out):
-    """Compiled :func:`_coefficients` for every ratio in ``r`` (out: (3, n))."""
+    """(C11, C22, C23) for every ratio a/b in ``r`` into ``out`` (3, n): the table rows
+    g = 0.1 ... 1.0 interpolated linearly, a parabola in 1/C through nu = 0, 0.25,
+    0.5, and the asymptotic expressions below g = 0.1."""
     x0, x1, x2 = 0.0, 0.25, 0.5
     l0 = (nu - x1) * (nu - x2) / ((x0 - x1) * (x0 - x2))
     l1 = (nu - x0) * (nu - x2) / ((x1 - x0) * (x1 - x2))
