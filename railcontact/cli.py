@@ -8,7 +8,7 @@ import logging
 import sys
 from pathlib import Path
 
-from .errors import RailContactError
+from .errors import InputError, RailContactError
 
 log = logging.getLogger("railcontact")
 
@@ -115,9 +115,26 @@ def cmd_wear_compare(args):
 
 
 def cmd_simulate(args):
+    if len(args.scenario) > 1:
+        from .dynamics.simulation import simulate_batch
+        outs = [Path(args.out) / Path(s).stem for s in args.scenario]
+        if len(set(outs)) != len(outs):
+            raise InputError("simulate: scenario files with the same name would share an "
+                             "output folder; rename them")
+        res = simulate_batch(args.scenario, outs, scheduler=args.scheduler)
+        for r in res:
+            if "error" in r:
+                print(f"{r['scenario']}: FAILED: {r['error']}")
+            else:
+                print(f"{r['scenario']}: {r['duration_s']:.2f} s simulated in "
+                      f"{r['wall_time_s']:.1f} s; wrote {r['out']}/simulation.nc")
+        if any("error" in r for r in res):
+            raise SystemExit(1)
+        return
     from .dynamics.scenario import run_scenario
-    ds = run_scenario(args.scenario, args.out)
-    print(f"simulated {float(ds['time'][-1]):.2f} s; linear critical speed "
+    ds = run_scenario(args.scenario[0], args.out)
+    print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
+          f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
           f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
 
 
@@ -184,9 +201,13 @@ def build_parser():
                     help="NORMAL+TANGENTIAL pairs, comma separated")
     wc.add_argument("--out", default="wear_comparison")
     wc.set_defaults(func=cmd_wear_compare)
-    sm = sub.add_parser("simulate", help="vehicle dynamics (single wheelset so far)")
-    sm.add_argument("scenario")
-    sm.add_argument("--out", default="simulation_output")
+    sm = sub.add_parser("simulate", help="vehicle dynamics: wheelset, bogie or vehicle on a "
+                        "track (several scenarios: one Dask batch)")
+    sm.add_argument("scenario", nargs="+")
+    sm.add_argument("--out", default="simulation_output",
+                    help="output folder (one sub-folder per scenario for a batch)")
+    sm.add_argument("--scheduler", default="processes",
+                    help="batch: processes, threads, synchronous or tcp://host:port")
     sm.set_defaults(func=cmd_simulate)
     pr = sub.add_parser("profile", help="plot or export a built-in or file profile")
     pr.add_argument("action", choices=["plot", "export"])

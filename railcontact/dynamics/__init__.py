@@ -1,8 +1,27 @@
-"""Dynamics layer: vehicle models running on the track with the contact models.
+"""Dynamics layer: vehicle models running on a track with the contact models online.
 
-So far: a single wheelset on tangent track (:mod:`railcontact.dynamics.wheelset`).
+- :mod:`~railcontact.dynamics.vehicle`: wheelset, bogie and full-vehicle models in
+  track-following coordinates (Manchester benchmark vehicle preset), compiled
+  right-hand side;
+- :mod:`~railcontact.dynamics.route`: track design geometry (tangent, clothoid,
+  curve, cant) and irregularities (ORE B176 spectra or a file);
+- :mod:`~railcontact.dynamics.wheel_rail`: per-patch contact table from the geometry
+  layer and the creep-force laws evaluated online;
+- :mod:`~railcontact.dynamics.simulation`: time integration, linear stability
+  (eigenvalues), Dask batches;
+- :mod:`~railcontact.dynamics.wheelset`: the classical two-degree-of-freedom
+  wheelset with tabulated geometry (verification of Klingel's wavelength).
 """
 
-from .wheelset import WheelsetModel, critical_speed, linear_matrix, simulate, wavelength
+from .route import Irregularities, Route, erri_psd
+from .simulation import amplitude_growth, critical_speed, simulate_batch, simulate_vehicle, \
+    state_matrix
+from .vehicle import MANCHESTER, Body, Element, VehicleModel
+from .wheel_rail import WheelRailTable
+from .wheelset import WheelsetModel, linear_matrix, simulate, wavelength
+from .wheelset import critical_speed as wheelset_critical_speed
 
-__all__ = ["WheelsetModel", "simulate", "wavelength", "linear_matrix", "critical_speed"]
+__all__ = ["WheelsetModel", "simulate", "wavelength", "linear_matrix",
+           "wheelset_critical_speed", "VehicleModel", "Body", "Element", "MANCHESTER",
+           "Route", "Irregularities", "erri_psd", "WheelRailTable", "simulate_vehicle",
+           "simulate_batch", "state_matrix", "critical_speed", "amplitude_growth"]

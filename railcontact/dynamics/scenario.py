@@ -1,100 +1,242 @@
-"""``railcontact simulate``: scenario files for the dynamics layer (single wheelset)."""
+"""``railcontact simulate``: scenario files for the dynamics layer (see docs/dynamics.md)."""
 
 from __future__ import annotations
 
 import math
 from pathlib import Path
 
-import numpy as np
 
 from ..case import case_from_dict, read_toml
-from ..errors import CaseFileError
-from .wheelset import WheelsetModel, critical_speed, simulate
+from ..errors import CaseFileError, InputError
+from .route import Irregularities, Route
+from .vehicle import MANCHESTER, VehicleModel
 
-_VEHICLE = {"model", "mass", "yaw_inertia", "k_y", "k_psi", "wheel_load"}
-_SIM = {"velocity", "duration", "initial_lateral_shift", "initial_yaw", "sample_rate",
-        "table_range", "table_step"}
+_VEHICLE = {"model", "preset", "parameters", "mass", "yaw_inertia", "k_y", "k_psi",
+            "wheel_load"}
+_SIM = {"velocity", "duration", "initial_lateral_shift", "sample_rate", "table_range",
+        "table_step", "tangential", "tangential_options", "fastsim_grid", "rtol",
+        "history_wheelset"}
+_IRR = {"spectrum", "seed", "wavelengths", "step", "file"}
 
 
-def write_history(ds, path, wheel_load: float):
-    """Write a run as a time history in the format of ``wear.history``
-    (see docs/wear.md): time, lateral_shift, yaw, wheel loads, velocity."""
+def _num(sec, name, key, default, lo, hi):
+    v = sec.get(key, default)
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not lo <= v <= hi:
+        raise CaseFileError(f"{name}.{key} = {v!r}: expected a value in [{lo:g}, {hi:g}]")
+    return float(v)
+
+
+def write_history(ds, path, wheelset: int = 1):
+    """Write one wheelset of a run as a time history in the format of
+    ``wear.history`` (docs/wear.md): time, lateral_shift (relative to the rails),
+    yaw, the wheel loads and the velocity."""
     path = Path(path)
     v = float(ds.attrs["velocity_m_s"])
+    w = ds.sel(wheelset=wheelset)
     rows = ["time,lateral_shift,yaw,vertical_force_left,vertical_force_right,velocity"]
-    for t, y, psi in zip(ds["time"].values, ds["lateral_displacement"].values,
-                         ds["yaw"].values):
-        rows.append(f"{t:.6g},{y:.9g},{psi:.9g},{wheel_load:.6g},{wheel_load:.6g},{v:.6g}")
+    for t, y, psi, ql, qr in zip(ds["time"].values, w["relative_shift"].values,
+                                 w["yaw"].values, w["load_left"].values, w["load_right"].values):
+        rows.append(f"{t:.6g},{y:.9g},{psi:.9g},{ql:.6g},{qr:.6g},{v:.6g}")
     tmp = path.with_name(path.name + ".tmp")
     tmp.write_text("\n".join(rows) + "\n")
     tmp.replace(path)
     return path
 
 
-def run_scenario(path, out=None):
-    """Run a dynamics scenario; returns the dataset (written to ``out/simulation.nc``)."""
+def vehicle_from_section(veh: dict) -> VehicleModel:
+    """The ``[vehicle]`` table: model, preset and parameter overrides."""
+    bad = set(veh) - _VEHICLE
+    if bad:
+        raise CaseFileError(f"unknown key(s) vehicle.{sorted(bad)}; expected {sorted(_VEHICLE)}")
+    model = veh.get("model", "vehicle")
+    if model not in ("wheelset", "bogie", "vehicle"):
+        raise CaseFileError(f"vehicle.model = {model!r}: expected 'wheelset', 'bogie' or "
+                            "'vehicle'")
+    preset = veh.get("preset", "manchester")
+    if preset != "manchester":
+        raise CaseFileError(f"vehicle.preset = {preset!r}: expected 'manchester'")
+    params = veh.get("parameters", {})
+    if not isinstance(params, dict):
+        raise CaseFileError("vehicle.parameters: expected a table of parameter = value")
+    unknown = set(params) - set(MANCHESTER)
+    if unknown:
+        raise CaseFileError(f"unknown vehicle.parameters {sorted(unknown)}; expected some of "
+                            f"{sorted(MANCHESTER)}")
+    legacy = {"mass", "yaw_inertia", "k_y", "k_psi", "wheel_load"} & set(veh)
+    try:
+        if model == "wheelset" and legacy:
+            return VehicleModel.single_wheelset(
+                _num(veh, "vehicle", "mass", 1813.0, 1.0, 1e6),
+                _num(veh, "vehicle", "yaw_inertia", 1120.0, 1e-3, 1e6),
+                _num(veh, "vehicle", "k_y", 0.0, 0.0, 1e10),
+                _num(veh, "vehicle", "k_psi", 0.0, 0.0, 1e10),
+                wheel_load=_num(veh, "vehicle", "wheel_load", 75e3, 1.0, 1e7))
+        if legacy:
+            raise CaseFileError(f"vehicle keys {sorted(legacy)} belong to model = 'wheelset'; "
+                                "give the others under [vehicle.parameters]")
+        return VehicleModel.from_parameters(model, params)
+    except InputError as exc:
+        if isinstance(exc, CaseFileError):
+            raise
+        raise CaseFileError(str(exc)) from None
+
+
+def route_from_section(route: dict, base_dir: Path, length: float) -> Route:
+    """The ``[route]`` table: ``[[route.segment]]`` and ``[route.irregularities]``."""
+    bad = set(route) - {"segment", "irregularities"}
+    if bad:
+        raise CaseFileError(f"unknown key(s) route.{sorted(bad)}; expected segment, "
+                            "irregularities")
+    segs = route.get("segment", [{"type": "tangent", "length": max(length, 1.0)}])
+    irr = route.get("irregularities")
+    irregularities = None
+    if irr is not None:
+        bad = set(irr) - _IRR
+        if bad:
+            raise CaseFileError(f"unknown key(s) route.irregularities.{sorted(bad)}; expected "
+                                f"{sorted(_IRR)}")
+        if "file" in irr:
+            irregularities = Irregularities.from_file(Path(base_dir) / str(irr["file"]))
+        else:
+            wl = irr.get("wavelengths", [3.0, 120.0])
+            if not (isinstance(wl, list) and len(wl) == 2):
+                raise CaseFileError(f"route.irregularities.wavelengths = {wl!r}: expected "
+                                    "[shortest, longest] in m")
+            seed = irr.get("seed", 0)
+            if isinstance(seed, bool) or not isinstance(seed, int):
+                raise CaseFileError(f"route.irregularities.seed = {seed!r}: expected an integer")
+            try:
+                irregularities = Irregularities.from_psd(
+                    length, str(irr.get("spectrum", "ERRI-low")), seed, wl,
+                    _num(irr, "route.irregularities", "step", 0.25, 0.01, 5.0))
+            except InputError as exc:
+                raise CaseFileError(str(exc)) from None
+    try:
+        return Route.from_segments(segs, irregularities)
+    except CaseFileError:
+        raise
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
+
+
+def load_simulation(path):
+    """Parse and validate a scenario file; returns a dict with the model, route,
+    profiles and settings (nothing is computed yet)."""
     path = Path(path)
     raw = read_toml(path, "dynamics scenario")
     veh = raw.pop("vehicle", {})
     sim = raw.pop("simulation", {})
-    for sec, allowed, name in ((veh, _VEHICLE, "vehicle"), (sim, _SIM, "simulation")):
-        bad = set(sec) - allowed
-        if bad:
-            raise CaseFileError(f"unknown key(s) {name}.{sorted(bad)}; expected {sorted(allowed)}")
-    if veh.get("model", "wheelset") != "wheelset":
-        raise CaseFileError(f"vehicle.model = {veh.get('model')!r}: only 'wheelset' is available")
-
-    def num(sec, name, key, default, lo, hi):
-        v = sec.get(key, default)
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or not lo <= v <= hi:
-            raise CaseFileError(f"{name}.{key} = {v!r}: expected a value in [{lo:g}, {hi:g}]")
-        return float(v)
-
-    load = num(veh, "vehicle", "wheel_load", 75e3, 1.0, 1e7)
-    raw.setdefault("wheelset", {})["vertical_force"] = load
+    route = raw.pop("route", {})
+    bad = set(sim) - _SIM
+    if bad:
+        raise CaseFileError(f"unknown key(s) simulation.{sorted(bad)}; expected {sorted(_SIM)}")
+    model = vehicle_from_section(veh)
+    v = _num(sim, "simulation", "velocity", 30.0, 0.1, 200.0)
+    duration = _num(sim, "simulation", "duration", 5.0, 1e-3, 1e5)
+    vehicle_length = max(b.x for b in model.bodies) - min(b.x for b in model.bodies)
+    rt = route_from_section(route, path.parent, v * duration + vehicle_length + 10.0)
+    tang = sim.get("tangential", "fastsim")
+    from ..tangential import tangential_models
+    from .wheel_rail import COMPILED_LAWS
+    if tang not in COMPILED_LAWS and tang not in tangential_models():
+        raise CaseFileError(f"simulation.tangential = {tang!r}: expected one of "
+                            f"{sorted(set(COMPILED_LAWS) | set(tangential_models()))}")
+    grid = sim.get("fastsim_grid", [12, 12])
+    if not (isinstance(grid, list) and len(grid) == 2 and all(isinstance(g, int) for g in grid)):
+        raise CaseFileError(f"simulation.fastsim_grid = {grid!r}: expected [nx, ny] integers")
+    hw = sim.get("history_wheelset", 1)
+    if isinstance(hw, bool) or not isinstance(hw, int) or not 1 <= hw <= len(model.wheelsets):
+        raise CaseFileError(f"simulation.history_wheelset = {hw!r}: expected 1 to "
+                            f"{len(model.wheelsets)}")
     case = case_from_dict(raw, path.parent)
-    from ..geometry import contact_table
+    return {"path": path, "title": str(raw.get("title", "")), "case": case, "model": model,
+            "route": rt, "velocity": v, "duration": duration, "tangential": tang,
+            "tangential_options": sim.get("tangential_options", {}), "fastsim_grid": grid,
+            "initial_lateral_shift": _num(sim, "simulation", "initial_lateral_shift", 0.0,
+                                          -0.015, 0.015),
+            "sample_rate": _num(sim, "simulation", "sample_rate", 100.0, 1.0, 1e5),
+            "table_range": _num(sim, "simulation", "table_range", 0.012, 1e-3, 0.03),
+            "table_step": _num(sim, "simulation", "table_step", 2e-4, 1e-5, 1e-3),
+            "rtol": _num(sim, "simulation", "rtol", 1e-6, 1e-12, 1e-2),
+            "history_wheelset": hw}
+
+
+def build_table(sc, progress: bool = False):
+    """Contact table of a parsed scenario at the static wheel load of its first
+    wheelset."""
     from ..solve import build_wheelset_track
-    ws, tr = build_wheelset_track(case)
-    rng = num(sim, "simulation", "table_range", 0.008, 1e-3, 0.02)
-    step = num(sim, "simulation", "table_step", 2.5e-4, 1e-5, 1e-3)
-    table = contact_table(ws, tr, np.arange(-rng, rng + 0.5 * step, step), vertical_force=load,
-                          material=case.material, progress=True)
-    model = WheelsetModel.from_table(
-        table, case.material,
-        mass=num(veh, "vehicle", "mass", 1813.0, 1.0, 1e6),
-        yaw_inertia=num(veh, "vehicle", "yaw_inertia", 1120.0, 1e-3, 1e6),
-        k_y=num(veh, "vehicle", "k_y", 0.0, 0.0, 1e10),
-        k_psi=num(veh, "vehicle", "k_psi", 0.0, 0.0, 1e10))
-    v = num(sim, "simulation", "velocity", 30.0, 0.1, 200.0)
-    ds = simulate(model, v, num(sim, "simulation", "duration", 5.0, 1e-3, 1e5),
-                  y0=num(sim, "simulation", "initial_lateral_shift", 3e-3, -0.02, 0.02),
-                  psi0=num(sim, "simulation", "initial_yaw", 0.0, -0.1, 0.1),
-                  sample_rate=num(sim, "simulation", "sample_rate", 200.0, 1.0, 1e5))
+    from .vehicle import G_ACC
+    from .wheel_rail import WheelRailTable
+    ws, tr = build_wheelset_track(sc["case"])
+    load = sc["model"].wheelsets[0][1] * G_ACC / 2
+    return WheelRailTable.build(ws, tr, load, sc["case"].material, sc["table_range"],
+                                sc["table_step"], progress=progress)
+
+
+def run_scenario(path, out=None, progress: bool = True):
+    """Run a dynamics scenario; returns the dataset (written to ``out/simulation.nc``
+    with ``simulation.png`` and ``history.csv`` when ``out`` is given)."""
+    from .simulation import critical_speed, simulate_vehicle
+    sc = load_simulation(path)
+    table = build_table(sc, progress)
+    case = sc["case"]
+    ds = simulate_vehicle(sc["model"], sc["route"], table, sc["velocity"], sc["duration"],
+                          sc["tangential"], case.friction, case.material,
+                          sc["initial_lateral_shift"], sc["sample_rate"], sc["rtol"], progress,
+                          sc["tangential_options"], sc["fastsim_grid"])
     try:
-        ds.attrs["critical_speed_m_s"] = critical_speed(model)
-    except Exception:                                   # not a bounded crossing
-        ds.attrs["critical_speed_m_s"] = math.nan
-    ds.attrs.update(title=str(raw.get("title", "")), f11_N=model.f11, f22_N=model.f22)
+        vc = critical_speed(sc["model"], table, material=case.material)
+    except (InputError, ValueError):           # no crossing in the bracket
+        vc = math.nan
+    ds.attrs.update(title=sc["title"], critical_speed_m_s=vc,
+                    route_segments=str(sc["route"].segments),
+                    irregularities=sc["route"].irregularities.source)
     if out is not None:
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
         tmp = out / "simulation.nc.tmp"
         ds.to_netcdf(tmp, engine="h5netcdf")
         tmp.replace(out / "simulation.nc")
-        write_history(ds, out / "history.csv", load)
-        import matplotlib
-        matplotlib.use("Agg")
-        import matplotlib.pyplot as plt
-        fig, axes = plt.subplots(2, 1, figsize=(9, 5), sharex=True)
-        axes[0].plot(ds["distance"], ds["lateral_displacement"] * 1e3)
-        axes[0].set_ylabel("y [mm]")
-        axes[1].plot(ds["distance"], ds["yaw"] * 1e3)
-        axes[1].set_ylabel("yaw [mrad]")
-        axes[1].set_xlabel("distance [m]")
-        fig.suptitle(f"single wheelset at {v:g} m/s (linear critical speed "
-                     f"{ds.attrs['critical_speed_m_s']:.1f} m/s)")
-        fig.tight_layout()
-        fig.savefig(out / "simulation.png", dpi=110)
-        plt.close(fig)
+        write_history(ds, out / "history.csv", sc["history_wheelset"])
+        plot_simulation(ds, out / "simulation.png")
     return ds
+
+
+def plot_simulation(ds, path):
+    """Lateral displacement, wheel lateral forces and contact positions along the track."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    x = ds["distance"].values
+    fig, axes = plt.subplots(4, 1, figsize=(10, 9), sharex=True)
+    for w in ds["wheelset"].values:
+        c = f"C{(w - 1) % 10}"
+        axes[0].plot(x, ds["lateral_displacement"].sel(wheelset=w) * 1e3, color=c,
+                     label=f"wheelset {w}")
+        for side, ls in (("left", "-"), ("right", "--")):
+            axes[1].plot(x, ds["Y"].sel(wheelset=w, side=side) / 1e3, ls, color=c, lw=0.8,
+                         label=f"{w} {side}")
+    axes[0].set_ylabel("y [mm]")
+    axes[0].legend(fontsize=7, ncol=4)
+    axes[1].set_ylabel("Y [kN]")
+    axes[1].legend(fontsize=6, ncol=4)
+    w1 = ds.sel(wheelset=1)
+    for side, c in (("left", "C0"), ("right", "C1")):
+        for patch, mk in (("tread", "."), ("flange", "x")):
+            axes[2].plot(x, w1["y_rail"].sel(side=side, patch=patch) * 1e3, mk, color=c, ms=2,
+                         label=f"{side} {patch}")
+    axes[2].set_ylabel("contact on rail,\nwheelset 1 [mm]")
+    axes[2].legend(fontsize=7, ncol=4)
+    axes[3].plot(x, ds["curvature"] * 1e3, color="C0")
+    axes[3].set_ylabel("curvature [1/km]", color="C0")
+    ax2 = axes[3].twinx()
+    ax2.plot(x, ds["cant"] * 1e3, color="C1")
+    ax2.set_ylabel("cant [mrad]", color="C1")
+    axes[3].set_xlabel("distance of wheelset 1 [m]")
+    fig.suptitle(f"{ds.attrs['model']} at {ds.attrs['velocity_m_s']:g} m/s, "
+                 f"{ds.attrs['tangential']}")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
+

@@ -122,6 +122,66 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgr
     return fx, fy, mz
 
 
+@njit(cache=True, nogil=True)
+def fastsim_ellipse(a, b, fn, mu, G, C11, C22, C23, xi, eta, phi, nx, ny):
+    """Forces only, for online use (vehicle dynamics): FASTSIM with blended
+    flexibilities and the Hertzian traction bound on an ellipse with semi-axes a
+    (rolling), b [m], ``ny`` strips of ``nx`` elements.
+
+    Returns (F_x, F_y, M_z) on the wheel [N, N, N m], as :class:`FastsimModel`
+    (same flexibilities and march, without grid fields).
+    """
+    if fn <= 0.0 or a <= 0.0 or b <= 0.0:
+        return 0.0, 0.0, 0.0
+    L1 = 8.0 * a / (3.0 * C11 * G)
+    L2 = 8.0 * a / (3.0 * C22 * G)
+    L3 = math.pi * a * math.sqrt(a / b) / (4.0 * G * C23)
+    if mu > 0.0:
+        c2 = a * b
+        f = math.hypot(xi * c2 * G * C11, eta * c2 * G * C22) / (mu * fn)
+        w = min(1.0, f / 3.0)
+        ps = phi * (math.pi * a * a / 4.0) / (8.0 * a / 3.0)
+        den = xi * xi / L1 + eta * eta / L2 + ps * ps / L3
+        Lc = (xi * xi + eta * eta + ps * ps) / den if den > 0.0 else L1
+        L1, L2, L3 = (1 - w) * L1 + w * Lc, (1 - w) * L2 + w * Lc, (1 - w) * L3 + w * Lc
+    p0 = 1.5 * fn / (math.pi * a * b)
+    dy = 2.0 * b / ny
+    fx = 0.0
+    fy = 0.0
+    mz = 0.0
+    for j in range(ny):
+        y = -b + (j + 0.5) * dy
+        half = a * math.sqrt(max(0.0, 1.0 - (y / b) ** 2))
+        if half <= 0.0:
+            continue
+        dx = 2.0 * half / nx
+        ux = xi / L1 - phi * y / L3
+        px = 0.0
+        py = 0.0
+        prev = half
+        for k in range(nx):
+            xm = half - (k + 0.5) * dx
+            step = prev - xm
+            hx = px - step * ux
+            hy = py - step * (eta / L2 + phi * 0.5 * (prev + xm) / L3)
+            g = mu * p0 * math.sqrt(max(0.0, 1.0 - (xm / a) ** 2 - (y / b) ** 2))
+            mag = math.sqrt(hx * hx + hy * hy)
+            if mag > g:
+                sc = g / mag if mag > 0.0 else 0.0
+                px = hx * sc
+                py = hy * sc
+            else:
+                px = hx
+                py = hy
+            da = dx * dy
+            fx += px * da
+            fy += py * da
+            mz += (xm * py - y * px) * da
+            prev = xm
+    # the tractions above are those on the rail; the wheel gets the opposite
+    return -fx, -fy, -mz
+
+
 def equivalent_ellipse(normal) -> tuple:
     """Semi-axes (a, b) [m] of the ellipse equivalent to a patch.
 

@@ -33,6 +33,7 @@ import math
 import time
 
 import numpy as np
+from numba import njit
 
 from ..errors import InputError
 from ..materials import STEEL, Material
@@ -51,6 +52,15 @@ def polach_forces(Q, mu, a, b, G, nu, sx, sy, psi, kA=1.0, kS=1.0):
     if Q <= 0 or a <= 0 or b <= 0:
         return 0.0, 0.0
     C11, C22, C23 = kalker_coefficients(a / b, nu)
+    return polach_kernel(Q, mu, a, b, G, C11, C22, C23, sx, sy, psi, kA, kS)
+
+
+@njit(cache=True, nogil=True)
+def polach_kernel(Q, mu, a, b, G, C11, C22, C23, sx, sy, psi, kA, kS):
+    """:func:`polach_forces` with the creep coefficients given (compiled, for online
+    use in the dynamics layer)."""
+    if Q <= 0.0 or a <= 0.0 or b <= 0.0:
+        return 0.0, 0.0
     syc = sy + psi * a if abs(sy + psi * a) > abs(sy) else sy
     sC = math.hypot(sx, syc)
     s = math.hypot(sx, sy)

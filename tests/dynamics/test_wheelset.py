@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.dynamics import WheelsetModel, critical_speed, simulate, wavelength
+from railcontact.dynamics.wheelset import WheelsetModel, critical_speed, simulate, wavelength
 from railcontact.errors import InputError
 
 
@@ -54,24 +54,3 @@ def test_bad_input():
         WheelsetModel(mass=-1.0, table_y=np.linspace(-1, 1, 3), table_dr=np.zeros(3))
     with pytest.raises(InputError):
         simulate(WheelsetModel.conical(0.1), -1.0, 1.0)
-
-
-def test_simulation_history_feeds_wear(tmp_path):
-    """A recorded simulation drives the wear loop end to end (short track)."""
-    from pathlib import Path
-
-    from railcontact.dynamics.scenario import run_scenario
-    from railcontact.wear import WearSimulation, scenario_from_dict
-    ex = Path(__file__).resolve().parents[2] / "examples" / "dynamics_demo.toml"
-    run_scenario(ex, tmp_path)
-    hist = tmp_path / "history.csv"
-    assert hist.is_file()
-    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-           "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [20, 20]},
-           "wear": {"law": "frictional-power", "steps": 1, "history": "history.csv",
-                    "history_stride": 120}}
-    sc = scenario_from_dict(raw, tmp_path)
-    assert len(sc.conditions) == 6
-    (tmp_path / "wear").mkdir()
-    ds = WearSimulation(sc, tmp_path / "wear", progress=False).run(resume=False)
-    assert float(ds["wear_depth_wheel_right"].max()) == pytest.approx(1e-4, rel=0.02)

@@ -1,0 +1,324 @@
+"""Time integration of a vehicle model on a route, linear stability analysis, and
+batches of runs on Dask."""
+
+from __future__ import annotations
+
+import logging
+import math
+import time
+
+import numpy as np
+from scipy.integrate import solve_ivp
+from scipy.optimize import brentq
+from tqdm.auto import tqdm
+
+from ..errors import InputError, RailContactError
+from ..materials import STEEL, Material
+from .route import Route
+from .vehicle import NORMAL_PASSES, PIN, POUT, VehicleModel, rhs_core
+from .wheel_rail import COMPILED_LAWS, WheelRailTable, python_patch_forces
+
+log = logging.getLogger(__name__)
+
+
+class _System:
+    """A vehicle on a route at speed V with a tangential law: the right-hand side."""
+
+    def __init__(self, model: VehicleModel, route: Route, table: WheelRailTable,
+                 velocity: float, tangential: str = "fastsim", friction: float = 0.3,
+                 material: Material = STEEL, tangential_options: dict | None = None,
+                 fastsim_grid=(12, 12), polach_preset: str | None = None):
+        if not (isinstance(velocity, (int, float)) and math.isfinite(velocity)
+                and 0.1 <= velocity <= 200):
+            raise InputError(f"simulation velocity {velocity!r} m/s: expected 0.1 to 200 m/s")
+        if not (math.isfinite(friction) and 0 < friction <= 2):
+            raise InputError(f"friction coefficient {friction!r}: expected a value in (0, 2]")
+        self.model, self.route, self.table = model, route, table
+        self.V = float(velocity)
+        self.bodies, self.elems, self.bx, self.bf, self.wsets = model.packed()
+        self.track = route.packed()
+        self.s0 = -min(b.x for b in model.bodies)
+        nw = len(model.wheelsets)
+        self.pin = np.zeros((nw, 2, 2, len(PIN)))
+        self.pout = np.zeros((nw, 2, 2, len(POUT)))
+        self.wout = np.zeros((nw, 4))
+        self.fext = np.zeros((nw, 2, 2, 4))
+        self.tangential = tangential
+        opts = dict(tangential_options or {})
+        mu = friction
+        kA = kS = 1.0
+        fall = (1.0, 0.0)
+        if tangential == "polach" and (polach_preset or opts.get("preset")):
+            from ..tangential.polach import PRESETS
+            name = polach_preset or opts.get("preset")
+            if name not in PRESETS:
+                raise InputError(f"polach preset {name!r}: expected one of {sorted(PRESETS)}")
+            kA, kS, mu, A, B = PRESETS[name]
+            fall = (A, B)
+        nx, ny = (int(v) for v in fastsim_grid)
+        if not (2 <= nx <= 200 and 2 <= ny <= 200):
+            raise InputError(f"fastsim grid {fastsim_grid!r}: expected two integers in [2, 200]")
+        self.tp = np.array([mu, material.shear_modulus, nx, ny, kA, kS, fall[0], fall[1]])
+        if tangential in COMPILED_LAWS:
+            self.law, self.py_model = COMPILED_LAWS[tangential], None
+        else:
+            from ..tangential import get_tangential_model
+            self.law = -1
+            self.py_model = get_tangential_model(tangential, **opts)
+        self.material, self.friction = material, mu
+        self.calls = 0
+
+    def rhs(self, t, u):
+        self.calls += 1
+        args = (self.V, self.s0, self.bodies, self.elems, self.bx, self.bf, self.wsets,
+                *self.track, self.table.shift, self.table.data, self.table.reference_load,
+                self.table.nominal_radius)
+        if self.law >= 0:
+            return rhs_core(t, u, *args, self.law, self.tp, 0, self.fext, self.pin, self.pout,
+                            self.wout)
+        self.fext[:] = 0.0
+        rhs_core(t, u, *args, 0, self.tp, 1, self.fext, self.pin, self.pout, self.wout)
+        for idx in np.ndindex(self.pin.shape[:3]):
+            p = self.pin[idx]
+            N = p[0]
+            if N <= 0:
+                continue
+            f = python_patch_forces(self.py_model, self.material, self.friction, N, p[11],
+                                    p[12], p[6], p[7], p[8], p[14], (20, 20))
+            sd, cd = math.sin(p[9]), math.cos(p[9])
+            for _ in range(NORMAL_PASSES if abs(sd) >= 0.05 else 0):
+                N = max(p[0] + f[1] * sd / cd, 0.0)   # N cos d - Fy sin d = table share
+                f = python_patch_forces(self.py_model, self.material, self.friction, N, p[11],
+                                        p[12], p[6], p[7], p[8], p[14], (20, 20))
+            self.fext[idx] = (*f, N)
+        return rhs_core(t, u, *args, 0, self.tp, 1, self.fext, self.pin, self.pout, self.wout)
+
+    def active(self) -> np.ndarray:
+        """Indices of the states that are degrees of freedom (roll only where given)."""
+        nb = len(self.model.bodies)
+        act = [3 * b + k for b in range(nb) for k in range(3)
+               if k < 2 or self.model.bodies[b].roll]
+        nd = 3 * nb
+        return np.array(act + [nd + i for i in act])
+
+
+def simulate_vehicle(model: VehicleModel, route: Route, table: WheelRailTable,
+                     velocity: float, duration: float, tangential: str = "fastsim",
+                     friction: float = 0.3, material: Material = STEEL,
+                     initial_lateral_shift: float = 0.0, sample_rate: float = 100.0,
+                     rtol: float = 1e-6, progress: bool = False,
+                     tangential_options: dict | None = None, fastsim_grid=(12, 12),
+                     max_step: float | None = None):
+    """Run ``model`` over ``route`` at constant ``velocity`` [m/s] for ``duration`` [s].
+
+    The stiff-capable LSODA integrator (switching between Adams and BDF) steps the
+    compiled right-hand side; results are sampled at ``sample_rate`` [Hz].
+
+    Parameters
+    ----------
+    tangential : str
+        ``"linear"``, ``"fastsim"``, ``"polach"`` (compiled) or any registered
+        tangential model (Python, slow).
+    initial_lateral_shift : float
+        Lateral displacement [m] of every wheelset at t = 0 (a perturbation).
+
+    Returns
+    -------
+    xarray.Dataset
+        See :func:`_dataset` and docs/dynamics.md.
+    """
+    if not (isinstance(duration, (int, float)) and 0 < duration <= 1e5):
+        raise InputError(f"simulation duration {duration!r} s: expected a value in (0, 1e5]")
+    if not (isinstance(sample_rate, (int, float)) and 0 < sample_rate <= 1e5):
+        raise InputError(f"simulation sample_rate {sample_rate!r} Hz: expected (0, 1e5]")
+    if not (isinstance(initial_lateral_shift, (int, float)) and abs(initial_lateral_shift) < 0.02):
+        raise InputError(f"initial_lateral_shift {initial_lateral_shift!r} m: expected |y| < 0.02")
+    sysm = _System(model, route, table, velocity, tangential, friction, material,
+                   tangential_options, fastsim_grid)
+    nb = len(model.bodies)
+    u0 = np.zeros(6 * nb)
+    for w in model.wheelsets:
+        u0[3 * w[0]] = initial_lateral_shift
+    t_eval = np.arange(0.0, duration + 0.5 / sample_rate, 1.0 / sample_rate)
+    t_eval = t_eval[t_eval <= duration]
+    bar = tqdm(total=round(duration, 3), unit="s", desc=f"simulate {model.name}",
+               disable=not progress, bar_format="{l_bar}{bar}| {n:.2f}/{total:.2f} s "
+                                                 "[{elapsed}<{remaining}]")
+    state = {"shown": 0.0}
+
+    def f(t, u):
+        if progress and t - state["shown"] > 0.01 * duration:
+            bar.update(round(t - state["shown"], 3))
+            state["shown"] = t
+        return sysm.rhs(t, u)
+
+    wall = time.perf_counter()
+    try:
+        sol = solve_ivp(f, (0.0, duration), u0, method="LSODA", t_eval=t_eval, rtol=rtol,
+                        atol=1e-9, max_step=max_step or np.inf)
+    finally:
+        bar.update(max(round(duration - state["shown"], 3), 0))
+        bar.close()
+    wall = time.perf_counter() - wall
+    if not sol.success:
+        raise RailContactError(f"simulation failed at t = {sol.t[-1]:.4g} s: {sol.message}")
+    return _dataset(sysm, sol.t, sol.y, wall)
+
+
+def _dataset(sysm: _System, t, Y, wall):
+    import xarray as xr
+    model = sysm.model
+    nt = t.size
+    nw = len(model.wheelsets)
+    pin = np.zeros((nt,) + sysm.pin.shape)
+    pout = np.zeros((nt,) + sysm.pout.shape)
+    wout = np.zeros((nt,) + sysm.wout.shape)
+    for i in range(nt):
+        sysm.rhs(t[i], Y[:, i])
+        pin[i], pout[i], wout[i] = sysm.pin, sysm.pout, sysm.wout
+    nb = len(model.bodies)
+    q = Y[:3 * nb].reshape(nb, 3, nt)
+    wi = [w[0] for w in model.wheelsets]
+    V = sysm.V
+    s_first = sysm.s0 + V * t + model.bodies[wi[0]].x
+    kap, cant = sysm.route.at(s_first)
+    dims_p = ("time", "wheelset", "side", "patch")
+    dims_w = ("time", "wheelset", "side")
+    Q = pout[..., 4].sum(axis=3)
+    Yf = pout[..., 3].sum(axis=3)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        YQ = np.where(Q > 0, Yf / Q, np.nan)
+    data = {
+        "body_lateral_displacement": (("time", "body"), q[:, 0].T, {"units": "m"}),
+        "body_yaw": (("time", "body"), q[:, 1].T, {"units": "rad"}),
+        "body_roll": (("time", "body"), q[:, 2].T, {"units": "rad"}),
+        "lateral_displacement": (("time", "wheelset"), q[wi, 0].T,
+                                 {"units": "m", "long_name": "wheelset lateral displacement "
+                                  "relative to the design track"}),
+        "yaw": (("time", "wheelset"), q[wi, 1].T,
+                {"units": "rad", "long_name": "wheelset yaw relative to the track tangent"}),
+        "relative_shift": (("time", "wheelset"), wout[..., 0],
+                           {"units": "m", "long_name": "wheelset shift relative to the rails"}),
+        "load_left": (("time", "wheelset"), wout[..., 2], {"units": "N"}),
+        "load_right": (("time", "wheelset"), wout[..., 3], {"units": "N"}),
+        "normal_force": (dims_w, pin[..., 0].sum(axis=3), {"units": "N"}),
+        "longitudinal_force": (dims_w, pout[..., 0].sum(axis=3),
+                               {"units": "N", "long_name": "creep force Fx on the wheel"}),
+        "lateral_creep_force": (dims_w, pout[..., 1].sum(axis=3),
+                                {"units": "N", "long_name": "creep force Fy on the wheel, "
+                                 "contact plane"}),
+        "Y": (dims_w, Yf, {"units": "N", "long_name": "lateral force of the rail on the "
+                           "wheel, track plane"}),
+        "Q": (dims_w, Q, {"units": "N", "long_name": "vertical force of the rail on the wheel"}),
+        "Y_over_Q": (dims_w, YQ, {"units": "1"}),
+        "Tgamma": (dims_w, pout[..., 5].sum(axis=3), {"units": "N",
+                                                      "long_name": "wear number T gamma"}),
+        "patch_normal_force": (dims_p, pin[..., 0], {"units": "N"}),
+        "patch_Fx": (dims_p, pout[..., 0], {"units": "N"}),
+        "patch_Fy": (dims_p, pout[..., 1], {"units": "N"}),
+        "patch_Mz": (dims_p, pout[..., 2], {"units": "N m"}),
+        "creepage_longitudinal": (dims_p, pin[..., 6], {"units": "1"}),
+        "creepage_lateral": (dims_p, pin[..., 7], {"units": "1"}),
+        "creepage_spin": (dims_p, pin[..., 8], {"units": "1/m"}),
+        "contact_angle": (dims_p, pin[..., 9], {"units": "rad"}),
+        "y_rail": (dims_p, np.where(pin[..., 0] > 0, pin[..., 13], np.nan),
+                   {"units": "m", "long_name": "contact position on the rail profile"}),
+        "semi_axis_a": (dims_p, pin[..., 1], {"units": "m"}),
+        "semi_axis_b": (dims_p, pin[..., 2], {"units": "m"}),
+        "distance": ("time", s_first, {"units": "m", "long_name": "position of wheelset 1"}),
+        "curvature": ("time", kap, {"units": "1/m"}),
+        "cant": ("time", cant, {"units": "rad"}),
+    }
+    ds = xr.Dataset(data, coords={
+        "time": ("time", t, {"units": "s"}),
+        "body": ("body", [b.name for b in model.bodies]),
+        "wheelset": ("wheelset", np.arange(1, nw + 1)),
+        "side": ("side", ["left", "right"]), "patch": ("patch", ["tread", "flange"])},
+        attrs={"model": model.name, "velocity_m_s": V, "tangential": sysm.tangential,
+               "friction": sysm.friction, "total_mass_kg": model.total_mass,
+               "rhs_calls": sysm.calls, "wall_time_s": wall,
+               "outside_table": int(wout[..., 1].max() > 0) if nt else 0})
+    if ds.attrs["outside_table"]:
+        log.warning("a wheelset left the contact table's range: the contact was clamped to "
+                    "the table's edge; build the table with a larger range")
+    return ds
+
+
+# --------------------------------------------------------------- linear stability
+def state_matrix(model: VehicleModel, table: WheelRailTable, velocity: float,
+                 tangential: str = "linear", material: Material = STEEL,
+                 step: float = 1e-7) -> np.ndarray:
+    """State matrix of the model on tangent track about the centred position, by
+    central differences of the compiled right-hand side (exact for the ``linear``
+    law on a table that is linear in the shift), reduced to the degrees of freedom."""
+    sysm = _System(model, Route.tangent(), table, velocity, tangential, 0.3, material)
+    act = sysm.active()
+    n = 6 * len(model.bodies)
+    u0 = np.zeros(n)
+    J = np.empty((act.size, act.size))
+    for c, i in enumerate(act):
+        du = np.zeros(n)
+        du[i] = step
+        J[:, c] = (sysm.rhs(0.0, u0 + du)[act] - sysm.rhs(0.0, u0 - du)[act]) / (2 * step)
+    return J
+
+
+def critical_speed(model: VehicleModel, table: WheelRailTable, v_min: float = 1.0,
+                   v_max: float = 200.0, material: Material = STEEL) -> float:
+    """Linear critical speed [m/s]: the speed where the largest real part of the
+    eigenvalues of :func:`state_matrix` crosses zero (linear creep law)."""
+    def growth(v):
+        return float(np.max(np.linalg.eigvals(state_matrix(model, table, v,
+                                                           material=material)).real))
+    if growth(v_min) > 0:
+        raise InputError(f"critical_speed: already unstable at {v_min} m/s")
+    if growth(v_max) < 0:
+        raise InputError(f"critical_speed: stable up to {v_max} m/s")
+    return brentq(growth, v_min, v_max, xtol=1e-4)
+
+
+def amplitude_growth(model: VehicleModel, table: WheelRailTable, velocity: float,
+                     duration: float, y0: float = 1e-4, tangential: str = "linear") -> float:
+    """Ratio of the largest wheelset displacement in the last quarter of a run on
+    tangent track to that in the first quarter (> 1: unstable)."""
+    ds = simulate_vehicle(model, Route.tangent(velocity * duration + 100), table, velocity,
+                          duration, tangential, initial_lateral_shift=y0, sample_rate=200.0,
+                          rtol=1e-8)
+    y = np.abs(ds["lateral_displacement"].values).max(axis=1)
+    n = y.size
+    return float(y[-n // 4:].max() / y[:n // 4].max())
+
+
+# --------------------------------------------------------------- batches
+def _run_one(path, out):
+    from .scenario import run_scenario
+    try:
+        ds = run_scenario(path, out, progress=False)
+        return {"scenario": str(path), "out": str(out), "wall_time_s": ds.attrs["wall_time_s"],
+                "duration_s": float(ds["time"][-1])}
+    except RailContactError as exc:
+        return {"scenario": str(path), "out": str(out), "error": str(exc)}
+
+
+def simulate_batch(scenarios, out_dirs, scheduler: str = "processes", progress: bool = True):
+    """Run several scenario files as one Dask batch (``scheduler``: "processes",
+    "threads", "synchronous", or the address of a ``dask.distributed`` scheduler).
+
+    Returns one summary dict per run (with ``error`` for runs that failed)."""
+    import dask
+    scenarios, out_dirs = list(scenarios), list(out_dirs)
+    if len(scenarios) != len(out_dirs) or not scenarios:
+        raise InputError("simulate_batch: give one output folder per scenario (at least one)")
+    tasks = [dask.delayed(_run_one)(str(s), str(o)) for s, o in zip(scenarios, out_dirs)]
+    if scheduler.startswith("tcp://"):
+        from dask.distributed import Client
+        with Client(scheduler) as client:
+            return list(client.gather(client.compute(tasks)))
+    if scheduler not in ("processes", "threads", "synchronous"):
+        raise InputError(f"scheduler {scheduler!r}: expected 'processes', 'threads', "
+                         "'synchronous' or tcp://host:port")
+    if progress:
+        from dask.diagnostics import ProgressBar
+        with ProgressBar():
+            return list(dask.compute(*tasks, scheduler=scheduler))
+    return list(dask.compute(*tasks, scheduler=scheduler))
