@@ -288,6 +288,60 @@ def bench_tangential_accuracy():
     out("\nDifferences in % of mu Fn (Fx / Fy).")
 
 
+def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
+    """Issue 6: the benchmark vehicle on a curved, irregular track, against real time."""
+    from railcontact.dynamics import Route, VehicleModel, WheelRailTable, simulate_vehicle
+    from railcontact.dynamics.route import Irregularities
+    from railcontact.dynamics.vehicle import G_ACC
+    out("## Vehicle dynamics: Manchester vehicle, 50 m/s, curved irregular track\n")
+    model = VehicleModel.vehicle()
+    t0 = time.perf_counter()
+    table = WheelRailTable.build(Wheelset(s1002()),
+                                 Track(rail_profile("60E1", math.atan(1 / 40))),
+                                 model.wheelsets[0][1] * G_ACC / 2)
+    t_table = time.perf_counter() - t0
+    length = velocity * duration + 40.0
+    route = Route.from_segments(
+        [{"type": "tangent", "length": 300.0}, {"type": "transition", "length": 200.0},
+         {"type": "curve", "radius": 2500.0, "cant": 0.12, "length": length - 500.0}],
+        Irregularities.from_psd(length, "ERRI-low", seed=7))
+    phi = math.asin(0.12 / 1.5)
+    au = velocity ** 2 / 2500.0 * math.cos(phi) - G_ACC * math.sin(phi)
+    simulate_vehicle(model, route, table, velocity, 0.5)        # compile / load the cache
+    simulate_vehicle(model, route, table, velocity, 0.5, integrator="lsoda")
+    rows = []
+    ds = simulate_vehicle(model, route, table, velocity, duration, "fastsim")
+    rows.append(("Hertz table + FASTSIM (compiled, 12x12), rk4", duration, ds))
+    ds_l = simulate_vehicle(model, route, table, velocity, duration, "fastsim",
+                            integrator="lsoda")
+    rows.append(("Hertz table + FASTSIM (compiled, 12x12), LSODA rtol 1e-6", duration, ds_l))
+    ds_p = simulate_vehicle(model, route, table, velocity, duration, "polach")
+    rows.append(("Hertz table + Polach (compiled), rk4", duration, ds_p))
+    ds_e = simulate_vehicle(model, route, table, velocity, exact_duration, "exact")
+    rows.append(("Hertz table + exact tangential (Python, 20x20), LSODA", exact_duration, ds_e))
+    out(f"Contact table (121 shifts, multi-Hertzian search): {t_table:.1f} s, once per "
+        "profile pair.  One core; LSODA with the compiled right-hand side.\n")
+    out("| tangential law | simulated [s] | wall [s] | wall / simulated | RHS calls | "
+        "µs per RHS call |")
+    out("|---|---|---|---|---|---|")
+    for name, dur, d in rows:
+        w = d.attrs["wall_time_s"]
+        out(f"| {name} | {dur:g} | {w:.2f} | {w / dur:.3g} | {d.attrs['rhs_calls']} | "
+            f"{1e6 * w / d.attrs['rhs_calls']:.0f} |")
+    dy = float(abs(ds["lateral_displacement"] - ds_l["lateral_displacement"]).max())
+    dY = float(abs(ds["Y"] - ds_l["Y"]).max())
+    out(f"\nrk4 (step {ds.attrs['step_s'] * 1e3:.2f} ms) against LSODA over the 100 s: "
+        f"wheelset displacements differ by at most {dy * 1e6:.1f} µm, wheel forces Y by "
+        f"{dY:.0f} N (max |Y| {float(abs(ds_l['Y']).max()) / 1e3:.1f} kN).")
+    curve = ds.where(ds["curvature"] > 0.99 / 2500.0, drop=True)
+    ysum = curve["Y"].sum(("wheelset", "side"))
+    out(f"\nIn the curve (FASTSIM run): mean ΣY = {float(ysum.mean()) / 1e3:.2f} kN against "
+        f"M a_u = {model.total_mass * au / 1e3:.2f} kN (irregular track, so the balance "
+        f"holds on average only); max |Y/Q| = {float(abs(ds['Y_over_Q']).max()):.2f}; "
+        f"wheelset 1 mean lateral displacement "
+        f"{float(curve['lateral_displacement'].sel(wheelset=1).mean()) * 1e3:.2f} mm.\n")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -299,6 +353,7 @@ def main():
     bench_sweep_parallel()
     bench_fast_models()
     bench_strips_accuracy()
+    bench_dynamics()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
 
 

@@ -32,6 +32,8 @@ import numpy as np
 
 from ..errors import CaseFileError, InputError
 
+#: length [m] over which a curvature step without a transition is spread
+STEP_RAMP = 1.0
 #: rail-centre distance for converting a cant height into an angle [m]
 CANT_BASE = 1.5
 #: ORE B176 spectra: name -> (A_a [m rad], A_v [m rad])
@@ -165,7 +167,9 @@ class Route:
         "curve"} and ``length`` [m]; curves have ``radius`` [m] (positive to the
         right, negative to the left) and ``cant`` [m] (outer-rail superelevation,
         >= 0).  A transition goes linearly from the previous segment's end values to
-        the next segment's (to straight track if it is the last)."""
+        the next segment's (to straight track if it is the last).  A curve joined
+        without a transition has its curvature and cant step spread over the first
+        ``STEP_RAMP`` (1 m) of the next segment."""
         if not segments:
             raise InputError("route: at least one segment is needed")
         ends = []
@@ -222,10 +226,13 @@ class Route:
                 k.append(kappa)
                 c.append(cant)
         s_arr = np.array(s)
-        # a step (two knots at one s) is kept by nudging the second knot
+        # a step in curvature (two knots at one s) would be a Dirac in the yaw
+        # acceleration of the track tangent: spread it over STEP_RAMP (at most half
+        # the next knot distance)
         for j in range(1, s_arr.size):
             if s_arr[j] <= s_arr[j - 1]:
-                s_arr[j] = s_arr[j - 1] + 1e-6
+                room = s_arr[j + 1] - s_arr[j] if j + 1 < s_arr.size else 2 * STEP_RAMP
+                s_arr[j] = s_arr[j - 1] + min(STEP_RAMP, 0.5 * room)
         return cls(s_arr, np.array(k), np.array(c), irregularities or Irregularities.none(),
                    list(segments))
 

@@ -11,11 +11,11 @@ from ..errors import CaseFileError, InputError
 from .route import Irregularities, Route
 from .vehicle import MANCHESTER, VehicleModel
 
-_VEHICLE = {"model", "preset", "parameters", "mass", "yaw_inertia", "k_y", "k_psi",
+_VEHICLE = {"model", "preset", "parameters", "parameter_file", "mass", "yaw_inertia", "k_y", "k_psi",
             "wheel_load"}
 _SIM = {"velocity", "duration", "initial_lateral_shift", "sample_rate", "table_range",
         "table_step", "tangential", "tangential_options", "fastsim_grid", "rtol",
-        "history_wheelset"}
+        "history_wheelset", "integrator", "step"}
 _IRR = {"spectrum", "seed", "wavelengths", "step", "file"}
 
 
@@ -43,8 +43,9 @@ def write_history(ds, path, wheelset: int = 1):
     return path
 
 
-def vehicle_from_section(veh: dict) -> VehicleModel:
-    """The ``[vehicle]`` table: model, preset and parameter overrides."""
+def vehicle_from_section(veh: dict, base_dir: Path | None = None) -> VehicleModel:
+    """The ``[vehicle]`` table: model, preset, a parameter file and overrides (in
+    that order of precedence, the last winning)."""
     bad = set(veh) - _VEHICLE
     if bad:
         raise CaseFileError(f"unknown key(s) vehicle.{sorted(bad)}; expected {sorted(_VEHICLE)}")
@@ -55,12 +56,19 @@ def vehicle_from_section(veh: dict) -> VehicleModel:
     preset = veh.get("preset", "manchester")
     if preset != "manchester":
         raise CaseFileError(f"vehicle.preset = {preset!r}: expected 'manchester'")
-    params = veh.get("parameters", {})
-    if not isinstance(params, dict):
+    params = {}
+    if "parameter_file" in veh:
+        pf = Path(base_dir or Path.cwd()) / str(veh["parameter_file"])
+        params = read_toml(pf, "vehicle parameter file")
+        if not all(isinstance(v, (int, float, list)) for v in params.values()):
+            raise CaseFileError(f"{pf}: expected a flat table of parameter = value (SI units)")
+    over = veh.get("parameters", {})
+    if not isinstance(over, dict):
         raise CaseFileError("vehicle.parameters: expected a table of parameter = value")
+    params.update(over)
     unknown = set(params) - set(MANCHESTER)
     if unknown:
-        raise CaseFileError(f"unknown vehicle.parameters {sorted(unknown)}; expected some of "
+        raise CaseFileError(f"unknown vehicle parameters {sorted(unknown)}; expected some of "
                             f"{sorted(MANCHESTER)}")
     legacy = {"mass", "yaw_inertia", "k_y", "k_psi", "wheel_load"} & set(veh)
     try:
@@ -130,7 +138,7 @@ def load_simulation(path):
     bad = set(sim) - _SIM
     if bad:
         raise CaseFileError(f"unknown key(s) simulation.{sorted(bad)}; expected {sorted(_SIM)}")
-    model = vehicle_from_section(veh)
+    model = vehicle_from_section(veh, path.parent)
     v = _num(sim, "simulation", "velocity", 30.0, 0.1, 200.0)
     duration = _num(sim, "simulation", "duration", 5.0, 1e-3, 1e5)
     vehicle_length = max(b.x for b in model.bodies) - min(b.x for b in model.bodies)
@@ -148,6 +156,10 @@ def load_simulation(path):
     if isinstance(hw, bool) or not isinstance(hw, int) or not 1 <= hw <= len(model.wheelsets):
         raise CaseFileError(f"simulation.history_wheelset = {hw!r}: expected 1 to "
                             f"{len(model.wheelsets)}")
+    integ = sim.get("integrator", "auto")
+    if integ not in ("auto", "rk4", "lsoda"):
+        raise CaseFileError(f"simulation.integrator = {integ!r}: expected 'auto', 'rk4' or "
+                            "'lsoda'")
     case = case_from_dict(raw, path.parent)
     return {"path": path, "title": str(raw.get("title", "")), "case": case, "model": model,
             "route": rt, "velocity": v, "duration": duration, "tangential": tang,
@@ -158,7 +170,8 @@ def load_simulation(path):
             "table_range": _num(sim, "simulation", "table_range", 0.012, 1e-3, 0.03),
             "table_step": _num(sim, "simulation", "table_step", 2e-4, 1e-5, 1e-3),
             "rtol": _num(sim, "simulation", "rtol", 1e-6, 1e-12, 1e-2),
-            "history_wheelset": hw}
+            "history_wheelset": hw, "integrator": integ,
+            "step": _num(sim, "simulation", "step", 1e-3, 1e-6, 1e-2)}
 
 
 def build_table(sc, progress: bool = False):
@@ -183,7 +196,8 @@ def run_scenario(path, out=None, progress: bool = True):
     ds = simulate_vehicle(sc["model"], sc["route"], table, sc["velocity"], sc["duration"],
                           sc["tangential"], case.friction, case.material,
                           sc["initial_lateral_shift"], sc["sample_rate"], sc["rtol"], progress,
-                          sc["tangential_options"], sc["fastsim_grid"])
+                          sc["tangential_options"], sc["fastsim_grid"],
+                          integrator=sc["integrator"], step=sc["step"])
     try:
         vc = critical_speed(sc["model"], table, material=case.material)
     except (InputError, ValueError):           # no crossing in the bracket

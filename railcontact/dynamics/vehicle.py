@@ -476,3 +476,29 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
         du[nd + 3 * b + 1] = F[3 * b + 1] / bodies[b, 1]
         du[nd + 3 * b + 2] = F[3 * b + 2] / bodies[b, 2] if bodies[b, 5] > 0 else 0.0
     return du
+
+
+@njit(cache=True, nogil=True)
+def rk4_run(u, t0, dt, n_steps, every, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs,
+            ira, irc, shift, table, qref, r0, law, tp, fext, pin, pout, wout, samples):
+    """Classical fixed-step Runge-Kutta (4th order) with a compiled creep law: ``n_steps``
+    steps of ``dt`` from (t0, u); every ``every`` steps the state goes to the next
+    row of ``samples``.  Returns the final state."""
+    k = 0
+    for n in range(n_steps):
+        t = t0 + n * dt
+        k1 = rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, irc,
+                      shift, table, qref, r0, law, tp, 0, fext, pin, pout, wout)
+        k2 = rhs_core(t + 0.5 * dt, u + 0.5 * dt * k1, V, s0, bodies, elems, bx, bf, wsets, ks,
+                      kk, kc, irs, ira, irc, shift, table, qref, r0, law, tp, 0, fext, pin,
+                      pout, wout)
+        k3 = rhs_core(t + 0.5 * dt, u + 0.5 * dt * k2, V, s0, bodies, elems, bx, bf, wsets, ks,
+                      kk, kc, irs, ira, irc, shift, table, qref, r0, law, tp, 0, fext, pin,
+                      pout, wout)
+        k4 = rhs_core(t + dt, u + dt * k3, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc,
+                      irs, ira, irc, shift, table, qref, r0, law, tp, 0, fext, pin, pout, wout)
+        u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        if (n + 1) % every == 0 and k < samples.shape[0]:
+            samples[k] = u
+            k += 1
+    return u

@@ -25,8 +25,8 @@ def test_segments_curvature_and_cant():
 def test_curve_without_transition_steps():
     r = Route.from_segments([{"type": "tangent", "length": 10},
                              {"type": "curve", "radius": 300, "length": 10}])
-    k, _ = r.at(np.array([9.99, 10.01]))
-    np.testing.assert_allclose(k, [0, 1 / 300], atol=1e-6)
+    k, _ = r.at(np.array([9.99, 10.5, 11.01]))          # spread over 1 m
+    np.testing.assert_allclose(k, [0, 0.5 / 300, 1 / 300], atol=1e-9)
 
 
 @pytest.mark.parametrize("seg, word", [

@@ -107,3 +107,18 @@ def test_cli_batch(tmp_path):
           "--scheduler", "synchronous"])
     assert (tmp_path / "runs" / "a" / "simulation.nc").is_file()
     assert (tmp_path / "runs" / "b" / "simulation.nc").is_file()
+
+
+def test_parameter_file(tmp_path):
+    """Vehicle parameters from a data file, overridden by [vehicle.parameters]."""
+    from railcontact.dynamics.scenario import vehicle_from_section
+    (tmp_path / "veh.toml").write_text("carbody_mass = 40000.0\nframe_mass = 3000.0\n")
+    m = vehicle_from_section({"model": "vehicle", "parameter_file": "veh.toml",
+                              "parameters": {"frame_mass": 2800.0}}, tmp_path)
+    assert m.bodies[0].mass == 40000.0 and m.bodies[1].mass == 2800.0
+    assert m.total_mass == pytest.approx(40000 + 2 * 2800 + 4 * 1813)
+    (tmp_path / "bad.toml").write_text("carbody_mas = 1.0\n")
+    with pytest.raises(CaseFileError, match="carbody_mas"):
+        vehicle_from_section({"parameter_file": "bad.toml"}, tmp_path)
+    with pytest.raises(CaseFileError, match="does not exist"):
+        vehicle_from_section({"parameter_file": "none.toml"}, tmp_path)
