@@ -10,10 +10,8 @@ growing shift enters with a normal force rising from zero.  The table keeps each
 patch's share of the wheel load; at a wheel load Q a patch has N = share Q / cos δ
 and Hertz semi-axes scaled by (Q/Q_ref)^(1/3) (same curvatures).
 
-Tangential laws online (compiled): ``linear`` (Kalker's linear theory, no
-saturation), ``fastsim`` (:func:`railcontact.tangential.fastsim.fastsim_ellipse`)
-and ``polach`` (:func:`railcontact.tangential.polach.polach_kernel`, with the
-falling friction of the extended model).  Every other registered tangential model
+Tangential laws online: the compiled ``linear``, ``fastsim`` and ``polach`` of
+:mod:`railcontact.tangential.online`.  Every other registered tangential model
 (``fastsim-strips``, ``fastrip``, ``exact``, ...) runs through its Python
 ``solve`` on the Hertz patch of the table, which is exact to the model but slow.
 """
@@ -30,8 +28,7 @@ from tqdm.auto import tqdm
 
 from ..errors import ContactNotFoundError, InputError
 from ..materials import STEEL, Material
-from ..tangential.fastsim import fastsim_ellipse
-from ..tangential.polach import polach_kernel
+from ..tangential.online import COMPILED_LAWS, patch_forces  # noqa: F401 (re-exported)
 
 log = logging.getLogger(__name__)
 
@@ -41,8 +38,6 @@ FLANGE_ANGLE = 0.35
 FIELDS = ("load_share", "contact_angle", "rolling_radius", "y_contact", "a", "b",
           "C11", "C22", "C23", "A", "B", "y_rail")
 (F_SHARE, F_DELTA, F_R, F_YP, F_A, F_B, F_C11, F_C22, F_C23, F_CA, F_CB, F_YRAIL) = range(12)
-#: compiled tangential laws by name -> code
-COMPILED_LAWS = {"linear": 0, "fastsim": 1, "polach": 2}
 
 
 @dataclass
@@ -189,26 +184,6 @@ def lookup(shift, data, y, out):
             for f in range(data.shape[3]):
                 out[j, k, f] = (1.0 - w) * data[i, j, k, f] + w * data[i + 1, j, k, f]
     return outside
-
-
-@njit(cache=True, nogil=True)
-def patch_forces(law, tp, N, a, b, C11, C22, C23, xi, eta, phi, V):
-    """(F_x, F_y, M_z) on the wheel of one patch for the compiled laws.
-
-    ``tp`` = (mu, G, nx, ny, kA, kS, falling A, falling B)."""
-    mu, G = tp[0], tp[1]
-    if N <= 0.0:
-        return 0.0, 0.0, 0.0
-    if law == 0:
-        c = math.sqrt(a * b)
-        return (G * c * c * C11 * xi, G * c * c * C22 * eta + G * c * c * c * C23 * phi, 0.0)
-    if law == 1:
-        return fastsim_ellipse(a, b, N, mu, G, C11, C22, C23, xi, eta, phi,
-                               int(tp[2]), int(tp[3]))
-    w = math.hypot(xi, eta) * V
-    mu_eff = mu * ((1.0 - tp[6]) * math.exp(-tp[7] * w) + tp[6])
-    fx, fy = polach_kernel(N, mu_eff, a, b, G, C11, C22, C23, xi, eta, phi, tp[4], tp[5])
-    return fx, fy, 0.0
 
 
 def python_patch_forces(model, material, friction, N, A, B, xi, eta, phi, V, grid):

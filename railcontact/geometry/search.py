@@ -29,6 +29,7 @@ import math
 from dataclasses import dataclass, field
 
 import numpy as np
+from numba import njit
 from scipy.optimize import brentq
 from scipy.signal import find_peaks
 
@@ -247,39 +248,64 @@ class _GapEvaluator:
         x = np.asarray(x, dtype=float)
         ys = self.sign * np.asarray(y, dtype=float)
         x, ys = np.broadcast_arrays(x, ys)
-        P = (self.C[:, None] + x.ravel()[None, :] * np.array([1.0, 0, 0])[:, None]
-             + ys.ravel()[None, :] * self.t[:, None])
-        n = self.n
-        # rail surface: z_r(Py + t ny - y_off) = Pz + t nz
-        tr = np.zeros(P.shape[1])
-        for _ in range(8):
-            yr = P[1] + tr * n[1] - self.y_off
-            zr, dzr = self.rail.z_and_slope(yr)
-            f = zr - (P[2] + tr * n[2])
-            fp = dzr * n[1] - n[2]
-            step = f / fp
-            tr = tr - step
-            if not np.any(np.abs(step) > NEWTON_TOL):   # NaN (off the profile) stops too
-                break
-        # wheel surface: radius of the point = r0 + z_w(eta - e)
-        Rt = self.R.T
-        L0 = Rt @ (P - self.O[:, None])
-        nl = Rt @ n
-        tw = np.zeros(P.shape[1])
-        for _ in range(8):
-            L = L0 + tw[None, :] * nl[:, None]
-            rho = np.hypot(L[0], L[2])
-            yw = L[1] - self.e
-            zw, dzw = self.wheel.z_and_slope(yw)
-            f = rho - (self.r0 + zw)
-            fp = (L[0] * nl[0] + L[2] * nl[2]) / rho - dzw * nl[1]
-            step = f / fp
-            tw = tw - step
-            if not np.any(np.abs(step) > NEWTON_TOL):
-                break
-        h = tr - tw
-        h = np.where(np.isfinite(h), h, 1.0)
+        h = _gap_kernel(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(ys.ravel()),
+                        self.C, self.t, self.n, self.y_off, self.rail._breaks,
+                        self.rail._coefs, np.ascontiguousarray(self.R.T), self.O, self.e,
+                        self.r0, self.wheel._breaks, self.wheel._coefs)
         return h.reshape(x.shape)
+
+
+@njit(cache=True, nogil=True)
+def _ppoly01(xi, breaks, c):
+    """Value and slope of a cubic piecewise polynomial at the scalar xi (NaN outside)."""
+    n = breaks.size - 1
+    if not (breaks[0] <= xi <= breaks[n]):
+        return np.nan, np.nan
+    k = min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)
+    t = xi - breaks[k]
+    return (((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k],
+            (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k])
+
+
+@njit(cache=True, nogil=True)
+def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
+    """Distance along the normal n between rail and wheel surfaces through the
+    tangent-plane points C + x (1, 0, 0) + ys t (Newton on each surface; 1 m where
+    a surface is missed)."""
+    h = np.empty(x.size)
+    nl0 = Rt[0, 0] * n[0] + Rt[0, 1] * n[1] + Rt[0, 2] * n[2]
+    nl1 = Rt[1, 0] * n[0] + Rt[1, 1] * n[1] + Rt[1, 2] * n[2]
+    nl2 = Rt[2, 0] * n[0] + Rt[2, 1] * n[1] + Rt[2, 2] * n[2]
+    for i in range(x.size):
+        p0 = C[0] + x[i]
+        p1 = C[1] + ys[i] * t[1]
+        p2 = C[2] + ys[i] * t[2]
+        # rail surface: z_r(P_y + tr n_y - y_off) = P_z + tr n_z
+        tr = 0.0
+        for _ in range(8):
+            zr, dzr = _ppoly01(p1 + tr * n[1] - y_off, rb, rc)
+            step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
+            tr -= step
+            if not abs(step) > NEWTON_TOL:
+                break
+        # wheel surface: radius of the point = r0 + z_w(eta - e), in wheelset axes
+        d0, d1, d2 = p0 - O[0], p1 - O[1], p2 - O[2]
+        l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
+        l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
+        l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
+        tw = 0.0
+        for _ in range(8):
+            a0 = l0 + tw * nl0
+            a2 = l2 + tw * nl2
+            rho = math.hypot(a0, a2)
+            zw, dzw = _ppoly01(l1 + tw * nl1 - e, wb, wc)
+            step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
+            tw -= step
+            if not abs(step) > NEWTON_TOL:
+                break
+        g = tr - tw
+        h[i] = g if math.isfinite(g) else 1.0
+    return h
 
 
 def _curvatures_fd(gapf, x0, y0):
