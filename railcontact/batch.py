@@ -101,7 +101,7 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
         ok = F > 0
         C11, C22, C23 = (np.ones(n) for _ in range(3))
         if ok.any():
-            c = kalker_coefficients_array(a[ok] / b[ok], material.poisson_ratio)
+            c = kalker_coefficients_array(a[ok] / b[ok], material.nu)
             C11[ok], C22[ok], C23[ok] = c
         tp = np.array([friction, material.shear_modulus, nx, ny, 1.0, 1.0, 1.0, 0.0])
         out = np.zeros((n, 3))

@@ -13,7 +13,8 @@ from .materials import Material
 
 _ALLOWED = {
     "title": None,
-    "material": {"young_modulus", "poisson_ratio"},
+    "material": {"young_modulus", "poisson_ratio", "wheel_young_modulus",
+                 "wheel_poisson_ratio"},
     "friction": {"coefficient"},
     "wheel": {"profile", "nominal_radius", "profile_left", "units"},
     "rail": {"profile", "inclination", "profile_left", "units"},
@@ -140,8 +141,12 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     case = Case(raw=raw, base_dir=Path(base_dir or Path.cwd()))
     case.title = str(raw.get("title", ""))
     try:
+        wE, wnu = case.get("material.wheel_young_modulus"), case.get("material.wheel_poisson_ratio")
         case.material = Material(case.number("material.young_modulus", 2.1e11, unit="Pa"),
-                                 case.number("material.poisson_ratio", 0.28))
+                                 case.number("material.poisson_ratio", 0.28),
+                                 None if wE is None else case.number("material.wheel_young_modulus",
+                                                                     unit="Pa"),
+                                 None if wnu is None else case.number("material.wheel_poisson_ratio"))
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
     case.friction = case.number("friction.coefficient", 0.3, 0.0, 5.0)

@@ -1,4 +1,4 @@
-"""Elastic material data (SI units)."""
+"""Elastic material data of the contacting pair (SI units)."""
 
 from __future__ import annotations
 
@@ -8,43 +8,85 @@ from dataclasses import dataclass
 from .errors import InputError
 
 
+def _check(name, E, nu):
+    if not (isinstance(E, (int, float)) and math.isfinite(E) and 1e6 <= E <= 1e13):
+        raise InputError(f"material.{name}young_modulus = {E!r}: expected a Young's modulus "
+                         "in Pa between 1e6 and 1e13 (steel: 2.1e11)")
+    if not (isinstance(nu, (int, float)) and math.isfinite(nu) and 0.0 <= nu < 0.5):
+        raise InputError(f"material.{name}poisson_ratio = {nu!r}: expected a value in [0, 0.5)")
+
+
 @dataclass(frozen=True)
 class Material:
-    """Linear elastic, isotropic material, identical for wheel and rail.
+    """Linear elastic, isotropic materials of rail (body 1) and wheel (body 2).
 
     Parameters
     ----------
     young_modulus : float
-        Young's modulus E [Pa]. Default: steel, 2.1e11 Pa.
+        Young's modulus E [Pa] of the rail, and of the wheel unless given.  Default:
+        steel, 2.1e11 Pa.
     poisson_ratio : float
-        Poisson's ratio nu [-]. Default 0.28.
+        Poisson's ratio nu [-] of the rail, and of the wheel unless given.  Default 0.28.
+    wheel_young_modulus, wheel_poisson_ratio : float, optional
+        The wheel's values for dissimilar materials.
+
+    The models use the pair's combined constants (Kalker 1990, section 1.5):
+    1/G = (1/G1 + 1/G2)/2, nu = G (nu1/G1 + nu2/G2)/2, 1/E* = (1 - nu1^2)/E1 +
+    (1 - nu2^2)/E2, and the difference parameter
+    K = G [(1 - 2 nu1)/G1 - (1 - 2 nu2)/G2] / 4, which couples normal and tangential
+    problems (0 for quasi-identical bodies).
     """
 
     young_modulus: float = 2.1e11
     poisson_ratio: float = 0.28
+    wheel_young_modulus: float | None = None
+    wheel_poisson_ratio: float | None = None
 
     def __post_init__(self) -> None:
-        E, nu = self.young_modulus, self.poisson_ratio
-        if not (isinstance(E, (int, float)) and math.isfinite(E) and 1e6 <= E <= 1e13):
-            raise InputError(
-                f"material.young_modulus = {E!r}: expected a Young's modulus in Pa "
-                "between 1e6 and 1e13 (steel: 2.1e11)")
-        if not (isinstance(nu, (int, float)) and math.isfinite(nu) and 0.0 <= nu < 0.5):
-            raise InputError(
-                f"material.poisson_ratio = {nu!r}: expected a value in [0, 0.5)")
+        _check("", self.young_modulus, self.poisson_ratio)
+        _check("wheel_", self.wheel_young_modulus if self.wheel_young_modulus is not None
+               else self.young_modulus,
+               self.wheel_poisson_ratio if self.wheel_poisson_ratio is not None
+               else self.poisson_ratio)
+
+    @property
+    def bodies(self):
+        """((E1, nu1), (E2, nu2)): rail, wheel."""
+        E2 = self.young_modulus if self.wheel_young_modulus is None else self.wheel_young_modulus
+        n2 = self.poisson_ratio if self.wheel_poisson_ratio is None else self.wheel_poisson_ratio
+        return (self.young_modulus, self.poisson_ratio), (E2, n2)
 
     @property
     def shear_modulus(self) -> float:
-        """Shear modulus G = E / (2 (1 + nu)) [Pa]."""
-        return self.young_modulus / (2.0 * (1.0 + self.poisson_ratio))
+        """Combined shear modulus G [Pa], 1/G = (1/G1 + 1/G2)/2 (G = E/(2(1 + nu)))."""
+        (E1, n1), (E2, n2) = self.bodies
+        return 2.0 / (2.0 * (1.0 + n1) / E1 + 2.0 * (1.0 + n2) / E2)
+
+    @property
+    def nu(self) -> float:
+        """Combined Poisson's ratio nu = G (nu1/G1 + nu2/G2) / 2."""
+        (E1, n1), (E2, n2) = self.bodies
+        G1, G2 = E1 / (2.0 * (1.0 + n1)), E2 / (2.0 * (1.0 + n2))
+        return 0.5 * self.shear_modulus * (n1 / G1 + n2 / G2)
 
     @property
     def contact_modulus(self) -> float:
-        """Plane-strain contact modulus E* of the pair [Pa].
+        """Plane-strain contact modulus E* of the pair [Pa]:
+        1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2."""
+        (E1, n1), (E2, n2) = self.bodies
+        return 1.0 / ((1.0 - n1 * n1) / E1 + (1.0 - n2 * n2) / E2)
 
-        1/E* = (1 - nu1^2)/E1 + (1 - nu2^2)/E2, here with identical bodies.
-        """
-        return self.young_modulus / (2.0 * (1.0 - self.poisson_ratio ** 2))
+    @property
+    def difference_parameter(self) -> float:
+        """Kalker's K = G [(1 - 2 nu1)/G1 - (1 - 2 nu2)/G2] / 4 (rail 1, wheel 2)."""
+        (E1, n1), (E2, n2) = self.bodies
+        G1, G2 = E1 / (2.0 * (1.0 + n1)), E2 / (2.0 * (1.0 + n2))
+        return 0.25 * self.shear_modulus * ((1 - 2 * n1) / G1 - (1 - 2 * n2) / G2)
+
+    @property
+    def is_dissimilar(self) -> bool:
+        """True when the normal and tangential problems are coupled (K != 0)."""
+        return abs(self.difference_parameter) > 1e-12
 
     @classmethod
     def from_shear_modulus(cls, shear_modulus: float, poisson_ratio: float) -> "Material":

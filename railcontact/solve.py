@@ -171,7 +171,11 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None) 
                           **kw)
         creep = case.creepage or (0.0, 0.0, 0.0)
         V = case.number("bodies.velocity", 1.0, 1e-6, 1e3, "m/s")
-        if "force" in case.raw and tmodel is not None:
+        if _coupled(case, nmodel, tmodel) and "force" not in case.raw:
+            from .coupling import solve_coupled
+            ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep, case.friction,
+                                   V, normal_force=case.number("bodies.normal_force"), **kw)
+        elif "force" in case.raw and tmodel is not None:
             from .tangential.inverse import solve_for_forces
             ts = solve_for_forces(tmodel, ns, geom, case.material,
                                   (case.number("force.longitudinal", 0.0),
@@ -185,6 +189,18 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None) 
         results, contact = _solve_wheel_rail(case, nmodel, tmodel, kw)
         pose = contact.pose
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)
+
+
+def _coupled(case, nmodel, tmodel) -> bool:
+    """Dissimilar materials with both exact models: solve the coupled problems."""
+    if not case.material.is_dissimilar:
+        return False
+    if getattr(nmodel, "name", "") == "exact" and getattr(tmodel, "name", "") == "exact":
+        return True
+    log.info("dissimilar materials: the %s/%s models use the combined constants G, nu, E*; "
+             "the normal-tangential coupling needs normal = tangential = 'exact'",
+             getattr(nmodel, "name", "?"), getattr(tmodel, "name", "none"))
+    return False
 
 
 def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None):
@@ -202,8 +218,14 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None):
             if near:
                 nkw["warm_start"] = min(near, key=lambda r: abs(r.geometry.y_rail
                                                                 - geom.y_rail)).normal
-        ns = nmodel.solve(geom, case.material, penetration=geom.approach, **nkw)
         creep = case.creepage or geom.creepage
+        if _coupled(case, nmodel, tmodel):
+            from .coupling import solve_coupled
+            ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep, case.friction,
+                                   geom.velocity, penetration=geom.approach, **kw)
+            out.append(PatchResult(geom, ns, ts, tuple(float(c) for c in creep)))
+            continue
+        ns = nmodel.solve(geom, case.material, penetration=geom.approach, **nkw)
         ts = None
         if tmodel is not None:
             extra = {}

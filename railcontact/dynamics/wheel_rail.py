@@ -85,7 +85,7 @@ class WheelRailTable:
         shifts = np.linspace(-n * step, n * step, 2 * n + 1)
         data = np.full((shifts.size, 2, 2, len(FIELDS)), np.nan)
         data[..., F_SHARE] = 0.0
-        Es, nu = material.contact_modulus, material.poisson_ratio
+        Es, nu = material.contact_modulus, material.nu
         for i, y in enumerate(tqdm(shifts, desc="wheel-rail contact table",
                                    disable=not progress)):
             try:

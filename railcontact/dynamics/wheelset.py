@@ -102,7 +102,7 @@ class WheelsetModel:
             # curvatures at the centre: A = 1 / (2 r0), B from a typical tread/rail pair
             hz = hertz_ellipse(1 / (2 * r0), kw.pop("lateral_curvature", 1.0 / 0.6),
                                mat.contact_modulus, force=load)
-            C11, C22, _ = kalker_coefficients(hz.a / hz.b, mat.poisson_ratio)
+            C11, C22, _ = kalker_coefficients(hz.a / hz.b, mat.nu)
             c2 = hz.a * hz.b
             params.update(f11=mat.shear_modulus * c2 * C11, f22=mat.shear_modulus * c2 * C22)
         params.update(kw)

@@ -163,8 +163,13 @@ class ExactNormalModel:
 
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
               penetration: float | None = None, grid=None, element_size=None,
-              warm_start: NormalSolution | None = None) -> NormalSolution:
+              warm_start: NormalSolution | None = None,
+              extra_gap: np.ndarray | None = None) -> NormalSolution:
         """Solve for a given normal force [N] or approach [m].
+
+        ``extra_gap``: a displacement difference [m] added to the undeformed distance
+        on the solution grid (the tangential tractions' share for dissimilar
+        materials, :mod:`railcontact.coupling`).
 
         ``warm_start``: a previous solution; its pressure is the initial estimate when
         it lies on the same grid (e.g. in the vertical-force iteration).
@@ -184,6 +189,11 @@ class ExactNormalModel:
         x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
         dx, dy = x[1] - x[0], y[1] - y[0]
         h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach   # touching: min ~ 0
+        if extra_gap is not None:
+            if np.shape(extra_gap) != h0.shape:
+                raise InputError(f"extra_gap of shape {np.shape(extra_gap)}: expected the "
+                                 f"solution grid's {h0.shape}")
+            h0 = h0 + extra_gap
         op = normal_operator(x.size, y.size, float(dx), float(dy), material.contact_modulus)
         dA = dx * dy
         p0 = None

@@ -136,6 +136,37 @@ def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: fl
     return kxx, kxy, kyy
 
 
+def _Cx(x, y):
+    """Antiderivative of x/r^2 over a rectangle: (y/2) ln(x^2 + y^2) + x atan(y/x)
+    (terms linear in one variable, which cancel over a rectangle, dropped)."""
+    r2 = x * x + y * y
+    with np.errstate(divide="ignore", invalid="ignore"):
+        t1 = np.where(r2 > 0, 0.5 * y * np.log(np.where(r2 > 0, r2, 1.0)), 0.0)
+        t2 = np.where(x != 0, x * np.arctan(y / np.where(x != 0, x, 1.0)), 0.0)
+    return t1 + t2
+
+
+def coupling_kernels(mx: int, my: int, dx: float, dy: float, D: float, extra_rows: int = 0):
+    """Kernels (k_x, k_y) [m/Pa] coupling normal and tangential problems of dissimilar
+    bodies: D times the integrals of x/r^2 and y/r^2 over an element (Boussinesq
+    and Cerruti; Johnson 1985, eqs. 3.19, 3.21), D = [(1 - 2 nu1)/G1 - (1 - 2 nu2)/G2]
+    / (4 pi) = K / (pi G).  The normal displacement difference from tractions
+    (t_x, t_y) on body 1 is k_x * t_x + k_y * t_y; the tangential displacement
+    difference from the pressure p is -(k_x, k_y) * p.  Offsets in x run over
+    [-(mx-1), mx-1+extra_rows]."""
+    ix = np.arange(-(mx - 1), mx + extra_rows) * dx
+    iy = np.arange(-(my - 1), my) * dy
+    X, Y = np.meshgrid(ix, iy, indexing="ij")
+    hx, hy = dx / 2, dy / 2
+
+    def rect(f):
+        return f(X + hx, Y + hy) - f(X - hx, Y + hy) - f(X + hx, Y - hy) + f(X - hx, Y - hy)
+
+    kx = rect(_Cx)
+    ky = rect(lambda a, b: _Cx(b, a))
+    return D * kx, D * ky
+
+
 class ShiftedConvolution:
     """u = K p on an (mx + rows) x my output grid for p on mx x my (rows above)."""
 

@@ -227,13 +227,16 @@ def _operators(mx, my, dx, dy, G, nu):
 
 
 def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, p0=None,
-                   mode="rolling"):
+                   mode="rolling", w_extra=None):
     """Solve the discrete steady-rolling (or shift) problem by a semi-smooth Newton method.
 
     ``mode="rolling"``: s = w - (u_I+ - u_I)/dx with w from the creepages.
     ``mode="shift"``: Cattaneo's transient shift from an unloaded state,
     s = w + u (slip displacement [m]), with ``creepage`` = (shift_x, shift_y, rotation)
     the rigid shift [m, m] and rotation about n [rad] of body 1.
+
+    ``w_extra``: an additional rigid slip (s_x, s_y) per element (the pressure's
+    share for dissimilar materials).
 
     Returns p (on body 1), slip, stick mask, Newton iterations and a convergence
     flag.  Convergence: max |F| <= tol * max bound, with F the complementarity
@@ -249,6 +252,9 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     xi, eta, phi = creepage
     wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
     wy = np.ascontiguousarray(np.where(contact, eta + phi * x[:, None], 0.0))
+    if w_extra is not None:
+        wx = np.ascontiguousarray(wx + np.where(contact, w_extra[0], 0.0))
+        wy = np.ascontiguousarray(wy + np.where(contact, w_extra[1], 0.0))
     rho = 1.0 / (0.5 * (dxx + dyy))
 
     def c_of(px, py):  # the linear part: s - w
@@ -376,7 +382,8 @@ class ExactTangentialModel:
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
-              warm_start: TangentialSolution | None = None) -> TangentialSolution:
+              warm_start: TangentialSolution | None = None,
+              extra_slip=None) -> TangentialSolution:
         """Creep forces for creepages (xi [-], eta [-], phi [1/m]) on the normal
         solution's grid.  ``warm_start``: a previous solution on the same grid (e.g.
         of a neighbouring case) used as the initial estimate."""
@@ -403,8 +410,9 @@ class ExactTangentialModel:
             p0 = (np.where(contact, -warm_start.traction_x, 0.0),
                   np.where(contact, -warm_start.traction_y, 0.0))
         args = (x, y, contact, bound, (xi, eta, phi), material.shear_modulus,
-                material.poisson_ratio, self.tol)
-        px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode)
+                material.nu, self.tol)
+        px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode,
+                                                       w_extra=extra_slip)
         fallback = False
         if not ok:
             # fall back: restart from zero traction with damped steps and more iterations
@@ -412,7 +420,7 @@ class ExactTangentialModel:
                      "from zero traction with %d iterations", it, 4 * self.maxiter)
             q = steady_rolling(*args, 4 * self.maxiter, p0=(np.zeros_like(bound),
                                                                np.zeros_like(bound)),
-                               mode=self.mode)
+                               mode=self.mode, w_extra=extra_slip)
             fallback = True
             if q[-1] or not ok:
                 px, py, sx, sy, stick, it, ok = q

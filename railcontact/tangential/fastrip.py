@@ -181,7 +181,7 @@ class FastripModel:
             return TangentialSolution(self.name, x, y, zeros, zeros.copy(), zeros.copy(),
                                       zeros.copy(), np.zeros((mx, my), bool), normal.contact,
                                       0.0, 0.0, 0.0, velocity, (xi, eta, phi), friction)
-        G, nu = material.shear_modulus, material.poisson_ratio
+        G, nu = material.shear_modulus, material.nu
         c11, c22, _ = kalker_coefficients(a / b, nu)
         wx = 2 * G * c11 * xi / math.pi ** 2
         wy = 2 * G * c22 * eta / math.pi ** 2

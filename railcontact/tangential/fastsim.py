@@ -270,7 +270,7 @@ class FastsimModel:
     def _strip_parameters(self, normal, geometry, material, a, b, creepage, friction):
         """Flexibilities L1, L2, L3 [m/Pa] and spin [1/m] per strip (arrays over y)."""
         xi, eta, phi = creepage
-        G, nu = material.shear_modulus, material.poisson_ratio
+        G, nu = material.shear_modulus, material.nu
         L = self._flexibilities(a, b, G, nu, creepage, friction, normal.normal_force)
         my = normal.y.size
         return (*(np.full(my, v) for v in L), np.full(my, phi))
@@ -416,7 +416,7 @@ class FastsimStripsModel(FastsimModel):
                                  "curvatures of a non-elliptic patch (solve(normal, geometry, ...))")
             return super()._strip_parameters(normal, geometry, material, a, b, creepage,
                                              friction)
-        G, nu = material.shear_modulus, material.poisson_ratio
+        G, nu = material.shear_modulus, material.nu
         A, B = local_curvatures(normal, geometry)
         x_lead, x_trail = normal.strips
         active = np.flatnonzero(np.asarray(x_lead) > np.asarray(x_trail))

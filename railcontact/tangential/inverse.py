@@ -34,7 +34,7 @@ def solve_for_forces(model, normal, geometry, material, forces, spin: float = 0.
         raise InputError(f"tangential force {math.hypot(fx_t, fy_t):.6g} N: expected less than "
                          f"the saturation mu F_n = {friction * fn:.6g} N")
     a, b = equivalent_ellipse(normal)
-    c11, c22, _ = kalker_coefficients(a / b, material.poisson_ratio)
+    c11, c22, _ = kalker_coefficients(a / b, material.nu)
     G, c2 = material.shear_modulus, a * b
     x = np.array([fx_t / (G * c2 * c11), fy_t / (G * c2 * c22)])
     scale = friction * fn

@@ -120,7 +120,7 @@ class PolachModel:
         if self.falling is not None:
             mu = float(self.falling(mu0, math.hypot(xi, syc) * velocity))
         fx, fy = polach_forces(normal.normal_force, mu, a, b, material.shear_modulus,
-                               material.poisson_ratio, xi, eta, phi, self.kA, self.kS)
+                               material.nu, xi, eta, phi, self.kA, self.kS)
         z = np.zeros_like(normal.pressure)
         return TangentialSolution("polach", normal.x, normal.y, z, z.copy(), z.copy(), z.copy(),
                                   np.zeros(z.shape, bool), normal.contact, fx, fy, 0.0, velocity,
