@@ -20,6 +20,7 @@ from numba import njit
 
 from .errors import InputError
 from .materials import STEEL, Material
+from .normal.strip_batch import BATCH_MODELS, solve_strips
 from .tangential.online import COMPILED_LAWS, patch_forces
 
 
@@ -62,7 +63,7 @@ def _forces(law, tp, N, a, b, C11, C22, C23, xi, eta, phi, V, out):
 
 def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
                   material: Material = STEEL, friction: float = 0.3,
-                  fastsim_grid=(20, 20), grid=None) -> PatchForces:
+                  fastsim_grid=(20, 20), grid=None, strips: int = 40) -> PatchForces:
     """Normal and tangential solution of many patches, each at the geometry's approach
     and creepages.
 
@@ -73,8 +74,13 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
         patches; patches without creepage get zero creepage at 1 m/s).
     normal, tangential : str
         ``"hertz"`` with ``"fastsim"``, ``"polach"`` or ``"linear"`` runs compiled
-        (FASTSIM on ``fastsim_grid`` = (elements per strip, strips)); any other
-        registered pair is solved patch by patch on ``grid``.
+        (FASTSIM on ``fastsim_grid`` = (elements per strip, strips)).  The strip
+        models ``"kik-piotrowski"``, ``"kpec"``, ``"stripes"`` and ``"analyn"`` with
+        the same creep laws run on ``strips`` strips per patch
+        (:mod:`railcontact.normal.strip_batch`), FASTSIM marching the strips'
+        semi-elliptic pressures with ``fastsim_grid[0]`` elements per strip and the
+        flexibilities of the equivalent ellipse, Polach and the linear law on that
+        ellipse.  Any other registered pair is solved patch by patch on ``grid``.
     """
     from .normal.hertz_theory import hertz_ellipses
     from .tangential.kalker import kalker_coefficients_array
@@ -114,6 +120,9 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
         return PatchForces(F, area, pmax, np.maximum(pen, 0.0), a, b, out[:, 0], out[:, 1],
                            out[:, 2], normal, tangential, time.perf_counter() - t0,
                            {"compiled": True, "fastsim_grid": (nx, ny)})
+    if normal in BATCH_MODELS and tangential in COMPILED_LAWS:
+        return _strip_patches(patches, normal, tangential, material, friction, cr, V,
+                              strips, fastsim_grid[0], t0)
     from .normal import get_normal_model
     from .tangential import get_tangential_model
     nm, tm = get_normal_model(normal), get_tangential_model(tangential)
@@ -128,3 +137,40 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
                   ts.fy, ts.mz)
     return PatchForces(*res.T, normal, tangential, time.perf_counter() - t0,
                        {"compiled": False})
+
+
+def _strip_patches(patches, normal, tangential, material, friction, cr, V, strips, nx, t0):
+    """Compiled path of :func:`solve_patches` for the strip models."""
+    from .tangential.fastsim import (blended_flexibilities, fastsim_strip_patches)
+    from .tangential.kalker import flexibilities_array, kalker_coefficients_array
+    if not (isinstance(strips, (int, np.integer)) and 5 <= strips <= 1000):
+        raise InputError(f"strips {strips!r}: expected an integer in [5, 1000]")
+    nx = int(nx)
+    if not 2 <= nx <= 500:
+        raise InputError(f"fastsim_grid elements per strip {nx!r}: expected [2, 500]")
+    st = solve_strips(normal, patches, material.contact_modulus, strips=int(strips))
+    F = st.normal_force
+    a, b = st.equivalent_ellipses()
+    ok = (F > 0) & (a > 0) & (b > 0)
+    n = F.size
+    G, nu = material.shear_modulus, material.nu
+    xi, eta, phi = (np.ascontiguousarray(cr[:, i]) for i in range(3))
+    out = np.zeros((n, 3))
+    if tangential == "fastsim":
+        L1, L2, L3 = (np.zeros(n) for _ in range(3))
+        if ok.any():
+            f = flexibilities_array(a[ok], b[ok], G, nu)
+            L1[ok], L2[ok], L3[ok] = blended_flexibilities(a[ok], b[ok], *f, G, nu, xi[ok],
+                                                           eta[ok], phi[ok], friction, F[ok])
+        fastsim_strip_patches(st.y, st.dy, st.x_mid, st.half, st.p_strip, L1, L2, L3,
+                              np.full(n, float(friction)), xi, eta, phi, nx, out)
+    else:
+        C11, C22, C23 = (np.ones(n) for _ in range(3))
+        if ok.any():
+            C11[ok], C22[ok], C23[ok] = kalker_coefficients_array(a[ok] / b[ok], nu)
+        tp = np.array([friction, G, nx, nx, 1.0, 1.0, 1.0, 0.0])
+        _forces(COMPILED_LAWS[tangential], tp, np.where(ok, F, 0.0), a, b, C11, C22, C23,
+                xi, eta, phi, V, out)
+    return PatchForces(F, st.area, st.pmax, st.penetration, a, b, out[:, 0], out[:, 1],
+                       out[:, 2], normal, tangential, time.perf_counter() - t0,
+                       {"compiled": True, "strips": int(strips), "fastsim_elements": nx})

@@ -48,8 +48,8 @@ def test_compiled_batch_equals_the_models(patches, law):
 
 
 def test_other_models_patch_by_patch(patches):
-    res = solve_patches(patches[:3], "kpec", "fastsim", grid=(30, 30))
-    ref = _loop(patches[:3], "kpec", "fastsim", (30, 30))
+    res = solve_patches(patches[:3], "kpec", "fastrip", grid=(30, 30))
+    ref = _loop(patches[:3], "kpec", "fastrip", (30, 30))
     assert not res.options["compiled"]
     np.testing.assert_allclose(np.c_[res.normal_force, res.pmax, res.Fx, res.Fy], ref,
                                rtol=1e-12)

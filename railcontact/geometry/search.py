@@ -268,43 +268,112 @@ def _ppoly01(xi, breaks, c):
 
 
 @njit(cache=True, nogil=True)
-def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
-    """Distance along the normal n between rail and wheel surfaces through the
-    tangent-plane points C + x (1, 0, 0) + ys t (Newton on each surface; 1 m where
-    a surface is missed)."""
-    h = np.empty(x.size)
+def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr):
+    """Distance along n from the tangent-plane point C + ysp t to the rail surface
+    (the rail is straight along x, so x does not enter): Newton on
+    z_r(P_y + tr n_y - y_off) = P_z + tr n_z from the estimate ``tr``."""
+    p1 = C[1] + ysp * t[1]
+    p2 = C[2] + ysp * t[2]
+    for _ in range(8):
+        zr, dzr = _ppoly01(p1 + tr * n[1] - y_off, rb, rc)
+        step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
+        tr -= step
+        if not abs(step) > NEWTON_TOL:
+            break
+    return tr
+
+
+@njit(cache=True, nogil=True)
+def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw):
+    """Distance along n from the tangent-plane point C + xp (1, 0, 0) + ysp t to
+    the wheel surface (radius r0 + z_w(eta - e) in wheelset axes), by Newton from
+    the estimate ``tw``."""
     nl0 = Rt[0, 0] * n[0] + Rt[0, 1] * n[1] + Rt[0, 2] * n[2]
     nl1 = Rt[1, 0] * n[0] + Rt[1, 1] * n[1] + Rt[1, 2] * n[2]
     nl2 = Rt[2, 0] * n[0] + Rt[2, 1] * n[1] + Rt[2, 2] * n[2]
+    d0 = C[0] + xp - O[0]
+    d1 = C[1] + ysp * t[1] - O[1]
+    d2 = C[2] + ysp * t[2] - O[2]
+    l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
+    l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
+    l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
+    for _ in range(8):
+        a0 = l0 + tw * nl0
+        a2 = l2 + tw * nl2
+        rho = math.hypot(a0, a2)
+        zw, dzw = _ppoly01(l1 + tw * nl1 - e, wb, wc)
+        step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
+        tw -= step
+        if not abs(step) > NEWTON_TOL:
+            break
+    return tw
+
+
+@njit(cache=True, nogil=True)
+def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
+    """Distance along the normal n between rail and wheel surfaces through the
+    tangent-plane points C + x (1, 0, 0) + ys t (1 m where a surface is missed)."""
+    h = np.empty(x.size)
     for i in range(x.size):
-        p0 = C[0] + x[i]
-        p1 = C[1] + ys[i] * t[1]
-        p2 = C[2] + ys[i] * t[2]
-        # rail surface: z_r(P_y + tr n_y - y_off) = P_z + tr n_z
-        tr = 0.0
-        for _ in range(8):
-            zr, dzr = _ppoly01(p1 + tr * n[1] - y_off, rb, rc)
-            step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
-            tr -= step
-            if not abs(step) > NEWTON_TOL:
-                break
-        # wheel surface: radius of the point = r0 + z_w(eta - e), in wheelset axes
-        d0, d1, d2 = p0 - O[0], p1 - O[1], p2 - O[2]
-        l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
-        l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
-        l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
-        tw = 0.0
-        for _ in range(8):
-            a0 = l0 + tw * nl0
-            a2 = l2 + tw * nl2
-            rho = math.hypot(a0, a2)
-            zw, dzw = _ppoly01(l1 + tw * nl1 - e, wb, wc)
-            step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
-            tw -= step
-            if not abs(step) > NEWTON_TOL:
-                break
-        g = tr - tw
+        g = (_rail_distance(ys[i], C, t, n, y_off, rb, rc, 0.0)
+             - _wheel_distance(x[i], ys[i], C, t, n, Rt, O, e, r0, wb, wc, 0.0))
         h[i] = g if math.isfinite(g) else 1.0
+    return h
+
+
+@njit(cache=True, nogil=True)
+def _gap_lines_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
+    """Gaps of many patches sharing one rail and one wheel profile on lines of
+    constant y: out[k, i, j] at (x[k, i], ys[k, j]) with row k of the per-patch
+    frame arrays.  The rail distance is computed once per line; every projection
+    starts from the neighbouring line's solution."""
+    nx = x.shape[1]
+    h = np.empty((x.shape[0], nx, ys.shape[1]))
+    tw = np.zeros(nx)
+    for k in range(x.shape[0]):
+        tr = 0.0
+        tw[:] = 0.0
+        for j in range(ys.shape[1]):
+            tr = _rail_distance(ys[k, j], C[k], t[k], n[k], y_off[k], rb, rc, tr)
+            if not math.isfinite(tr):
+                tr = 0.0
+            for i in range(nx):
+                w = _wheel_distance(x[k, i], ys[k, j], C[k], t[k], n[k], Rt[k], O[k],
+                                    e[k], r0[k], wb, wc, tw[i])
+                tw[i] = w if math.isfinite(w) else 0.0
+                g = tr - w
+                h[k, i, j] = g if math.isfinite(g) else 1.0
+    return h
+
+
+def sample_gap_lines(patches, x, y) -> np.ndarray:
+    """Undeformed distance [m] of many patches at once on lines of constant y:
+    ``x`` (patches, nx) and ``y`` (patches, ny) in each patch's tangent-plane
+    coordinates give h of shape (patches, nx, ny).  Patches of the geometry layer
+    are evaluated in one compiled loop per rail/wheel profile pair; others (bodies
+    cases) through their ``gap`` method."""
+    x = np.ascontiguousarray(x, dtype=float)
+    y = np.ascontiguousarray(y, dtype=float)
+    h = np.empty((x.shape[0], x.shape[1], y.shape[1]))
+    groups: dict = {}
+    for k, p in enumerate(patches):
+        f = p.gap_function
+        if isinstance(f, _GapEvaluator):
+            groups.setdefault((id(f.rail), id(f.wheel)), []).append(k)
+        else:
+            h[k] = p.gap(x[k][:, None], y[k][None, :])
+    for idx in groups.values():
+        fs = [patches[k].gap_function for k in idx]
+        f0 = fs[0]
+        sign = np.array([f.sign for f in fs])
+        h[idx] = _gap_lines_kernel(
+            x[idx], np.ascontiguousarray(sign[:, None] * y[idx]),
+            np.array([f.C for f in fs], float), np.array([f.t for f in fs], float),
+            np.array([f.n for f in fs], float), np.array([f.y_off for f in fs], float),
+            f0.rail._breaks, f0.rail._coefs,
+            np.ascontiguousarray(np.array([f.R.T for f in fs], float)),
+            np.array([f.O for f in fs], float), np.array([f.e for f in fs], float),
+            np.array([f.r0 for f in fs], float), f0.wheel._breaks, f0.wheel._coefs)
     return h
 
 

@@ -46,6 +46,7 @@ import time
 
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
+from numba import njit
 from scipy.optimize import brentq
 
 from ..errors import InputError
@@ -274,29 +275,42 @@ class AnalynModel(_StripModel):
         return _hertz_strips(x, xlc, pen - beta1 * g, A, B, alpha1, Es)
 
 
-def _corrected_gap(g, beta, j0):
+@njit(cache=True, nogil=True)
+def corrected_gap(g, beta, j0):
     """Double integral of the corrected curvature beta(y) g''(y) on the strip grid,
-    starting from strip ``j0`` with g*(j0) = g(j0) and the slope there scaled by
-    beta(j0).  With a constant beta this is beta g (up to g(j0))."""
-    d = np.diff(g)                                 # d[j] = g[j+1] - g[j]
-    n = d.size
-    ds = np.empty(n)
+    row by row (g, beta of shape (rows, strips)), starting from strip ``j0[row]``
+    with g*(j0) = g(j0) and the slope there scaled by beta(j0).  With a constant
+    beta this is beta g (up to g(j0))."""
+    rows, my = g.shape
+    out = g.copy()
+    n = my - 1
     if n == 0:
-        return g.copy()
-    jr = min(j0, n - 1)                             # first difference to the right of j0
-    ds[jr] = beta[j0] * d[jr]
-    if jr + 1 < n:                                  # march right: ds[j] = ds[j-1] + beta[j] s[j]
-        s = beta[jr + 1:n] * (d[jr + 1:] - d[jr:n - 1])
-        ds[jr + 1:] = ds[jr] + np.cumsum(s)
-    if jr >= 1:                                     # march left from ds[jr-1]
-        ds[jr - 1] = beta[j0] * d[jr - 1]
-        if jr >= 2:
-            s = beta[1:jr] * (d[1:jr] - d[:jr - 1])         # s at strips 1..jr-1
-            ds[:jr - 1] = ds[jr - 1] - np.cumsum(s[::-1])[::-1]
-    gs = np.empty_like(g)
-    gs[0] = 0.0
-    gs[1:] = np.cumsum(ds)
-    return gs - gs[j0] + g[j0]
+        return out
+    ds = np.empty(n)
+    for r in range(rows):
+        k = j0[r]
+        jr = min(k, n - 1)                          # first difference to the right of j0
+        ds[jr] = beta[r, k] * (g[r, jr + 1] - g[r, jr])
+        for j in range(jr + 1, n):                  # march right
+            ds[j] = ds[j - 1] + beta[r, j] * (g[r, j + 1] - 2.0 * g[r, j] + g[r, j - 1])
+        if jr >= 1:                                 # march left
+            ds[jr - 1] = beta[r, k] * (g[r, jr] - g[r, jr - 1])
+            for j in range(jr - 2, -1, -1):
+                ds[j] = ds[j + 1] - beta[r, j + 1] * (g[r, j + 2] - 2.0 * g[r, j + 1]
+                                                      + g[r, j])
+        acc = 0.0
+        gk = 0.0
+        for j in range(my):
+            if j > 0:
+                acc += ds[j - 1]
+            if j == k:
+                gk = acc
+        acc = 0.0
+        for j in range(my):
+            if j > 0:
+                acc += ds[j - 1]
+            out[r, j] = acc - gk + g[r, k]
+    return out
 
 
 @register("stripes")
@@ -318,5 +332,5 @@ class StripesModel(_StripModel):
         a, b, _ = hertz_ellipses(A, B, Es, pen)      # local ellipses: shape factors
         alpha1 = pen / (A * a * a)
         beta1 = pen / (B * b * b)
-        gs = _corrected_gap(g, beta1, j0)
+        gs = corrected_gap(g[None, :], beta1[None, :], np.array([j0]))[0]
         return _hertz_strips(x, x[ixm], pen - gs, A, B, alpha1, Es)

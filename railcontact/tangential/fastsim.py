@@ -182,6 +182,53 @@ def fastsim_ellipse(a, b, fn, mu, G, C11, C22, C23, xi, eta, phi, nx, ny):
     return -fx, -fy, -mz
 
 
+@njit(cache=True, nogil=True)
+def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, phi, nx,
+                          out):
+    """Forces only, for many patches with semi-elliptic strip pressures (the strip
+    models' batch solutions, :mod:`railcontact.normal.strip_batch`): FASTSIM's strip
+    march (:func:`_fastsim_strips`, ``nx`` elements per strip) with the bound
+    mu p_j sqrt(1 - ((x - x_mid_j)/l_j)^2) and the patch's flexibilities.
+
+    Arrays of shape (patches, strips): ``y``, ``x_mid``, ``half`` (l_j), ``p_strip``;
+    per patch: ``dy``, ``L1``, ``L2``, ``L3``, ``mu``, ``xi``, ``eta``, ``phi``.
+    Writes (F_x, F_y, M_z) on the wheel [N, N, N m] into ``out`` (patches, 3).
+    """
+    my = y.shape[1]
+    bound = np.empty((my, nx))
+    xl = np.empty(my)
+    xt = np.empty(my)
+    l1 = np.empty(my)
+    l2 = np.empty(my)
+    l3 = np.empty(my)
+    ph = np.empty(my)
+    xgrid = np.empty(0)
+    none = np.empty((0, my))
+    nost = np.empty((0, my), dtype=np.bool_)
+    for k in range(y.shape[0]):
+        if not (L1[k] > 0.0):
+            out[k, 0] = 0.0
+            out[k, 1] = 0.0
+            out[k, 2] = 0.0
+            continue
+        for j in range(my):
+            xl[j] = x_mid[k, j] + half[k, j]
+            xt[j] = x_mid[k, j] - half[k, j]
+            for i in range(nx):
+                s = 1.0 - (2.0 * i + 1.0) / nx          # from the leading edge
+                bound[j, i] = mu[k] * p_strip[k, j] * math.sqrt(max(0.0, 1.0 - s * s))
+        l1[:] = L1[k]
+        l2[:] = L2[k]
+        l3[:] = L3[k]
+        ph[:] = phi[k]
+        fx, fy, mz = _fastsim_strips(y[k], dy[k], xl, xt, bound, l1, l2, l3, xi[k], eta[k],
+                                     ph, xgrid, none, none, none, none, nost)
+        # the march gives the tractions on the rail; the wheel gets the opposite
+        out[k, 0] = -fx
+        out[k, 1] = -fy
+        out[k, 2] = -mz
+
+
 def equivalent_ellipse(normal) -> tuple:
     """Semi-axes (a, b) [m] of the ellipse equivalent to a patch.
 
@@ -205,7 +252,7 @@ def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn):
     """Flexibilities blended towards a combined value as the creepage grows
     (scalars, or arrays of semi-axes and flexibilities, elementwise)."""
     from .kalker import kalker_coefficients, kalker_coefficients_array
-    if mu <= 0 or fn <= 0:
+    if np.ndim(fn) == 0 and (mu <= 0 or fn <= 0):
         return L1, L2, L3
     if np.ndim(a) == 0:
         c11, c22, _ = kalker_coefficients(a / b, nu)          # cached scalar path
@@ -213,8 +260,9 @@ def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn):
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
         c11, c22, _ = kalker_coefficients_array(a / b, nu)
     c2 = a * b
-    f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
-    w = np.minimum(1.0, f / 3.0)
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
+    w = np.where(np.asarray(fn) > 0, np.minimum(1.0, f / 3.0), 0.0)
     ps = phi * (math.pi * a * a / 4) / (8 * a / 3)
     num = xi * xi + eta * eta + ps * ps
     den = np.float64(xi * xi / L1 + eta * eta / L2 + ps * ps / L3)
