@@ -235,6 +235,10 @@ class _GapEvaluator:
         self.t = np.array([0.0, math.cos(angle_side), math.sin(angle_side)])
         self.angle = angle_side
         self.y_ref = float(center[1] - self.y_off)
+        # the frame packed for the multi-patch kernel: C, t, n, y_off, R^T, O, e, r0
+        self.frame = np.concatenate([self.C, self.t, self.n, [self.y_off],
+                                     np.ascontiguousarray(self.R.T).ravel(), self.O,
+                                     [self.e, self.r0]]).astype(float)
 
     def contact_angle_at(self, y):
         """Local contact angle [rad] (track convention, as ``contact_angle``) at
@@ -322,24 +326,27 @@ def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
 
 
 @njit(cache=True, nogil=True)
-def _gap_lines_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
+def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
     """Gaps of many patches sharing one rail and one wheel profile on lines of
-    constant y: out[k, i, j] at (x[k, i], ys[k, j]) with row k of the per-patch
-    frame arrays.  The rail distance is computed once per line; every projection
-    starts from the neighbouring line's solution."""
+    constant y: out[k, i, j] at (x[k, i], ys[k, j]) with row k of the packed frames
+    ``F`` (``_GapEvaluator.frame``).  The rail distance is computed once per line;
+    every projection starts from the neighbouring line's solution."""
     nx = x.shape[1]
     h = np.empty((x.shape[0], nx, ys.shape[1]))
     tw = np.zeros(nx)
     for k in range(x.shape[0]):
+        f = F[k]
+        C, t, n, O = f[0:3], f[3:6], f[6:9], f[19:22]
+        Rt = f[10:19].reshape((3, 3))
+        y_off, e, r0 = f[9], f[22], f[23]
         tr = 0.0
         tw[:] = 0.0
         for j in range(ys.shape[1]):
-            tr = _rail_distance(ys[k, j], C[k], t[k], n[k], y_off[k], rb, rc, tr)
+            tr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc, tr)
             if not math.isfinite(tr):
                 tr = 0.0
             for i in range(nx):
-                w = _wheel_distance(x[k, i], ys[k, j], C[k], t[k], n[k], Rt[k], O[k],
-                                    e[k], r0[k], wb, wc, tw[i])
+                w = _wheel_distance(x[k, i], ys[k, j], C, t, n, Rt, O, e, r0, wb, wc, tw[i])
                 tw[i] = w if math.isfinite(w) else 0.0
                 g = tr - w
                 h[k, i, j] = g if math.isfinite(g) else 1.0
@@ -363,17 +370,12 @@ def sample_gap_lines(patches, x, y) -> np.ndarray:
         else:
             h[k] = p.gap(x[k][:, None], y[k][None, :])
     for idx in groups.values():
-        fs = [patches[k].gap_function for k in idx]
-        f0 = fs[0]
-        sign = np.array([f.sign for f in fs])
-        h[idx] = _gap_lines_kernel(
-            x[idx], np.ascontiguousarray(sign[:, None] * y[idx]),
-            np.array([f.C for f in fs], float), np.array([f.t for f in fs], float),
-            np.array([f.n for f in fs], float), np.array([f.y_off for f in fs], float),
-            f0.rail._breaks, f0.rail._coefs,
-            np.ascontiguousarray(np.array([f.R.T for f in fs], float)),
-            np.array([f.O for f in fs], float), np.array([f.e for f in fs], float),
-            np.array([f.r0 for f in fs], float), f0.wheel._breaks, f0.wheel._coefs)
+        f0 = patches[idx[0]].gap_function
+        frames = np.array([patches[k].gap_function.frame for k in idx])
+        sign = np.array([patches[k].gap_function.sign for k in idx])
+        h[idx] = _gap_lines_kernel(x[idx], np.ascontiguousarray(sign[:, None] * y[idx]), frames,
+                                   f0.rail._breaks, f0.rail._coefs, f0.wheel._breaks,
+                                   f0.wheel._coefs)
     return h
 
 

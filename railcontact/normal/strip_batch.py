@@ -145,15 +145,17 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
     return y, 2.0 * hy / strips, xm, g, A, B
 
 
-def _hertz_strips(A, B, alpha1, penloc, Es):
+def _hertz_strips(a, b, force, depth, alpha1, A, penloc):
     """Half-length and maximum pressure of Hertz strips at local approach ``penloc``
-    (ANALYN, STRIPES; as ``semi_hertzian._hertz_strips``)."""
-    ok = penloc > 0
+    (ANALYN, STRIPES; as ``semi_hertzian._hertz_strips``), from the Hertz solution
+    (a, b, force) of the same curvatures at the approach ``depth``: at fixed
+    curvatures the semi-axes scale with sqrt(approach) and the force with
+    approach^(3/2), so p_max(penloc) = p_max(depth) sqrt(penloc / depth)."""
+    ok = (penloc > 0) & (a > 0)
     pl = np.where(ok, penloc, 0.0)
-    al, bl, fl = hertz_ellipses(A, B, Es, pl)
     with np.errstate(divide="ignore", invalid="ignore"):
         half = np.where(ok, np.sqrt(pl / (alpha1 * A)), 0.0)
-        pm = np.where(ok, 1.5 * fl / (math.pi * al * bl), 0.0)
+        pm = np.where(ok, 1.5 * force / (math.pi * a * b) * np.sqrt(pl / depth), 0.0)
     return half, pm
 
 
@@ -296,7 +298,8 @@ def solve_strips(model: str, patches, contact_modulus: float, penetration=None,
         if model == "stripes":
             j0 = np.argmin(glat, axis=1)
             A = np.broadcast_to(A[np.arange(len(patches)), j0][:, None], A.shape)
-        a, b, _ = hertz_ellipses(A, B, Es, np.broadcast_to(depth[:, None], A.shape))
+        dep = np.broadcast_to(depth[:, None], A.shape)
+        a, b, fh = hertz_ellipses(A, B, Es, dep)
         with np.errstate(divide="ignore", invalid="ignore"):
             alpha1 = np.where(a > 0, depth[:, None] / (A * a * a), 1.0)
             beta1 = np.where(b > 0, depth[:, None] / (B * b * b), 1.0)
@@ -304,7 +307,7 @@ def solve_strips(model: str, patches, contact_modulus: float, penetration=None,
             glat = corrected_gap(np.ascontiguousarray(glat), np.ascontiguousarray(beta1), j0)
         else:
             glat = beta1 * glat
-        half, pm = _hertz_strips(A, B, alpha1, depth[:, None] - glat, Es)
+        half, pm = _hertz_strips(a, b, fh, dep, alpha1, A, depth[:, None] - glat)
         none = depth <= 0
         half[none], pm[none] = 0.0, 0.0
     return StripSolution(y, dy, xm, half, pm, pen)
