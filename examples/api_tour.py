@@ -43,3 +43,14 @@ print(f"equivalent conicity (3 mm): {equivalent_conicity(table, 3e-3):.3f}")
 case = rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
                           "wheelset": {"lateral_shift": 0.002, "vertical_force": 75e3}})
 print(rc.solve(case).to_json(indent=None)[:120], "...")
+
+# 6. many patches at once: every strip model with FASTSIM on a lateral sweep, compiled
+from railcontact.batch import solve_patches
+
+contacts = [find_contact(ws, track, lateral_shift=y, vertical_force=75e3)
+            for y in np.linspace(0.0, 8e-3, 40)]
+patches = [p for c in contacts for p in c.patches if p.approach > 0]
+for name in ("hertz", "kik-piotrowski", "kpec", "stripes", "analyn"):
+    res = solve_patches(patches, normal=name, tangential="fastsim", material=material)
+    print(f"{name:>14}: {len(patches)} patches in {res.cpu_time * 1e3:5.1f} ms, "
+          f"largest pmax {res.pmax.max() / 1e6:5.0f} MPa, largest |Fy| {abs(res.Fy).max() / 1e3:5.2f} kN")

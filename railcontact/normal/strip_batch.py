@@ -94,7 +94,9 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
     smallest gap + approach per strip, ~0 at the deepest point), ``A``, ``B``
     [1/m].  The lateral window covers the interpenetration region of each patch
     at ``penetration`` [m] (default: the geometry's approach), from the geometry's
-    extent, widened until the outer strips are free.
+    extent, widened until the outer strips are free.  The patch is the run of
+    interpenetrating strips through the deepest strip within the extent; strips
+    outside it get g = penetration + 1 m (no contact).
     """
     from ..geometry.search import sample_gap_lines
     n = len(patches)
@@ -112,6 +114,8 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
     yc = 0.5 * (ext[:, 2] + ext[:, 3])
     hy = np.maximum(0.5 * (ext[:, 3] - ext[:, 2]), np.sqrt(dpos / B0)) * (1.0 + margin)
     u = -1.0 + (2.0 * np.arange(strips) + 1.0) / strips
+    core = hy / (1.0 + margin)                  # the geometry's extent: the deepest strip lies in it
+    idx = np.arange(strips)
     todo = np.arange(n)
     out = [np.empty((n, strips)) for _ in range(5)]
     for _ in range(widen + 1):
@@ -134,9 +138,19 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
             return h0[:, j] + c1[:, j] * t + c2[:, j] * t * t
         B = np.maximum(0.5 * (at(jc + 1) - 2.0 * at(jc) + at(jc - 1)) / (dy * dy),
                        MIN_CURVATURE)
+        # the patch is the run of interpenetrating strips through the deepest strip of
+        # the extent; other regions of the tangent plane (another patch, the flange
+        # seen from the tread's plane) are not part of it
+        inter = g < pen[todo, None]
+        inside = np.abs(y - yc[todo, None]) <= core[todo, None]
+        jd = np.argmin(np.where(inside, g, np.inf), axis=1)
+        lo = np.where(~inter & (idx < jd[:, None]), idx, -1).max(axis=1) + 1
+        hi = np.where(~inter & (idx > jd[:, None]), idx, strips).min(axis=1) - 1
+        run = (idx >= lo[:, None]) & (idx <= hi[:, None]) & inter[np.arange(todo.size), jd][:, None]
+        g = np.where(run, g, pen[todo, None] + 1.0)     # outside the run: no contact (1 m)
         for arr, val in zip(out, (y, xc[todo, None] + t, g, A, B)):
             arr[todo] = val
-        edge = (g[:, 0] < pen[todo]) | (g[:, -1] < pen[todo])
+        edge = run[:, 0] | run[:, -1]
         if not edge.any():
             break
         todo = todo[edge]

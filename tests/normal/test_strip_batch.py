@@ -27,9 +27,11 @@ def patches():
     """S1002 on 60E1 1:40: tread, conformal tread, flange root and flange patches."""
     ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
     out = []
-    for yaw in (0.0, 4e-3):
+    # 75 kN at 6-8 mm: flange patches whose tangent plane also cuts the flange far
+    # from the patch (a spurious region the strip window must not take in)
+    for yaw, load in ((0.0, 6e4), (4e-3, 6e4), (0.0, 7.5e4)):
         for y in np.linspace(-4e-3, 9e-3, 14):
-            c = find_contact(ws, tr, lateral_shift=float(y), yaw=yaw, vertical_force=6e4,
+            c = find_contact(ws, tr, lateral_shift=float(y), yaw=yaw, vertical_force=load,
                              velocity=30.0)
             out.extend(p for p in c.patches if p.approach > 0)
     return out
@@ -84,17 +86,32 @@ def test_hertzian_gaps(A, B):
 
 @pytest.mark.parametrize("model", BATCH_MODELS)
 def test_normal_results_equal_the_per_patch_models(patches, per_patch, model):
-    """Same equations, different discretisation (strips of the interpenetration
-    width against 60 x 60 elements): F_n within 1 % (median 0.3 %), area and p_max
-    as the per-patch grid resolves them."""
+    """Same equations, different discretisation (40 strips of the interpenetration
+    width against 60 x 60 elements): F_n median within 0.3 %, every patch within 5 %
+    (the largest, +4.7 %, is STRIPES at the 5 mm contact jump, where neither
+    discretisation is converged: see the next test); area and p_max as the
+    per-patch grid resolves them."""
     s = solve_strips(model, patches, Es)
     ref = per_patch[model]
     dF = s.normal_force / ref["F"] - 1
     dA = s.area / ref["area"] - 1
     dP = s.pmax / ref["pmax"] - 1
-    assert np.median(np.abs(dF)) < 3e-3 and np.abs(dF).max() < 0.03
+    assert np.median(np.abs(dF)) < 3e-3 and np.abs(dF).max() < 0.05
     assert np.median(np.abs(dA)) < 1e-2 and np.abs(dA).max() < 0.07
     assert np.median(np.abs(dP)) < 3e-3 and np.abs(dP).max() < 0.06
+
+
+def test_contact_jump_converges_to_the_per_patch_model():
+    """STRIPES on the tread/flange-root patch at 5 mm (75 kN): both discretisations
+    converge to the same force (measured: strips 40/80/160 give 28.88/28.07/27.82 kN,
+    grids 60/120/200 give 27.58/28.25/27.87 kN)."""
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    c = find_contact(ws, tr, lateral_shift=5e-3, vertical_force=7.5e4, velocity=30.0)
+    p = [q for q in c.patches if q.side == "right" and q.approach > 0][0]
+    fine = solve_strips("stripes", [p], Es, strips=160).normal_force[0]
+    ref = get_normal_model("stripes").solve(p, STEEL, penetration=p.approach,
+                                            grid=(200, 200)).normal_force
+    assert fine == pytest.approx(ref, rel=0.01)
 
 
 @pytest.mark.parametrize("model", BATCH_MODELS)
