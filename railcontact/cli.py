@@ -65,7 +65,7 @@ def cmd_sweep(args):
     case = load_case(args.case)
     vary = dict(parse_vary(v) for v in args.vary)
     out = sweep(case, vary, args.normal, args.tangential, scheduler=args.scheduler,
-                progress=not args.json or sys.stderr.isatty())
+                progress=not args.json or sys.stderr.isatty(), warm=args.warm)
     if args.json:
         _print_json(out)
     else:
@@ -181,6 +181,9 @@ def build_parser():
     w.add_argument("--tangential")
     w.add_argument("--scheduler", default="auto",
                    help="sync, threads, processes, auto, or a Dask scheduler address")
+    w.add_argument("--warm", action="store_true",
+                   help="solve neighbouring cases in chains, each warm-started from the "
+                        "previous solution (exact solvers)")
     w.set_defaults(func=cmd_sweep)
     c = sub.add_parser("compare", help="run several normal models on one case")
     c.add_argument("case")

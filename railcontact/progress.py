@@ -9,7 +9,8 @@ from tqdm.auto import tqdm
 
 
 class TqdmCallback(Callback):
-    """Dask callback that advances a tqdm bar once per finished top-level task."""
+    """Dask callback that advances a tqdm bar by the cases of each finished sweep
+    task (a chain of consecutive cases)."""
 
     def __init__(self, total: int, desc: str = ""):
         super().__init__()
@@ -21,8 +22,8 @@ class TqdmCallback(Callback):
 
     def _posttask(self, key, result, dsk, state, worker_id):
         name = key[0] if isinstance(key, tuple) else key
-        if str(name).startswith("_solve_one"):
-            self.bar.update(1)
+        if str(name).startswith("_solve_chain"):
+            self.bar.update(len(result))
 
     def _finish(self, dsk, state, errored):
         self.bar.close()

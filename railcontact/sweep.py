@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import itertools
 import logging
+import os
 import time
 
 import numpy as np
@@ -38,18 +39,28 @@ def parse_vary(spec: str):
     return key, [round(v, 12) for v in values]
 
 
-def _solve_one(raw, base_dir, normal, tangential):
+def _solve_chain(raws, base_dir, normal, tangential, warm):
+    """Solve consecutive cases in order; with ``warm`` each starts from the previous
+    case's solution (:func:`railcontact.solve`'s ``warm_start``)."""
     from .case import case_from_dict
     from .solve import solve
-    try:
-        res = solve(case_from_dict(raw, base_dir), normal, tangential)
-        return {"patches": [p.to_dict() for p in res.patches]}
-    except RailContactError as exc:
-        return {"patches": [], "error": str(exc)}
+    out, prev = [], None
+    for raw in raws:
+        try:
+            res = solve(case_from_dict(raw, base_dir), normal, tangential,
+                        warm_start=prev if warm else None)
+            prev = res
+            out.append({"patches": [p.to_dict() for p in res.patches],
+                        "converged": res.converged})
+        except RailContactError as exc:
+            prev = None
+            out.append({"patches": [], "error": str(exc)})
+    return out
 
 
 def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | None = None,
-          scheduler: str = "auto", progress: bool = True) -> dict:
+          scheduler: str = "auto", progress: bool = True, warm: bool = False,
+          chains: int | None = None) -> dict:
     """Solve every combination of the varied case keys.
 
     Parameters
@@ -63,6 +74,13 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
         (``tcp://host:8786``) to run on a cluster.
     progress : bool
         Show a progress bar.
+    warm : bool
+        Solve consecutive cases as chains, each case warm-started from the previous
+        one (pays for the exact solvers, whose iterations start from the neighbouring
+        solution; the last varied key changes fastest).
+    chains : int, optional
+        Number of chains (parallel tasks) with ``warm``: default one for the ``sync``
+        scheduler, else one per CPU core.
 
     Returns
     -------
@@ -79,9 +97,15 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
         for k, v in zip(keys, combo):
             c = c.with_value(k, v)   # validates every combination before any work
         raws.append(c.raw)
-    tasks = [dask.delayed(_solve_one)(r, case.base_dir, normal, tangential) for r in raws]
     if scheduler == "auto":
-        scheduler = "processes" if len(tasks) >= 64 else "sync"
+        scheduler = "processes" if len(raws) >= 64 else "sync"
+    if chains is None:
+        chains = len(raws) if not warm else (1 if scheduler == "sync" else (os.cpu_count() or 1))
+    if not (isinstance(chains, int) and chains >= 1):
+        raise InputError(f"chains {chains!r}: expected a positive integer")
+    bounds = np.linspace(0, len(raws), min(chains, len(raws)) + 1).round().astype(int)
+    tasks = [dask.delayed(_solve_chain)(raws[a:b], case.base_dir, normal, tangential, warm)
+             for a, b in zip(bounds[:-1], bounds[1:])]
     kwargs = {}
     if scheduler.startswith(("tcp://", "tls://", "inproc://")):
         from distributed import Client
@@ -93,9 +117,10 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
             kwargs["num_workers"] = None
     if progress:
         from .progress import TqdmCallback
-        with TqdmCallback(total=len(tasks), desc="sweep"):
+        with TqdmCallback(total=len(raws), desc="sweep"):
             out = dask.compute(*tasks, **kwargs)
     else:
         out = dask.compute(*tasks, **kwargs)
+    out = [o for chain in out for o in chain]
     cases = [{"params": dict(zip(keys, combo)), **o} for combo, o in zip(combos, out)]
     return {"cases": cases, "cpu_time": time.perf_counter() - t0}

@@ -171,8 +171,9 @@ class ExactNormalModel:
         on the solution grid (the tangential tractions' share for dissimilar
         materials, :mod:`railcontact.coupling`).
 
-        ``warm_start``: a previous solution; its pressure is the initial estimate when
-        it lies on the same grid (e.g. in the vertical-force iteration).
+        ``warm_start``: a previous solution whose pressure is the initial estimate: on
+        the same grid (e.g. in the vertical-force iteration) as it is, on another grid
+        (a neighbouring case of a sweep) interpolated.
 
         The undeformed distance is taken from ``geometry.gap`` (the exact gap of the
         geometry layer, shifted so that ``penetration`` is measured from the
@@ -197,10 +198,15 @@ class ExactNormalModel:
         op = normal_operator(x.size, y.size, float(dx), float(dy), material.contact_modulus)
         dA = dx * dy
         p0 = None
-        if (warm_start is not None and warm_start.pressure.shape == h0.shape
-                and np.allclose(warm_start.x, x) and np.allclose(warm_start.y, y)
-                and warm_start.pressure.max() > 0):
-            p0 = warm_start.pressure
+        if warm_start is not None and warm_start.pressure.max() > 0:
+            if (warm_start.pressure.shape == h0.shape and np.allclose(warm_start.x, x)
+                    and np.allclose(warm_start.y, y)):
+                p0 = warm_start.pressure
+            elif warm_start.pressure_at is not None:
+                # another grid (a neighbouring case of a sweep): its pressure there
+                p0 = np.maximum(warm_start.pressure_at(x[:, None], y[None, :]), 0.0)
+                if not p0.max() > 0:
+                    p0 = None
         if normal_force is not None:
             if p0 is not None:
                 p0 = p0 * normal_force / max(float(p0.sum() * dA), 1e-300)

@@ -354,6 +354,26 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     return px, py, sx, sy, stick & contact, it, converged
 
 
+def _initial_tractions(warm, x, y, contact, bound):
+    """Tractions on the rail (body 1) from a previous solution ``warm``: on the same
+    grid as they are, on another grid interpolated (linear, zero outside); inside
+    the contact and within the traction bound."""
+    if warm.traction_x.shape == contact.shape and np.allclose(warm.x, x) \
+            and np.allclose(warm.y, y):
+        tx, ty = -warm.traction_x, -warm.traction_y
+    else:
+        from scipy.interpolate import RegularGridInterpolator
+        pts = np.stack(np.broadcast_arrays(x[:, None], y[None, :]), axis=-1)
+        tx, ty = (-RegularGridInterpolator((warm.x, warm.y), t, bounds_error=False,
+                                           fill_value=0.0)(pts)
+                  for t in (warm.traction_x, warm.traction_y))
+    mag = np.hypot(tx, ty)
+    with np.errstate(invalid="ignore", divide="ignore"):
+        scale = np.where(mag > bound, bound / np.where(mag > 0, mag, 1.0), 1.0)
+    return (np.ascontiguousarray(np.where(contact, tx * scale, 0.0)),
+            np.ascontiguousarray(np.where(contact, ty * scale, 0.0)))
+
+
 @register("exact")
 class ExactTangentialModel:
     """Kalker's exact theory of steady-state rolling (identical materials).
@@ -385,8 +405,9 @@ class ExactTangentialModel:
               warm_start: TangentialSolution | None = None,
               extra_slip=None) -> TangentialSolution:
         """Creep forces for creepages (xi [-], eta [-], phi [1/m]) on the normal
-        solution's grid.  ``warm_start``: a previous solution on the same grid (e.g.
-        of a neighbouring case) used as the initial estimate."""
+        solution's grid.  ``warm_start``: a previous solution (e.g. of a neighbouring
+        case, on this grid or interpolated from its own) used as the initial
+        estimate; without it, FASTSIM's solution is."""
         t0 = time.perf_counter()
         xi, eta, phi = check_inputs(creepage, friction)
         x, y = normal.x, normal.y
@@ -406,9 +427,8 @@ class ExactTangentialModel:
                                                   friction, velocity)
             except Exception as exc:                      # pragma: no cover - fallback
                 log.debug("no FASTSIM initial estimate: %s", exc)
-        if warm_start is not None and warm_start.traction_x.shape == contact.shape:
-            p0 = (np.where(contact, -warm_start.traction_x, 0.0),
-                  np.where(contact, -warm_start.traction_y, 0.0))
+        if warm_start is not None:
+            p0 = _initial_tractions(warm_start, x, y, contact, bound)
         args = (x, y, contact, bound, (xi, eta, phi), material.shear_modulus,
                 material.nu, self.tol)
         px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode,

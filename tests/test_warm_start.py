@@ -1,0 +1,82 @@
+"""Warm starts across cases and the vertical-force iteration with stand-in lateral
+forces (railcontact.solve, railcontact.sweep)."""
+
+import numpy as np
+import pytest
+
+import railcontact as rc
+from railcontact.case import case_from_dict
+from railcontact.geometry.contact import ContactGeometry
+from railcontact.materials import STEEL
+from railcontact.normal import get_normal_model
+from railcontact.solve import vertical_force_on_rail
+from railcontact.tangential import get_tangential_model
+
+
+def _raw(shift, normal="exact", tangential="exact", load=6e4):
+    return {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+            "wheelset": {"lateral_shift": shift, "yaw": 1e-3, "vertical_force": load,
+                         "velocity": 30.0},
+            "creepage": {"longitudinal": -1e-3, "lateral": 5e-4, "spin": 0.0},
+            "solver": {"normal": normal, "tangential": tangential, "grid": [30, 30]}}
+
+
+@pytest.mark.parametrize("models", [("exact", "exact"), ("hertz", "fastsim")])
+@pytest.mark.parametrize("shift", [2e-3, 7e-3])
+def test_vertical_balance_with_the_final_forces(models, shift):
+    """The load is met with the normal and tangential forces of the result (tread at
+    2 mm, flange at 7 mm where F_y sin(d) is a large share of the balance)."""
+    res = rc.solve(case_from_dict(_raw(shift, *models)))
+    assert res.converged
+    for side in ("left", "right"):
+        assert vertical_force_on_rail(res.patches, side) == pytest.approx(6e4, rel=1e-4)
+    if shift > 5e-3:
+        flange = max(res.patches, key=lambda p: abs(p.geometry.contact_angle))
+        assert abs(flange.geometry.contact_angle) > 0.8
+        assert abs(flange.tangential.fy * np.sin(flange.geometry.contact_angle)) > 2e3
+
+
+#: both results meet the load to the iteration's rtol 1e-4, by different paths
+SAME = 2e-4
+
+
+def test_warm_start_from_a_neighbouring_case_gives_the_same_result():
+    prev = rc.solve(case_from_dict(_raw(2.0e-3)))
+    case = case_from_dict(_raw(2.5e-3))
+    cold, warm = rc.solve(case), rc.solve(case, warm_start=prev)
+    for a, b in zip(cold.patches, warm.patches):
+        assert b.normal.normal_force == pytest.approx(a.normal.normal_force, rel=SAME)
+        assert b.tangential.fx == pytest.approx(a.tangential.fx, rel=SAME, abs=1.0)
+        assert b.tangential.fy == pytest.approx(a.tangential.fy, rel=SAME, abs=1.0)
+
+
+def test_warm_sweep_equals_cold_sweep():
+    case = case_from_dict(_raw(0.0))
+    vary = {"wheelset.lateral_shift": [0.0, 1e-3, 2e-3, 3e-3]}
+    cold = rc.sweep(case, vary, scheduler="sync", progress=False)
+    warm = rc.sweep(case, vary, scheduler="sync", progress=False, warm=True, chains=2)
+    for a, b in zip(cold["cases"], warm["cases"]):
+        assert a["params"] == b["params"] and b["converged"]
+        for pa, pb in zip(a["patches"], b["patches"]):
+            assert pb["Fn"] == pytest.approx(pa["Fn"], rel=SAME)
+            assert pb["Fx"] == pytest.approx(pa["Fx"], rel=SAME, abs=1.0)
+
+
+def test_exact_solvers_accept_a_solution_on_another_grid():
+    """Pressure and tractions of a neighbouring case are interpolated onto the new
+    grid; the solution equals the cold one and needs fewer iterations."""
+    nm, tm = get_normal_model("exact"), get_tangential_model("exact")
+    g1 = ContactGeometry(curvatures=(1 / 0.92, 1 / 0.6))
+    g2 = ContactGeometry(curvatures=(1 / 0.90, 1 / 0.62))
+    n1 = nm.solve(g1, STEEL, normal_force=50e3, grid=(40, 40))
+    t1 = tm.solve(n1, g1, STEEL, (1e-3, 0.0, 0.1), 0.3, 30.0)
+    n2c = nm.solve(g2, STEEL, normal_force=52e3, grid=(40, 40))
+    n2w = nm.solve(g2, STEEL, normal_force=52e3, grid=(40, 40), warm_start=n1)
+    assert not np.allclose(n1.x, n2c.x)                     # another grid indeed
+    np.testing.assert_allclose(n2w.pressure, n2c.pressure, atol=1e-6 * n2c.pmax)
+    t2c = tm.solve(n2c, g2, STEEL, (1.1e-3, 0.0, 0.1), 0.3, 30.0)
+    t2w = tm.solve(n2c, g2, STEEL, (1.1e-3, 0.0, 0.1), 0.3, 30.0, warm_start=t1)
+    assert t2w.options["converged"]
+    assert t2w.fx == pytest.approx(t2c.fx, rel=1e-5)
+    assert t2w.fy == pytest.approx(t2c.fy, rel=1e-5, abs=1e-3)
+    assert t2w.options["iterations"] <= t2c.options["iterations"]
