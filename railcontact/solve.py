@@ -202,7 +202,9 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
         results.append(PatchResult(geom, ns, ts, tuple(creep)))
     else:
         results, contact = _solve_wheel_rail(case, nmodel, tmodel, kw,
-                                             previous=warm_start.patches if warm_start else None)
+                                             previous=warm_start.patches if warm_start else None,
+                                             previous_contact=warm_start.contact if warm_start
+                                             else None)
         pose = contact.pose
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)
 
@@ -319,7 +321,7 @@ def vertical_force_on_rail(results, side: str, lateral=None) -> float:
 
 
 def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
-                      previous=None):
+                      previous=None, previous_contact=None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
 
     The geometry layer's multi-Hertzian estimate gives the first wheelset height;
@@ -332,19 +334,30 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     solution; once the balance is met the tangential problems are solved on those
     normal solutions and the balance checked again (the iteration goes on, with the
     new lateral forces, until it holds with the forces of the result).
+
+    ``previous_contact`` (of a neighbouring case): its ratio of the final to the
+    first interpenetration per side scales this case's first estimate.
     """
     bodies = build_wheelset_track(case)
     converged = True
     contact = contact_search(case, bodies=bodies)
+    first = dict(contact.interpenetration)
+    ratio = getattr(previous_contact, "interpenetration_ratio", None)
+    if ratio and set(ratio) == set(first) and all(0.5 < r < 2.0 for r in ratio.values()):
+        # the model's load-approach relation differs from the multi-Hertzian estimate
+        # much as it did for the neighbouring case
+        contact = contact_search(case, interpenetration={s: first[s] * ratio[s] for s in first},
+                                 bodies=bodies)
     loads = case.wheel_loads()
     side = case.get("wheelset.side", "both")
     lazy = tmodel is not None and not _coupled(case, nmodel, tmodel)
     results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=previous,
                              normal_only=lazy)
-    # whose F_y/F_n stands in until the tangential solution: a neighbouring case's,
-    # else Hertz + FASTSIM's on these patches (cheap, and close enough that the
+    # whose F_y/F_n stands in until the tangential solution: Hertz + FASTSIM's on
+    # these patches (cheap, with this case's creepages, and close enough that the
     # balance rarely moves once the chosen tangential model has solved)
-    lateral = previous if previous else (_fast_estimate(case, contact) if lazy else None)
+    lateral = _fast_estimate(case, contact) if lazy else None
+    tangential_start = previous   # warm starts of the tangential solver (a neighbour's)
     d = dict(contact.interpenetration)
     sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
     hist = {s: [] for s in sides}
@@ -363,8 +376,8 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 break
             # met with the stand-in lateral forces: solve the tangential problems and
             # check the balance with their forces
-            results = _add_tangential(case, results, tmodel, previous=lateral)
-            lateral = results
+            results = _add_tangential(case, results, tmodel, previous=tangential_start)
+            lateral = tangential_start = results
             err = {}
             for s in sides:
                 fz = vertical_force_on_rail(results, s)
@@ -408,19 +421,21 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         d = new
         contact = contact_search(case, interpenetration=d, bodies=bodies)
         if lazy and all(r.tangential is not None for r in results):
-            lateral = results
+            lateral = tangential_start = results
         results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results,
                                  normal_only=lazy)
     else:
         converged = False
         log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)
     if any(r.tangential is None for r in results):   # left the iteration without them
-        results = _add_tangential(case, results, tmodel, previous=lateral)
+        results = _add_tangential(case, results, tmodel, previous=tangential_start)
     if side != "both":
         results = [r for r in results if r.geometry.side == side]
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
     contact.converged = converged
+    contact.interpenetration_ratio = {s: contact.interpenetration[s] / first[s]
+                                      for s in first if first[s] > 0}
     return results, contact
 
 
