@@ -36,15 +36,24 @@ def _F(x, y):
     return t1 + t2
 
 
-def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float) -> np.ndarray:
-    """Kernel A[di, dj] for offsets di in [-(mx-1), mx-1], dj in [-(my-1), my-1] [m/Pa]."""
-    ix = np.arange(-(mx - 1), mx) * dx
+def _element_integrals(mx: int, my: int, dx: float, dy: float, extra_rows: int = 0):
+    """``rect(F)``: the integral over an element (dx x dy) of a kernel with
+    antiderivative F, at the offsets between element centres, di in
+    [-(mx-1), mx-1+extra_rows], dj in [-(my-1), my-1] (array of that shape)."""
+    ix = np.arange(-(mx - 1), mx + extra_rows) * dx
     iy = np.arange(-(my - 1), my) * dy
     X, Y = np.meshgrid(ix, iy, indexing="ij")
     hx, hy = dx / 2, dy / 2
-    val = (_F(X + hx, Y + hy) - _F(X - hx, Y + hy)
-           - _F(X + hx, Y - hy) + _F(X - hx, Y - hy))
-    return val / (np.pi * contact_modulus)
+
+    def rect(F):
+        return F(X + hx, Y + hy) - F(X - hx, Y + hy) - F(X + hx, Y - hy) + F(X - hx, Y - hy)
+
+    return rect
+
+
+def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float) -> np.ndarray:
+    """Kernel A[di, dj] for offsets di in [-(mx-1), mx-1], dj in [-(my-1), my-1] [m/Pa]."""
+    return _element_integrals(mx, my, dx, dy)(_F) / (np.pi * contact_modulus)
 
 
 class Convolution:
@@ -119,14 +128,7 @@ def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: fl
     I(x^2/r^3) = y ln(x + r), I(xy/r^3) = -r.  Offsets in x run over
     [-(mx-1), mx-1+extra_rows].
     """
-    ix = np.arange(-(mx - 1), mx + extra_rows) * dx
-    iy = np.arange(-(my - 1), my) * dy
-    X, Y = np.meshgrid(ix, iy, indexing="ij")
-    hx, hy = dx / 2, dy / 2
-
-    def rect(f):
-        return f(X + hx, Y + hy) - f(X - hx, Y + hy) - f(X + hx, Y - hy) + f(X - hx, Y - hy)
-
+    rect = _element_integrals(mx, my, dx, dy, extra_rows)
     Lx, Ly = rect(_Lx), rect(_Ly)
     Rr = rect(lambda x, y: -np.hypot(x, y))
     nu, c = poisson_ratio, 1.0 / (np.pi * shear_modulus)
@@ -154,14 +156,7 @@ def coupling_kernels(mx: int, my: int, dx: float, dy: float, D: float, extra_row
     (t_x, t_y) on body 1 is k_x * t_x + k_y * t_y; the tangential displacement
     difference from the pressure p is -(k_x, k_y) * p.  Offsets in x run over
     [-(mx-1), mx-1+extra_rows]."""
-    ix = np.arange(-(mx - 1), mx + extra_rows) * dx
-    iy = np.arange(-(my - 1), my) * dy
-    X, Y = np.meshgrid(ix, iy, indexing="ij")
-    hx, hy = dx / 2, dy / 2
-
-    def rect(f):
-        return f(X + hx, Y + hy) - f(X - hx, Y + hy) - f(X + hx, Y - hy) + f(X - hx, Y - hy)
-
+    rect = _element_integrals(mx, my, dx, dy, extra_rows)
     kx = rect(_Cx)
     ky = rect(lambda a, b: _Cx(b, a))
     return D * kx, D * ky
