@@ -159,7 +159,21 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
 
     For wheel-rail cases the geometry layer finds the wheelset position under the
     vertical load and the patches; each patch is solved with its own penetration.
+    A warm-started case that does not converge is solved again cold.
     """
+    if warm_start is not None:
+        res = _solve(case, normal, tangential, warm_start)
+        if res.converged:
+            return res
+        log.info("warm-started case did not converge; solving it again cold")
+        cold = _solve(case, normal, tangential, None)
+        cold.cpu_time += res.cpu_time                 # the failed attempt counts
+        return cold
+    return _solve(case, normal, tangential, None)
+
+
+def _solve(case, normal, tangential, warm_start):
+    """:func:`solve` with or without a warm start."""
     t0 = time.perf_counter()
     nname = (normal or case.normal).lower()
     tname = (tangential or case.tangential).lower()

@@ -80,3 +80,25 @@ def test_exact_solvers_accept_a_solution_on_another_grid():
     assert t2w.fx == pytest.approx(t2c.fx, rel=1e-5)
     assert t2w.fy == pytest.approx(t2c.fy, rel=1e-5, abs=1e-3)
     assert t2w.options["iterations"] <= t2c.options["iterations"]
+
+
+def test_unconverged_warm_start_falls_back_to_a_cold_solve(monkeypatch):
+    """A warm-started case that does not converge is solved again cold (deep flange
+    contact can take a warm start into a state where the exact solver fails)."""
+    import importlib
+    S = importlib.import_module("railcontact.solve")
+    calls = []
+    real = S._solve
+
+    def fake(case, normal, tangential, warm_start):
+        res = real(case, normal, tangential, warm_start)
+        calls.append(warm_start is not None)
+        if warm_start is not None:
+            res.contact.converged = False             # as if the warm start had failed
+        return res
+
+    monkeypatch.setattr(S, "_solve", fake)
+    case = case_from_dict(_raw(2e-3, "hertz", "fastsim"))
+    prev = rc.solve(case)
+    res = rc.solve(case, warm_start=prev)
+    assert calls == [False, True, False] and res.converged
