@@ -247,14 +247,15 @@ def _nearest(previous, geom):
     return min(near, key=lambda r: abs(r.geometry.y_rail - geom.y_rail)) if near else None
 
 
-def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only=False):
+def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only=False,
+                   coupled=False):
     """Solve every loaded patch; ``previous`` results (an earlier iteration of the
     same case, or a neighbouring case of a sweep) serve as warm starts where a model
     accepts them.  ``normal_only``: leave the tangential problems to
-    :func:`_add_tangential` (not for coupled dissimilar materials)."""
+    :func:`_add_tangential`.  ``coupled``: dissimilar materials with the exact
+    models (:func:`_coupled`), both problems solved together."""
     out = []
     nwarm = getattr(nmodel, "accepts_warm_start", False)
-    coupled = _coupled(case, nmodel, tmodel)
     for geom in contact.patches:
         if geom.approach <= 0:
             continue
@@ -364,9 +365,10 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                                  bodies=bodies)
     loads = case.wheel_loads()
     side = case.get("wheelset.side", "both")
-    lazy = tmodel is not None and not _coupled(case, nmodel, tmodel)
+    coupled = _coupled(case, nmodel, tmodel)
+    lazy = tmodel is not None and not coupled
     results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=previous,
-                             normal_only=lazy)
+                             normal_only=lazy, coupled=coupled)
     # whose F_y/F_n stands in until the tangential solution: Hertz + FASTSIM's on
     # these patches (cheap, with this case's creepages, and close enough that the
     # balance rarely moves once the chosen tangential model has solved)
@@ -437,7 +439,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         if lazy and all(r.tangential is not None for r in results):
             lateral = tangential_start = results
         results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results,
-                                 normal_only=lazy)
+                                 normal_only=lazy, coupled=coupled)
     else:
         converged = False
         log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)

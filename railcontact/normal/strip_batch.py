@@ -251,11 +251,10 @@ def _kpec_eps(y, dy, hstar, A, Es):
     inreg = hstar <= thr[:, None]
     j0 = np.clip(np.argmax(inreg, axis=1), 1, my - 2)
     j1 = np.clip(my - 1 - np.argmax(inreg[:, ::-1], axis=1), 1, my - 2)
-    dyv = dy
     with np.errstate(divide="ignore", invalid="ignore"):
-        ysta = y[rows, j0] - (thr - hstar[rows, j0]) * dyv / (hstar[rows, j0 - 1]
+        ysta = y[rows, j0] - (thr - hstar[rows, j0]) * dy / (hstar[rows, j0 - 1]
                                                              - hstar[rows, j0])
-        yend = y[rows, j1] + (thr - hstar[rows, j1]) * dyv / (hstar[rows, j1 + 1]
+        yend = y[rows, j1] + (thr - hstar[rows, j1]) * dy / (hstar[rows, j1 + 1]
                                                              - hstar[rows, j1])
     ymid = 0.5 * (ysta + yend)
     ymid = np.where(np.isfinite(ymid), ymid, y[rows, jm])
