@@ -214,8 +214,10 @@ def _regions(loc: Locus, rigid: bool, combine_distance: float):
     return [tuple(r) for r in merged]
 
 
-#: Newton steps of the gap evaluation stop below this correction [m]
-NEWTON_TOL = 1e-14
+#: Newton steps of the gap evaluation stop after a correction below this [m]: the
+#: convergence is quadratic, so the error left is of order kappa * NEWTON_TOL^2 with
+#: kappa <= 1e3 1/m the profile curvatures, below 1e-13 m
+NEWTON_TOL = 1e-8
 
 
 class _GapEvaluator:
@@ -260,38 +262,51 @@ class _GapEvaluator:
 
 
 @njit(cache=True, nogil=True)
-def _ppoly01(xi, breaks, c):
-    """Value and slope of a cubic piecewise polynomial at the scalar xi (NaN outside)."""
+def _ppoly01(xi, breaks, c, k=-1):
+    """Value, slope and interval of a cubic piecewise polynomial at the scalar xi
+    (NaN outside).  ``k`` is a guess of the interval (a neighbouring point's): the
+    search walks from it for up to 16 intervals before falling back to bisection."""
     n = breaks.size - 1
     if not (breaks[0] <= xi <= breaks[n]):
-        return np.nan, np.nan
-    k = min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)
+        return np.nan, np.nan, k
+    if 0 <= k < n:
+        for _ in range(16):                     # walk from the guess ...
+            if xi < breaks[k] and k > 0:
+                k -= 1
+            elif xi >= breaks[k + 1] and k < n - 1:
+                k += 1
+            else:
+                break
+    if not (0 <= k < n and breaks[k] <= xi and (xi < breaks[k + 1] or k == n - 1)):
+        k = min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)  # ... or search
     t = xi - breaks[k]
-    return (((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k],
-            (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k])
+    return ((((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]),
+            (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k], k)
 
 
 @njit(cache=True, nogil=True)
-def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr):
+def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr, k=-1):
     """Distance along n from the tangent-plane point C + ysp t to the rail surface
     (the rail is straight along x, so x does not enter): Newton on
-    z_r(P_y + tr n_y - y_off) = P_z + tr n_z from the estimate ``tr``."""
+    z_r(P_y + tr n_y - y_off) = P_z + tr n_z from the estimate ``tr``, starting the
+    profile lookup at interval ``k``.  Returns the distance and the interval."""
     p1 = C[1] + ysp * t[1]
     p2 = C[2] + ysp * t[2]
     for _ in range(8):
-        zr, dzr = _ppoly01(p1 + tr * n[1] - y_off, rb, rc)
+        zr, dzr, k = _ppoly01(p1 + tr * n[1] - y_off, rb, rc, k)
         step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
         tr -= step
         if not abs(step) > NEWTON_TOL:
             break
-    return tr
+    return tr, k
 
 
 @njit(cache=True, nogil=True)
-def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw):
+def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw, k=-1):
     """Distance along n from the tangent-plane point C + xp (1, 0, 0) + ysp t to
     the wheel surface (radius r0 + z_w(eta - e) in wheelset axes), by Newton from
-    the estimate ``tw``."""
+    the estimate ``tw``, starting the profile lookup at interval ``k``.  Returns the
+    distance and the interval."""
     nl0 = Rt[0, 0] * n[0] + Rt[0, 1] * n[1] + Rt[0, 2] * n[2]
     nl1 = Rt[1, 0] * n[0] + Rt[1, 1] * n[1] + Rt[1, 2] * n[2]
     nl2 = Rt[2, 0] * n[0] + Rt[2, 1] * n[1] + Rt[2, 2] * n[2]
@@ -305,12 +320,12 @@ def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw):
         a0 = l0 + tw * nl0
         a2 = l2 + tw * nl2
         rho = math.hypot(a0, a2)
-        zw, dzw = _ppoly01(l1 + tw * nl1 - e, wb, wc)
+        zw, dzw, k = _ppoly01(l1 + tw * nl1 - e, wb, wc, k)
         step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
         tw -= step
         if not abs(step) > NEWTON_TOL:
             break
-    return tw
+    return tw, k
 
 
 @njit(cache=True, nogil=True)
@@ -318,9 +333,12 @@ def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
     """Distance along the normal n between rail and wheel surfaces through the
     tangent-plane points C + x (1, 0, 0) + ys t (1 m where a surface is missed)."""
     h = np.empty(x.size)
+    kr = -1
+    kw = -1
     for i in range(x.size):
-        g = (_rail_distance(ys[i], C, t, n, y_off, rb, rc, 0.0)
-             - _wheel_distance(x[i], ys[i], C, t, n, Rt, O, e, r0, wb, wc, 0.0))
+        tr, kr = _rail_distance(ys[i], C, t, n, y_off, rb, rc, 0.0, kr)
+        tw, kw = _wheel_distance(x[i], ys[i], C, t, n, Rt, O, e, r0, wb, wc, 0.0, kw)
+        g = tr - tw
         h[i] = g if math.isfinite(g) else 1.0
     return h
 
@@ -334,19 +352,22 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
     nx = x.shape[1]
     h = np.empty((x.shape[0], nx, ys.shape[1]))
     tw = np.zeros(nx)
+    kw = np.full(nx, -1)
     for k in range(x.shape[0]):
         f = F[k]
         C, t, n, O = f[0:3], f[3:6], f[6:9], f[19:22]
         Rt = f[10:19].reshape((3, 3))
         y_off, e, r0 = f[9], f[22], f[23]
         tr = 0.0
+        kr = -1
         tw[:] = 0.0
         for j in range(ys.shape[1]):
-            tr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc, tr)
+            tr, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc, tr, kr)
             if not math.isfinite(tr):
                 tr = 0.0
             for i in range(nx):
-                w = _wheel_distance(x[k, i], ys[k, j], C, t, n, Rt, O, e, r0, wb, wc, tw[i])
+                w, kw[i] = _wheel_distance(x[k, i], ys[k, j], C, t, n, Rt, O, e, r0, wb, wc,
+                                           tw[i], kw[i])
                 tw[i] = w if math.isfinite(w) else 0.0
                 g = tr - w
                 h[k, i, j] = g if math.isfinite(g) else 1.0
@@ -377,6 +398,37 @@ def sample_gap_lines(patches, x, y) -> np.ndarray:
                                    f0.rail._breaks, f0.rail._coefs, f0.wheel._breaks,
                                    f0.wheel._coefs)
     return h
+
+
+def sample_strip_spin(patches, y) -> np.ndarray:
+    """Spin creepage [1/m] of many patches per strip, at patch coordinates ``y``
+    (patches, strips), as :meth:`ContactGeometry.spin_at` with each patch's own spin:
+    the local contact angles of patches on the same rail profile come from one
+    vectorised evaluation of its slope."""
+    y = np.asarray(y, dtype=float)
+    out = np.empty(y.shape)
+    groups: dict = {}
+    for k, p in enumerate(patches):
+        phi = p.creepage[2] if p.creepage is not None else 0.0
+        f = p.gap_function
+        if (isinstance(f, _GapEvaluator) and math.isfinite(p.spin_derivative)
+                and getattr(p.local_contact_angle, "__self__", None) is f):
+            groups.setdefault(id(f.rail), []).append(k)
+        else:
+            out[k] = p.spin_at(y[k], phi)
+    for idx in groups.values():
+        fs = [patches[k].gap_function for k in idx]
+        sign = np.array([f.sign for f in fs])[:, None]
+        yr = (np.array([f.y_ref for f in fs])[:, None]
+              + sign * y[idx] * np.cos([f.angle for f in fs])[:, None])
+        delta = sign * np.arctan(fs[0].rail.slope(yr))
+        d = delta - np.array([patches[k].contact_angle for k in idx])[:, None]
+        d = np.where(np.isfinite(d), d, 0.0)           # off the profile: the patch value
+        phi = np.array([patches[k].creepage[2] if patches[k].creepage is not None else 0.0
+                        for k in idx])[:, None]
+        dphi = np.array([patches[k].spin_derivative for k in idx])[:, None]
+        out[idx] = phi * np.cos(d) + dphi * np.sin(d)
+    return out
 
 
 def _curvatures_fd(gapf, x0, y0):
