@@ -127,25 +127,129 @@ def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid,
     return fx, fy, mz
 
 
-def _cell_mean_ellipse(x0, x1, c, r):
-    """Mean of sqrt(1 - ((x - c)/r)^2)_+ over [x0, x1] (arrays; r >= 0)."""
-    def prim(u):
-        u = np.clip(u, -1.0, 1.0)
-        return 0.5 * (u * np.sqrt(1.0 - u * u) + np.arcsin(u))
+@njit(cache=True, nogil=True)
+def _cell_mean(x0, x1, c, r):
+    """Mean of sqrt(1 - ((x - c)/r)^2)_+ over the cell between x0 and x1 (r >= 0)."""
+    if not r > 0.0:
+        return 0.0
+    u0 = min(max((x0 - c) / r, -1.0), 1.0)
+    u1 = min(max((x1 - c) / r, -1.0), 1.0)
+    p0 = 0.5 * (u0 * math.sqrt(1.0 - u0 * u0) + math.asin(u0))
+    p1 = 0.5 * (u1 * math.sqrt(1.0 - u1 * u1) + math.asin(u1))
+    return r * (p1 - p0) / (x1 - x0)
+
+
+@njit(cache=True, nogil=True)
+def _strip_increments(x_lead, x_trail, p0, pn, mu, wn, K, L3, dq, bound):
+    """Strip theory on every strip of one patch, for the spin march (:func:`_march`).
+
+    Strip j (edges ``x_lead``, ``x_trail``, peak pressure ``p0``, friction ``mu``)
+    has Carter's adhesion zone of half-length k l at the leading edge,
+    1 - k = wn / (mu p0).  Per element (``nx`` = pn.shape[1] from the leading edge):
+    ``dq`` the increment of the cell-mean strip traction, plus in the slip zone
+    Carter's slip (and the rigid excess of full sliding) times step / L3;
+    ``bound`` mu max(pn, q / mu) with ``pn`` the pressure at the mid-points.
+    """
+    my, nx = pn.shape
+    for j in range(my):
+        length = x_lead[j] - x_trail[j]
+        if not length > 0.0:
+            dq[j, :] = 0.0
+            bound[j, :] = 0.0
+            continue
+        half = 0.5 * length
+        xc = x_lead[j] - half
+        hdx = 0.5 * length / nx
+        mp = mu[j] * p0[j]
+        k = min(max(1.0 - wn / mp, 0.0), 1.0) if mp > 0.0 else 0.0
+        ka = k * half
+        xs = xc + half - ka
+        excess = max(wn - mp, 0.0) / K
+        prev = 0.0
+        for i in range(nx):
+            xm = x_lead[j] - (i + 0.5) * 2.0 * hdx
+            q = mp * (_cell_mean(xm + hdx, xm - hdx, xc, half)
+                      - k * _cell_mean(xm + hdx, xm - hdx, xs, ka))
+            d = q - prev
+            prev = q
+            if xm < xs - ka and abs(xm - xc) < half:       # strip-theory slip zone
+                fac = math.sqrt(max((xm - xs) ** 2 - ka * ka, 0.0))
+                step = hdx if i == 0 else 2.0 * hdx
+                d += step * (mp / (K * half) * fac + excess) / L3
+            dq[j, i] = d
+            bound[j, i] = max(mu[j] * pn[j, i], q)
+
+
+def strip_parameters(a, b, fn, xi, eta, c11, c22, G, mu):
+    """Per-patch constants of the strip theory (scalars or arrays): the weighted
+    creepage magnitude wn [Pa], the traction direction (ex, ey) and K = wn / |(xi,
+    eta)| [Pa] (module notes)."""
+    wx = 2 * G * c11 * xi / math.pi ** 2
+    wy = 2 * G * c22 * eta / math.pi ** 2
+    wn = np.hypot(wx, wy)
+    cn = np.hypot(xi, eta)
     with np.errstate(divide="ignore", invalid="ignore"):
-        m = r * (prim((x1 - c) / r) - prim((x0 - c) / r)) / (x1 - x0)
-    return np.where(r > 0, m, 0.0)
+        ex, ey = np.where(wn > 0, wx / wn, 0.0), np.where(wn > 0, wy / wn, 0.0)
+        K = np.where(cn > 0, wn / cn, 1.0)
+        # the direction of w in the linear range, blended towards the creepage
+        # direction as the creepage grows (as fastsim's flexibilities)
+        f = np.hypot(xi * G * a * b * c11, eta * G * a * b * c22) / (mu * fn)
+        wb = np.minimum(1.0, f / 3.0)
+        dx = (1 - wb) * ex + wb * np.where(cn > 0, xi / cn, 0.0)
+        dy = (1 - wb) * ey + wb * np.where(cn > 0, eta / cn, 0.0)
+        dn = np.hypot(dx, dy)
+        ex, ey = np.where(dn > 0, dx / dn, 0.0), np.where(dn > 0, dy / dn, 0.0)
+    return wn, ex, ey, K
 
 
-def _slip_zone(x, xc, half, k):
-    """Strip-theory slip zone (trailing side of the adhesion zone of half-length
-    k l at the leading edge) and Carter's slip factor sqrt((x - x_s)^2 - (k l)^2) [m]
-    at points x (arrays broadcast over strips)."""
-    ka = k * half
-    xs = xc + half - ka
-    zone = (x < xs - ka) & (np.abs(x - xc) < half)
-    fac = np.where(zone, np.sqrt(np.clip((x - xs) ** 2 - ka * ka, 0.0, None)), 0.0)
-    return zone, fac
+@njit(cache=True, nogil=True)
+def fastrip_strip_patches(y, dy, x_mid, half, p_strip, mu, wn, ex, ey, K, L3, phi, nx, out):
+    """Forces only, for many patches with semi-elliptic strip pressures (the strip
+    models' batch solutions, :mod:`railcontact.normal.strip_batch`): the strip theory
+    (:func:`_strip_increments`) and the spin march (:func:`_march`, ``nx`` elements
+    per strip) of :class:`FastripModel`.
+
+    Arrays of shape (patches, strips): ``y``, ``x_mid``, ``half``, ``p_strip``; per
+    patch: ``dy``, ``mu``, ``wn``, ``ex``, ``ey``, ``K`` (:func:`strip_parameters`),
+    ``L3`` [m/Pa] of the equivalent ellipse and the spin ``phi`` [1/m].  Writes
+    (F_x, F_y, M_z) on the wheel into ``out`` (patches, 3); patches with L3 <= 0 get
+    zero.
+    """
+    my = y.shape[1]
+    xl = np.empty(my)
+    xt = np.empty(my)
+    mus = np.empty(my)
+    pn = np.empty((my, nx))
+    dq = np.empty((my, nx))
+    bound = np.empty((my, nx))
+    dqx = np.empty((my, nx))
+    dqy = np.empty((my, nx))
+    xgrid = np.empty(0)
+    none = np.empty((0, my))
+    nost = np.empty((0, my), dtype=np.bool_)
+    for k in range(y.shape[0]):
+        if not (L3[k] > 0.0 and mu[k] > 0.0):
+            out[k, 0] = 0.0
+            out[k, 1] = 0.0
+            out[k, 2] = 0.0
+            continue
+        for j in range(my):
+            xl[j] = x_mid[k, j] + half[k, j]
+            xt[j] = x_mid[k, j] - half[k, j]
+            mus[j] = mu[k]
+            for i in range(nx):
+                s = 1.0 - (2.0 * i + 1.0) / nx          # from the leading edge
+                pn[j, i] = p_strip[k, j] * math.sqrt(max(0.0, 1.0 - s * s))
+        _strip_increments(xl, xt, p_strip[k], pn, mus, wn[k], K[k], L3[k], dq, bound)
+        for j in range(my):
+            for i in range(nx):
+                dqx[j, i] = -ex[k] * dq[j, i]      # rail tractions: opposite to the wheel's
+                dqy[j, i] = -ey[k] * dq[j, i]
+        fx, fy, mz = _march(y[k], dy[k], xl, xt, bound, dqx, dqy, L3[k], phi[k], xgrid,
+                            none, none, none, none, nost)
+        out[k, 0] = -fx
+        out[k, 1] = -fy
+        out[k, 2] = -mz
 
 
 @register("fastrip")
@@ -183,20 +287,14 @@ class FastripModel:
                                       0.0, 0.0, 0.0, velocity, (xi, eta, phi), friction)
         G, nu = material.shear_modulus, material.nu
         c11, c22, _ = kalker_coefficients(a / b, nu)
-        wx = 2 * G * c11 * xi / math.pi ** 2
-        wy = 2 * G * c22 * eta / math.pi ** 2
-        wn = math.hypot(wx, wy)
-        ex, ey = (wx / wn, wy / wn) if wn > 0 else (0.0, 0.0)
-        cn = math.hypot(xi, eta)
-        K = wn / cn if cn > 0 else 1.0
-        # strips: edges, centre, half-length and peak pressure (load conserving)
-        x_lead, x_trail = (np.asarray(v, dtype=float) for v in normal.strips)
+        wn, ex, ey, K = (float(v) for v in strip_parameters(a, b, normal.normal_force, xi,
+                                                            eta, c11, c22, G, friction))
+        # strips: edges and peak pressure (load conserving)
+        x_lead, x_trail = (np.ascontiguousarray(v, dtype=float) for v in normal.strips)
         half = 0.5 * np.maximum(x_lead - x_trail, 0.0)
-        xc = 0.5 * (x_lead + x_trail)
         load = normal.pressure.sum(axis=0) * normal.dx
-        active = half > 0
         with np.errstate(divide="ignore", invalid="ignore"):
-            p0 = np.where(active, 2 * load / (math.pi * half), 0.0)
+            p0 = np.where(half > 0, 2 * load / (math.pi * half), 0.0)
         # FASTSIM spin march: mid-points of nx elements per strip
         nx = self.elements or mx
         frac = (np.arange(nx) + 0.5) / nx
@@ -205,47 +303,16 @@ class FastripModel:
         pn = np.ascontiguousarray(normal.pressure_at(xm, ym), dtype=float)
         L3 = flexibilities(a, b, G, nu)[2]
         mu = np.full(my, float(friction))
-        # traction direction: that of w in the linear range, blended towards the
-        # creepage direction as the creepage grows (as fastsim's flexibilities)
-        f = math.hypot(xi * G * a * b * c11, eta * G * a * b * c22) / (friction *
-                                                                     normal.normal_force)
-        wb = min(1.0, f / 3.0)
-        dx_, dy_ = (1 - wb) * ex + wb * (xi / cn if cn > 0 else 0.0), \
-            (1 - wb) * ey + wb * (eta / cn if cn > 0 else 0.0)
-        dn = math.hypot(dx_, dy_)
-        ex, ey = (dx_ / dn, dy_ / dn) if dn > 0 else (0.0, 0.0)
-        hdx = (0.5 * (x_lead - x_trail) / nx)[:, None]
-        steps = np.repeat(2 * hdx, nx, axis=1)
-        steps[:, 0] *= 0.5
-        xl = np.ascontiguousarray(x_lead)
-        xt_ = np.ascontiguousarray(x_trail)
+        dq, bound = np.empty((my, nx)), np.empty((my, nx))
         iters = 0
         for iters in range(1, 61 if self.falling is not None else 2):
-            with np.errstate(divide="ignore", invalid="ignore"):
-                k = np.where(active & (p0 > 0), np.clip(1 - wn / (mu * p0), 0.0, 1.0), 0.0)
-            zone, fac = _slip_zone(xm, xc[:, None], half[:, None], k[:, None])
-            # cell means of the strip traction, so that the march integrates it exactly
-            ka = (k * half)[:, None]
-            qm = mu[:, None] * p0[:, None] * (
-                _cell_mean_ellipse(xm + hdx, xm - hdx, xc[:, None], half[:, None])
-                - k[:, None] * _cell_mean_ellipse(xm + hdx, xm - hdx,
-                                                  (xc + half)[:, None] - ka, ka))
-            dq = np.diff(np.concatenate([np.zeros((my, 1)), qm], axis=1), axis=1)
-            # in the strip-theory slip zone the trial traction also carries Carter's
-            # slip (as FASTSIM's rigid-slip increment), so that the slip direction
-            # weighs translational against spin slip; the bound removes it again
-            with np.errstate(divide="ignore", invalid="ignore"):
-                carter = np.where(zone, mu[:, None] * p0[:, None] / (K * half[:, None]) * fac
-                                  + np.maximum(wn - mu * p0, 0.0)[:, None] / K, 0.0)
-            dq = dq + steps * carter / L3
-            bound = np.ascontiguousarray(mu[:, None] * np.maximum(pn, qm / mu[:, None]))
+            _strip_increments(x_lead, x_trail, p0, pn, mu, wn, K, L3, dq, bound)
             px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
             stick = np.zeros((mx, my), dtype=bool)
             # rail tractions: opposite to the wheel's (direction e)
-            fxr, fyr, mzr = _march(np.ascontiguousarray(y), normal.dy, xl, xt_, bound,
-                                   np.ascontiguousarray(-ex * dq), np.ascontiguousarray(-ey * dq),
-                                   L3, phi,
-                                   np.ascontiguousarray(x), px, py, sx, sy, stick)
+            fxr, fyr, mzr = _march(np.ascontiguousarray(y), normal.dy, x_lead, x_trail, bound,
+                                   -ex * dq, -ey * dq, L3, phi, np.ascontiguousarray(x),
+                                   px, py, sx, sy, stick)
             if self.falling is None:
                 break
             w = np.hypot(sx, sy) * velocity
