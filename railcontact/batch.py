@@ -1,12 +1,15 @@
-"""Many contact patches at once: Hertz with a compiled creep law, forces only.
+"""Many contact patches at once: compiled normal and tangential models, forces only.
 
 For sweeps, wear loops and anything that needs the forces of thousands of patches
 (the geometry layer's :class:`~railcontact.geometry.ContactGeometry` objects), where
 building grids and result objects per patch would dominate.  Hertz's solution is
 vectorised over the patches (:func:`railcontact.normal.hertz_theory.hertz_ellipses`),
 Kalker's coefficients come from the compiled table lookup, and the creep law runs in
-one compiled loop (:mod:`railcontact.tangential.online`).  Any other model pair is
-solved patch by patch with the registered models (same outputs, slower).
+one compiled loop (:mod:`railcontact.tangential.online`).  The strip models run on
+strips of all patches together (:mod:`railcontact.normal.strip_batch`), with FASTSIM,
+its strip-wise variant or FaStrip marching their strip pressures in compiled loops.
+Any other model pair is solved patch by patch with the registered models (same
+outputs, slower).
 """
 
 from __future__ import annotations
@@ -22,6 +25,9 @@ from .errors import InputError
 from .materials import STEEL, Material
 from .normal.strip_batch import BATCH_MODELS, solve_strips
 from .tangential.online import COMPILED_LAWS, patch_forces
+
+#: creep laws that march the strip pressures of the strip models (compiled path)
+STRIP_LAWS = ("fastsim-strips", "fastrip")
 
 
 @dataclass
@@ -80,7 +86,11 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
         (:mod:`railcontact.normal.strip_batch`), FASTSIM marching the strips'
         semi-elliptic pressures with ``fastsim_grid[0]`` elements per strip and the
         flexibilities of the equivalent ellipse, Polach and the linear law on that
-        ellipse.  Any other registered pair is solved patch by patch on ``grid``.
+        ellipse.  With them, ``"fastsim-strips"`` marches the same strips with the
+        flexibilities of each strip's local ellipse and the spin of its local contact
+        angle, and ``"fastrip"`` runs FaStrip's strip theory and spin march on them;
+        ``"hertz"`` with ``"fastrip"`` cuts the ellipse in ``fastsim_grid[1]`` strips.
+        Any other registered pair is solved patch by patch on ``grid``.
     """
     from .normal.hertz_theory import hertz_ellipses
     from .tangential.kalker import kalker_coefficients_array
@@ -120,7 +130,10 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
         return PatchForces(F, area, pmax, np.maximum(pen, 0.0), a, b, out[:, 0], out[:, 1],
                            out[:, 2], normal, tangential, time.perf_counter() - t0,
                            {"compiled": True, "fastsim_grid": (nx, ny)})
-    if normal in BATCH_MODELS and tangential in COMPILED_LAWS:
+    if (normal in BATCH_MODELS and (tangential in COMPILED_LAWS or tangential in STRIP_LAWS)) or \
+            (normal == "hertz" and tangential == "fastrip"):
+        if normal == "hertz":                  # the ellipse in strips, as FASTSIM's grid
+            strips = int(fastsim_grid[1])
         return _strip_patches(patches, normal, tangential, material, friction, cr, V,
                               strips, fastsim_grid[0], t0)
     from .normal import get_normal_model
@@ -140,7 +153,9 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
 
 
 def _strip_patches(patches, normal, tangential, material, friction, cr, V, strips, nx, t0):
-    """Compiled path of :func:`solve_patches` for the strip models."""
+    """Compiled path of :func:`solve_patches` for the strip models (and Hertz's
+    ellipse cut in strips for FaStrip)."""
+    from .normal.strip_batch import hertz_strips
     from .tangential.fastsim import (blended_flexibilities, fastsim_strip_patches)
     from .tangential.kalker import flexibilities_array, kalker_coefficients_array
     if not (isinstance(strips, (int, np.integer)) and 5 <= strips <= 1000):
@@ -148,22 +163,52 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
     nx = int(nx)
     if not 2 <= nx <= 500:
         raise InputError(f"fastsim_grid elements per strip {nx!r}: expected [2, 500]")
-    st = solve_strips(normal, patches, material.contact_modulus, strips=int(strips))
+    if normal == "hertz":
+        st = hertz_strips(patches, material.contact_modulus, strips=int(strips))
+    else:
+        st = solve_strips(normal, patches, material.contact_modulus, strips=int(strips))
     F = st.normal_force
-    a, b = st.equivalent_ellipses()
+    a, b = st.semi_axes if st.semi_axes is not None else st.equivalent_ellipses()
     ok = (F > 0) & (a > 0) & (b > 0)
-    n = F.size
+    n, my = st.y.shape
     G, nu = material.shear_modulus, material.nu
     xi, eta, phi = (np.ascontiguousarray(cr[:, i]) for i in range(3))
+    mu = np.full(n, float(friction))
     out = np.zeros((n, 3))
-    if tangential == "fastsim":
-        L1, L2, L3 = (np.zeros(n) for _ in range(3))
+    if tangential in ("fastsim", "fastsim-strips"):
+        L = np.zeros((3, n, my))
         if ok.any():
             f = flexibilities_array(a[ok], b[ok], G, nu)
-            L1[ok], L2[ok], L3[ok] = blended_flexibilities(a[ok], b[ok], *f, G, nu, xi[ok],
-                                                           eta[ok], phi[ok], friction, F[ok])
-        fastsim_strip_patches(st.y, st.dy, st.x_mid, st.half, st.p_strip, L1, L2, L3,
-                              np.full(n, float(friction)), xi, eta, phi, nx, out)
+            L[:, ok] = np.array(blended_flexibilities(a[ok], b[ok], *f, G, nu, xi[ok],
+                                                      eta[ok], phi[ok], friction,
+                                                      F[ok]))[:, :, None]
+        spin = np.repeat(phi[:, None], my, axis=1)
+        if tangential == "fastsim-strips":
+            # a local ellipse per strip, from the gap's curvatures along the strip
+            # (FastsimStripsModel), and the spin of the local contact angle
+            from .geometry.search import sample_strip_spin
+            from .normal.hertz_theory import hertz_ellipses
+            act = ok[:, None] & (st.half > 0)
+            rows = np.nonzero(act)[0]
+            la, lb, _ = hertz_ellipses(st.A[act], st.B[act], material.contact_modulus,
+                                       st.penetration[rows])
+            f = flexibilities_array(la, lb, G, nu)
+            L[:, act] = blended_flexibilities(la, lb, *f, G, nu, xi[rows], eta[rows],
+                                              phi[rows], friction, F[rows])
+            spin = np.ascontiguousarray(sample_strip_spin(patches, st.y))
+        fastsim_strip_patches(st.y, st.dy, st.x_mid, st.half, st.p_strip,
+                              *(np.ascontiguousarray(v) for v in L), mu, xi, eta, spin, nx,
+                              out)
+    elif tangential == "fastrip":
+        from .tangential.fastrip import fastrip_strip_patches, strip_parameters
+        c11, c22, L3 = np.ones(n), np.ones(n), np.zeros(n)
+        if ok.any():
+            c11[ok], c22[ok], _ = kalker_coefficients_array(a[ok] / b[ok], nu)
+            L3[ok] = flexibilities_array(a[ok], b[ok], G, nu)[2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            wn, ex, ey, K = strip_parameters(a, b, F, xi, eta, c11, c22, G, friction)
+        fastrip_strip_patches(st.y, st.dy, st.x_mid, st.half, st.p_strip, mu, wn, ex, ey, K,
+                              L3, phi, nx, out)
     else:
         C11, C22, C23 = (np.ones(n) for _ in range(3))
         if ok.any():
@@ -171,6 +216,11 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
         tp = np.array([friction, G, nx, nx, 1.0, 1.0, 1.0, 0.0])
         _forces(COMPILED_LAWS[tangential], tp, np.where(ok, F, 0.0), a, b, C11, C22, C23,
                 xi, eta, phi, V, out)
-    return PatchForces(F, st.area, st.pmax, st.penetration, a, b, out[:, 0], out[:, 1],
+    area, pmax = st.area, st.pmax
+    if st.semi_axes is not None:                      # Hertz: the ellipse's own values
+        area = math.pi * a * b
+        with np.errstate(divide="ignore", invalid="ignore"):
+            pmax = np.where(ok, 1.5 * F / area, 0.0)
+    return PatchForces(F, area, pmax, st.penetration, a, b, out[:, 0], out[:, 1],
                        out[:, 2], normal, tangential, time.perf_counter() - t0,
                        {"compiled": True, "strips": int(strips), "fastsim_elements": nx})

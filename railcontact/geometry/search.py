@@ -319,7 +319,7 @@ def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw, k=-1):
     for _ in range(8):
         a0 = l0 + tw * nl0
         a2 = l2 + tw * nl2
-        rho = math.hypot(a0, a2)
+        rho = math.sqrt(a0 * a0 + a2 * a2)
         zw, dzw, k = _ppoly01(l1 + tw * nl1 - e, wb, wc, k)
         step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
         tw -= step
@@ -344,6 +344,20 @@ def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
 
 
 @njit(cache=True, nogil=True)
+def _extrapolation(j, ys):
+    """Weights of the previous three lines' values that extrapolate to line j:
+    quadratic on equally spaced lines, constant otherwise (and for the first)."""
+    if j >= 3 and abs((ys[j] - ys[j - 1]) - (ys[j - 1] - ys[j - 2])) <= \
+            1e-9 * abs(ys[j] - ys[j - 1]) and abs((ys[j - 2] - ys[j - 3])
+                                                  - (ys[j - 1] - ys[j - 2])) <= \
+            1e-9 * abs(ys[j] - ys[j - 1]):
+        return 3.0, -3.0, 1.0
+    if j >= 1:
+        return 1.0, 0.0, 0.0
+    return 0.0, 0.0, 0.0
+
+
+@njit(cache=True, nogil=True)
 def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
     """Gaps of many patches sharing one rail and one wheel profile on lines of
     constant y: out[k, i, j] at (x[k, i], ys[k, j]) with row k of the packed frames
@@ -351,26 +365,33 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
     every projection starts from the neighbouring line's solution."""
     nx = x.shape[1]
     h = np.empty((x.shape[0], nx, ys.shape[1]))
-    tw = np.zeros(nx)
+    tw = np.zeros((3, nx))              # the last three lines' wheel distances
     kw = np.full(nx, -1)
+    tr = np.zeros(3)
     for k in range(x.shape[0]):
         f = F[k]
         C, t, n, O = f[0:3], f[3:6], f[6:9], f[19:22]
         Rt = f[10:19].reshape((3, 3))
         y_off, e, r0 = f[9], f[22], f[23]
-        tr = 0.0
         kr = -1
-        tw[:] = 0.0
         for j in range(ys.shape[1]):
-            tr, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc, tr, kr)
-            if not math.isfinite(tr):
-                tr = 0.0
+            # Newton starts from the last lines' solutions, extrapolated quadratically
+            # on equally spaced lines
+            c0, c1, c2 = _extrapolation(j, ys[k])
+            r, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc,
+                                   c0 * tr[0] + c1 * tr[1] + c2 * tr[2], kr)
+            if not math.isfinite(r):
+                r = 0.0
+                c0, c1, c2 = 0.0, 0.0, 0.0
+            tr[2], tr[1], tr[0] = tr[1], tr[0], r
             for i in range(nx):
                 w, kw[i] = _wheel_distance(x[k, i], ys[k, j], C, t, n, Rt, O, e, r0, wb, wc,
-                                           tw[i], kw[i])
-                tw[i] = w if math.isfinite(w) else 0.0
-                g = tr - w
+                                           c0 * tw[0, i] + c1 * tw[1, i] + c2 * tw[2, i],
+                                           kw[i])
+                g = r - w
                 h[k, i, j] = g if math.isfinite(g) else 1.0
+                tw[2, i], tw[1, i] = tw[1, i], tw[0, i]
+                tw[0, i] = w if math.isfinite(w) else 0.0
     return h
 
 

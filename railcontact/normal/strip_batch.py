@@ -57,6 +57,8 @@ class StripSolution:
     penetration: np.ndarray
     A: np.ndarray
     B: np.ndarray
+    #: (a, b) [m] per patch where the patches are ellipses (:func:`hertz_strips`)
+    semi_axes: tuple | None = None
 
     @property
     def normal_force(self) -> np.ndarray:
@@ -160,6 +162,30 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
         hy[todo] *= 1.6
     y, xm, g, A, B = out
     return y, 2.0 * hy / strips, xm, g, A, B
+
+
+def hertz_strips(patches, contact_modulus: float, strips: int = 40) -> StripSolution:
+    """Hertz's ellipses of many patches (at the geometry's approach) cut in
+    ``strips`` strips across: strip j at y_j has half-length a sqrt(1 - (y_j/b)^2)
+    and peak pressure p0 sqrt(1 - (y_j/b)^2), scaled so that the strips carry the
+    Hertz force exactly; for the strip creep laws (``fastrip``) on Hertz patches."""
+    patches = list(patches)
+    n = len(patches)
+    A = np.fromiter((p.curvatures[0] for p in patches), float, n)
+    B = np.fromiter((p.curvatures[1] for p in patches), float, n)
+    pen = np.maximum(np.fromiter((p.approach for p in patches), float, n), 0.0)
+    a, b, F = hertz_ellipses(A, B, contact_modulus, pen)
+    u = -1.0 + (2.0 * np.arange(strips) + 1.0) / strips
+    r = np.sqrt(1.0 - u * u)[None, :]
+    y = b[:, None] * u[None, :]
+    dy = 2.0 * b / strips
+    half = a[:, None] * r
+    with np.errstate(divide="ignore", invalid="ignore"):
+        p0 = np.where(F > 0, F / (0.5 * math.pi * a * dy * np.sum(r * r)), 0.0)
+    st = StripSolution(y, dy, np.zeros_like(y), half, p0[:, None] * r, pen,
+                       np.broadcast_to(A[:, None], y.shape), np.broadcast_to(B[:, None], y.shape),
+                       semi_axes=(a, b))
+    return st
 
 
 def _hertz_strips(a, b, force, depth, alpha1, A, penloc):

@@ -128,15 +128,13 @@ def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid,
 
 
 @njit(cache=True, nogil=True)
-def _cell_mean(x0, x1, c, r):
-    """Mean of sqrt(1 - ((x - c)/r)^2)_+ over the cell between x0 and x1 (r >= 0)."""
-    if not r > 0.0:
-        return 0.0
-    u0 = min(max((x0 - c) / r, -1.0), 1.0)
-    u1 = min(max((x1 - c) / r, -1.0), 1.0)
-    p0 = 0.5 * (u0 * math.sqrt(1.0 - u0 * u0) + math.asin(u0))
-    p1 = 0.5 * (u1 * math.sqrt(1.0 - u1 * u1) + math.asin(u1))
-    return r * (p1 - p0) / (x1 - x0)
+def _ellipse_area(u):
+    """Integral of sqrt(1 - t^2) from 0 to u, for u clipped to [-1, 1]."""
+    if u >= 1.0:
+        return 0.25 * math.pi
+    if u <= -1.0:
+        return -0.25 * math.pi
+    return 0.5 * (u * math.sqrt(1.0 - u * u) + math.asin(u))
 
 
 @njit(cache=True, nogil=True)
@@ -146,9 +144,10 @@ def _strip_increments(x_lead, x_trail, p0, pn, mu, wn, K, L3, dq, bound):
     Strip j (edges ``x_lead``, ``x_trail``, peak pressure ``p0``, friction ``mu``)
     has Carter's adhesion zone of half-length k l at the leading edge,
     1 - k = wn / (mu p0).  Per element (``nx`` = pn.shape[1] from the leading edge):
-    ``dq`` the increment of the cell-mean strip traction, plus in the slip zone
-    Carter's slip (and the rigid excess of full sliding) times step / L3;
-    ``bound`` mu max(pn, q / mu) with ``pn`` the pressure at the mid-points.
+    ``dq`` the increment of the cell-mean strip traction (exact cell integrals of
+    both semi-ellipses of Carter's traction), plus in the slip zone Carter's slip
+    (and the rigid excess of full sliding) times step / L3; ``bound``
+    mu max(pn, q / mu) with ``pn`` the pressure at the mid-points.
     """
     my, nx = pn.shape
     for j in range(my):
@@ -159,22 +158,31 @@ def _strip_increments(x_lead, x_trail, p0, pn, mu, wn, K, L3, dq, bound):
             continue
         half = 0.5 * length
         xc = x_lead[j] - half
-        hdx = 0.5 * length / nx
+        ex = length / nx
         mp = mu[j] * p0[j]
         k = min(max(1.0 - wn / mp, 0.0), 1.0) if mp > 0.0 else 0.0
         ka = k * half
         xs = xc + half - ka
         excess = max(wn - mp, 0.0) / K
         prev = 0.0
+        e1 = 0.25 * math.pi                 # integrals to the cell's leading edge
+        e2 = 0.25 * math.pi
         for i in range(nx):
-            xm = x_lead[j] - (i + 0.5) * 2.0 * hdx
-            q = mp * (_cell_mean(xm + hdx, xm - hdx, xc, half)
-                      - k * _cell_mean(xm + hdx, xm - hdx, xs, ka))
+            xm = x_lead[j] - (i + 0.5) * ex
+            x1 = xm - 0.5 * ex              # trailing edge of the cell
+            f1 = _ellipse_area((x1 - xc) / half)
+            q = half * (e1 - f1)
+            e1 = f1
+            if ka > 0.0 and e2 > -0.25 * math.pi:       # the adhesion zone's ellipse
+                f2 = _ellipse_area((x1 - xs) / ka)
+                q -= k * ka * (e2 - f2)
+                e2 = f2
+            q *= mp / ex
             d = q - prev
             prev = q
             if xm < xs - ka and abs(xm - xc) < half:       # strip-theory slip zone
                 fac = math.sqrt(max((xm - xs) ** 2 - ka * ka, 0.0))
-                step = hdx if i == 0 else 2.0 * hdx
+                step = 0.5 * ex if i == 0 else ex
                 d += step * (mp / (K * half) * fac + excess) / L3
             dq[j, i] = d
             bound[j, i] = max(mu[j] * pn[j, i], q)

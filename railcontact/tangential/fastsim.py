@@ -188,25 +188,23 @@ def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, 
     """Forces only, for many patches with semi-elliptic strip pressures (the strip
     models' batch solutions, :mod:`railcontact.normal.strip_batch`): FASTSIM's strip
     march (:func:`_fastsim_strips`, ``nx`` elements per strip) with the bound
-    mu p_j sqrt(1 - ((x - x_mid_j)/l_j)^2) and the patch's flexibilities.
+    mu p_j sqrt(1 - ((x - x_mid_j)/l_j)^2).
 
-    Arrays of shape (patches, strips): ``y``, ``x_mid``, ``half`` (l_j), ``p_strip``;
-    per patch: ``dy``, ``L1``, ``L2``, ``L3``, ``mu``, ``xi``, ``eta``, ``phi``.
-    Writes (F_x, F_y, M_z) on the wheel [N, N, N m] into ``out`` (patches, 3).
+    Arrays of shape (patches, strips): ``y``, ``x_mid``, ``half`` (l_j), ``p_strip``,
+    the flexibilities ``L1``, ``L2``, ``L3`` [m/Pa] and the spin ``phi`` [1/m] per
+    strip (uniform for ``fastsim``, local for ``fastsim-strips``); per patch: ``dy``,
+    ``mu``, ``xi``, ``eta``.  Writes (F_x, F_y, M_z) on the wheel [N, N, N m] into
+    ``out`` (patches, 3); patches with L1 <= 0 get zero.
     """
     my = y.shape[1]
     bound = np.empty((my, nx))
     xl = np.empty(my)
     xt = np.empty(my)
-    l1 = np.empty(my)
-    l2 = np.empty(my)
-    l3 = np.empty(my)
-    ph = np.empty(my)
     xgrid = np.empty(0)
     none = np.empty((0, my))
     nost = np.empty((0, my), dtype=np.bool_)
     for k in range(y.shape[0]):
-        if not (L1[k] > 0.0):
+        if not (L1[k, 0] > 0.0):
             out[k, 0] = 0.0
             out[k, 1] = 0.0
             out[k, 2] = 0.0
@@ -217,12 +215,8 @@ def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, 
             for i in range(nx):
                 s = 1.0 - (2.0 * i + 1.0) / nx          # from the leading edge
                 bound[j, i] = mu[k] * p_strip[k, j] * math.sqrt(max(0.0, 1.0 - s * s))
-        l1[:] = L1[k]
-        l2[:] = L2[k]
-        l3[:] = L3[k]
-        ph[:] = phi[k]
-        fx, fy, mz = _fastsim_strips(y[k], dy[k], xl, xt, bound, l1, l2, l3, xi[k], eta[k],
-                                     ph, xgrid, none, none, none, none, nost)
+        fx, fy, mz = _fastsim_strips(y[k], dy[k], xl, xt, bound, L1[k], L2[k], L3[k], xi[k],
+                                     eta[k], phi[k], xgrid, none, none, none, none, nost)
         # the march gives the tractions on the rail; the wheel gets the opposite
         out[k, 0] = -fx
         out[k, 1] = -fy

@@ -11,7 +11,7 @@ from railcontact.batch import solve_patches
 from railcontact.errors import InputError
 from railcontact.geometry import Track, Wheelset, find_contact
 from railcontact.geometry.contact import ContactGeometry
-from railcontact.geometry.search import sample_gap_lines
+from railcontact.geometry.search import sample_gap_lines, sample_strip_spin
 from railcontact.materials import STEEL
 from railcontact.normal import get_normal_model
 from railcontact.normal.hertz_theory import hertz_ellipse
@@ -20,6 +20,7 @@ from railcontact.profiles import rail_profile, s1002
 from railcontact.tangential import get_tangential_model
 
 Es = STEEL.contact_modulus
+LAWS = ("fastsim", "polach", "fastsim-strips", "fastrip")
 
 
 @pytest.fixture(scope="module")
@@ -39,14 +40,14 @@ def patches():
 
 @pytest.fixture(scope="module")
 def per_patch(patches):
-    """The registered models on a 60 x 60 grid, with FASTSIM and Polach."""
+    """The registered models on a 60 x 60 grid, with every creep law of the batch path."""
     out = {}
     for m in BATCH_MODELS:
         nm = get_normal_model(m)
         ns = [nm.solve(g, STEEL, penetration=g.approach, grid=(60, 60)) for g in patches]
         rows = {"F": [n.normal_force for n in ns], "area": [n.area for n in ns],
                 "pmax": [n.pmax for n in ns]}
-        for law in ("fastsim", "polach"):
+        for law in LAWS:
             tm = get_tangential_model(law)
             ts = [tm.solve(n, g, STEEL, g.creepage, 0.3, g.velocity) for n, g in zip(ns, patches)]
             rows[law] = [(t.fx, t.fy) for t in ts]
@@ -68,6 +69,16 @@ def test_gap_lines_equal_the_patch_gap(patches):
         np.testing.assert_allclose(h[k][ok], ref[ok], atol=1e-13)
         hit += ok.sum()
     assert hit > 0.9 * h.size
+
+
+def test_strip_spin_equals_the_patch_spin(patches):
+    """The vectorised per-strip spin equals each patch's own spin_at, and varies
+    across the patches where the contact angle does."""
+    y = np.linspace(-8e-3, 8e-3, 17)[None, :] + np.zeros((len(patches), 1))
+    spin = sample_strip_spin(patches, y)
+    ref = np.array([g.spin_at(y[k], g.creepage[2]) for k, g in enumerate(patches)])
+    np.testing.assert_allclose(spin, ref, rtol=1e-12, atol=1e-12)
+    assert np.ptp(spin, axis=1).max() > 0.05 * np.abs(spin).max()
 
 
 @pytest.mark.parametrize("A, B", [(1 / 0.92, 1 / 0.6), (1.0, 4.0), (3.0, 1.0)])
@@ -115,7 +126,7 @@ def test_contact_jump_converges_to_the_per_patch_model():
 
 
 @pytest.mark.parametrize("model", BATCH_MODELS)
-@pytest.mark.parametrize("law", ["fastsim", "polach"])
+@pytest.mark.parametrize("law", LAWS)
 def test_creep_forces_equal_the_per_patch_models(patches, per_patch, model, law):
     """Creep forces in % of mu F_n: median within 1 %, every patch within 11 %
     (the equivalent ellipse of a per-patch grid counts whole elements)."""
