@@ -187,11 +187,11 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
             # a local ellipse per strip, from the gap's curvatures along the strip
             # (FastsimStripsModel), and the spin of the local contact angle
             from .geometry.search import sample_strip_spin
-            from .normal.hertz_theory import hertz_ellipses
+            from .normal.hertz_theory import hertz_ellipses_table
             act = ok[:, None] & (st.half > 0)
             rows = np.nonzero(act)[0]
-            la, lb, _ = hertz_ellipses(st.A[act], st.B[act], material.contact_modulus,
-                                       st.penetration[rows])
+            la, lb, _ = hertz_ellipses_table(st.A[act], st.B[act],
+                                             material.contact_modulus, st.penetration[rows])
             f = flexibilities_array(la, lb, G, nu)
             L[:, act] = blended_flexibilities(la, lb, *f, G, nu, xi[rows], eta[rows],
                                               phi[rows], friction, F[rows])

@@ -430,25 +430,25 @@ def sample_strip_spin(patches, y) -> np.ndarray:
     out = np.empty(y.shape)
     groups: dict = {}
     for k, p in enumerate(patches):
-        phi = p.creepage[2] if p.creepage is not None else 0.0
         f = p.gap_function
         if (isinstance(f, _GapEvaluator) and math.isfinite(p.spin_derivative)
                 and getattr(p.local_contact_angle, "__self__", None) is f):
             groups.setdefault(id(f.rail), []).append(k)
         else:
-            out[k] = p.spin_at(y[k], phi)
+            out[k] = p.spin_at(y[k], p.creepage[2] if p.creepage is not None else 0.0)
     for idx in groups.values():
-        fs = [patches[k].gap_function for k in idx]
-        sign = np.array([f.sign for f in fs])[:, None]
-        yr = (np.array([f.y_ref for f in fs])[:, None]
-              + sign * y[idx] * np.cos([f.angle for f in fs])[:, None])
-        delta = sign * np.arctan(fs[0].rail.slope(yr))
-        d = delta - np.array([patches[k].contact_angle for k in idx])[:, None]
-        d = np.where(np.isfinite(d), d, 0.0)           # off the profile: the patch value
-        phi = np.array([patches[k].creepage[2] if patches[k].creepage is not None else 0.0
-                        for k in idx])[:, None]
-        dphi = np.array([patches[k].spin_derivative for k in idx])[:, None]
-        out[idx] = phi * np.cos(d) + dphi * np.sin(d)
+        pars = np.array([(p.gap_function.sign, p.gap_function.y_ref,
+                          math.cos(p.gap_function.angle), p.contact_angle,
+                          p.creepage[2] if p.creepage is not None else 0.0,
+                          p.spin_derivative) for p in (patches[k] for k in idx)])
+        sign, yref, cosa, delta, phi, dphi = (pars[:, i, None] for i in range(6))
+        # local angle sign * atan(s) with s the rail's slope: D = that - delta, and
+        # cos D, sin D without the angles (1 / sqrt(1 + s^2) = cos(atan s))
+        s = sign * patches[idx[0]].gap_function.rail.slope(yref + sign * y[idx] * cosa)
+        c = 1.0 / np.sqrt(1.0 + s * s)
+        cd = np.where(np.isfinite(s), c * (np.cos(delta) + s * np.sin(delta)), 1.0)
+        sd = np.where(np.isfinite(s), c * (s * np.cos(delta) - np.sin(delta)), 0.0)
+        out[idx] = phi * cd + dphi * sd      # off the profile (NaN slope): the patch spin
     return out
 
 

@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
-from .hertz_theory import hertz_ellipses
+from .hertz_theory import hertz_ellipses, hertz_ellipses_table
 from .semi_hertzian import MIN_CURVATURE, corrected_gap
 
 #: the strip models that have a batch solution
@@ -216,10 +216,13 @@ def _rect(X, Y):
     return v
 
 
-#: elements farther than this many element sizes from the point use the mid-point
-#: rule (relative error below (1/FAR)^2 / 12 per element) instead of the exact
+#: elements farther than FAR element sizes from the point use the mid-point rule
+#: (relative error below (1/FAR)^2 / 12 per element), those between NEAR and FAR
+#: sizes the 2 x 2 Gauss rule (below (1/NEAR)^4 / 80), the nearest the exact
 #: rectangle integral
-FAR = 6.0
+FAR = 8.0
+NEAR = 2.0
+_G = 0.5 / math.sqrt(3.0)          # 2-point Gauss abscissae, in element sizes
 
 
 @njit(cache=True, nogil=True)
@@ -227,7 +230,7 @@ def _kp_displacements(y, dy, xm, half, j0, nx, Es, out):
     """Normal displacement [m] at the deepest point (x_m[j0], y[j0]) of every patch
     due to its unit semi-elliptic strip pressures sqrt(l_j^2 - (x - x_m)^2)/l_max,
     on nx elements per strip (uniform rectangles, Love's influence coefficients;
-    elements more than FAR element sizes away by the mid-point rule)."""
+    elements away from the point by 2 x 2 Gauss or mid-point quadrature)."""
     for k in range(y.shape[0]):
         lmax = 0.0
         for j in range(y.shape[1]):
@@ -244,9 +247,11 @@ def _kp_displacements(y, dy, xm, half, j0, nx, Es, out):
             if lj <= 0.0:
                 continue
             ex = 2.0 * lj / nx
-            far2 = (FAR * max(ex, dy[k])) ** 2
+            size2 = max(ex, dy[k]) ** 2
             Y = y[k, j] - y0
             X = xm[k, j] - lj - x0                  # trailing edge of the strip
+            gy1 = Y - _G * dy[k]
+            gy2 = Y + _G * dy[k]
             exact = False                           # edge integrals below are valid
             top = 0.0
             bot = 0.0
@@ -254,8 +259,18 @@ def _kp_displacements(y, dy, xm, half, j0, nx, Es, out):
                 s = -1.0 + (2.0 * i + 1.0) / nx
                 p = lj * math.sqrt(max(0.0, 1.0 - s * s)) / lmax
                 xc = X + 0.5 * ex
-                if xc * xc + Y * Y > far2:
-                    u += p * ex * dy[k] / math.sqrt(xc * xc + Y * Y)
+                r2 = xc * xc + Y * Y
+                if r2 > FAR * FAR * size2:
+                    u += p * ex * dy[k] / math.sqrt(r2)
+                    exact = False
+                elif r2 > NEAR * NEAR * size2:
+                    gx1 = xc - _G * ex
+                    gx2 = xc + _G * ex
+                    u += 0.25 * p * ex * dy[k] * (
+                        1.0 / math.sqrt(gx1 * gx1 + gy1 * gy1)
+                        + 1.0 / math.sqrt(gx1 * gx1 + gy2 * gy2)
+                        + 1.0 / math.sqrt(gx2 * gx2 + gy1 * gy1)
+                        + 1.0 / math.sqrt(gx2 * gx2 + gy2 * gy2))
                     exact = False
                 else:
                     if not exact:
@@ -308,7 +323,7 @@ def _kpec_eps(y, dy, hstar, A, Es):
     with np.errstate(divide="ignore", invalid="ignore"):
         Bf = np.maximum(MIN_CURVATURE, (thr - hmin) / (yend - ymid) ** 2)
     Bf = np.where(np.isfinite(Bf), Bf, MIN_CURVATURE)
-    a, b, _ = hertz_ellipses(A0, Bf, Es, np.maximum(-hmin, 0.0))
+    a, b, _ = hertz_ellipses_table(A0, Bf, Es, np.maximum(-hmin, 0.0))
     b = np.where(j0 >= j1, np.maximum(b, 1.1 * np.abs(y[rows, jm] - ymid)), b)
     with np.errstate(divide="ignore", invalid="ignore"):
         q = ((y - ymid[:, None]) / b[:, None]) ** 2
@@ -360,7 +375,7 @@ def solve_strips(model: str, patches, contact_modulus: float, penetration=None,
             j0 = np.argmin(glat, axis=1)
             A = np.broadcast_to(A[np.arange(len(patches)), j0][:, None], A.shape)
         dep = np.broadcast_to(depth[:, None], A.shape)
-        a, b, fh = hertz_ellipses(A, B, Es, dep)
+        a, b, fh = hertz_ellipses_table(A, B, Es, dep)
         with np.errstate(divide="ignore", invalid="ignore"):
             alpha1 = np.where(a > 0, depth[:, None] / (A * a * a), 1.0)
             beta1 = np.where(b > 0, depth[:, None] / (B * b * b), 1.0)

@@ -203,6 +203,10 @@ def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, 
     xgrid = np.empty(0)
     none = np.empty((0, my))
     nost = np.empty((0, my), dtype=np.bool_)
+    w = np.empty(nx)                                    # the semi-ellipse at the mid-points
+    for i in range(nx):
+        s = 1.0 - (2.0 * i + 1.0) / nx                  # from the leading edge
+        w[i] = math.sqrt(max(0.0, 1.0 - s * s))
     for k in range(y.shape[0]):
         if not (L1[k, 0] > 0.0):
             out[k, 0] = 0.0
@@ -213,8 +217,7 @@ def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, 
             xl[j] = x_mid[k, j] + half[k, j]
             xt[j] = x_mid[k, j] - half[k, j]
             for i in range(nx):
-                s = 1.0 - (2.0 * i + 1.0) / nx          # from the leading edge
-                bound[j, i] = mu[k] * p_strip[k, j] * math.sqrt(max(0.0, 1.0 - s * s))
+                bound[j, i] = mu[k] * p_strip[k, j] * w[i]
         fx, fy, mz = _fastsim_strips(y[k], dy[k], xl, xt, bound, L1[k], L2[k], L3[k], xi[k],
                                      eta[k], phi[k], xgrid, none, none, none, none, nost)
         # the march gives the tractions on the rail; the wheel gets the opposite

@@ -114,6 +114,31 @@ def test_vectorised_hertz_equals_scalar():
     assert np.all(a0 == 0) and np.all(f0 == 0)
 
 
+def test_table_hertz_equals_scalar():
+    """The tabulated Hertz solution for the strip models: within 1e-7 of the exact
+    one, also for circles, nearly circles and slender ellipses (a/b up to 1e-2),
+    zero at zero or negative approach, and bad curvatures rejected."""
+    from railcontact.normal.hertz_theory import hertz_ellipses_table
+    rng = np.random.default_rng(8)
+    A = 10 ** rng.uniform(-1, 3, 300)
+    B = 10 ** rng.uniform(-1, 3, 300)
+    B[:5] = A[:5]
+    B[5:10] = A[5:10] * (1 + 1e-6)
+    B[10:15] = A[10:15] * 1e4
+    A[15:20] = B[15:20] * 1e4
+    d = 10 ** rng.uniform(-6, -4, 300)
+    Es = 1.15e11
+    a, b, f = hertz_ellipses_table(A.reshape(20, 15), B.reshape(20, 15), Es, d.reshape(20, 15))
+    assert a.shape == (20, 15)
+    for i in range(300):
+        h = hertz_ellipse(A[i], B[i], Es, penetration=d[i])
+        assert (a.flat[i], b.flat[i], f.flat[i]) == pytest.approx((h.a, h.b, h.force), rel=1e-7)
+    a0, b0, f0 = hertz_ellipses_table(1.0, 2.0, Es, [0.0, -1e-6])
+    assert np.all(a0 == 0) and np.all(b0 == 0) and np.all(f0 == 0)
+    with pytest.raises(InputError, match="curvatures"):
+        hertz_ellipses_table([1.0, -1.0], 1.0, Es, 1e-5)
+
+
 def test_ratio_is_continuous_where_the_series_takes_over():
     from railcontact.normal.hertz_theory import SERIES_M, _ratio
     # series below SERIES_M, elliptic integrals above: both must agree there
