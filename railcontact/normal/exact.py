@@ -100,6 +100,14 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
     return p, approach, it, converged
 
 
+def _crossings(s, g, i0, i1):
+    """Where g (negative from index i0 to i1, positive just outside) crosses zero on
+    either side, linearly interpolated between the samples s."""
+    lo = s[i0 - 1] + (s[i0] - s[i0 - 1]) * g[i0 - 1] / (g[i0 - 1] - g[i0])
+    hi = s[i1] + (s[i1 + 1] - s[i1]) * g[i1] / (g[i1] - g[i1 + 1])
+    return lo, hi
+
+
 @register("exact")
 class ExactNormalModel:
     """Kalker's exact theory of the normal contact problem on a boundary-element grid.
@@ -112,28 +120,33 @@ class ExactNormalModel:
                        this fraction on each side
     """
 
-    def __init__(self, tol: float = 1e-8, maxiter: int = 3000, margin: float = 0.25):
+    def __init__(self, tol: float = 1e-6, maxiter: int = 3000, margin: float = 0.25):
         if not (0 < tol < 1e-2):
             raise InputError(f"exact tol {tol!r}: expected a value in (0, 0.01)")
         self.tol, self.maxiter, self.margin = tol, int(maxiter), margin
 
-    def _potential_area(self, geometry, material, normal_force, penetration):
+    def _potential_area(self, geometry, material, normal_force, penetration,
+                        continuous=False):
         """Centre and half-extents [m] of the potential contact area."""
         ext = geometry.extent
         app = geometry.approach
         if ext is not None and app > 0 and geometry.gap_function is not None:
             return self._area_from_gap(geometry, penetration if penetration is not None
-                                       else app)
+                                       else app, continuous)
         A, B = geometry.curvatures
         hz = hertz_ellipse(A, B, material.contact_modulus, force=normal_force,
                            penetration=penetration)
         f = 1.0 + self.margin
         return (0.0, 0.0), (hz.a * f, hz.b * f)
 
-    def _area_from_gap(self, geometry, penetration):
+    def _area_from_gap(self, geometry, penetration, continuous=False):
         """Bounding box of the interpenetration region h + approach - penetration < 0
         (which contains the contact area), from a coarse sampling of the exact gap,
-        widened by the margin."""
+        widened by the margin.  ``continuous``: its ends interpolated between the
+        samples, so that the box moves continuously with the penetration (the exact
+        solver's contact lies in the region; the vertical-force iteration needs a
+        force that is continuous in the approach); else one sample beyond the last
+        sample inside."""
         x0, x1, y0, y1 = geometry.extent
         cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
         hx, hy = max(0.5 * (x1 - x0), 1e-4), max(0.5 * (y1 - y0), 1e-4)
@@ -152,8 +165,17 @@ class ExactNormalModel:
                 hy *= 2
             if 0 < ix[0] and ix[-1] < xs.size - 1 and 0 < iy[0] and iy[-1] < ys.size - 1:
                 dx, dy = xs[1] - xs[0], ys[1] - ys[0]
-                lo_x, hi_x = xs[ix[0]] - dx, xs[ix[-1]] + dx
-                lo_y, hi_y = ys[iy[0]] - dy, ys[iy[-1]] + dy
+                if continuous:
+                    # the region's ends where the smallest gap along the other axis
+                    # crosses zero, interpolated between the samples, plus 1.5 samples
+                    # (where the first sample outside lies on average)
+                    lo_x, hi_x = _crossings(xs, h.min(axis=1), ix[0], ix[-1])
+                    lo_y, hi_y = _crossings(ys, h.min(axis=0), iy[0], iy[-1])
+                    lo_x, hi_x = lo_x - 1.5 * dx, hi_x + 1.5 * dx
+                    lo_y, hi_y = lo_y - 1.5 * dy, hi_y + 1.5 * dy
+                else:
+                    lo_x, hi_x = xs[ix[0]] - dx, xs[ix[-1]] + dx
+                    lo_y, hi_y = ys[iy[0]] - dy, ys[iy[-1]] + dy
                 f = 1.0 + self.margin
                 return ((0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y)),
                         (0.5 * (hi_x - lo_x) * f, 0.5 * (hi_y - lo_y) * f))
@@ -186,7 +208,8 @@ class ExactNormalModel:
             raise InputError(f"normal force {normal_force!r} N: expected a finite value >= 0")
         if penetration is not None and not (math.isfinite(penetration) and penetration >= 0):
             raise InputError(f"penetration {penetration!r} m: expected a finite value >= 0")
-        (cx, cy), (ex, ey) = self._potential_area(geometry, material, normal_force, penetration)
+        (cx, cy), (ex, ey) = self._potential_area(geometry, material, normal_force, penetration,
+                                                  continuous=True)
         x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
         dx, dy = x[1] - x[0], y[1] - y[0]
         h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach   # touching: min ~ 0
