@@ -216,9 +216,7 @@ def _solve(case, normal, tangential, warm_start):
         results.append(PatchResult(geom, ns, ts, tuple(creep)))
     else:
         results, contact = _solve_wheel_rail(case, nmodel, tmodel, kw,
-                                             previous=warm_start.patches if warm_start else None,
-                                             previous_contact=warm_start.contact if warm_start
-                                             else None)
+                                             previous=warm_start.patches if warm_start else None)
         pose = contact.pose
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)
 
@@ -336,7 +334,7 @@ def vertical_force_on_rail(results, side: str, lateral=None) -> float:
 
 
 def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
-                      previous=None, previous_contact=None):
+                      previous=None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
 
     The geometry layer's multi-Hertzian estimate gives the first wheelset height;
@@ -350,19 +348,12 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     normal solutions and the balance checked again (the iteration goes on, with the
     new lateral forces, until it holds with the forces of the result).
 
-    ``previous_contact`` (of a neighbouring case): its ratio of the final to the
-    first interpenetration per side scales this case's first estimate.
+    ``previous`` (patch results of a neighbouring case) warm-starts the models that
+    accept it.
     """
     bodies = build_wheelset_track(case)
     converged = True
     contact = contact_search(case, bodies=bodies)
-    first = dict(contact.interpenetration)
-    ratio = getattr(previous_contact, "interpenetration_ratio", None)
-    if ratio and set(ratio) == set(first) and all(0.5 < r < 2.0 for r in ratio.values()):
-        # the model's load-approach relation differs from the multi-Hertzian estimate
-        # much as it did for the neighbouring case
-        contact = contact_search(case, interpenetration={s: first[s] * ratio[s] for s in first},
-                                 bodies=bodies)
     loads = case.wheel_loads()
     side = case.get("wheelset.side", "both")
     coupled = _coupled(case, nmodel, tmodel)
@@ -450,8 +441,6 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
     contact.converged = converged
-    contact.interpenetration_ratio = {s: contact.interpenetration[s] / first[s]
-                                      for s in first if first[s] > 0}
     return results, contact
 
 
