@@ -14,12 +14,14 @@ cross-section approximation); the gap along the locus is the vertical distance.
 
 from __future__ import annotations
 
+import math
 from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
 from numba import njit
 
+from ..profiles.profile import ppoly_at
 from .track import Track, Wheelset, rotation
 
 #: sampling step of the wheel profile along the locus [m]
@@ -34,19 +36,6 @@ def _wheel_samples(wheel, step):
 
 
 @njit(cache=True, nogil=True)
-def _pp(x, breaks, c, nu):
-    n = breaks.size - 1
-    if not (breaks[0] <= x <= breaks[n]):
-        return np.nan
-    k = np.searchsorted(breaks, x, side="right") - 1
-    k = min(max(k, 0), n - 1)
-    t = x - breaks[k]
-    if nu == 0:
-        return ((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]
-    return (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k]
-
-
-@njit(cache=True, nogil=True)
 def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
     """Angle theta, wheel point, rail coordinate, vertical gap and rail slope."""
     n = eta.size
@@ -55,27 +44,28 @@ def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
     yr = np.empty(n)
     gap = np.empty(n)
     slope = np.empty(n)
+    k = -1                      # rail interval of the previous point (the search starts there)
     for i in range(n):
         s = 0.0
-        th = 0.0
+        tn = 0.0
         py = 0.0
         pz = 0.0
+        zr = np.nan
         for _ in range(3):
-            th = np.arctan((s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2]))
-            st = np.sin(th)
-            ct = np.cos(th)
+            tn = (s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2])
+            ct = 1.0 / math.sqrt(1.0 + tn * tn)          # theta = atan(tn) in (-pi/2, pi/2)
+            st = tn * ct
             px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
             py = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
             pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
-            s = _pp(py - y_off, rb, rc, 1)
+            zr, s, k = ppoly_at(py - y_off, rb, rc, k)
             if s != s:
                 s = 0.0
-        theta[i] = th
+        theta[i] = math.atan(tn)
         P[0, i] = px
         P[1, i] = py
         P[2, i] = pz
         yr[i] = py - y_off
-        zr = _pp(yr[i], rb, rc, 0)
         gap[i] = zr - pz if zr == zr else np.inf
         slope[i] = s
     return theta, P, yr, gap, slope

@@ -37,6 +37,7 @@ from ..errors import ContactNotFoundError, InputError
 from ..materials import STEEL, Material
 from ..normal.hertz_theory import hertz_ellipse
 from .contact import ContactGeometry
+from ..profiles.profile import ppoly_at as _ppoly01
 from .locus import Locus, compute_locus, min_gap
 from .track import SIDES, Track, Wheelset, WheelsetPose, rotation
 
@@ -116,17 +117,20 @@ def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -
     cands = _candidates(loc)
     gmin = loc.gap_min
     data = []
+    Es = material.contact_modulus
     for i in cands:
         A, B = _locus_curvatures(loc, i, r0)
-        data.append((loc.gap[i] - gmin, A, B, math.cos(math.atan(loc.slope[i]))))
-    Es = material.contact_modulus
+        # at fixed curvatures Hertz's force grows as the approach^(3/2): one solution
+        # gives its factor
+        k = hertz_ellipse(A, B, Es, penetration=1e-4).force / 1e-6
+        data.append((loc.gap[i] - gmin, k, math.cos(math.atan(loc.slope[i]))))
 
     def vertical_force(d):
         total = 0.0
-        for off, A, B, c in data:
+        for off, k, c in data:
             pen = (d - off) * c
             if pen > 0:
-                total += hertz_ellipse(A, B, Es, penetration=pen).force * c
+                total += k * pen * math.sqrt(pen) * c
         return total
 
     hi = 1e-4
@@ -259,29 +263,6 @@ class _GapEvaluator:
                         self.rail._coefs, np.ascontiguousarray(self.R.T), self.O, self.e,
                         self.r0, self.wheel._breaks, self.wheel._coefs)
         return h.reshape(x.shape)
-
-
-@njit(cache=True, nogil=True)
-def _ppoly01(xi, breaks, c, k=-1):
-    """Value, slope and interval of a cubic piecewise polynomial at the scalar xi
-    (NaN outside).  ``k`` is a guess of the interval (a neighbouring point's): the
-    search walks from it for up to 16 intervals before falling back to bisection."""
-    n = breaks.size - 1
-    if not (breaks[0] <= xi <= breaks[n]):
-        return np.nan, np.nan, k
-    if 0 <= k < n:
-        for _ in range(16):                     # walk from the guess ...
-            if xi < breaks[k] and k > 0:
-                k -= 1
-            elif xi >= breaks[k + 1] and k < n - 1:
-                k += 1
-            else:
-                break
-    if not (0 <= k < n and breaks[k] <= xi and (xi < breaks[k + 1] or k == n - 1)):
-        k = min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)  # ... or search
-    t = xi - breaks[k]
-    return ((((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]),
-            (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k], k)
 
 
 @njit(cache=True, nogil=True)

@@ -40,13 +40,14 @@ def _element_integrals(mx: int, my: int, dx: float, dy: float, extra_rows: int =
     """``rect(F)``: the integral over an element (dx x dy) of a kernel with
     antiderivative F, at the offsets between element centres, di in
     [-(mx-1), mx-1+extra_rows], dj in [-(my-1), my-1] (array of that shape)."""
-    ix = np.arange(-(mx - 1), mx + extra_rows) * dx
-    iy = np.arange(-(my - 1), my) * dy
-    X, Y = np.meshgrid(ix, iy, indexing="ij")
-    hx, hy = dx / 2, dy / 2
+    # the antiderivative once on the element corners, shared by four elements each
+    cx = (np.arange(-(mx - 1), mx + extra_rows + 1) - 0.5) * dx
+    cy = (np.arange(-(my - 1), my + 1) - 0.5) * dy
+    X, Y = np.meshgrid(cx, cy, indexing="ij")
 
     def rect(F):
-        return F(X + hx, Y + hy) - F(X - hx, Y + hy) - F(X + hx, Y - hy) + F(X - hx, Y - hy)
+        G = F(X, Y)
+        return G[1:, 1:] - G[:-1, 1:] - G[1:, :-1] + G[:-1, :-1]
 
     return rect
 

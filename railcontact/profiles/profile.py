@@ -73,6 +73,29 @@ def _segment(breaks, xi):
 
 
 @njit(cache=True, nogil=True)
+def ppoly_at(xi, breaks, c, k=-1):
+    """Value, slope and interval of a cubic piecewise polynomial at the scalar xi
+    (NaN outside).  ``k`` is a guess of the interval (a neighbouring point's): the
+    search walks from it for up to 16 intervals before falling back to bisection."""
+    n = breaks.size - 1
+    if not (breaks[0] <= xi <= breaks[n]):
+        return np.nan, np.nan, k
+    if 0 <= k < n:
+        for _ in range(16):                     # walk from the guess ...
+            if xi < breaks[k] and k > 0:
+                k -= 1
+            elif xi >= breaks[k + 1] and k < n - 1:
+                k += 1
+            else:
+                break
+    if not (0 <= k < n and breaks[k] <= xi and (xi < breaks[k + 1] or k == n - 1)):
+        k = min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)  # ... or search
+    t = xi - breaks[k]
+    return ((((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]),
+            (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k], k)
+
+
+@njit(cache=True, nogil=True)
 def _ppoly_eval(x, breaks, c, nu):
     """Evaluate a cubic piecewise polynomial (or its derivative nu <= 2) at x.
 
