@@ -56,7 +56,8 @@ from numba import njit
 from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import TangentialSolution, check_inputs, register
-from .fastsim import _strip_to_grid, equivalent_ellipse
+from .fastsim import (_strip_to_grid, equivalent_ellipse, semi_ellipse_weights,
+                      strip_pressures)
 from .kalker import flexibilities, kalker_coefficients
 
 
@@ -235,19 +236,15 @@ def fastrip_strip_patches(y, dy, x_mid, half, p_strip, mu, wn, ex, ey, K, L3, ph
     xgrid = np.empty(0)
     none = np.empty((0, my))
     nost = np.empty((0, my), dtype=np.bool_)
+    w = semi_ellipse_weights(nx)
     for k in range(y.shape[0]):
         if not (L3[k] > 0.0 and mu[k] > 0.0):
             out[k, 0] = 0.0
             out[k, 1] = 0.0
             out[k, 2] = 0.0
             continue
-        for j in range(my):
-            xl[j] = x_mid[k, j] + half[k, j]
-            xt[j] = x_mid[k, j] - half[k, j]
-            mus[j] = mu[k]
-            for i in range(nx):
-                s = 1.0 - (2.0 * i + 1.0) / nx          # from the leading edge
-                pn[j, i] = p_strip[k, j] * math.sqrt(max(0.0, 1.0 - s * s))
+        strip_pressures(x_mid[k], half[k], p_strip[k], w, 1.0, xl, xt, pn)
+        mus[:] = mu[k]
         _strip_increments(xl, xt, p_strip[k], pn, mus, wn[k], K[k], L3[k], dq, bound)
         for j in range(my):
             for i in range(nx):

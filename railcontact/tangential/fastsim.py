@@ -183,6 +183,29 @@ def fastsim_ellipse(a, b, fn, mu, G, C11, C22, C23, xi, eta, phi, nx, ny):
 
 
 @njit(cache=True, nogil=True)
+def semi_ellipse_weights(nx):
+    """sqrt(1 - s^2) at the mid-points of nx equal elements of [-1, 1], from the
+    leading edge (s = 1)."""
+    w = np.empty(nx)
+    for i in range(nx):
+        s = 1.0 - (2.0 * i + 1.0) / nx
+        w[i] = math.sqrt(max(0.0, 1.0 - s * s))
+    return w
+
+
+@njit(cache=True, nogil=True)
+def strip_pressures(x_mid, half, p_strip, w, scale, xl, xt, out):
+    """Edges (``xl`` leading, ``xt`` trailing) of semi-elliptic strips and ``scale``
+    times their pressure at the element mid-points (weights ``w``) into ``out``
+    (strips, elements)."""
+    for j in range(x_mid.size):
+        xl[j] = x_mid[j] + half[j]
+        xt[j] = x_mid[j] - half[j]
+        for i in range(w.size):
+            out[j, i] = scale * p_strip[j] * w[i]
+
+
+@njit(cache=True, nogil=True)
 def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, phi, nx,
                           out):
     """Forces only, for many patches with semi-elliptic strip pressures (the strip
@@ -203,21 +226,14 @@ def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, 
     xgrid = np.empty(0)
     none = np.empty((0, my))
     nost = np.empty((0, my), dtype=np.bool_)
-    w = np.empty(nx)                                    # the semi-ellipse at the mid-points
-    for i in range(nx):
-        s = 1.0 - (2.0 * i + 1.0) / nx                  # from the leading edge
-        w[i] = math.sqrt(max(0.0, 1.0 - s * s))
+    w = semi_ellipse_weights(nx)
     for k in range(y.shape[0]):
         if not (L1[k, 0] > 0.0):
             out[k, 0] = 0.0
             out[k, 1] = 0.0
             out[k, 2] = 0.0
             continue
-        for j in range(my):
-            xl[j] = x_mid[k, j] + half[k, j]
-            xt[j] = x_mid[k, j] - half[k, j]
-            for i in range(nx):
-                bound[j, i] = mu[k] * p_strip[k, j] * w[i]
+        strip_pressures(x_mid[k], half[k], p_strip[k], w, mu[k], xl, xt, bound)
         fx, fy, mz = _fastsim_strips(y[k], dy[k], xl, xt, bound, L1[k], L2[k], L3[k], xi[k],
                                      eta[k], phi[k], xgrid, none, none, none, none, nost)
         # the march gives the tractions on the rail; the wheel gets the opposite
