@@ -26,7 +26,7 @@ _ALLOWED = {
     "creepage": {"longitudinal", "lateral", "spin"},
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
-               "tangential_options"},
+               "tangential_options", "force_tolerance"},
     "bodies": {"radii", "normal_force", "velocity"},
 }
 _RADII = {"wheel_rolling", "wheel_lateral", "rail_rolling", "rail_lateral"}
@@ -49,6 +49,7 @@ class Case:
     tangential_options: dict = field(default_factory=dict)
     grid: tuple | None = None
     element_size: tuple | None = None
+    force_tolerance: float = 1e-4
     creepage: tuple | None = None
     base_dir: Path = field(default_factory=Path.cwd)
 
@@ -167,6 +168,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
             setattr(case, key, tuple(int(t) if key == "grid" else float(t) for t in v))
     if case.grid and case.element_size:
         raise CaseFileError("solver: give either grid or element_size, not both")
+    case.force_tolerance = case.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)")
     if "creepage" in raw:
         case.creepage = (case.number("creepage.longitudinal", 0.0, -1.0, 1.0),
                          case.number("creepage.lateral", 0.0, -1.0, 1.0),

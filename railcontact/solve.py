@@ -216,6 +216,7 @@ def _solve(case, normal, tangential, warm_start):
         results.append(PatchResult(geom, ns, ts, tuple(creep)))
     else:
         results, contact = _solve_wheel_rail(case, nmodel, tmodel, kw,
+                                             rtol=case.force_tolerance,
                                              previous=warm_start.patches if warm_start else None)
         pose = contact.pose
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)

@@ -36,6 +36,27 @@ def test_vertical_balance_with_the_final_forces(models, shift):
         assert abs(flange.tangential.fy * np.sin(flange.geometry.contact_angle)) > 2e3
 
 
+def test_force_tolerance_option():
+    """solver.force_tolerance sets the vertical balance's tolerance: 1e-3 meets the
+    load to 1e-3, and the forces agree with the 1e-4 result within that; values
+    outside [1e-8, 0.05] are rejected, naming the key."""
+    from railcontact.errors import CaseFileError
+    tight = rc.solve(case_from_dict(_raw(2e-3)))
+    raw = _raw(2e-3)
+    raw["solver"]["force_tolerance"] = 1e-3
+    loose = rc.solve(case_from_dict(raw))
+    assert loose.converged
+    for side in ("left", "right"):
+        assert vertical_force_on_rail(loose.patches, side) == pytest.approx(6e4, rel=1e-3)
+    for a, b in zip(tight.patches, loose.patches):
+        assert b.normal.normal_force == pytest.approx(a.normal.normal_force, rel=2e-3)
+        assert b.tangential.fx == pytest.approx(a.tangential.fx, rel=2e-3, abs=1.0)
+    for bad in (0.0, 0.2, "tight"):
+        raw["solver"]["force_tolerance"] = bad
+        with pytest.raises(CaseFileError, match="solver.force_tolerance"):
+            case_from_dict(raw)
+
+
 #: both results meet the load to the iteration's rtol 1e-4, by different paths
 SAME = 2e-4
 
