@@ -61,8 +61,13 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
     gbar = 0.0
     scale = max(float(np.max(np.abs(h))), 1e-12)
     it = 0
+    u = None          # A p, carried over when the last step was a plain CG step
+    fresh = 0
     for it in range(1, maxiter + 1):
-        g = op(p) + h
+        if u is None or fresh >= 10:
+            u = op(p)
+            fresh = 0
+        g = u + h
         S = p > 0
         if not S.any():
             S = g <= np.min(g) + 1e-15
@@ -82,7 +87,8 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
         tau = float(np.sum(g[S] * t[S])) / den
         p_old = p
         p = p - tau * t
-        p[p < 0] = 0.0
+        clipped = p < 0
+        p[clipped] = 0.0
         overlap = (p == 0) & (g < 0)
         restart = bool(overlap.any())
         if restart:
@@ -91,6 +97,12 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
             tot = p.sum() * dA
             if tot > 0:
                 p *= force / tot
+        if force is None and not restart and not clipped.any():
+            # p changed by -tau t exactly: A p follows from A t (recomputed every 10)
+            u = u - tau * r
+            fresh += 1
+        else:
+            u = None
         ref = max(float(np.sum(p)), 1e-300)
         err = float(np.sum(np.abs(p - p_old))) / ref
         if err < tol and G <= (tol * scale) ** 2 * max(S.sum(), 1):
