@@ -323,7 +323,7 @@ def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     for nname, law in pairs:
         solve_patches(patches[:4], nname, law)                          # compile / load
         batch[(nname, law)] = best_of(lambda: solve_patches(patches, nname, law),
-                                      repeat=3) / n
+                                      repeat=5) / n
     ref_b = batch[("hertz", "fastsim")]
     out("\nPer-patch models (the registered models: grids, pressure interpolators and "
         "result objects for every patch):\n")

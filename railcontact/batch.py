@@ -157,7 +157,8 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
     ellipse cut in strips for FaStrip)."""
     from .normal.strip_batch import hertz_strips
     from .tangential.fastsim import (blended_flexibilities, fastsim_strip_patches)
-    from .tangential.kalker import flexibilities_array, kalker_coefficients_array
+    from .tangential.kalker import (flexibilities_array, flexibilities_from_coefficients,
+                                    kalker_coefficients_array)
     if not (isinstance(strips, (int, np.integer)) and 5 <= strips <= 1000):
         raise InputError(f"strips {strips!r}: expected an integer in [5, 1000]")
     nx = int(nx)
@@ -192,9 +193,10 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
             rows = np.nonzero(act)[0]
             la, lb, _ = hertz_ellipses_table(st.A[act], st.B[act],
                                              material.contact_modulus, st.penetration[rows])
-            f = flexibilities_array(la, lb, G, nu)
+            c = kalker_coefficients_array(la / lb, nu)
+            f = flexibilities_from_coefficients(la, lb, *c, G)
             L[:, act] = blended_flexibilities(la, lb, *f, G, nu, xi[rows], eta[rows],
-                                              phi[rows], friction, F[rows])
+                                              phi[rows], friction, F[rows], coefficients=c[:2])
             spin = np.ascontiguousarray(sample_strip_spin(patches, st.y))
         fastsim_strip_patches(st.y, st.dy, st.x_mid, st.half, st.p_strip,
                               *(np.ascontiguousarray(v) for v in L), mu, xi, eta, spin, nx,

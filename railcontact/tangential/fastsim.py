@@ -261,13 +261,16 @@ def equivalent_ellipse(normal) -> tuple:
     return r * math.sqrt(L / W), r * math.sqrt(W / L)
 
 
-def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn):
+def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn, coefficients=None):
     """Flexibilities blended towards a combined value as the creepage grows
-    (scalars, or arrays of semi-axes and flexibilities, elementwise)."""
+    (scalars, or arrays of semi-axes and flexibilities, elementwise).
+    ``coefficients``: Kalker's (C11, C22) of the ellipses, where already known."""
     from .kalker import kalker_coefficients, kalker_coefficients_array
     if np.ndim(fn) == 0 and (mu <= 0 or fn <= 0):
         return L1, L2, L3
-    if np.ndim(a) == 0:
+    if coefficients is not None:
+        c11, c22 = coefficients
+    elif np.ndim(a) == 0:
         c11, c22, _ = kalker_coefficients(a / b, nu)          # cached scalar path
     else:
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)

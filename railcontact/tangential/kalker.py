@@ -137,7 +137,13 @@ def flexibilities(a: float, b: float, shear_modulus: float, nu: float):
 def flexibilities_array(a, b, shear_modulus: float, nu: float):
     """:func:`flexibilities` for arrays of semi-axes (vectorised)."""
     a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
-    c11, c22, c23 = kalker_coefficients_array(a / b, nu)
+    return flexibilities_from_coefficients(a, b, *kalker_coefficients_array(a / b, nu),
+                                           shear_modulus)
+
+
+def flexibilities_from_coefficients(a, b, c11, c22, c23, shear_modulus: float):
+    """FASTSIM's L1, L2, L3 [m/Pa] of ellipses (a, b) [m] with Kalker's coefficients
+    (arrays)."""
     G = shear_modulus
     return (8 * a / (3 * c11 * G), 8 * a / (3 * c22 * G),
             math.pi * a * np.sqrt(a / b) / (4 * G * c23))
