@@ -126,7 +126,9 @@ class ExactNormalModel:
 
     Parameters
     ----------
-    tol : float        relative tolerance of the pressure iteration
+    tol : float        relative tolerance of the pressure iteration (default 1e-6: the
+                       pressure's relative change per iteration, and the rms gap on
+                       the contact area relative to the gap's range)
     maxiter : int      iteration limit
     margin : float     the potential contact area extends the expected contact by
                        this fraction on each side
