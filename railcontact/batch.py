@@ -155,7 +155,7 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
 def _strip_patches(patches, normal, tangential, material, friction, cr, V, strips, nx, t0):
     """Compiled path of :func:`solve_patches` for the strip models (and Hertz's
     ellipse cut in strips for FaStrip)."""
-    from .normal.strip_batch import hertz_strips
+    from .normal.strip_batch import hertz_ellipse_strips
     from .tangential.fastsim import (blended_flexibilities, fastsim_strip_patches)
     from .tangential.kalker import (flexibilities_array, flexibilities_from_coefficients,
                                     kalker_coefficients_array)
@@ -165,11 +165,11 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
     if not 2 <= nx <= 500:
         raise InputError(f"fastsim_grid elements per strip {nx!r}: expected [2, 500]")
     if normal == "hertz":
-        st = hertz_strips(patches, material.contact_modulus, strips=int(strips))
+        st = hertz_ellipse_strips(patches, material.contact_modulus, strips=int(strips))
     else:
         st = solve_strips(normal, patches, material.contact_modulus, strips=int(strips))
     F = st.normal_force
-    a, b = st.semi_axes if st.semi_axes is not None else st.equivalent_ellipses()
+    a, b = st.equivalent_ellipses()
     ok = (F > 0) & (a > 0) & (b > 0)
     n, my = st.y.shape
     G, nu = material.shear_modulus, material.nu
@@ -218,11 +218,6 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
         tp = np.array([friction, G, nx, nx, 1.0, 1.0, 1.0, 0.0])
         _forces(COMPILED_LAWS[tangential], tp, np.where(ok, F, 0.0), a, b, C11, C22, C23,
                 xi, eta, phi, V, out)
-    area, pmax = st.area, st.pmax
-    if st.semi_axes is not None:                      # Hertz: the ellipse's own values
-        area = math.pi * a * b
-        with np.errstate(divide="ignore", invalid="ignore"):
-            pmax = np.where(ok, 1.5 * F / area, 0.0)
-    return PatchForces(F, area, pmax, st.penetration, a, b, out[:, 0], out[:, 1],
+    return PatchForces(F, st.area, st.pmax, st.penetration, a, b, out[:, 0], out[:, 1],
                        out[:, 2], normal, tangential, time.perf_counter() - t0,
                        {"compiled": True, "strips": int(strips), "fastsim_elements": nx})

@@ -36,8 +36,8 @@ from scipy.signal import find_peaks
 from ..errors import ContactNotFoundError, InputError
 from ..materials import STEEL, Material
 from ..normal.hertz_theory import hertz_ellipse
+from ..profiles.profile import ppoly_at
 from .contact import ContactGeometry
-from ..profiles.profile import ppoly_at as _ppoly01
 from .locus import Locus, compute_locus, min_gap
 from .track import SIDES, Track, Wheelset, WheelsetPose, rotation
 
@@ -274,7 +274,7 @@ def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr, k=-1):
     p1 = C[1] + ysp * t[1]
     p2 = C[2] + ysp * t[2]
     for _ in range(8):
-        zr, dzr, k = _ppoly01(p1 + tr * n[1] - y_off, rb, rc, k)
+        zr, dzr, k = ppoly_at(p1 + tr * n[1] - y_off, rb, rc, k)
         step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
         tr -= step
         if not abs(step) > NEWTON_TOL:
@@ -301,7 +301,7 @@ def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw, k=-1):
         a0 = l0 + tw * nl0
         a2 = l2 + tw * nl2
         rho = math.sqrt(a0 * a0 + a2 * a2)
-        zw, dzw, k = _ppoly01(l1 + tw * nl1 - e, wb, wc, k)
+        zw, dzw, k = ppoly_at(l1 + tw * nl1 - e, wb, wc, k)
         step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
         tw -= step
         if not abs(step) > NEWTON_TOL:
@@ -325,17 +325,15 @@ def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
 
 
 @njit(cache=True, nogil=True)
-def _extrapolation(j, ys):
-    """Weights of the previous three lines' values that extrapolate to line j:
-    quadratic on equally spaced lines, constant otherwise (and for the first)."""
-    if j >= 3 and abs((ys[j] - ys[j - 1]) - (ys[j - 1] - ys[j - 2])) <= \
-            1e-9 * abs(ys[j] - ys[j - 1]) and abs((ys[j - 2] - ys[j - 3])
-                                                  - (ys[j - 1] - ys[j - 2])) <= \
-            1e-9 * abs(ys[j] - ys[j - 1]):
-        return 3.0, -3.0, 1.0
-    if j >= 1:
-        return 1.0, 0.0, 0.0
-    return 0.0, 0.0, 0.0
+def _equally_spaced(ys):
+    """Whether the lines ys are equally spaced (to 1e-9 of their spacing)."""
+    if ys.size < 3:
+        return False
+    d = ys[1] - ys[0]
+    for j in range(2, ys.size):
+        if abs(ys[j] - ys[j - 1] - d) > 1e-9 * abs(d):
+            return False
+    return True
 
 
 @njit(cache=True, nogil=True)
@@ -355,10 +353,14 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
         Rt = f[10:19].reshape((3, 3))
         y_off, e, r0 = f[9], f[22], f[23]
         kr = -1
+        quadratic = _equally_spaced(ys[k])
         for j in range(ys.shape[1]):
             # Newton starts from the last lines' solutions, extrapolated quadratically
-            # on equally spaced lines
-            c0, c1, c2 = _extrapolation(j, ys[k])
+            # on equally spaced lines (else the last line's)
+            if quadratic and j >= 3:
+                c0, c1, c2 = 3.0, -3.0, 1.0
+            else:
+                c0, c1, c2 = (1.0 if j >= 1 else 0.0), 0.0, 0.0
             r, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc,
                                    c0 * tr[0] + c1 * tr[1] + c2 * tr[2], kr)
             if not math.isfinite(r):

@@ -38,6 +38,23 @@ def _k_minus_e_over_m(m: float) -> float:
     return (ellipk(m) - ellipe(m)) / m
 
 
+def _k_minus_e_over_m_array(m: np.ndarray) -> np.ndarray:
+    """Vectorised :func:`_k_minus_e_over_m`."""
+    mm = np.where(m < 1e-6, 0.5, m)
+    return np.where(m < 1e-6, math.pi / 4.0 * (1.0 + 3.0 * m / 8.0 + 45.0 * m * m / 256.0),
+                    (ellipk(mm) - ellipe(mm)) / mm)
+
+
+def _checked_arrays(A, B, penetration):
+    """Curvatures [1/m] and approaches [m] broadcast together, curvatures checked."""
+    A, B, d = np.broadcast_arrays(np.asarray(A, float), np.asarray(B, float),
+                                  np.asarray(penetration, float))
+    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B)) and np.all(A > 0)
+            and np.all(B > 0)):
+        raise InputError("relative curvatures A, B: expected finite values > 0 1/m")
+    return A, B, d
+
+
 #: Taylor coefficients of the curvature ratio (E/(1-m) - K)/(K - E) in m, from the
 #: series of K and E; used below SERIES_M, where the closed form loses digits to
 #: cancellation (relative error 4e-4 at m = 1e-6, 6e-10 at 1e-3).
@@ -185,19 +202,13 @@ def hertz_ellipses(A, B, contact_modulus: float, penetration):
     -------
     a, b, force : ndarray   semi-axes along x, y [m] and normal force [N]
     """
-    A, B, d = np.broadcast_arrays(np.asarray(A, float), np.asarray(B, float),
-                                  np.asarray(penetration, float))
-    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B)) and np.all(A > 0)
-            and np.all(B > 0)):
-        raise InputError("relative curvatures A, B: expected finite values > 0 1/m")
+    A, B, d = _checked_arrays(A, B, penetration)
     small, large = np.minimum(A, B), np.maximum(A, B)
     ratio = large / small
     m = _m_from_ratio_array(ratio)
     k = np.sqrt(1.0 - m)
     K = ellipk(m)
-    mm = np.where(m < 1e-6, 0.5, m)
-    kme = np.where(m < 1e-6, math.pi / 4.0 * (1.0 + 3.0 * m / 8.0 + 45.0 * m * m / 256.0),
-                   (ellipk(mm) - ellipe(mm)) / mm)
+    kme = _k_minus_e_over_m_array(m)
     dpos = np.maximum(d, 0.0)
     a_major = np.sqrt(dpos * kme / (K * small))
     a_minor = k * a_major
@@ -205,9 +216,6 @@ def hertz_ellipses(A, B, contact_modulus: float, penetration):
     a = np.where(A <= B, a_major, a_minor)
     b = np.where(A <= B, a_minor, a_major)
     return a, b, force
-
-
-
 
 
 #: points of the table of :func:`hertz_ellipses_table`, uniform in log(ratio) up to
@@ -222,13 +230,9 @@ def _axes_table():
     _, lr_tab = _ratio_table()
     t = np.linspace(0.0, lr_tab[0], AXES_TABLE_POINTS)
     m = _m_from_ratio_array(np.exp(t))
-    small = m < 1e-6
-    mm = np.where(small, 0.5, m)
-    kme = np.where(small, math.pi / 4.0 * (1.0 + 3.0 * m / 8.0 + 45.0 * m * m / 256.0),
-                   (ellipk(mm) - ellipe(mm)) / mm)
     K = ellipk(m)
-    return float(t[1] - t[0]), np.ascontiguousarray([np.sqrt(kme / K), np.sqrt(1.0 - m),
-                                                     1.0 / K])
+    return float(t[1] - t[0]), np.ascontiguousarray(
+        [np.sqrt(_k_minus_e_over_m_array(m) / K), np.sqrt(1.0 - m), 1.0 / K])
 
 
 @njit(cache=True, nogil=True)
@@ -256,13 +260,9 @@ def hertz_ellipses_table(A, B, contact_modulus: float, penetration):
 
     Returns a, b [m] and the force [N], arrays of the broadcast shape.
     """
-    A, B, d = np.broadcast_arrays(np.asarray(A, float), np.asarray(B, float),
-                                  np.asarray(penetration, float))
+    A, B, d = _checked_arrays(A, B, penetration)
     shape = A.shape
     A, B, d = (np.ascontiguousarray(v).ravel() for v in (A, B, d))
-    if not (np.all(np.isfinite(A)) and np.all(np.isfinite(B)) and np.all(A > 0)
-            and np.all(B > 0)):
-        raise InputError("relative curvatures A, B: expected finite values > 0 1/m")
     dt, tab = _axes_table()
     if np.any(np.maximum(A, B) / np.minimum(A, B) > math.exp(dt * (tab.shape[1] - 1))):
         raise InputError("curvature ratio beyond the range of Hertz theory handled here "

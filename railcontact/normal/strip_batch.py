@@ -57,7 +57,9 @@ class StripSolution:
     penetration: np.ndarray
     A: np.ndarray
     B: np.ndarray
-    #: (a, b) [m] per patch where the patches are ellipses (:func:`hertz_strips`)
+    #: (a, b) [m] per patch where the patches are ellipses cut in strips
+    #: (:func:`hertz_ellipse_strips`): area, p_max and the equivalent ellipse are then
+    #: the ellipse's own
     semi_axes: tuple | None = None
 
     @property
@@ -66,16 +68,24 @@ class StripSolution:
 
     @property
     def area(self) -> np.ndarray:
+        if self.semi_axes is not None:
+            return math.pi * self.semi_axes[0] * self.semi_axes[1]
         return 2.0 * np.sum(self.half, axis=1) * self.dy
 
     @property
     def pmax(self) -> np.ndarray:
+        if self.semi_axes is not None:
+            area = self.area
+            with np.errstate(divide="ignore", invalid="ignore"):
+                return np.where(area > 0, 1.5 * self.normal_force / area, 0.0)
         return self.p_strip.max(axis=1, initial=0.0)
 
     def equivalent_ellipses(self):
         """Semi-axes (a, b) [m] of the equivalent ellipse of every patch (area and
         length/width ratio of the contact, as :func:`~railcontact.tangential.fastsim.
         equivalent_ellipse`); zero where there is no contact."""
+        if self.semi_axes is not None:
+            return self.semi_axes
         on = self.half > 0
         anyc = on.any(axis=1)
         lead = np.where(on, self.x_mid + self.half, -np.inf).max(axis=1)
@@ -164,7 +174,7 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
     return y, 2.0 * hy / strips, xm, g, A, B
 
 
-def hertz_strips(patches, contact_modulus: float, strips: int = 40) -> StripSolution:
+def hertz_ellipse_strips(patches, contact_modulus: float, strips: int = 40) -> StripSolution:
     """Hertz's ellipses of many patches (at the geometry's approach) cut in
     ``strips`` strips across: strip j at y_j has half-length a sqrt(1 - (y_j/b)^2)
     and peak pressure p0 sqrt(1 - (y_j/b)^2), scaled so that the strips carry the
@@ -182,10 +192,9 @@ def hertz_strips(patches, contact_modulus: float, strips: int = 40) -> StripSolu
     half = a[:, None] * r
     with np.errstate(divide="ignore", invalid="ignore"):
         p0 = np.where(F > 0, F / (0.5 * math.pi * a * dy * np.sum(r * r)), 0.0)
-    st = StripSolution(y, dy, np.zeros_like(y), half, p0[:, None] * r, pen,
-                       np.broadcast_to(A[:, None], y.shape), np.broadcast_to(B[:, None], y.shape),
-                       semi_axes=(a, b))
-    return st
+    return StripSolution(y, dy, np.zeros_like(y), half, p0[:, None] * r, pen,
+                         np.broadcast_to(A[:, None], y.shape),
+                         np.broadcast_to(B[:, None], y.shape), semi_axes=(a, b))
 
 
 def _hertz_strips(a, b, force, depth, alpha1, A, penloc):

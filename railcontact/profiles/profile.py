@@ -89,7 +89,7 @@ def ppoly_at(xi, breaks, c, k=-1):
             else:
                 break
     if not (0 <= k < n and breaks[k] <= xi and (xi < breaks[k + 1] or k == n - 1)):
-        k = min(max(np.searchsorted(breaks, xi, side="right") - 1, 0), n - 1)  # ... or search
+        k = _segment(breaks, xi)                # ... or search
     t = xi - breaks[k]
     return ((((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]),
             (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k], k)

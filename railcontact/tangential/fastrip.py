@@ -56,8 +56,8 @@ from numba import njit
 from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import TangentialSolution, check_inputs, register
-from .fastsim import (_strip_to_grid, equivalent_ellipse, semi_ellipse_weights,
-                      strip_pressures)
+from .fastsim import (_strip_to_grid, blend_weight, equivalent_ellipse,
+                      semi_ellipse_weights, strip_pressures)
 from .kalker import flexibilities, kalker_coefficients
 
 
@@ -202,8 +202,7 @@ def strip_parameters(a, b, fn, xi, eta, c11, c22, G, mu):
         K = np.where(cn > 0, wn / cn, 1.0)
         # the direction of w in the linear range, blended towards the creepage
         # direction as the creepage grows (as fastsim's flexibilities)
-        f = np.hypot(xi * G * a * b * c11, eta * G * a * b * c22) / (mu * fn)
-        wb = np.minimum(1.0, f / 3.0)
+        wb = blend_weight(a, b, c11, c22, G, xi, eta, mu, fn)
         dx = (1 - wb) * ex + wb * np.where(cn > 0, xi / cn, 0.0)
         dy = (1 - wb) * ey + wb * np.where(cn > 0, eta / cn, 0.0)
         dn = np.hypot(dx, dy)

@@ -261,6 +261,15 @@ def equivalent_ellipse(normal) -> tuple:
     return r * math.sqrt(L / W), r * math.sqrt(W / L)
 
 
+def blend_weight(a, b, c11, c22, G, xi, eta, mu, fn):
+    """How far the creepage is from the linear range: min(1, f/3) with
+    f = |(xi c^2 G C11, eta c^2 G C22)| / (mu F_n), c^2 = a b (0 where F_n <= 0)."""
+    c2 = a * b
+    with np.errstate(divide="ignore", invalid="ignore"):
+        f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
+    return np.where(np.asarray(fn) > 0, np.minimum(1.0, f / 3.0), 0.0)
+
+
 def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn, coefficients=None):
     """Flexibilities blended towards a combined value as the creepage grows
     (scalars, or arrays of semi-axes and flexibilities, elementwise).
@@ -275,10 +284,7 @@ def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn, coeffic
     else:
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
         c11, c22, _ = kalker_coefficients_array(a / b, nu)
-    c2 = a * b
-    with np.errstate(divide="ignore", invalid="ignore"):
-        f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
-    w = np.where(np.asarray(fn) > 0, np.minimum(1.0, f / 3.0), 0.0)
+    w = blend_weight(a, b, c11, c22, G, xi, eta, mu, fn)
     ps = phi * (math.pi * a * a / 4) / (8 * a / 3)
     num = xi * xi + eta * eta + ps * ps
     den = np.float64(xi * xi / L1 + eta * eta / L2 + ps * ps / L3)
