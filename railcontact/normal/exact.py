@@ -21,6 +21,7 @@ import math
 import time
 
 import numpy as np
+from numba import njit
 from scipy.interpolate import RegularGridInterpolator
 
 from ..errors import InputError
@@ -46,7 +47,11 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
     Returns
     -------
     p [Pa], approach [m] (force-controlled; else 0), iterations, converged
+
+    The iteration runs compiled (:func:`_pk_kernel`), its FFT products by
+    rocket-fft's ``numpy.fft`` for Numba.
     """
+    h = np.ascontiguousarray(h, dtype=float)
     if p0 is None:
         if force is not None:
             p = np.where(h <= np.min(h) + 0.5 * (np.median(h) - np.min(h)), 1.0, 0.0)
@@ -54,62 +59,139 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
         else:
             p = np.maximum(-h, 0.0) / op.diag * 0.5
     else:
-        p = p0.copy()
-    t = np.zeros_like(p)
-    G_old, restart = 1.0, True
+        p = np.array(p0, dtype=float)
+    p = np.ascontiguousarray(p)
+    gbar, it, converged = _pk_kernel(op.khat, op.shape, h, float(dA),
+                                     0.0 if force is None else float(force), force is not None,
+                                     float(tol), int(maxiter), p)
+    approach = gbar if force is not None else 0.0
+    return p, approach, int(it), bool(converged)
+
+
+@njit(cache=True, nogil=True)
+def _convolve(p, khat, shape, buf):
+    """A p by a zero-padded real FFT (``buf``: the padded work array, zero outside
+    the grid of p)."""
+    mx, my = p.shape
+    buf[:mx, :my] = p
+    return np.fft.irfft2(np.fft.rfft2(buf) * khat, s=shape)[:mx, :my]
+
+
+@njit(cache=True, nogil=True)
+def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
+    """Constrained conjugate gradients of Polonsky & Keer on the pressure ``p``
+    (the initial estimate, overwritten with the solution).
+
+    Conjugate directions on the set S of loaded elements; an element whose pressure
+    would turn negative is set to zero, an unloaded element with a negative gap
+    (an overlap) is loaded and the directions restart.  Force-controlled: the
+    approach is the mean gap over S and the pressure is scaled to the force.
+    Displacement-controlled: after a plain step (nothing clipped or loaded)
+    A p = A p_old - tau A t, refreshed by a convolution every 10 steps.
+    Returns the approach (mean gap, force-controlled), iterations, converged.
+    """
+    mx, my = h.shape
+    buf = np.zeros(shape)
+    t = np.zeros((mx, my))
+    u = np.zeros((mx, my))
+    g = np.zeros((mx, my))
+    pn = np.zeros((mx, my))
+    S = np.zeros((mx, my), dtype=np.bool_)
+    scale = max(np.max(np.abs(h)), 1e-12)
+    G_old = 1.0
+    restart = True
     converged = False
     gbar = 0.0
-    scale = max(float(np.max(np.abs(h))), 1e-12)
-    it = 0
-    u = None          # A p, carried over when the last step was a plain CG step
     fresh = 0
+    valid = False
+    it = 0
     for it in range(1, maxiter + 1):
-        if u is None or fresh >= 10:
-            u = op(p)
+        if not valid or fresh >= 10:
+            u[:, :] = _convolve(p, khat, shape, buf)
             fresh = 0
-        g = u + h
-        S = p > 0
-        if not S.any():
-            S = g <= np.min(g) + 1e-15
-        if force is not None:
-            gbar = float(g[S].mean())
-            g = g - gbar
-        G = float(np.sum(g[S] ** 2))
-        t = np.where(S, g + (0.0 if restart else G / G_old) * t, 0.0)
+        nS = 0
+        for i in range(mx):
+            for j in range(my):
+                g[i, j] = u[i, j] + h[i, j]
+                S[i, j] = p[i, j] > 0.0
+                nS += S[i, j]
+        if nS == 0:
+            gmin = np.min(g)
+            for i in range(mx):
+                for j in range(my):
+                    S[i, j] = g[i, j] <= gmin + 1e-15
+                    nS += S[i, j]
+        if controlled:
+            s = 0.0
+            for i in range(mx):
+                for j in range(my):
+                    if S[i, j]:
+                        s += g[i, j]
+            gbar = s / nS
+            g -= gbar
+        G = 0.0
+        for i in range(mx):
+            for j in range(my):
+                if S[i, j]:
+                    G += g[i, j] * g[i, j]
+        beta = 0.0 if restart else G / G_old
+        for i in range(mx):
+            for j in range(my):
+                t[i, j] = g[i, j] + beta * t[i, j] if S[i, j] else 0.0
         G_old = G
-        r = op(t)
-        if force is not None:
-            r = r - float(r[S].mean())
-        den = float(np.sum(r[S] * t[S]))
+        r = _convolve(t, khat, shape, buf)
+        if controlled:
+            s = 0.0
+            for i in range(mx):
+                for j in range(my):
+                    if S[i, j]:
+                        s += r[i, j]
+            r -= s / nS
+        den = 0.0
+        num = 0.0
+        for i in range(mx):
+            for j in range(my):
+                if S[i, j]:
+                    den += r[i, j] * t[i, j]
+                    num += g[i, j] * t[i, j]
         if den == 0.0:
             converged = True
             break
-        tau = float(np.sum(g[S] * t[S])) / den
-        p_old = p
-        p = p - tau * t
-        clipped = p < 0
-        p[clipped] = 0.0
-        overlap = (p == 0) & (g < 0)
-        restart = bool(overlap.any())
-        if restart:
-            p[overlap] -= tau * g[overlap]
-        if force is not None:
-            tot = p.sum() * dA
-            if tot > 0:
-                p *= force / tot
-        if force is None and not restart and not clipped.any():
-            # p changed by -tau t exactly: A p follows from A t (recomputed every 10)
-            u = u - tau * r
+        tau = num / den
+        clipped = False
+        restart = False
+        total = 0.0
+        for i in range(mx):
+            for j in range(my):
+                q = p[i, j] - tau * t[i, j]
+                if q < 0.0:
+                    q = 0.0
+                    clipped = True
+                if q == 0.0 and g[i, j] < 0.0:
+                    q = -tau * g[i, j]          # an overlap: load the element
+                    restart = True
+                total += q
+                pn[i, j] = q
+        f = force / (total * dA) if controlled and total > 0.0 else 1.0
+        diff = 0.0
+        ref = 0.0
+        for i in range(mx):
+            for j in range(my):
+                q = pn[i, j] * f
+                diff += abs(q - p[i, j])
+                ref += q
+                p[i, j] = q
+        if not controlled and not restart and not clipped:
+            u -= tau * r
             fresh += 1
+            valid = True
         else:
-            u = None
-        ref = max(float(np.sum(p)), 1e-300)
-        err = float(np.sum(np.abs(p - p_old))) / ref
-        if err < tol and G <= (tol * scale) ** 2 * max(S.sum(), 1):
+            valid = False
+        ref = max(ref, 1e-300)
+        if diff / ref < tol and G <= (tol * scale) ** 2 * max(nS, 1):
             converged = True
             break
-    approach = gbar if force is not None else 0.0
-    return p, approach, it, converged
+    return gbar, it, converged
 
 
 def _crossings(s, g, i0, i1):
