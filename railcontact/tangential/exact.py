@@ -15,16 +15,19 @@ with I+ the element upstream (towards the leading edge, +x).  In contact
 p_I = -g_I s_I / |s_I|; outside the contact p = 0.  For identical materials the
 tangential problem is independent of the normal one.
 
-Solver: an active-set iteration.  With the stick and slip sets and the slip
-directions fixed, the stick tractions solve the linear system s = 0, by GMRES with
-FFT matrix-vector products and a marching preconditioner (the self and upstream
-coupling of each element, i.e. the operator of simplified theory, inverted strip
-by strip from the leading edge).  Plain Gauss-Seidel sweeps diverge on this
-non-symmetric system (spectral radius > 100 on a 20 x 20 grid); the
-preconditioned operator has real eigenvalues in about [0.8, 8.5].  Elements whose
-traction exceeds the bound start to slip against their traction; slip elements
-whose slip turns against the friction direction stick again; slip directions are
-updated from the computed slip.  A result that does not converge is flagged.
+Solver: a semi-smooth Newton method on the complementarity residual
+F = p - Proj_g(p - rho s) (zero exactly when every element sticks with s = 0 or
+slips on the bound against its slip).  Each Newton step is solved inexactly
+(Eisenstat-Walker forcing) by restarted GMRES with FFT matrix-vector products and a
+marching preconditioner (the self and upstream coupling of each element, i.e. the
+operator of simplified theory, inverted strip by strip from the leading edge);
+a backtracking line search on |F|^2 globalises it.  Plain Gauss-Seidel sweeps
+diverge on this non-symmetric system (spectral radius > 100 on a 20 x 20 grid);
+the preconditioned operator has real eigenvalues in about [0.8, 8.5].  A result
+that does not converge is flagged.
+
+The whole iteration (Newton steps, GMRES, line search) runs compiled with Numba,
+its FFT products by rocket-fft's ``numpy.fft`` support for Numba.
 """
 
 from __future__ import annotations
@@ -174,9 +177,10 @@ def _ssn_apply(zx, zy, cx, cy, contact, stick, M, rho):
 
 
 @njit(cache=True, nogil=True)
-def _ssn_precond(rx, ry, contact, stick, M, rho, dxx, dyy):
+def _ssn_precond(rx, ry, contact, stick, M, rho, dxx, dyy, upstream):
     """Solve P z = r, P the Jacobian with C replaced by its self and upstream part
-    (C z)_I ~ D (z_I - z_I+): block lower-bidiagonal along each strip."""
+    (C z)_I ~ D (z_I - z_I+): block lower-bidiagonal along each strip.  Without
+    ``upstream`` (the shift problem) C is replaced by its self term D only."""
     mx, my = rx.shape
     zx = np.zeros((mx, my))
     zy = np.zeros((mx, my))
@@ -205,9 +209,199 @@ def _ssn_precond(rx, ry, contact, stick, M, rho, dxx, dyy):
                 det = a00 * a11 - a01 * a10
                 zx[i, j] = (a11 * bx - a01 * by) / det
                 zy[i, j] = (-a10 * bx + a00 * by) / det
-            ux = zx[i, j]
-            uy = zy[i, j]
+            if upstream:
+                ux = zx[i, j]
+                uy = zy[i, j]
     return zx, zy
+
+
+@njit(cache=True, nogil=True)
+def _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift):
+    """The linear part of the slip, s - w, from tractions (px, py): rolling
+    -(u_I+ - u_I)/dx, shift u_I (FFT products; bx, by the zero-padded work arrays)."""
+    mx, my = px.shape
+    bx[:mx, :my] = px
+    by[:mx, :my] = py
+    fx = np.fft.rfft2(bx)
+    fy = np.fft.rfft2(by)
+    ux = np.fft.irfft2(kxx * fx + kxy * fy, s=shape)
+    uy = np.fft.irfft2(kxy * fx + kyy * fy, s=shape)
+    cx = np.empty((mx, my))
+    cy = np.empty((mx, my))
+    for i in range(mx):
+        for j in range(my):
+            if shift:
+                cx[i, j] = ux[i, j]
+                cy[i, j] = uy[i, j]
+            else:
+                cx[i, j] = -(ux[i + 1, j] - ux[i, j]) / dx
+                cy[i, j] = -(uy[i + 1, j] - uy[i, j]) / dx
+    return cx, cy
+
+
+@njit(cache=True, nogil=True)
+def _jacobian_times(v, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift, contact, stick, M,
+                    rho):
+    """J v for the stacked vector v = (z_x, z_y)."""
+    N = mx * my
+    zx = v[:N].reshape((mx, my))
+    zy = v[N:].reshape((mx, my))
+    cx, cy = _c_of(zx, zy, kxx, kxy, kyy, shape, bx, by, dx, shift)
+    ox, oy = _ssn_apply(zx, zy, cx, cy, contact, stick, M, rho)
+    out = np.empty(2 * N)
+    out[:N] = ox.ravel()
+    out[N:] = oy.ravel()
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _precond_times(v, mx, my, contact, stick, M, rho, dxx, dyy, shift):
+    """P^-1 v for the stacked vector v."""
+    N = mx * my
+    zx, zy = _ssn_precond(v[:N].reshape((mx, my)), v[N:].reshape((mx, my)), contact, stick,
+                          M, rho, dxx, dyy, not shift)
+    out = np.empty(2 * N)
+    out[:N] = zx.ravel()
+    out[N:] = zy.ravel()
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _newton_step(b, rtol, restart, maxcycles, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
+                 shift, contact, stick, M, rho, dxx, dyy):
+    """Solve J d = b to ||b - J d|| <= rtol ||b|| by restarted GMRES (Saad & Schultz
+    1986) with right preconditioning by P (flexible form: the preconditioned
+    directions are kept, Saad 1993); Givens rotations, modified Gram-Schmidt.
+    Returns d and the number of products with J."""
+    n = b.size
+    x = np.zeros(n)
+    bnorm = np.sqrt(np.dot(b, b))
+    nprod = 0
+    if bnorm == 0.0:
+        return x, nprod
+    V = np.zeros((restart + 1, n))
+    Z = np.zeros((restart, n))
+    H = np.zeros((restart + 1, restart))
+    cs = np.zeros(restart)
+    sn = np.zeros(restart)
+    gv = np.zeros(restart + 1)
+    r = b.copy()
+    for cycle in range(maxcycles):
+        if cycle > 0:
+            r = b - _jacobian_times(x, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift,
+                                    contact, stick, M, rho)
+            nprod += 1
+        beta = np.sqrt(np.dot(r, r))
+        if beta <= rtol * bnorm:
+            break
+        V[0] = r / beta
+        gv[:] = 0.0
+        gv[0] = beta
+        k_used = 0
+        resid = beta
+        for k in range(restart):
+            Z[k] = _precond_times(V[k], mx, my, contact, stick, M, rho, dxx, dyy, shift)
+            w = _jacobian_times(Z[k], mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift,
+                                contact, stick, M, rho)
+            nprod += 1
+            for i in range(k + 1):
+                hik = np.dot(w, V[i])
+                H[i, k] = hik
+                w -= hik * V[i]
+            hk = np.sqrt(np.dot(w, w))
+            H[k + 1, k] = hk
+            if hk > 0.0:
+                V[k + 1] = w / hk
+            for i in range(k):                       # earlier rotations
+                a = H[i, k]
+                c = H[i + 1, k]
+                H[i, k] = cs[i] * a + sn[i] * c
+                H[i + 1, k] = -sn[i] * a + cs[i] * c
+            a = H[k, k]
+            c = H[k + 1, k]
+            den = np.sqrt(a * a + c * c)
+            cs[k] = a / den if den > 0.0 else 1.0
+            sn[k] = c / den if den > 0.0 else 0.0
+            H[k, k] = den
+            H[k + 1, k] = 0.0
+            gv[k + 1] = -sn[k] * gv[k]
+            gv[k] = cs[k] * gv[k]
+            resid = abs(gv[k + 1])
+            k_used = k + 1
+            if resid <= rtol * bnorm or hk == 0.0:
+                break
+        y = np.zeros(k_used)
+        for i in range(k_used - 1, -1, -1):
+            s = gv[i]
+            for j in range(i + 1, k_used):
+                s -= H[i, j] * y[j]
+            y[i] = s / H[i, i] if H[i, i] != 0.0 else 0.0
+        for i in range(k_used):
+            x += y[i] * Z[i]
+        if resid <= rtol * bnorm:
+            break
+    return x, nprod
+
+
+@njit(cache=True, nogil=True)
+def _ssn_state(px, py, wx, wy, kxx, kxy, kyy, shape, bx, by, dx, shift, contact, bound, rho):
+    """Residual, Jacobian blocks, stick mask and merit |F|^2 at tractions (px, py)."""
+    cx, cy = _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift)
+    F, M, stick = _ssn_blocks(px, py, wx + cx, wy + cy, contact, bound, rho)
+    return F, M, stick, np.sum(F * F)
+
+
+@njit(cache=True, nogil=True)
+def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, rho, dxx,
+               dyy, tol, maxiter):
+    """Semi-smooth Newton iteration of :func:`steady_rolling`, compiled; (px, py) the
+    initial tractions.  Returns px, py, Newton iterations, products with J,
+    converged."""
+    mx, my = px.shape
+    N = mx * my
+    bx = np.zeros(shape)
+    by = np.zeros(shape)
+    gmax = max(np.max(bound), 1e-300)
+    F, M, stick, phi2 = _ssn_state(px, py, wx, wy, kxx, kxy, kyy, shape, bx, by, dx, shift,
+                                   contact, bound, rho)
+    converged = False
+    forcing = 0.1
+    phi_prev = phi2
+    nprod = 0
+    it = 0
+    for it in range(1, maxiter + 1):
+        if np.max(np.abs(F)) <= tol * gmax:
+            converged = True
+            break
+        rhs = np.empty(2 * N)
+        rhs[:N] = -F[:, :, 0].ravel()
+        rhs[N:] = -F[:, :, 1].ravel()
+        # inexact Newton (Eisenstat-Walker): loose linear solves far from the solution
+        if it > 1:
+            forcing = min(0.1, max(0.9 * phi2 / max(phi_prev, 1e-300), 1e-6))
+        phi_prev = phi2
+        d, k = _newton_step(rhs, forcing, 60, 10, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
+                            shift, contact, stick, M, rho, dxx, dyy)
+        nprod += k
+        dpx = d[:N].reshape((mx, my))
+        dpy = d[N:].reshape((mx, my))
+        # backtracking on the merit function |F|^2
+        alpha = 1.0
+        tx = np.zeros((mx, my))
+        ty = np.zeros((mx, my))
+        for _ in range(12):
+            for i in range(mx):
+                for j in range(my):
+                    if contact[i, j]:
+                        tx[i, j] = px[i, j] + alpha * dpx[i, j]
+                        ty[i, j] = py[i, j] + alpha * dpy[i, j]
+            Fn, Mn, sn, phin = _ssn_state(tx, ty, wx, wy, kxx, kxy, kyy, shape, bx, by, dx,
+                                          shift, contact, bound, rho)
+            if phin <= (1.0 - 1e-4 * alpha) * phi2:
+                break
+            alpha *= 0.5
+        px, py, F, M, stick, phi2 = tx, ty, Fn, Mn, sn, phin
+    return px, py, it, nprod, converged
 
 
 @lru_cache(maxsize=32)
@@ -242,7 +436,6 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     flag.  Convergence: max |F| <= tol * max bound, with F the complementarity
     residual p - Proj(p - rho s).
     """
-    from scipy.sparse.linalg import LinearOperator, gmres
     mx, my = x.size, y.size
     dx = float(x[1] - x[0])
     op, (dxx, dyy) = _operators(mx, my, dx, float(y[1] - y[0]), G, nu)
@@ -257,90 +450,20 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
         wy = np.ascontiguousarray(wy + np.where(contact, w_extra[1], 0.0))
     rho = 1.0 / (0.5 * (dxx + dyy))
 
-    def c_of(px, py):  # the linear part: s - w
-        ux, uy = op(px, py)
-        if mode == "shift":
-            return np.ascontiguousarray(ux[:-1]), np.ascontiguousarray(uy[:-1])
-        return (np.ascontiguousarray(-(ux[1:] - ux[:-1]) / dx),
-                np.ascontiguousarray(-(uy[1:] - uy[:-1]) / dx))
-
     if p0 is not None:
         px, py = p0[0].copy(), p0[1].copy()
     elif mode == "shift":
         px, py = np.zeros((mx, my)), np.zeros((mx, my))
     else:
         px, py = _initial_march(wx, wy, contact, bound, dxx, dyy)
-    gmax = max(float(bound.max()), 1e-300)
-    N = mx * my
-    converged = False
-
-    def state(px, py):
-        cx, cy = c_of(px, py)
-        F, M, stick = _ssn_blocks(px, py, wx + cx, wy + cy, contact, bound, rho)
-        return F, M, stick, float(np.sum(F * F))
-
-    F, M, stick, phi2 = state(px, py)
-    it = 0
-    forcing = 0.1
-    phi_prev = phi2
-    for it in range(1, maxiter + 1):
-        res = float(np.max(np.abs(F)))
-        log.debug("semi-smooth Newton %d: residual %.3e", it, res / gmax)
-        if res <= tol * gmax:
-            converged = True
-            break
-
-        def mv(v, stick=stick, M=M):
-            zx, zy = v[:N].reshape(mx, my), v[N:].reshape(mx, my)
-            czx, czy = c_of(zx, zy)
-            ox_, oy_ = _ssn_apply(zx, zy, czx, czy, contact, stick, M, rho)
-            return np.concatenate((ox_.ravel(), oy_.ravel()))
-
-        def prec(v, stick=stick, M=M):
-            if mode == "shift":
-                return _shift_precond(v, stick, M)
-            zx, zy = _ssn_precond(np.ascontiguousarray(v[:N].reshape(mx, my)),
-                                  np.ascontiguousarray(v[N:].reshape(mx, my)),
-                                  contact, stick, M, rho, dxx, dyy)
-            return np.concatenate((zx.ravel(), zy.ravel()))
-
-        def _shift_precond(v, stick, M):
-            # Jacobian with C replaced by its diagonal (self term) only
-            zx, zy = v[:N].reshape(mx, my).copy(), v[N:].reshape(mx, my).copy()
-            st = contact & stick
-            zx[st] /= rho * dxx
-            zy[st] /= rho * dyy
-            sl = contact & ~stick
-            a00 = 1 - M[..., 0, 0] + rho * M[..., 0, 0] * dxx
-            a01 = -M[..., 0, 1] + rho * M[..., 0, 1] * dyy
-            a10 = -M[..., 1, 0] + rho * M[..., 1, 0] * dxx
-            a11 = 1 - M[..., 1, 1] + rho * M[..., 1, 1] * dyy
-            det = np.where(sl, a00 * a11 - a01 * a10, 1.0)
-            bx, by = zx.copy(), zy.copy()
-            zx = np.where(sl, (a11 * bx - a01 * by) / det, zx)
-            zy = np.where(sl, (-a10 * bx + a00 * by) / det, zy)
-            return np.concatenate((zx.ravel(), zy.ravel()))
-
-        A = LinearOperator((2 * N, 2 * N), matvec=mv, dtype=float)
-        P = LinearOperator((2 * N, 2 * N), matvec=prec, dtype=float)
-        rhs = -np.concatenate((F[:, :, 0].ravel(), F[:, :, 1].ravel()))
-        # inexact Newton (Eisenstat-Walker): loose linear solves far from the solution
-        if it > 1:
-            forcing = min(0.1, max(0.9 * phi2 / max(phi_prev, 1e-300), 1e-6))
-        phi_prev = phi2
-        dv, info = gmres(A, rhs, M=P, rtol=forcing, atol=0.0, restart=60, maxiter=10)
-        dpx, dpy = dv[:N].reshape(mx, my), dv[N:].reshape(mx, my)
-        # backtracking on the merit function |F|^2
-        alpha = 1.0
-        for _ in range(12):
-            tx = np.where(contact, px + alpha * dpx, 0.0)
-            ty = np.where(contact, py + alpha * dpy, 0.0)
-            Fn, Mn, sn, phin = state(tx, ty)
-            if phin <= (1.0 - 1e-4 * alpha) * phi2:
-                break
-            alpha *= 0.5
-        px, py, F, M, stick, phi2 = tx, ty, Fn, Mn, sn, phin
-    cx, cy = c_of(px, py)
+    shift = mode == "shift"
+    px, py, it, nprod, converged = _ssn_solve(
+        np.ascontiguousarray(px, dtype=float), np.ascontiguousarray(py, dtype=float), wx, wy,
+        op.kxx, op.kxy, op.kyy, op.shape, dx, shift, contact, bound, rho, dxx, dyy,
+        float(tol), int(maxiter))
+    log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
+    cx, cy = _c_of(px, py, op.kxx, op.kxy, op.kyy, op.shape, np.zeros(op.shape),
+                   np.zeros(op.shape), dx, shift)
     sx, sy = wx + cx, wy + cy
     _, _, stick = _ssn_blocks(px, py, sx, sy, contact, bound, rho)
     slip = contact & ~stick
