@@ -121,10 +121,11 @@ def build_wheelset_track(case: Case):
 
 
 def contact_search(case: Case, interpenetration: dict | None = None,
-                   bodies=None) -> WheelsetContact:
+                   bodies=None, roll_start: float = 0.0) -> WheelsetContact:
     """Geometry layer only: wheelset position and contact patches of a wheel-rail case.
 
-    ``bodies`` = (Wheelset, Track) built once by the caller, else built here.
+    ``bodies`` = (Wheelset, Track) built once by the caller, else built here;
+    ``roll_start`` the roll [rad] where the search starts (an earlier search's).
     """
     ws, tr = bodies or build_wheelset_track(case)
     pv = case.get("wheelset.pitch_velocity")
@@ -139,7 +140,8 @@ def contact_search(case: Case, interpenetration: dict | None = None,
                         combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1),
                         interpenetration=interpenetration,
                         roll=None if roll is None else case.number("wheelset.roll"),
-                        side=case.get("wheelset.side", "both") if roll is not None else "both")
+                        side=case.get("wheelset.side", "both") if roll is not None else "both",
+                        roll_start=roll_start if roll is None else 0.0)
 
 
 def solve(case: Case, normal: str | None = None, tangential: str | None = None,
@@ -427,7 +429,8 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 cand = 0.5 * (lo[0] + hi[0])          # safeguard: bisection in the bracket
             new[s] = min(max(cand, 0.2 * d[s]), 5.0 * d[s] + 1e-7)
         d = new
-        contact = contact_search(case, interpenetration=d, bodies=bodies)
+        contact = contact_search(case, interpenetration=d, bodies=bodies,
+                                 roll_start=contact.pose.roll)
         if lazy and all(r.tangential is not None for r in results):
             lateral = tangential_start = results
         results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results,

@@ -142,6 +142,12 @@ def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -
     return brentq(lambda d: vertical_force(d) - load, 0.0, hi, xtol=1e-13)
 
 
+#: rate [m/rad] at which the difference of the two sides' vertical gaps changes with
+#: the roll: about the lateral distance between the contact points (the start of the
+#: secant steps of :func:`_solve_pose`)
+ROLL_SLOPE = 1.5
+
+
 def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-12,
                 roll_given=None, sides=SIDES):
     """Vertical position and roll such that min gap of each side = -target.
@@ -149,7 +155,8 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
     The vertical gap of both sides decreases by exactly dz when the wheelset moves
     down by dz, so z follows from the roll angle; the remaining condition
     gap_left - gap_right = t_right - t_left increases monotonically with roll and
-    is solved by a bracketed root search (robust at jumps of the contact point).
+    is solved by secant steps from ``roll0``, or where they do not settle (a jump of
+    the contact point) by a bracketed root search.
     """
     cache = {}
     if roll_given is not None:
@@ -177,6 +184,40 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
         g = gaps(roll)
         return (g["left"] + targets["left"]) - (g["right"] + targets["right"])
 
+    # secant steps from the start roll (f is nearly linear in the roll, with the slope
+    # of the lateral distance between the contact points, about 1.5 m): two or three
+    # evaluations where the start is close (successive searches of one case)
+    roll = _secant_roll(f, roll0, tol)
+    if roll is None:
+        # no convergence (a jump of the contact point on the way): bracketed search
+        roll = _bracketed_roll(f, roll0, tol, y_ws)
+    g = gaps(roll)
+    z = g["right"] + targets["right"]
+    loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw) for s in SIDES}
+    return z, roll, loci
+
+
+def _secant_roll(f, roll0, tol, steps=8):
+    """Root of f(roll) by secant steps from ``roll0`` (the first with the slope
+    ``ROLL_SLOPE``); None when the steps do not settle to ``tol``."""
+    x0, f0 = roll0, f(roll0)
+    if f0 == 0.0:
+        return x0
+    x1 = x0 - f0 / ROLL_SLOPE
+    for _ in range(steps):
+        f1 = f(x1)
+        if f1 == 0.0:
+            return x1
+        if f1 == f0 or abs(x1 - roll0) > 0.05:
+            return None
+        x0, f0, x1 = x1, f1, x1 - f1 * (x1 - x0) / (f1 - f0)
+        if abs(x1 - x0) <= tol:
+            return x0          # evaluated, and within the last step of the root
+    return None
+
+
+def _bracketed_roll(f, roll0, tol, y_ws):
+    """Root of the increasing f(roll) by bracketing from ``roll0`` and Brent's method."""
     span = 2e-3
     lo, hi = roll0 - span, roll0 + span
     while f(lo) > 0:
@@ -187,11 +228,7 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
         hi += 4 * span
         if hi > 0.1:
             raise ContactNotFoundError(f"wheelset roll not found at lateral shift {y_ws * 1e3:.3f} mm")
-    roll = brentq(f, lo, hi, xtol=tol, rtol=1e-15, maxiter=200)
-    g = gaps(roll)
-    z = g["right"] + targets["right"]
-    loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw) for s in SIDES}
-    return z, roll, loci
+    return brentq(f, lo, hi, xtol=tol, rtol=1e-15, maxiter=200)
 
 
 def _regions(loc: Locus, rigid: bool, combine_distance: float):
@@ -257,6 +294,13 @@ class _GapEvaluator:
     def __call__(self, x, y):
         x = np.asarray(x, dtype=float)
         ys = self.sign * np.asarray(y, dtype=float)
+        if x.ndim == 2 and ys.ndim == 2 and x.shape[1] == 1 and ys.shape[0] == 1:
+            # a grid x[:, None], y[None, :]: line by line, the rail distance once per
+            # line and every projection started from the neighbouring line's
+            return _gap_lines_kernel(np.ascontiguousarray(x.T), np.ascontiguousarray(ys),
+                                     self.frame[None, :], self.rail._breaks,
+                                     self.rail._coefs, self.wheel._breaks,
+                                     self.wheel._coefs)[0]
         x, ys = np.broadcast_arrays(x, ys)
         h = _gap_kernel(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(ys.ravel()),
                         self.C, self.t, self.n, self.y_off, self.rail._breaks,
@@ -364,9 +408,10 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
             r, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc,
                                    c0 * tr[0] + c1 * tr[1] + c2 * tr[2], kr)
             if not math.isfinite(r):
-                r = 0.0
+                # the line misses the rail profile: gap 1 m (below) and the next
+                # lines start afresh
                 c0, c1, c2 = 0.0, 0.0, 0.0
-            tr[2], tr[1], tr[0] = tr[1], tr[0], r
+            tr[2], tr[1], tr[0] = tr[1], tr[0], (r if math.isfinite(r) else 0.0)
             for i in range(nx):
                 w, kw[i] = _wheel_distance(x[k, i], ys[k, j], C, t, n, Rt, O, e, r0, wb, wc,
                                            c0 * tw[0, i] + c1 * tw[1, i] + c2 * tw[2, i],
@@ -473,7 +518,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                  lateral_velocity: float = 0.0, yaw_rate: float = 0.0,
                  combine_distance: float = 0.0,
                  interpenetration: dict | None = None, roll: float | None = None,
-                 side: str = "both") -> WheelsetContact:
+                 side: str = "both", roll_start: float = 0.0) -> WheelsetContact:
     """Find the wheelset position and all contact patches.
 
     Parameters
@@ -508,6 +553,10 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         its vertical position alone is solved (CONTACT's single-wheel mode).
     side : {"both", "left", "right"}
         Wheels to consider; a prescribed roll needs "left" or "right".
+    roll_start : float
+        Estimate of the roll angle [rad] where the search for it starts (e.g. the
+        roll of an earlier search of the same case); it changes the work, not the
+        result.
     """
     for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
                          ("wheelset.yaw", yaw, 0.1)):
@@ -537,6 +586,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
             raise InputError(f"wheelset.roll = {roll!r}: expected |roll| <= 0.1 rad")
     sides = SIDES if roll is None else (side,)
     pose_kw = {"roll_given": roll, "sides": sides}
+    if not (isinstance(roll_start, (int, float)) and abs(roll_start) <= 0.1):
+        raise InputError(f"roll_start = {roll_start!r}: expected |roll| <= 0.1 rad")
 
     targets = {"left": 0.0, "right": 0.0}
     if interpenetration is not None:
@@ -544,7 +595,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         if not all(math.isfinite(v) and v >= 0 for v in targets.values()):
             raise InputError(f"interpenetration = {interpenetration!r}: expected values >= 0 m")
         loads = loads or {s: math.nan for s in SIDES}
-    z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets, **pose_kw)
+    z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets,
+                                roll0=float(roll_start), **pose_kw)
     if loads is not None and interpenetration is None:
         for _ in range(10):
             new = dict(targets)
