@@ -117,6 +117,9 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
                 nS += S[i, j]
         if nS == 0:
             gmin = np.min(g)
+            if not controlled and gmin >= 0.0:
+                converged = True             # no overlap anywhere: p = 0 is the solution
+                break
             for i in range(mx):
                 for j in range(my):
                     S[i, j] = g[i, j] <= gmin + 1e-15

@@ -271,7 +271,7 @@ def _newton_step(b, rtol, restart, maxcycles, mx, my, kxx, kxy, kyy, shape, bx, 
                  shift, contact, stick, M, rho, dxx, dyy):
     """Solve J d = b to ||b - J d|| <= rtol ||b|| by restarted GMRES (Saad & Schultz
     1986) with right preconditioning by P (flexible form: the preconditioned
-    directions are kept, Saad 1993); Givens rotations, modified Gram-Schmidt.
+    directions are kept, Saad 1993); Givens rotations, Gram-Schmidt twice.
     Returns d and the number of products with J."""
     n = b.size
     x = np.zeros(n)
@@ -304,10 +304,14 @@ def _newton_step(b, rtol, restart, maxcycles, mx, my, kxx, kxy, kyy, shape, bx, 
             w = _jacobian_times(Z[k], mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift,
                                 contact, stick, M, rho)
             nprod += 1
-            for i in range(k + 1):
-                hik = np.dot(w, V[i])
-                H[i, k] = hik
-                w -= hik * V[i]
+            # classical Gram-Schmidt, done twice (as stable as the modified form, in
+            # matrix-vector products)
+            Vk = V[:k + 1]
+            h1 = np.dot(Vk, w)
+            w -= np.dot(h1, Vk)
+            h2 = np.dot(Vk, w)
+            w -= np.dot(h2, Vk)
+            H[:k + 1, k] = h1 + h2
             hk = np.sqrt(np.dot(w, w))
             H[k + 1, k] = hk
             if hk > 0.0:

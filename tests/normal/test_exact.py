@@ -121,3 +121,16 @@ def test_force_is_continuous_in_the_approach():
     fit = np.polyval(np.polyfit(d, F, 2), d)
     assert np.abs(F - fit).max() < 2e-5 * F.mean()
     assert np.all(np.diff(F) > 0)
+
+
+def test_no_overlap_gives_zero_pressure_at_once():
+    """Displacement-controlled with a positive gap everywhere: p = 0 is the exact
+    solution, reported converged after one iteration (not the iteration limit)."""
+    from railcontact.normal.exact import polonsky_keer
+    from railcontact.normal.influence import normal_operator
+    mx = my = 20
+    x = (np.arange(mx) - 9.5) * 1e-4
+    h = 1e-6 + x[:, None] ** 2 + x[None, :] ** 2
+    p, _, it, ok = polonsky_keer(normal_operator(mx, my, 1e-4, 1e-4, MAT.contact_modulus), h,
+                                 1e-8, force=None, tol=1e-9, maxiter=500)
+    assert ok and it == 1 and not p.any()
