@@ -658,6 +658,15 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
     x_m = float(d[0])
     y_m = sgn * float(d @ gapf.t)
     A, B, h_m = _curvatures_fd(gapf, x_m, y_m)
+    if not (A > 0.0 and B > 0.0 and abs(h_m) < 0.5):
+        # the stencil at the deepest point left a surface (a patch spanning a strongly
+        # curved part of the profile, e.g. flange root to flange, whose deepest point
+        # projects beyond the rail profile's end): the curvatures at the reference
+        # point, on the rail by construction; the approach from the fallback below
+        log.debug("%s patch: no curvatures at its deepest point; taken at its reference "
+                  "point", side)
+        A, B, _ = _curvatures_fd(gapf, 0.0, 0.0)
+        h_m = math.nan
     approach = -h_m
     # robust fallback: vertical interpenetration of the deepest locus point projected on n
     vertical = -float(loc.gap[im]) * math.cos(math.atan(float(loc.slope[im])))

@@ -1,0 +1,32 @@
+"""Contact search (railcontact.geometry.search): robustness of the patch geometry."""
+
+import math
+
+import numpy as np
+
+from railcontact.geometry import Track, Wheelset, find_contact
+from railcontact.profiles import rail_profile, s1002
+
+
+def test_patch_from_flange_root_to_flange_has_usable_curvatures():
+    """S1002 on 60E1 1:40 at 6.44 mm with a deep right wheel: one interpenetration
+    region runs from the flange root up the flange (contact angle 0.6 rad), and its
+    deepest point projects beyond the rail profile's end in the patch's tangent plane.
+    The patch still gets positive curvatures and a potential contact area of a few
+    centimetres (it got A = 0 and an extent of +-464 m, and the exact solver a zero
+    force there), and the exact normal solver carries load on it."""
+    from railcontact.materials import STEEL
+    from railcontact.normal import get_normal_model
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    y = -4e-3 + 200 * 13e-3 / 249
+    c = find_contact(ws, tr, lateral_shift=y, interpenetration={"left": 7.6e-5, "right": 6.3e-4})
+    right = [p for p in c.patches if p.side == "right" and p.approach > 0]
+    assert right
+    for p in right:
+        A, B = p.curvatures
+        assert 0 < A < 1e3 and 0 < B < 1e3
+        x0, x1, y0, y1 = p.extent
+        assert x1 - x0 < 0.1 and y1 - y0 < 0.1
+        ns = get_normal_model("exact").solve(p, STEEL, penetration=p.approach, grid=(30, 30))
+        assert ns.converged and ns.normal_force > 1e5
+        assert np.all(np.isfinite(ns.pressure))
