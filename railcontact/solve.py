@@ -121,11 +121,13 @@ def build_wheelset_track(case: Case):
 
 
 def contact_search(case: Case, interpenetration: dict | None = None,
-                   bodies=None, roll_start: float = 0.0) -> WheelsetContact:
+                   bodies=None, roll_start: float = 0.0,
+                   load_iterations: int = 10) -> WheelsetContact:
     """Geometry layer only: wheelset position and contact patches of a wheel-rail case.
 
     ``bodies`` = (Wheelset, Track) built once by the caller, else built here;
-    ``roll_start`` the roll [rad] where the search starts (an earlier search's).
+    ``roll_start`` the roll [rad] where the search starts (an earlier search's);
+    ``load_iterations`` as in :func:`railcontact.geometry.find_contact`.
     """
     ws, tr = bodies or build_wheelset_track(case)
     pv = case.get("wheelset.pitch_velocity")
@@ -141,7 +143,8 @@ def contact_search(case: Case, interpenetration: dict | None = None,
                         interpenetration=interpenetration,
                         roll=None if roll is None else case.number("wheelset.roll"),
                         side=case.get("wheelset.side", "both") if roll is not None else "both",
-                        roll_start=roll_start if roll is None else 0.0)
+                        roll_start=roll_start if roll is None else 0.0,
+                        load_iterations=load_iterations)
 
 
 def solve(case: Case, normal: str | None = None, tangential: str | None = None,
@@ -356,7 +359,10 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     """
     bodies = build_wheelset_track(case)
     converged = True
-    contact = contact_search(case, bodies=bodies)
+    # one multi-Hertzian load iteration: a start, which the iteration below corrects
+    # (the geometry layer's own fixed-point iteration on it costs more passes than
+    # it saves)
+    contact = contact_search(case, bodies=bodies, load_iterations=1)
     loads = case.wheel_loads()
     side = case.get("wheelset.side", "both")
     coupled = _coupled(case, nmodel, tmodel)

@@ -518,7 +518,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                  lateral_velocity: float = 0.0, yaw_rate: float = 0.0,
                  combine_distance: float = 0.0,
                  interpenetration: dict | None = None, roll: float | None = None,
-                 side: str = "both", roll_start: float = 0.0) -> WheelsetContact:
+                 side: str = "both", roll_start: float = 0.0,
+                 load_iterations: int = 10) -> WheelsetContact:
     """Find the wheelset position and all contact patches.
 
     Parameters
@@ -557,6 +558,12 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         Estimate of the roll angle [rad] where the search for it starts (e.g. the
         roll of an earlier search of the same case); it changes the work, not the
         result.
+    load_iterations : int
+        Limit of the fixed-point iterations between the multi-Hertzian
+        interpenetrations and the wheelset position under ``vertical_force`` (they
+        stop earlier when the interpenetrations change by less than 1 nm).  One
+        gives a first estimate (what :func:`railcontact.solve` needs: its own
+        vertical-force iteration follows with the chosen models).
     """
     for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
                          ("wheelset.yaw", yaw, 0.1)):
@@ -586,6 +593,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
             raise InputError(f"wheelset.roll = {roll!r}: expected |roll| <= 0.1 rad")
     sides = SIDES if roll is None else (side,)
     pose_kw = {"roll_given": roll, "sides": sides}
+    if not (isinstance(load_iterations, int) and load_iterations >= 1):
+        raise InputError(f"load_iterations = {load_iterations!r}: expected an integer >= 1")
     if not (isinstance(roll_start, (int, float)) and abs(roll_start) <= 0.1):
         raise InputError(f"roll_start = {roll_start!r}: expected |roll| <= 0.1 rad")
 
@@ -598,7 +607,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets,
                                 roll0=float(roll_start), **pose_kw)
     if loads is not None and interpenetration is None:
-        for _ in range(10):
+        for _ in range(load_iterations):
             new = dict(targets)
             new.update({s: _approach_for_load(loci[s], loads[s], r0, material) for s in sides})
             change = max(abs(new[s] - targets[s]) for s in sides)

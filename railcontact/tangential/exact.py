@@ -279,8 +279,8 @@ def _newton_step(b, rtol, restart, maxcycles, mx, my, kxx, kxy, kyy, shape, bx, 
     nprod = 0
     if bnorm == 0.0:
         return x, nprod
-    V = np.zeros((restart + 1, n))
-    Z = np.zeros((restart, n))
+    V = np.empty((restart + 1, n))       # every row is written before it is read
+    Z = np.empty((restart, n))
     H = np.zeros((restart + 1, restart))
     cs = np.zeros(restart)
     sn = np.zeros(restart)

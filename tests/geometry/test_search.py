@@ -30,3 +30,25 @@ def test_patch_from_flange_root_to_flange_has_usable_curvatures():
         ns = get_normal_model("exact").solve(p, STEEL, penetration=p.approach, grid=(30, 30))
         assert ns.converged and ns.normal_force > 1e5
         assert np.all(np.isfinite(ns.pressure))
+
+
+def test_load_iterations_and_roll_start():
+    """One load iteration is a first estimate of the ten-iteration search; the start
+    of the roll search changes the work, not the pose; bad values are refused."""
+    import pytest
+    from railcontact.errors import InputError
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    full = find_contact(ws, tr, lateral_shift=2e-3, vertical_force=6e4)
+    one = find_contact(ws, tr, lateral_shift=2e-3, vertical_force=6e4, load_iterations=1)
+    for s in ("left", "right"):
+        assert one.interpenetration[s] == pytest.approx(full.interpenetration[s], rel=0.05)
+    d = dict(full.interpenetration)
+    a = find_contact(ws, tr, lateral_shift=2e-3, interpenetration=d)
+    b = find_contact(ws, tr, lateral_shift=2e-3, interpenetration=d,
+                     roll_start=full.pose.roll + 1e-4)
+    assert b.pose.roll == pytest.approx(a.pose.roll, abs=1e-11)
+    assert b.pose.vertical == pytest.approx(a.pose.vertical, abs=1e-11)
+    with pytest.raises(InputError, match="load_iterations"):
+        find_contact(ws, tr, vertical_force=6e4, load_iterations=0)
+    with pytest.raises(InputError, match="roll_start"):
+        find_contact(ws, tr, vertical_force=6e4, roll_start=0.5)
