@@ -252,12 +252,13 @@ def _nearest(previous, geom):
 
 
 def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only=False,
-                   coupled=False):
+                   coupled=False, same_case=False):
     """Solve every loaded patch; ``previous`` results (an earlier iteration of the
     same case, or a neighbouring case of a sweep) serve as warm starts where a model
     accepts them.  ``normal_only``: leave the tangential problems to
     :func:`_add_tangential`.  ``coupled``: dissimilar materials with the exact
-    models (:func:`_coupled`), both problems solved together."""
+    models (:func:`_coupled`), both problems solved together.  ``same_case``:
+    ``previous`` is an earlier pass of this case, whose grids a model may keep."""
     out = []
     nwarm = getattr(nmodel, "accepts_warm_start", False)
     for geom in contact.patches:
@@ -274,6 +275,8 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only
         best = _nearest(previous, geom) if nwarm else None
         if best is not None:
             nkw["warm_start"] = best.normal
+            if same_case and getattr(nmodel, "reuses_grids", False):
+                nkw["reuse_grid"] = best.normal
         ns = nmodel.solve(geom, case.material, penetration=geom.approach, **nkw)
         out.append(PatchResult(geom, ns, None, creep))
     if normal_only or coupled:
@@ -440,7 +443,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         if lazy and all(r.tangential is not None for r in results):
             lateral = tangential_start = results
         results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results,
-                                 normal_only=lazy, coupled=coupled)
+                                 normal_only=lazy, coupled=coupled, same_case=True)
     else:
         converged = False
         log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)

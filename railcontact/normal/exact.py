@@ -205,6 +205,27 @@ def _crossings(s, g, i0, i1):
     return lo, hi
 
 
+#: a grid is reused (``ExactNormalModel.solve(reuse_grid=...)``) while the potential
+#: contact area spans at least this fraction of it in each direction
+REUSE_FILL = 0.8
+
+
+def _fits(sol, cx, cy, ex, ey, grid) -> bool:
+    """Whether the potential area [cx - ex, cx + ex] x [cy - ey, cy + ey] lies in the
+    grid of the solution ``sol`` and fills at least REUSE_FILL of it (and the grid has
+    the requested number of elements)."""
+    x, y = sol.x, sol.y
+    if x.size < 2 or y.size < 2:
+        return False
+    if grid is not None and tuple(int(g) for g in grid) != (x.size, y.size):
+        return False
+    hx = 0.5 * (x[-1] - x[0]) + 0.5 * (x[1] - x[0])      # half-widths over the elements
+    hy = 0.5 * (y[-1] - y[0]) + 0.5 * (y[1] - y[0])
+    mx, my = 0.5 * (x[0] + x[-1]), 0.5 * (y[0] + y[-1])
+    inside = abs(cx - mx) + ex <= hx and abs(cy - my) + ey <= hy
+    return bool(inside and ex >= REUSE_FILL * hx and ey >= REUSE_FILL * hy)
+
+
 @register("exact")
 class ExactNormalModel:
     """Kalker's exact theory of the normal contact problem on a boundary-element grid.
@@ -281,11 +302,13 @@ class ExactNormalModel:
         return (cx, cy), (hx * (1 + self.margin), hy * (1 + self.margin))
 
     accepts_warm_start = True
+    reuses_grids = True
 
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
               penetration: float | None = None, grid=None, element_size=None,
               warm_start: NormalSolution | None = None,
-              extra_gap: np.ndarray | None = None) -> NormalSolution:
+              extra_gap: np.ndarray | None = None,
+              reuse_grid: NormalSolution | None = None) -> NormalSolution:
         """Solve for a given normal force [N] or approach [m].
 
         ``extra_gap``: a displacement difference [m] added to the undeformed distance
@@ -295,6 +318,13 @@ class ExactNormalModel:
         ``warm_start``: a previous solution whose pressure is the initial estimate: on
         the same grid (e.g. in the vertical-force iteration) as it is, on another grid
         (a neighbouring case of a sweep) interpolated.
+
+        ``reuse_grid``: a solution of the same patch at a nearby approach (an earlier
+        pass of the vertical-force iteration): its grid is kept where the potential
+        contact area still lies in it and fills at least ``REUSE_FILL`` of it in
+        each direction (with ``grid`` given or by default, not with
+        ``element_size``), so that the pressure and the tangential solution of that
+        pass are exact starts and the influence coefficients are reused.
 
         The undeformed distance is taken from ``geometry.gap`` (the exact gap of the
         geometry layer, shifted so that ``penetration`` is measured from the
@@ -309,7 +339,11 @@ class ExactNormalModel:
             raise InputError(f"penetration {penetration!r} m: expected a finite value >= 0")
         (cx, cy), (ex, ey) = self._potential_area(geometry, material, normal_force, penetration,
                                                   continuous=True)
-        x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
+        if reuse_grid is not None and element_size is None and _fits(reuse_grid, cx, cy, ex,
+                                                                      ey, grid):
+            x, y = reuse_grid.x, reuse_grid.y
+        else:
+            x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
         dx, dy = x[1] - x[0], y[1] - y[0]
         h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach   # touching: min ~ 0
         if extra_gap is not None:

@@ -134,3 +134,24 @@ def test_no_overlap_gives_zero_pressure_at_once():
     p, _, it, ok = polonsky_keer(normal_operator(mx, my, 1e-4, 1e-4, MAT.contact_modulus), h,
                                  1e-8, force=None, tol=1e-9, maxiter=500)
     assert ok and it == 1 and not p.any()
+
+
+def test_grid_reused_while_the_potential_area_fits():
+    """``reuse_grid`` keeps an earlier pass's grid while the potential contact area
+    lies in it and fills at least REUSE_FILL of it; the force then equals the
+    fresh-grid force within the discretisation error (0.5 %).  A deeper approach,
+    whose area no longer fits, and a much shallower one get new grids."""
+    from railcontact.normal.exact import REUSE_FILL
+    g = ContactGeometry(curvatures=(1.0, 3.0))
+    nm = get_normal_model("exact")
+    first = nm.solve(g, MAT, penetration=1e-4, grid=(30, 30))
+    near = nm.solve(g, MAT, penetration=0.98e-4, grid=(30, 30), reuse_grid=first,
+                    warm_start=first)
+    fresh = nm.solve(g, MAT, penetration=0.98e-4, grid=(30, 30))
+    assert near.x is first.x and near.y is first.y
+    assert near.normal_force == pytest.approx(fresh.normal_force, rel=5e-3)
+    deeper = nm.solve(g, MAT, penetration=1.02e-4, grid=(30, 30), reuse_grid=first)
+    assert deeper.x[-1] == pytest.approx(first.x[-1] * 1.02 ** 0.5, rel=1e-3)
+    fine = nm.solve(g, MAT, penetration=1e-4 * REUSE_FILL ** 3, grid=(30, 30),
+                    reuse_grid=first)
+    assert fine.x[-1] < first.x[-1]
