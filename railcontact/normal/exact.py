@@ -74,7 +74,9 @@ def _convolve(p, khat, shape, buf):
     the grid of p)."""
     mx, my = p.shape
     buf[:mx, :my] = p
-    return np.fft.irfft2(np.fft.rfft2(buf) * khat, s=shape)[:mx, :my]
+    f = np.fft.rfft2(buf)
+    f *= khat
+    return np.fft.irfft2(f, s=shape)[:mx, :my]
 
 
 @njit(cache=True, nogil=True)

@@ -224,8 +224,16 @@ def _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift):
     by[:mx, :my] = py
     fx = np.fft.rfft2(bx)
     fy = np.fft.rfft2(by)
-    ux = np.fft.irfft2(kxx * fx + kxy * fy, s=shape)
-    uy = np.fft.irfft2(kxy * fx + kyy * fy, s=shape)
+    # the kernel products in place, in one pass: fx <- kxx fx + kxy fy, fy <- ...
+    for i in range(fx.shape[0]):
+        for j in range(fx.shape[1]):
+            a = fx[i, j]
+            b = fy[i, j]
+            c = kxy[i, j]
+            fx[i, j] = kxx[i, j] * a + c * b
+            fy[i, j] = c * a + kyy[i, j] * b
+    ux = np.fft.irfft2(fx, s=shape)
+    uy = np.fft.irfft2(fy, s=shape)
     cx = np.empty((mx, my))
     cy = np.empty((mx, my))
     for i in range(mx):
@@ -240,35 +248,53 @@ def _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift):
 
 
 @njit(cache=True, nogil=True)
-def _jacobian_times(v, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift, contact, stick, M,
-                    rho):
-    """J v for the stacked vector v = (z_x, z_y)."""
-    N = mx * my
-    zx = v[:N].reshape((mx, my))
-    zy = v[N:].reshape((mx, my))
+def _unpack(v, cidx, mx, my):
+    """Fields (z_x, z_y) on the grid from the stacked vector v of their values at the
+    contact elements ``cidx`` (flat indices); zero elsewhere."""
+    nc = cidx.size
+    zx = np.zeros(mx * my)
+    zy = np.zeros(mx * my)
+    for k in range(nc):
+        zx[cidx[k]] = v[k]
+        zy[cidx[k]] = v[nc + k]
+    return zx.reshape((mx, my)), zy.reshape((mx, my))
+
+
+@njit(cache=True, nogil=True)
+def _pack(ax, ay, cidx):
+    """The stacked vector of two fields' values at the contact elements ``cidx``."""
+    nc = cidx.size
+    fx = ax.ravel()
+    fy = ay.ravel()
+    out = np.empty(2 * nc)
+    for k in range(nc):
+        out[k] = fx[cidx[k]]
+        out[nc + k] = fy[cidx[k]]
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _jacobian_times(v, cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift, contact, stick,
+                    M, rho):
+    """J v for the stacked vector v of the unknowns at the contact elements (outside
+    the contact J is the identity and the Newton steps are zero)."""
+    zx, zy = _unpack(v, cidx, mx, my)
     cx, cy = _c_of(zx, zy, kxx, kxy, kyy, shape, bx, by, dx, shift)
     ox, oy = _ssn_apply(zx, zy, cx, cy, contact, stick, M, rho)
-    out = np.empty(2 * N)
-    out[:N] = ox.ravel()
-    out[N:] = oy.ravel()
-    return out
+    return _pack(ox, oy, cidx)
 
 
 @njit(cache=True, nogil=True)
-def _precond_times(v, mx, my, contact, stick, M, rho, dxx, dyy, shift):
-    """P^-1 v for the stacked vector v."""
-    N = mx * my
-    zx, zy = _ssn_precond(v[:N].reshape((mx, my)), v[N:].reshape((mx, my)), contact, stick,
-                          M, rho, dxx, dyy, not shift)
-    out = np.empty(2 * N)
-    out[:N] = zx.ravel()
-    out[N:] = zy.ravel()
-    return out
+def _precond_times(v, cidx, mx, my, contact, stick, M, rho, dxx, dyy, shift):
+    """P^-1 v for the stacked vector v of the unknowns at the contact elements."""
+    zx, zy = _unpack(v, cidx, mx, my)
+    ox, oy = _ssn_precond(zx, zy, contact, stick, M, rho, dxx, dyy, not shift)
+    return _pack(ox, oy, cidx)
 
 
 @njit(cache=True, nogil=True)
-def _newton_step(b, rtol, restart, maxcycles, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
-                 shift, contact, stick, M, rho, dxx, dyy):
+def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, kxx, kxy, kyy, shape, bx, by,
+                 dx, shift, contact, stick, M, rho, dxx, dyy):
     """Solve J d = b to ||b - J d|| <= rtol ||b|| by restarted GMRES (Saad & Schultz
     1986) with right preconditioning by P (flexible form: the preconditioned
     directions are kept, Saad 1993); Givens rotations, Gram-Schmidt twice.
@@ -288,8 +314,8 @@ def _newton_step(b, rtol, restart, maxcycles, mx, my, kxx, kxy, kyy, shape, bx, 
     r = b.copy()
     for cycle in range(maxcycles):
         if cycle > 0:
-            r = b - _jacobian_times(x, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift,
-                                    contact, stick, M, rho)
+            r = b - _jacobian_times(x, cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
+                                    shift, contact, stick, M, rho)
             nprod += 1
         beta = np.sqrt(np.dot(r, r))
         if beta <= rtol * bnorm:
@@ -300,8 +326,9 @@ def _newton_step(b, rtol, restart, maxcycles, mx, my, kxx, kxy, kyy, shape, bx, 
         k_used = 0
         resid = beta
         for k in range(restart):
-            Z[k] = _precond_times(V[k], mx, my, contact, stick, M, rho, dxx, dyy, shift)
-            w = _jacobian_times(Z[k], mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift,
+            Z[k] = _precond_times(V[k], cidx, mx, my, contact, stick, M, rho, dxx, dyy,
+                                  shift)
+            w = _jacobian_times(Z[k], cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift,
                                 contact, stick, M, rho)
             nprod += 1
             # classical Gram-Schmidt, done twice (as stable as the modified form, in
@@ -362,7 +389,7 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
     initial tractions.  Returns px, py, Newton iterations, products with J,
     converged."""
     mx, my = px.shape
-    N = mx * my
+    cidx = np.flatnonzero(contact.ravel())    # the unknowns: tractions in the contact
     bx = np.zeros(shape)
     by = np.zeros(shape)
     gmax = max(np.max(bound), 1e-300)
@@ -377,18 +404,15 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
         if np.max(np.abs(F)) <= tol * gmax:
             converged = True
             break
-        rhs = np.empty(2 * N)
-        rhs[:N] = -F[:, :, 0].ravel()
-        rhs[N:] = -F[:, :, 1].ravel()
+        rhs = -_pack(F[:, :, 0].copy(), F[:, :, 1].copy(), cidx)
         # inexact Newton (Eisenstat-Walker): loose linear solves far from the solution
         if it > 1:
             forcing = min(0.1, max(0.9 * phi2 / max(phi_prev, 1e-300), 1e-6))
         phi_prev = phi2
-        d, k = _newton_step(rhs, forcing, 60, 10, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
-                            shift, contact, stick, M, rho, dxx, dyy)
+        d, k = _newton_step(rhs, forcing, 60, 10, cidx, mx, my, kxx, kxy, kyy, shape, bx, by,
+                            dx, shift, contact, stick, M, rho, dxx, dyy)
         nprod += k
-        dpx = d[:N].reshape((mx, my))
-        dpy = d[N:].reshape((mx, my))
+        dpx, dpy = _unpack(d, cidx, mx, my)
         # backtracking on the merit function |F|^2
         alpha = 1.0
         tx = np.zeros((mx, my))
