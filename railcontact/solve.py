@@ -342,12 +342,55 @@ def vertical_force_on_rail(results, side: str, lateral=None) -> float:
     return total
 
 
+#: the first step of the vertical-force iteration solves for the normal force on
+#: sides with one loaded patch whose contact angle is below this [rad] (a flange's
+#: interpenetration moves with the roll as much as with the height)
+FORCE_STEP_ANGLE = 0.5
+
+
+def _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous):
+    """First step of the vertical-force iteration: where every side has one loaded
+    patch (contact angle below ``FORCE_STEP_ANGLE``), its normal problem solved for
+    the normal force that carries the side's load with the stand-in lateral force,
+    F_n = Q / (cos d - (F_y/F_n) sin d); the interpenetration of the side then moves
+    by the change of approach over cos d.  Returns (interpenetrations, patch results)
+    or None where the step does not apply."""
+    warm = getattr(nmodel, "accepts_warm_start", False)
+    d, out = dict(contact.interpenetration), []
+    for s in sides:
+        pats = [g for g in contact.patches if g.side == s and g.approach > 0]
+        if len(pats) != 1 or abs(pats[0].contact_angle) >= FORCE_STEP_ANGLE:
+            return None
+        g = pats[0]
+        ratio = 0.0
+        best = _nearest(lateral, g)
+        if best is not None and best.tangential is not None and best.normal.normal_force > 0:
+            ratio = best.tangential.fy / best.normal.normal_force
+        c, sn = math.cos(g.contact_angle), math.sin(g.contact_angle)
+        if c - ratio * sn < 0.5 * c:
+            return None
+        nkw = dict(kw)
+        near = _nearest(previous, g) if warm else None
+        if near is not None:
+            nkw["warm_start"] = near.normal
+        ns = nmodel.solve(g, case.material, normal_force=loads[s] / (c - ratio * sn), **nkw)
+        if not (ns.converged and ns.penetration > 0):
+            return None
+        d[s] = max(d[s] + (ns.penetration - g.approach) / c, 0.2 * d[s])
+        creep = tuple(float(v) for v in (case.creepage or g.creepage))
+        out.append(PatchResult(g, ns, None, creep))
+    return d, out
+
+
 def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
                       previous=None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
 
     The geometry layer's multi-Hertzian estimate gives the first wheelset height;
-    then the vertical interpenetration of each side is corrected by secant steps
+    where each side has one loaded patch of small contact angle, a first step
+    solves those normal problems for the force that carries the load and moves the
+    interpenetrations by the change of approach (:func:`_force_step`); then the
+    vertical interpenetration of each side is corrected by secant steps
     until the vertical force of normal plus tangential contact forces (the chosen
     models) equals the load, as CONTACT does with its Newton iteration on z.
 
@@ -370,15 +413,25 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     side = case.get("wheelset.side", "both")
     coupled = _coupled(case, nmodel, tmodel)
     lazy = tmodel is not None and not coupled
-    results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=previous,
-                             normal_only=lazy, coupled=coupled)
+    sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
     # whose F_y/F_n stands in until the tangential solution: Hertz + FASTSIM's on
     # these patches (cheap, with this case's creepages, and close enough that the
     # balance rarely moves once the chosen tangential model has solved)
     lateral = _fast_estimate(case, contact) if lazy else None
+    if not coupled:
+        first = _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous)
+        if first is not None:
+            d_first, previous_pass = first
+            contact = contact_search(case, interpenetration=d_first, bodies=bodies,
+                                     roll_start=contact.pose.roll)
+            previous = None
+    else:
+        first = None
+    results = _solve_patches(case, contact, nmodel, tmodel, kw,
+                             previous=previous_pass if first is not None else previous,
+                             normal_only=lazy, coupled=coupled, same_case=first is not None)
     tangential_start = previous   # warm starts of the tangential solver (a neighbour's)
     d = dict(contact.interpenetration)
-    sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
     hist = {s: [] for s in sides}
     for _ in range(max_iter):
         err = {}

@@ -124,3 +124,29 @@ def test_unconverged_warm_start_falls_back_to_a_cold_solve(monkeypatch):
     prev = rc.solve(case)
     res = rc.solve(case, warm_start=prev)
     assert calls == [False, True, False] and res.converged
+
+
+@pytest.mark.parametrize("models, rel", [(("hertz", "fastsim"), 1e-6), (("exact", "exact"), 2e-3)])
+def test_force_step_lands_near_the_balance(models, rel):
+    """The first step of the vertical-force iteration (normal problems solved for the
+    force that carries the load) gives interpenetrations within ``rel`` of the
+    converged ones on a tread case (Hertz: exactly, the geometry being linear in
+    the step; exact: 4e-5 and 5e-4 here, from 0.8 % and 4 % for the multi-Hertzian
+    start), and at least five times closer than the start; on a flange case it does
+    not apply."""
+    from railcontact.solve import (_fast_estimate, _force_step, build_wheelset_track,
+                                   contact_search)
+    nm = get_normal_model(models[0])
+    for shift, applies in ((2e-3, True), (7e-3, False)):
+        case = case_from_dict(_raw(shift, *models))
+        contact = contact_search(case, bodies=build_wheelset_track(case), load_iterations=1)
+        step = _force_step(case, contact, nm, {"grid": case.grid, "element_size": None},
+                           case.wheel_loads(), ("left", "right"), _fast_estimate(case, contact),
+                           None)
+        assert (step is not None) == applies
+        if applies:
+            final = rc.solve(case).contact.interpenetration
+            for s in ("left", "right"):
+                assert step[0][s] == pytest.approx(final[s], rel=rel)
+                start = abs(contact.interpenetration[s] - final[s])
+                assert abs(step[0][s] - final[s]) < 0.2 * start
