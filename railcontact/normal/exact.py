@@ -234,15 +234,17 @@ class ExactNormalModel:
 
     Parameters
     ----------
-    tol : float        relative tolerance of the pressure iteration (default 1e-6: the
+    tol : float        relative tolerance of the pressure iteration (default 1e-5: the
                        pressure's relative change per iteration, and the rms gap on
-                       the contact area relative to the gap's range)
+                       the contact area relative to the gap's range); on S1002/60E1
+                       patches on 40 x 40 grids the force is then within 2e-6 and
+                       the pressure within 1e-4 p_max of a 1e-10 solution
     maxiter : int      iteration limit
     margin : float     the potential contact area extends the expected contact by
                        this fraction on each side
     """
 
-    def __init__(self, tol: float = 1e-6, maxiter: int = 3000, margin: float = 0.25):
+    def __init__(self, tol: float = 1e-5, maxiter: int = 3000, margin: float = 0.25):
         if not (0 < tol < 1e-2):
             raise InputError(f"exact tol {tol!r}: expected a value in (0, 0.01)")
         self.tol, self.maxiter, self.margin = tol, int(maxiter), margin
