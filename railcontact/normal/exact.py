@@ -359,7 +359,8 @@ class ExactNormalModel:
         dA = dx * dy
         p0 = None
         if warm_start is not None and warm_start.pressure.max() > 0:
-            if (warm_start.pressure.shape == h0.shape and np.allclose(warm_start.x, x)
+            if (warm_start.x is x and warm_start.y is y) or (
+                    warm_start.pressure.shape == h0.shape and np.allclose(warm_start.x, x)
                     and np.allclose(warm_start.y, y)):
                 p0 = warm_start.pressure
             elif warm_start.pressure_at is not None:
@@ -391,11 +392,15 @@ class ExactNormalModel:
         with np.errstate(all="ignore"):
             x_lead = np.where(anyc, np.nanmax(np.where(contact, xi, -np.inf), axis=0) + dx / 2, 0.0)
             x_trail = np.where(anyc, np.nanmin(np.where(contact, xi, np.inf), axis=0) - dx / 2, 0.0)
-        interp = RegularGridInterpolator((x, y), p, bounds_error=False, fill_value=0.0)
+        interp = []              # built on the first call (most solutions never need it)
 
-        def pressure_at(xq, yq, interp=interp):
+        def pressure_at(xq, yq):
+            if not interp:
+                interp.append(RegularGridInterpolator((x, y), p, bounds_error=False,
+                                                      fill_value=0.0))
             xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
-            return np.maximum(interp(np.stack([xq.ravel(), yq.ravel()], -1)), 0.0).reshape(xq.shape)
+            return np.maximum(interp[0](np.stack([xq.ravel(), yq.ravel()], -1)),
+                              0.0).reshape(xq.shape)
 
         return NormalSolution(model="exact", x=x, y=y, pressure=p, contact=contact,
                               area=float(contact.sum() * dA), pmax=float(p.max()),

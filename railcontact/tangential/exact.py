@@ -509,8 +509,8 @@ def _initial_tractions(warm, x, y, contact, bound):
     """Tractions on the rail (body 1) from a previous solution ``warm``: on the same
     grid as they are, on another grid interpolated (linear, zero outside); inside
     the contact and within the traction bound."""
-    if warm.traction_x.shape == contact.shape and np.allclose(warm.x, x) \
-            and np.allclose(warm.y, y):
+    if (warm.x is x and warm.y is y) or (warm.traction_x.shape == contact.shape
+                                         and np.allclose(warm.x, x) and np.allclose(warm.y, y)):
         tx, ty = -warm.traction_x, -warm.traction_y
     else:
         from scipy.interpolate import RegularGridInterpolator
