@@ -430,6 +430,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     results = _solve_patches(case, contact, nmodel, tmodel, kw,
                              previous=previous_pass if first is not None else previous,
                              normal_only=lazy, coupled=coupled, same_case=first is not None)
+    passes = 1 if first is None else 2
     tangential_start = previous   # warm starts of the tangential solver (a neighbour's)
     d = dict(contact.interpenetration)
     hist = {s: [] for s in sides}
@@ -497,6 +498,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             lateral = tangential_start = results
         results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results,
                                  normal_only=lazy, coupled=coupled, same_case=True)
+        passes += 1
     else:
         converged = False
         log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)
@@ -506,7 +508,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         results = [r for r in results if r.geometry.side == side]
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
-    contact.converged = converged
+    contact.converged, contact.passes = converged, passes
     return results, contact
 
 

@@ -28,6 +28,7 @@ def test_vertical_balance_with_the_final_forces(models, shift):
     2 mm, flange at 7 mm where F_y sin(d) is a large share of the balance)."""
     res = rc.solve(case_from_dict(_raw(shift, *models)))
     assert res.converged
+    assert 1 <= res.contact.passes <= 6      # 2-6 on these cases (each a contact search)
     for side in ("left", "right"):
         assert vertical_force_on_rail(res.patches, side) == pytest.approx(6e4, rel=1e-4)
     if shift > 5e-3:

@@ -61,6 +61,10 @@ class WheelsetContact:
         All contact patches, left side first, each side from field to gauge side.
     loci : dict
         The contact locus of each side (side frame).
+    converged, passes
+        Set by :func:`railcontact.solve` on the contact of its result: whether the
+        vertical-force iteration met the load, and how many times it solved the
+        patches' normal problems (it ran as many contact searches).
     """
 
     pose: WheelsetPose
@@ -68,6 +72,8 @@ class WheelsetContact:
     loci: dict = field(repr=False, default_factory=dict)
     loads: dict | None = None
     interpenetration: dict | None = None
+    converged: bool = True
+    passes: int = 0
 
     def side_patches(self, side: str) -> list:
         return [p for p in self.patches if p.side == side]
