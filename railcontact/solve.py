@@ -424,9 +424,10 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             d_first, previous_pass = first
             contact = contact_search(case, interpenetration=d_first, bodies=bodies,
                                      roll_start=contact.pose.roll)
-            previous = None
     else:
         first = None
+    # the normal problems start from the force step's solutions where it ran (else
+    # from the neighbouring case's), the tangential ones from the neighbour's
     results = _solve_patches(case, contact, nmodel, tmodel, kw,
                              previous=previous_pass if first is not None else previous,
                              normal_only=lazy, coupled=coupled, same_case=first is not None)
