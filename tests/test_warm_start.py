@@ -62,14 +62,29 @@ def test_force_tolerance_option():
 SAME = 2e-4
 
 
-def test_warm_start_from_a_neighbouring_case_gives_the_same_result():
+def test_warm_start_from_a_neighbouring_case_gives_the_same_result(caplog):
+    import logging
+    import re
     prev = rc.solve(case_from_dict(_raw(2.0e-3)))
     case = case_from_dict(_raw(2.5e-3))
-    cold, warm = rc.solve(case), rc.solve(case, warm_start=prev)
+    products = []
+    for start in (None, prev):
+        caplog.clear()
+        with caplog.at_level(logging.DEBUG, logger="railcontact.tangential.exact"):
+            res = rc.solve(case, warm_start=start)
+        products.append(sum(int(re.search(r"(\d+) products", r.getMessage()).group(1))
+                            for r in caplog.records if "products" in r.getMessage()))
+        if start is None:
+            cold = res
+        else:
+            warm = res
     for a, b in zip(cold.patches, warm.patches):
         assert b.normal.normal_force == pytest.approx(a.normal.normal_force, rel=SAME)
         assert b.tangential.fx == pytest.approx(a.tangential.fx, rel=SAME, abs=1.0)
         assert b.tangential.fy == pytest.approx(a.tangential.fy, rel=SAME, abs=1.0)
+    # the tangential problems did start from the neighbour's solution: fewer
+    # products with the Jacobian over all the case's tangential solves
+    assert 0 < products[1] < products[0]
 
 
 def test_warm_sweep_equals_cold_sweep():
