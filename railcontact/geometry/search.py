@@ -164,7 +164,14 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
     is solved by secant steps from ``roll0``, or where they do not settle (a jump of
     the contact point) by a bracketed root search.
     """
-    cache = {}
+    # minimum gaps by roll, kept on the wheelset for this track, shift and yaw (the
+    # track itself is held, so that the identity check is sound)
+    if len(wheelset.gap_memo) > 64:
+        wheelset.gap_memo.clear()
+    entry = wheelset.gap_memo.get((y_ws, yaw))
+    if entry is None or entry[0] is not track or len(entry[1]) > 256:
+        entry = wheelset.gap_memo[(y_ws, yaw)] = (track, {})
+    cache = entry[1]
     if roll_given is not None:
         (side,) = sides
         g = min_gap(wheelset, track, side, y_ws, 0.0, roll_given, yaw)

@@ -52,3 +52,19 @@ def test_load_iterations_and_roll_start():
         find_contact(ws, tr, vertical_force=6e4, load_iterations=0)
     with pytest.raises(InputError, match="roll_start"):
         find_contact(ws, tr, vertical_force=6e4, roll_start=0.5)
+
+
+def test_gap_memo_is_kept_per_track():
+    """The wheelset's memo of minimum gaps serves repeated searches on the same track
+    (identical results) and never a different track at the same shift and yaw."""
+    ws = Wheelset(s1002())
+    rail = rail_profile("60E1", math.atan(1 / 40))
+    narrow, wide = Track(rail, gauge=1.435), Track(rail, gauge=1.441)
+    a = find_contact(ws, narrow, lateral_shift=3e-3, vertical_force=6e4)
+    assert ws.gap_memo
+    b = find_contact(ws, wide, lateral_shift=3e-3, vertical_force=6e4)
+    c = find_contact(Wheelset(s1002()), wide, lateral_shift=3e-3, vertical_force=6e4)
+    again = find_contact(ws, narrow, lateral_shift=3e-3, vertical_force=6e4)
+    assert b.pose.roll == c.pose.roll and b.pose.vertical == c.pose.vertical
+    assert again.pose.roll == a.pose.roll and again.pose.vertical == a.pose.vertical
+    assert b.pose.vertical != a.pose.vertical
