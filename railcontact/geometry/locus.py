@@ -114,6 +114,7 @@ class Locus:
     slope: np.ndarray
     origin: np.ndarray          # wheelset centre in the side frame
     axes: np.ndarray            # rotation matrix of the wheelset in the side frame
+    samples: tuple = (0, 0)     # the wheel-profile samples [i0, i1) it covers
 
     @property
     def i_min(self) -> int:
@@ -156,22 +157,30 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride], R, O, y_off, rail._breaks,
                                    rail._coefs)
     near = np.flatnonzero(gc <= np.min(gc) + LOCUS_WINDOW)
+    i0, i1 = 0, yw.size
     if near.size:
         i0 = max(int(near[0]) * stride - 2 * stride, 0)
         i1 = min(int(near[-1]) * stride + 2 * stride + 1, yw.size)
         sl = slice(i0, i1)
         yw, zw, eta, rho = yw[sl], zw[sl], eta[sl], rho[sl]
     theta, P, yr, gap, s = _locus_kernel(eta, rho, R, O, y_off, rail._breaks, rail._coefs)
-    return Locus(yw, zw, theta, P, yr, gap, s, O, R)
+    return Locus(yw, zw, theta, P, yr, gap, s, O, R, (i0, i1))
 
 
 def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, vertical: float,
-            roll: float, yaw: float, step: float = LOCUS_STEP, stride: int = 8) -> float:
-    """Minimum vertical gap [m] of one side (fast: coarse pass, local refinement)."""
+            roll: float, yaw: float, step: float = LOCUS_STEP, stride: int = 8,
+            samples: tuple | None = None) -> float:
+    """Minimum vertical gap [m] of one side (fast: coarse pass, local refinement).
+
+    ``samples``: search the wheel-profile samples [i0, i1) only (the range of a
+    locus at a nearby pose, :attr:`Locus.samples`, which holds every sample within
+    ``LOCUS_WINDOW`` of its minimum)."""
     wheel, rail = wheelset.wheel(side), track.rail(side)
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
     r0 = wheelset.nominal_radius
     yw, zw = _wheel_samples(wheel, step)
+    if samples is not None:
+        yw, zw = yw[samples[0]:samples[1]], zw[samples[0]:samples[1]]
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
     return float(_min_gap_kernel(wheelset.wheel_offset + yw, r0 + zw, R, O,

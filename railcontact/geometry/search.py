@@ -148,6 +148,11 @@ def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -
     return brentq(lambda d: vertical_force(d) - load, 0.0, hi, xtol=1e-13)
 
 
+#: a locus's wheel-sample range serves the minimum-gap search within this roll [rad]
+#: of its own (the wheel is 0.14 m wide: gaps on it shift by under 14 um relative
+#: to each other, against the 1 mm locus window)
+WINDOW_ROLL = 1e-4
+
 #: rate [m/rad] at which the difference of the two sides' vertical gaps changes with
 #: the roll: about the lateral distance between the contact points (the start of the
 #: secant steps of :func:`_solve_pose`)
@@ -170,8 +175,8 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
         wheelset.gap_memo.clear()
     entry = wheelset.gap_memo.get((y_ws, yaw))
     if entry is None or entry[0] is not track or len(entry[1]) > 256:
-        entry = wheelset.gap_memo[(y_ws, yaw)] = (track, {})
-    cache = entry[1]
+        entry = wheelset.gap_memo[(y_ws, yaw)] = (track, {}, {})
+    cache, windows = entry[1], entry[2]
     if roll_given is not None:
         (side,) = sides
         g = min_gap(wheelset, track, side, y_ws, 0.0, roll_given, yaw)
@@ -182,9 +187,17 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
         loci = {side: compute_locus(wheelset, track, side, y_ws, z, roll_given, yaw)}
         return z, roll_given, loci
 
+    def samples(side, roll):
+        # the last locus's wheel samples hold the minimum at a roll this close: the
+        # gaps of two points of one wheel differ by less than 20 um more or less
+        # than there, against the locus window's 1 mm
+        w = windows.get(side)
+        return w[1] if w is not None and abs(roll - w[0]) <= WINDOW_ROLL else None
+
     def gaps(roll):
         if roll not in cache:
-            g = {s: min_gap(wheelset, track, s, y_ws, 0.0, roll, yaw) for s in SIDES}
+            g = {s: min_gap(wheelset, track, s, y_ws, 0.0, roll, yaw, samples=samples(s, roll))
+                 for s in SIDES}
             if not all(np.isfinite(v) for v in g.values()):
                 raise ContactNotFoundError(
                     f"no wheel-rail overlap found at lateral shift {y_ws * 1e3:.3f} mm: the "
@@ -207,6 +220,8 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
     g = gaps(roll)
     z = g["right"] + targets["right"]
     loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw) for s in SIDES}
+    for s in SIDES:
+        windows[s] = (roll, loci[s].samples)
     return z, roll, loci
 
 
