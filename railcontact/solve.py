@@ -72,10 +72,20 @@ class SolveResult:
                 ok &= bool(p.tangential.options.get("converged", True))
         return ok
 
+    @property
+    def vertical_residual(self) -> dict | None:
+        """Relative residual (F_z - Q)/Q [-] of each side's vertical balance for a
+        wheel-rail case (None for a bodies case): within ``solver.force_tolerance``
+        unless the model's force jumps across the load (see ``docs/case_files.md``)."""
+        return getattr(self.contact, "vertical_residual", None) if self.contact else None
+
     def to_dict(self) -> dict:
-        return {"patches": [p.to_dict() for p in self.patches], "normal": self.normal,
-                "tangential": self.tangential, "cpu_time": self.cpu_time,
-                "converged": self.converged}
+        d = {"patches": [p.to_dict() for p in self.patches], "normal": self.normal,
+             "tangential": self.tangential, "cpu_time": self.cpu_time,
+             "converged": self.converged}
+        if self.vertical_residual is not None:
+            d["vertical_residual"] = dict(self.vertical_residual)
+        return d
 
     def to_json(self, **kw) -> str:
         return json.dumps(self.to_dict(), **kw)
@@ -342,6 +352,10 @@ def vertical_force_on_rail(results, side: str, lateral=None) -> float:
     return total
 
 
+#: the vertical-force iteration solves the tangential problems once the balance with
+#: stand-in lateral forces holds to this many times its tolerance (at least 1)
+STANDIN_FACTOR = 10.0
+
 #: the first step of the vertical-force iteration solves for the normal force on
 #: sides with one loaded patch whose contact angle is below this [rad] (a flange's
 #: interpenetration moves with the roll as much as with the height)
@@ -442,9 +456,11 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             err[s] = fz - loads[s]
             hist[s].append((d[s], fz))
         final = all(r.tangential is not None for r in results) or tmodel is None
-        # with stand-in lateral forces converge tighter, so that the final check
-        # with the solved ones has room
-        tol = {s: (1.0 if final else 0.25) * rtol * loads[s] for s in sides}
+        # with stand-in lateral forces, solve the tangential problems once the balance
+        # is within ten tolerances: the stand-in's F_y sin(d) is itself a few 1e-4 of
+        # the load off, so converging further on it is wasted; the passes after that
+        # run with the solved forces
+        tol = {s: (1.0 if final else STANDIN_FACTOR) * rtol * loads[s] for s in sides}
         if all(abs(err[s]) <= tol[s] for s in sides):
             if final:
                 break
@@ -463,16 +479,20 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             if all(abs(err[s]) <= rtol * loads[s] for s in sides):
                 break
         # a model whose force jumps with the interpenetration (a strip entering the
-        # contact) may have no exact solution: stop when the bracket has collapsed
+        # contact) may have no exact solution: stop when the bracket has collapsed on
+        # every side off the balance (here |err| > rtol Q means off: with stand-in
+        # forces the branch above was not taken, so |err| > STANDIN_FACTOR rtol Q)
         collapsed = True
         for s in sides:
             lo = [p[0] for p in hist[s] if p[1] < loads[s]]
             hi = [p[0] for p in hist[s] if p[1] > loads[s]]
-            if abs(err[s]) > tol[s] and not (lo and hi and min(hi) - max(lo) < 1e-11):
+            if abs(err[s]) > rtol * loads[s] and not (lo and hi and min(hi) - max(lo) < 1e-11):
                 collapsed = False
         if collapsed:
-            log.info("vertical force: the model's force jumps at the solution; residual %s N",
-                     {s: round(e, 1) for s, e in err.items()})
+            worst = max(abs(err[s]) / loads[s] for s in sides)
+            (log.warning if worst > STANDIN_FACTOR * rtol else log.info)(
+                "vertical force: the model's force jumps across the load; residual %s N",
+                {s: round(e, 1) for s, e in err.items()})
             break
         new = dict(d)
         for s in sides:
@@ -510,6 +530,8 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
     contact.converged, contact.passes = converged, passes
+    contact.vertical_residual = {s: vertical_force_on_rail(results, s) / loads[s] - 1.0
+                                 for s in sides}
     return results, contact
 
 

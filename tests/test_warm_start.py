@@ -29,6 +29,8 @@ def test_vertical_balance_with_the_final_forces(models, shift):
     res = rc.solve(case_from_dict(_raw(shift, *models)))
     assert res.converged
     assert 1 <= res.contact.passes <= 6      # 2-6 on these cases (each a contact search)
+    assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
+    assert res.to_dict()["vertical_residual"] == res.vertical_residual
     for side in ("left", "right"):
         assert vertical_force_on_rail(res.patches, side) == pytest.approx(6e4, rel=1e-4)
     if shift > 5e-3:
@@ -166,3 +168,24 @@ def test_force_step_lands_near_the_balance(models, rel):
                 assert step[0][s] == pytest.approx(final[s], rel=rel)
                 start = abs(contact.interpenetration[s] - final[s])
                 assert abs(step[0][s] - final[s]) < 0.2 * start
+
+
+def test_force_jump_shows_in_the_vertical_residual(caplog):
+    """At 6.44 mm one planar patch spans flange root and flange and its vertical force
+    jumps across the load with the interpenetration: the iteration stops on the
+    collapsed bracket, warns, and the result's vertical_residual shows the miss."""
+    import logging
+    import math
+    j = 200                  # case 200 of the bench sweep
+    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+           "wheelset": {"lateral_shift": -4e-3 + j * 13e-3 / 249, "yaw": 0.0,
+                        "vertical_force": 6e4, "velocity": 30.0},
+           "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
+                        "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
+                        "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
+           "solver": {"normal": "exact", "tangential": "exact", "grid": [40, 40]}}
+    with caplog.at_level(logging.WARNING, logger="railcontact.solve"):
+        res = rc.solve(case_from_dict(raw))
+    worst = max(abs(v) for v in res.vertical_residual.values())
+    assert worst > 1e-3
+    assert any("jumps across the load" in r.getMessage() for r in caplog.records)

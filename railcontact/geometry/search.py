@@ -61,10 +61,11 @@ class WheelsetContact:
         All contact patches, left side first, each side from field to gauge side.
     loci : dict
         The contact locus of each side (side frame).
-    converged, passes
+    converged, passes, vertical_residual
         Set by :func:`railcontact.solve` on the contact of its result: whether the
-        vertical-force iteration met the load, and how many times it solved the
-        patches' normal problems (it ran as many contact searches).
+        vertical-force iteration met the load, how many times it solved the
+        patches' normal problems (it ran as many contact searches), and the
+        relative residual of each side's vertical balance.
     """
 
     pose: WheelsetPose
@@ -74,6 +75,7 @@ class WheelsetContact:
     interpenetration: dict | None = None
     converged: bool = True
     passes: int = 0
+    vertical_residual: dict | None = None
 
     def side_patches(self, side: str) -> list:
         return [p for p in self.patches if p.side == side]
