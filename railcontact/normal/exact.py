@@ -369,6 +369,12 @@ class ExactNormalModel:
                 if not p0.max() > 0:
                     p0 = None
         if normal_force is not None:
+            if p0 is None and geometry.approach > 0:
+                # Hertz's shape: with the rigid overlap approach - h0, the elastic
+                # contact is where it exceeds half the approach, and p ~ its root there
+                p0 = np.sqrt(np.maximum(0.5 * geometry.approach - h0, 0.0))
+                if not p0.max() > 0:
+                    p0 = None
             if p0 is not None:
                 p0 = p0 * normal_force / max(float(p0.sum() * dA), 1e-300)
             p, app, it, ok = polonsky_keer(op, h0, dA, force=normal_force, tol=self.tol,
