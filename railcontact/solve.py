@@ -486,7 +486,12 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         for s in sides:
             lo = [p[0] for p in hist[s] if p[1] < loads[s]]
             hi = [p[0] for p in hist[s] if p[1] > loads[s]]
-            if abs(err[s]) > rtol * loads[s] and not (lo and hi and min(hi) - max(lo) < 1e-11):
+            # collapsed: narrower than a tenth of the tolerance times the
+            # interpenetration, across which a force continuous at 1.5 Q/d (Hertz's
+            # slope) would change by 0.15 tolerances; missing the load at both ends of
+            # it takes a slope over 13 times that, i.e. a jump
+            width = max(1e-11, 0.1 * rtol * d[s])
+            if abs(err[s]) > rtol * loads[s] and not (lo and hi and min(hi) - max(lo) < width):
                 collapsed = False
         if collapsed:
             worst = max(abs(err[s]) / loads[s] for s in sides)
@@ -509,8 +514,11 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             else:  # Hertz-like F ~ d^1.5
                 fz = max(pts[-1][1], 1e-9 * load)
                 cand = pts[-1][0] * (load / fz) ** (2.0 / 3.0)
-            if lo is not None and hi is not None and not (lo[0] < cand < hi[0]):
-                cand = 0.5 * (lo[0] + hi[0])          # safeguard: bisection in the bracket
+            slow = len(pts) >= 3 and abs(pts[-1][1] - load) > 0.5 * abs(pts[-3][1] - load)
+            if lo is not None and hi is not None and (slow or not (lo[0] < cand < hi[0])):
+                # safeguard: bisection in the bracket, also where the last two steps
+                # did not halve the residual (a jump, on which secant steps stall)
+                cand = 0.5 * (lo[0] + hi[0])
             new[s] = min(max(cand, 0.2 * d[s]), 5.0 * d[s] + 1e-7)
         d = new
         contact = contact_search(case, interpenetration=d, bodies=bodies,
