@@ -80,6 +80,19 @@ def _convolve(p, khat, shape, buf):
 
 
 @njit(cache=True, nogil=True)
+def _mean_on(a, S):
+    """Mean of a over the elements where S is true (at least one)."""
+    s = 0.0
+    n = 0
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            if S[i, j]:
+                s += a[i, j]
+                n += 1
+    return s / n
+
+
+@njit(cache=True, nogil=True)
 def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
     """Constrained conjugate gradients of Polonsky & Keer on the pressure ``p``
     (the initial estimate, overwritten with the solution).
@@ -127,12 +140,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
                     S[i, j] = g[i, j] <= gmin + 1e-15
                     nS += S[i, j]
         if controlled:
-            s = 0.0
-            for i in range(mx):
-                for j in range(my):
-                    if S[i, j]:
-                        s += g[i, j]
-            gbar = s / nS
+            gbar = _mean_on(g, S)
             g -= gbar
         G = 0.0
         for i in range(mx):
@@ -146,12 +154,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
         G_old = G
         r = _convolve(t, khat, shape, buf)
         if controlled:
-            s = 0.0
-            for i in range(mx):
-                for j in range(my):
-                    if S[i, j]:
-                        s += r[i, j]
-            r -= s / nS
+            r -= _mean_on(r, S)
         den = 0.0
         num = 0.0
         for i in range(mx):
