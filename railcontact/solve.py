@@ -533,13 +533,13 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)
     if any(r.tangential is None for r in results):   # left the iteration without them
         results = _add_tangential(case, results, tmodel, previous=tangential_start)
+    contact.vertical_residual = {s: vertical_force_on_rail(results, s) / loads[s] - 1.0
+                                 for s in sides}
     if side != "both":
         results = [r for r in results if r.geometry.side == side]
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
     contact.converged, contact.passes = converged, passes
-    contact.vertical_residual = {s: vertical_force_on_rail(results, s) / loads[s] - 1.0
-                                 for s in sides}
     return results, contact
 
 

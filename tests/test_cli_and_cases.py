@@ -72,6 +72,8 @@ def test_sweep_cli(capsys):
     d = json.loads(out)
     assert [c["params"]["wheelset.lateral_shift"] for c in d["cases"]] == [0.0, 0.001, 0.002]
     assert all(c["patches"] for c in d["cases"])
+    # the vertical balance of each wheel-rail case, met to the force tolerance here
+    assert all(abs(r) <= 1e-4 for c in d["cases"] for r in c["vertical_residual"].values())
 
 
 def test_sweep_threads_equals_sync():
