@@ -101,8 +101,9 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
     would turn negative is set to zero, an unloaded element with a negative gap
     (an overlap) is loaded and the directions restart.  Force-controlled: the
     approach is the mean gap over S and the pressure is scaled to the force.
-    Displacement-controlled: after a plain step (nothing clipped or loaded)
-    A p = A p_old - tau A t, refreshed by a convolution every 10 steps.
+    After a plain step (nothing clipped or loaded) A p = f (A p_old - tau A t),
+    with f the force scaling (1 displacement-controlled), refreshed by a
+    convolution every 10 steps.
     Returns the approach (mean gap, force-controlled), iterations, converged.
     """
     mx, my = h.shape
@@ -153,8 +154,10 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
                 t[i, j] = g[i, j] + beta * t[i, j] if S[i, j] else 0.0
         G_old = G
         r = _convolve(t, khat, shape, buf)
+        rbar = 0.0
         if controlled:
-            r -= _mean_on(r, S)
+            rbar = _mean_on(r, S)
+            r -= rbar
         den = 0.0
         num = 0.0
         for i in range(mx):
@@ -189,8 +192,12 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
                 diff += abs(q - p[i, j])
                 ref += q
                 p[i, j] = q
-        if not controlled and not restart and not clipped:
-            u -= tau * r
+        if not restart and not clipped:
+            # p changed by -tau t exactly (then scaled by f): A p follows from A t,
+            # the product before the mean was taken off (refreshed every 10 steps)
+            for i in range(mx):
+                for j in range(my):
+                    u[i, j] = f * (u[i, j] - tau * (r[i, j] + rbar))
             fresh += 1
             valid = True
         else:
