@@ -37,17 +37,31 @@ def _F(x, y):
 
 
 def _element_integrals(mx: int, my: int, dx: float, dy: float, extra_rows: int = 0):
-    """``rect(F)``: the integral over an element (dx x dy) of a kernel with
+    """``rect(F, parity)``: the integral over an element (dx x dy) of a kernel with
     antiderivative F, at the offsets between element centres, di in
-    [-(mx-1), mx-1+extra_rows], dj in [-(my-1), my-1] (array of that shape)."""
-    # the antiderivative once on the element corners, shared by four elements each
-    cx = (np.arange(-(mx - 1), mx + extra_rows + 1) - 0.5) * dx
-    cy = (np.arange(-(my - 1), my + 1) - 0.5) * dy
-    X, Y = np.meshgrid(cx, cy, indexing="ij")
+    [-(mx-1), mx-1+extra_rows], dj in [-(my-1), my-1] (array of that shape).
 
-    def rect(F):
+    The kernels are even or odd in each offset (``parity`` +1 or -1 per axis): the
+    integrals are evaluated for non-negative offsets only, on the antiderivative at
+    the element corners (shared by four elements each), and mirrored."""
+    nx = mx + extra_rows
+    cx = (np.arange(nx + 1) - 0.5) * dx
+    cy = (np.arange(my + 1) - 0.5) * dy
+    X, Y = np.meshgrid(cx, cy, indexing="ij")
+    di = np.arange(-(mx - 1), nx)
+    dj = np.arange(-(my - 1), my)
+    ix, jy = np.abs(di), np.abs(dj)
+    sx, sy = np.where(di < 0, -1.0, 1.0), np.where(dj < 0, -1.0, 1.0)
+
+    def rect(F, parity=(1, 1)):
         G = F(X, Y)
-        return G[1:, 1:] - G[:-1, 1:] - G[1:, :-1] + G[:-1, :-1]
+        Q = G[1:, 1:] - G[:-1, 1:] - G[1:, :-1] + G[:-1, :-1]
+        out = Q[np.ix_(ix, jy)]
+        if parity[0] < 0:
+            out = out * sx[:, None]
+        if parity[1] < 0:
+            out = out * sy[None, :]
+        return out
 
     return rect
 
@@ -131,7 +145,7 @@ def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: fl
     """
     rect = _element_integrals(mx, my, dx, dy, extra_rows)
     Lx, Ly = rect(_Lx), rect(_Ly)
-    Rr = rect(lambda x, y: -np.hypot(x, y))
+    Rr = rect(lambda x, y: -np.hypot(x, y), parity=(-1, -1))
     nu, c = poisson_ratio, 1.0 / (np.pi * shear_modulus)
     kxx = c * ((1 - nu) * (Lx + Ly) + nu * Ly)
     kyy = c * ((1 - nu) * (Lx + Ly) + nu * Lx)
@@ -158,8 +172,8 @@ def coupling_kernels(mx: int, my: int, dx: float, dy: float, D: float, extra_row
     difference from the pressure p is -(k_x, k_y) * p.  Offsets in x run over
     [-(mx-1), mx-1+extra_rows]."""
     rect = _element_integrals(mx, my, dx, dy, extra_rows)
-    kx = rect(_Cx)
-    ky = rect(lambda a, b: _Cx(b, a))
+    kx = rect(_Cx, parity=(-1, 1))
+    ky = rect(lambda a, b: _Cx(b, a), parity=(1, -1))
     return D * kx, D * ky
 
 
