@@ -155,3 +155,24 @@ def test_grid_reused_while_the_potential_area_fits():
     fine = nm.solve(g, MAT, penetration=1e-4 * REUSE_FILL ** 3, grid=(30, 30),
                     reuse_grid=first)
     assert fine.x[-1] < first.x[-1]
+
+
+def test_influence_kernels_against_quadrature_at_negative_offsets():
+    """The kernels, evaluated for non-negative offsets and mirrored by parity, equal
+    a direct quadrature of the Boussinesq and Cerruti kernels over the element at
+    negative offsets too (normal 1/r, tangential xy/r^3 odd in both offsets)."""
+    from scipy.integrate import dblquad
+    from railcontact.normal.influence import tangential_kernels
+    mx, my, dx, dy = 4, 3, 1e-3, 2e-3
+    K = normal_kernel(mx, my, dx, dy, MAT.contact_modulus)
+    G, nu = 8e10, 0.28
+    kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, G, nu)
+    for i, j in ((-3, -2), (2, -1), (-1, 2), (3, 2)):
+        x0, y0 = i * dx, j * dy
+        n = dblquad(lambda y, x: 1 / np.hypot(x, y), x0 - dx / 2, x0 + dx / 2,
+                    y0 - dy / 2, y0 + dy / 2, epsabs=1e-14)[0]
+        assert K[i + mx - 1, j + my - 1] == pytest.approx(n / (np.pi * MAT.contact_modulus),
+                                                         rel=1e-8)
+        c = dblquad(lambda y, x: x * y / np.hypot(x, y) ** 3, x0 - dx / 2, x0 + dx / 2,
+                    y0 - dy / 2, y0 + dy / 2, epsabs=1e-14)[0]
+        assert kxy[i + mx - 1, j + my - 1] == pytest.approx(nu * c / (np.pi * G), rel=1e-8)
