@@ -433,20 +433,18 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     # these patches (cheap, with this case's creepages, within about 10 % of the
     # exact F_y: a few 1e-4 of the load in the balance)
     lateral = _fast_estimate(case, contact) if lazy else None
-    if not coupled:
-        first = _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous)
-        if first is not None:
-            d_first, previous_pass = first
-            contact = contact_search(case, interpenetration=d_first, bodies=bodies,
-                                     roll_start=contact.pose.roll)
-    else:
-        first = None
     # the normal problems start from the force step's solutions where it ran (else
     # from the neighbouring case's), the tangential ones from the neighbour's
-    results = _solve_patches(case, contact, nmodel, tmodel, kw,
-                             previous=previous_pass if first is not None else previous,
-                             normal_only=lazy, coupled=coupled, same_case=first is not None)
-    passes = 1 if first is None else 2
+    step = None if coupled else _force_step(case, contact, nmodel, kw, loads, sides, lateral,
+                                            previous)
+    start = previous
+    if step is not None:
+        d_step, start = step
+        contact = contact_search(case, interpenetration=d_step, bodies=bodies,
+                                 roll_start=contact.pose.roll)
+    results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=start,
+                             normal_only=lazy, coupled=coupled, same_case=step is not None)
+    passes = 1 if step is None else 2
     tangential_start = previous   # warm starts of the tangential solver (a neighbour's)
     d = dict(contact.interpenetration)
     hist = {s: [] for s in sides}

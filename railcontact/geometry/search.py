@@ -161,7 +161,19 @@ WINDOW_ROLL = 1e-4
 ROLL_SLOPE = 1.5
 
 
-def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-12,
+def _memo(wheelset, track, y_ws, yaw):
+    """The wheelset's memo for this track, shift and yaw: minimum gaps by roll, and
+    per side the (roll, wheel-sample range) of the last locus (the track itself is
+    held, so that the identity check is sound; bounded in size)."""
+    if len(wheelset.gap_memo) > 64:
+        wheelset.gap_memo.clear()
+    entry = wheelset.gap_memo.get((y_ws, yaw))
+    if entry is None or entry[0] is not track or len(entry[1]) > 256:
+        entry = wheelset.gap_memo[(y_ws, yaw)] = (track, {}, {})
+    return entry[1], entry[2]
+
+
+def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
                 roll_given=None, sides=SIDES):
     """Vertical position and roll such that min gap of each side = -target.
 
@@ -171,14 +183,7 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
     is solved by secant steps from ``roll0``, or where they do not settle (a jump of
     the contact point) by a bracketed root search.
     """
-    # minimum gaps by roll, kept on the wheelset for this track, shift and yaw (the
-    # track itself is held, so that the identity check is sound)
-    if len(wheelset.gap_memo) > 64:
-        wheelset.gap_memo.clear()
-    entry = wheelset.gap_memo.get((y_ws, yaw))
-    if entry is None or entry[0] is not track or len(entry[1]) > 256:
-        entry = wheelset.gap_memo[(y_ws, yaw)] = (track, {}, {})
-    cache, windows = entry[1], entry[2]
+    cache, windows = _memo(wheelset, track, y_ws, yaw)
     if roll_given is not None:
         (side,) = sides
         g = min_gap(wheelset, track, side, y_ws, 0.0, roll_given, yaw)
@@ -190,9 +195,8 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, z0=0.0, roll0=0.0, tol=1e-1
         return z, roll_given, loci
 
     def samples(side, roll):
-        # the last locus's wheel samples hold the minimum at a roll this close: the
-        # gaps of two points of one wheel differ by less than 20 um more or less
-        # than there, against the locus window's 1 mm
+        # the last locus's wheel samples hold the minimum at a roll within
+        # WINDOW_ROLL of its own
         w = windows.get(side)
         return w[1] if w is not None and abs(roll - w[0]) <= WINDOW_ROLL else None
 
@@ -642,8 +646,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
             new.update({s: _approach_for_load(loci[s], loads[s], r0, material) for s in sides})
             change = max(abs(new[s] - targets[s]) for s in sides)
             targets = new
-            z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets, z, roll,
-                                        **pose_kw)
+            z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets,
+                                        roll0=roll, **pose_kw)
             if change < 1e-9:
                 break
     pose = WheelsetPose(lateral_shift, z, roll, yaw)

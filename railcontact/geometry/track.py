@@ -105,9 +105,10 @@ class Wheelset:
     nominal_radius: float = 0.46
     flange_back_distance: float = 1.360
     flange_back_position: float = -0.070
-    #: minimum vertical gaps of both wheels by (lateral shift, yaw) -> (track, {roll:
-    #: gaps}) for recent wheelset positions (the roll search of successive contact
-    #: searches of one case starts where the last one ended)
+    #: memo of the contact search by (lateral shift, yaw): (track, minimum gaps of both
+    #: wheels by roll, the last loci's wheel-sample ranges), so that successive
+    #: searches of one case, each starting where the last ended, do not repeat work
+    #: (``railcontact.geometry.search._memo``)
     gap_memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
