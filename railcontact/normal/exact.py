@@ -217,6 +217,10 @@ def _crossings(s, g, i0, i1):
     return lo, hi
 
 
+#: samples per direction of the gap over twice the patch's extent each side, from
+#: which the potential contact area is found (:meth:`ExactNormalModel._area_from_gap`)
+AREA_SAMPLES = 49
+
 #: a grid is reused (``ExactNormalModel.solve(reuse_grid=...)``) while the potential
 #: contact area spans at least this fraction of it in each direction
 REUSE_FILL = 0.8
@@ -285,8 +289,8 @@ class ExactNormalModel:
         cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
         hx, hy = max(0.5 * (x1 - x0), 1e-4), max(0.5 * (y1 - y0), 1e-4)
         for _ in range(6):
-            xs = cx + np.linspace(-2 * hx, 2 * hx, 49)
-            ys = cy + np.linspace(-2 * hy, 2 * hy, 49)
+            xs = cx + np.linspace(-2 * hx, 2 * hx, AREA_SAMPLES)
+            ys = cy + np.linspace(-2 * hy, 2 * hy, AREA_SAMPLES)
             h = geometry.gap(xs[:, None], ys[None, :]) + geometry.approach - penetration
             inside = h < 0
             if not inside.any():
@@ -314,6 +318,38 @@ class ExactNormalModel:
                 return ((0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y)),
                         (0.5 * (hi_x - lo_x) * f, 0.5 * (hi_y - lo_y) * f))
         return (cx, cy), (hx * (1 + self.margin), hy * (1 + self.margin))
+
+    def _kept_grid_gap(self, geometry, penetration, sol, grid):
+        """The undeformed distance on the grid of ``sol`` (an earlier pass of the same
+        patch) where that grid is kept: the potential area of :meth:`_area_from_gap`,
+        its ends found on this grid instead of the coarse samples (the same padding:
+        1.5 coarse samples, then the margin), fits it by :func:`_fits`.  None where
+        it does not, or where the interpenetration region reaches the grid's border
+        (then the coarse sampling decides)."""
+        app = geometry.approach
+        if geometry.extent is None or geometry.gap_function is None or not app > 0:
+            return None
+        x, y = sol.x, sol.y
+        if x.size < 3 or y.size < 3:
+            return None
+        h0 = geometry.gap(x[:, None], y[None, :]) + app
+        h = h0 - (app if penetration is None else penetration)
+        hx_min, hy_min = h.min(axis=1), h.min(axis=0)
+        ix, iy = np.flatnonzero(hx_min < 0), np.flatnonzero(hy_min < 0)
+        if ix.size == 0 or iy.size == 0 or ix[0] == 0 or ix[-1] == x.size - 1 \
+                or iy[0] == 0 or iy[-1] == y.size - 1:
+            return None
+        lo_x, hi_x = _crossings(x, hx_min, ix[0], ix[-1])
+        lo_y, hi_y = _crossings(y, hy_min, iy[0], iy[-1])
+        x0, x1, y0, y1 = geometry.extent
+        sx = 4.0 * max(0.5 * (x1 - x0), 1e-4) / (AREA_SAMPLES - 1)   # the coarse spacing
+        sy = 4.0 * max(0.5 * (y1 - y0), 1e-4) / (AREA_SAMPLES - 1)
+        lo_x, hi_x, lo_y, hi_y = lo_x - 1.5 * sx, hi_x + 1.5 * sx, lo_y - 1.5 * sy, hi_y + 1.5 * sy
+        f = 1.0 + self.margin
+        if _fits(sol, 0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y), 0.5 * (hi_x - lo_x) * f,
+                 0.5 * (hi_y - lo_y) * f, grid):
+            return h0
+        return None
 
     accepts_warm_start = True
     reuses_grids = True
@@ -351,15 +387,21 @@ class ExactNormalModel:
             raise InputError(f"normal force {normal_force!r} N: expected a finite value >= 0")
         if penetration is not None and not (math.isfinite(penetration) and penetration >= 0):
             raise InputError(f"penetration {penetration!r} m: expected a finite value >= 0")
-        (cx, cy), (ex, ey) = self._potential_area(geometry, material, normal_force, penetration,
-                                                  continuous=True)
-        if reuse_grid is not None and element_size is None and _fits(reuse_grid, cx, cy, ex,
-                                                                      ey, grid):
+        h0 = None
+        if reuse_grid is not None and element_size is None:
+            h0 = self._kept_grid_gap(geometry, penetration, reuse_grid, grid)
+        if h0 is not None:
             x, y = reuse_grid.x, reuse_grid.y
         else:
-            x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
+            (cx, cy), (ex, ey) = self._potential_area(geometry, material, normal_force,
+                                                      penetration, continuous=True)
+            if reuse_grid is not None and element_size is None and _fits(reuse_grid, cx, cy,
+                                                                          ex, ey, grid):
+                x, y = reuse_grid.x, reuse_grid.y
+            else:
+                x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
+            h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach  # touching: min ~ 0
         dx, dy = x[1] - x[0], y[1] - y[0]
-        h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach   # touching: min ~ 0
         if extra_gap is not None:
             if np.shape(extra_gap) != h0.shape:
                 raise InputError(f"extra_gap of shape {np.shape(extra_gap)}: expected the "

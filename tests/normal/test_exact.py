@@ -157,6 +157,33 @@ def test_grid_reused_while_the_potential_area_fits():
     assert fine.x[-1] < first.x[-1]
 
 
+def test_kept_grid_decided_on_the_grid_as_on_the_coarse_samples(monkeypatch):
+    """On a wheel-rail patch, a later pass decides to keep the earlier grid from the
+    gap on that grid (no coarse sampling): where it keeps it, the solution is the
+    one the coarse-sampling decision gives on the same grid, bit for bit; an approach
+    whose area outgrows the grid gets a new one."""
+    from railcontact.geometry import Track, Wheelset, find_contact
+    from railcontact.normal.exact import ExactNormalModel
+    from railcontact.profiles import rail_profile, s1002
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    c = find_contact(ws, tr, lateral_shift=-2.5e-3, yaw=2e-3, vertical_force=6e4)
+    g = [p for p in c.patches if p.side == "right"][0]
+    nm = get_normal_model("exact")
+    first = nm.solve(g, MAT, penetration=1.03 * g.approach, grid=(40, 40))
+    kept = {}
+    for f in (0.96, 0.98, 1.0, 1.02):
+        near = nm.solve(g, MAT, penetration=f * g.approach, grid=(40, 40), reuse_grid=first)
+        assert near.x is first.x
+        kept[f] = near
+    wide = nm.solve(g, MAT, penetration=1.3 * g.approach, grid=(40, 40), reuse_grid=first)
+    assert wide.x is not first.x and wide.x[-1] > first.x[-1]
+    monkeypatch.setattr(ExactNormalModel, "_kept_grid_gap", lambda *a, **k: None)
+    for f, near in kept.items():
+        coarse = nm.solve(g, MAT, penetration=f * g.approach, grid=(40, 40), reuse_grid=first)
+        assert coarse.x is first.x
+        assert np.array_equal(coarse.pressure, near.pressure)
+
+
 def test_influence_kernels_against_quadrature_at_negative_offsets():
     """The kernels, evaluated for non-negative offsets and mirrored by parity, equal
     a direct quadrature of the Boussinesq and Cerruti kernels over the element at
