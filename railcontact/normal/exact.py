@@ -10,8 +10,10 @@ rectangles (:mod:`railcontact.normal.influence`) and delta the approach.
 Solver: the constrained conjugate-gradient method of Polonsky & Keer (Wear 231,
 1999), in its force-controlled form (the mean gap over the contact area is the
 unknown approach) or displacement-controlled form (approach given).  Matrix-vector
-products are FFT convolutions, so the cost per iteration is O(N log N).  A solution
-that does not reach the tolerance is flagged (``converged=False``) and logged.
+products are FFT convolutions, so the cost per iteration is O(N log N); with the
+approach given they run on the bounding box of the overlap h < delta, which holds
+the contact.  A solution that does not reach the tolerance is flagged
+(``converged=False``) and logged.
 """
 
 from __future__ import annotations
@@ -28,12 +30,12 @@ from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
 from .hertz_theory import hertz_ellipse
-from .influence import normal_operator
+from .influence import normal_operator, normal_operator_block
 
 log = logging.getLogger(__name__)
 
 
-def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
+def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=None):
     """Solve the discrete normal contact problem.
 
     Parameters
@@ -43,6 +45,7 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
                        h - delta and ``force=None``
     dA : float         element area [m^2]
     force : float      total force [N] (force-controlled), or None
+    scale : float      gap scale [m] of the convergence test (default max |h|)
 
     Returns
     -------
@@ -61,9 +64,10 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None):
     else:
         p = np.array(p0, dtype=float)
     p = np.ascontiguousarray(p)
+    scale = float(np.max(np.abs(h))) if scale is None else float(scale)
     gbar, it, converged = _pk_kernel(op.khat, op.shape, h, float(dA),
                                      0.0 if force is None else float(force), force is not None,
-                                     float(tol), int(maxiter), p)
+                                     float(tol), int(maxiter), p, scale)
     approach = gbar if force is not None else 0.0
     return p, approach, int(it), bool(converged)
 
@@ -93,7 +97,7 @@ def _mean_on(a, S):
 
 
 @njit(cache=True, nogil=True)
-def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
+def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale):
     """Constrained conjugate gradients of Polonsky & Keer on the pressure ``p``
     (the initial estimate, overwritten with the solution).
 
@@ -113,7 +117,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p):
     g = np.zeros((mx, my))
     pn = np.zeros((mx, my))
     S = np.zeros((mx, my), dtype=np.bool_)
-    scale = max(np.max(np.abs(h)), 1e-12)
+    scale = max(scale, 1e-12)
     G_old = 1.0
     restart = True
     converged = False
@@ -351,6 +355,27 @@ class ExactNormalModel:
             return h0
         return None
 
+    def _displacement_controlled(self, grid_key, h, dA, p0):
+        """Polonsky-Keer with the approach given, on the bounding box of the overlap
+        h < 0: the contact lies in it (the displacements of a pressure are positive
+        everywhere), so outside it the pressure is zero and the iteration is that on
+        the whole grid, with smaller FFTs (the convergence test keeps the whole
+        grid's gap scale).  Returns p on the grid, iterations, converged."""
+        rows, cols = np.flatnonzero((h < 0).any(axis=1)), np.flatnonzero((h < 0).any(axis=0))
+        if rows.size == 0:                  # no overlap: p = 0 (reported at once)
+            p, _, it, ok = polonsky_keer(normal_operator(*grid_key), h, dA, None, self.tol,
+                                         self.maxiter, p0=p0)
+            return p, it, ok
+        box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+        ms, ns = box[0].stop - box[0].start, box[1].stop - box[1].start
+        op = normal_operator_block(*grid_key, ms, ns)
+        q, _, it, ok = polonsky_keer(op, h[box], dA, None, self.tol, self.maxiter,
+                                     p0=None if p0 is None else p0[box],
+                                     scale=float(np.max(np.abs(h))))
+        p = np.zeros(h.shape)
+        p[box] = q
+        return p, it, ok
+
     accepts_warm_start = True
     reuses_grids = True
 
@@ -407,7 +432,7 @@ class ExactNormalModel:
                 raise InputError(f"extra_gap of shape {np.shape(extra_gap)}: expected the "
                                  f"solution grid's {h0.shape}")
             h0 = h0 + extra_gap
-        op = normal_operator(x.size, y.size, float(dx), float(dy), material.contact_modulus)
+        grid_key = (x.size, y.size, float(dx), float(dy), material.contact_modulus)
         dA = dx * dy
         p0 = None
         if warm_start is not None and warm_start.pressure.max() > 0:
@@ -429,11 +454,11 @@ class ExactNormalModel:
                     p0 = None
             if p0 is not None:
                 p0 = p0 * normal_force / max(float(p0.sum() * dA), 1e-300)
-            p, app, it, ok = polonsky_keer(op, h0, dA, force=normal_force, tol=self.tol,
+            p, app, it, ok = polonsky_keer(normal_operator(*grid_key), h0, dA,
+                                           force=normal_force, tol=self.tol,
                                            maxiter=self.maxiter, p0=p0)
         else:
-            p, _, it, ok = polonsky_keer(op, h0 - penetration, dA, None, self.tol, self.maxiter,
-                                         p0=p0)
+            p, it, ok = self._displacement_controlled(grid_key, h0 - penetration, dA, p0)
             app = penetration
         if not ok:
             log.warning("exact normal solver: no convergence in %d iterations", it)

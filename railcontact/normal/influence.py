@@ -112,9 +112,24 @@ def normal_displacement_at(p: np.ndarray, dx: float, dy: float, i0: int, j0: int
 
 
 @lru_cache(maxsize=64)
+def _normal_kernel_cached(mx: int, my: int, dx: float, dy: float, contact_modulus: float):
+    return normal_kernel(mx, my, dx, dy, contact_modulus)
+
+
+@lru_cache(maxsize=64)
 def normal_operator(mx: int, my: int, dx: float, dy: float, contact_modulus: float) -> Convolution:
     """Cached convolution operator for a grid and material."""
-    return Convolution(normal_kernel(mx, my, dx, dy, contact_modulus), mx, my)
+    return Convolution(_normal_kernel_cached(mx, my, dx, dy, contact_modulus), mx, my)
+
+
+@lru_cache(maxsize=64)
+def normal_operator_block(mx: int, my: int, dx: float, dy: float, contact_modulus: float,
+                          ms: int, ns: int) -> Convolution:
+    """Cached convolution operator of an ms x ns block of the mx x my grid, from the
+    grid's kernel cut to the block's offsets (one kernel per grid, whatever blocks
+    of it are solved on)."""
+    K = _normal_kernel_cached(mx, my, dx, dy, contact_modulus)
+    return Convolution(K[mx - ms:mx - 1 + ms, my - ns:my - 1 + ns], ms, ns)
 
 
 def _Lx(x, y):

@@ -27,7 +27,9 @@ the preconditioned operator has real eigenvalues in about [0.8, 8.5].  A result
 that does not converge is flagged.
 
 The whole iteration (Newton steps, GMRES, line search) runs compiled with Numba,
-its FFT products by rocket-fft's ``numpy.fft`` support for Numba.
+its FFT products by rocket-fft's ``numpy.fft`` support for Numba, on the bounding
+box of the contact (outside it the tractions are zero and the slip is not needed),
+with the grid's kernels cut to the box.
 """
 
 from __future__ import annotations
@@ -446,13 +448,29 @@ def _self_terms(mx, my, dx, dy, G, nu):
 
 
 @lru_cache(maxsize=32)
-def _operators(mx, my, dx, dy, G, nu):
+def _kernels(mx, my, dx, dy, G, nu):
+    """Tangential kernels of an mx x my grid (offsets in x up to mx: one extra row
+    for the rolling difference) and the self terms (dxx, dyy) of the operator."""
     kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, G, nu, extra_rows=1)
-    ops = TangentialOperator((kxx, kxy, kyy), mx, my, rows=1)
     ox, oy = mx - 1, my - 1
     dxx = (kxx[ox, oy] - kxx[ox + 1, oy]) / dx
     dyy = (kyy[ox, oy] - kyy[ox + 1, oy]) / dx
-    return ops, (dxx, dyy)
+    return (kxx, kxy, kyy), (dxx, dyy)
+
+
+@lru_cache(maxsize=64)
+def _sub_operator(mx, my, dx, dy, G, nu, ms, ns):
+    """FFT operator of an ms x ns block of the mx x my grid (the contact's bounding
+    box: outside the contact the tractions are zero and the slip is not needed),
+    from the grid's kernels cut to the block's offsets."""
+    kernels, _ = _kernels(mx, my, dx, dy, G, nu)
+    cut = (slice(mx - ms, mx + ms), slice(my - ns, my - 1 + ns))
+    return TangentialOperator(tuple(k[cut] for k in kernels), ms, ns, rows=1)
+
+
+def _operators(mx, my, dx, dy, G, nu):
+    """FFT operator of the whole mx x my grid and the self terms (dxx, dyy)."""
+    return _sub_operator(mx, my, dx, dy, G, nu, mx, my), _kernels(mx, my, dx, dy, G, nu)[1]
 
 
 def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, p0=None,
@@ -472,10 +490,10 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     residual p - Proj(p - rho s).
     """
     mx, my = x.size, y.size
-    dx = float(x[1] - x[0])
-    op, (dxx, dyy) = _operators(mx, my, dx, float(y[1] - y[0]), G, nu)
+    dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+    _, (dxx, dyy) = _kernels(mx, my, dx, dy, G, nu)
     if mode == "shift":
-        kx, ky = _self_terms(mx, my, dx, float(y[1] - y[0]), G, nu)
+        kx, ky = _self_terms(mx, my, dx, dy, G, nu)
         dxx, dyy = kx, ky
     xi, eta, phi = creepage
     wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
@@ -492,15 +510,30 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     else:
         px, py = _initial_march(wx, wy, contact, bound, dxx, dyy)
     shift = mode == "shift"
-    px, py, it, nprod, converged = _ssn_solve(
-        np.ascontiguousarray(px, dtype=float), np.ascontiguousarray(py, dtype=float), wx, wy,
-        op.kxx, op.kxy, op.kyy, op.shape, dx, shift, contact, bound, rho, dxx, dyy,
-        float(tol), int(maxiter))
+    # the problem lives on the contact's bounding box: tractions are zero outside the
+    # contact and the slip is needed only inside it, so the FFT products run on the
+    # box's (smaller) padded grid, with the same arithmetic
+    rows, cols = np.flatnonzero(contact.any(axis=1)), np.flatnonzero(contact.any(axis=0))
+    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1)) if rows.size \
+        else (slice(0, 1), slice(0, 1))
+    ms, ns = box[0].stop - box[0].start, box[1].stop - box[1].start
+    op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
+
+    def cut(a, dtype=float):
+        return np.ascontiguousarray(a[box], dtype=dtype)
+
+    cb = cut(contact, bool)
+    qx, qy, it, nprod, converged = _ssn_solve(
+        cut(px), cut(py), cut(wx), cut(wy), op.kxx, op.kxy, op.kyy, op.shape, dx, shift, cb,
+        cut(bound), rho, dxx, dyy, float(tol), int(maxiter))
     log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
-    cx, cy = _c_of(px, py, op.kxx, op.kxy, op.kyy, op.shape, np.zeros(op.shape),
+    cx, cy = _c_of(qx, qy, op.kxx, op.kxy, op.kyy, op.shape, np.zeros(op.shape),
                    np.zeros(op.shape), dx, shift)
-    sx, sy = wx + cx, wy + cy
-    _, _, stick = _ssn_blocks(px, py, sx, sy, contact, bound, rho)
+    _, _, sb = _ssn_blocks(qx, qy, cut(wx) + cx, cut(wy) + cy, cb, cut(bound), rho)
+    px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
+    stick = np.zeros((mx, my), dtype=bool)
+    px[box], py[box], stick[box] = qx, qy, sb
+    sx[box], sy[box] = cut(wx) + cx, cut(wy) + cy
     slip = contact & ~stick
     # in slip elements the traction lies on the bound: report it there exactly
     mag = np.hypot(px, py)

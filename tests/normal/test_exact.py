@@ -184,6 +184,31 @@ def test_kept_grid_decided_on_the_grid_as_on_the_coarse_samples(monkeypatch):
         assert np.array_equal(coarse.pressure, near.pressure)
 
 
+def test_displacement_controlled_solve_on_the_overlap_box():
+    """With the approach given, Polonsky-Keer runs on the bounding box of the overlap
+    (a block operator cut from the grid's kernel): the block's product equals the
+    grid's on the block, and the pressure equals the whole grid's solution."""
+    from railcontact.normal.exact import ExactNormalModel, polonsky_keer
+    from railcontact.normal.influence import normal_operator, normal_operator_block
+    mx, my, dx, dy, E = 30, 26, 1e-4, 1.5e-4, MAT.contact_modulus
+    rng = np.random.default_rng(3)
+    q = rng.random((11, 9))
+    p = np.zeros((mx, my))
+    p[7:18, 4:13] = q
+    full = normal_operator(mx, my, dx, dy, E)(p)[7:18, 4:13]
+    assert np.abs(normal_operator_block(mx, my, dx, dy, E, 11, 9)(q) - full).max() \
+        <= 1e-12 * np.abs(full).max()
+    x = (np.arange(mx) - 14.5) * dx
+    y = (np.arange(my) - 12.5) * dy
+    h = (x[:, None] - 3e-4) ** 2 / 0.6 + (y[None, :] + 2e-4) ** 2 / 0.4 - 2e-6
+    key = (mx, my, dx, dy, E)
+    pb, it, ok = ExactNormalModel()._displacement_controlled(key, h, dx * dy, None)
+    pf, _, _, okf = polonsky_keer(normal_operator(*key), h, dx * dy, None, 1e-5, 3000)
+    assert ok and okf and (pb > 0).sum() > 40
+    assert not pb[h >= 0].any()
+    assert np.abs(pb - pf).max() <= 1e-4 * pf.max()
+
+
 def test_influence_kernels_against_quadrature_at_negative_offsets():
     """The kernels, evaluated for non-negative offsets and mirrored by parity, equal
     a direct quadrature of the Boussinesq and Cerruti kernels over the element at

@@ -179,3 +179,49 @@ def test_compiled_slip_operator_equals_the_fft_operator():
         scale = np.abs(ex).max() + np.abs(ey).max()
         assert np.abs(cx - ex).max() <= 1e-12 * scale
         assert np.abs(cy - ey).max() <= 1e-12 * scale
+
+
+def test_block_operator_equals_the_grid_operator_on_the_block():
+    """The tangential solver works on the contact's bounding box: the operator of a
+    block, cut from the grid's kernels, gives the grid operator's displacements
+    (the extra row included) for tractions that vanish outside the block."""
+    from railcontact.tangential.exact import _operators, _sub_operator
+    mx, my, dx, dy, G, nu = 17, 12, 2e-4, 3e-4, 8e10, 0.28
+    full, _ = _operators(mx, my, dx, dy, G, nu)
+    i0, j0, ms, ns = 4, 3, 9, 6
+    block = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
+    rng = np.random.default_rng(8)
+    qx, qy = rng.normal(size=(ms, ns)), rng.normal(size=(ms, ns))
+    px, py = np.zeros((mx, my)), np.zeros((mx, my))
+    px[i0:i0 + ms, j0:j0 + ns], py[i0:i0 + ms, j0:j0 + ns] = qx, qy
+    ux, uy = full(px, py)
+    bx, by = block(qx, qy)
+    for u, b in ((ux, bx), (uy, by)):
+        ref = u[i0:i0 + ms + 1, j0:j0 + ns]
+        assert np.abs(b - ref).max() <= 1e-12 * np.abs(ref).max()
+
+
+def test_solution_on_the_contact_box_equals_the_whole_grid_solution():
+    """Solving on the contact's bounding box gives the solution of the whole grid:
+    the same problem placed in a grid twice as large (zero bound outside) has the
+    same tractions and slip, to rounding."""
+    from railcontact.tangential.exact import steady_rolling
+    n, dx = 16, 1e-3 / 8
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    contact = X ** 2 + (Y / 0.8) ** 2 < (0.95e-3) ** 2
+    bound = 0.3 * 1e9 * np.sqrt(np.clip(1 - (X / 1e-3) ** 2 - (Y / 0.8e-3) ** 2, 0, None))
+    bound = np.where(contact, bound, 0.0)
+    args = ((1e-3, -5e-4, 0.3), 8e10, 0.28, 1e-9)
+    px, py, sx, sy, stick, it, ok = steady_rolling(x, x, contact, bound, *args)
+    # the larger grid's elements 5.. and 3.. lie where the small grid's do (the spin
+    # enters through the coordinates)
+    bx, by = x[0] + (np.arange(2 * n) - 5) * dx, x[0] + (np.arange(2 * n) - 3) * dx
+    pad = ((5, n - 5), (3, n - 3))
+    r = steady_rolling(bx, by, np.pad(contact, pad), np.pad(bound, pad), *args)
+    assert ok and r[-1]
+    box = (slice(5, 5 + n), slice(3, 3 + n))
+    scale = bound.max()
+    assert np.abs(r[0][box] - px).max() <= 1e-8 * scale
+    assert np.abs(r[1][box] - py).max() <= 1e-8 * scale
+    assert np.array_equal(r[4][box], stick)
