@@ -24,7 +24,7 @@ import time
 
 import numpy as np
 from numba import njit
-from scipy.interpolate import RegularGridInterpolator
+from scipy.ndimage import map_coordinates
 
 from ..errors import InputError
 from ..materials import STEEL, Material
@@ -475,14 +475,11 @@ class ExactNormalModel:
         with np.errstate(all="ignore"):
             x_lead = np.where(anyc, np.nanmax(np.where(contact, xi, -np.inf), axis=0) + dx / 2, 0.0)
             x_trail = np.where(anyc, np.nanmin(np.where(contact, xi, np.inf), axis=0) - dx / 2, 0.0)
-        interp = []              # built on the first call (most solutions never need it)
-
         def pressure_at(xq, yq):
-            if not interp:
-                interp.append(RegularGridInterpolator((x, y), p, bounds_error=False,
-                                                      fill_value=0.0))
+            # bilinear between the element centres, zero outside them
             xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
-            return np.maximum(interp[0](np.stack([xq.ravel(), yq.ravel()], -1)),
+            coords = np.stack([((xq - x[0]) / dx).ravel(), ((yq - y[0]) / dy).ravel()])
+            return np.maximum(map_coordinates(p, coords, order=1, mode="constant", cval=0.0),
                               0.0).reshape(xq.shape)
 
         return NormalSolution(model="exact", x=x, y=y, pressure=p, contact=contact,
