@@ -225,6 +225,11 @@ def _crossings(s, g, i0, i1):
 #: which the potential contact area is found (:meth:`ExactNormalModel._area_from_gap`)
 AREA_SAMPLES = 49
 
+#: with the force given, the pressure iteration runs on the box of the region where
+#: the undeformed distance is below this many times the search's approach (and
+#: again on the whole grid where the solved approach exceeds that)
+FORCE_BOX = 1.2
+
 #: a grid is reused (``ExactNormalModel.solve(reuse_grid=...)``) while the potential
 #: contact area spans at least this fraction of it in each direction
 REUSE_FILL = 0.8
@@ -376,6 +381,37 @@ class ExactNormalModel:
         p[box] = q
         return p, it, ok
 
+    def _force_controlled(self, grid_key, h0, dA, force, p0, approach):
+        """Polonsky-Keer with the force given, on the bounding box of h0 <
+        FORCE_BOX x ``approach`` (the search's approach): where the solved approach
+        is below that, the contact, which lies where h0 is below the solved
+        approach, is inside the box and the solution is that of the whole grid (as
+        in :meth:`_displacement_controlled`); else the whole grid is solved, from
+        the box's solution.  Returns p on the grid, approach, iterations, converged."""
+        scale = float(np.max(np.abs(h0)))
+        inside = h0 < FORCE_BOX * approach
+        rows, cols = np.flatnonzero(inside.any(axis=1)), np.flatnonzero(inside.any(axis=0))
+        it0 = 0
+        if approach > 0 and rows.size:
+            box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
+            ms, ns = box[0].stop - box[0].start, box[1].stop - box[1].start
+            q0 = None if p0 is None else np.ascontiguousarray(p0[box])
+            if q0 is not None and not q0.max() > 0:
+                q0 = None
+            if q0 is not None:
+                q0 = q0 * force / max(float(q0.sum() * dA), 1e-300)
+            q, app, it0, ok = polonsky_keer(normal_operator_block(*grid_key, ms, ns), h0[box],
+                                            dA, force=force, tol=self.tol,
+                                            maxiter=self.maxiter, p0=q0, scale=scale)
+            p = np.zeros(h0.shape)
+            p[box] = q
+            if ok and app <= FORCE_BOX * approach:
+                return p, app, it0, ok
+            p0 = p if ok and p.max() > 0 else p0
+        p, app, it, ok = polonsky_keer(normal_operator(*grid_key), h0, dA, force=force,
+                                       tol=self.tol, maxiter=self.maxiter, p0=p0, scale=scale)
+        return p, app, it0 + it, ok
+
     accepts_warm_start = True
     reuses_grids = True
 
@@ -454,9 +490,8 @@ class ExactNormalModel:
                     p0 = None
             if p0 is not None:
                 p0 = p0 * normal_force / max(float(p0.sum() * dA), 1e-300)
-            p, app, it, ok = polonsky_keer(normal_operator(*grid_key), h0, dA,
-                                           force=normal_force, tol=self.tol,
-                                           maxiter=self.maxiter, p0=p0)
+            p, app, it, ok = self._force_controlled(grid_key, h0, dA, normal_force, p0,
+                                                    geometry.approach)
         else:
             p, it, ok = self._displacement_controlled(grid_key, h0 - penetration, dA, p0)
             app = penetration

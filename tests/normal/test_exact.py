@@ -209,6 +209,27 @@ def test_displacement_controlled_solve_on_the_overlap_box():
     assert np.abs(pb - pf).max() <= 1e-4 * pf.max()
 
 
+def test_force_controlled_solve_on_the_box_of_the_estimated_approach():
+    """With the force given, Polonsky-Keer runs on the box where the undeformed
+    distance is below FORCE_BOX times the estimated approach; the pressure and the
+    approach equal the whole grid's, also where the estimate is far too small (the
+    whole grid is then solved again from the box's solution)."""
+    from railcontact.normal.exact import ExactNormalModel, polonsky_keer
+    from railcontact.normal.influence import normal_operator
+    mx, my, dx, dy, E = 34, 30, 1e-4, 1.2e-4, MAT.contact_modulus
+    x = (np.arange(mx) - 16.5) * dx
+    y = (np.arange(my) - 14.5) * dy
+    h = (x[:, None] - 2e-4) ** 2 / 0.6 + (y[None, :] + 1e-4) ** 2 / 0.4
+    key, F = (mx, my, dx, dy, E), 3e3
+    pf, af, _, okf = polonsky_keer(normal_operator(*key), h, dx * dy, F, 1e-5, 3000)
+    assert okf and (pf > 0).sum() > 40
+    nm = ExactNormalModel()
+    for estimate in (af, af / 3):
+        p, a, it, ok = nm._force_controlled(key, h, dx * dy, F, None, estimate)
+        assert ok and a == pytest.approx(af, rel=1e-4)
+        assert np.abs(p - pf).max() <= 1e-4 * pf.max()
+
+
 def test_influence_kernels_against_quadrature_at_negative_offsets():
     """The kernels, evaluated for non-negative offsets and mirrored by parity, equal
     a direct quadrature of the Boussinesq and Cerruti kernels over the element at
