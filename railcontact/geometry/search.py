@@ -163,8 +163,9 @@ ROLL_SLOPE = 1.5
 
 def _memo(wheelset, track, y_ws, yaw):
     """The wheelset's memo for this track, shift and yaw: minimum gaps by roll, and
-    per side the (roll, wheel-sample range) of the last locus (the track itself is
-    held, so that the identity check is sound; bounded in size)."""
+    per side the (roll, wheel-sample range) of the last locus, with under "slope"
+    the last roll search's secant slope (the track itself is held, so that the
+    identity check is sound; bounded in size)."""
     if len(wheelset.gap_memo) > 64:
         wheelset.gap_memo.clear()
     entry = wheelset.gap_memo.get((y_ws, yaw))
@@ -219,7 +220,9 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
     # secant steps from the start roll (f is nearly linear in the roll, with the slope
     # of the lateral distance between the contact points, about 1.5 m): two or three
     # evaluations where the start is close (successive searches of one case)
-    roll = _secant_roll(f, roll0, tol)
+    roll, slope = _secant_roll(f, roll0, tol, windows.get("slope", ROLL_SLOPE))
+    if slope is not None:
+        windows["slope"] = slope
     if roll is None:
         # no convergence (a jump of the contact point on the way): bracketed search
         roll = _bracketed_roll(f, roll0, tol, y_ws)
@@ -231,23 +234,27 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
     return z, roll, loci
 
 
-def _secant_roll(f, roll0, tol, steps=8):
-    """Root of f(roll) by secant steps from ``roll0`` (the first with the slope
-    ``ROLL_SLOPE``); None when the steps do not settle to ``tol``."""
+def _secant_roll(f, roll0, tol, slope=ROLL_SLOPE, steps=8):
+    """Root of f(roll) by secant steps from ``roll0``, the first with ``slope`` (the
+    last search's, else ``ROLL_SLOPE``).  Returns the root (None when the steps do
+    not settle to ``tol``) and the last secant slope (None without one)."""
     x0, f0 = roll0, f(roll0)
     if f0 == 0.0:
-        return x0
-    x1 = x0 - f0 / ROLL_SLOPE
+        return x0, None
+    x1 = x0 - f0 / slope
+    last = None
     for _ in range(steps):
         f1 = f(x1)
         if f1 == 0.0:
-            return x1
+            return x1, last
         if f1 == f0 or abs(x1 - roll0) > 0.05:
-            return None
-        x0, f0, x1 = x1, f1, x1 - f1 * (x1 - x0) / (f1 - f0)
+            return None, None
+        last = (f1 - f0) / (x1 - x0)
+        x0, f0, x1 = x1, f1, x1 - f1 / last
         if abs(x1 - x0) <= tol:
-            return x0          # evaluated, and within the last step of the root
-    return None
+            # evaluated, and within the last step of the root
+            return x0, last if 0.1 * ROLL_SLOPE < last < 10 * ROLL_SLOPE else None
+    return None, None
 
 
 def _bracketed_roll(f, roll0, tol, y_ws):
