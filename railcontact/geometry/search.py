@@ -540,7 +540,9 @@ def _creepage(side, q_side, n_tr, delta_tr, pose, r0, velocity, pitch_velocity,
     O = np.array([0.0, pose.lateral_shift, pose.vertical - r0])
     R = rotation(pose.yaw, pose.roll)
     omega = R @ np.array([0.0, pitch_velocity, 0.0]) + np.array([0.0, 0.0, yaw_rate])
-    rot = np.cross(omega, Q - O)
+    r = Q - O
+    rot = np.array([omega[1] * r[2] - omega[2] * r[1], omega[2] * r[0] - omega[0] * r[2],
+                    omega[0] * r[1] - omega[1] * r[0]])          # omega x r
     v = np.array([velocity, lateral_velocity, 0.0]) + rot
     V = 0.5 * (abs(velocity) + abs(rot[0]))
     s_tr = np.array([0.0, math.cos(delta_tr), math.sin(delta_tr)])
