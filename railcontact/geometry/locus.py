@@ -138,12 +138,12 @@ LOCUS_WINDOW = 1e-3
 
 def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: float,
                   vertical: float, roll: float, yaw: float, step: float = LOCUS_STEP,
-                  stride: int = 8) -> Locus:
+                  stride: int = 8, window: float = LOCUS_WINDOW) -> Locus:
     """Contact locus and vertical gap for one side at the given wheelset pose.
 
     A coarse pass (every ``stride``-th wheel sample) finds the part of the wheel that
-    comes within ``LOCUS_WINDOW`` of the rail; the locus is computed at full
-    resolution there only.
+    comes within ``window`` [m] of the rail's closest approach (default
+    ``LOCUS_WINDOW``); the locus is computed at full resolution there only.
     """
     wheel, rail = wheelset.wheel(side), track.rail(side)
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
@@ -156,7 +156,7 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     y_off = track.rail_offset(side)
     _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride], R, O, y_off, rail._breaks,
                                    rail._coefs)
-    near = np.flatnonzero(gc <= np.min(gc) + LOCUS_WINDOW)
+    near = np.flatnonzero(gc <= np.min(gc) + window)
     i0, i1 = 0, yw.size
     if near.size:
         i0 = max(int(near[0]) * stride - 2 * stride, 0)

@@ -38,7 +38,7 @@ from ..materials import STEEL, Material
 from ..normal.hertz_theory import hertz_ellipse
 from ..profiles.profile import ppoly_at
 from .contact import ContactGeometry
-from .locus import Locus, compute_locus, min_gap
+from .locus import LOCUS_WINDOW, Locus, compute_locus, min_gap
 from .track import SIDES, Track, Wheelset, WheelsetPose, rotation
 
 log = logging.getLogger(__name__)
@@ -150,9 +150,14 @@ def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -
     return brentq(lambda d: vertical_force(d) - load, 0.0, hi, xtol=1e-13)
 
 
+#: the loci of given interpenetrations cover the wheel samples whose vertical gap is
+#: within the interpenetration plus this [m] of the closest approach (the regions
+#: of negative gap and a margin around them)
+REGION_MARGIN = 1e-4
+
 #: a locus's wheel-sample range serves the minimum-gap search within this roll [rad]
 #: of its own (the wheel is 0.14 m wide: gaps on it shift by under 14 um relative
-#: to each other, against the 1 mm locus window)
+#: to each other, against a locus window of at least REGION_MARGIN, 0.1 mm)
 WINDOW_ROLL = 1e-4
 
 #: rate [m/rad] at which the difference of the two sides' vertical gaps changes with
@@ -175,7 +180,7 @@ def _memo(wheelset, track, y_ws, yaw):
 
 
 def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
-                roll_given=None, sides=SIDES):
+                roll_given=None, sides=SIDES, interpenetration_only=False):
     """Vertical position and roll such that min gap of each side = -target.
 
     The vertical gap of both sides decreases by exactly dz when the wheelset moves
@@ -183,8 +188,18 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
     gap_left - gap_right = t_right - t_left increases monotonically with roll and
     is solved by secant steps from ``roll0``, or where they do not settle (a jump of
     the contact point) by a bracketed root search.
+
+    ``interpenetration_only``: the loci need to hold the interpenetration regions
+    only (the patches of given interpenetrations), not every part of the wheel within
+    ``LOCUS_WINDOW`` of the rail (the candidates of the multi-Hertzian estimate):
+    each covers the samples within its side's interpenetration plus
+    ``REGION_MARGIN`` of its closest approach.
     """
     cache, windows = _memo(wheelset, track, y_ws, yaw)
+
+    def window(side):
+        return (targets[side] + REGION_MARGIN) if interpenetration_only else LOCUS_WINDOW
+
     if roll_given is not None:
         (side,) = sides
         g = min_gap(wheelset, track, side, y_ws, 0.0, roll_given, yaw)
@@ -192,7 +207,8 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
             raise ContactNotFoundError(f"no wheel-rail overlap found on the {side} side at "
                                        f"lateral shift {y_ws * 1e3:.3f} mm")
         z = g + targets[side]
-        loci = {side: compute_locus(wheelset, track, side, y_ws, z, roll_given, yaw)}
+        loci = {side: compute_locus(wheelset, track, side, y_ws, z, roll_given, yaw,
+                                    window=window(side))}
         return z, roll_given, loci
 
     def samples(side, roll):
@@ -228,7 +244,8 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
         roll = _bracketed_roll(f, roll0, tol, y_ws)
     g = gaps(roll)
     z = g["right"] + targets["right"]
-    loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw) for s in SIDES}
+    loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw, window=window(s))
+            for s in SIDES}
     for s in SIDES:
         windows[s] = (roll, loci[s].samples)
     return z, roll, loci
@@ -648,7 +665,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
             raise InputError(f"interpenetration = {interpenetration!r}: expected values >= 0 m")
         loads = loads or {s: math.nan for s in SIDES}
     z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets,
-                                roll0=float(roll_start), **pose_kw)
+                                roll0=float(roll_start),
+                                interpenetration_only=interpenetration is not None, **pose_kw)
     if loads is not None and interpenetration is None:
         for _ in range(load_iterations):
             new = dict(targets)
