@@ -153,11 +153,13 @@ def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -
 #: the loci of given interpenetrations cover the wheel samples whose vertical gap is
 #: within the interpenetration plus this [m] of the closest approach (the regions
 #: of negative gap and a margin around them)
-REGION_MARGIN = 1e-4
+REGION_MARGIN = 2e-4
 
 #: a locus's wheel-sample range serves the minimum-gap search within this roll [rad]
-#: of its own (the wheel is 0.14 m wide: gaps on it shift by under 14 um relative
-#: to each other, against a locus window of at least REGION_MARGIN, 0.1 mm)
+#: of its own: a roll moves the wheel sideways by r0 roll (46 um) and turns it (the
+#: wheel is 0.14 m wide: 14 um); on rail slopes up to 3 (the gauge corner) the gaps
+#: shift relative to each other by under 0.15 mm, within a locus window of at least
+#: REGION_MARGIN
 WINDOW_ROLL = 1e-4
 
 #: rate [m/rad] at which the difference of the two sides' vertical gaps changes with
