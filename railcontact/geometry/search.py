@@ -156,10 +156,10 @@ def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -
 REGION_MARGIN = 2e-4
 
 #: a locus's wheel-sample range serves the minimum-gap search within this roll [rad]
-#: of its own: a roll moves the wheel sideways by r0 roll (46 um) and turns it (the
-#: wheel is 0.14 m wide: 14 um); on rail slopes up to 3 (the gauge corner) the gaps
-#: shift relative to each other by under 0.15 mm, within a locus window of at least
-#: REGION_MARGIN
+#: of its own, for a locus window of REGION_MARGIN (proportionally more for a wider
+#: window): a roll of 1e-4 moves the wheel sideways by r0 roll (46 um) and turns it
+#: (the wheel is 0.14 m wide: 14 um); on rail slopes up to 3 (the gauge corner) the
+#: gaps shift relative to each other by under 0.15 mm, three quarters of the window
 WINDOW_ROLL = 1e-4
 
 #: rate [m/rad] at which the difference of the two sides' vertical gaps changes with
@@ -214,10 +214,10 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
         return z, roll_given, loci
 
     def samples(side, roll):
-        # the last locus's wheel samples hold the minimum at a roll within
-        # WINDOW_ROLL of its own
+        # the last locus's wheel samples hold the minimum at a roll close enough to
+        # its own (below)
         w = windows.get(side)
-        return w[1] if w is not None and abs(roll - w[0]) <= WINDOW_ROLL else None
+        return w[1] if w is not None and abs(roll - w[0]) <= w[2] else None
 
     def gaps(roll):
         if roll not in cache:
@@ -249,7 +249,9 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
     loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw, window=window(s))
             for s in SIDES}
     for s in SIDES:
-        windows[s] = (roll, loci[s].samples)
+        # a locus covering the gaps within w of its closest approach serves rolls
+        # within WINDOW_ROLL w / REGION_MARGIN of its own (gap shifts under 0.75 w)
+        windows[s] = (roll, loci[s].samples, WINDOW_ROLL * window(s) / REGION_MARGIN)
     return z, roll, loci
 
 
@@ -666,10 +668,13 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         if not all(math.isfinite(v) and v >= 0 for v in targets.values()):
             raise InputError(f"interpenetration = {interpenetration!r}: expected values >= 0 m")
         loads = loads or {s: math.nan for s in SIDES}
+    # the rigid pose under a load is only the start of the multi-Hertzian estimate:
+    # its roll to 1e-8 rad (gaps to 15 nm), the poses of the patches' to 1e-12
+    estimate = loads is not None and interpenetration is None
     z, roll, loci = _solve_pose(wheelset, track, lateral_shift, yaw, targets,
-                                roll0=float(roll_start),
+                                roll0=float(roll_start), tol=1e-8 if estimate else 1e-12,
                                 interpenetration_only=interpenetration is not None, **pose_kw)
-    if loads is not None and interpenetration is None:
+    if estimate:
         for _ in range(load_iterations):
             new = dict(targets)
             new.update({s: _approach_for_load(loci[s], loads[s], r0, material) for s in sides})
