@@ -213,6 +213,29 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale):
     return gbar, it, converged
 
 
+@njit(cache=True, nogil=True)
+def _strip_edges(contact, x):
+    """Leading and trailing edges [m] of the contact in each strip (column of the
+    mask; element centres ``x`` plus half an element), zero in strips without
+    contact."""
+    mx, my = contact.shape
+    half = 0.5 * (x[1] - x[0]) if mx > 1 else 0.0
+    lead = np.zeros(my)
+    trail = np.zeros(my)
+    for j in range(my):
+        first = -1
+        last = -1
+        for i in range(mx):
+            if contact[i, j]:
+                if first < 0:
+                    first = i
+                last = i
+        if first >= 0:
+            lead[j] = x[last] + half
+            trail[j] = x[first] - half
+    return lead, trail
+
+
 def _crossings(s, g, i0, i1):
     """Where g (negative from index i0 to i1, positive just outside) crosses zero on
     either side, linearly interpolated between the samples s."""
@@ -504,12 +527,7 @@ class ExactNormalModel:
             log.warning("exact normal solver: contact reaches the edge of the potential contact "
                         "area; results may be truncated")
         F = float(p.sum() * dA)
-        # leading/trailing edges per strip from the contact mask
-        anyc = contact.any(axis=0)
-        xi = np.where(contact, x[:, None], np.nan)
-        with np.errstate(all="ignore"):
-            x_lead = np.where(anyc, np.nanmax(np.where(contact, xi, -np.inf), axis=0) + dx / 2, 0.0)
-            x_trail = np.where(anyc, np.nanmin(np.where(contact, xi, np.inf), axis=0) - dx / 2, 0.0)
+        x_lead, x_trail = _strip_edges(contact, np.ascontiguousarray(x, dtype=float))
         def pressure_at(xq, yq):
             # bilinear between the element centres, zero outside them
             xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
