@@ -405,8 +405,9 @@ class FastsimModel:
                   * np.clip(1 - (xm / a) ** 2 - (ym / b) ** 2, 0.0, None))
         pn = np.ascontiguousarray(pn, dtype=float)
         mu_mid = np.full(pn.shape, float(friction))
-        ix = np.clip(np.searchsorted(normal.x, xm) , 0, mx - 1)      # grid cell of each mid-point
-        iy = np.broadcast_to(np.arange(my)[:, None], xm.shape)
+        if self.falling is not None:      # grid cell of each mid-point
+            ix = np.clip(np.searchsorted(normal.x, xm), 0, mx - 1)
+            iy = np.broadcast_to(np.arange(my)[:, None], xm.shape)
         iters = 0
         for iters in range(1, 61 if self.falling is not None else 2):
             bound = np.ascontiguousarray(mu_mid * pn)
