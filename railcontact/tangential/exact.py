@@ -398,7 +398,7 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
     F, M, stick, phi2 = _ssn_state(px, py, wx, wy, kxx, kxy, kyy, shape, bx, by, dx, shift,
                                    contact, bound, rho)
     converged = False
-    forcing = 0.1
+    forcing = 0.3
     phi_prev = phi2
     nprod = 0
     it = 0
@@ -407,16 +407,18 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
             converged = True
             break
         rhs = -_pack(F[:, :, 0].copy(), F[:, :, 1].copy(), cidx)
-        # inexact Newton (Eisenstat-Walker): loose linear solves far from the solution
+        # inexact Newton (Eisenstat-Walker): loose linear solves far from the solution,
+        # the residual cut to at most 0.3 (0.1 took 8 % more products with J in all
+        # on the wheel-rail sweep, 0.5 as many as 0.3)
         if it > 1:
-            forcing = min(0.1, max(0.9 * phi2 / max(phi_prev, 1e-300), 1e-6))
+            forcing = min(0.3, max(0.9 * phi2 / max(phi_prev, 1e-300), 1e-6))
         else:
             # a start close to the solution (an earlier pass's, residual under 1 % of
             # the bound) solves its first step to about the tolerance: that one
             # step then usually ends the iteration
             rmax = np.max(np.abs(F))
             if rmax < 1e-2 * gmax:
-                forcing = min(0.1, max(0.3 * tol * gmax / rmax, 1e-3))
+                forcing = min(0.3, max(0.3 * tol * gmax / rmax, 1e-3))
         phi_prev = phi2
         d, k = _newton_step(rhs, forcing, 60, 10, cidx, mx, my, kxx, kxy, kyy, shape, bx, by,
                             dx, shift, contact, stick, M, rho, dxx, dyy)
