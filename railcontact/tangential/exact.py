@@ -41,6 +41,7 @@ from functools import lru_cache
 
 import numpy as np
 from numba import njit
+from scipy.ndimage import map_coordinates
 
 from ..errors import InputError
 from ..materials import STEEL, Material
@@ -547,6 +548,15 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     return px, py, sx, sy, stick & contact, it, converged
 
 
+def _bilinear(x0, y0, f, x, y):
+    """``f`` on the grid (x0, y0) at the points of the grid (x, y): bilinear between
+    the element centres, zero outside them."""
+    X, Y = np.broadcast_arrays(x[:, None], y[None, :])
+    coords = np.stack([((X - x0[0]) / (x0[1] - x0[0])).ravel(),
+                       ((Y - y0[0]) / (y0[1] - y0[0])).ravel()])
+    return map_coordinates(f, coords, order=1, mode="constant", cval=0.0).reshape(X.shape)
+
+
 def _initial_tractions(warm, x, y, contact, bound):
     """Tractions on the rail (body 1) from a previous solution ``warm``: on the same
     grid as they are, on another grid interpolated (linear, zero outside); inside
@@ -555,11 +565,8 @@ def _initial_tractions(warm, x, y, contact, bound):
                                          and np.allclose(warm.x, x) and np.allclose(warm.y, y)):
         tx, ty = -warm.traction_x, -warm.traction_y
     else:
-        from scipy.interpolate import RegularGridInterpolator
-        pts = np.stack(np.broadcast_arrays(x[:, None], y[None, :]), axis=-1)
-        tx, ty = (-RegularGridInterpolator((warm.x, warm.y), t, bounds_error=False,
-                                           fill_value=0.0)(pts)
-                  for t in (warm.traction_x, warm.traction_y))
+        tx = -_bilinear(warm.x, warm.y, warm.traction_x, x, y)
+        ty = -_bilinear(warm.x, warm.y, warm.traction_y, x, y)
     mag = np.hypot(tx, ty)
     with np.errstate(invalid="ignore", divide="ignore"):
         scale = np.where(mag > bound, bound / np.where(mag > 0, mag, 1.0), 1.0)
