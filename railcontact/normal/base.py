@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
+from scipy.ndimage import map_coordinates
 
 from ..errors import InputError
 from ..registry import Registry
@@ -134,3 +135,12 @@ def make_grid(extent_x: float, extent_y: float, grid=None, element_size=None,
     x = center[0] - extent_x + (np.arange(mx) + 0.5) * (2 * extent_x / mx)
     y = center[1] - extent_y + (np.arange(my) + 0.5) * (2 * extent_y / my)
     return x, y
+
+
+def bilinear(x, y, f, xq, yq) -> np.ndarray:
+    """Values ``f`` on the element centres (x, y) of a grid at the points (xq, yq)
+    (arrays of one shape): bilinear between the centres, zero outside them."""
+    xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
+    coords = np.stack([((xq - x[0]) / (x[1] - x[0])).ravel(),
+                       ((yq - y[0]) / (y[1] - y[0])).ravel()])
+    return map_coordinates(f, coords, order=1, mode="constant", cval=0.0).reshape(xq.shape)

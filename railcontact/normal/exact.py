@@ -24,13 +24,12 @@ import time
 
 import numpy as np
 from numba import njit
-from scipy.ndimage import map_coordinates
 
 from ..errors import InputError
 from ..materials import STEEL, Material
-from .base import NormalSolution, make_grid, register
+from .base import NormalSolution, bilinear, make_grid, register
 from .hertz_theory import hertz_ellipse
-from .influence import normal_operator, normal_operator_block
+from .influence import bounding_box, normal_operator, normal_operator_block
 
 log = logging.getLogger(__name__)
 
@@ -336,20 +335,27 @@ class ExactNormalModel:
             if 0 < ix[0] and ix[-1] < xs.size - 1 and 0 < iy[0] and iy[-1] < ys.size - 1:
                 dx, dy = xs[1] - xs[0], ys[1] - ys[0]
                 if continuous:
-                    # the region's ends where the smallest gap along the other axis
-                    # crosses zero, interpolated between the samples, plus 1.5 samples
-                    # (where the first sample outside lies on average)
-                    lo_x, hi_x = _crossings(xs, h.min(axis=1), ix[0], ix[-1])
-                    lo_y, hi_y = _crossings(ys, h.min(axis=0), iy[0], iy[-1])
-                    lo_x, hi_x = lo_x - 1.5 * dx, hi_x + 1.5 * dx
-                    lo_y, hi_y = lo_y - 1.5 * dy, hi_y + 1.5 * dy
-                else:
-                    lo_x, hi_x = xs[ix[0]] - dx, xs[ix[-1]] + dx
-                    lo_y, hi_y = ys[iy[0]] - dy, ys[iy[-1]] + dy
-                f = 1.0 + self.margin
-                return ((0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y)),
-                        (0.5 * (hi_x - lo_x) * f, 0.5 * (hi_y - lo_y) * f))
+                    return self._region_box(xs, ys, h, ix, iy, dx, dy)
+                lo_x, hi_x = xs[ix[0]] - dx, xs[ix[-1]] + dx
+                lo_y, hi_y = ys[iy[0]] - dy, ys[iy[-1]] + dy
+                return self._widened(lo_x, hi_x, lo_y, hi_y)
         return (cx, cy), (hx * (1 + self.margin), hy * (1 + self.margin))
+
+    def _region_box(self, xs, ys, h, ix, iy, sx, sy):
+        """Potential area from the gap h on the lines xs, ys, negative on the rows ix
+        and columns iy (inside the lines): the region's ends where the smallest gap
+        along the other axis crosses zero, interpolated between the lines, plus 1.5
+        coarse samples (sx, sy: where the first sample outside lies on average),
+        widened by the margin.  Returns its centre and half-extents [m]."""
+        lo_x, hi_x = _crossings(xs, h.min(axis=1), ix[0], ix[-1])
+        lo_y, hi_y = _crossings(ys, h.min(axis=0), iy[0], iy[-1])
+        return self._widened(lo_x - 1.5 * sx, hi_x + 1.5 * sx, lo_y - 1.5 * sy, hi_y + 1.5 * sy)
+
+    def _widened(self, lo_x, hi_x, lo_y, hi_y):
+        """Centre and half-extents [m] of a box widened by the margin."""
+        f = 1.0 + self.margin
+        return ((0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y)),
+                (0.5 * (hi_x - lo_x) * f, 0.5 * (hi_y - lo_y) * f))
 
     def _kept_grid_gap(self, geometry, penetration, sol, grid):
         """The undeformed distance on the grid of ``sol`` (an earlier pass of the same
@@ -366,22 +372,16 @@ class ExactNormalModel:
             return None
         h0 = geometry.gap(x[:, None], y[None, :]) + app
         h = h0 - (app if penetration is None else penetration)
-        hx_min, hy_min = h.min(axis=1), h.min(axis=0)
-        ix, iy = np.flatnonzero(hx_min < 0), np.flatnonzero(hy_min < 0)
-        if ix.size == 0 or iy.size == 0 or ix[0] == 0 or ix[-1] == x.size - 1 \
-                or iy[0] == 0 or iy[-1] == y.size - 1:
+        box = bounding_box(h < 0)
+        if box is None or box[0].start == 0 or box[0].stop == x.size or box[1].start == 0 \
+                or box[1].stop == y.size:
             return None
-        lo_x, hi_x = _crossings(x, hx_min, ix[0], ix[-1])
-        lo_y, hi_y = _crossings(y, hy_min, iy[0], iy[-1])
+        ix, iy = np.arange(x.size)[box[0]], np.arange(y.size)[box[1]]
         x0, x1, y0, y1 = geometry.extent
         sx = 4.0 * max(0.5 * (x1 - x0), 1e-4) / (AREA_SAMPLES - 1)   # the coarse spacing
         sy = 4.0 * max(0.5 * (y1 - y0), 1e-4) / (AREA_SAMPLES - 1)
-        lo_x, hi_x, lo_y, hi_y = lo_x - 1.5 * sx, hi_x + 1.5 * sx, lo_y - 1.5 * sy, hi_y + 1.5 * sy
-        f = 1.0 + self.margin
-        if _fits(sol, 0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y), 0.5 * (hi_x - lo_x) * f,
-                 0.5 * (hi_y - lo_y) * f, grid):
-            return h0
-        return None
+        (cx, cy), (ex, ey) = self._region_box(x, y, h, ix, iy, sx, sy)
+        return h0 if _fits(sol, cx, cy, ex, ey, grid) else None
 
     def _displacement_controlled(self, grid_key, h, dA, p0):
         """Polonsky-Keer with the approach given, on the bounding box of the overlap
@@ -389,14 +389,12 @@ class ExactNormalModel:
         everywhere), so outside it the pressure is zero and the iteration is that on
         the whole grid, with smaller FFTs (the convergence test keeps the whole
         grid's gap scale).  Returns p on the grid, iterations, converged."""
-        rows, cols = np.flatnonzero((h < 0).any(axis=1)), np.flatnonzero((h < 0).any(axis=0))
-        if rows.size == 0:                  # no overlap: p = 0 (reported at once)
+        box = bounding_box(h < 0)
+        if box is None:                     # no overlap: p = 0 (reported at once)
             p, _, it, ok = polonsky_keer(normal_operator(*grid_key), h, dA, None, self.tol,
                                          self.maxiter, p0=p0)
             return p, it, ok
-        box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
-        ms, ns = box[0].stop - box[0].start, box[1].stop - box[1].start
-        op = normal_operator_block(*grid_key, ms, ns)
+        op = normal_operator_block(*grid_key, *h[box].shape)
         q, _, it, ok = polonsky_keer(op, h[box], dA, None, self.tol, self.maxiter,
                                      p0=None if p0 is None else p0[box],
                                      scale=float(np.max(np.abs(h))))
@@ -411,20 +409,18 @@ class ExactNormalModel:
         approach, is inside the box and the solution is that of the whole grid (as
         in :meth:`_displacement_controlled`); else the whole grid is solved, from
         the box's solution.  Returns p on the grid, approach, iterations, converged."""
+        def scaled(q):              # a start carrying the force, or None
+            if q is None or not q.max() > 0:
+                return None
+            return q * force / max(float(q.sum() * dA), 1e-300)
+
         scale = float(np.max(np.abs(h0)))
-        inside = h0 < FORCE_BOX * approach
-        rows, cols = np.flatnonzero(inside.any(axis=1)), np.flatnonzero(inside.any(axis=0))
+        box = bounding_box(h0 < FORCE_BOX * approach) if approach > 0 else None
         it0 = 0
-        if approach > 0 and rows.size:
-            box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1))
-            ms, ns = box[0].stop - box[0].start, box[1].stop - box[1].start
-            q0 = None if p0 is None else np.ascontiguousarray(p0[box])
-            if q0 is not None and not q0.max() > 0:
-                q0 = None
-            if q0 is not None:
-                q0 = q0 * force / max(float(q0.sum() * dA), 1e-300)
-            q, app, it0, ok = polonsky_keer(normal_operator_block(*grid_key, ms, ns), h0[box],
-                                            dA, force=force, tol=self.tol,
+        if box is not None:
+            q0 = None if p0 is None else scaled(np.ascontiguousarray(p0[box]))
+            q, app, it0, ok = polonsky_keer(normal_operator_block(*grid_key, *h0[box].shape),
+                                            h0[box], dA, force=force, tol=self.tol,
                                             maxiter=self.maxiter, p0=q0, scale=scale)
             p = np.zeros(h0.shape)
             p[box] = q
@@ -432,7 +428,8 @@ class ExactNormalModel:
                 return p, app, it0, ok
             p0 = p if ok and p.max() > 0 else p0
         p, app, it, ok = polonsky_keer(normal_operator(*grid_key), h0, dA, force=force,
-                                       tol=self.tol, maxiter=self.maxiter, p0=p0, scale=scale)
+                                       tol=self.tol, maxiter=self.maxiter, p0=scaled(p0),
+                                       scale=scale)
         return p, app, it0 + it, ok
 
     accepts_warm_start = True
@@ -509,10 +506,6 @@ class ExactNormalModel:
                 # Hertz's shape: with the rigid overlap approach - h0, the elastic
                 # contact is where it exceeds half the approach, and p ~ its root there
                 p0 = np.sqrt(np.maximum(0.5 * geometry.approach - h0, 0.0))
-                if not p0.max() > 0:
-                    p0 = None
-            if p0 is not None:
-                p0 = p0 * normal_force / max(float(p0.sum() * dA), 1e-300)
             p, app, it, ok = self._force_controlled(grid_key, h0, dA, normal_force, p0,
                                                     geometry.approach)
         else:
@@ -529,11 +522,7 @@ class ExactNormalModel:
         F = float(p.sum() * dA)
         x_lead, x_trail = _strip_edges(contact, np.ascontiguousarray(x, dtype=float))
         def pressure_at(xq, yq):
-            # bilinear between the element centres, zero outside them
-            xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
-            coords = np.stack([((xq - x[0]) / dx).ravel(), ((yq - y[0]) / dy).ravel()])
-            return np.maximum(map_coordinates(p, coords, order=1, mode="constant", cval=0.0),
-                              0.0).reshape(xq.shape)
+            return np.maximum(bilinear(x, y, p, xq, yq), 0.0)
 
         return NormalSolution(model="exact", x=x, y=y, pressure=p, contact=contact,
                               area=float(contact.sum() * dA), pmax=float(p.max()),

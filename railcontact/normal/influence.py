@@ -160,36 +160,28 @@ def normal_displacement_at(p: np.ndarray, dx: float, dy: float, i0: int, j0: int
 
 
 @lru_cache(maxsize=64)
-def _normal_kernel_cached(mx: int, my: int, dx: float, dy: float, contact_modulus: float):
-    return normal_kernel(mx, my, dx, dy, contact_modulus)
-
-
-@lru_cache(maxsize=64)
 def normal_operator(mx: int, my: int, dx: float, dy: float, contact_modulus: float) -> Convolution:
     """Cached convolution operator for a grid and material."""
-    return Convolution(_normal_kernel_cached(mx, my, dx, dy, contact_modulus), mx, my)
+    return Convolution(normal_kernel(mx, my, dx, dy, contact_modulus), mx, my)
 
 
 @lru_cache(maxsize=64)
 def normal_operator_block(mx: int, my: int, dx: float, dy: float, contact_modulus: float,
                           ms: int, ns: int) -> Convolution:
     """Cached convolution operator of an ms x ns block of the mx x my grid, from the
-    grid's kernel cut to the block's offsets (one kernel per grid, whatever blocks
-    of it are solved on)."""
-    K = _normal_kernel_cached(mx, my, dx, dy, contact_modulus)
+    grid's kernel cut to the block's offsets (the grid's element integrals are
+    computed once, whatever blocks of it are solved on)."""
+    K = normal_kernel(mx, my, dx, dy, contact_modulus)
     return Convolution(K[mx - ms:mx - 1 + ms, my - ns:my - 1 + ns], ms, ns)
 
 
-def _Lx(x, y):
-    """Antiderivative of y^2 / r^3 over a rectangle: x ln(y + r)."""
-    r = np.hypot(x, y)
-    return np.where(x != 0, x * np.where(x != 0, _log_sum(y, x, r), 0.0), 0.0)
-
-
-def _Ly(x, y):
-    """Antiderivative of x^2 / r^3 over a rectangle: y ln(x + r)."""
-    r = np.hypot(x, y)
-    return np.where(y != 0, y * np.where(y != 0, _log_sum(x, y, r), 0.0), 0.0)
+def bounding_box(mask: np.ndarray):
+    """Slices of the smallest block of the grid that holds every true element of
+    ``mask`` (the block the exact solvers work on), or None where there is none."""
+    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
+    if rows.size == 0:
+        return None
+    return slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1)
 
 
 def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: float,
@@ -204,16 +196,14 @@ def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: fl
 
     with the rectangle integrals from the antiderivatives I(y^2/r^3) = x ln(y + r),
     I(x^2/r^3) = y ln(x + r), I(xy/r^3) = -r.  Offsets in x run over
-    [-(mx-1), mx-1+extra_rows].
+    [-(mx-1), mx-1+extra_rows], ``extra_rows`` 0 or 1 (the row of the rolling
+    difference).
     """
-    if extra_rows in (0, 1):
-        Lx, Ly, Rr = _rect_integrals(mx, my, float(dx), float(dy))
-        if extra_rows == 0:
-            Lx, Ly, Rr = Lx[:-1], Ly[:-1], Rr[:-1]
-    else:
-        rect = _element_integrals(mx, my, dx, dy, extra_rows)
-        Lx, Ly = rect(_Lx), rect(_Ly)
-        Rr = rect(lambda x, y: -np.hypot(x, y), parity=(-1, -1))
+    if extra_rows not in (0, 1):
+        raise ValueError(f"extra_rows = {extra_rows!r}: expected 0 or 1")
+    Lx, Ly, Rr = _rect_integrals(mx, my, float(dx), float(dy))
+    if extra_rows == 0:
+        Lx, Ly, Rr = Lx[:-1], Ly[:-1], Rr[:-1]
     nu, c = poisson_ratio, 1.0 / (np.pi * shear_modulus)
     kxx = c * ((1 - nu) * (Lx + Ly) + nu * Ly)
     kyy = c * ((1 - nu) * (Lx + Ly) + nu * Lx)

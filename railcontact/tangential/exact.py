@@ -41,11 +41,11 @@ from functools import lru_cache
 
 import numpy as np
 from numba import njit
-from scipy.ndimage import map_coordinates
 
 from ..errors import InputError
 from ..materials import STEEL, Material
-from ..normal.influence import TangentialOperator, tangential_kernels
+from ..normal.base import bilinear
+from ..normal.influence import TangentialOperator, bounding_box, tangential_kernels
 from .base import TangentialSolution, check_inputs, register
 
 log = logging.getLogger(__name__)
@@ -516,27 +516,21 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     # the problem lives on the contact's bounding box: tractions are zero outside the
     # contact and the slip is needed only inside it, so the FFT products run on the
     # box's (smaller) padded grid, with the same arithmetic
-    rows, cols = np.flatnonzero(contact.any(axis=1)), np.flatnonzero(contact.any(axis=0))
-    box = (slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1)) if rows.size \
-        else (slice(0, 1), slice(0, 1))
-    ms, ns = box[0].stop - box[0].start, box[1].stop - box[1].start
+    box = bounding_box(contact) or (slice(0, 1), slice(0, 1))
+    ms, ns = contact[box].shape
     op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
-
-    def cut(a, dtype=float):
-        return np.ascontiguousarray(a[box], dtype=dtype)
-
-    cb = cut(contact, bool)
+    cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
     qx, qy, it, nprod, converged = _ssn_solve(
-        cut(px), cut(py), cut(wx), cut(wy), op.kxx, op.kxy, op.kyy, op.shape, dx, shift, cb,
-        cut(bound), rho, dxx, dyy, float(tol), int(maxiter))
+        *q, op.kxx, op.kxy, op.kyy, op.shape, dx, shift, cb, gb, rho, dxx, dyy, float(tol),
+        int(maxiter))
     log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
     cx, cy = _c_of(qx, qy, op.kxx, op.kxy, op.kyy, op.shape, np.zeros(op.shape),
                    np.zeros(op.shape), dx, shift)
-    _, _, sb = _ssn_blocks(qx, qy, cut(wx) + cx, cut(wy) + cy, cb, cut(bound), rho)
+    sbx, sby = q[2] + cx, q[3] + cy
+    _, _, sb = _ssn_blocks(qx, qy, sbx, sby, cb, gb, rho)
     px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
     stick = np.zeros((mx, my), dtype=bool)
-    px[box], py[box], stick[box] = qx, qy, sb
-    sx[box], sy[box] = cut(wx) + cx, cut(wy) + cy
+    px[box], py[box], stick[box], sx[box], sy[box] = qx, qy, sb, sbx, sby
     slip = contact & ~stick
     # in slip elements the traction lies on the bound: report it there exactly
     mag = np.hypot(px, py)
@@ -548,15 +542,6 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     return px, py, sx, sy, stick & contact, it, converged
 
 
-def _bilinear(x0, y0, f, x, y):
-    """``f`` on the grid (x0, y0) at the points of the grid (x, y): bilinear between
-    the element centres, zero outside them."""
-    X, Y = np.broadcast_arrays(x[:, None], y[None, :])
-    coords = np.stack([((X - x0[0]) / (x0[1] - x0[0])).ravel(),
-                       ((Y - y0[0]) / (y0[1] - y0[0])).ravel()])
-    return map_coordinates(f, coords, order=1, mode="constant", cval=0.0).reshape(X.shape)
-
-
 def _initial_tractions(warm, x, y, contact, bound):
     """Tractions on the rail (body 1) from a previous solution ``warm``: on the same
     grid as they are, on another grid interpolated (linear, zero outside); inside
@@ -565,8 +550,9 @@ def _initial_tractions(warm, x, y, contact, bound):
                                          and np.allclose(warm.x, x) and np.allclose(warm.y, y)):
         tx, ty = -warm.traction_x, -warm.traction_y
     else:
-        tx = -_bilinear(warm.x, warm.y, warm.traction_x, x, y)
-        ty = -_bilinear(warm.x, warm.y, warm.traction_y, x, y)
+        X, Y = np.broadcast_arrays(x[:, None], y[None, :])
+        tx = -bilinear(warm.x, warm.y, warm.traction_x, X, Y)
+        ty = -bilinear(warm.x, warm.y, warm.traction_y, X, Y)
     mag = np.hypot(tx, ty)
     with np.errstate(invalid="ignore", divide="ignore"):
         scale = np.where(mag > bound, bound / np.where(mag > 0, mag, 1.0), 1.0)
