@@ -174,7 +174,7 @@ def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, v
 
     ``samples``: search the wheel-profile samples [i0, i1) only (the range of a
     locus at a nearby pose, :attr:`Locus.samples`, which holds every sample within
-    ``LOCUS_WINDOW`` of its minimum)."""
+    its window of its minimum)."""
     wheel, rail = wheelset.wheel(side), track.rail(side)
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
     r0 = wheelset.nominal_radius

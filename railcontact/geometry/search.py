@@ -168,17 +168,28 @@ WINDOW_ROLL = 1e-4
 ROLL_SLOPE = 1.5
 
 
-def _memo(wheelset, track, y_ws, yaw):
-    """The wheelset's memo for this track, shift and yaw: minimum gaps by roll, and
-    per side the (roll, wheel-sample range) of the last locus, with under "slope"
-    the last roll search's secant slope (the track itself is held, so that the
-    identity check is sound; bounded in size)."""
+@dataclass
+class _PoseMemo:
+    """What successive searches of one case (one track, shift and yaw) carry over."""
+
+    track: Track
+    #: minimum vertical gaps of both sides by roll
+    gaps: dict = field(default_factory=dict)
+    #: per side the last locus's (roll, wheel-sample range, roll it serves within)
+    windows: dict = field(default_factory=dict)
+    #: the last roll search's secant slope [m/rad]
+    slope: float = ROLL_SLOPE
+
+
+def _memo(wheelset, track, y_ws, yaw) -> _PoseMemo:
+    """The wheelset's memo for this track, shift and yaw (the track itself is held,
+    so that the identity check is sound; bounded in size)."""
     if len(wheelset.gap_memo) > 64:
         wheelset.gap_memo.clear()
-    entry = wheelset.gap_memo.get((y_ws, yaw))
-    if entry is None or entry[0] is not track or len(entry[1]) > 256:
-        entry = wheelset.gap_memo[(y_ws, yaw)] = (track, {}, {})
-    return entry[1], entry[2]
+    memo = wheelset.gap_memo.get((y_ws, yaw))
+    if memo is None or memo.track is not track or len(memo.gaps) > 256:
+        memo = wheelset.gap_memo[(y_ws, yaw)] = _PoseMemo(track)
+    return memo
 
 
 def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
@@ -197,7 +208,8 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
     each covers the samples within its side's interpenetration plus
     ``REGION_MARGIN`` of its closest approach.
     """
-    cache, windows = _memo(wheelset, track, y_ws, yaw)
+    memo = _memo(wheelset, track, y_ws, yaw)
+    cache, windows = memo.gaps, memo.windows
 
     def window(side):
         return (targets[side] + REGION_MARGIN) if interpenetration_only else LOCUS_WINDOW
@@ -238,9 +250,9 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
     # secant steps from the start roll (f is nearly linear in the roll, with the slope
     # of the lateral distance between the contact points, about 1.5 m): two or three
     # evaluations where the start is close (successive searches of one case)
-    roll, slope = _secant_roll(f, roll0, tol, windows.get("slope", ROLL_SLOPE))
+    roll, slope = _secant_roll(f, roll0, tol, memo.slope)
     if slope is not None:
-        windows["slope"] = slope
+        memo.slope = slope
     if roll is None:
         # no convergence (a jump of the contact point on the way): bracketed search
         roll = _bracketed_roll(f, roll0, tol, y_ws)

@@ -105,10 +105,10 @@ class Wheelset:
     nominal_radius: float = 0.46
     flange_back_distance: float = 1.360
     flange_back_position: float = -0.070
-    #: memo of the contact search by (lateral shift, yaw): (track, minimum gaps of both
-    #: wheels by roll, the last loci's wheel-sample ranges), so that successive
-    #: searches of one case, each starting where the last ended, do not repeat work
-    #: (``railcontact.geometry.search._memo``)
+    #: memo of the contact search by (lateral shift, yaw): its track, the minimum gaps
+    #: of both wheels by roll, the last loci's wheel-sample ranges and the last roll
+    #: slope, so that successive searches of one case, each starting where the last
+    #: ended, do not repeat work (``railcontact.geometry.search._PoseMemo``)
     gap_memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:
