@@ -274,7 +274,7 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only
     for geom in contact.patches:
         if geom.approach <= 0:
             continue
-        creep = tuple(float(c) for c in (case.creepage or geom.creepage))
+        creep = _creepage(case, geom)
         if coupled:
             from .coupling import solve_coupled
             ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep, case.friction,
@@ -321,7 +321,7 @@ def _fast_estimate(case, contact):
     for g in contact.patches:
         if g.approach > 0:
             ns = hz.solve(g, case.material, penetration=g.approach, grid=(20, 20))
-            creep = tuple(float(c) for c in (case.creepage or g.creepage))
+            creep = _creepage(case, g)
             out.append(PatchResult(g, ns, fs.solve(ns, g, case.material, creep, case.friction,
                                                    g.velocity), creep))
     return out
@@ -343,13 +343,23 @@ def vertical_force_on_rail(results, side: str, lateral=None) -> float:
             if r.tangential is not None:
                 fy = r.tangential.fy
             else:
-                best = _nearest(lateral, r.geometry)
-                fy = 0.0
-                if best is not None and best.tangential is not None \
-                        and best.normal.normal_force > 0:
-                    fy = best.tangential.fy / best.normal.normal_force * fn
+                fy = _standin_ratio(lateral, r.geometry) * fn
             total += fn * math.cos(d) - fy * math.sin(d)
     return total
+
+
+def _standin_ratio(lateral, geom) -> float:
+    """F_y/F_n of the result among ``lateral`` nearest to the patch ``geom`` (see
+    :func:`_nearest`), 0 without one."""
+    best = _nearest(lateral, geom)
+    if best is None or best.tangential is None or not best.normal.normal_force > 0:
+        return 0.0
+    return best.tangential.fy / best.normal.normal_force
+
+
+def _creepage(case, geom) -> tuple:
+    """The case's creepages where given, else the patch's kinematic ones."""
+    return tuple(float(c) for c in (case.creepage or geom.creepage))
 
 
 #: the vertical-force iteration solves the tangential problems once the balance with
@@ -376,10 +386,7 @@ def _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous):
         if len(pats) != 1 or abs(pats[0].contact_angle) >= FORCE_STEP_ANGLE:
             return None
         g = pats[0]
-        ratio = 0.0
-        best = _nearest(lateral, g)
-        if best is not None and best.tangential is not None and best.normal.normal_force > 0:
-            ratio = best.tangential.fy / best.normal.normal_force
+        ratio = _standin_ratio(lateral, g)
         c, sn = math.cos(g.contact_angle), math.sin(g.contact_angle)
         if c - ratio * sn < 0.5 * c:
             return None
@@ -391,7 +398,7 @@ def _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous):
         if not (ns.converged and ns.penetration > 0):
             return None
         d[s] = max(d[s] + (ns.penetration - g.approach) / c, 0.2 * d[s])
-        creep = tuple(float(v) for v in (case.creepage or g.creepage))
+        creep = _creepage(case, g)
         out.append(PatchResult(g, ns, None, creep))
     return d, out
 

@@ -50,10 +50,9 @@ def _solve_chain(raws, base_dir, normal, tangential, warm):
             res = solve(case_from_dict(raw, base_dir), normal, tangential,
                         warm_start=prev if warm else None)
             prev = res
-            row = {"patches": [p.to_dict() for p in res.patches], "converged": res.converged}
-            if res.vertical_residual is not None:
-                row["vertical_residual"] = dict(res.vertical_residual)
-            out.append(row)
+            d = res.to_dict()
+            out.append({k: d[k] for k in ("patches", "converged", "vertical_residual")
+                        if k in d})
         except RailContactError as exc:
             prev = None
             out.append({"patches": [], "error": str(exc)})
