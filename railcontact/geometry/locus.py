@@ -45,22 +45,31 @@ def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
     gap = np.empty(n)
     slope = np.empty(n)
     k = -1                      # rail interval of the previous point (the search starts there)
+    # theta depends on the rail slope s only through R[1, 0] and R[2, 0] (the yaw):
+    # without them one pass gives the point
+    fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
+    s = 0.0
     for i in range(n):
-        s = 0.0
+        # the slope starts at the previous point's (25 um away), and the iteration
+        # stops once the point moves by under 1e-12 m (it contracts by about
+        # rho yaw^2 |z_r''| per pass: 0.04 at 6 mrad on the gauge corner)
         tn = 0.0
         py = 0.0
         pz = 0.0
         zr = np.nan
-        for _ in range(3):
+        for it in range(3):
             tn = (s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2])
             ct = 1.0 / math.sqrt(1.0 + tn * tn)          # theta = atan(tn) in (-pi/2, pi/2)
             st = tn * ct
             px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
+            last = py
             py = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
             pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
             zr, s, k = ppoly_at(py - y_off, rb, rc, k)
             if s != s:
                 s = 0.0
+            if fixed or (it >= 1 and abs(py - last) <= 1e-12):
+                break
         theta[i] = math.atan(tn)
         P[0, i] = px
         P[1, i] = py

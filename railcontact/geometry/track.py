@@ -153,6 +153,4 @@ class WheelsetPose:
 def rotation(yaw: float, roll: float) -> np.ndarray:
     """Rotation matrix Rz(yaw) Rx(roll) of the wheelset axes (columns) in the frame."""
     cy, sy, cr, sr = math.cos(yaw), math.sin(yaw), math.cos(roll), math.sin(roll)
-    rz = np.array([[cy, -sy, 0.0], [sy, cy, 0.0], [0.0, 0.0, 1.0]])
-    rx = np.array([[1.0, 0.0, 0.0], [0.0, cr, -sr], [0.0, sr, cr]])
-    return rz @ rx
+    return np.array([[cy, -sy * cr, sy * sr], [sy, cy * cr, -cy * sr], [0.0, sr, cr]])

@@ -3,9 +3,12 @@
 import math
 
 import numpy as np
+import pytest
+from scipy.optimize import minimize_scalar
 
 from railcontact.geometry import Track, Wheelset
-from railcontact.geometry.locus import compute_locus, min_gap
+from railcontact.geometry.locus import compute_locus, min_gap, side_pose
+from railcontact.geometry.track import rotation
 from railcontact.profiles import rail_profile, s1002
 
 
@@ -23,3 +26,37 @@ def test_min_gap_on_a_locus_window_equals_the_full_search():
                 full = min_gap(ws, tr, side, y, 0.0, roll, 1e-3)
                 assert np.isfinite(full)
                 assert min_gap(ws, tr, side, y, 0.0, roll, 1e-3, samples=(i0, i1)) == full
+
+
+def test_locus_gap_is_the_lowest_point_of_each_wheel_circle():
+    """Each locus sample's vertical gap is the (local) minimum over the wheel
+    circle's angle of rail height minus wheel point height, to 1e-12 m, with yaw
+    (where the angle depends on the rail slope and is found by iteration) and
+    without; tread and flange contact, 0.1 mm interpenetration, samples on rail
+    slopes up to 3 (the gauge corner)."""
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    rail = tr.rail("right")
+    checked = 0
+    for y, roll, yaw in ((2e-3, 2e-4, 0.0), (2e-3, 2e-4, 0.02), (7e-3, -1e-3, 6e-3)):
+        z = min_gap(ws, tr, "right", y, 0.0, roll, yaw) + 1e-4
+        loc = compute_locus(ws, tr, "right", y, z, roll, yaw, window=5e-4)
+        y_ws, z_ws, roll_s, yaw_s = side_pose("right", y, z, roll, yaw)
+        R = rotation(yaw_s, roll_s)
+        O = np.array([0.0, y_ws, z_ws - ws.nominal_radius])
+        for i in np.flatnonzero(np.abs(loc.slope) <= 3.0)[::10]:
+            eta = ws.wheel_offset + loc.y_wheel[i]
+            rho = ws.nominal_radius + loc.z_wheel[i]
+
+            def gap(theta):
+                P = O + eta * R[:, 1] + rho * (math.sin(theta) * R[:, 0]
+                                               + math.cos(theta) * R[:, 2])
+                return float(rail.z_at(P[1] - tr.rail_offset("right"))) - P[2]
+
+            t0 = loc.theta[i]
+            best = minimize_scalar(gap, bounds=(t0 - 0.01, t0 + 0.01), method="bounded",
+                                   options={"xatol": 1e-10})
+            assert abs(loc.gap[i] - best.fun) < 1e-12
+            assert abs(loc.theta[i] - best.x) < 1e-6
+            checked += 1
+        assert loc.gap.min() == pytest.approx(-1e-4, abs=1e-9)
+    assert checked > 100

@@ -73,6 +73,13 @@ def test_gap_lines_equal_the_patch_gap(patches):
                                    rtol=0)
         missed += (ref == 1.0).sum()
     assert 0 < missed < 0.5 * h.size
+    # equally spaced x (a grid's lines): the projections start from the line's own
+    # earlier points, extrapolated along it
+    x = np.linspace(-8e-3, 8e-3, 24)[None, :] + rng.uniform(-1e-3, 1e-3, (len(sub), 1))
+    h = sample_gap_lines(sub, x, y)
+    for k, g in enumerate(sub):
+        X, Y = np.broadcast_arrays(x[k][:, None], y[k][None, :])
+        np.testing.assert_allclose(h[k], g.gap(X.copy(), Y.copy()), atol=1e-13, rtol=0)
 
 
 def test_strip_spin_equals_the_patch_spin(patches):
