@@ -49,10 +49,13 @@ def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
     # without them one pass gives the point
     fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
     s = 0.0
+    s1 = 0.0                    # the slopes at the last two points
+    s2 = 0.0
     for i in range(n):
-        # the slope starts at the previous point's (25 um away), and the iteration
-        # stops once the point moves by under 1e-12 m (it contracts by about
-        # rho yaw^2 |z_r''| per pass: 0.04 at 6 mrad on the gauge corner)
+        # the slope starts extrapolated from the last two points' (25 um apart), and
+        # the iteration stops once the point moves by under 1e-12 m (it contracts by
+        # about rho yaw^2 |z_r''| per pass: 0.04 at 6 mrad on the gauge corner)
+        s = 2.0 * s1 - s2 if i >= 2 else s1
         tn = 0.0
         py = 0.0
         pz = 0.0
@@ -77,6 +80,7 @@ def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
         yr[i] = py - y_off
         gap[i] = zr - pz if zr == zr else np.inf
         slope[i] = s
+        s2, s1 = s1, s
     return theta, P, yr, gap, slope
 
 
