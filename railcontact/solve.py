@@ -14,7 +14,7 @@ from .case import Case, body_curvatures
 from .errors import ContactNotFoundError
 from .geometry.contact import ContactGeometry
 from .geometry.search import WheelsetContact, find_contact
-from .geometry.track import Track, Wheelset, WheelsetPose
+from .geometry.track import SIDES, Track, Wheelset, WheelsetPose
 from .normal import NormalSolution, get_normal_model
 from .profiles.library import get_profile
 from .tangential import TangentialSolution, get_tangential_model
@@ -262,16 +262,22 @@ def _nearest(previous, geom):
 
 
 def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only=False,
-                   coupled=False, same_case=False):
+                   coupled=False, same_case=False, kept=()):
     """Solve every loaded patch; ``previous`` results (an earlier iteration of the
     same case, or a neighbouring case of a sweep) serve as warm starts where a model
     accepts them.  ``normal_only``: leave the tangential problems to
     :func:`_add_tangential`.  ``coupled``: dissimilar materials with the exact
     models (:func:`_coupled`), both problems solved together.  ``same_case``:
-    ``previous`` is an earlier pass of this case, whose grids a model may keep."""
+    ``previous`` is an earlier pass of this case, whose grids a model may keep.
+    ``kept``: results (of an earlier pass) taken as they are, for the patches of
+    their sides."""
     out = []
+    keep = {id(r.geometry): r for r in kept}
     nwarm = getattr(nmodel, "accepts_warm_start", False)
     for geom in contact.patches:
+        if id(geom) in keep:
+            out.append(keep[id(geom)])
+            continue
         if geom.approach <= 0:
             continue
         creep = _creepage(case, geom)
@@ -370,6 +376,33 @@ STANDIN_FACTOR = 10.0
 #: sides with one loaded patch whose contact angle is below this [rad] (a flange's
 #: interpenetration moves with the roll as much as with the height)
 FORCE_STEP_ANGLE = 0.5
+
+
+#: a side whose vertical balance holds keeps its patch results while the other side's
+#: interpenetration is corrected, where the new contact search changed its patches
+#: by under this: relative approach, contact angle [rad], relative creepages (the
+#: side's vertical force then changes by a few of this relative to the load, far
+#: below the balance's tolerance)
+KEEP_TOLERANCE = 1e-6
+
+
+def _unmoved(case, results, contact, side) -> bool:
+    """Whether the side's loaded patches of ``contact`` are those of ``results`` to
+    ``KEEP_TOLERANCE`` (as many; approach, contact angle, the creepages solved
+    with): their solutions then hold for them."""
+    old = [r for r in results if r.geometry.side == side]
+    new = [g for g in contact.patches if g.side == side and g.approach > 0]
+    if not old or len(old) != len(new):
+        return False
+    k = KEEP_TOLERANCE
+    for r, g in zip(old, new):
+        a = r.geometry
+        if not (abs(a.approach - g.approach) <= k * a.approach
+                and abs(a.contact_angle - g.contact_angle) <= k
+                and all(abs(p - q) <= k * max(abs(p), 1e-3)
+                        for p, q in zip(r.creepage, _creepage(case, g)))):
+            return False
+    return True
 
 
 def _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous):
@@ -506,7 +539,12 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 {s: round(e, 1) for s, e in err.items()})
             break
         new = dict(d)
+        # with the solved lateral forces, a side already in balance stays where it is
+        solved = tmodel is None or all(r.tangential is not None for r in results)
+        balanced = {s for s in sides if solved and abs(err[s]) <= rtol * loads[s]}
         for s in sides:
+            if s in balanced:
+                continue
             load = loads[s]
             pts = hist[s]
             # bracket of the load from the history (force grows with the interpenetration)
@@ -531,8 +569,16 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                                  roll_start=contact.pose.roll)
         if lazy and all(r.tangential is not None for r in results):
             lateral = tangential_start = results
+        # the balanced sides' patches, where the search (the other side's correction
+        # turns the wheelset slightly) left them in place: their results stand
+        still = {s for s in balanced if _unmoved(case, results, contact, s)}
+        kept = [r for r in results if r.geometry.side in still]
+        if kept:
+            contact.patches = [g for s in SIDES for g in (
+                [r.geometry for r in kept if r.geometry.side == s] if s in still
+                else [g for g in contact.patches if g.side == s])]
         results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results,
-                                 normal_only=lazy, coupled=coupled, same_case=True)
+                                 normal_only=lazy, coupled=coupled, same_case=True, kept=kept)
         passes += 1
     else:
         converged = False

@@ -39,6 +39,56 @@ def test_vertical_balance_with_the_final_forces(models, shift):
         assert abs(flange.tangential.fy * np.sin(flange.geometry.contact_angle)) > 2e3
 
 
+def test_balanced_side_keeps_its_patches(monkeypatch):
+    """Once one side's balance holds with the solved forces, a pass that corrects
+    the other side keeps that side's patch results (its patches moved by under
+    KEEP_TOLERANCE in the new search: the same objects are in the result); the
+    load is met on both sides, and the forces agree with re-solving every pass to
+    the balance's tolerance."""
+    import importlib
+    from railcontact.solve import build_wheelset_track, contact_search
+    solve = importlib.import_module("railcontact.solve")
+    case = case_from_dict(_raw(2e-3))
+    seen = []
+    original = solve._solve_patches
+
+    def spy(*args, kept=(), **kw):
+        seen.append(list(kept))
+        return original(*args, kept=kept, **kw)
+
+    monkeypatch.setattr(solve, "_solve_patches", spy)
+    res = rc.solve(case)
+    kept = [r for k in seen for r in k]
+    assert kept and all(r.tangential is not None for r in kept)
+    side = kept[0].geometry.side
+    assert [p for p in res.patches if p.geometry.side == side] == kept
+    assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
+    # the kept patches are those of a search at the final interpenetrations
+    again = contact_search(case, interpenetration=res.contact.interpenetration,
+                           bodies=build_wheelset_track(case))
+    for r, g in zip(kept, again.side_patches(side)):
+        assert g.approach == pytest.approx(r.geometry.approach, rel=1e-6)
+        assert g.contact_angle == pytest.approx(r.geometry.contact_angle, abs=1e-6)
+    # a patch moved by more than the tolerance, or one more patch, is not kept
+    from dataclasses import replace
+    from types import SimpleNamespace
+    geoms = [p.geometry for p in res.patches]
+    assert solve._unmoved(case, res.patches, SimpleNamespace(patches=geoms), side)
+    for change in ({"approach": kept[0].geometry.approach * (1 + 3e-6)},
+                   {"contact_angle": kept[0].geometry.contact_angle + 3e-6}):
+        moved = [replace(g, **change) if g is kept[0].geometry else g for g in geoms]
+        assert not solve._unmoved(case, res.patches, SimpleNamespace(patches=moved), side)
+    more = geoms + [kept[0].geometry]
+    assert not solve._unmoved(case, res.patches, SimpleNamespace(patches=more), side)
+    monkeypatch.setattr(solve, "KEEP_TOLERANCE", 0.0)
+    seen.clear()
+    full = rc.solve(case)
+    assert not any(seen)
+    for a, b in zip(res.patches, full.patches):
+        assert a.normal.normal_force == pytest.approx(b.normal.normal_force, rel=2e-4)
+        assert a.tangential.fx == pytest.approx(b.tangential.fx, rel=2e-4, abs=1.0)
+
+
 def test_force_tolerance_option():
     """solver.force_tolerance sets the vertical balance's tolerance: 1e-3 meets the
     load to 1e-3, and the forces agree with the 1e-4 result within that; values
