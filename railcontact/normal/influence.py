@@ -137,8 +137,10 @@ class Convolution:
         self.diag = float(kernel[mx - 1, my - 1])
 
     def __call__(self, p: np.ndarray) -> np.ndarray:
+        """A p for p on the grid, or on a smaller block (an operator of a block serves
+        every smaller one: the kernel's offsets are placed modulo the FFT size)."""
         ph = fft.rfft2(p, s=self.shape)
-        return fft.irfft2(ph * self.khat, s=self.shape)[:self.mx, :self.my]
+        return fft.irfft2(ph * self.khat, s=self.shape)[:p.shape[0], :p.shape[1]]
 
 
 def normal_displacement_at(p: np.ndarray, dx: float, dy: float, i0: int, j0: int,
@@ -165,12 +167,27 @@ def normal_operator(mx: int, my: int, dx: float, dy: float, contact_modulus: flo
     return Convolution(normal_kernel(mx, my, dx, dy, contact_modulus), mx, my)
 
 
-@lru_cache(maxsize=64)
+def block_size(m: int, n: int, grid_m: int, grid_n: int, extra_rows: int = 0):
+    """The largest block of a grid whose zero-padded FFT has the size of an m x n
+    block's (``extra_rows``: output rows below the block, as the rolling difference
+    needs): its operator serves every block up to it, so the blocks of successive
+    passes (a contact that grows or shrinks by a row) share one."""
+    N1 = fft.next_fast_len(2 * m - 1 + extra_rows, real=True)
+    N2 = fft.next_fast_len(2 * n - 1, real=True)
+    return min(grid_m, (N1 + 1 - extra_rows) // 2), min(grid_n, (N2 + 1) // 2)
+
+
 def normal_operator_block(mx: int, my: int, dx: float, dy: float, contact_modulus: float,
                           ms: int, ns: int) -> Convolution:
-    """Cached convolution operator of an ms x ns block of the mx x my grid, from the
-    grid's kernel cut to the block's offsets (the grid's element integrals are
-    computed once, whatever blocks of it are solved on)."""
+    """Convolution operator for an ms x ns block of the mx x my grid, from the grid's
+    kernel cut to the block's offsets (the grid's element integrals are computed
+    once, whatever blocks of it are solved on); cached per FFT size
+    (:func:`block_size`: it serves the block and every smaller one)."""
+    return _normal_block(mx, my, dx, dy, contact_modulus, *block_size(ms, ns, mx, my))
+
+
+@lru_cache(maxsize=64)
+def _normal_block(mx, my, dx, dy, contact_modulus, ms, ns) -> Convolution:
     K = normal_kernel(mx, my, dx, dy, contact_modulus)
     return Convolution(K[mx - ms:mx - 1 + ms, my - ns:my - 1 + ns], ms, ns)
 
@@ -270,9 +287,11 @@ class TangentialOperator:
         self.mx, self.my, self.rows = mx, my, rows
 
     def __call__(self, px: np.ndarray, py: np.ndarray):
+        """Displacements of tractions on the grid or on a smaller block (as
+        :meth:`Convolution.__call__`), with the extra rows."""
         fx = fft.rfft2(px, s=self.shape)
         fy = fft.rfft2(py, s=self.shape)
-        n = self.mx + self.rows
-        ux = fft.irfft2(self.kxx * fx + self.kxy * fy, s=self.shape)[:n, :self.my]
-        uy = fft.irfft2(self.kxy * fx + self.kyy * fy, s=self.shape)[:n, :self.my]
+        n, m = px.shape[0] + self.rows, px.shape[1]
+        ux = fft.irfft2(self.kxx * fx + self.kxy * fy, s=self.shape)[:n, :m]
+        uy = fft.irfft2(self.kxy * fx + self.kyy * fy, s=self.shape)[:n, :m]
         return ux, uy

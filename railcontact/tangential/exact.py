@@ -45,7 +45,7 @@ from numba import njit
 from ..errors import InputError
 from ..materials import STEEL, Material
 from ..normal.base import bilinear
-from ..normal.influence import TangentialOperator, bounding_box, tangential_kernels
+from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
 from .base import TangentialSolution, check_inputs, register
 
 log = logging.getLogger(__name__)
@@ -465,11 +465,16 @@ def _kernels(mx, my, dx, dy, G, nu):
     return (kxx, kxy, kyy), (dxx, dyy)
 
 
-@lru_cache(maxsize=64)
 def _sub_operator(mx, my, dx, dy, G, nu, ms, ns):
-    """FFT operator of an ms x ns block of the mx x my grid (the contact's bounding
+    """FFT operator for an ms x ns block of the mx x my grid (the contact's bounding
     box: outside the contact the tractions are zero and the slip is not needed),
-    from the grid's kernels cut to the block's offsets."""
+    from the grid's kernels cut to the block's offsets; cached per FFT size (it
+    serves the block and every smaller one, :func:`block_size`)."""
+    return _block_operator(mx, my, dx, dy, G, nu, *block_size(ms, ns, mx, my, extra_rows=1))
+
+
+@lru_cache(maxsize=64)
+def _block_operator(mx, my, dx, dy, G, nu, ms, ns):
     kernels, _ = _kernels(mx, my, dx, dy, G, nu)
     cut = (slice(mx - ms, mx + ms), slice(my - ns, my - 1 + ns))
     return TangentialOperator(tuple(k[cut] for k in kernels), ms, ns, rows=1)

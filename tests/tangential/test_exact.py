@@ -184,12 +184,16 @@ def test_compiled_slip_operator_equals_the_fft_operator():
 def test_block_operator_equals_the_grid_operator_on_the_block():
     """The tangential solver works on the contact's bounding box: the operator of a
     block, cut from the grid's kernels, gives the grid operator's displacements
-    (the extra row included) for tractions that vanish outside the block."""
+    (the extra row included) for tractions that vanish outside the block; the
+    operator is that of the largest block with the same FFT size (12 x 8 for
+    11 x 7), which serves the smaller one."""
     from railcontact.tangential.exact import _operators, _sub_operator
     mx, my, dx, dy, G, nu = 17, 12, 2e-4, 3e-4, 8e10, 0.28
     full, _ = _operators(mx, my, dx, dy, G, nu)
-    i0, j0, ms, ns = 4, 3, 9, 6
+    i0, j0, ms, ns = 4, 3, 11, 7
     block = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
+    assert (block.mx, block.my) == (12, 8)
+    assert block is _sub_operator(mx, my, dx, dy, G, nu, 12, 8)
     rng = np.random.default_rng(8)
     qx, qy = rng.normal(size=(ms, ns)), rng.normal(size=(ms, ns))
     px, py = np.zeros((mx, my)), np.zeros((mx, my))
