@@ -367,9 +367,9 @@ class _GapEvaluator:
         self.angle = angle_side
         self.y_ref = float(center[1] - self.y_off)
         # the frame packed for the multi-patch kernel: C, t, n, y_off, R^T, O, e, r0
-        self.frame = np.concatenate([self.C, self.t, self.n, [self.y_off],
-                                     np.ascontiguousarray(self.R.T).ravel(), self.O,
-                                     [self.e, self.r0]]).astype(float)
+        self.Rt = np.ascontiguousarray(self.R.T)
+        self.frame = np.concatenate([self.C, self.t, self.n, [self.y_off], self.Rt.ravel(),
+                                     self.O, [self.e, self.r0]]).astype(float)
 
     def contact_angle_at(self, y):
         """Local contact angle [rad] (track convention, as ``contact_angle``) at
@@ -390,11 +390,18 @@ class _GapEvaluator:
                                      self.rail._coefs, self.wheel._breaks,
                                      self.wheel._coefs)[0]
         x, ys = np.broadcast_arrays(x, ys)
-        h = _gap_kernel(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(ys.ravel()),
-                        self.C, self.t, self.n, self.y_off, self.rail._breaks,
-                        self.rail._coefs, np.ascontiguousarray(self.R.T), self.O, self.e,
-                        self.r0, self.wheel._breaks, self.wheel._coefs)
+        h = self.points(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(ys.ravel()),
+                        signed=True)
         return h.reshape(x.shape)
+
+    def points(self, x, ys, signed=False):
+        """The gap at points (x[i], y[i]) (1-D float arrays; ``signed``: y already
+        in the side's lateral sense, as ``__call__`` passes it)."""
+        if not signed:
+            ys = self.sign * ys
+        return _gap_kernel(x, ys, self.C, self.t, self.n, self.y_off, self.rail._breaks,
+                           self.rail._coefs, self.Rt, self.O, self.e, self.r0,
+                           self.wheel._breaks, self.wheel._coefs)
 
 
 @njit(cache=True, nogil=True)
@@ -600,7 +607,7 @@ def _curvatures_fd(gapf, x0, y0):
     hx, hy = FD_STEP
     xs = np.array([x0, x0 + hx, x0 - hx, x0, x0])
     ys = np.array([y0, y0, y0, y0 + hy, y0 - hy])
-    h = gapf(xs, ys)
+    h = gapf.points(xs, ys)
     A = (h[1] + h[2] - 2 * h[0]) / (2 * hx * hx)
     B = (h[3] + h[4] - 2 * h[0]) / (2 * hy * hy)
     return float(A), float(B), float(h[0])
@@ -608,24 +615,31 @@ def _curvatures_fd(gapf, x0, y0):
 
 def _creepage(side, q_side, n_tr, delta_tr, pose, r0, velocity, pitch_velocity,
               lateral_velocity, yaw_rate):
+    """Kinematic creepages (xi, eta, phi), rolling velocity V and d(phi)/d(delta) at
+    the contact point ``q_side`` (side frame), normal ``n_tr`` (track frame)."""
     sgn = 1.0 if side == "right" else -1.0
-    Q = np.array([q_side[0], sgn * q_side[1], q_side[2]])
-    O = np.array([0.0, pose.lateral_shift, pose.vertical - r0])
-    R = rotation(pose.yaw, pose.roll)
-    omega = R @ np.array([0.0, pitch_velocity, 0.0]) + np.array([0.0, 0.0, yaw_rate])
-    r = Q - O
-    rot = np.array([omega[1] * r[2] - omega[2] * r[1], omega[2] * r[0] - omega[0] * r[2],
-                    omega[0] * r[1] - omega[1] * r[0]])          # omega x r
-    v = np.array([velocity, lateral_velocity, 0.0]) + rot
-    V = 0.5 * (abs(velocity) + abs(rot[0]))
-    s_tr = np.array([0.0, math.cos(delta_tr), math.sin(delta_tr)])
-    xi = -v[0] / V
-    eta = -float(v @ s_tr) / V
-    phi = -float(omega @ n_tr) / V
+    # omega = R (0, pitch_velocity, 0) + (0, 0, yaw_rate), R the wheelset's axes
+    cy, sy = math.cos(pose.yaw), math.sin(pose.yaw)
+    cr, sr = math.cos(pose.roll), math.sin(pose.roll)
+    w0 = -sy * cr * pitch_velocity
+    w1 = cy * cr * pitch_velocity
+    w2 = sr * pitch_velocity + yaw_rate
+    # r = Q - O, O the wheelset centre; v = (V, lateral velocity, 0) + omega x r
+    r0_, r1, r2 = (float(q_side[0]), sgn * float(q_side[1]) - pose.lateral_shift,
+                   float(q_side[2]) - (pose.vertical - r0))
+    rot0 = w1 * r2 - w2 * r1
+    v0 = velocity + rot0
+    v1 = lateral_velocity + (w2 * r0_ - w0 * r2)
+    v2 = w0 * r1 - w1 * r0_
+    V = 0.5 * (abs(velocity) + abs(rot0))
+    c, s = math.cos(delta_tr), math.sin(delta_tr)
+    xi = -v0 / V
+    eta = -(v1 * c + v2 * s) / V
+    phi = -(w0 * n_tr[0] + w1 * n_tr[1] + w2 * n_tr[2]) / V
     # d(phi)/d(delta): the spin on a surface element whose normal is turned by
     # d(delta) about x is phi cos + dphi sin (n' = -s for the normal (0, -sin, cos))
-    dphi = float(omega @ s_tr) / V
-    return (float(xi), float(eta), float(phi)), float(V), dphi
+    dphi = (w1 * c + w2 * s) / V
+    return (float(xi), float(eta), float(phi)), float(V), float(dphi)
 
 
 def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
