@@ -66,7 +66,7 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
     scale = float(np.max(np.abs(h))) if scale is None else float(scale)
     gbar, it, converged = _pk_kernel(op.khat, op.shape, h, float(dA),
                                      0.0 if force is None else float(force), force is not None,
-                                     float(tol), int(maxiter), p, scale)
+                                     float(tol), int(maxiter), p, scale, op.kernel)
     approach = gbar if force is not None else 0.0
     return p, approach, int(it), bool(converged)
 
@@ -96,7 +96,30 @@ def _mean_on(a, S):
 
 
 @njit(cache=True, nogil=True)
-def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale):
+def _add_direct(u, f, idx, dq, kernel):
+    """u += f A dq for dq nonzero only at the flat indices ``idx`` (values ``dq``):
+    each element's displacements summed directly from the kernel (offsets centred
+    at (kernel rows - 1) / 2)."""
+    mx, my = u.shape
+    ci = (kernel.shape[0] - 1) // 2
+    cj = (kernel.shape[1] - 1) // 2
+    for k in range(idx.size):
+        i0 = idx[k] // my
+        j0 = idx[k] % my
+        a = f * dq[k]
+        for i in range(mx):
+            row = ci + i - i0
+            for j in range(my):
+                u[i, j] += a * kernel[row, cj + j - j0]
+
+
+#: Polonsky-Keer updates the displacements of a step directly (from the kernel) where
+#: at most this fraction of the elements were clipped or loaded, else by an FFT
+DIRECT_FRACTION = 0.02
+
+
+@njit(cache=True, nogil=True)
+def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, kernel):
     """Constrained conjugate gradients of Polonsky & Keer on the pressure ``p``
     (the initial estimate, overwritten with the solution).
 
@@ -104,9 +127,10 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale):
     would turn negative is set to zero, an unloaded element with a negative gap
     (an overlap) is loaded and the directions restart.  Force-controlled: the
     approach is the mean gap over S and the pressure is scaled to the force.
-    After a plain step (nothing clipped or loaded) A p = f (A p_old - tau A t),
-    with f the force scaling (1 displacement-controlled), refreshed by a
-    convolution every 10 steps.
+    After a step A p = f (A p_old - tau A t + A d), with f the force scaling (1
+    displacement-controlled) and d the changes of the clipped and loaded elements:
+    A d summed directly where they are few (``DIRECT_FRACTION`` of the elements),
+    else A p by a convolution; refreshed by a convolution every 10 steps.
     Returns the approach (mean gap, force-controlled), iterations, converged.
     """
     mx, my = h.shape
@@ -116,6 +140,9 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale):
     g = np.zeros((mx, my))
     pn = np.zeros((mx, my))
     S = np.zeros((mx, my), dtype=np.bool_)
+    limit = int(DIRECT_FRACTION * mx * my)
+    idx = np.zeros(limit + 1, dtype=np.int64)  # the elements clipped or loaded
+    dq = np.zeros(limit + 1)                   # and their changes beyond -tau t
     scale = max(scale, 1e-12)
     G_old = 1.0
     restart = True
@@ -175,15 +202,22 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale):
         clipped = False
         restart = False
         total = 0.0
+        nd = 0                                  # elements clipped or loaded
         for i in range(mx):
             for j in range(my):
-                q = p[i, j] - tau * t[i, j]
+                q0 = p[i, j] - tau * t[i, j]
+                q = q0
                 if q < 0.0:
                     q = 0.0
                     clipped = True
                 if q == 0.0 and g[i, j] < 0.0:
                     q = -tau * g[i, j]          # an overlap: load the element
                     restart = True
+                if q != q0:
+                    if nd < limit:
+                        idx[nd] = i * my + j
+                        dq[nd] = q - q0
+                    nd += 1
                 total += q
                 pn[i, j] = q
         f = force / (total * dA) if controlled and total > 0.0 else 1.0
@@ -195,12 +229,15 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale):
                 diff += abs(q - p[i, j])
                 ref += q
                 p[i, j] = q
-        if not restart and not clipped:
-            # p changed by -tau t exactly (then scaled by f): A p follows from A t,
-            # the product before the mean was taken off (refreshed every 10 steps)
+        if nd <= limit:
+            # p changed by -tau t (then scaled by f) and by dq on the few elements
+            # clipped or loaded: A p follows from A t, the product before the mean
+            # was taken off, and the direct sum of those elements' displacements
+            # (refreshed every 10 steps)
             for i in range(mx):
                 for j in range(my):
                     u[i, j] = f * (u[i, j] - tau * (r[i, j] + rbar))
+            _add_direct(u, f, idx[:nd], dq[:nd], kernel)
             fresh += 1
             valid = True
         else:

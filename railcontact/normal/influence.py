@@ -135,6 +135,9 @@ class Convolution:
             k[-(mx - 1):, -(my - 1):] = kernel[:mx - 1, :my - 1]
         self.khat = fft.rfft2(k)
         self.diag = float(kernel[mx - 1, my - 1])
+        #: the kernel itself, offsets -(mx-1)..mx-1, -(my-1)..my-1 (the displacements
+        #: of a few elements' pressures, summed directly)
+        self.kernel = np.ascontiguousarray(kernel, dtype=float)
 
     def __call__(self, p: np.ndarray) -> np.ndarray:
         """A p for p on the grid, or on a smaller block (an operator of a block serves

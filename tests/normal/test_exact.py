@@ -184,6 +184,26 @@ def test_kept_grid_decided_on_the_grid_as_on_the_coarse_samples(monkeypatch):
         assert np.array_equal(coarse.pressure, near.pressure)
 
 
+def test_direct_displacements_of_a_few_elements_equal_the_convolution():
+    """Polonsky-Keer adds the displacements of the few elements clipped or loaded in
+    a step by a direct sum over the kernel: equal to the FFT product of those
+    changes, on a block smaller than its operator's (whose kernel it uses)."""
+    from railcontact.normal.exact import _add_direct
+    from railcontact.normal.influence import normal_operator_block
+    mx, my, dx, dy, E = 30, 26, 1e-4, 1.5e-4, MAT.contact_modulus
+    op = normal_operator_block(mx, my, dx, dy, E, 11, 9)      # serves 11 x 9 in a 12 x 9
+    assert op.kernel.shape == (2 * op.mx - 1, 2 * op.my - 1)
+    rng = np.random.default_rng(5)
+    u = rng.random((11, 9))
+    idx = np.array([0, 17, 50, 98])                           # corners and inside
+    dq = rng.normal(size=idx.size) * 1e8
+    d = np.zeros(11 * 9)
+    d[idx] = dq
+    expected = u + 0.7 * op(d.reshape(11, 9))
+    _add_direct(u, 0.7, idx, dq, op.kernel)
+    assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
+
+
 def test_displacement_controlled_solve_on_the_overlap_box():
     """With the approach given, Polonsky-Keer runs on the bounding box of the overlap
     (a block operator cut from the grid's kernel): the block's product equals the
