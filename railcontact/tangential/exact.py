@@ -280,11 +280,12 @@ def _pack(ax, ay, cidx):
 def _jacobian_times(v, cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift, contact, stick,
                     M, rho):
     """J v for the stacked vector v of the unknowns at the contact elements (outside
-    the contact J is the identity and the Newton steps are zero)."""
+    the contact J is the identity and the Newton steps are zero), and C v there (the
+    linear part of the slip, which the Newton iteration accumulates)."""
     zx, zy = _unpack(v, cidx, mx, my)
     cx, cy = _c_of(zx, zy, kxx, kxy, kyy, shape, bx, by, dx, shift)
     ox, oy = _ssn_apply(zx, zy, cx, cy, contact, stick, M, rho)
-    return _pack(ox, oy, cidx)
+    return _pack(ox, oy, cidx), _pack(cx, cy, cidx)
 
 
 @njit(cache=True, nogil=True)
@@ -301,15 +302,18 @@ def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, kxx, kxy, kyy, shape
     """Solve J d = b to ||b - J d|| <= rtol ||b|| by restarted GMRES (Saad & Schultz
     1986) with right preconditioning by P (flexible form: the preconditioned
     directions are kept, Saad 1993); Givens rotations, Gram-Schmidt twice.
-    Returns d and the number of products with J."""
+    Returns d, C d (from the products with the kept directions) and the number of
+    products with J."""
     n = b.size
     x = np.zeros(n)
+    cx = np.zeros(n)
     bnorm = np.sqrt(np.dot(b, b))
     nprod = 0
     if bnorm == 0.0:
-        return x, nprod
+        return x, cx, nprod
     V = np.empty((restart + 1, n))       # every row is written before it is read
     Z = np.empty((restart, n))
+    CZ = np.empty((restart, n))          # C of the directions
     H = np.zeros((restart + 1, restart))
     cs = np.zeros(restart)
     sn = np.zeros(restart)
@@ -318,7 +322,7 @@ def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, kxx, kxy, kyy, shape
     for cycle in range(maxcycles):
         if cycle > 0:
             r = b - _jacobian_times(x, cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
-                                    shift, contact, stick, M, rho)
+                                    shift, contact, stick, M, rho)[0]
             nprod += 1
         beta = np.sqrt(np.dot(r, r))
         if beta <= rtol * bnorm:
@@ -331,8 +335,8 @@ def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, kxx, kxy, kyy, shape
         for k in range(restart):
             Z[k] = _precond_times(V[k], cidx, mx, my, contact, stick, M, rho, dxx, dyy,
                                   shift)
-            w = _jacobian_times(Z[k], cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift,
-                                contact, stick, M, rho)
+            w, CZ[k] = _jacobian_times(Z[k], cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
+                                       shift, contact, stick, M, rho)
             nprod += 1
             # classical Gram-Schmidt, done twice (as stable as the modified form, in
             # matrix-vector products)
@@ -372,15 +376,16 @@ def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, kxx, kxy, kyy, shape
             y[i] = s / H[i, i] if H[i, i] != 0.0 else 0.0
         for i in range(k_used):
             x += y[i] * Z[i]
+            cx += y[i] * CZ[i]
         if resid <= rtol * bnorm:
             break
-    return x, nprod
+    return x, cx, nprod
 
 
 @njit(cache=True, nogil=True)
-def _ssn_state(px, py, wx, wy, kxx, kxy, kyy, shape, bx, by, dx, shift, contact, bound, rho):
-    """Residual, Jacobian blocks, stick mask and merit |F|^2 at tractions (px, py)."""
-    cx, cy = _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift)
+def _ssn_state(px, py, wx, wy, cx, cy, contact, bound, rho):
+    """Residual, Jacobian blocks, stick mask and merit |F|^2 at tractions (px, py)
+    with C p = (cx, cy) (needed in the contact only)."""
     F, M, stick = _ssn_blocks(px, py, wx + cx, wy + cy, contact, bound, rho)
     return F, M, stick, np.sum(F * F)
 
@@ -396,8 +401,12 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
     bx = np.zeros(shape)
     by = np.zeros(shape)
     gmax = max(np.max(bound), 1e-300)
-    F, M, stick, phi2 = _ssn_state(px, py, wx, wy, kxx, kxy, kyy, shape, bx, by, dx, shift,
-                                   contact, bound, rho)
+    # C p by a product once; then it follows each step from the linear solve's
+    # products (C d = sum of y_k C z_k), with no further product for the step and
+    # its line search
+    cx, cy = _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift)
+    cp = _pack(cx, cy, cidx)
+    F, M, stick, phi2 = _ssn_state(px, py, wx, wy, cx, cy, contact, bound, rho)
     converged = False
     forcing = 0.3
     phi_prev = phi2
@@ -425,26 +434,20 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
             if rmax < 1e-2 * gmax:
                 forcing = min(0.3, max(0.3 * tol * gmax / rmax, 1e-3))
         phi_prev = phi2
-        d, k = _newton_step(rhs, forcing, 60, 10, cidx, mx, my, kxx, kxy, kyy, shape, bx, by,
-                            dx, shift, contact, stick, M, rho, dxx, dyy)
+        d, cd, k = _newton_step(rhs, forcing, 60, 10, cidx, mx, my, kxx, kxy, kyy, shape,
+                                bx, by, dx, shift, contact, stick, M, rho, dxx, dyy)
         nprod += k
-        dpx, dpy = _unpack(d, cidx, mx, my)
         # backtracking on the merit function |F|^2
         alpha = 1.0
-        tx = np.zeros((mx, my))
-        ty = np.zeros((mx, my))
         for _ in range(12):
-            for i in range(mx):
-                for j in range(my):
-                    if contact[i, j]:
-                        tx[i, j] = px[i, j] + alpha * dpx[i, j]
-                        ty[i, j] = py[i, j] + alpha * dpy[i, j]
-            Fn, Mn, sn, phin = _ssn_state(tx, ty, wx, wy, kxx, kxy, kyy, shape, bx, by, dx,
-                                          shift, contact, bound, rho)
+            tx, ty = _unpack(_pack(px, py, cidx) + alpha * d, cidx, mx, my)
+            ct = cp + alpha * cd
+            cx, cy = _unpack(ct, cidx, mx, my)
+            Fn, Mn, sn, phin = _ssn_state(tx, ty, wx, wy, cx, cy, contact, bound, rho)
             if phin <= (1.0 - 1e-4 * alpha) * phi2:
                 break
             alpha *= 0.5
-        px, py, F, M, stick, phi2 = tx, ty, Fn, Mn, sn, phin
+        px, py, cp, F, M, stick, phi2 = tx, ty, ct, Fn, Mn, sn, phin
     return px, py, it, nprod, converged
 
 
