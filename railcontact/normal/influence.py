@@ -119,6 +119,19 @@ def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float
     return (Lx[:-1] + Ly[:-1]) / (np.pi * contact_modulus)
 
 
+@njit(cache=True, nogil=True)
+def _kernel_spectrum(kernel, m, n, N1, N2):
+    """Real 2-D FFT of a kernel placed for zero-padded convolution on an N1 x N2
+    grid: kernel[a, b] holds the offsets (a - (m-1), b - (n-1)), placed modulo the
+    size, so that circular convolution of an m x n field equals the linear one."""
+    k = np.zeros((N1, N2))
+    for a in range(kernel.shape[0]):
+        i = (a - (m - 1)) % N1
+        for b in range(kernel.shape[1]):
+            k[i, (b - (n - 1)) % N2] = kernel[a, b]
+    return np.fft.rfft2(k)
+
+
 class Convolution:
     """y = A p on an mx x my grid, by zero-padded real FFTs."""
 
@@ -126,14 +139,8 @@ class Convolution:
         self.mx, self.my = mx, my
         self.shape = (fft.next_fast_len(2 * mx - 1, real=True),
                       fft.next_fast_len(2 * my - 1, real=True))
-        k = np.zeros(self.shape)
-        # place offsets so that circular convolution equals linear convolution
-        k[:mx, :my] = kernel[mx - 1:, my - 1:]
-        k[-(mx - 1):, :my] = kernel[:mx - 1, my - 1:] if mx > 1 else k[-(mx - 1):, :my]
-        k[:mx, -(my - 1):] = kernel[mx - 1:, :my - 1] if my > 1 else k[:mx, -(my - 1):]
-        if mx > 1 and my > 1:
-            k[-(mx - 1):, -(my - 1):] = kernel[:mx - 1, :my - 1]
-        self.khat = fft.rfft2(k)
+        self.khat = _kernel_spectrum(np.ascontiguousarray(kernel, dtype=float), mx, my,
+                                     *self.shape)
         self.diag = float(kernel[mx - 1, my - 1])
         #: the kernel itself, offsets -(mx-1)..mx-1, -(my-1)..my-1 (the displacements
         #: of a few elements' pressures, summed directly)
@@ -264,16 +271,8 @@ class ShiftedConvolution:
         self.shape = (fft.next_fast_len(mx + mo - 1, real=True),
                       fft.next_fast_len(2 * my - 1, real=True))
         # kernel offsets di in [-(mx-1), mo-1], dj in [-(my-1), my-1]
-        k = np.zeros(self.shape)
-        nneg = mx - 1
-        k[:mo, :my] = kernel[nneg:, my - 1:]
-        if my > 1:
-            k[:mo, -(my - 1):] = kernel[nneg:, :my - 1]
-        if nneg > 0:
-            k[-nneg:, :my] = kernel[:nneg, my - 1:]
-            if my > 1:
-                k[-nneg:, -(my - 1):] = kernel[:nneg, :my - 1]
-        self.khat = fft.rfft2(k)
+        self.khat = _kernel_spectrum(np.ascontiguousarray(kernel, dtype=float), mx, my,
+                                     *self.shape)
 
     def __call__(self, p: np.ndarray) -> np.ndarray:
         return fft.irfft2(fft.rfft2(p, s=self.shape) * self.khat,
