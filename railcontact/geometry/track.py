@@ -14,6 +14,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
+from functools import lru_cache
 
 import numpy as np
 from scipy.optimize import brentq
@@ -66,20 +67,27 @@ class Track:
 
     def gauge_point(self, rail: Profile) -> float:
         """Lateral position [m] of the gauge point in rail-profile coordinates."""
-        top_y = float(rail.y[np.argmin(rail.z)])
-        z_top = float(np.min(rail.z))
-        zg = z_top + self.gauge_height
-        yy = np.linspace(rail.y_min, top_y, 4000)
-        below = rail.z_at(yy) >= zg
-        if not np.any(below):
-            raise ProfileError(f"rail profile {rail.name!r} does not reach {self.gauge_height * 1e3:.1f}"
-                               " mm below its top on the gauge side; cannot place it by gauge")
-        i = np.flatnonzero(below)[-1]
-        return brentq(lambda t: float(rail.z_at(t)) - zg, yy[i], yy[i + 1])
+        return _gauge_point(rail, self.gauge_height)
 
     def rail_offset(self, side: str) -> float:
         """Lateral position [m] of the rail-profile origin in the side frame."""
         return self._offsets[side]
+
+
+@lru_cache(maxsize=64)
+def _gauge_point(rail: Profile, gauge_height: float) -> float:
+    """:meth:`Track.gauge_point`, once per rail profile (profiles compare by identity
+    and are not changed after construction) and gauge height."""
+    top_y = float(rail.y[np.argmin(rail.z)])
+    z_top = float(np.min(rail.z))
+    zg = z_top + gauge_height
+    yy = np.linspace(rail.y_min, top_y, 4000)
+    below = rail.z_at(yy) >= zg
+    if not np.any(below):
+        raise ProfileError(f"rail profile {rail.name!r} does not reach {gauge_height * 1e3:.1f}"
+                           " mm below its top on the gauge side; cannot place it by gauge")
+    i = np.flatnonzero(below)[-1]
+    return brentq(lambda t: float(rail.z_at(t)) - zg, yy[i], yy[i + 1])
 
 
 @dataclass

@@ -3,6 +3,7 @@
 import math
 
 import numpy as np
+import pytest
 
 from railcontact.geometry import Track, Wheelset, find_contact
 from railcontact.profiles import rail_profile, s1002
@@ -94,3 +95,19 @@ def test_loci_of_given_interpenetrations_hold_the_same_patches(monkeypatch):
             assert p.side == q.side
             assert p.approach == q.approach and p.contact_angle == q.contact_angle
             assert p.extent == q.extent and p.curvatures == q.curvatures
+
+
+def test_gauge_point_per_rail_and_gauge_height():
+    """The rail's gauge point (computed once per profile and gauge height) lies where
+    the profile is gauge_height below its top on the gauge side; a deeper gauge
+    height gives a point further to the gauge side; the offsets place the gauge
+    faces the gauge apart."""
+    rail = rail_profile("60E1", math.atan(1 / 40))
+    top = float(np.min(rail.z))
+    for h in (0.014, 0.010):
+        tr = Track(rail, gauge_height=h)
+        g = tr.gauge_point(rail)
+        assert float(rail.z_at(g)) == pytest.approx(top + h, abs=1e-12)
+        assert tr.rail_offset("left") + g == pytest.approx(1.435 / 2, abs=1e-12)
+    assert Track(rail, gauge_height=0.014).gauge_point(rail) < \
+        Track(rail, gauge_height=0.010).gauge_point(rail)
