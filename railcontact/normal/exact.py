@@ -199,7 +199,6 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
             converged = True
             break
         tau = num / den
-        clipped = False
         restart = False
         total = 0.0
         nd = 0                                  # elements clipped or loaded
@@ -208,8 +207,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
                 q0 = p[i, j] - tau * t[i, j]
                 q = q0
                 if q < 0.0:
-                    q = 0.0
-                    clipped = True
+                    q = 0.0                     # clipped
                 if q == 0.0 and g[i, j] < 0.0:
                     q = -tau * g[i, j]          # an overlap: load the element
                     restart = True
