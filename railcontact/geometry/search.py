@@ -39,7 +39,7 @@ from ..normal.hertz_theory import hertz_ellipse
 from ..profiles.profile import ppoly_at
 from .contact import ContactGeometry
 from .locus import LOCUS_WINDOW, Locus, compute_locus, min_gap
-from .track import SIDES, Track, Wheelset, WheelsetPose, rotation
+from .track import SIDES, Track, Wheelset, WheelsetPose
 
 log = logging.getLogger(__name__)
 
@@ -624,13 +624,13 @@ def _creepage(side, q_side, n_tr, delta_tr, pose, r0, velocity, pitch_velocity,
     w0 = -sy * cr * pitch_velocity
     w1 = cy * cr * pitch_velocity
     w2 = sr * pitch_velocity + yaw_rate
-    # r = Q - O, O the wheelset centre; v = (V, lateral velocity, 0) + omega x r
-    r0_, r1, r2 = (float(q_side[0]), sgn * float(q_side[1]) - pose.lateral_shift,
-                   float(q_side[2]) - (pose.vertical - r0))
-    rot0 = w1 * r2 - w2 * r1
+    # d = Q - O, O the wheelset centre; v = (V, lateral velocity, 0) + omega x d
+    dx, dy, dz = (float(q_side[0]), sgn * float(q_side[1]) - pose.lateral_shift,
+                  float(q_side[2]) - (pose.vertical - r0))
+    rot0 = w1 * dz - w2 * dy
     v0 = velocity + rot0
-    v1 = lateral_velocity + (w2 * r0_ - w0 * r2)
-    v2 = w0 * r1 - w1 * r0_
+    v1 = lateral_velocity + (w2 * dx - w0 * dz)
+    v2 = w0 * dy - w1 * dx
     V = 0.5 * (abs(velocity) + abs(rot0))
     c, s = math.cos(delta_tr), math.sin(delta_tr)
     xi = -v0 / V
