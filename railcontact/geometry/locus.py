@@ -29,10 +29,13 @@ LOCUS_STEP = 2.5e-5
 
 
 @lru_cache(maxsize=32)
-def _wheel_samples(wheel, step):
+def _wheel_samples(wheel, step, offset, r0):
+    """The wheel profile's samples (y_w, z_w) every ``step`` [m], with their lateral
+    positions from the wheelset centre (``offset`` + y_w) and radii (``r0`` + z_w)."""
     n = int((wheel.y_max - wheel.y_min) / step) + 1
     yw = np.linspace(wheel.y_min, wheel.y_max, n)
-    return yw, wheel.z_at(yw)
+    zw = wheel.z_at(yw)
+    return yw, zw, offset + yw, r0 + zw
 
 
 @njit(cache=True, nogil=True)
@@ -161,9 +164,7 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     wheel, rail = wheelset.wheel(side), track.rail(side)
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
     r0 = wheelset.nominal_radius
-    yw, zw = _wheel_samples(wheel, step)
-    eta = wheelset.wheel_offset + yw
-    rho = r0 + zw
+    yw, zw, eta, rho = _wheel_samples(wheel, step, wheelset.wheel_offset, r0)
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
     y_off = track.rail_offset(side)
@@ -191,11 +192,11 @@ def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, v
     wheel, rail = wheelset.wheel(side), track.rail(side)
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
     r0 = wheelset.nominal_radius
-    yw, zw = _wheel_samples(wheel, step)
+    _, _, eta, rho = _wheel_samples(wheel, step, wheelset.wheel_offset, r0)
     if samples is not None:
-        yw, zw = yw[samples[0]:samples[1]], zw[samples[0]:samples[1]]
+        eta, rho = eta[samples[0]:samples[1]], rho[samples[0]:samples[1]]
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
-    return float(_min_gap_kernel(wheelset.wheel_offset + yw, r0 + zw, R, O,
+    return float(_min_gap_kernel(eta, rho, R, O,
                                  track.rail_offset(side), rail._breaks, rail._coefs, stride,
                                  2e-6))
