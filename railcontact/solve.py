@@ -507,6 +507,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             # check the balance with their forces
             results = _add_tangential(case, results, tmodel, previous=tangential_start)
             lateral = tangential_start = results
+            final = True
             err = {}
             for s in sides:
                 fz = vertical_force_on_rail(results, s)
@@ -540,8 +541,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             break
         new = dict(d)
         # with the solved lateral forces, a side already in balance stays where it is
-        solved = tmodel is None or all(r.tangential is not None for r in results)
-        balanced = {s for s in sides if solved and abs(err[s]) <= rtol * loads[s]}
+        balanced = {s for s in sides if final and abs(err[s]) <= rtol * loads[s]}
         for s in sides:
             if s in balanced:
                 continue

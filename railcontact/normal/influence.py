@@ -139,12 +139,11 @@ class Convolution:
         self.mx, self.my = mx, my
         self.shape = (fft.next_fast_len(2 * mx - 1, real=True),
                       fft.next_fast_len(2 * my - 1, real=True))
-        self.khat = _kernel_spectrum(np.ascontiguousarray(kernel, dtype=float), mx, my,
-                                     *self.shape)
-        self.diag = float(kernel[mx - 1, my - 1])
         #: the kernel itself, offsets -(mx-1)..mx-1, -(my-1)..my-1 (the displacements
         #: of a few elements' pressures, summed directly)
         self.kernel = np.ascontiguousarray(kernel, dtype=float)
+        self.khat = _kernel_spectrum(self.kernel, mx, my, *self.shape)
+        self.diag = float(kernel[mx - 1, my - 1])
 
     def __call__(self, p: np.ndarray) -> np.ndarray:
         """A p for p on the grid, or on a smaller block (an operator of a block serves

@@ -406,6 +406,7 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
     # its line search
     cx, cy = _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift)
     cp = _pack(cx, cy, cidx)
+    pp = _pack(px, py, cidx)                  # the unknowns, stacked
     F, M, stick, phi2 = _ssn_state(px, py, wx, wy, cx, cy, contact, bound, rho)
     converged = False
     forcing = 0.3
@@ -440,14 +441,15 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
         # backtracking on the merit function |F|^2
         alpha = 1.0
         for _ in range(12):
-            tx, ty = _unpack(_pack(px, py, cidx) + alpha * d, cidx, mx, my)
+            pt = pp + alpha * d
             ct = cp + alpha * cd
+            tx, ty = _unpack(pt, cidx, mx, my)
             cx, cy = _unpack(ct, cidx, mx, my)
             Fn, Mn, sn, phin = _ssn_state(tx, ty, wx, wy, cx, cy, contact, bound, rho)
             if phin <= (1.0 - 1e-4 * alpha) * phi2:
                 break
             alpha *= 0.5
-        px, py, cp, F, M, stick, phi2 = tx, ty, ct, Fn, Mn, sn, phin
+        pp, px, py, cp, F, M, stick, phi2 = pt, tx, ty, ct, Fn, Mn, sn, phin
     return px, py, it, nprod, converged
 
 
