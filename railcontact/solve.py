@@ -232,7 +232,8 @@ def _solve(case, normal, tangential, warm_start):
     else:
         results, contact = _solve_wheel_rail(case, nmodel, tmodel, kw,
                                              rtol=case.force_tolerance,
-                                             previous=warm_start.patches if warm_start else None)
+                                             previous=warm_start.patches if warm_start else None,
+                                             start=warm_start.contact if warm_start else None)
         pose = contact.pose
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)
 
@@ -436,11 +437,35 @@ def _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous):
     return d, out
 
 
+def _first_search(case, bodies, loads, sides, start):
+    """The contact search the vertical-force iteration starts from.
+
+    With ``start`` (the contact of a neighbouring case's result, e.g. the previous
+    case of a sweep): at its interpenetrations, scaled to this case's loads as
+    Hertz's approach (Q^(2/3)), from its roll; a neighbour's balanced
+    interpenetrations are a closer start than an estimate, and one search at given
+    interpenetrations costs about half the estimate's.  Else (or where ``start``
+    has no interpenetration on a side): the geometry layer's multi-Hertzian
+    estimate, one load iteration (its own fixed-point iteration costs more passes
+    of the iteration than it saves)."""
+    if start is not None and start.interpenetration and start.loads:
+        d0 = {}
+        for s in sides:
+            d, q = start.interpenetration.get(s, 0.0), start.loads.get(s, math.nan)
+            d0[s] = d * (loads[s] / q) ** (2.0 / 3.0) if q > 0 else math.nan
+        if all(math.isfinite(v) and v > 0 for v in d0.values()):
+            return contact_search(case, interpenetration=d0, bodies=bodies,
+                                  roll_start=start.pose.roll)
+    return contact_search(case, bodies=bodies, load_iterations=1)
+
+
 def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
-                      previous=None):
+                      previous=None, start=None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
 
-    The geometry layer's multi-Hertzian estimate gives the first wheelset height;
+    The geometry layer's multi-Hertzian estimate gives the first wheelset height
+    (a neighbouring case's interpenetrations where ``start``, its contact, is given:
+    :func:`_first_search`);
     where each side has one loaded patch of small contact angle, a first step
     solves those normal problems for the force that carries the load and moves the
     interpenetrations by the change of approach (:func:`_force_step`); then the
@@ -460,15 +485,12 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     """
     bodies = build_wheelset_track(case)
     converged = True
-    # one multi-Hertzian load iteration: a start, which the iteration below corrects
-    # (the geometry layer's own fixed-point iteration on it costs more passes than
-    # it saves)
-    contact = contact_search(case, bodies=bodies, load_iterations=1)
-    loads = case.wheel_loads()
     side = case.get("wheelset.side", "both")
+    loads = case.wheel_loads()
+    sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
+    contact = _first_search(case, bodies, loads, sides, start)
     coupled = _coupled(case, nmodel, tmodel)
     lazy = tmodel is not None and not coupled
-    sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
     # whose F_y/F_n stands in until the tangential solution: Hertz + FASTSIM's on
     # these patches (cheap, with this case's creepages, within about 10 % of the
     # exact F_y: a few 1e-4 of the load in the balance)
