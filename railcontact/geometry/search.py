@@ -61,11 +61,13 @@ class WheelsetContact:
         All contact patches, left side first, each side from field to gauge side.
     loci : dict
         The contact locus of each side (side frame).
-    converged, passes, vertical_residual
+    converged, passes, vertical_residual, standin
         Set by :func:`railcontact.solve` on the contact of its result: whether the
         vertical-force iteration met the load, how many times it solved the
-        patches' normal problems (it ran as many contact searches), and the
-        relative residual of each side's vertical balance.
+        patches' normal problems (it ran as many contact searches), the
+        relative residual of each side's vertical balance, and the Hertz + FASTSIM
+        patch results whose F_y/F_n stood in for the lateral forces (a warm start
+        of a neighbouring case uses them).
     """
 
     pose: WheelsetPose
@@ -76,6 +78,7 @@ class WheelsetContact:
     converged: bool = True
     passes: int = 0
     vertical_residual: dict | None = None
+    standin: list | None = field(default=None, repr=False)
 
     def side_patches(self, side: str) -> list:
         return [p for p in self.patches if p.side == side]
