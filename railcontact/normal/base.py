@@ -7,7 +7,7 @@ from dataclasses import dataclass, field
 from typing import Callable
 
 import numpy as np
-from scipy.ndimage import map_coordinates
+from numba import njit
 
 from ..errors import InputError
 from ..registry import Registry
@@ -137,10 +137,48 @@ def make_grid(extent_x: float, extent_y: float, grid=None, element_size=None,
     return x, y
 
 
+def same_grid(x1, y1, x2, y2) -> bool:
+    """Whether two grids of element centres (equally spaced, as :func:`make_grid`
+    makes them) are one: as many elements, first and last centres within 1e-6 of an
+    element."""
+    if x1 is x2 and y1 is y2:
+        return True
+    for a, b in ((x1, x2), (y1, y2)):
+        if a.size != b.size or a.size < 2:
+            return False
+        tol = 1e-6 * abs(float(a[1]) - float(a[0]))
+        if abs(float(a[0]) - float(b[0])) > tol or abs(float(a[-1]) - float(b[-1])) > tol:
+            return False
+    return True
+
+
 def bilinear(x, y, f, xq, yq) -> np.ndarray:
-    """Values ``f`` on the element centres (x, y) of a grid at the points (xq, yq)
-    (arrays of one shape): bilinear between the centres, zero outside them."""
+    """Values ``f`` on the element centres (x, y) of a grid (at least 2 x 2) at the
+    points (xq, yq) (arrays of one shape): bilinear between the centres, zero
+    outside them (as ``scipy.ndimage.map_coordinates`` with ``order=1,
+    mode="constant"``, compiled: a warm start interpolates a neighbour's solution
+    onto its grid several times per case)."""
     xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
-    coords = np.stack([((xq - x[0]) / (x[1] - x[0])).ravel(),
-                       ((yq - y[0]) / (y[1] - y[0])).ravel()])
-    return map_coordinates(f, coords, order=1, mode="constant", cval=0.0).reshape(xq.shape)
+    u = ((xq - x[0]) / (x[1] - x[0])).ravel()
+    v = ((yq - y[0]) / (y[1] - y[0])).ravel()
+    out = np.empty(u.size)
+    _bilinear_kernel(np.ascontiguousarray(f, dtype=float), u, v, out)
+    return out.reshape(xq.shape)
+
+
+@njit(cache=True, nogil=True)
+def _bilinear_kernel(f, u, v, out):
+    """out[k] = f bilinear at the fractional indices (u[k], v[k]); 0 outside the
+    grid of centres."""
+    mx, my = f.shape
+    for k in range(u.size):
+        a, b = u[k], v[k]
+        if not (0.0 <= a <= mx - 1 and 0.0 <= b <= my - 1):
+            out[k] = 0.0
+            continue
+        i = min(int(a), mx - 2)
+        j = min(int(b), my - 2)
+        a -= i
+        b -= j
+        out[k] = ((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1])
+                  + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))

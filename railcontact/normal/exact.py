@@ -27,7 +27,7 @@ from numba import njit
 
 from ..errors import InputError
 from ..materials import STEEL, Material
-from .base import NormalSolution, bilinear, make_grid, register
+from .base import NormalSolution, bilinear, make_grid, register, same_grid
 from .hertz_theory import hertz_ellipse
 from .influence import bounding_box, normal_operator, normal_operator_block
 
@@ -527,9 +527,7 @@ class ExactNormalModel:
         dA = dx * dy
         p0 = None
         if warm_start is not None and warm_start.pressure.max() > 0:
-            if (warm_start.x is x and warm_start.y is y) or (
-                    warm_start.pressure.shape == h0.shape and np.allclose(warm_start.x, x)
-                    and np.allclose(warm_start.y, y)):
+            if same_grid(warm_start.x, warm_start.y, x, y):
                 p0 = warm_start.pressure
             elif warm_start.pressure_at is not None:
                 # another grid (a neighbouring case of a sweep): its pressure there

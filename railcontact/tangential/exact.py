@@ -44,7 +44,7 @@ from numba import njit
 
 from ..errors import InputError
 from ..materials import STEEL, Material
-from ..normal.base import bilinear
+from ..normal.base import bilinear, same_grid
 from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
 from .base import TangentialSolution, check_inputs, register
 
@@ -560,8 +560,7 @@ def _initial_tractions(warm, x, y, contact, bound):
     """Tractions on the rail (body 1) from a previous solution ``warm``: on the same
     grid as they are, on another grid interpolated (linear, zero outside); inside
     the contact and within the traction bound."""
-    if (warm.x is x and warm.y is y) or (warm.traction_x.shape == contact.shape
-                                         and np.allclose(warm.x, x) and np.allclose(warm.y, y)):
+    if same_grid(warm.x, warm.y, x, y):
         tx, ty = -warm.traction_x, -warm.traction_y
     else:
         X, Y = np.broadcast_arrays(x[:, None], y[None, :])

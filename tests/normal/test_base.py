@@ -1,0 +1,34 @@
+"""Grid helpers shared by the normal models (railcontact.normal.base)."""
+
+import numpy as np
+from scipy.ndimage import map_coordinates
+
+from railcontact.normal.base import bilinear, make_grid, same_grid
+
+
+def test_bilinear_equals_scipy_map_coordinates():
+    """The compiled interpolation equals scipy's order-1, mode="constant" one: bilinear
+    between the element centres, zero outside them (edges and points a rounding
+    error outside included)."""
+    rng = np.random.default_rng(3)
+    x, y = make_grid(2e-3, 1e-3, (40, 37))
+    f = rng.random((40, 37))
+    xq = rng.uniform(x[0] - 3e-4, x[-1] + 3e-4, 5000)
+    yq = rng.uniform(y[0] - 3e-4, y[-1] + 3e-4, 5000)
+    xq[:40], yq[40:80], xq[80:120] = x[0], y[-1], x[-1] * (1 + 1e-15)
+    u, v = (xq - x[0]) / (x[1] - x[0]), (yq - y[0]) / (y[1] - y[0])
+    ref = map_coordinates(f, np.stack([u, v]), order=1, mode="constant", cval=0.0)
+    np.testing.assert_allclose(bilinear(x, y, f, xq, yq), ref, rtol=0, atol=1e-14)
+    # on the centres it returns the values; a (n, 1) x (1, m) query keeps its shape
+    np.testing.assert_allclose(bilinear(x, y, f, x[:, None], y[None, :]), f, atol=1e-14)
+    assert bilinear(x, y, f, x[:5, None], y[None, :3]).shape == (5, 3)
+    assert not bilinear(x, y, f, np.array([x[0] - 1e-6]), np.array([y[3]])).any()
+
+
+def test_same_grid():
+    x, y = make_grid(2e-3, 1e-3, (40, 30))
+    assert same_grid(x, y, x, y) and same_grid(x, y, x.copy() + 1e-15, y.copy())
+    x2, y2 = make_grid(2e-3 * (1 + 1e-4), 1e-3, (40, 30))
+    assert not same_grid(x, y, x2, y2)                    # 1e-4 of the extent apart
+    assert not same_grid(x, y, x[:-1], y)                 # one element fewer
+    assert not same_grid(x, y, x, y + 1e-8)               # shifted by 1e-4 elements
