@@ -52,8 +52,29 @@ def test_sweep_10kN_single_wheel(refdir, y):
     assert p.normal.normal_force == pytest.approx(float(r["fn_mat_N"]), rel=0.01)
     assert p.normal.pmax == pytest.approx(float(r["pmax_mat_MPa"]) * 1e6, rel=0.03)
     assert p.normal.area == pytest.approx(float(r["area_mm2"]) * 1e-6, rel=0.04)
-    # tread: Fx within 1 %; flange: 3 % (the kinematic creepage at our contact point is
-    # -1.03e-3 where CONTACT tuned it to -1.00e-3)
-    tol = 0.01 if y < 5 else 0.03
-    assert p.tangential.fx == pytest.approx(-float(r["fx_N"]), rel=tol)
-    assert p.tangential.fy == pytest.approx(-float(r["fs_N"]), rel=0.05)
+    # measured Fx -0.12, 0.00, +0.12 %; Fy +1.34, +0.07, +0.22 %: at -2 mm, on the
+    # rail's crown, our gap-weighted reference point lies 0.06 mm from CONTACT's and the
+    # contact angle, hence the spin creepage that drives F_y there, is 1.7 % larger
+    assert p.tangential.fx == pytest.approx(-float(r["fx_N"]), rel=0.01)
+    tol = 0.02 if y < 0 else 0.01
+    assert p.tangential.fy == pytest.approx(-float(r["fs_N"]), rel=tol)
+
+
+@pytest.mark.parametrize("y", [3.0, 8.0])
+def test_sweep_10kN_fine_elements(refdir, y):
+    """On CONTACT's run with 0.125 mm elements the flange patch at 8 mm (22 elements
+    across) agrees as the tread does: F_n, F_x, F_y within 1 %, area within 2 %, p_max
+    within 3 % (measured at 3 / 8 mm: F_x +0.03 / -0.65 %, F_y +0.14 / -0.19 %, area
+    +0.45 / +0.23 %, p_max +0.01 / -0.90 %).  On 0.25 mm elements the 8 mm patch is
+    11 elements across and its area moves by -11 to +6 % with the placement of the
+    element lattice (benchmarks/results.md)."""
+    rows = {float(r["y_ws_mm"]): r for r in read_csv(refdir / "mbench_sweep_10kN_dx0125.csv")}
+    r = rows[y]
+    res = rc.solve(rc.case_from_dict(_raw(refdir, y, 0.0, float(r["vpitch_rad_s"]), 0.125e-3,
+                                          {"side": "right", "roll": 0.0})))
+    (p,) = res.patches
+    assert p.normal.normal_force == pytest.approx(float(r["fn_mat_N"]), rel=0.01)
+    assert p.tangential.fx == pytest.approx(-float(r["fx_N"]), rel=0.01)
+    assert p.tangential.fy == pytest.approx(-float(r["fs_N"]), rel=0.01)
+    assert p.normal.area == pytest.approx(float(r["area_mm2"]) * 1e-6, rel=0.02)
+    assert p.normal.pmax == pytest.approx(float(r["pmax_mat_MPa"]) * 1e6, rel=0.03)

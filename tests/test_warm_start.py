@@ -208,14 +208,16 @@ def test_warm_start_corrects_the_stand_in_lateral_forces():
     assert ratio(NS(side="right", y_rail=0.0)) == pytest.approx(0.05)
     assert S._CorrectedRatio(fast, nb, [])(NS(side="left", y_rail=0.0)) == pytest.approx(0.1)
 
-    # six neighbouring cases of the benchmark sweep (2.8-3.1 mm, creepages varying
-    # from case to case): the corrected stand-in's error in the balance, F_y sin(d)
-    # relative to F_n, is under half FASTSIM's (measured 1.9e-5 against 8.4e-5)
+    # eight neighbouring cases of the benchmark sweep (0.2-0.5 mm shift, 2 mrad yaw,
+    # creepages varying from case to case), where FASTSIM's F_y is 4e-3 F_n off on one
+    # side: the corrected stand-in's error in the balance, F_y sin(d) relative to F_n,
+    # is a sixteenth of FASTSIM's on average (measured 1.3e-4 against 2.1e-3; on the
+    # whole sweep it is within 1e-4 for 78 % of the patches, FASTSIM's for 50 %)
     import math
     err_fast, err_corrected, prev = [], [], None
-    for j in range(130, 136):
+    for j in range(330, 338):
         raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-               "wheelset": {"lateral_shift": -4e-3 + 13e-3 * j / 249, "yaw": 0.0,
+               "wheelset": {"lateral_shift": -4e-3 + 13e-3 * j / 249, "yaw": 2e-3,
                             "vertical_force": 6e4, "velocity": 30.0},
                "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
                             "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
@@ -234,7 +236,8 @@ def test_warm_start_corrects_the_stand_in_lateral_forces():
                                          - exact))
                 err_corrected.append(sd * abs(corrected(p.geometry) - exact))
         prev = res
-    assert np.mean(err_corrected) < 0.5 * np.mean(err_fast)
+    assert np.mean(err_corrected) < 0.25 * np.mean(err_fast)
+    assert sum(e > 1e-4 for e in err_corrected) < sum(e > 1e-4 for e in err_fast)
 
 
 def test_warm_sweep_equals_cold_sweep():

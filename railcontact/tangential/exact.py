@@ -453,6 +453,15 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
     return px, py, it, nprod, converged
 
 
+#: in steady rolling the lateral rigid slip of spin, eta + phi x, is taken at
+#: x + SPIN_OFFSET dx (towards the leading edge), as CONTACT does (the factor FACPHI of
+#: its rolling step, default 1/6, Vollebregt's CONTACT user guide): an O(dx) choice of
+#: the discretisation, with the same continuum limit, by which the lateral force of
+#: spin (C23) equals CONTACT's on the same grid to 0.05 % (taken at x it is 1-4 %
+#: lower on 80- to 20-element grids)
+SPIN_OFFSET = 1.0 / 6.0
+
+
 @lru_cache(maxsize=32)
 def _self_terms(mx, my, dx, dy, G, nu):
     kxx, _, kyy = tangential_kernels(1, 1, dx, dy, G, nu)
@@ -494,7 +503,8 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
                    mode="rolling", w_extra=None):
     """Solve the discrete steady-rolling (or shift) problem by a semi-smooth Newton method.
 
-    ``mode="rolling"``: s = w - (u_I+ - u_I)/dx with w from the creepages.
+    ``mode="rolling"``: s = w - (u_I+ - u_I)/dx with w from the creepages,
+    w = (xi - phi y, eta + phi (x + SPIN_OFFSET dx)).
     ``mode="shift"``: Cattaneo's transient shift from an unloaded state,
     s = w + u (slip displacement [m]), with ``creepage`` = (shift_x, shift_y, rotation)
     the rigid shift [m, m] and rotation about n [rad] of body 1.
@@ -514,7 +524,8 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
         dxx, dyy = kx, ky
     xi, eta, phi = creepage
     wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
-    wy = np.ascontiguousarray(np.where(contact, eta + phi * x[:, None], 0.0))
+    x_spin = x + SPIN_OFFSET * dx if mode == "rolling" else x
+    wy = np.ascontiguousarray(np.where(contact, eta + phi * x_spin[:, None], 0.0))
     if w_extra is not None:
         wx = np.ascontiguousarray(wx + np.where(contact, w_extra[0], 0.0))
         wy = np.ascontiguousarray(wy + np.where(contact, w_extra[1], 0.0))

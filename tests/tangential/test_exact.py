@@ -52,9 +52,10 @@ def coefficients(ns, mat, c, e=1e-6, mu=0.3):
 
 
 def test_against_contact_same_grid(refdir):
-    """Same grid and discrete contact area as CONTACT: C11, C22, C23(eta) agree to 0.1 %;
-    the spin terms differ O(dx) (CONTACT evaluates the spin slip slightly differently):
-    measured -1.2 % (C23 from spin) on 80-element grids."""
+    """Same grid and discrete contact area as CONTACT: C11, C22 and C23 (from lateral
+    creepage and from spin) agree to 0.1 % (measured 0.04 %), the lateral rigid slip
+    of spin taken where CONTACT takes it (SPIN_OFFSET); at the element centres C23
+    from spin is 1-4 % lower, O(dx)."""
     rows = [r for r in read_csv(refdir / "kalker_coefficients_contact.csv")
             if float(r["mu"]) < 1 and int(r["mx"]) * int(r["my"]) <= 6400
             and float(r["creepage"]) == 1e-5 and float(r["nu"]) == 0.28]
@@ -66,10 +67,8 @@ def test_against_contact_same_grid(refdir):
                            float(r["dy_mm"]) * 1e-3, float(r["fn_N"]), mat)
         assert int(ns.contact.sum()) == int(r["ncon"])
         c = coefficients(ns, mat, math.sqrt(a * b), e=1e-5)
-        for k in ("C11", "C22", "C23_eta"):
+        for k in ("C11", "C22", "C23_eta", "C23_phi"):
             assert c[k] == pytest.approx(float(r[k]), rel=1e-3), (k, r["a_over_b"], r["mx"])
-        tol = 0.05 if int(r["mx"]) * int(r["my"]) < 1600 else 0.025
-        assert c["C23_phi"] == pytest.approx(float(r["C23_phi"]), rel=tol)
 
 
 @pytest.mark.parametrize("ab, mx, my", [(1.0, 80, 80), (0.5, 40, 80), (2.0, 80, 40)])
