@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from functools import lru_cache
 from pathlib import Path
 
 from ..errors import ProfileError
@@ -55,10 +56,27 @@ def get_profile(spec, kind: str, inclination: float | None = None,
             builtins = WHEEL_PROFILES if kind == "wheel" else RAIL_PROFILES
             raise ProfileError(f"{kind} profile {name!r}: neither a built-in name "
                                f"({', '.join(builtins)}) nor an existing file")
-        prof = read_profile(path, kind=kind, **read_kw)
+        stat = path.stat()
+        prof = _read_file(str(path.resolve()), stat.st_mtime_ns, stat.st_size, kind,
+                          tuple(sorted(read_kw.items())))
     if prof.kind != kind:
         raise ProfileError(f"profile {prof.name!r} is a {prof.kind} profile; expected a {kind} "
                            "profile")
     if kind == "rail" and inclination:
-        prof = prof.rotated(inclination).with_origin_at_top()
+        prof = _inclined(prof, float(inclination))
     return prof
+
+
+@lru_cache(maxsize=32)
+def _read_file(path: str, mtime_ns: int, size: int, kind: str, read_kw: tuple) -> Profile:
+    """A profile file read once per version (path, modification time and size): a
+    sweep or a time history that names a profile file solves every case with the
+    same profile, which takes longer to parse than an exact case to solve."""
+    return read_profile(Path(path), kind=kind, **dict(read_kw))
+
+
+@lru_cache(maxsize=32)
+def _inclined(prof: Profile, inclination: float) -> Profile:
+    """A rail profile turned by its inclination, its origin at the top (once per
+    profile and inclination)."""
+    return prof.rotated(inclination).with_origin_at_top()

@@ -98,3 +98,25 @@ def test_smoothing_and_resampling():
     assert 130 < rs.y.size < 200
     with pytest.raises(ProfileError):
         w.smoothed(-1.0)
+
+
+def test_profile_files_are_read_once_per_version(tmp_path):
+    """A profile file named by many cases is parsed once; a changed file is read
+    again; a rail file turned by an inclination is turned once."""
+    import os
+    w = s1002().resampled(step=5e-4)
+    path = write_profile(w, tmp_path / "wheel.prw")
+    a = get_profile(str(path), "wheel")
+    assert get_profile(path.name, "wheel", base_dir=tmp_path) is a
+    shifted = w.shifted(dz=1e-3)
+    write_profile(shifted, path)
+    st = os.stat(path)
+    os.utime(path, ns=(st.st_atime_ns, st.st_mtime_ns + 10**9))  # a later version
+    b = get_profile(str(path), "wheel")
+    assert b is not a and float(b.z_at(0.0)) == pytest.approx(float(a.z_at(0.0)) + 1e-3,
+                                                             abs=1e-9)
+    r = write_profile(get_profile("60E1", "rail", inclination=0.0).resampled(step=5e-4),
+                      tmp_path / "rail.prr")
+    r1 = get_profile(str(r), "rail", inclination=0.025)
+    assert get_profile(str(r), "rail", inclination=0.025) is r1
+    assert get_profile(str(r), "rail", inclination=0.0) is not r1
