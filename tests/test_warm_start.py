@@ -324,7 +324,9 @@ def test_force_step_lands_near_the_balance(models, rel):
 def test_force_jump_shows_in_the_vertical_residual(caplog):
     """At 6.39 mm one planar patch spans flange root and flange and its vertical force
     jumps across the load with the interpenetration: the iteration stops on the
-    collapsed bracket, warns, and the result's vertical_residual shows the miss."""
+    collapsed bracket, warns, the result's vertical_residual shows the miss and the
+    result is flagged unconverged (contact.force_jump tells why); a warm start from
+    it is not solved again cold (the jump is the model's)."""
     import logging
     import math
     j = 199                  # case 199 of the bench sweep
@@ -340,3 +342,10 @@ def test_force_jump_shows_in_the_vertical_residual(caplog):
     worst = max(abs(v) for v in res.vertical_residual.values())
     assert worst > 1e-3
     assert any("jumps across the load" in r.getMessage() for r in caplog.records)
+    assert not res.converged and res.contact.force_jump
+    assert res.to_dict()["converged"] is False
+    caplog.clear()
+    with caplog.at_level(logging.INFO, logger="railcontact.solve"):
+        again = rc.solve(case_from_dict(raw), warm_start=res)
+    assert not any("solving it again cold" in r.getMessage() for r in caplog.records)
+    assert not again.converged and again.contact.force_jump

@@ -61,9 +61,10 @@ class WheelsetContact:
         All contact patches, left side first, each side from field to gauge side.
     loci : dict
         The contact locus of each side (side frame).
-    converged, passes, vertical_residual, standin
+    converged, force_jump, passes, vertical_residual, standin
         Set by :func:`railcontact.solve` on the contact of its result: whether the
-        vertical-force iteration met the load, how many times it solved the
+        vertical-force iteration met the load (and whether it stopped where the
+        model's vertical force jumps across the load), how many times it solved the
         patches' normal problems (it ran as many contact searches), the
         relative residual of each side's vertical balance, and the Hertz + FASTSIM
         patch results whose F_y/F_n stood in for the lateral forces (a warm start
@@ -76,6 +77,7 @@ class WheelsetContact:
     loads: dict | None = None
     interpenetration: dict | None = None
     converged: bool = True
+    force_jump: bool = False
     passes: int = 0
     vertical_residual: dict | None = None
     standin: list | None = field(default=None, repr=False)
