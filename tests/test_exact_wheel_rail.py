@@ -42,13 +42,20 @@ def test_a22_both_wheels(refdir, y):
         assert p.normal.area == pytest.approx(float(r["area_mm2"]) * 1e-6, rel=tol)
 
 
-@pytest.mark.parametrize("y", [-2.0, 3.0, 9.0])
-def test_sweep_10kN_single_wheel(refdir, y):
-    rows = {float(r["y_ws_mm"]): r for r in read_csv(refdir / "mbench_sweep_10kN.csv")}
+def _sweep_patch(refdir, name, y, element):
+    """Our patch and CONTACT's row of the 10 kN sweep file ``name`` at shift y [mm]
+    (right wheel, roll 0, square elements of ``element`` [m])."""
+    rows = {float(r["y_ws_mm"]): r for r in read_csv(refdir / name)}
     r = rows[y]
-    res = rc.solve(rc.case_from_dict(_raw(refdir, y, 0.0, float(r["vpitch_rad_s"]), 0.25e-3,
+    res = rc.solve(rc.case_from_dict(_raw(refdir, y, 0.0, float(r["vpitch_rad_s"]), element,
                                           {"side": "right", "roll": 0.0})))
     (p,) = res.patches
+    return p, r
+
+
+@pytest.mark.parametrize("y", [-2.0, 3.0, 9.0])
+def test_sweep_10kN_single_wheel(refdir, y):
+    p, r = _sweep_patch(refdir, "mbench_sweep_10kN.csv", y, 0.25e-3)
     assert p.normal.normal_force == pytest.approx(float(r["fn_mat_N"]), rel=0.01)
     assert p.normal.pmax == pytest.approx(float(r["pmax_mat_MPa"]) * 1e6, rel=0.03)
     assert p.normal.area == pytest.approx(float(r["area_mm2"]) * 1e-6, rel=0.04)
@@ -68,11 +75,7 @@ def test_sweep_10kN_fine_elements(refdir, y):
     +0.45 / +0.23 %, p_max +0.01 / -0.90 %).  On 0.25 mm elements the 8 mm patch is
     11 elements across and its area moves by -11 to +6 % with the placement of the
     element lattice (benchmarks/results.md)."""
-    rows = {float(r["y_ws_mm"]): r for r in read_csv(refdir / "mbench_sweep_10kN_dx0125.csv")}
-    r = rows[y]
-    res = rc.solve(rc.case_from_dict(_raw(refdir, y, 0.0, float(r["vpitch_rad_s"]), 0.125e-3,
-                                          {"side": "right", "roll": 0.0})))
-    (p,) = res.patches
+    p, r = _sweep_patch(refdir, "mbench_sweep_10kN_dx0125.csv", y, 0.125e-3)
     assert p.normal.normal_force == pytest.approx(float(r["fn_mat_N"]), rel=0.01)
     assert p.tangential.fx == pytest.approx(-float(r["fx_N"]), rel=0.01)
     assert p.tangential.fy == pytest.approx(-float(r["fs_N"]), rel=0.01)
