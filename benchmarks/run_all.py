@@ -405,6 +405,15 @@ def bench_sweep_parallel():
     t_proc = best_of(lambda: rc.sweep(case, vary, scheduler="processes", progress=False), 1)
     out(f"* 128 wheel-rail cases: sync {t_sync:.2f} s, processes {t_proc:.2f} s "
         f"(speed-up {t_sync / t_proc:.2f})")
+    vary = {"wheelset.lateral_shift": [round(0.00004 * i, 7) for i in range(256)]}
+    t_sync = best_of(lambda: rc.sweep(case, vary, "exact", "exact", scheduler="sync",
+                                      progress=False), 1)
+    t_proc = best_of(lambda: rc.sweep(case, vary, "exact", "exact", scheduler="processes",
+                                      progress=False), 1)
+    out(f"* 256 exact wheel-rail cases: sync {t_sync:.2f} s, processes {t_proc:.2f} s "
+        f"(speed-up {t_sync / t_proc:.2f}); `scheduler=\"auto\"` starts processes where a "
+        "sweep is expected to take over 8 s in one process (from 400 exact or 1600 "
+        "Hertz + FASTSIM cases)")
 
 
 FAST_MODELS = [("hertz", "fastsim"), ("kik-piotrowski", "fastsim"), ("kpec", "fastsim"),

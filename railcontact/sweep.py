@@ -59,6 +59,25 @@ def _solve_chain(raws, base_dir, normal, tangential, warm):
     return out
 
 
+#: estimated time [s] of one wheel-rail case by the heavier of its models, for the
+#: "auto" scheduler (``make bench``: exact normal + tangential 15-20 ms per case,
+#: Hertz + FASTSIM and the strip models 3-7 ms)
+CASE_SECONDS = {"exact": 0.02}
+OTHER_CASE_SECONDS = 0.005
+
+#: "auto" runs a sweep in worker processes when it is expected to take longer than this
+#: [s] in one process: starting the workers (each imports railcontact and loads the
+#: compiled kernels) costs about 2.5 s, and two cores save half of the rest (``make
+#: bench``: 256 exact cases, 4.8 s in one process, took 5.6 s in two)
+PROCESSES_FROM = 8.0
+
+
+def _expected_seconds(case: Case, n: int, normal, tangential) -> float:
+    """Rough time [s] of n cases of this case's models in one process."""
+    names = {str(normal or case.normal).lower(), str(tangential or case.tangential).lower()}
+    return n * max([CASE_SECONDS.get(m, OTHER_CASE_SECONDS) for m in names])
+
+
 def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | None = None,
           scheduler: str = "auto", progress: bool = True, warm: bool = False,
           chains: int | None = None) -> dict:
@@ -71,7 +90,9 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
         Dotted case key -> list of values, e.g. ``{"wheelset.lateral_shift": [0, 0.001]}``.
     scheduler : str
         Dask scheduler: ``"sync"``, ``"threads"``, ``"processes"``, ``"auto"``
-        (processes from 64 cases: worker start-up costs about a second) or the address of a Dask scheduler
+        (processes where the sweep is expected to take over ``PROCESSES_FROM``
+        seconds in one process, e.g. from 400 exact or 1600 Hertz + FASTSIM cases:
+        starting the workers costs about 2.5 s) or the address of a Dask scheduler
         (``tcp://host:8786``) to run on a cluster.
     progress : bool
         Show a progress bar.
@@ -99,7 +120,8 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
             c = c.with_value(k, v)   # validates every combination before any work
         raws.append(c.raw)
     if scheduler == "auto":
-        scheduler = "processes" if len(raws) >= 64 else "sync"
+        long = _expected_seconds(case, len(raws), normal, tangential) > PROCESSES_FROM
+        scheduler = "processes" if long and (os.cpu_count() or 1) > 1 else "sync"
     if chains is None:
         chains = len(raws) if not warm else (1 if scheduler == "sync" else (os.cpu_count() or 1))
     if not (isinstance(chains, int) and chains >= 1):

@@ -85,6 +85,33 @@ def test_sweep_threads_equals_sync():
     assert [c["patches"][0]["Fx"] for c in a["cases"]] == [c["patches"][0]["Fx"] for c in b["cases"]]
 
 
+def test_auto_scheduler_uses_processes_for_long_sweeps_only(monkeypatch):
+    """"auto" starts worker processes only where the sweep is expected to take longer
+    than their start-up is worth (PROCESSES_FROM seconds in one process)."""
+    import importlib
+
+    import dask
+    sw = importlib.import_module("railcontact.sweep")
+    case = rc.load_case(EX / "wheel_rail.toml")
+    assert sw._expected_seconds(case, 100, "exact", "exact") == pytest.approx(2.0)
+    assert sw._expected_seconds(case, 100, "hertz", "fastsim") == pytest.approx(0.5)
+    assert sw._expected_seconds(case, 100, "hertz", "exact") == pytest.approx(2.0)
+    used = []
+    real = dask.compute
+
+    def spy(*tasks, **kw):
+        used.append(kw.get("scheduler"))
+        return real(*tasks, scheduler="sync")
+
+    monkeypatch.setattr(dask, "compute", spy)
+    vary = {"wheelset.lateral_shift": [0.0, 1e-3]}
+    sw.sweep(case, vary, "hertz", "fastsim", progress=False)
+    monkeypatch.setattr(sw, "PROCESSES_FROM", 0.001)
+    monkeypatch.setattr(sw.os, "cpu_count", lambda: 2)
+    sw.sweep(case, vary, "hertz", "fastsim", progress=False)
+    assert used == ["sync", "processes"]
+
+
 @pytest.mark.parametrize("text, msg", [
     ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[solver]\nnormal='hurtz'\n", "hurtz"),
     ("[wheel]\nprofile='S1003'\n[rail]\nprofile='60E1'\n", "S1003"),
