@@ -154,12 +154,18 @@ LOCUS_WINDOW = 1e-3
 
 def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: float,
                   vertical: float, roll: float, yaw: float, step: float = LOCUS_STEP,
-                  stride: int = 8, window: float = LOCUS_WINDOW) -> Locus:
+                  stride: int = 8, window: float = LOCUS_WINDOW,
+                  samples: tuple | None = None) -> Locus:
     """Contact locus and vertical gap for one side at the given wheelset pose.
 
     A coarse pass (every ``stride``-th wheel sample) finds the part of the wheel that
     comes within ``window`` [m] of the rail's closest approach (default
     ``LOCUS_WINDOW``); the locus is computed at full resolution there only.
+
+    ``samples``: the wheel-profile samples [i0, i1) of a locus at a nearby pose
+    (:attr:`Locus.samples`), tried first without the coarse pass: they serve where
+    the gap at both of their ends (that are not the wheel's) exceeds the closest
+    approach by more than ``window``, so that they hold every sample within it.
     """
     wheel, rail = wheelset.wheel(side), track.rail(side)
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
@@ -168,6 +174,15 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
     y_off = track.rail_offset(side)
+    if samples is not None:
+        i0, i1 = samples
+        sl = slice(i0, i1)
+        theta, P, yr, gap, s = _locus_kernel(eta[sl], rho[sl], R, O, y_off, rail._breaks,
+                                             rail._coefs)
+        if gap.size:
+            edge = float(np.min(gap)) + window
+            if (i0 == 0 or gap[0] > edge) and (i1 == yw.size or gap[-1] > edge):
+                return Locus(yw[sl], zw[sl], theta, P, yr, gap, s, O, R, (i0, i1))
     _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride], R, O, y_off, rail._breaks,
                                    rail._coefs)
     near = np.flatnonzero(gc <= np.min(gc) + window)

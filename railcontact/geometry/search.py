@@ -277,8 +277,8 @@ def _solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
         roll = _bracketed_roll(f, roll0, tol, y_ws)
     g = gaps(roll)
     z = g["right"] + targets["right"]
-    loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw, window=window(s))
-            for s in SIDES}
+    loci = {s: compute_locus(wheelset, track, s, y_ws, z, roll, yaw, window=window(s),
+                             samples=samples(s, roll)) for s in SIDES}
     for s in SIDES:
         # a locus covering the gaps within w of its closest approach serves rolls
         # within WINDOW_ROLL w / REGION_MARGIN of its own (gap shifts under 0.75 w)

@@ -28,6 +28,32 @@ def test_min_gap_on_a_locus_window_equals_the_full_search():
                 assert min_gap(ws, tr, side, y, 0.0, roll, 1e-3, samples=(i0, i1)) == full
 
 
+def test_locus_on_the_samples_of_a_nearby_locus():
+    """A locus computed on the wheel samples of one at a nearby pose, without the
+    coarse pass, holds every sample within its window and has the same gaps as the
+    full computation there; where the samples do not hold the window (cut to its
+    middle here), the full computation runs instead."""
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    for y, side in ((2e-3, "right"), (6e-3, "right"), (-3e-3, "left")):
+        z = min_gap(ws, tr, side, y, 0.0, 2e-4, 1e-3) + 5e-5
+        first = compute_locus(ws, tr, side, y, z, 2e-4, 1e-3, window=2.5e-4)
+        full = compute_locus(ws, tr, side, y, z + 1e-7, 2.2e-4, 1e-3, window=2.5e-4)
+        near = compute_locus(ws, tr, side, y, z + 1e-7, 2.2e-4, 1e-3, window=2.5e-4,
+                             samples=first.samples)
+        assert near.samples == first.samples
+        inside = full.gap <= full.gap_min + 2.5e-4
+        yw = full.y_wheel[inside]
+        sel = np.isin(near.y_wheel, yw)
+        assert sel.sum() == yw.size
+        np.testing.assert_array_equal(near.gap[sel], full.gap[inside])
+        i0, i1 = first.samples
+        mid = (i0 + (i1 - i0) // 3, i1 - (i1 - i0) // 3)
+        cut = compute_locus(ws, tr, side, y, z + 1e-7, 2.2e-4, 1e-3, window=2.5e-4,
+                            samples=mid)
+        assert cut.samples == full.samples
+        np.testing.assert_array_equal(cut.gap, full.gap)
+
+
 def test_locus_gap_is_the_lowest_point_of_each_wheel_circle():
     """Each locus sample's vertical gap is the (local) minimum over the wheel
     circle's angle of rail height minus wheel point height, to 1e-12 m, with yaw
