@@ -64,11 +64,12 @@ def _dr(res):
             - c.equivalent_point("left")["rolling_radius"]) * 1e3
 
 
-#: known misses against the 0.05 mm target, measured: files 0.5 mm -0.115, 5.0 mm
-#: -0.199; built-in profiles 0.5 mm -0.134, 1.0 mm -0.055, 4.5 mm -0.061, 5.0 mm -1.74
-#: (the benchmark rail file departs from the nominal 60E1 arcs by up to 0.04 mm near
-#: the gauge shoulder, which moves the contact point of the built-in rail)
-KNOWN_MISSES = {"files": JUMPS, "builtin": JUMPS | {1.0, 4.5}}
+#: known misses against the 0.05 mm target, measured (reference points weighted as
+#: CONTACT weights them, GAP_WEIGHT; elsewhere within 0.003 mm with the files): files
+#: 0.5 mm -0.065, 5.0 mm +0.053; built-in profiles 0.5 mm -0.091, 4.5 mm -0.063, 5.0 mm
+#: -1.815 (the benchmark rail file departs from the nominal 60E1 arcs by up to 0.04 mm
+#: near the gauge shoulder, which moves the contact point of the built-in rail)
+KNOWN_MISSES = {"files": JUMPS, "builtin": JUMPS | {4.5}}
 
 
 @pytest.mark.parametrize("y", SHIFTS)
@@ -84,9 +85,9 @@ def test_rolling_radius_difference(a22, y, request):
 @pytest.mark.parametrize("y", SHIFTS)
 def test_contact_angles(a22, y, request):
     kind, ref, res = a22
-    # measured misses: 5.0 mm (two-region patch) 1.1 deg with the files, 8.2 deg with the
-    # built-in profiles; built-in 0.5 mm (conformal tread) 0.52 deg
-    if y == 5.0 or (kind == "builtin" and y == 0.5):
+    # measured: within 0.23 deg with the files (0.5 mm), 0.35 deg with the built-in
+    # profiles except 5.0 mm (two-region patch, tread and flange root): 8.5 deg
+    if kind == "builtin" and y == 5.0:
         request.applymarker(pytest.mark.xfail(strict=True, reason="contact jump"))
     for side in ("left", "right"):
         ours = res[y].contact.equivalent_point(side)["contact_angle"]

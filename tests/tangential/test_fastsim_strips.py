@@ -103,12 +103,17 @@ def _wheel_rail(refdir, y_mm, tangential):
 
 
 @pytest.mark.parametrize("y_mm", [0.0, 3.0, 6.5])
-def test_strip_spin_follows_local_contact_angle(refdir, y_mm):
+def test_strip_spin_follows_local_contact_angle(refdir, y_mm, monkeypatch):
     """Without yaw the wheelset turns about its axle, omega = p (0, cos r, sin r) with
     r the roll, so the spin on a surface element of contact angle d is
     p sin(d - r) / V: the strip spin must equal phi sin(d(y) - r) / sin(d0 - r) on
     both wheels (signs and the mirrored left side included), and the local angle
-    is that of the rail surface under the strip."""
+    is that of the rail surface under the strip.  (Every patch from the final
+    search, whose roll the result reports: a side kept from an earlier search, as
+    the vertical-force iteration allows, has the roll of that search, up to ~1e-6
+    rad away.)"""
+    import importlib
+    monkeypatch.setattr(importlib.import_module("railcontact.solve"), "KEEP_TOLERANCE", 0.0)
     res = _wheel_rail(refdir, y_mm, "fastsim-strips")
     r = res.pose.roll
     for p in res.patches:
@@ -125,11 +130,17 @@ def test_strip_spin_follows_local_contact_angle(refdir, y_mm):
         assert np.ptp(d[inside]) > math.radians(0.5)
 
 
-def test_strip_spin_changes_the_spin_moment(refdir):
-    """On the conformal tread contact at 0 mm the contact angle varies by 7 degrees
-    across the patch: the per-strip spin changes the spin moment against the
-    constant-spin FASTSIM (measured: Mz -3.17 vs -3.72 N m)."""
+def test_strip_spin_changes_the_spin_forces(refdir):
+    """On the conformal tread contact at 0 mm the contact angle varies by 2.8 degrees
+    across the patch and the strips' spin by a factor of 5 (0.023-0.127 1/m against
+    the patch's 0.064): the per-strip spin changes the lateral force that spin drives
+    there against the constant-spin FASTSIM (measured: F_y 208 against 258 N and 224
+    against 251 N; the spin moment by 3 and 1 %)."""
     strips = _wheel_rail(refdir, 0.0, "fastsim-strips")
     plain = _wheel_rail(refdir, 0.0, "fastsim")
     for ps, pp in zip(strips.patches, plain.patches):
-        assert abs(ps.tangential.mz / pp.tangential.mz - 1) > 0.05
+        g = ps.geometry
+        inside = ps.normal.contact.any(axis=0)
+        spin = np.abs(g.spin_at(ps.normal.y, g.creepage[2])[inside])
+        assert spin.max() > 3 * spin.min()
+        assert abs(ps.tangential.fy / pp.tangential.fy - 1) > 0.05
