@@ -378,8 +378,8 @@ class _CorrectedRatio:
     F_y, largely cancels: on the benchmark sweep the balance's stand-in term
     F_y sin(d) is then within 1e-4 F_n for 78 % of the patches (FASTSIM's alone for
     50 %), so fewer passes of the vertical-force iteration solve the tangential
-    problems again.  Where a patch has no counterpart in
-    either of the neighbour's lists, FASTSIM's ratio stands in alone."""
+    problems again.  Where a patch has no counterpart in either of the neighbour's
+    lists, FASTSIM's ratio stands in alone."""
 
     def __init__(self, fast, neighbour, neighbour_fast):
         self.fast, self.neighbour, self.neighbour_fast = fast, neighbour, neighbour_fast
