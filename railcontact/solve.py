@@ -365,10 +365,14 @@ def _standin_ratio(lateral, geom) -> float:
     patch giving the ratio (:class:`_CorrectedRatio`)."""
     if callable(lateral):
         return lateral(geom)
-    best = _nearest(lateral, geom)
-    if best is None or best.tangential is None or not best.normal.normal_force > 0:
+    return _ratio(_nearest(lateral, geom))
+
+
+def _ratio(result) -> float:
+    """F_y/F_n of a patch result; 0 without one, its tangential solution or load."""
+    if result is None or result.tangential is None or not result.normal.normal_force > 0:
         return 0.0
-    return best.tangential.fy / best.normal.normal_force
+    return result.tangential.fy / result.normal.normal_force
 
 
 class _CorrectedRatio:
@@ -389,7 +393,7 @@ class _CorrectedRatio:
         a, b = _nearest(self.neighbour, geom), _nearest(self.neighbour_fast, geom)
         if a is None or b is None or a.tangential is None or b.tangential is None:
             return r
-        return r + _standin_ratio([a], geom) - _standin_ratio([b], geom)
+        return r + _ratio(a) - _ratio(b)
 
 
 def _creepage(case, geom) -> tuple:
