@@ -320,7 +320,7 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
         t["loose"] += time.perf_counter() - t0
         for res in cold_res:
             ok["cold"] += res.converged
-            passes.append(res.contact.passes)
+            passes.append(res.balance.passes)
             resid.append(max(abs(v) for v in res.vertical_residual.values()))
             stick.extend(p.tangential.stick_fraction for p in res.patches)
             cold.append(sum(p.tangential.fx for p in res.patches))
@@ -329,7 +329,7 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
             ok["warm"] += res.converged
             warm_fx.append(sum(p.tangential.fx for p in res.patches))
             warm_fn.append(sum(p.normal.normal_force for p in res.patches))
-            warm_passes.append(res.contact.passes)
+            warm_passes.append(res.balance.passes)
             warm_resid.append(max(abs(v) for v in res.vertical_residual.values()))
         for res in loose_res:
             ok_loose += res.converged

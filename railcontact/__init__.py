@@ -12,12 +12,12 @@ from .case import Case, case_from_dict, load_case
 from .errors import (CaseFileError, ContactNotFoundError, ConvergenceError, InputError,
                      ProfileError, RailContactError, UnknownModelError)
 from .materials import Material
-from .solve import PatchResult, SolveResult, solve
+from .solve import PatchResult, SolveResult, VerticalBalance, solve
 from .sweep import sweep
 
 __version__ = "0.1.0"
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = ["solve", "sweep", "load_case", "case_from_dict", "Case", "Material", "SolveResult",
-           "PatchResult", "RailContactError", "InputError", "ProfileError", "CaseFileError",
+           "VerticalBalance", "PatchResult", "RailContactError", "InputError", "ProfileError", "CaseFileError",
            "UnknownModelError", "ContactNotFoundError", "ConvergenceError", "__version__"]

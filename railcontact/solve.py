@@ -51,8 +51,40 @@ class PatchResult:
 
 
 @dataclass
+class VerticalBalance:
+    """How the vertical-force iteration of a wheel-rail case ended.
+
+    Attributes
+    ----------
+    converged : bool
+        Whether each side's vertical force met its load to ``solver.force_tolerance``.
+    force_jump : bool
+        Whether the iteration stopped where the model's vertical force jumps across
+        the load (a strip entering the contact): then no interpenetration carries it.
+    passes : int
+        How many times the patches' normal problems were solved (each pass one
+        contact search).
+    residual : dict
+        Relative residual (F_z - Q)/Q [-] of each side's balance.
+    standin : list of PatchResult or None
+        The Hertz + FASTSIM patch results whose F_y/F_n stood in for the lateral
+        forces before the tangential solutions (a warm start of a neighbouring case
+        corrects them by its own, :class:`_CorrectedRatio`).
+    """
+
+    converged: bool
+    force_jump: bool
+    passes: int
+    residual: dict
+    standin: list | None = field(default=None, repr=False)
+
+
+@dataclass
 class SolveResult:
-    """All patches of one case, with the models used and the CPU time."""
+    """All patches of one case, with the models used and the CPU time; for a
+    wheel-rail case also the contact search's result (``contact``: wheelset pose,
+    patch geometries, loci) and how the vertical-force iteration ended
+    (``balance``)."""
 
     patches: list
     normal: str
@@ -61,13 +93,14 @@ class SolveResult:
     title: str = ""
     pose: WheelsetPose | None = None
     contact: WheelsetContact | None = field(default=None, repr=False)
+    balance: VerticalBalance | None = field(default=None, repr=False)
 
     @property
     def converged(self) -> bool:
         """False when the vertical-force iteration did not meet the load to its
         tolerance (also where the model's force jumps across it: then
-        ``contact.force_jump``) or a solver did not converge."""
-        ok = getattr(self.contact, "converged", True) if self.contact is not None else True
+        ``balance.force_jump``) or a solver did not converge."""
+        ok = self.balance.converged if self.balance is not None else True
         for p in self.patches:
             ok &= bool(p.normal.converged)
             if p.tangential is not None:
@@ -79,7 +112,7 @@ class SolveResult:
         """Relative residual (F_z - Q)/Q [-] of each side's vertical balance for a
         wheel-rail case (None for a bodies case): within ``solver.force_tolerance``
         unless the model's force jumps across the load (see ``docs/case_files.md``)."""
-        return getattr(self.contact, "vertical_residual", None) if self.contact else None
+        return self.balance.residual if self.balance is not None else None
 
     def to_dict(self) -> dict:
         d = {"patches": [p.to_dict() for p in self.patches], "normal": self.normal,
@@ -177,12 +210,12 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     For wheel-rail cases the geometry layer finds the wheelset position under the
     vertical load and the patches; each patch is solved with its own penetration.
     A warm-started case that does not converge is solved again cold (except where
-    the model's vertical force jumps across the load: ``contact.force_jump``).
+    the model's vertical force jumps across the load: ``balance.force_jump``).
     """
     if warm_start is not None:
         res = _solve(case, normal, tangential, warm_start)
         # a force that jumps across the load is the model's: a cold start meets it too
-        if res.converged or getattr(res.contact, "force_jump", False):
+        if res.converged or (res.balance is not None and res.balance.force_jump):
             return res
         log.info("warm-started case did not converge; solving it again cold")
         cold = _solve(case, normal, tangential, None)
@@ -200,7 +233,7 @@ def _solve(case, normal, tangential, warm_start):
     tmodel = None if tname == "none" else get_tangential_model(
         tname, **(case.tangential_options if tangential is None else {}))
     kw = {"grid": case.grid, "element_size": case.element_size}
-    results, pose, contact = [], None, None
+    results, pose, contact, balance = [], None, None, None
     if case.is_bodies:
         A, B = body_curvatures(case)
         r = case.get("bodies.radii").get("wheel_rolling", math.nan)
@@ -234,12 +267,12 @@ def _solve(case, normal, tangential, warm_start):
                   if tmodel else None)
         results.append(PatchResult(geom, ns, ts, tuple(creep)))
     else:
-        results, contact = _solve_wheel_rail(case, nmodel, tmodel, kw,
-                                             rtol=case.force_tolerance,
-                                             previous=warm_start.patches if warm_start else None,
-                                             start=warm_start.contact if warm_start else None)
+        results, contact, balance = _solve_wheel_rail(case, nmodel, tmodel, kw,
+                                                      rtol=case.force_tolerance,
+                                                      start=warm_start)
         pose = contact.pose
-    return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact)
+    return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact,
+                       balance)
 
 
 def _coupled(case, nmodel, tmodel) -> bool:
@@ -492,11 +525,11 @@ def _first_search(case, bodies, loads, sides, start):
 
 
 def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
-                      previous=None, start=None):
+                      start=None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
 
     The geometry layer's multi-Hertzian estimate gives the first wheelset height
-    (a neighbouring case's interpenetrations where ``start``, its contact, is given:
+    (a neighbouring case's interpenetrations where ``start``, its result, is given:
     :func:`_first_search`);
     where each side has one loaded patch of small contact angle, a first step
     solves those normal problems for the force that carries the load and moves the
@@ -512,33 +545,37 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     normal solutions and the balance checked again (the iteration goes on, with the
     new lateral forces, until it holds with the forces of the result).
 
-    ``previous`` (patch results of a neighbouring case) warm-starts the models that
-    accept it.
+    ``start`` (the :class:`SolveResult` of a neighbouring case) warm-starts the
+    models that accept it with its patch results.  Returns the patch results, the
+    final contact search and the :class:`VerticalBalance`.
     """
     bodies = build_wheelset_track(case)
     converged, jump = True, False
     side = case.get("wheelset.side", "both")
     loads = case.wheel_loads()
     sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
-    contact = _first_search(case, bodies, loads, sides, start)
+    previous = start.patches if start is not None else None
+    contact = _first_search(case, bodies, loads, sides,
+                            start.contact if start is not None else None)
     coupled = _coupled(case, nmodel, tmodel)
     lazy = tmodel is not None and not coupled
     # whose F_y/F_n stands in until the tangential solution: Hertz + FASTSIM's on
     # these patches (cheap, with this case's creepages, within about 10 % of the
     # exact F_y: a few 1e-4 of the load in the balance)
     lateral = standin = _fast_estimate(case, contact) if lazy else None
-    if lazy and previous and start is not None and start.standin:
-        lateral = _CorrectedRatio(standin, previous, start.standin)
+    if lazy and previous and start is not None and start.balance is not None \
+            and start.balance.standin:
+        lateral = _CorrectedRatio(standin, previous, start.balance.standin)
     # the normal problems start from the force step's solutions where it ran (else
     # from the neighbouring case's), the tangential ones from the neighbour's
     step = None if coupled else _force_step(case, contact, nmodel, kw, loads, sides, lateral,
                                             previous)
-    start = previous
+    normal_start = previous
     if step is not None:
-        d_step, start = step
+        d_step, normal_start = step
         contact = contact_search(case, interpenetration=d_step, bodies=bodies,
                                  roll_start=contact.pose.roll)
-    results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=start,
+    results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=normal_start,
                              normal_only=lazy, coupled=coupled, same_case=step is not None)
     passes = 1 if step is None else 2
     tangential_start = previous   # warm starts of the tangential solver (a neighbour's)
@@ -642,18 +679,15 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         log.warning("vertical force not met to %.0e after %d iterations", rtol, max_iter)
     if any(r.tangential is None for r in results):   # left the iteration without them
         results = _add_tangential(case, results, tmodel, previous=tangential_start)
-    contact.vertical_residual = {s: vertical_force_on_rail(results, s) / loads[s] - 1.0
-                                 for s in sides}
+    residual = {s: vertical_force_on_rail(results, s) / loads[s] - 1.0 for s in sides}
     # a load missed by more than the tolerance is not a solution of the case, also
     # where the model's force jumps across it (no interpenetration carries it)
-    converged &= all(abs(v) <= rtol for v in contact.vertical_residual.values())
-    contact.force_jump = jump
+    converged &= all(abs(v) <= rtol for v in residual.values())
     if side != "both":
         results = [r for r in results if r.geometry.side == side]
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
-    contact.converged, contact.passes, contact.standin = converged, passes, standin
-    return results, contact
+    return results, contact, VerticalBalance(converged, jump, passes, residual, standin)
 
 
 def geometry_dict(contact: WheelsetContact, side: str = "both") -> dict:

@@ -31,7 +31,9 @@ def test_vertical_balance_with_the_final_forces(models, shift):
     2 mm, flange at 7 mm where F_y sin(d) is a large share of the balance)."""
     res = rc.solve(case_from_dict(_raw(shift, *models)))
     assert res.converged
-    assert 1 <= res.contact.passes <= 6      # 2-6 on these cases (each a contact search)
+    assert 1 <= res.balance.passes <= 6      # 2-6 on these cases (each a contact search)
+    assert res.balance.converged and not res.balance.force_jump
+    assert res.vertical_residual is res.balance.residual
     assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
     assert res.to_dict()["vertical_residual"] == res.vertical_residual
     for side in ("left", "right"):
@@ -224,15 +226,15 @@ def test_warm_start_corrects_the_stand_in_lateral_forces():
                             "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
                "solver": {"normal": "exact", "tangential": "exact", "grid": [40, 40]}}
         res = rc.solve(case_from_dict(raw), warm_start=prev)
-        assert res.contact.standin and all(p.tangential.model == "fastsim"
-                                           for p in res.contact.standin)
+        assert res.balance.standin and all(p.tangential.model == "fastsim"
+                                           for p in res.balance.standin)
         if prev is not None:
-            corrected = S._CorrectedRatio(res.contact.standin, prev.patches,
-                                          prev.contact.standin)
+            corrected = S._CorrectedRatio(res.balance.standin, prev.patches,
+                                          prev.balance.standin)
             for p in res.patches:
                 exact = p.tangential.fy / p.normal.normal_force
                 sd = abs(math.sin(p.geometry.contact_angle))
-                err_fast.append(sd * abs(S._standin_ratio(res.contact.standin, p.geometry)
+                err_fast.append(sd * abs(S._standin_ratio(res.balance.standin, p.geometry)
                                          - exact))
                 err_corrected.append(sd * abs(corrected(p.geometry) - exact))
         prev = res
@@ -313,7 +315,7 @@ def test_unconverged_warm_start_falls_back_to_a_cold_solve(monkeypatch):
         res = real(case, normal, tangential, warm_start)
         calls.append(warm_start is not None)
         if warm_start is not None:
-            res.contact.converged = False             # as if the warm start had failed
+            res.balance.converged = False             # as if the warm start had failed
         return res
 
     monkeypatch.setattr(S, "_solve", fake)
@@ -353,7 +355,7 @@ def test_force_jump_shows_in_the_vertical_residual(caplog):
     """At 6.39 mm one planar patch spans flange root and flange and its vertical force
     jumps across the load with the interpenetration: the iteration stops on the
     collapsed bracket, warns, the result's vertical_residual shows the miss and the
-    result is flagged unconverged (contact.force_jump tells why); a warm start from
+    result is flagged unconverged (balance.force_jump tells why); a warm start from
     it is not solved again cold (the jump is the model's)."""
     import logging
     import math
@@ -370,10 +372,10 @@ def test_force_jump_shows_in_the_vertical_residual(caplog):
     worst = max(abs(v) for v in res.vertical_residual.values())
     assert worst > 1e-3
     assert any("jumps across the load" in r.getMessage() for r in caplog.records)
-    assert not res.converged and res.contact.force_jump
+    assert not res.converged and res.balance.force_jump
     assert res.to_dict()["converged"] is False
     caplog.clear()
     with caplog.at_level(logging.INFO, logger="railcontact.solve"):
         again = rc.solve(case_from_dict(raw), warm_start=res)
     assert not any("solving it again cold" in r.getMessage() for r in caplog.records)
-    assert not again.converged and again.contact.force_jump
+    assert not again.converged and again.balance.force_jump

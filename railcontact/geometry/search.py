@@ -63,14 +63,13 @@ class WheelsetContact:
         All contact patches, left side first, each side from field to gauge side.
     loci : dict
         The contact locus of each side (side frame).
-    converged, force_jump, passes, vertical_residual, standin
-        Set by :func:`railcontact.solve` on the contact of its result: whether the
-        vertical-force iteration met the load (and whether it stopped where the
-        model's vertical force jumps across the load), how many times it solved the
-        patches' normal problems (it ran as many contact searches), the
-        relative residual of each side's vertical balance, and the Hertz + FASTSIM
-        patch results whose F_y/F_n stood in for the lateral forces (a warm start
-        of a neighbouring case uses them).
+    loads : dict or None
+        The vertical wheel load [N] of each side the search was given, else None.
+    interpenetration : dict or None
+        The vertical interpenetration [m] of each side the patches were cut at.
+
+    How the solve layer's vertical-force iteration ended is not the search's: see
+    :class:`railcontact.solve.VerticalBalance`.
     """
 
     pose: WheelsetPose
@@ -78,11 +77,6 @@ class WheelsetContact:
     loci: dict = field(repr=False, default_factory=dict)
     loads: dict | None = None
     interpenetration: dict | None = None
-    converged: bool = True
-    force_jump: bool = False
-    passes: int = 0
-    vertical_residual: dict | None = None
-    standin: list | None = field(default=None, repr=False)
 
     def side_patches(self, side: str) -> list:
         return [p for p in self.patches if p.side == side]
