@@ -157,6 +157,10 @@ class Profile:
         Label used in messages and results.
     smoothing : float, optional
         Cut-off wavelength [m] of a smoothing spline; 0 (default) interpolates.
+
+    A profile is immutable (its arrays are read-only): built-in profiles and parsed
+    files are cached and shared by the cases that name them.  Methods such as
+    ``shifted``, ``rotated`` and ``resampled`` return new profiles.
     """
 
     y: np.ndarray
@@ -201,6 +205,10 @@ class Profile:
         ck = pp.c[:, keep[:-1]][:, :xk.size - 1]
         self._breaks = np.ascontiguousarray(xk)
         self._coefs = np.ascontiguousarray(ck)
+        # a profile is immutable: parsed files and built-in profiles are cached and
+        # shared by every case that names them, so an edit in place would reach them
+        for a in (self.y, self.z, self._breaks, self._coefs):
+            a.setflags(write=False)
 
     # ------------------------------------------------------------------ spline
     def _fit(self):

@@ -120,3 +120,8 @@ def test_profile_files_are_read_once_per_version(tmp_path):
     r1 = get_profile(str(r), "rail", inclination=0.025)
     assert get_profile(str(r), "rail", inclination=0.025) is r1
     assert get_profile(str(r), "rail", inclination=0.0) is not r1
+    # shared between cases, a cached profile cannot be edited in place
+    with pytest.raises(ValueError, match="read-only"):
+        r1.z[0] = 0.0
+    with pytest.raises(ValueError, match="read-only"):
+        a.y *= 2.0
