@@ -352,14 +352,18 @@ def test_force_step_lands_near_the_balance(models, rel):
 
 
 def test_force_jump_shows_in_the_vertical_residual(caplog):
-    """At 6.39 mm one planar patch spans flange root and flange and its vertical force
+    """At 6.65 mm one planar patch spans flange root and flange and its vertical force
     jumps across the load with the interpenetration: the iteration stops on the
     collapsed bracket, warns, the result's vertical_residual shows the miss and the
     result is flagged unconverged (balance.force_jump tells why); a warm start from
-    it is not solved again cold (the jump is the model's)."""
+    it is not solved again cold (the jump is the model's: on CONTACT's lattice of
+    0.3 mm elements the same cases 197-206 jump).  (At 6.39 mm, case 199, a warm
+    start from the result keeps its final grid of 40 x 40 elements and meets the
+    load on it, where the cold iteration's grids, which follow the interpenetration,
+    jumped across it.)"""
     import logging
     import math
-    j = 199                  # case 199 of the bench sweep
+    j = 204                  # case 204 of the bench sweep
     raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
            "wheelset": {"lateral_shift": -4e-3 + j * 13e-3 / 249, "yaw": 0.0,
                         "vertical_force": 6e4, "velocity": 30.0},
