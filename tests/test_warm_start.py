@@ -24,6 +24,21 @@ def _raw(shift, normal="exact", tangential="exact", load=6e4, element=None):
             "solver": {"normal": normal, "tangential": tangential, **grid}}
 
 
+def _sweep_raw(j, **solver):
+    """Case j of the bench's 1000-case sweep (benchmarks/run_all.py): shifts -4..9 mm
+    in 250 steps at each yaw of 0, 2, 4 and 6 mrad, creepages varying with j;
+    exact models, ``solver`` the grid (``grid`` or ``element_size``)."""
+    import math
+    k, iy = j % 250, j // 250
+    return {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+            "wheelset": {"lateral_shift": -4e-3 + 13e-3 * k / 249, "yaw": 2e-3 * iy,
+                         "vertical_force": 6e4, "velocity": 30.0},
+            "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
+                         "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
+                         "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
+            "solver": {"normal": "exact", "tangential": "exact", **solver}}
+
+
 @pytest.mark.parametrize("models", [("exact", "exact"), ("hertz", "fastsim")])
 @pytest.mark.parametrize("shift", [2e-3, 7e-3])
 def test_vertical_balance_with_the_final_forces(models, shift):
@@ -211,20 +226,15 @@ def test_warm_start_corrects_the_stand_in_lateral_forces():
     assert S._CorrectedRatio(fast, nb, [])(NS(side="left", y_rail=0.0)) == pytest.approx(0.1)
 
     # eight neighbouring cases of the benchmark sweep (0.2-0.5 mm shift, 2 mrad yaw,
-    # creepages varying from case to case), where FASTSIM's F_y is 4e-3 F_n off on one
-    # side: the corrected stand-in's error in the balance, F_y sin(d) relative to F_n,
-    # is a sixteenth of FASTSIM's on average (measured 1.3e-4 against 2.1e-3; on the
-    # whole sweep it is within 1e-4 for 78 % of the patches, FASTSIM's for 50 %)
+    # creepages varying from case to case): the corrected stand-in's error in the
+    # balance, F_y sin(d) relative to F_n, is an eighth of FASTSIM's on average
+    # (measured 5.6e-5 against 4.2e-4; over 1e-4 for 1 of the 14 patches, FASTSIM's
+    # for 13; on the whole sweep it is within 1e-4 for 78 % of the patches, FASTSIM's
+    # for 50 %)
     import math
     err_fast, err_corrected, prev = [], [], None
     for j in range(330, 338):
-        raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-               "wheelset": {"lateral_shift": -4e-3 + 13e-3 * j / 249, "yaw": 2e-3,
-                            "vertical_force": 6e4, "velocity": 30.0},
-               "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
-                            "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
-                            "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
-               "solver": {"normal": "exact", "tangential": "exact", "grid": [40, 40]}}
+        raw = _sweep_raw(j, grid=[40, 40])
         res = rc.solve(case_from_dict(raw), warm_start=prev)
         assert res.balance.standin and all(p.tangential.model == "fastsim"
                                            for p in res.balance.standin)
@@ -261,17 +271,9 @@ def test_warm_equals_cold_in_flange_contact_on_the_lattice():
     elements warm and cold results agree to the balance's tolerance (measured
     1.5e-5 in F_n); on a 40 x 40 grid, whose extent follows the iteration's path,
     they differ by 1.8 % (measured; docs/case_files.md)."""
-    import math
     raws = []
     for j in (209, 210):
-        raws.append({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-                     "wheelset": {"lateral_shift": -4e-3 + 13e-3 * j / 249, "yaw": 0.0,
-                                  "vertical_force": 6e4, "velocity": 30.0},
-                     "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
-                                  "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
-                                  "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
-                     "solver": {"normal": "exact", "tangential": "exact",
-                                "element_size": [4e-4, 4e-4]}})
+        raws.append(_sweep_raw(j, element_size=[4e-4, 4e-4]))
     prev = rc.solve(case_from_dict(raws[0]))
     warm = rc.solve(case_from_dict(raws[1]), warm_start=prev)
     cold = rc.solve(case_from_dict(raws[1]))
@@ -361,16 +363,8 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     is the model's)."""
     import importlib
     import logging
-    import math
     j = 199                  # case 199 of the bench sweep
-    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-           "wheelset": {"lateral_shift": -4e-3 + j * 13e-3 / 249, "yaw": 0.0,
-                        "vertical_force": 6e4, "velocity": 30.0},
-           "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
-                        "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
-                        "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
-           "solver": {"normal": "exact", "tangential": "exact",
-                      "element_size": [3e-4, 3e-4]}}
+    raw = _sweep_raw(j, element_size=[3e-4, 3e-4])
     with caplog.at_level(logging.WARNING, logger="railcontact.solve"):
         res = rc.solve(case_from_dict(raw))
     worst = max(abs(v) for v in res.vertical_residual.values())
@@ -404,13 +398,7 @@ def test_history_taken_at_another_height_of_the_other_side_is_not_used(monkeypat
     import math
     S = importlib.import_module("railcontact.solve")
     j = 199                  # case 199 of the bench sweep
-    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-           "wheelset": {"lateral_shift": -4e-3 + j * 13e-3 / 249, "yaw": 0.0,
-                        "vertical_force": 6e4, "velocity": 30.0},
-           "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
-                        "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
-                        "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
-           "solver": {"normal": "exact", "tangential": "exact", "grid": [40, 40]}}
+    raw = _sweep_raw(j, grid=[40, 40])
     res = rc.solve(case_from_dict(raw))
     assert res.converged and not res.balance.force_jump
     assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
