@@ -19,5 +19,6 @@ __version__ = "0.1.0"
 logging.getLogger(__name__).addHandler(logging.NullHandler())
 
 __all__ = ["solve", "sweep", "load_case", "case_from_dict", "Case", "Material", "SolveResult",
-           "VerticalBalance", "PatchResult", "RailContactError", "InputError", "ProfileError", "CaseFileError",
-           "UnknownModelError", "ContactNotFoundError", "ConvergenceError", "__version__"]
+           "VerticalBalance", "PatchResult", "RailContactError", "InputError", "ProfileError",
+           "CaseFileError", "UnknownModelError", "ContactNotFoundError", "ConvergenceError",
+           "__version__"]
