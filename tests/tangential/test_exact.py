@@ -78,6 +78,29 @@ def test_against_contact_same_grid(refdir):
         assert nslip == [int(r[k]) for k in ("nslip_xi", "nslip_eta", "nslip_phi")]
 
 
+def test_partial_slip_elements_as_contact_40x40(refdir):
+    """CONTACT's 40 x 40 timing problems (Hertzian, F_n = 52.36 kN, mu = 0.3,
+    circle a = b = 5 mm and ellipse a = 3.5355, b = 7.0711 mm, potential area 1.1
+    times the ellipse): with creepages (-1e-3, 2e-4) and spin 0.1 1/m together, the
+    contact and slip elements are CONTACT's in number (1044; 307 and 278 in slip),
+    and no slip without creepage but a longitudinal one of -1e-5."""
+    rows = [r for r in read_csv(refdir / "contact_timing.csv")
+            if r["workload"] == "module3_hertz_40x40" and r["build"] == "mkl_fft"
+            and r["omp_threads"] == "1" and r["eps"] == "1e-05"]
+    assert len(rows) == 3
+    semi = {"circ_partial_slip": (5e-3, 5e-3), "circ_adhesion": (5e-3, 5e-3),
+            "ellip_partial_slip": (3.5355e-3, 7.0711e-3)}
+    creep = {"circ_adhesion": (-1e-5, 0.0, 0.0)}
+    mat = Material.from_shear_modulus(G, 0.28)
+    for r in rows:
+        a, b = semi[r["case"]]
+        ns = hertz_on_grid(a, b, 40, 40, 2.2 * a / 40, 2.2 * b / 40, 52360.0, mat)
+        ts = get_tangential_model("exact").solve(ns, None, mat,
+                                                 creep.get(r["case"], (-1e-3, 2e-4, 0.1)), 0.3)
+        assert int(ns.contact.sum()) == int(r["ncon"])
+        assert int((ts.contact & ~ts.stick).sum()) == int(r["nslip"]), r["case"]
+
+
 @pytest.mark.parametrize("ab, mx, my", [(1.0, 80, 80), (0.5, 40, 80), (2.0, 80, 40)])
 def test_kalker_table_80(ab, mx, my):
     """C11, C22, C23 within 2 % of Kalker's table (nu = 0.25) on 80-element grids."""
