@@ -639,9 +639,11 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         # contact) may have no exact solution: stop when the bracket has collapsed on
         # every side off the balance (here |err| > rtol Q means off: with stand-in
         # forces the branch above was not taken, so |err| > STANDIN_FACTOR rtol Q)
+        # each side's points taken at about the other side's present interpenetration
+        current = {s: _current(hist[s], d, s) for s in sides}
         collapsed = True
         for s in sides:
-            pts = _current(hist[s], d, s)
+            pts = current[s]
             lo = [p[0] for p in pts if p[1] < loads[s]]
             hi = [p[0] for p in pts if p[1] > loads[s]]
             # collapsed: narrower than a tenth of the tolerance times the
@@ -665,7 +667,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
             if s in balanced:
                 continue
             load = loads[s]
-            pts = _current(hist[s], d, s)
+            pts = current[s]
             # bracket of the load from the history (force grows with the interpenetration)
             below = [p for p in pts if p[1] < load]
             above = [p for p in pts if p[1] > load]

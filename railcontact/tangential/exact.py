@@ -394,7 +394,8 @@ def _ssn_state(px, py, wx, wy, cx, cy, contact, bound, rho):
 def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, rho, dxx,
                dyy, tol, maxiter):
     """Semi-smooth Newton iteration of :func:`steady_rolling`, compiled; (px, py) the
-    initial tractions.  Returns px, py, Newton iterations, products with J,
+    initial tractions.  Returns px, py, the linear part of their slip C p (cx, cy;
+    in the contact), the stick mask, Newton iterations, products with J,
     converged."""
     mx, my = px.shape
     cidx = np.flatnonzero(contact.ravel())    # the unknowns: tractions in the contact
@@ -450,7 +451,8 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
                 break
             alpha *= 0.5
         pp, px, py, cp, F, M, stick, phi2 = pt, tx, ty, ct, Fn, Mn, sn, phin
-    return px, py, it, nprod, converged
+    cx, cy = _unpack(cp, cidx, mx, my)
+    return px, py, cx, cy, stick, it, nprod, converged
 
 
 #: in steady rolling the lateral rigid slip of spin, eta + phi x, is taken at
@@ -545,14 +547,13 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     ms, ns = contact[box].shape
     op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
     cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
-    qx, qy, it, nprod, converged = _ssn_solve(
+    # the iteration returns the slip's linear part and the stick mask of its last
+    # iterate (C p accumulated from its products, no product more)
+    qx, qy, cx, cy, sb, it, nprod, converged = _ssn_solve(
         *q, op.kxx, op.kxy, op.kyy, op.shape, dx, shift, cb, gb, rho, dxx, dyy, float(tol),
         int(maxiter))
     log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
-    cx, cy = _c_of(qx, qy, op.kxx, op.kxy, op.kyy, op.shape, np.zeros(op.shape),
-                   np.zeros(op.shape), dx, shift)
     sbx, sby = q[2] + cx, q[3] + cy
-    _, _, sb = _ssn_blocks(qx, qy, sbx, sby, cb, gb, rho)
     px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
     stick = np.zeros((mx, my), dtype=bool)
     px[box], py[box], stick[box], sx[box], sy[box] = qx, qy, sb, sbx, sby
