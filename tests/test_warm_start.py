@@ -405,3 +405,15 @@ def test_history_taken_at_another_height_of_the_other_side_is_not_used(monkeypat
     monkeypatch.setattr(S, "COUPLED_CHANGE", math.inf)        # the whole history
     stale = rc.solve(case_from_dict(raw))
     assert stale.balance.force_jump and abs(stale.vertical_residual["left"]) > 5e-3
+
+
+def test_patch_entering_beside_another_meets_the_load():
+    """Sweep case 180 (5.40 mm) started from case 177: a tread region enters beside
+    the right wheel's flange root.  Its grid's potential area reached into the
+    flange root's region, loaded it a second time, and the iteration stopped at the
+    jump 59 % off the load; with each patch kept to its own band it meets the load
+    (where the two regions have merged into one patch)."""
+    prev = rc.solve(case_from_dict(_sweep_raw(177, grid=[40, 40])))
+    res = rc.solve(case_from_dict(_sweep_raw(180, grid=[40, 40])), warm_start=prev)
+    assert res.converged and not res.balance.force_jump
+    assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4

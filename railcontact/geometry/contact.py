@@ -61,6 +61,10 @@ class ContactGeometry:
         phi cos D + spin_derivative sin D (NaN where unknown).
     local_contact_angle : callable y -> delta(y), optional
         Local contact angle [rad] across the patch (patch coordinate y [m]).
+    bounds : (y_min, y_max)
+        The patch's own band of its tangent plane [m] (patch coordinate y): halfway
+        to the interpenetration regions of the other patches on its wheel, whose
+        overlap a grid reaching across would count twice (unbounded by default).
     """
 
     curvatures: tuple
@@ -80,6 +84,13 @@ class ContactGeometry:
     gap_function: Callable | None = field(default=None, repr=False)
     spin_derivative: float = math.nan
     local_contact_angle: Callable | None = field(default=None, repr=False)
+    bounds: tuple = (-math.inf, math.inf)
+
+    def foreign(self, y) -> np.ndarray:
+        """Whether the points at patch coordinate ``y`` [m] lie outside the patch's
+        own band (:attr:`bounds`), in another patch's territory."""
+        y = np.asarray(y, dtype=float)
+        return (y < self.bounds[0]) | (y > self.bounds[1])
 
     def spin_at(self, y, phi: float):
         """Spin creepage [1/m] per strip at patch coordinates ``y`` [m] for the patch

@@ -768,14 +768,31 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     patches = []
     for sd in sides:
         loc = loci[sd]
-        for i0, i1 in _regions(loc, loads is None, combine_distance):
+        regions = _regions(loc, loads is None, combine_distance)
+        for (i0, i1), lim in zip(regions, _territories(loc, regions)):
             patches.append(_make_patch(wheelset, track, sd, loc, i0, i1, pose, loads is None,
-                                       velocity, pitch_velocity, lateral_velocity, yaw_rate))
+                                       velocity, pitch_velocity, lateral_velocity, yaw_rate,
+                                       lim))
     return WheelsetContact(pose, patches, loci, loads, targets)
 
 
+def _territories(loc: Locus, regions) -> list:
+    """Rail-profile lateral bounds (y_min, y_max) [m] of each region's territory:
+    halfway between its ends and the facing ends of the neighbouring regions of the
+    same locus (unbounded without a neighbour on that side)."""
+    spans = [(float(min(loc.y_rail[a], loc.y_rail[b])), float(max(loc.y_rail[a], loc.y_rail[b])))
+             for a, b in regions]
+    out = []
+    for lo, hi in spans:
+        below = [h for l, h in spans if h < lo]
+        above = [l for l, h in spans if l > hi]
+        out.append((0.5 * (lo + max(below)) if below else -math.inf,
+                    0.5 * (hi + min(above)) if above else math.inf))
+    return out
+
+
 def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch_velocity,
-                lateral_velocity, yaw_rate) -> ContactGeometry:
+                lateral_velocity, yaw_rate, territory=(-math.inf, math.inf)) -> ContactGeometry:
     sl = slice(i0, i1 + 1)
     g = loc.gap[sl]
     im = i0 + int(np.argmin(g))
@@ -841,9 +858,11 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
     extent = (x_m - half_x, x_m + half_x, min(ext_y) / math.cos(a_ref) if rigid is False else 0.0,
               max(ext_y) / math.cos(a_ref) if rigid is False else 0.0)
     pos_tr = np.array([C[0], sgn * C[1], C[2]])
+    # the territory in patch coordinates (y along t, sgn-mirrored as the extent)
+    lim = sorted(sgn * (v - y_ref) / math.cos(a_ref) for v in territory)
     return ContactGeometry(curvatures=(A, B), side=side, contact_angle=delta_tr,
                            rolling_radius=rolling_radius, y_rail=y_ref, y_wheel=y_w,
                            z_rail=z_ref, z_wheel=z_w, position=pos_tr, approach=approach,
                            weight=weight, creepage=creep, velocity=V, extent=extent,
-                           gap_function=gapf, spin_derivative=dphi,
+                           gap_function=gapf, spin_derivative=dphi, bounds=tuple(lim),
                            local_contact_angle=gapf.contact_angle_at)

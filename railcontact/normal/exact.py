@@ -299,6 +299,18 @@ REUSE_FILL = 0.8
 REUSE_OVERHANG = 0.02
 
 
+def own_gap(geometry, x, y) -> np.ndarray:
+    """The undeformed distance [m] on the grid lines ``x``, ``y`` of a patch, raised
+    outside the patch's own band (``geometry.bounds``) to its largest value inside:
+    a grid reaching into a neighbouring patch's interpenetration region would
+    otherwise load it a second time (the raised gap keeps the iteration's gap scale)."""
+    h = geometry.gap(x[:, None], y[None, :])
+    out = geometry.foreign(y)
+    if out.any():
+        h[:, out] = h[:, ~out].max() if not out.all() else 1.0
+    return h
+
+
 def _fits(sol, cx, cy, ex, ey, grid) -> bool:
     """Whether the potential area [cx - ex, cx + ex] x [cy - ey, cy + ey] lies in the
     grid of the solution ``sol`` and fills at least REUSE_FILL of it (and the grid has
@@ -366,7 +378,7 @@ class ExactNormalModel:
             xs = cx + np.linspace(-2 * hx, 2 * hx, AREA_SAMPLES)
             ys = cy + np.linspace(-2 * hy, 2 * hy, AREA_SAMPLES)
             h = geometry.gap(xs[:, None], ys[None, :]) + geometry.approach - penetration
-            inside = h < 0
+            inside = (h < 0) & ~geometry.foreign(ys)[None, :]
             if not inside.any():
                 break
             ix = np.flatnonzero(inside.any(axis=1))
@@ -413,7 +425,7 @@ class ExactNormalModel:
         x, y = sol.x, sol.y
         if x.size < 3 or y.size < 3:
             return None
-        h0 = geometry.gap(x[:, None], y[None, :]) + app
+        h0 = own_gap(geometry, x, y) + app
         h = h0 - (app if penetration is None else penetration)
         box = bounding_box(h < 0)
         if box is None or box[0].start == 0 or box[0].stop == x.size or box[1].start == 0 \
@@ -524,7 +536,7 @@ class ExactNormalModel:
                 x, y = reuse_grid.x, reuse_grid.y
             else:
                 x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
-            h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach  # touching: min ~ 0
+            h0 = own_gap(geometry, x, y) + geometry.approach  # touching: min ~ 0
         dx, dy = x[1] - x[0], y[1] - y[0]
         if extra_gap is not None:
             if np.shape(extra_gap) != h0.shape:

@@ -52,7 +52,7 @@ from scipy.optimize import brentq
 from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
-from .exact import ExactNormalModel
+from .exact import ExactNormalModel, own_gap
 from .hertz_theory import hertz_ellipse, hertz_ellipses
 from .influence import normal_displacement_at
 
@@ -156,7 +156,7 @@ class _StripModel(ExactNormalModel):
         (cx, cy), (ex, ey) = self._potential_area(geometry, material, None, 1.5 * guess)
         x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
         dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
-        h0 = geometry.gap(x[:, None], y[None, :]) + geometry.approach
+        h0 = own_gap(geometry, x, y) + geometry.approach
 
         def at(delta):
             return self._pressure(h0 - delta, x, y, dx, dy, material)

@@ -275,3 +275,27 @@ def test_influence_kernels_against_quadrature_at_negative_offsets():
         c = dblquad(lambda y, x: x * y / np.hypot(x, y) ** 3, x0 - dx / 2, x0 + dx / 2,
                     y0 - dy / 2, y0 + dy / 2, epsabs=1e-14)[0]
         assert kxy[i + mx - 1, j + my - 1] == pytest.approx(nu * c / (np.pi * G), rel=1e-8)
+
+
+def test_a_grid_reaching_into_another_patch_does_not_load_it_again():
+    """A small patch beside a large one (S1002 on 60E1 at 5.40 mm shift, right
+    wheel: tread region 5 um deep, flange root region 85 um, a few mm apart): the
+    small patch's potential area, sampled in a window around it, reaches into the
+    large region, but its solution keeps to its own band (``ContactGeometry.bounds``)
+    and its force grows smoothly with the approach.  Across the band the large
+    region would be loaded a second time: the small patch's force then jumped from
+    1.1 kN to 48 kN (the large patch's) between two passes of the vertical-force
+    iteration, which stopped 59 % off the load."""
+    import dataclasses
+    from tests.geometry.test_search import _two_patch_contact
+    big, small = sorted(_two_patch_contact(), key=lambda p: -p.approach)
+    nm = get_normal_model("exact")
+    fb = nm.solve(big, rc.Material(), penetration=big.approach, grid=(40, 40)).normal_force
+    f = [nm.solve(small, rc.Material(), penetration=small.approach * s,
+                  grid=(40, 40)).normal_force for s in (0.9, 0.95, 1.0)]
+    assert f[2] < 0.05 * fb
+    assert f[0] < f[1] < f[2] < 1.15 * f[1]
+    unbounded = dataclasses.replace(small, bounds=(-math.inf, math.inf))
+    twice = nm.solve(unbounded, rc.Material(), penetration=small.approach,
+                     grid=(40, 40)).normal_force
+    assert twice > 0.5 * fb
