@@ -417,3 +417,14 @@ def test_patch_entering_beside_another_meets_the_load():
     res = rc.solve(case_from_dict(_sweep_raw(180, grid=[40, 40])), warm_start=prev)
     assert res.converged and not res.balance.force_jump
     assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
+
+
+def test_secant_on_balances_with_solved_forces():
+    """Sweep case 220 (7.49 mm, flange contact on the right wheel): the balance with
+    the solved F_y moves by 1.4 % of the load from the stand-in's; a secant on the
+    stand-in's balance (history shifted to the solved one) then closed the residual
+    by a factor of about -0.2 per pass (6 passes); through two balances with solved
+    forces it takes 4."""
+    res = rc.solve(case_from_dict(_sweep_raw(220, grid=[40, 40])))
+    assert res.converged
+    assert res.balance.passes <= 4
