@@ -22,7 +22,7 @@ _ALLOWED = {
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",
                  "vertical_force", "velocity", "pitch_velocity", "lateral_velocity", "yaw_rate",
-                 "combine_distance"},
+                 "combine_distance", "full_interaction_distance"},
     "creepage": {"longitudinal", "lateral", "spin"},
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",

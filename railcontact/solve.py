@@ -177,6 +177,7 @@ def contact_search(case: Case, interpenetration: dict | None = None,
     ws, tr = bodies or build_wheelset_track(case)
     pv = case.get("wheelset.pitch_velocity")
     roll = case.get("wheelset.roll")
+    fid = case.get("wheelset.full_interaction_distance")
     return find_contact(ws, tr, case.number("wheelset.lateral_shift", 0.0),
                         case.number("wheelset.yaw", 0.0),
                         vertical_force=(case.wheel_loads()["left"], case.wheel_loads()["right"]),
@@ -185,6 +186,10 @@ def contact_search(case: Case, interpenetration: dict | None = None,
                         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0),
                         yaw_rate=case.number("wheelset.yaw_rate", 0.0),
                         combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1),
+                        full_interaction_distance=None if fid is None else case.number(
+                            "wheelset.full_interaction_distance", 0.0, 0.0,
+                            case.number("wheelset.combine_distance", 0.0, 0.0, 0.1), "m (at "
+                            "most wheelset.combine_distance)"),
                         interpenetration=interpenetration,
                         roll=None if roll is None else case.number("wheelset.roll"),
                         side=case.get("wheelset.side", "both") if roll is not None else "both",

@@ -124,6 +124,8 @@ def test_auto_scheduler_uses_processes_for_long_sweeps_only(monkeypatch):
     ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[wheelset]\nlateral_shft=0.0\n",
      "lateral_shft"),
     ("[bodies]\nradii={wheel_rolling=0.46, rail_lateral=-0.3}\nnormal_force=1e4\n", "curvatures"),
+    ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[wheelset]\ncombine_distance=0.008\n"
+     "full_interaction_distance=0.01\n", "full_interaction_distance"),
     ("title = 'x'\n", "missing"),
     ("[wheel\nprofile='S1002'\n", "not valid TOML"),
 ])

@@ -61,6 +61,13 @@ class ContactGeometry:
         phi cos D + spin_derivative sin D (NaN where unknown).
     local_contact_angle : callable y -> delta(y), optional
         Local contact angle [rad] across the patch (patch coordinate y [m]).
+    interaction : tuple of (y, factor)
+        For a patch combined from several interpenetration regions
+        (``wheelset.combine_distance``): the borders [m] between them (patch
+        coordinate y, halfway between their facing ends, ascending) and the factor
+        on the mutual influence of the sub-regions across each in the normal problem
+        (CONTACT's reduced interaction, ``wheelset.full_interaction_distance``);
+        empty for a patch of one region.
     bounds : (y_min, y_max)
         The patch's own band of its tangent plane [m] (patch coordinate y): halfway
         to the interpenetration regions of the other patches on its wheel, whose
@@ -85,6 +92,7 @@ class ContactGeometry:
     spin_derivative: float = math.nan
     local_contact_angle: Callable | None = field(default=None, repr=False)
     bounds: tuple = (-math.inf, math.inf)
+    interaction: tuple = ()
 
     def foreign(self, y) -> np.ndarray:
         """Whether the points at patch coordinate ``y`` [m] lie outside the patch's
@@ -134,3 +142,17 @@ class ContactGeometry:
 def _num(v):
     v = float(v)
     return None if math.isnan(v) else v
+
+
+def interaction_factor(distance: float, full: float, separate: float) -> float:
+    """Factor on the mutual influence of two sub-regions of a combined patch whose
+    facing ends lie ``distance`` [m] apart: 1 up to ``full``, 0 from ``separate``,
+    ((separate - d) / (separate - full))^0.8 between: CONTACT's rule for combined
+    patches (its source, eve70a/CONTACT, ``combine_cpatches``; D_COMB = 4 mm and
+    D_SEP = 8 mm; its normal solver scales the sub-patches' mutual influence by it),
+    which blends two separate patches continuously into one."""
+    if distance <= full:
+        return 1.0
+    if distance >= separate:
+        return 0.0
+    return float(((separate - distance) / (separate - full)) ** 0.8)

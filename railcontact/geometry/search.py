@@ -39,7 +39,7 @@ from ..errors import ContactNotFoundError, InputError
 from ..materials import STEEL, Material
 from ..normal.hertz_theory import hertz_ellipse
 from ..profiles.profile import ppoly_at
-from .contact import ContactGeometry
+from .contact import ContactGeometry, interaction_factor
 from .locus import LOCUS_WINDOW, Locus, compute_locus, min_gap
 from .track import SIDES, Track, Wheelset, WheelsetPose
 
@@ -329,12 +329,15 @@ def _bracketed_roll(f, roll0, tol, y_ws):
 
 
 def _regions(loc: Locus, rigid: bool, combine_distance: float):
-    """Index ranges [i0, i1] of the interpenetration regions of a locus."""
+    """Index ranges [i0, i1] of the interpenetration regions of a locus, each with
+    the joins inside it where regions closer than ``combine_distance`` were
+    combined: (rail-profile position halfway between the facing ends [m], their
+    distance [m])."""
     if rigid:
-        return [(loc.i_min, loc.i_min)]
+        return [(loc.i_min, loc.i_min, ())]
     inside = loc.gap < 0.0
     if not inside.any():
-        return [(loc.i_min, loc.i_min)]
+        return [(loc.i_min, loc.i_min, ())]
     d = np.diff(inside.astype(int))
     starts = list(np.flatnonzero(d == 1) + 1)
     ends = list(np.flatnonzero(d == -1))
@@ -343,13 +346,16 @@ def _regions(loc: Locus, rigid: bool, combine_distance: float):
     if inside[-1]:
         ends.append(inside.size - 1)
     runs = [[int(a), int(b)] for a, b in zip(starts, ends)]
-    merged = [runs[0]]
+    merged = [runs[0] + [[]]]
     for a, b in runs[1:]:
-        if abs(loc.y_rail[a] - loc.y_rail[merged[-1][1]]) < combine_distance:
+        end = merged[-1][1]
+        dist = abs(loc.y_rail[a] - loc.y_rail[end])
+        if dist < combine_distance:
             merged[-1][1] = b
+            merged[-1][2].append((0.5 * float(loc.y_rail[a] + loc.y_rail[end]), float(dist)))
         else:
-            merged.append([a, b])
-    return [tuple(r) for r in merged]
+            merged.append([a, b, []])
+    return [(a, b, tuple(j)) for a, b, j in merged]
 
 
 #: Newton steps of the gap evaluation stop after a correction below this [m]: the
@@ -656,6 +662,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                  velocity: float = 30.0, pitch_velocity: float | None = None,
                  lateral_velocity: float = 0.0, yaw_rate: float = 0.0,
                  combine_distance: float = 0.0,
+                 full_interaction_distance: float | None = None,
                  interpenetration: dict | None = None, roll: float | None = None,
                  side: str = "both", roll_start: float = 0.0,
                  load_iterations: int = 10) -> WheelsetContact:
@@ -681,8 +688,14 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     lateral_velocity, yaw_rate : float
         [m/s], [rad/s] for the kinematic creepages.
     combine_distance : float
-        Interpenetration regions closer than this [m] form one patch (default 0:
-        every region is its own patch).
+        Interpenetration regions whose facing ends are closer than this [m] form one
+        patch (default 0: every region is its own patch; CONTACT combines within
+        8 mm).
+    full_interaction_distance : float, optional
+        Within a combined patch, sub-regions closer than this [m] interact fully in
+        the normal problem, and between it and ``combine_distance`` reduced
+        (:func:`railcontact.geometry.contact.interaction_factor`; CONTACT: 4 mm);
+        default ``combine_distance`` (full interaction).
     interpenetration : dict, optional
         Prescribed vertical interpenetration [m] of the deepest point per side
         (``{"left": d, "right": d}``) instead of one derived from ``vertical_force``;
@@ -769,10 +782,13 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     for sd in sides:
         loc = loci[sd]
         regions = _regions(loc, loads is None, combine_distance)
-        for (i0, i1), lim in zip(regions, _territories(loc, regions)):
+        for (i0, i1, joins), lim in zip(regions, _territories(loc, regions)):
+            full = combine_distance if full_interaction_distance is None \
+                else full_interaction_distance
+            factors = [(y, interaction_factor(d, full, combine_distance)) for y, d in joins]
             patches.append(_make_patch(wheelset, track, sd, loc, i0, i1, pose, loads is None,
                                        velocity, pitch_velocity, lateral_velocity, yaw_rate,
-                                       lim))
+                                       lim, factors))
     return WheelsetContact(pose, patches, loci, loads, targets)
 
 
@@ -781,7 +797,7 @@ def _territories(loc: Locus, regions) -> list:
     halfway between its ends and the facing ends of the neighbouring regions of the
     same locus (unbounded without a neighbour on that side)."""
     spans = [(float(min(loc.y_rail[a], loc.y_rail[b])), float(max(loc.y_rail[a], loc.y_rail[b])))
-             for a, b in regions]
+             for a, b, _ in regions]
     out = []
     for lo, hi in spans:
         below = [h for l, h in spans if h < lo]
@@ -792,7 +808,8 @@ def _territories(loc: Locus, regions) -> list:
 
 
 def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch_velocity,
-                lateral_velocity, yaw_rate, territory=(-math.inf, math.inf)) -> ContactGeometry:
+                lateral_velocity, yaw_rate, territory=(-math.inf, math.inf),
+                joins=()) -> ContactGeometry:
     sl = slice(i0, i1 + 1)
     g = loc.gap[sl]
     im = i0 + int(np.argmin(g))
@@ -860,9 +877,11 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
     pos_tr = np.array([C[0], sgn * C[1], C[2]])
     # the territory in patch coordinates (y along t, sgn-mirrored as the extent)
     lim = sorted(sgn * (v - y_ref) / math.cos(a_ref) for v in territory)
+    inter = tuple(sorted((sgn * (v - y_ref) / math.cos(a_ref), f) for v, f in joins))
     return ContactGeometry(curvatures=(A, B), side=side, contact_angle=delta_tr,
                            rolling_radius=rolling_radius, y_rail=y_ref, y_wheel=y_w,
                            z_rail=z_ref, z_wheel=z_w, position=pos_tr, approach=approach,
                            weight=weight, creepage=creep, velocity=V, extent=extent,
                            gap_function=gapf, spin_derivative=dphi, bounds=tuple(lim),
+                           interaction=inter,
                            local_contact_angle=gapf.contact_angle_at)

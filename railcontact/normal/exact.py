@@ -34,7 +34,8 @@ from .influence import bounding_box, normal_operator, normal_operator_block
 log = logging.getLogger(__name__)
 
 
-def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=None):
+def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=None,
+                  regions=None):
     """Solve the discrete normal contact problem.
 
     Parameters
@@ -45,6 +46,12 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
     dA : float         element area [m^2]
     force : float      total force [N] (force-controlled), or None
     scale : float      gap scale [m] of the convergence test (default max |h|)
+    regions : (cols, factors), optional
+                       reduced interaction between the sub-regions of a combined
+                       patch: ``cols`` (int, one per grid column) the sub-region of
+                       each column, ``factors`` (k x k) the factor on the
+                       displacements that a sub-region's pressure causes in another
+                       (1 on the diagonal; :func:`railcontact.geometry.contact.interaction_factor`)
 
     Returns
     -------
@@ -64,9 +71,18 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
         p = np.array(p0, dtype=float)
     p = np.ascontiguousarray(p)
     scale = float(np.max(np.abs(h))) if scale is None else float(scale)
+    if regions is None:
+        cols, fm = np.zeros(h.shape[1], dtype=np.int64), np.ones((1, 1))
+    else:
+        cols = np.ascontiguousarray(regions[0], dtype=np.int64)
+        fm = np.ascontiguousarray(regions[1], dtype=float)
+        if cols.shape != (h.shape[1],) or fm.shape != (fm.shape[0], fm.shape[0]) \
+                or cols.min() < 0 or cols.max() >= fm.shape[0]:
+            raise InputError(f"regions: expected one sub-region index per grid column "
+                             f"({h.shape[1]}) and a square factor matrix covering them")
     gbar, it, converged = _pk_kernel(op.khat, op.shape, h, float(dA),
                                      0.0 if force is None else float(force), force is not None,
-                                     float(tol), int(maxiter), p, scale, op.kernel)
+                                     float(tol), int(maxiter), p, scale, op.kernel, cols, fm)
     approach = gbar if force is not None else 0.0
     return p, approach, int(it), bool(converged)
 
@@ -83,6 +99,29 @@ def _convolve(p, khat, shape, buf):
 
 
 @njit(cache=True, nogil=True)
+def _apply(p, khat, shape, buf, cols, fm):
+    """A p, with the displacements that one sub-region's pressure causes in another
+    scaled by ``fm`` (one convolution per sub-region; the plain product where the
+    patch is one region)."""
+    k = fm.shape[0]
+    if k == 1:
+        return _convolve(p, khat, shape, buf)
+    mx, my = p.shape
+    u = np.zeros((mx, my))
+    q = np.zeros((mx, my))
+    for a in range(k):
+        for j in range(my):
+            for i in range(mx):
+                q[i, j] = p[i, j] if cols[j] == a else 0.0
+        ua = _convolve(q, khat, shape, buf)
+        for j in range(my):
+            f = fm[a, cols[j]]
+            for i in range(mx):
+                u[i, j] += f * ua[i, j]
+    return u
+
+
+@njit(cache=True, nogil=True)
 def _mean_on(a, S):
     """Mean of a over the elements where S is true (at least one)."""
     s = 0.0
@@ -96,21 +135,28 @@ def _mean_on(a, S):
 
 
 @njit(cache=True, nogil=True)
-def _add_direct(u, f, idx, dq, kernel):
+def _add_direct(u, f, idx, dq, kernel, cols, fm):
     """u += f A dq for dq nonzero only at the flat indices ``idx`` (values ``dq``):
     each element's displacements summed directly from the kernel (offsets centred
-    at (kernel rows - 1) / 2)."""
+    at (kernel rows - 1) / 2), scaled between sub-regions as in :func:`_apply`."""
     mx, my = u.shape
     ci = (kernel.shape[0] - 1) // 2
     cj = (kernel.shape[1] - 1) // 2
+    one = fm.shape[0] == 1
     for k in range(idx.size):
         i0 = idx[k] // my
         j0 = idx[k] % my
         a = f * dq[k]
-        for i in range(mx):
-            row = ci + i - i0
-            for j in range(my):
-                u[i, j] += a * kernel[row, cj + j - j0]
+        if one:
+            for i in range(mx):
+                row = ci + i - i0
+                for j in range(my):
+                    u[i, j] += a * kernel[row, cj + j - j0]
+        else:
+            for i in range(mx):
+                row = ci + i - i0
+                for j in range(my):
+                    u[i, j] += a * fm[cols[j0], cols[j]] * kernel[row, cj + j - j0]
 
 
 #: Polonsky-Keer updates the displacements of a step directly (from the kernel) where
@@ -119,7 +165,8 @@ DIRECT_FRACTION = 0.02
 
 
 @njit(cache=True, nogil=True)
-def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, kernel):
+def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, kernel, cols,
+               fm):
     """Constrained conjugate gradients of Polonsky & Keer on the pressure ``p``
     (the initial estimate, overwritten with the solution).
 
@@ -131,6 +178,8 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
     displacement-controlled) and d the changes of the clipped and loaded elements:
     A d summed directly where they are few (``DIRECT_FRACTION`` of the elements),
     else A p by a convolution; refreshed by a convolution every 10 steps.
+    ``cols``, ``fm``: sub-regions of the columns and their interaction factors
+    (:func:`_apply`; one region: the plain operator).
     Returns the approach (mean gap, force-controlled), iterations, converged.
     """
     mx, my = h.shape
@@ -153,7 +202,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
     it = 0
     for it in range(1, maxiter + 1):
         if not valid or fresh >= 10:
-            u[:, :] = _convolve(p, khat, shape, buf)
+            u[:, :] = _apply(p, khat, shape, buf, cols, fm)
             fresh = 0
         nS = 0
         for i in range(mx):
@@ -183,7 +232,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
             for j in range(my):
                 t[i, j] = g[i, j] + beta * t[i, j] if S[i, j] else 0.0
         G_old = G
-        r = _convolve(t, khat, shape, buf)
+        r = _apply(t, khat, shape, buf, cols, fm)
         rbar = 0.0
         if controlled:
             rbar = _mean_on(r, S)
@@ -235,7 +284,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
             for i in range(mx):
                 for j in range(my):
                     u[i, j] = f * (u[i, j] - tau * (r[i, j] + rbar))
-            _add_direct(u, f, idx[:nd], dq[:nd], kernel)
+            _add_direct(u, f, idx[:nd], dq[:nd], kernel, cols, fm)
             fresh += 1
             valid = True
         else:
@@ -297,6 +346,34 @@ REUSE_FILL = 0.8
 #: and the next pass's area, after the small change of the approach, overhangs it
 #: by a median 0.08 %
 REUSE_OVERHANG = 0.02
+
+
+def subregions(geometry, y):
+    """(cols, factors) of a combined patch whose sub-regions interact reduced
+    (``geometry.interaction``: the sub-regions' borders [m] in patch coordinate y
+    and the factor across each), for the grid columns ``y``; None where the grid's
+    columns interact fully.  Sub-regions a < b interact with the product of the
+    factors across the borders between them."""
+    inter = getattr(geometry, "interaction", ())
+    if not inter or all(f == 1.0 for _, f in inter):
+        return None
+    borders = np.array([b for b, _ in inter])
+    cols = np.searchsorted(borders, np.asarray(y, dtype=float)).astype(np.int64)
+    k = len(inter) + 1
+    fm = np.ones((k, k))
+    for a in range(k):
+        for b in range(a + 1, k):
+            fm[a, b] = fm[b, a] = float(np.prod([f for _, f in inter[a:b]]))
+    return cols, fm
+
+
+def _cut(regions, cols):
+    """``regions`` of :func:`subregions` for the columns ``cols`` (a slice) of the
+    grid."""
+    if regions is None:
+        return None
+    c = regions[0][cols]
+    return None if c.size == 0 or c.min() == c.max() else (c, regions[1])
 
 
 def own_gap(geometry, x, y) -> np.ndarray:
@@ -438,7 +515,7 @@ class ExactNormalModel:
         (cx, cy), (ex, ey) = self._region_box(x, y, h, ix, iy, sx, sy)
         return h0 if _fits(sol, cx, cy, ex, ey, grid) else None
 
-    def _displacement_controlled(self, grid_key, h, dA, p0):
+    def _displacement_controlled(self, grid_key, h, dA, p0, regions=None):
         """Polonsky-Keer with the approach given, on the bounding box of the overlap
         h < 0: the contact lies in it (the displacements of a pressure are positive
         everywhere), so outside it the pressure is zero and the iteration is that on
@@ -452,12 +529,13 @@ class ExactNormalModel:
         op = normal_operator_block(*grid_key, *h[box].shape)
         q, _, it, ok = polonsky_keer(op, h[box], dA, None, self.tol, self.maxiter,
                                      p0=None if p0 is None else p0[box],
-                                     scale=float(np.max(np.abs(h))))
+                                     scale=float(np.max(np.abs(h))),
+                                     regions=_cut(regions, box[1]))
         p = np.zeros(h.shape)
         p[box] = q
         return p, it, ok
 
-    def _force_controlled(self, grid_key, h0, dA, force, p0, approach):
+    def _force_controlled(self, grid_key, h0, dA, force, p0, approach, regions=None):
         """Polonsky-Keer with the force given, on the bounding box of h0 <
         FORCE_BOX x ``approach`` (the search's approach): where the solved approach
         is below that, the contact, which lies where h0 is below the solved
@@ -476,7 +554,8 @@ class ExactNormalModel:
             q0 = None if p0 is None else scaled(np.ascontiguousarray(p0[box]))
             q, app, it0, ok = polonsky_keer(normal_operator_block(*grid_key, *h0[box].shape),
                                             h0[box], dA, force=force, tol=self.tol,
-                                            maxiter=self.maxiter, p0=q0, scale=scale)
+                                            maxiter=self.maxiter, p0=q0, scale=scale,
+                                            regions=_cut(regions, box[1]))
             p = np.zeros(h0.shape)
             p[box] = q
             if ok and app <= FORCE_BOX * approach:
@@ -484,7 +563,7 @@ class ExactNormalModel:
             p0 = p if ok and p.max() > 0 else p0
         p, app, it, ok = polonsky_keer(normal_operator(*grid_key), h0, dA, force=force,
                                        tol=self.tol, maxiter=self.maxiter, p0=scaled(p0),
-                                       scale=scale)
+                                       scale=scale, regions=regions)
         return p, app, it0 + it, ok
 
     accepts_warm_start = True
@@ -545,6 +624,7 @@ class ExactNormalModel:
             h0 = h0 + extra_gap
         grid_key = (x.size, y.size, float(dx), float(dy), material.contact_modulus)
         dA = dx * dy
+        regions = subregions(geometry, y)
         p0 = None
         if warm_start is not None and warm_start.pressure.max() > 0:
             if same_grid(warm_start.x, warm_start.y, x, y):
@@ -560,9 +640,10 @@ class ExactNormalModel:
                 # contact is where it exceeds half the approach, and p ~ its root there
                 p0 = np.sqrt(np.maximum(0.5 * geometry.approach - h0, 0.0))
             p, app, it, ok = self._force_controlled(grid_key, h0, dA, normal_force, p0,
-                                                    geometry.approach)
+                                                    geometry.approach, regions)
         else:
-            p, it, ok = self._displacement_controlled(grid_key, h0 - penetration, dA, p0)
+            p, it, ok = self._displacement_controlled(grid_key, h0 - penetration, dA, p0,
+                                                      regions)
             app = penetration
         if not ok:
             log.warning("exact normal solver: no convergence in %d iterations", it)

@@ -205,7 +205,7 @@ def test_direct_displacements_of_a_few_elements_equal_the_convolution():
     d = np.zeros(11 * 9)
     d[idx] = dq
     expected = u + 0.7 * op(d.reshape(11, 9))
-    _add_direct(u, 0.7, idx, dq, op.kernel)
+    _add_direct(u, 0.7, idx, dq, op.kernel, np.zeros(9, dtype=np.int64), np.ones((1, 1)))
     assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
 
 
@@ -299,3 +299,70 @@ def test_a_grid_reaching_into_another_patch_does_not_load_it_again():
     twice = nm.solve(unbounded, rc.Material(), penetration=small.approach,
                      grid=(40, 40)).normal_force
     assert twice > 0.5 * fb
+
+
+def test_interaction_factor_is_contacts_rule():
+    from railcontact.geometry.contact import interaction_factor
+    assert interaction_factor(3e-3, 4e-3, 8e-3) == 1.0
+    assert interaction_factor(4e-3, 4e-3, 8e-3) == 1.0
+    assert interaction_factor(6e-3, 4e-3, 8e-3) == pytest.approx(0.5 ** 0.8, rel=1e-12)
+    assert interaction_factor(8e-3, 4e-3, 8e-3) == 0.0
+    assert interaction_factor(9e-3, 4e-3, 8e-3) == 0.0
+
+
+def test_reduced_interaction_products_equal_the_scaled_dense_matrix():
+    """With sub-regions of columns, the FFT product and the direct sum of a few
+    elements equal the dense influence matrix whose entries between sub-regions a
+    and b are scaled by factors[a, b]."""
+    from railcontact.normal.exact import _add_direct, _apply
+    from railcontact.normal.influence import normal_operator
+    mx, my, dx, dy, E = 9, 12, 1e-4, 1.5e-4, MAT.contact_modulus
+    op = normal_operator(mx, my, dx, dy, E)
+    cols = np.array([0] * 4 + [1] * 5 + [2] * 3, dtype=np.int64)
+    fm = np.array([[1.0, 0.6, 0.2], [0.6, 1.0, 0.4], [0.2, 0.4, 1.0]])
+    K = op.kernel
+    ii, jj = np.meshgrid(np.arange(mx), np.arange(my), indexing="ij")
+    i, j = ii.ravel(), jj.ravel()
+    A = K[mx - 1 + i[:, None] - i[None, :], my - 1 + j[:, None] - j[None, :]]
+    A = A * fm[cols[j][:, None], cols[j][None, :]]
+    rng = np.random.default_rng(11)
+    p = rng.random((mx, my)) * 1e8
+    buf = np.zeros(op.shape)
+    u = _apply(p, op.khat, op.shape, buf, cols, fm)
+    expected = (A @ p.ravel()).reshape(mx, my)
+    assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
+    idx = np.array([3, 40, 70, 107])
+    dq = rng.normal(size=idx.size) * 1e8
+    u0 = rng.random((mx, my))
+    d = np.zeros(mx * my)
+    d[idx] = dq
+    expected = u0 + 0.7 * (A @ d).reshape(mx, my)
+    _add_direct(u0, 0.7, idx, dq, K, cols, fm)
+    assert np.abs(u0 - expected).max() <= 1e-12 * np.abs(expected).max()
+
+
+def test_two_contacts_without_interaction_are_solved_as_each_alone():
+    """Two Hertzian overlaps on one grid, as two sub-regions of columns: with factor
+    0 between them each pressure equals that of its overlap solved alone; with factor
+    1 the result is the plain (fully interacting) solution."""
+    from railcontact.normal.exact import polonsky_keer
+    from railcontact.normal.influence import normal_operator
+    mx, my, dx, dy, E = 30, 40, 1e-4, 1e-4, MAT.contact_modulus
+    x = (np.arange(mx) - 14.5) * dx
+    y = (np.arange(my) - 19.5) * dy
+    left = x[:, None] ** 2 / 0.6 + (y[None, :] + 1e-3) ** 2 / 0.4 - 3e-6
+    right = x[:, None] ** 2 / 0.5 + (y[None, :] - 1e-3) ** 2 / 0.5 - 2e-6
+    cols = (y > 0).astype(np.int64)
+    h = np.where(cols[None, :] == 0, left, right)
+    op, dA = normal_operator(mx, my, dx, dy, E), dx * dy
+    p0, _, _, ok0 = polonsky_keer(op, h, dA, None, 1e-7, 3000, regions=(cols, np.eye(2)))
+    for k, hk in enumerate((np.where(cols[None, :] == 0, left, 1e-3),
+                            np.where(cols[None, :] == 1, right, 1e-3))):
+        alone, _, _, ok = polonsky_keer(op, hk, dA, None, 1e-7, 3000)
+        assert ok and ok0 and (alone > 0).sum() > 30
+        mine = np.where(cols[None, :] == k, p0, 0.0)
+        assert np.abs(mine - alone).max() <= 1e-4 * alone.max()
+    full, _, _, _ = polonsky_keer(op, h, dA, None, 1e-7, 3000)
+    same, _, _, _ = polonsky_keer(op, h, dA, None, 1e-7, 3000, regions=(cols, np.ones((2, 2))))
+    assert np.abs(same - full).max() <= 1e-6 * full.max()
+    assert p0.sum() > 1.01 * full.sum()       # without interaction: less compliant
