@@ -160,11 +160,15 @@ def bench_exact_module3():
         "creepage at a time")
 
 
-def _mbench_deviations(rows, element, offset=None, timed=False):
+#: CONTACT's rule for combining interpenetration regions into one patch
+CONTACT_COMBINATION = {"combine_distance": 8e-3, "full_interaction_distance": 4e-3}
+
+
+def _mbench_deviations(rows, element, offset=None, timed=False, wheelset=None):
     """Relative deviations of the exact solvers from CONTACT's rows (sums over the
     patches) and, where ``timed``, our time per case [ms]; ``offset``: the element
     lattice shifted by these fractions of an element (x, y), to show what its
-    placement does."""
+    placement does; ``wheelset``: more wheelset keys of the cases."""
     import importlib
     exact = importlib.import_module("railcontact.normal.exact")
     real = exact.make_grid
@@ -181,7 +185,8 @@ def _mbench_deviations(rows, element, offset=None, timed=False):
             exact.make_grid = shifted
         for r in rows:
             case = mbench_case(prof, float(r["y_ws_mm"]), float(r["vpitch_rad_s"]),
-                               {"roll": 0.0}, {"normal": "exact", "tangential": "exact",
+                               {"roll": 0.0, **(wheelset or {})},
+                               {"normal": "exact", "tangential": "exact",
                                                "element_size": [element, element]})
             P = rc.solve(case).patches                       # (also loads the kernels)
             out["ms"].append(best_of(lambda: rc.solve(case), 2) * 1e3 if timed else math.nan)
@@ -239,8 +244,29 @@ def bench_exact_wheel_rail():
         "they lay up to 1.1 mm away at 0-1 mm and 0.06-0.16 mm on the rail's crown)")
     out("* at 5 mm (a contact jump: 0-1 mm and 4.5-7 mm are where CONTACT's reference notes "
         "say another contact search can legitimately differ) CONTACT combines tread and "
-        "flange root into one patch where ours are two, each with the creepage of its own "
-        f"contact point (reference points {dev['dy_ref'][five][0]:.1f} mm apart)")
+        "flange root into one patch where ours are two by default, each with the creepage "
+        f"of its own contact point (reference points {dev['dy_ref'][five][0]:.1f} mm apart)")
+    comb = _mbench_deviations([rows[int(np.flatnonzero(five)[0])]], 0.25e-3,
+                              wheelset=CONTACT_COMBINATION)
+    same = _mbench_deviations([r for r, f in zip(rows, five) if not f], 0.25e-3,
+                              wheelset=CONTACT_COMBINATION)
+    fine_comb = None
+    if fine_file.is_file():
+        fine_comb = _mbench_deviations([r for r in csv.DictReader(open(fine_file))
+                                        if float(r["y_ws_mm"]) == 5.0], 0.125e-3,
+                                       wheelset=CONTACT_COMBINATION)
+    moved = max(float(np.abs(same[q] - dev[q][~five]).max()) for q in ("Fn", "Fx", "Fy",
+                                                                         "pmax", "area"))
+    out("* with CONTACT's rule for combined patches (`wheelset.combine_distance` 8 mm, "
+        "`wheelset.full_interaction_distance` 4 mm: one patch, its regions' mutual influence "
+        "in the normal problem reduced, docs/case_files.md) the 5 mm case gives F_n "
+        f"{comb['Fn'][0] * 100:+.2f} %, F_x {comb['Fx'][0] * 100:+.2f} %, F_y "
+        f"{comb['Fy'][0] * 100:+.2f} %, p_max {comb['pmax'][0] * 100:+.2f} %, area "
+        f"{comb['area'][0] * 100:+.2f} % (0.25 mm elements); the other 24 cases move by at "
+        f"most {moved * 100:.2f} % (one region each)"
+        + (f"; on 0.125 mm elements F_x {fine_comb['Fx'][0] * 100:+.2f} %, F_y "
+           f"{fine_comb['Fy'][0] * 100:+.2f} %, area {fine_comb['area'][0] * 100:+.2f} %"
+           if fine_comb else ""))
     k = int(np.argmax(np.abs(dev["Fx"]) * ~jumps))
     spread = {q: [] for q in ("area", "Fx")}
     for ox in (0.0, 0.5):
