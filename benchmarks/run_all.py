@@ -385,16 +385,20 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     for mode, (t, ok, dev) in runs.items():
         out(f"* (b) exact + exact, {mode}: {t * 1e3:.1f} ms per case, (b)/(a) = "
             f"{t / t_hf:.1f}; {ok} of {n} converged"
-            + (" (the others stop where the vertical force jumps across the load, below)"
+            + (" (the others meet the vertical load only to the residuals below)"
                if ok < n else ""))
     resid = np.asarray(resid)
     miss = resid > 1e-4
-    out(f"* vertical load met to 1e-4 in {n - miss.sum()} of {n} cases; the others "
-        f"({', '.join(f'{r * 100:.2g} %' for r in np.sort(resid[miss])[::-1])}), all at "
-        f"{min(shifts[miss]) * 1e3:.2f}-{max(shifts[miss]) * 1e3:.2f} mm shift, lie where "
-        "the interpenetration regions of flange root and flange merge into one planar "
-        "patch and the vertical force jumps across the load (`vertical_residual` in the "
-        "result; see docs/case_files.md, Convergence)")
+    if miss.any():
+        out(f"* vertical load met to 1e-4 in {n - miss.sum()} of {n} cases (cold); the "
+            f"others ({', '.join(f'{r * 100:.2g} %' for r in np.sort(resid[miss])[::-1])}), "
+            f"at {min(shifts[miss]) * 1e3:.2f}-{max(shifts[miss]) * 1e3:.2f} mm shift, are "
+            "flange contact where the flange side's vertical force changes by about 20 Q "
+            "per unit relative interpenetration and the iteration's bracket narrows below "
+            "the jump test's width first (`vertical_residual` in the result; see "
+            "docs/case_files.md, Convergence)")
+    else:
+        out(f"* vertical load met to 1e-4 in all {n} cases (cold)")
     both = ~miss & (np.asarray(warm_resid) <= 1e-4)
     tread = both & (shifts < 6.2e-3)
     flange = both & (shifts >= 6.2e-3)

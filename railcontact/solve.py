@@ -529,6 +529,21 @@ def _current(hist, d, side):
                                    for o in d if o != side)]
 
 
+def _bracket(pts, load):
+    """The history points nearest the load below and above it (by interpenetration;
+    None where there is none)."""
+    below = [p for p in pts if p[1] < load]
+    above = [p for p in pts if p[1] > load]
+    return (max(below, key=lambda p: p[0]) if below else None,
+            min(above, key=lambda p: p[0]) if above else None)
+
+
+def _same_other(point, d, side, rel) -> bool:
+    """Whether a history point (interpenetration, force, interpenetrations of all
+    sides) was taken at the other sides' interpenetrations of ``d`` to ``rel``."""
+    return all(abs(point[2][o] - d[o]) <= rel * d[o] for o in d if o != side)
+
+
 def _first_search(case, bodies, loads, sides, start):
     """The contact search the vertical-force iteration starts from.
 
@@ -653,7 +668,12 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         current = {s: _current(hist[s], d, s) for s in sides}
         collapsed = True
         for s in sides:
-            pts = current[s]
+            # a jump shows at one interpenetration of the other side too (to ten
+            # tolerances): where that moved, a side's force moves with the roll, also
+            # at its own unchanged interpenetration (a side held in balance while the
+            # other was corrected: its points above and below the load at one
+            # interpenetration are no bracket of a jump)
+            pts = [p for p in current[s] if _same_other(p, d, s, STANDIN_FACTOR * rtol)]
             lo = [p[0] for p in pts if p[1] < loads[s]]
             hi = [p[0] for p in pts if p[1] > loads[s]]
             # collapsed: narrower than a tenth of the tolerance times the
@@ -686,15 +706,24 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 if len(own) >= 2 and own[-1][0] != own[-2][0]:
                     pts = own
             # bracket of the load from the history (force grows with the interpenetration)
-            below = [p for p in pts if p[1] < load]
-            above = [p for p in pts if p[1] > load]
-            lo = max(below, key=lambda p: p[0]) if below else None
-            hi = min(above, key=lambda p: p[0]) if above else None
+            lo, hi = _bracket(pts, load)
+            near = STANDIN_FACTOR * rtol
+            if lo is not None and hi is not None and hi[0] - lo[0] <= near * d[s] \
+                    and not _same_other(lo, hi[2], s, near):
+                # no bracket but the roll's effect: points at about one interpenetration
+                # of this side (to ten tolerances), above and below the load, taken while
+                # the other side moved (a steep flange side's correction by 1 % moves the
+                # other side's force by a few tolerances); bisecting on them held the
+                # side in place.  The points at the other side's present
+                # interpenetration (to ten tolerances) bracket it, if any do
+                lo, hi = _bracket([p for p in pts if _same_other(p, d, s, near)], load)
             # a secant needs two interpenetrations (a side held while the other was
-            # corrected has two points at one, whose forces differ by the roll's
-            # effect: a secant through them stays put)
-            if len(pts) >= 2 and pts[-1][1] != pts[-2][1] and pts[-1][0] != pts[-2][0]:
-                (d0, f0, _), (d1, f1, _) = pts[-2], pts[-1]
+            # corrected has points at one, whose forces differ by the roll's effect: a
+            # secant through them stays put): the last point and the latest before it
+            # at another interpenetration
+            other = [p for p in pts[:-1] if p[0] != pts[-1][0] and p[1] != pts[-1][1]]
+            if other:
+                (d0, f0, _), (d1, f1, _) = other[-1], pts[-1]
                 cand = d1 + (load - f1) * (d1 - d0) / (f1 - f0)
             else:  # Hertz-like F ~ d^1.5
                 fz = max(pts[-1][1], 1e-9 * load)

@@ -393,7 +393,11 @@ def test_history_taken_at_another_height_of_the_other_side_is_not_used(monkeypat
     before that held its force curve of another wheelset position: the iteration
     bisected on it, stalled 1 % off the load and reported a force jump.  Points of a
     side's history count only while the other side's interpenetration is within
-    COUPLED_CHANGE of theirs: the case meets the load on both sides."""
+    COUPLED_CHANGE of theirs: the case meets the load on both sides.  (Since a
+    bracket whose ends lie at about one interpenetration but were taken at other
+    interpenetrations of the other side is replaced by one of points taken at the
+    present one, the whole history no longer stalls either, but takes 29 passes
+    against 22.)"""
     import importlib
     import math
     S = importlib.import_module("railcontact.solve")
@@ -404,7 +408,7 @@ def test_history_taken_at_another_height_of_the_other_side_is_not_used(monkeypat
     assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
     monkeypatch.setattr(S, "COUPLED_CHANGE", math.inf)        # the whole history
     stale = rc.solve(case_from_dict(raw))
-    assert stale.balance.force_jump and abs(stale.vertical_residual["left"]) > 5e-3
+    assert stale.balance.passes > res.balance.passes
 
 
 def test_patch_entering_beside_another_meets_the_load():
@@ -428,3 +432,19 @@ def test_secant_on_balances_with_solved_forces():
     res = rc.solve(case_from_dict(_sweep_raw(220, grid=[40, 40])))
     assert res.converged
     assert res.balance.passes <= 4
+
+
+@pytest.mark.parametrize("j", [201, 205])
+def test_bracket_of_points_taken_at_another_height_of_the_other_side(j):
+    """Sweep cases 201 and 205 (6.49 and 6.70 mm, flange contact with F_n of 5-10
+    times the load, whose vertical component the lateral creep force nearly
+    cancels): each correction of the flange side by ~1 % turns the wheelset
+    and moves the tread side's force by a few tolerances at an unchanged
+    interpenetration.  The tread side's points above and below the load at about
+    one interpenetration were taken at other flange-side interpenetrations; bisecting
+    between them held the side in place and the case was reported as a force jump.
+    Such a bracket is now replaced by one of the points taken at the present
+    flange-side interpenetration: both cases meet the load."""
+    res = rc.solve(case_from_dict(_sweep_raw(j, grid=[40, 40])))
+    assert res.converged and not res.balance.force_jump
+    assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
