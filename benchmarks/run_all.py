@@ -392,7 +392,7 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     if miss.any():
         out(f"* vertical load met to 1e-4 in {n - miss.sum()} of {n} cases (cold); the "
             f"others ({', '.join(f'{r * 100:.2g} %' for r in np.sort(resid[miss])[::-1])}), "
-            f"at {min(shifts[miss]) * 1e3:.2f}-{max(shifts[miss]) * 1e3:.2f} mm shift, are "
+            f"at {_span(shifts[miss] * 1e3)} mm shift, are "
             "flange contact where the flange side's vertical force changes by about 20 Q "
             "per unit relative interpenetration and the iteration's bracket narrows below "
             "the jump test's width first (`vertical_residual` in the result; see "
@@ -438,6 +438,12 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     out("* targets of issue 4: under 5 ms cold and 2 ms warm per case (not met); CONTACT "
         "takes 46.5 ms per case on its 10 kN sweep (one wheel): ours on those cases in the "
         "section above")
+
+
+def _span(v):
+    """'a-b' of the smallest and largest of v, or 'a' where they are one."""
+    lo, hi = f"{min(v):.2f}", f"{max(v):.2f}"
+    return lo if lo == hi else f"{lo}-{hi}"
 
 
 def _solves_alone(case, res, neighbour):
