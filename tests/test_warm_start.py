@@ -448,3 +448,21 @@ def test_bracket_of_points_taken_at_another_height_of_the_other_side(j):
     res = rc.solve(case_from_dict(_sweep_raw(j, grid=[40, 40])))
     assert res.converged and not res.balance.force_jump
     assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
+
+
+def test_a_jump_returns_the_pass_nearest_the_load():
+    """Hertz at the deepest point of a wide tread patch (S1002 on 60E1, -0.23 mm,
+    yaw 2 mrad, 45.7 kN): two minima of the gap lie within 1e-4 of each other, and as
+    the deepest point passes from one to the other the lateral relative curvature
+    falls from 3.95 to 0.28 1/m, so that Hertz's force at one approach doubles.  The
+    iteration stops at that jump; its result is the pass nearest the load (1.6e-4
+    off), not the last pass, which lay on the far side of the jump (49 % off)."""
+    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+           "wheelset": {"lateral_shift": -0.0002250324175564096, "yaw": 0.0019889081607448837,
+                        "vertical_force": 45726.18093136163, "velocity": 30.0},
+           "creepage": {"longitudinal": -0.005158154761065562, "lateral": 0.0011098146583265274,
+                        "spin": 0.1852899945820869},
+           "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [40, 40]}}
+    res = rc.solve(case_from_dict(raw))
+    assert res.balance.force_jump and not res.converged
+    assert max(abs(v) for v in res.vertical_residual.values()) < 1e-3
