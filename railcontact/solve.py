@@ -529,6 +529,30 @@ def _current(hist, d, side):
                                    for o in d if o != side)]
 
 
+def _collapsed(current, err, loads, d, sides, rtol) -> bool:
+    """Whether the bracket of the load has collapsed on every side off the balance
+    (a model whose force jumps with the interpenetration, e.g. a strip entering the
+    contact, may have no exact solution), from each side's ``current`` history
+    points."""
+    for s in sides:
+        # a jump shows at one interpenetration of the other side too (to ten
+        # tolerances): where that moved, a side's force moves with the roll, also at
+        # its own unchanged interpenetration (a side held in balance while the other
+        # was corrected: its points above and below the load at one interpenetration
+        # are no bracket of a jump)
+        pts = [p for p in current[s] if _same_other(p, d, s, STANDIN_FACTOR * rtol)]
+        lo = [p[0] for p in pts if p[1] < loads[s]]
+        hi = [p[0] for p in pts if p[1] > loads[s]]
+        # collapsed: narrower than a tenth of the tolerance times the interpenetration,
+        # across which a force continuous at 1.5 Q/d (Hertz's slope) would change by
+        # 0.15 tolerances; missing the load at both ends of it takes a slope over 13
+        # times that, i.e. a jump
+        width = max(1e-11, 0.1 * rtol * d[s])
+        if abs(err[s]) > rtol * loads[s] and not (lo and hi and min(hi) - max(lo) < width):
+            return False
+    return True
+
+
 def _with_solved_forces(case, results, tmodel, previous, loads, sides):
     """The results with their tangential solutions (solved where missing) and the
     largest relative residual of the sides' vertical balances with them."""
@@ -639,23 +663,35 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
     # it lags)
     solved = {s: [] for s in sides}
     best = None
+    eager = False          # every pass solves the tangential problems
     for _ in range(max_iter):
         err = {}
+        final = all(r.tangential is not None for r in results) or tmodel is None
         for s in sides:
             fz = vertical_force_on_rail(results, s, lateral)
             err[s] = fz - loads[s]
             hist[s].append((d[s], fz, dict(d)))
-        final = all(r.tangential is not None for r in results) or tmodel is None
+            if final and lazy:                  # a pass that solved them (``eager``)
+                solved[s].append((d[s], fz, dict(d)))
         # with stand-in lateral forces, solve the tangential problems once the balance
         # is within ten tolerances: the stand-in's F_y sin(d) is itself a few 1e-4 of
         # the load off, so converging further on it is wasted; the passes after that
         # run with the solved forces
         tol = {s: (1.0 if final else STANDIN_FACTOR) * rtol * loads[s] for s in sides}
-        if all(abs(err[s]) <= tol[s] for s in sides):
+        met = all(abs(err[s]) <= tol[s] for s in sides)
+        # a jump of the stand-in's balance is no jump of the result's: its F_y sin(d)
+        # may be several per cent of the load off (ANALYN + Polach in flange contact:
+        # 10 %), which moves where the load lies against the jump.  From there on
+        # every pass solves the tangential problems, so that the jump test sees
+        # balances with solved forces
+        if not met and not final and _collapsed({s: _current(hist[s], d, s) for s in sides},
+                                                err, loads, d, sides, rtol):
+            met = eager = True
+        if met:
             if final:
                 break
-            # met with the stand-in lateral forces: solve the tangential problems and
-            # check the balance with their forces
+            # met (or stuck at a jump) with the stand-in lateral forces: solve the
+            # tangential problems and check the balance with their forces
             results = _add_tangential(case, results, tmodel, previous=tangential_start)
             lateral = tangential_start = results
             final = True
@@ -670,10 +706,6 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 solved[s].append((d[s], fz, dict(d)))
             if all(abs(err[s]) <= rtol * loads[s] for s in sides):
                 break
-        # a model whose force jumps with the interpenetration (a strip entering the
-        # contact) may have no exact solution: stop when the bracket has collapsed on
-        # every side off the balance (here |err| > rtol Q means off: with stand-in
-        # forces the branch above was not taken, so |err| > STANDIN_FACTOR rtol Q)
         # the pass nearest the load (where the force jumps across it, its results are
         # returned rather than the last pass's, which may lie on the far side)
         score = max(abs(err[s]) / loads[s] for s in sides)
@@ -690,24 +722,9 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 own = _current(solved[s], d, s)
                 if len(own) >= 2 and own[-1][0] != own[-2][0]:
                     current[s] = own
-        collapsed = True
-        for s in sides:
-            # a jump shows at one interpenetration of the other side too (to ten
-            # tolerances): where that moved, a side's force moves with the roll, also
-            # at its own unchanged interpenetration (a side held in balance while the
-            # other was corrected: its points above and below the load at one
-            # interpenetration are no bracket of a jump)
-            pts = [p for p in current[s] if _same_other(p, d, s, STANDIN_FACTOR * rtol)]
-            lo = [p[0] for p in pts if p[1] < loads[s]]
-            hi = [p[0] for p in pts if p[1] > loads[s]]
-            # collapsed: narrower than a tenth of the tolerance times the
-            # interpenetration, across which a force continuous at 1.5 Q/d (Hertz's
-            # slope) would change by 0.15 tolerances; missing the load at both ends of
-            # it takes a slope over 13 times that, i.e. a jump
-            width = max(1e-11, 0.1 * rtol * d[s])
-            if abs(err[s]) > rtol * loads[s] and not (lo and hi and min(hi) - max(lo) < width):
-                collapsed = False
-        if collapsed:
+        # stop at a jump of the result's balance (a collapsed bracket of a balance
+        # with solved forces; with stand-in ones the branch above has solved them)
+        if final and _collapsed(current, err, loads, d, sides, rtol):
             results, worst = _with_solved_forces(case, results, tmodel, tangential_start,
                                                  loads, sides)
             if best is not None and best[0] < worst:
@@ -737,6 +754,10 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 # side in place.  The points at the other side's present
                 # interpenetration (to ten tolerances) bracket it, if any do
                 lo, hi = _bracket([p for p in pts if _same_other(p, d, s, near)], load)
+            if lo is not None and hi is not None and hi[0] <= lo[0]:
+                # the force is not monotone on these points (taken at other wheelset
+                # positions): no bracket (bisecting between such ends stood still)
+                lo = hi = None
             # a secant needs two interpenetrations (a side held while the other was
             # corrected has points at one, whose forces differ by the roll's effect: a
             # secant through them stays put): the last point and the latest before it
@@ -768,7 +789,8 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 [r.geometry for r in kept if r.geometry.side == s] if s in still
                 else [g for g in contact.patches if g.side == s])]
         results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results,
-                                 normal_only=lazy, coupled=coupled, same_case=True, kept=kept)
+                                 normal_only=lazy and not eager, coupled=coupled,
+                                 same_case=True, kept=kept)
         passes += 1
     else:
         converged = False
