@@ -577,6 +577,46 @@ def _same_other(point, d, side, rel) -> bool:
     return all(abs(point[2][o] - d[o]) <= rel * d[o] for o in d if o != side)
 
 
+def _step(pts, load, d, s, rtol) -> float:
+    """The next interpenetration [m] of side ``s`` from its history points ``pts``
+    (interpenetration, force, interpenetrations of all sides): a secant step,
+    safeguarded by bisection in the bracket of the load, within 0.2 to 5 times the
+    present interpenetration ``d[s]``."""
+    # bracket of the load from the history (force grows with the interpenetration)
+    lo, hi = _bracket(pts, load)
+    near = STANDIN_FACTOR * rtol
+    if lo is not None and hi is not None and hi[0] - lo[0] <= near * d[s] \
+            and not _same_other(lo, hi[2], s, near):
+        # no bracket but the roll's effect: points at about one interpenetration
+        # of this side (to ten tolerances), above and below the load, taken while
+        # the other side moved (a steep flange side's correction by 1 % moves the
+        # other side's force by a few tolerances); bisecting on them held the
+        # side in place.  The points at the other side's present
+        # interpenetration (to ten tolerances) bracket it, if any do
+        lo, hi = _bracket([p for p in pts if _same_other(p, d, s, near)], load)
+    if lo is not None and hi is not None and hi[0] <= lo[0]:
+        # the force is not monotone on these points (taken at other wheelset
+        # positions): no bracket (bisecting between such ends stood still)
+        lo = hi = None
+    # a secant needs two interpenetrations (a side held while the other was
+    # corrected has points at one, whose forces differ by the roll's effect: a
+    # secant through them stays put): the last point and the latest before it
+    # at another interpenetration
+    other = [p for p in pts[:-1] if p[0] != pts[-1][0] and p[1] != pts[-1][1]]
+    if other:
+        (d0, f0, _), (d1, f1, _) = other[-1], pts[-1]
+        cand = d1 + (load - f1) * (d1 - d0) / (f1 - f0)
+    else:  # Hertz-like F ~ d^1.5
+        fz = max(pts[-1][1], 1e-9 * load)
+        cand = pts[-1][0] * (load / fz) ** (2.0 / 3.0)
+    slow = len(pts) >= 3 and abs(pts[-1][1] - load) > 0.5 * abs(pts[-3][1] - load)
+    if lo is not None and hi is not None and (slow or not (lo[0] < cand < hi[0])):
+        # safeguard: bisection in the bracket, also where the last two steps
+        # did not halve the residual (a jump, on which secant steps stall)
+        cand = 0.5 * (lo[0] + hi[0])
+    return min(max(cand, 0.2 * d[s]), 5.0 * d[s] + 1e-7)
+
+
 def _first_search(case, bodies, loads, sides, start):
     """The contact search the vertical-force iteration starts from.
 
@@ -740,41 +780,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         for s in sides:
             if s in balanced:
                 continue
-            load = loads[s]
-            pts = current[s]
-            # bracket of the load from the history (force grows with the interpenetration)
-            lo, hi = _bracket(pts, load)
-            near = STANDIN_FACTOR * rtol
-            if lo is not None and hi is not None and hi[0] - lo[0] <= near * d[s] \
-                    and not _same_other(lo, hi[2], s, near):
-                # no bracket but the roll's effect: points at about one interpenetration
-                # of this side (to ten tolerances), above and below the load, taken while
-                # the other side moved (a steep flange side's correction by 1 % moves the
-                # other side's force by a few tolerances); bisecting on them held the
-                # side in place.  The points at the other side's present
-                # interpenetration (to ten tolerances) bracket it, if any do
-                lo, hi = _bracket([p for p in pts if _same_other(p, d, s, near)], load)
-            if lo is not None and hi is not None and hi[0] <= lo[0]:
-                # the force is not monotone on these points (taken at other wheelset
-                # positions): no bracket (bisecting between such ends stood still)
-                lo = hi = None
-            # a secant needs two interpenetrations (a side held while the other was
-            # corrected has points at one, whose forces differ by the roll's effect: a
-            # secant through them stays put): the last point and the latest before it
-            # at another interpenetration
-            other = [p for p in pts[:-1] if p[0] != pts[-1][0] and p[1] != pts[-1][1]]
-            if other:
-                (d0, f0, _), (d1, f1, _) = other[-1], pts[-1]
-                cand = d1 + (load - f1) * (d1 - d0) / (f1 - f0)
-            else:  # Hertz-like F ~ d^1.5
-                fz = max(pts[-1][1], 1e-9 * load)
-                cand = pts[-1][0] * (load / fz) ** (2.0 / 3.0)
-            slow = len(pts) >= 3 and abs(pts[-1][1] - load) > 0.5 * abs(pts[-3][1] - load)
-            if lo is not None and hi is not None and (slow or not (lo[0] < cand < hi[0])):
-                # safeguard: bisection in the bracket, also where the last two steps
-                # did not halve the residual (a jump, on which secant steps stall)
-                cand = 0.5 * (lo[0] + hi[0])
-            new[s] = min(max(cand, 0.2 * d[s]), 5.0 * d[s] + 1e-7)
+            new[s] = _step(current[s], loads[s], d, s, rtol)
         d = new
         contact = contact_search(case, interpenetration=d, bodies=bodies,
                                  roll_start=contact.pose.roll)
