@@ -178,6 +178,7 @@ def contact_search(case: Case, interpenetration: dict | None = None,
     pv = case.get("wheelset.pitch_velocity")
     roll = case.get("wheelset.roll")
     fid = case.get("wheelset.full_interaction_distance")
+    combine = case.number("wheelset.combine_distance", 0.0, 0.0, 0.1)
     return find_contact(ws, tr, case.number("wheelset.lateral_shift", 0.0),
                         case.number("wheelset.yaw", 0.0),
                         vertical_force=(case.wheel_loads()["left"], case.wheel_loads()["right"]),
@@ -185,11 +186,10 @@ def contact_search(case: Case, interpenetration: dict | None = None,
                         pitch_velocity=None if pv is None else case.number("wheelset.pitch_velocity"),
                         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0),
                         yaw_rate=case.number("wheelset.yaw_rate", 0.0),
-                        combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1),
+                        combine_distance=combine,
                         full_interaction_distance=None if fid is None else case.number(
-                            "wheelset.full_interaction_distance", 0.0, 0.0,
-                            case.number("wheelset.combine_distance", 0.0, 0.0, 0.1), "m (at "
-                            "most wheelset.combine_distance)"),
+                            "wheelset.full_interaction_distance", 0.0, 0.0, combine,
+                            "m (at most wheelset.combine_distance)"),
                         interpenetration=interpenetration,
                         roll=None if roll is None else case.number("wheelset.roll"),
                         side=case.get("wheelset.side", "both") if roll is not None else "both",
@@ -719,17 +719,18 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         # run with the solved forces
         tol = {s: (1.0 if final else STANDIN_FACTOR) * rtol * loads[s] for s in sides}
         met = all(abs(err[s]) <= tol[s] for s in sides)
+        if met and final:
+            break
+        # each side's points taken at about the other side's present interpenetration
+        current = {s: _current(hist[s], d, s) for s in sides}
         # a jump of the stand-in's balance is no jump of the result's: its F_y sin(d)
         # may be several per cent of the load off (ANALYN + Polach in flange contact:
         # 10 %), which moves where the load lies against the jump.  From there on
         # every pass solves the tangential problems, so that the jump test sees
         # balances with solved forces
-        if not met and not final and _collapsed({s: _current(hist[s], d, s) for s in sides},
-                                                err, loads, d, sides, rtol):
+        if not met and not final and _collapsed(current, err, loads, d, sides, rtol):
             met = eager = True
         if met:
-            if final:
-                break
             # met (or stuck at a jump) with the stand-in lateral forces: solve the
             # tangential problems and check the balance with their forces
             results = _add_tangential(case, results, tmodel, previous=tangential_start)
@@ -746,13 +747,12 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
                 solved[s].append((d[s], fz, dict(d)))
             if all(abs(err[s]) <= rtol * loads[s] for s in sides):
                 break
+            current = {s: _current(hist[s], d, s) for s in sides}
         # the pass nearest the load (where the force jumps across it, its results are
         # returned rather than the last pass's, which may lie on the far side)
         score = max(abs(err[s]) / loads[s] for s in sides)
         if final and (best is None or score < best[0]):
             best = (score, results, contact)
-        # each side's points taken at about the other side's present interpenetration
-        current = {s: _current(hist[s], d, s) for s in sides}
         if final and lazy:
             # two balances with solved forces: their secant holds the change of F_y/F_n
             # with F_n, which the stand-in lags (a flange side's balance then

@@ -42,13 +42,14 @@ def test_a22_both_wheels(refdir, y):
         assert p.normal.area == pytest.approx(float(r["area_mm2"]) * 1e-6, rel=0.02)
 
 
-def _sweep_patch(refdir, name, y, element):
+def _sweep_patch(refdir, name, y, element, extra=None):
     """Our patch and CONTACT's row of the 10 kN sweep file ``name`` at shift y [mm]
-    (right wheel, roll 0, square elements of ``element`` [m])."""
+    (right wheel, roll 0, square elements of ``element`` [m]; ``extra``: more
+    wheelset keys)."""
     rows = {float(r["y_ws_mm"]): r for r in read_csv(refdir / name)}
     r = rows[y]
     res = rc.solve(rc.case_from_dict(_raw(refdir, y, 0.0, float(r["vpitch_rad_s"]), element,
-                                          {"side": "right", "roll": 0.0})))
+                                          {"side": "right", "roll": 0.0, **(extra or {})})))
     (p,) = res.patches
     return p, r
 
@@ -85,13 +86,9 @@ def test_sweep_10kN_fine_elements(refdir, y):
 
 
 def _combined_5mm(refdir):
-    rows = {float(r["y_ws_mm"]): r for r in read_csv(refdir / "mbench_sweep_10kN.csv")}
-    r = rows[5.0]
-    raw = _raw(refdir, 5.0, 0.0, float(r["vpitch_rad_s"]), 0.25e-3,
-               {"side": "right", "roll": 0.0, "combine_distance": 8e-3,
-                "full_interaction_distance": 4e-3})
-    (p,) = rc.solve(rc.case_from_dict(raw)).patches
-    return p, r
+    """The 5 mm case of the 10 kN sweep with CONTACT's rule for combined patches."""
+    return _sweep_patch(refdir, "mbench_sweep_10kN.csv", 5.0, 0.25e-3,
+                        {"combine_distance": 8e-3, "full_interaction_distance": 4e-3})
 
 
 def test_sweep_10kN_combined_patch_at_5mm(refdir):

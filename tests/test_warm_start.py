@@ -39,6 +39,16 @@ def _sweep_raw(j, **solver):
             "solver": {"normal": "exact", "tangential": "exact", **solver}}
 
 
+def _random_case(shift, yaw, load, creepage, normal, tangential):
+    """One of the random cases that found defects of the vertical-force iteration
+    (S1002 on 60E1, 40 x 40 grid, creepages (xi, eta, phi) given)."""
+    return {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+            "wheelset": {"lateral_shift": shift, "yaw": yaw, "vertical_force": load,
+                         "velocity": 30.0},
+            "creepage": dict(zip(("longitudinal", "lateral", "spin"), creepage)),
+            "solver": {"normal": normal, "tangential": tangential, "grid": [40, 40]}}
+
+
 @pytest.mark.parametrize("models", [("exact", "exact"), ("hertz", "fastsim")])
 @pytest.mark.parametrize("shift", [2e-3, 7e-3])
 def test_vertical_balance_with_the_final_forces(models, shift):
@@ -364,12 +374,9 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     iteration's: a bracket of points taken at other wheelset positions.)"""
     import importlib
     import logging
-    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-           "wheelset": {"lateral_shift": -0.005998754733893278, "yaw": -0.001077907347123405,
-                        "vertical_force": 86929.72985745202, "velocity": 30.0},
-           "creepage": {"longitudinal": -0.0001983961034347759,
-                        "lateral": 0.0010905774279293635, "spin": -0.18215570996119113},
-           "solver": {"normal": "kpec", "tangential": "fastsim", "grid": [40, 40]}}
+    raw = _random_case(-0.005998754733893278, -0.001077907347123405, 86929.72985745202,
+                       (-0.0001983961034347759, 0.0010905774279293635, -0.18215570996119113),
+                       "kpec", "fastsim")
     with caplog.at_level(logging.WARNING, logger="railcontact.solve"):
         res = rc.solve(case_from_dict(raw))
     worst = max(abs(v) for v in res.vertical_residual.values())
@@ -462,12 +469,9 @@ def test_a_jump_returns_the_pass_nearest_the_load():
     falls from 3.95 to 0.28 1/m, so that Hertz's force at one approach doubles.  The
     iteration stops at that jump; its result is the pass nearest the load (1.6e-4
     off), not the last pass, which lay on the far side of the jump (49 % off)."""
-    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-           "wheelset": {"lateral_shift": -0.0002250324175564096, "yaw": 0.0019889081607448837,
-                        "vertical_force": 45726.18093136163, "velocity": 30.0},
-           "creepage": {"longitudinal": -0.005158154761065562, "lateral": 0.0011098146583265274,
-                        "spin": 0.1852899945820869},
-           "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [40, 40]}}
+    raw = _random_case(-0.0002250324175564096, 0.0019889081607448837, 45726.18093136163,
+                       (-0.005158154761065562, 0.0011098146583265274, 0.1852899945820869),
+                       "hertz", "fastsim")
     res = rc.solve(case_from_dict(raw))
     assert res.balance.force_jump and not res.converged
     assert max(abs(v) for v in res.vertical_residual.values()) < 1e-3
@@ -480,12 +484,9 @@ def test_a_pass_balanced_with_stand_in_forces_is_judged_by_its_solved_ones():
     the iteration stopped and returned that.  A jump of the stand-in's balance now
     has the tangential problems solved, in every pass from there on: the iteration
     stops at the jump of the result's own balance, 0.5 % off."""
-    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-           "wheelset": {"lateral_shift": 0.006413204589679589, "yaw": -0.006975612298809901,
-                        "vertical_force": 38480.26844298797, "velocity": 30.0},
-           "creepage": {"longitudinal": -0.001910289539449372,
-                        "lateral": 0.0007082233152030053, "spin": -0.5905190256713597},
-           "solver": {"normal": "stripes", "tangential": "fastrip", "grid": [40, 40]}}
+    raw = _random_case(0.006413204589679589, -0.006975612298809901, 38480.26844298797,
+                       (-0.001910289539449372, 0.0007082233152030053, -0.5905190256713597),
+                       "stripes", "fastrip")
     res = rc.solve(case_from_dict(raw))
     assert res.balance.force_jump
     assert max(abs(v) for v in res.vertical_residual.values()) < 0.01

@@ -779,12 +779,11 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     pose = WheelsetPose(lateral_shift, z, roll, yaw)
 
     patches = []
+    full = combine_distance if full_interaction_distance is None else full_interaction_distance
     for sd in sides:
         loc = loci[sd]
         regions = _regions(loc, loads is None, combine_distance)
         for (i0, i1, joins), lim in zip(regions, _territories(loc, regions)):
-            full = combine_distance if full_interaction_distance is None \
-                else full_interaction_distance
             factors = [(y, interaction_factor(d, full, combine_distance)) for y, d in joins]
             patches.append(_make_patch(wheelset, track, sd, loc, i0, i1, pose, loads is None,
                                        velocity, pitch_velocity, lateral_velocity, yaw_rate,

@@ -354,7 +354,7 @@ def subregions(geometry, y):
     and the factor across each), for the grid columns ``y``; None where the grid's
     columns interact fully.  Sub-regions a < b interact with the product of the
     factors across the borders between them."""
-    inter = getattr(geometry, "interaction", ())
+    inter = geometry.interaction
     if not inter or all(f == 1.0 for _, f in inter):
         return None
     borders = np.array([b for b, _ in inter])
