@@ -60,18 +60,40 @@ from .influence import normal_displacement_at
 MIN_CURVATURE = 0.1
 
 
-def strip_curvatures(h, dx: float, dy: float):
-    """Per strip (column of h): the row of the smallest gap and the relative
-    curvatures A(y), B(y) [1/m] there, from second differences of h on the grid
-    (along x, and across the neighbouring strips).  Values below
-    ``MIN_CURVATURE`` are raised to it.  Needs a grid of at least 3 x 3."""
+def strip_minima(h, x, dx: float, dy: float):
+    """Per strip (column of h): position x_m(y) and value g(y) of the gap's minimum
+    along x, and the relative curvatures A(y), B(y) [1/m] there.
+
+    A parabola through the grid row of the smallest gap and its two neighbours gives
+    x_m, g and A (as the batch path's three samples per strip); B is the second
+    difference across the neighbouring strips at x_m, each strip's values taken
+    from its parabola on the same rows.  All four are continuous in the gap: where
+    two rows either side of the minimum hold equal gaps (a gap symmetric in x on a
+    grid without a row at x = 0), which of the two the rounding of h makes the
+    smaller does not change the result.  Curvatures below ``MIN_CURVATURE`` are
+    raised to it.  Needs a grid of at least 3 x 3.
+    """
     mx, my = h.shape
     ixm = np.clip(np.argmin(h, axis=0), 1, mx - 2)
     cols = np.arange(my)
-    A = 0.5 * (h[ixm + 1, cols] - 2 * h[ixm, cols] + h[ixm - 1, cols]) / dx ** 2
+
+    def parabola(j):
+        """Coefficients (h0, c1, c2) of column(s) j on the rows ixm - 1 .. ixm + 1."""
+        hm, h0, hp = h[ixm - 1, j], h[ixm, j], h[ixm + 1, j]
+        return h0, (hp - hm) / (2.0 * dx), (hp - 2.0 * h0 + hm) / (2.0 * dx * dx)
+
+    h0, c1, c2 = parabola(cols)
+    curved = c2 > 0
+    t = np.where(curved, np.clip(-c1 / np.where(curved, 2.0 * c2, 1.0), -dx, dx), 0.0)
+    g = h0 + c1 * t + c2 * t * t
+
+    def at(j):
+        b0, b1, b2 = parabola(j)
+        return b0 + b1 * t + b2 * t * t
+
     jc = np.clip(cols, 1, my - 2)
-    B = 0.5 * (h[ixm, jc + 1] - 2 * h[ixm, jc] + h[ixm, jc - 1]) / dy ** 2
-    return ixm, np.maximum(A, MIN_CURVATURE), np.maximum(B, MIN_CURVATURE)
+    B = 0.5 * (at(jc + 1) - 2.0 * at(jc) + at(jc - 1)) / dy ** 2
+    return x[ixm] + t, g, np.maximum(c2, MIN_CURVATURE), np.maximum(B, MIN_CURVATURE)
 
 
 def _semi_ellipse_rows(h, thr, x, dx):
@@ -262,13 +284,12 @@ class AnalynModel(_StripModel):
 
     def _pressure(self, hstar, x, y, dx, dy, material):
         my = hstar.shape[1]
-        pen = -float(hstar.min())
+        xlc, gmin, A, B = strip_minima(hstar, x, dx, dy)
+        pen = -float(gmin.min())
         if pen <= 0:
             return _no_contact(hstar)
         Es = material.contact_modulus
-        ixm, A, B = strip_curvatures(hstar, dx, dy)
-        xlc = x[ixm]
-        g = hstar[ixm, np.arange(my)] + pen
+        g = gmin + pen
         a, b, _ = hertz_ellipses(A, B, Es, pen)       # one Hertz solution per strip
         alpha1 = pen / (A * a * a)
         beta1 = pen / (B * b * b)
@@ -320,17 +341,16 @@ class StripesModel(_StripModel):
 
     def _pressure(self, hstar, x, y, dx, dy, material):
         my = hstar.shape[1]
-        pen = -float(hstar.min())
+        xlc, gmin, Aloc, B = strip_minima(hstar, x, dx, dy)
+        pen = -float(gmin.min())
         if pen <= 0:
             return _no_contact(hstar)
         Es = material.contact_modulus
-        ixm, Aloc, B = strip_curvatures(hstar, dx, dy)
-        cols = np.arange(my)
-        g = hstar[ixm, cols] + pen                  # lateral gap along the strip minima
+        g = gmin + pen                              # lateral gap along the strip minima
         j0 = int(np.argmin(g))
         A = np.full(my, Aloc[j0])                   # constant longitudinal curvature
         a, b, _ = hertz_ellipses(A, B, Es, pen)      # local ellipses: shape factors
         alpha1 = pen / (A * a * a)
         beta1 = pen / (B * b * b)
         gs = corrected_gap(g[None, :], beta1[None, :], np.array([j0]))[0]
-        return _hertz_strips(x, x[ixm], pen - gs, A, B, alpha1, Es)
+        return _hertz_strips(x, xlc, pen - gs, A, B, alpha1, Es)

@@ -29,7 +29,7 @@ from numba import njit
 from ..errors import InputError
 from ..materials import STEEL, Material
 from ..normal.hertz_theory import hertz_ellipses
-from ..normal.semi_hertzian import strip_curvatures
+from ..normal.semi_hertzian import strip_minima
 from .base import TangentialSolution, check_inputs, register
 from .kalker import flexibilities, flexibilities_array
 
@@ -440,14 +440,14 @@ class FastsimModel:
 def local_curvatures(normal, geometry):
     """Relative curvatures (A(y), B(y)) [1/m] of the gap at each strip's minimum.
 
-    :func:`~railcontact.normal.semi_hertzian.strip_curvatures` of h(x, y) on the
+    :func:`~railcontact.normal.semi_hertzian.strip_minima` of h(x, y) on the
     normal solution's grid, reusing the normal solution's gap where it holds one.
     """
     x, y = normal.x, normal.y
     if x.size < 3 or y.size < 3:
         raise InputError("fastsim-strips needs a grid of at least 3 x 3 elements")
     h = normal.gap if normal.gap is not None else geometry.gap(x[:, None], y[None, :])
-    _, A, B = strip_curvatures(h, normal.dx, normal.dy)
+    _, _, A, B = strip_minima(h, x, normal.dx, normal.dy)
     return A, B
 
 

@@ -1,5 +1,6 @@
 """Kik-Piotrowski, KPEC, STRIPES and ANALYN: Hertzian limit and CONTACT's reference results."""
 
+import numpy as np
 import pytest
 
 import railcontact as rc
@@ -60,3 +61,28 @@ def test_against_contact_a22(refdir, method, y):
     assert p.normal.area == pytest.approx(float(r["area_mm2"]) * 1e-6, rel=0.05)
     assert p.normal.pmax == pytest.approx(float(r["pmax_MPa"]) * 1e6, rel=0.05)
     assert p.normal.penetration == pytest.approx(float(r["approach_mm"]) * 1e-3, rel=0.05)
+
+
+@pytest.mark.parametrize("model", ["kik-piotrowski", "kpec", "stripes", "analyn"])
+def test_rounding_of_the_gap_does_not_move_the_strips(model):
+    """A gap symmetric in x on a grid without a row at x = 0 has two rows of equal
+    gap either side of each strip's minimum; which one is smaller is decided by the
+    last bit of the gap's evaluation, which differs between CPUs.  A femtometre
+    (1e-15 m) either way must not move the solution: with each strip's centre at
+    the grid row of its smallest gap (before issue 21), ANALYN's strips jumped by
+    one element and F_y of the conformal Manchester tread case moved from 166 to
+    258 N."""
+    A, B, C = 1.0, 2.5, 4e5
+
+    def solve(eps):
+        g = ContactGeometry(curvatures=(A, B), gap_function=lambda x, y: (
+            A * x * x + B * y * y + C * y ** 4 + eps * np.sign(x)))
+        return get_normal_model(model).solve(g, MAT, normal_force=5e4, grid=(40, 40))
+
+    ref = solve(0.0)
+    assert ref.x.size % 2 == 0 and np.min(np.abs(ref.x)) > 0.4 * ref.dx
+    for eps in (1e-15, -1e-15):
+        ns = solve(eps)
+        np.testing.assert_allclose(ns.pressure, ref.pressure, rtol=0, atol=1e-6 * ref.pmax)
+        for e, e0 in zip(ns.strips, ref.strips):
+            np.testing.assert_allclose(e, e0, rtol=0, atol=1e-6 * ref.dx)

@@ -134,13 +134,23 @@ def test_strip_spin_changes_the_spin_forces(refdir):
     """On the conformal tread contact at 0 mm the contact angle varies by 2.8 degrees
     across the patch and the strips' spin by a factor of 5 (0.023-0.127 1/m against
     the patch's 0.064): the per-strip spin changes the lateral force that spin drives
-    there against the constant-spin FASTSIM (measured: F_y 208 against 258 N and 224
-    against 251 N; the spin moment by 3 and 1 %)."""
+    there against the constant-spin FASTSIM (measured: F_y 212.6 against 250.5 N on
+    both wheels, the spin moment by 1.6 %).  The case is symmetric: each model's
+    forces on the left wheel mirror those on the right.  (The figures an earlier
+    session measured, 208 against 258 N and 224 against 251 N, and the failure on
+    a new machine came from ANALYN's strip centres at the grid row of the smallest
+    gap, a choice between two rows of equal gap that the rounding made: see
+    ``tests/normal/test_semi_hertzian.py``.)"""
     strips = _wheel_rail(refdir, 0.0, "fastsim-strips")
     plain = _wheel_rail(refdir, 0.0, "fastsim")
+    for res in (strips, plain):
+        left, right = res.patches
+        assert (left.geometry.side, right.geometry.side) == ("left", "right")
+        assert left.tangential.fy == pytest.approx(-right.tangential.fy, rel=1e-6)
+        assert left.tangential.fx == pytest.approx(right.tangential.fx, rel=1e-6)
     for ps, pp in zip(strips.patches, plain.patches):
         g = ps.geometry
         inside = ps.normal.contact.any(axis=0)
         spin = np.abs(g.spin_at(ps.normal.y, g.creepage[2])[inside])
         assert spin.max() > 3 * spin.min()
-        assert abs(ps.tangential.fy / pp.tangential.fy - 1) > 0.05
+        assert abs(ps.tangential.fy / pp.tangential.fy - 1) > 0.1
