@@ -29,19 +29,32 @@ def _print_table(result):
               f"{(p['rolling_radius'] or float('nan')) * 1e3:9.3f}")
 
 
+def _report_status(converged: bool, message: str, warnings, what: str = "") -> int:
+    """Warnings and a missed convergence on stderr; the exit status (1: the result
+    was written but is not a solution to its tolerance, or a wheel derailed)."""
+    for w in warnings:
+        print(f"railcontact: warning: {what}{w}", file=sys.stderr)
+    if not converged:
+        print(f"railcontact: not converged: {what}{message}", file=sys.stderr)
+        return 1
+    return 0
+
+
 def cmd_solve(args):
     from .case import load_case
     from .solve import solve
     res = solve(load_case(args.case), args.normal, args.tangential)
+    d = res.to_dict()
     if args.json:
-        _print_json(res.to_dict())
+        _print_json(d)
     else:
-        _print_table(res.to_dict())
+        _print_table(d)
     if args.out:
         out = Path(args.out)
         tmp = out.with_name(out.name + ".tmp")
         res.to_xarray().to_netcdf(tmp, engine="h5netcdf")
         tmp.replace(out)
+    return _report_status(d["converged"], d["message"], d["warnings"])
 
 
 def cmd_geometry(args):
@@ -72,6 +85,15 @@ def cmd_sweep(args):
         for c in out["cases"]:
             print(c["params"], c.get("error", ""))
             _print_table(c)
+    solved = [c for c in out["cases"] if "error" not in c]
+    bad = [c for c in solved if not c["converged"]]
+    warned = sum(bool(c["warnings"]) for c in solved)
+    if warned:
+        print(f"railcontact: warning: {warned} of {len(solved)} cases have warnings (see "
+              "'warnings' in the JSON)", file=sys.stderr)
+    for c in bad:
+        print(f"railcontact: not converged: {c['params']}: {c['message']}", file=sys.stderr)
+    return 1 if bad else 0
 
 
 def cmd_compare(args):
@@ -136,6 +158,8 @@ def cmd_simulate(args):
     print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
           f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
           f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
+    warnings = [w for w in ds.attrs.get("warnings", "").split("; ") if w]
+    return _report_status(True, "", warnings)
 
 
 def cmd_profile(args):
@@ -236,14 +260,14 @@ def main(argv=None) -> int:
         args.kind = "rail" if args.profile.upper() in RAIL_PROFILES or \
             args.profile.lower().endswith((".prr", ".ban")) else "wheel"
     try:
-        args.func(args)
+        status = args.func(args)
     except RailContactError as exc:
         print(f"railcontact: error: {exc}", file=sys.stderr)
         return 2
     except KeyboardInterrupt:
         print("railcontact: interrupted", file=sys.stderr)
         return 130
-    return 0
+    return int(status or 0)
 
 
 if __name__ == "__main__":

@@ -28,6 +28,7 @@ import numpy as np
 
 from .errors import InputError
 from .normal.influence import Convolution, ShiftedConvolution, coupling_kernels
+from .status import SolverStatus
 
 log = logging.getLogger(__name__)
 
@@ -64,18 +65,23 @@ def slip_from_pressure(x, y, p, material, mode: str = "rolling"):
             np.ascontiguousarray(-(uy[1:] - uy[:-1]) / dx))
 
 
+#: largest number of alternations between the normal and the tangential problem
+MAX_ALTERNATIONS = 30
+
+
 def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, velocity,
                   normal_force=None, penetration=None, grid=None, element_size=None,
-                  tol: float = 1e-5, maxiter: int = 30):
+                  tol: float = 1e-5, maxiter: int | None = None):
     """Normal and tangential solution of one patch of dissimilar bodies.
 
     ``nmodel`` and ``tmodel`` must be the exact models.  Returns the normal and
-    tangential solutions; the tangential one's ``options`` hold
-    ``coupling_iterations`` and ``coupling_converged``.
+    tangential solutions; the tangential one's ``status`` is unconverged where the
+    alternation did not converge (its ``options`` hold ``coupling_iterations``).
     """
     if getattr(nmodel, "name", "") != "exact" or getattr(tmodel, "name", "") != "exact":
         raise InputError("coupled normal-tangential solution of dissimilar materials needs "
                          "normal = 'exact' and tangential = 'exact'")
+    maxiter = MAX_ALTERNATIONS if maxiter is None else int(maxiter)
     kw = {"grid": grid, "element_size": element_size}
     load = {"normal_force": normal_force, "penetration": penetration}
     ns = nmodel.solve(geometry, material, **load, **kw)
@@ -101,6 +107,12 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
     if not converged:
         log.warning("dissimilar materials: the normal-tangential alternation did not converge "
                     "in %d iterations (flagged in the result)", maxiter)
-    ts.options.update(coupling_iterations=it, coupling_converged=converged,
+    ts.options.update(coupling_iterations=it,
                       difference_parameter=material.difference_parameter)
+    if not converged:
+        msg = (f"normal-tangential alternation (dissimilar materials) did not converge in "
+               f"{it} iterations")
+        if not ts.status.converged:
+            msg = f"{ts.status.message}; {msg}"
+        ts.status = SolverStatus.failed(msg, it, ts.status.warnings)
     return ns, ts

@@ -15,8 +15,10 @@ from .errors import ContactNotFoundError
 from .geometry.contact import ContactGeometry
 from .geometry.search import WheelsetContact, find_contact
 from .geometry.track import SIDES, Track, Wheelset, WheelsetPose
+from .geometry.validity import HALF_SPACE_LIMIT, contact_size, patch_validity
 from .normal import NormalSolution, get_normal_model
 from .profiles.library import get_profile
+from .status import SolverStatus
 from .tangential import TangentialSolution, get_tangential_model
 
 log = logging.getLogger(__name__)
@@ -24,12 +26,29 @@ log = logging.getLogger(__name__)
 
 @dataclass
 class PatchResult:
-    """Geometry, normal and tangential solution of one contact patch."""
+    """Geometry, normal and tangential solution of one contact patch.
+
+    ``validity`` says where the patch leaves the range of its models (flange climb,
+    derailment, a patch large against the radii of curvature:
+    :mod:`railcontact.geometry.validity`); ``halfspace_ratio`` is the patch's size
+    against those radii (NaN where not evaluated)."""
 
     geometry: ContactGeometry
     normal: NormalSolution
     tangential: TangentialSolution | None
     creepage: tuple
+    validity: SolverStatus = field(default_factory=SolverStatus)
+    halfspace_ratio: float = math.nan
+
+    @property
+    def status(self) -> SolverStatus:
+        """The patch's solutions and validity combined."""
+        label = f"{self.geometry.side} patch" if self.geometry.side else "patch"
+        return SolverStatus.combine([
+            (f"{label}, {self.normal.model} normal", self.normal.status),
+            (f"{label}, {self.tangential.model} tangential" if self.tangential else "",
+             self.tangential.status if self.tangential is not None else None),
+            ("", self.validity)])
 
     def to_dict(self) -> dict:
         """The JSON patch contract of ``DESIGN.md`` (SI units) plus extra keys."""
@@ -47,6 +66,7 @@ class PatchResult:
         if t is not None:
             d["stick_fraction"] = t.stick_fraction
             d["frictional_power"] = t.frictional_power
+        d["halfspace_ratio"] = _f(self.halfspace_ratio)
         return d
 
 
@@ -78,6 +98,17 @@ class VerticalBalance:
     residual: dict
     standin: list | None = field(default=None, repr=False)
 
+    @property
+    def status(self) -> SolverStatus:
+        """The balance as a :class:`SolverStatus` (iterations: the passes)."""
+        if self.converged:
+            return SolverStatus(True, "", self.passes)
+        worst = max(abs(v) for v in self.residual.values()) if self.residual else math.nan
+        why = ("the model's vertical force jumps across the load" if self.force_jump
+               else f"not met after {self.passes} passes")
+        return SolverStatus.failed(f"{why}; the wheel load is missed by {worst:.2g} of it",
+                                   self.passes)
+
 
 @dataclass
 class SolveResult:
@@ -96,16 +127,26 @@ class SolveResult:
     balance: VerticalBalance | None = field(default=None, repr=False)
 
     @property
+    def status(self) -> SolverStatus:
+        """The case's status: the vertical balance's and every patch's solutions and
+        validity combined (:meth:`SolverStatus.combine`), so that no unconverged part
+        hides behind a converged whole."""
+        parts = [("vertical balance", self.balance.status if self.balance else None)]
+        parts += [("", p.status) for p in self.patches]
+        return SolverStatus.combine(parts)
+
+    @property
     def converged(self) -> bool:
         """False when the vertical-force iteration did not meet the load to its
         tolerance (also where the model's force jumps across it: then
-        ``balance.force_jump``) or a solver did not converge."""
-        ok = self.balance.converged if self.balance is not None else True
-        for p in self.patches:
-            ok &= bool(p.normal.converged)
-            if p.tangential is not None:
-                ok &= bool(p.tangential.options.get("converged", True))
-        return ok
+        ``balance.force_jump``), a solver or the normal-tangential coupling did not
+        converge, or a wheel derailed (``status.message`` says which)."""
+        return self.status.converged
+
+    @property
+    def warnings(self) -> list:
+        """Where the result leaves the range of its models (``status.warnings``)."""
+        return list(self.status.warnings)
 
     @property
     def vertical_residual(self) -> dict | None:
@@ -115,9 +156,11 @@ class SolveResult:
         return self.balance.residual if self.balance is not None else None
 
     def to_dict(self) -> dict:
+        status = self.status
         d = {"patches": [p.to_dict() for p in self.patches], "normal": self.normal,
              "tangential": self.tangential, "cpu_time": self.cpu_time,
-             "converged": self.converged}
+             "converged": status.converged, "message": status.message,
+             "warnings": list(status.warnings)}
         if self.vertical_residual is not None:
             d["vertical_residual"] = dict(self.vertical_residual)
         return d
@@ -270,7 +313,7 @@ def _solve(case, normal, tangential, warm_start):
                 tkw["warm_start"] = warm_start.patches[0].tangential
             ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, V, **tkw)
                   if tmodel else None)
-        results.append(PatchResult(geom, ns, ts, tuple(creep)))
+        results.append(_bodies_validity(case, PatchResult(geom, ns, ts, tuple(creep))))
     else:
         results, contact, balance = _solve_wheel_rail(case, nmodel, tmodel, kw,
                                                       rtol=case.force_tolerance,
@@ -278,6 +321,41 @@ def _solve(case, normal, tangential, warm_start):
         pose = contact.pose
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact,
                        balance)
+
+
+def _bodies_validity(case, result: PatchResult) -> PatchResult:
+    """A bodies case's patch with its size against the given radii (the larger of
+    half-width / smallest lateral radius and half-length / smallest rolling radius;
+    :mod:`railcontact.geometry.validity`)."""
+    radii = case.get("bodies.radii")
+    a, b = contact_size(result.normal)
+
+    def smallest(*keys):
+        return min(abs(float(radii.get(k, math.inf))) for k in keys)
+
+    ratio = max(b / smallest("wheel_lateral", "rail_lateral"),
+                a / smallest("wheel_rolling", "rail_rolling"))
+    status = SolverStatus()
+    if ratio > HALF_SPACE_LIMIT:
+        status = status.with_warnings(f"half-space: the patch is large against the radii of "
+                                      f"curvature (size/radius {ratio:.2f} > {HALF_SPACE_LIMIT})")
+    result.validity, result.halfspace_ratio = status, ratio
+    return result
+
+
+def _wheel_rail_validity(results, bodies) -> None:
+    """Flange climb, derailment and half-space checks of a wheel-rail case's patches
+    (:func:`railcontact.geometry.validity.patch_validity`), stored in the results."""
+    ws, tr = bodies
+    for r in results:
+        side = r.geometry.side
+        derailed, warnings, ratio = patch_validity(r.geometry, r.normal, ws.wheel(side),
+                                                   tr.rail(side))
+        status = SolverStatus.failed(warnings[0]) if derailed else SolverStatus()
+        r.validity = status.with_warnings(*warnings[1 if derailed else 0:])
+        r.halfspace_ratio = ratio
+        for w in warnings:
+            log.info("%s", w)
 
 
 def _coupled(case, nmodel, tmodel) -> bool:
@@ -816,6 +894,7 @@ def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float 
         results = [r for r in results if r.geometry.side == side]
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
+    _wheel_rail_validity(results, bodies)
     return results, contact, VerticalBalance(converged, jump, passes, residual, standin)
 
 

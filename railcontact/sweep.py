@@ -51,8 +51,8 @@ def _solve_chain(raws, base_dir, normal, tangential, warm):
                         warm_start=prev if warm else None)
             prev = res
             d = res.to_dict()
-            out.append({k: d[k] for k in ("patches", "converged", "vertical_residual")
-                        if k in d})
+            out.append({k: d[k] for k in ("patches", "converged", "message", "warnings",
+                                          "vertical_residual") if k in d})
         except RailContactError as exc:
             prev = None
             out.append({"patches": [], "error": str(exc)})

@@ -229,3 +229,39 @@ def test_prescribed_forces_bodies_case(tmp_path, capsys):
     bad.write_text((EX / "wheel_rail.toml").read_text() + "\n[force]\nlongitudinal = 1.0\n")
     code, out, err = run_cli(["solve", str(bad)], capsys)
     assert code == 2 and "[force]" in err
+
+
+def _shifted(tmp_path, shift):
+    text = (EX / "wheel_rail.toml").read_text().replace("lateral_shift = 0.003",
+                                                        f"lateral_shift = {shift}")
+    path = tmp_path / f"shift_{shift}.toml"
+    path.write_text(text)
+    return path
+
+
+def test_a_derailed_wheelset_is_not_a_solution(tmp_path, capsys):
+    """50 mm lateral shift: the wheel stands on its flange tip (rolling radius 488 mm,
+    the tip's).  Such a state has no equilibrium on track: the case says so in the
+    result, the JSON, and on the command line (exit status 1), though every solver
+    converged."""
+    code, out, err = run_cli(["solve", str(_shifted(tmp_path, 0.05)), "--json"], capsys)
+    d = json.loads(out)
+    (p,) = d["patches"]
+    assert p["rolling_radius"] == pytest.approx(0.488, abs=5e-4)
+    assert d["converged"] is False and "derailment" in d["message"]
+    assert code == 1 and "not converged" in err and "derailment" in err
+    res = rc.solve(rc.load_case(_shifted(tmp_path, 0.05)))
+    assert not res.converged and res.balance.converged        # the balance itself is met
+
+
+@pytest.mark.parametrize("shift, climbing", [(0.003, False), (0.006, False), (0.009, True)])
+def test_flange_climb_is_flagged(tmp_path, capsys, shift, climbing):
+    """Flange contact beyond the steepest part of the S1002 flange (70 degrees, up to
+    39.8 mm from the tape circle) is flange climb: a warning on a converged result.
+    At 9 mm the contact lies at 43.3 mm on the flange, its contact angle 50 degrees."""
+    code, out, err = run_cli(["solve", str(_shifted(tmp_path, shift)), "--json"], capsys)
+    d = json.loads(out)
+    assert code == 0 and d["converged"] is True
+    flagged = any("flange climb" in w for w in d["warnings"])
+    assert flagged == climbing
+    assert ("flange climb" in err) == climbing

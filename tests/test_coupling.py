@@ -92,7 +92,7 @@ def test_coupled_solution_is_a_fixed_point(coupled):
     nothing."""
     nm, tm = get_normal_model("exact"), get_tangential_model("exact")
     ns, ts = coupled["soft"]
-    assert ts.options["coupling_converged"] and ts.options["coupling_iterations"] > 1
+    assert ts.converged and ts.options["coupling_iterations"] > 1
     gap = normal_gap_from_tractions(ns.x, ns.y, -ts.traction_x, -ts.traction_y, SOFT)
     assert np.abs(gap).max() > 1e-8                       # the coupling is not negligible
     ns2 = nm.solve(GEO, SOFT, normal_force=50e3, grid=(30, 30), extra_gap=gap)
@@ -124,10 +124,35 @@ def test_case_file_with_dissimilar_materials():
            "creepage": {"longitudinal": -1e-3},
            "solver": {"normal": "exact", "tangential": "exact", "grid": [24, 24]}}
     res = rc.solve(rc.case_from_dict(raw))
-    assert res.patches[0].tangential.options["coupling_converged"]
+    assert res.patches[0].tangential.converged and res.converged
     raw["solver"] = {"normal": "hertz", "tangential": "fastsim"}
     hz = rc.solve(rc.case_from_dict(raw))          # approximate models: combined constants
     assert hz.patches[0].normal.pmax < 0.5e9
     raw["material"]["wheel_poisson_ratio"] = 0.7
     with pytest.raises(CaseFileError, match="wheel_poisson_ratio"):
         rc.case_from_dict(raw)
+
+
+def test_unconverged_alternation_makes_the_case_unconverged(monkeypatch):
+    """An alternation that stops before the coupled problems agree leaves a result
+    whose parts each converged: the case must say it did not, in the result and in
+    its JSON, with the reason."""
+    import json
+
+    from railcontact import coupling
+    monkeypatch.setattr(coupling, "MAX_ALTERNATIONS", 2)
+    raw = {"material": {"young_modulus": 2.1e11, "poisson_ratio": 0.28,
+                        "wheel_young_modulus": 2.1e10, "wheel_poisson_ratio": 0.45},
+           "bodies": {"radii": {"wheel_rolling": 0.46, "wheel_lateral": 0.3,
+                                "rail_rolling": math.inf, "rail_lateral": 0.3},
+                      "normal_force": 5e4, "velocity": 30.0},
+           "creepage": {"longitudinal": -1e-3},
+           "solver": {"normal": "exact", "tangential": "exact", "grid": [24, 24]}}
+    res = rc.solve(rc.case_from_dict(raw))
+    (p,) = res.patches
+    assert p.normal.converged                     # each solve met its own tolerance ...
+    assert not p.tangential.converged             # ... the alternation did not
+    assert not res.converged
+    assert "alternation" in res.status.message
+    out = json.loads(res.to_json())
+    assert out["converged"] is False and "alternation" in out["message"]

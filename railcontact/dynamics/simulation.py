@@ -13,6 +13,7 @@ from scipy.optimize import brentq
 from tqdm.auto import tqdm
 
 from ..errors import InputError, RailContactError
+from ..geometry.validity import nadal_limit
 from ..materials import STEEL, Material
 from .route import Route
 from .vehicle import NORMAL_PASSES, PIN, POUT, VehicleModel, rhs_core, rk4_run
@@ -299,10 +300,33 @@ def _dataset(sysm: _System, t, Y, wall):
                "friction": sysm.friction, "total_mass_kg": model.total_mass,
                "rhs_calls": calls, "wall_time_s": wall,
                "outside_table": int(wout[..., 1].max() > 0) if nt else 0})
+    warnings = _validity(sysm, t, YQ, pin[..., 1, 0] > 0)
     if ds.attrs["outside_table"]:
-        log.warning("a wheelset left the contact table's range: the contact was clamped to "
-                    "the table's edge; build the table with a larger range")
+        warnings.insert(0, "a wheelset left the contact table's range: the contact was "
+                           "clamped to the table's edge; build the table with a larger range")
+    for w in warnings:
+        log.warning("%s", w)
+    ds.attrs["warnings"] = "; ".join(warnings)
     return ds
+
+
+def _validity(sysm: _System, t, YQ, flange_loaded) -> list:
+    """Where a run left the range of its models: Y/Q of a wheel in flange contact
+    above Nadal's flange-climb limit (the table's largest flange angle, the run's
+    friction; :func:`railcontact.geometry.validity.nadal_limit`)."""
+    angle = sysm.table.flange_angle
+    if not (math.isfinite(angle) and YQ.size):
+        return []
+    limit = nadal_limit(angle, sysm.friction)
+    over = flange_loaded & (np.abs(np.nan_to_num(YQ)) > limit)
+    out = []
+    for w, j in zip(*np.nonzero(over.any(axis=0))):
+        k = int(np.argmax(np.where(over[:, w, j], np.abs(YQ[:, w, j]), -1.0)))
+        out.append(f"flange climb: wheelset {w + 1}, {('left', 'right')[j]} wheel: |Y/Q| "
+                   f"{abs(YQ[k, w, j]):.2f} at t = {t[k]:.3f} s exceeds Nadal's limit "
+                   f"{limit:.2f} (flange angle {math.degrees(angle):.1f} deg, friction "
+                   f"{sysm.friction:g})")
+    return out
 
 
 # --------------------------------------------------------------- linear stability

@@ -27,6 +27,7 @@ from numba import njit
 from tqdm.auto import tqdm
 
 from ..errors import ContactNotFoundError, InputError
+from ..geometry.validity import flange
 from ..materials import STEEL, Material
 from ..tangential.online import COMPILED_LAWS, patch_forces  # noqa: F401 (re-exported)
 
@@ -62,12 +63,16 @@ class WheelRailTable:
         Vertical wheel load [N] of the table.
     nominal_radius : float
         r0 [m].
+    flange_angle : float
+        The wheels' largest flange angle [rad] (NaN without a flange: a conical
+        table), for Nadal's flange-climb limit.
     """
 
     shift: np.ndarray
     data: np.ndarray
     reference_load: float
     nominal_radius: float
+    flange_angle: float = math.nan
 
     @classmethod
     def build(cls, wheelset, track, reference_load: float, material: Material = STEEL,
@@ -129,8 +134,10 @@ class WheelRailTable:
                         data[:, j, k, f] = np.interp(shifts, shifts[ok], data[ok, j, k, f])
                     else:
                         data[:, j, k, f] = default[f]
+        flanges = [flange(wheelset.wheel(s)) for s in ("left", "right")]
+        angle = min((f.max_angle for f in flanges if f is not None), default=math.nan)
         return cls(shifts, np.ascontiguousarray(data), float(reference_load),
-                   float(wheelset.nominal_radius))
+                   float(wheelset.nominal_radius), angle)
 
     def to_xarray(self):
         import xarray as xr
@@ -143,7 +150,8 @@ class WheelRailTable:
                           coords={"lateral_shift": ("lateral_shift", self.shift, {"units": "m"}),
                                   "side": ["left", "right"], "slot": ["tread", "flange"]},
                           attrs={"reference_load_N": self.reference_load,
-                                 "nominal_radius_m": self.nominal_radius})
+                                 "nominal_radius_m": self.nominal_radius,
+                                 "flange_angle_rad": self.flange_angle})
 
     @classmethod
     def conical(cls, gamma: float, reference_load: float = 75e3, r0: float = 0.46,

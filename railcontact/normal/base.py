@@ -11,6 +11,7 @@ from numba import njit
 
 from ..errors import InputError
 from ..registry import Registry
+from ..status import SolverStatus
 
 _REGISTRY = Registry("normal")
 register = _REGISTRY.register
@@ -52,6 +53,9 @@ class NormalSolution:
     gap : ndarray (mx, my) or None
         Undeformed distance h(x, y) [m] on the grid, where the model computed it
         (strip models); lets strip-wise tangential models reuse it.
+    status : SolverStatus
+        Whether the solver met its tolerance, and warnings (a contact that reaches
+        the edge of the grid); ``converged`` reads it.
     """
 
     model: str
@@ -66,9 +70,13 @@ class NormalSolution:
     semi_axes: tuple | None = None
     strips: tuple | None = None
     pressure_at: Callable | None = field(default=None, repr=False)
-    converged: bool = True
+    status: SolverStatus = field(default_factory=SolverStatus)
     cpu_time: float = 0.0
     gap: np.ndarray | None = field(default=None, repr=False)
+
+    @property
+    def converged(self) -> bool:
+        return self.status.converged
 
     @property
     def dx(self) -> float:

@@ -27,6 +27,7 @@ from numba import njit
 
 from ..errors import InputError
 from ..materials import STEEL, Material
+from ..status import SolverStatus
 from .base import NormalSolution, bilinear, make_grid, register, same_grid
 from .hertz_theory import hertz_ellipse
 from .influence import bounding_box, normal_operator, normal_operator_block
@@ -645,6 +646,8 @@ class ExactNormalModel:
             p, it, ok = self._displacement_controlled(grid_key, h0 - penetration, dA, p0,
                                                       regions)
             app = penetration
+        status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
+            f"exact normal solver: no convergence in {it} iterations", it)
         if not ok:
             log.warning("exact normal solver: no convergence in %d iterations", it)
         contact = p > 0
@@ -653,6 +656,8 @@ class ExactNormalModel:
         if edge:
             log.warning("exact normal solver: contact reaches the edge of the potential contact "
                         "area; results may be truncated")
+            status = status.with_warnings("the contact reaches the edge of the potential "
+                                          "contact area (results may be truncated)")
         F = float(p.sum() * dA)
         x_lead, x_trail = _strip_edges(contact, np.ascontiguousarray(x, dtype=float))
         def pressure_at(xq, yq):
@@ -661,5 +666,5 @@ class ExactNormalModel:
         return NormalSolution(model="exact", x=x, y=y, pressure=p, contact=contact,
                               area=float(contact.sum() * dA), pmax=float(p.max()),
                               penetration=float(app), normal_force=F, semi_axes=None,
-                              strips=(x_lead, x_trail), pressure_at=pressure_at, converged=ok,
+                              strips=(x_lead, x_trail), pressure_at=pressure_at, status=status,
                               cpu_time=time.perf_counter() - t0)

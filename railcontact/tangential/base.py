@@ -7,6 +7,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..registry import Registry
+from ..status import SolverStatus
 
 _REGISTRY = Registry("tangential")
 register = _REGISTRY.register
@@ -59,6 +60,8 @@ class TangentialSolution:
     mz : float                spin moment [N m] about the normal through the origin
     power_density : ndarray   frictional power per unit area [W/m^2]
     velocity : float          rolling velocity [m/s]
+    status : SolverStatus     whether the solver met its tolerance (``converged``)
+    options : dict            model-specific details (iterations, flexibilities, ...)
     """
 
     model: str
@@ -78,6 +81,11 @@ class TangentialSolution:
     friction: float = 0.3
     cpu_time: float = 0.0
     options: dict = field(default_factory=dict)
+    status: SolverStatus = field(default_factory=SolverStatus)
+
+    @property
+    def converged(self) -> bool:
+        return self.status.converged
 
     @property
     def power_density(self) -> np.ndarray:

@@ -43,6 +43,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
+from ..status import SolverStatus
 from ..materials import STEEL, Material
 from ..normal.base import bilinear, same_grid
 from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
@@ -659,11 +660,14 @@ class ExactTangentialModel:
                 px, py, sx, sy, stick, it, ok = q
         if not ok:
             log.warning("exact tangential solver: not converged (flagged in the result)")
+        status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
+            f"exact tangential solver: no convergence in {it} Newton iterations"
+            + (" (also restarted from zero traction)" if fallback else ""), it)
         dA = (x[1] - x[0]) * (y[1] - y[0])
         fx, fy = float(px.sum() * dA), float(py.sum() * dA)
         mz = float(((x[:, None] * py) - (y[None, :] * px)).sum() * dA)
         return TangentialSolution("exact", x, y, -px, -py, sx, sy, stick, contact, -fx, -fy,
                                   -mz, velocity, (xi, eta, phi), friction,
                                   time.perf_counter() - t0,
-                                  {"iterations": it, "converged": ok, "fallback": fallback,
-                                   "mode": self.mode})
+                                  {"iterations": it, "fallback": fallback, "mode": self.mode},
+                                  status)

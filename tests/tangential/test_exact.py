@@ -164,7 +164,7 @@ def test_saturation_and_signs():
     assert math.hypot(t.fx, t.fy) == pytest.approx(0.3 * 5e4, rel=0.01)
     assert t.fx < 0 and t.fy > 0
     assert t.stick_fraction == 0.0
-    assert t.options["converged"]
+    assert t.converged
     # partial slip: between the linear and the saturated values
     t2 = ex.solve(ns, None, mat, (-1e-3, 0, 0), 0.3)
     assert -0.3 * 5e4 < t2.fx < 0 and 0 < t2.stick_fraction < 1
@@ -186,7 +186,7 @@ def test_cattaneo_mindlin_shift(q):
     delta = 3 * mu * P * (2 - mat.poisson_ratio) / (8 * mat.shear_modulus * a) * \
         (1 - (1 - q) ** (2 / 3))
     t = get_tangential_model("exact", mode="shift").solve(ns, None, mat, (delta, 0, 0), mu)
-    assert t.options["converged"]
+    assert t.converged
     assert t.fx / (mu * P) == pytest.approx(q, rel=2e-3)      # the rail drags the wheel along
     c = math.sqrt(t.stick.sum() * ns.dx * ns.dy / math.pi)
     assert c / a == pytest.approx((1 - q) ** (1 / 3), rel=0.015)
