@@ -43,12 +43,17 @@ class Track:
         Track gauge [m] between the gauge faces (default 1.435).
     gauge_height : float
         Depth [m] below the rail top where the gauge is measured (default 0.014).
+    rail_offsets : dict, optional
+        ``{"left": o, "right": o}``: lateral positions [m] of the rail-profile origins
+        in the side frames, instead of placing the rails by the gauge (worn rails stay
+        where the new ones were: the new track's ``rail_offset`` of each side).
     """
 
     rail_right: Profile
     rail_left: Profile | None = None
     gauge: float = 1.435
     gauge_height: float = 0.014
+    rail_offsets: dict | None = None
     _offsets: dict = field(init=False, repr=False, default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -60,7 +65,12 @@ class Track:
             rail = self.rail(side)
             if rail.kind != "rail":
                 raise ProfileError(f"{side} rail profile {rail.name!r} is a wheel profile")
-            self._offsets[side] = self.gauge / 2.0 - self.gauge_point(rail)
+            if self.rail_offsets is not None:
+                _check(f"track.rail_offsets[{side!r}]", self.rail_offsets.get(side), 0.25,
+                       1.0, "m")
+                self._offsets[side] = float(self.rail_offsets[side])
+            else:
+                self._offsets[side] = self.gauge / 2.0 - self.gauge_point(rail)
 
     def rail(self, side: str) -> Profile:
         return self.rail_right if side == "right" else self.rail_left
