@@ -656,6 +656,210 @@ def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
         f"{float(curve['lateral_displacement'].sel(wheelset=1).mean()) * 1e3:.2f} mm.\n")
 
 
+def _wear_runs(sc):
+    """Step-1 tables and dynamics runs of a closed-loop scenario (the same for every
+    local model): (simulation, tables per route, datasets per route, grids)."""
+    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.wear.closed_loop import ClosedLoopWear, _s_grid, build_table
+    sim = ClosedLoopWear(sc, None, progress=False)
+    table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
+    tables = [table] * sim.nw
+    d = sc.dynamics
+    runs = [simulate_vehicle(sc.model, r.route, tables, r.speed, r.duration, d["tangential"],
+                             r.friction, sc.case.material, d["initial_lateral_shift"],
+                             d["sample_rate"], d["rtol"], False, d["tangential_options"],
+                             d["fastsim_grid"], integrator=d["integrator"], step=d["step"])
+            for r in sc.routes]
+    grid = _s_grid(sim.wheels[0][0], sc.grid_step)
+    rgrid = _s_grid(sim.rails[0][0], sc.grid_step)
+    return sim, tables, runs, grid, rgrid
+
+
+def _wear_post(sc, sim, tables, runs, grid, rgrid, model, sample_distance=None,
+               reuse=None, warm=True):
+    """Post-process the runs with one model: (vehicle-averaged wheel wear per metre
+    of the route mix, smoothed as the loop does; PostProcessStats per route)."""
+    from railcontact.wear import get_wear_law
+    from railcontact.wear.closed_loop import _smooth
+    from railcontact.wear.postprocess import PatchPostProcessor
+    n, t = model.split("+")
+    pp = PatchPostProcessor(n, t, get_wear_law(sc.law, **sc.parameters), sc.case.material,
+                            sc.case.grid, sc.case.element_size,
+                            reuse_tolerance=sc.reuse_tolerance if reuse is None else reuse,
+                            warm=warm)
+    total = np.zeros_like(grid)
+    stats = []
+    for w, item, ds in zip(sim.weights, sc.routes, runs):
+        stride = max(1, int(round((sample_distance or sc.sample_distance)
+                                  * sc.dynamics["sample_rate"] / item.speed)))
+        res = pp.run(ds, tables, sim.wheels, sim.rails[0], [[grid, grid]] * sim.nw,
+                     [rgrid, rgrid], item.friction, stride)
+        total += w * sum(d for pair in res["wheel"] for d in pair) / (2 * sim.nw)
+        stats.append(res["stats"])
+    return _smooth(total, sc.grid_step, sc.smoothing), stats
+
+
+def bench_wear_closed_loop():
+    """Issue 24: closed-loop wear of examples/wear_vehicle.toml (one core)."""
+    from railcontact.wear import load_scenario
+    from railcontact.wear.closed_loop import ClosedLoopWear
+    out("## Closed-loop wear: examples/wear_vehicle.toml (Manchester vehicle, tangent + "
+        "R1200 + R300, 4 steps of 0.1 mm, USFD), one core (scheduler sync)\n")
+    sc = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc.scheduler = "sync"
+    # (a) the example with Hertz + FASTSIM and with exact + exact, interleaved by step
+    models = {"hertz+fastsim": sc, "exact+exact": sc.with_models("exact", "exact")}
+    sims = {m: ClosedLoopWear(s, None, progress=False) for m, s in models.items()}
+    wall = dict.fromkeys(models, 0.0)
+    cpu = dict.fromkeys(models, 0.0)
+    for _ in range(sc.steps + 1):
+        for m, sim in sims.items():
+            t0, c0 = time.perf_counter(), time.process_time()
+            if sim.step < sc.steps:
+                sim.run_step()
+            else:
+                ds = sim.run(resume=False)        # the final state's measures
+                sims[m] = ds
+            wall[m] += time.perf_counter() - t0
+            cpu[m] += time.process_time() - c0
+    hf, ex = sims["hertz+fastsim"], sims["exact+exact"]
+    out("| local model | wall [s] | CPU [s] | tables [s] | dynamics [s] | post-processing "
+        "[s] | solves [s] | patches | solved | reused | ms per solved patch |")
+    out("|---|---|---|---|---|---|---|---|---|---|---|")
+    for m, ds in sims.items():
+        solved = float(ds["patches_solved"].sum())
+        out(f"| {m} | {wall[m]:.1f} | {cpu[m]:.1f} | {float(ds['table_time'].sum()):.1f} | "
+            f"{float(ds['dynamics_time'].sum()):.1f} | "
+            f"{float(ds['postprocess_time'].sum()):.1f} | {float(ds['solve_time'].sum()):.1f} "
+            f"| {int(ds['patches'].sum())} | {int(solved)} | {int(ds['patches_reused'].sum())} "
+            f"| {1e3 * float(ds['solve_time'].sum()) / solved:.2f} |")
+    out(f"\n* exact + exact / Hertz + FASTSIM, whole run: wall {wall['exact+exact'] / wall['hertz+fastsim']:.2f}, "
+        f"CPU {cpu['exact+exact'] / cpu['hertz+fastsim']:.2f} (target <= 5); Hertz + FASTSIM "
+        f"run {wall['hertz+fastsim']:.0f} s (target < 120 s); the two runs interleaved step "
+        "by step")
+    for m, ds in sims.items():
+        law, rem = ds["law_area_wheel"].values, ds["removed_area_wheel"].values
+        s = ds.sel(route="R300", wheelset=1)
+        out(f"* {m}: {ds.attrs['total_distance_m'] / 1e3:.0f} km; removed area / law's total "
+            f"- 1: max {np.max(np.abs(rem / law - 1)) * 100:.3f} %; equivalent conicity "
+            f"{' -> '.join(f'{g:.4f}' for g in ds['equivalent_conicity'].sel(route='tangent', wheelset=1).values)}; "
+            f"R300 wheelset 1 mean lateral position "
+            f"{float(s['lateral_position'].isel(step=0)) * 1e3:.3f} -> "
+            f"{float(s['lateral_position'].isel(step=-1)) * 1e3:.3f} mm, outer flange contact on "
+            f"the wheel {float(s['contact_y_wheel'].sel(side='left', patch='flange').isel(step=0)) * 1e3:.2f}"
+            f" -> {float(s['contact_y_wheel'].sel(side='left', patch='flange').isel(step=-1)) * 1e3:.2f} mm")
+
+    # (b) per-patch post-processing cost of every model, on the same step-1 runs
+    sim, tables, runs, grid, rgrid = _wear_runs(sc)
+    out("\nPer-patch cost of the post-processing, every model on the same step-1 dynamics "
+        f"({sc.case.grid[0]}x{sc.case.grid[1]} grids, samples every 2 m, no reuse; models "
+        "interleaved; 'all' includes the wear law and the mapping onto the profiles):\n")
+    out("| local model | patches | ms per patch (solves) | ms per patch (all) | / Hertz + FASTSIM |")
+    out("|---|---|---|---|---|")
+    rows = []
+    for m, warm in (("hertz+fastsim", True), ("kik-piotrowski+fastsim", True),
+                    ("kpec+fastsim", True), ("stripes+fastsim", True),
+                    ("analyn+fastsim", True), ("hertz+exact", True), ("exact+exact", True),
+                    ("exact+exact", False)):
+        c0 = time.process_time()
+        _, st = _wear_post(sc, sim, tables, runs, grid, rgrid, m, sample_distance=2.0,
+                           reuse=0.0, warm=warm)
+        c = time.process_time() - c0
+        n = sum(x.solved for x in st)
+        rows.append((m + ("" if warm else " (cold: no warm starts)"), n,
+                     1e3 * sum(x.solve_time for x in st) / n, 1e3 * c / n))
+    for name, n, solve, allt in rows:
+        out(f"| {name} | {n} | {solve:.3f} | {allt:.3f} | {allt / rows[0][3]:.1f} |")
+
+    # (c) the stride: samples every 0.25 .. 4 m against every dynamics sample
+    out("\nSample stride (step-1 runs, dynamics sampled at 400 Hz: one sample per 0.1, "
+        "0.09, 0.05 m on the three routes): the route mix's wheel wear per metre "
+        "(vehicle-averaged, smoothed) against every sample's, max |difference| / max:\n")
+    sc4 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc4.dynamics["sample_rate"] = 400.0
+    sim4, tables4, runs4, grid4, rgrid4 = _wear_runs(sc4)
+    out("| local model | 0.25 m | 0.5 m | 1 m (default) | 2 m | 4 m |")
+    out("|---|---|---|---|---|---|")
+    for m in ("hertz+fastsim", "exact+exact"):
+        ref, _ = _wear_post(sc4, sim4, tables4, runs4, grid4, rgrid4, m,
+                            sample_distance=1e-3)
+        cells = []
+        for dist in (0.25, 0.5, 1.0, 2.0, 4.0):
+            w, _ = _wear_post(sc4, sim4, tables4, runs4, grid4, rgrid4, m,
+                              sample_distance=dist)
+            cells.append(f"{np.max(np.abs(w - ref)) / ref.max() * 100:.2f} %")
+        out(f"| {m} | " + " | ".join(cells) + " |")
+
+    # (d) repeated states: the reuse tolerance
+    out("\nRepeated states (step-1 runs, samples every 1 m): the wear per metre against "
+        "solving every patch, and the share of patches reused:\n")
+    out("| local model | tolerance | reused | max difference / max | post-processing CPU / "
+        "without reuse |")
+    out("|---|---|---|---|---|")
+    for m in ("hertz+fastsim", "exact+exact"):
+        c0 = time.process_time()
+        ref, _ = _wear_post(sc, sim, tables, runs, grid, rgrid, m, reuse=0.0)
+        c_ref = time.process_time() - c0
+        for tol in (1e-3, 1e-2):
+            c0 = time.process_time()
+            w, st = _wear_post(sc, sim, tables, runs, grid, rgrid, m, reuse=tol)
+            c = time.process_time() - c0
+            share = sum(x.reused for x in st) / sum(x.patches for x in st)
+            out(f"| {m} | {tol:g} | {share * 100:.0f} % | "
+                f"{np.max(np.abs(w - ref)) / ref.max() * 100:.3f} % | {c / c_ref:.2f} |")
+
+    # (e) step size: 4 steps against 8 of half the distance
+    from railcontact.wear.closed_loop import build_table
+    total = float(hf.attrs["total_distance_m"])
+    res, last = {}, {}
+    for n in (4, 8):
+        s2 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+        s2.scheduler, s2.steps, s2.step_distance = "sync", n, total / n
+        sim2 = ClosedLoopWear(s2, None, progress=False)
+        res[n] = sim2.run(resume=False)
+        last[n] = sim2
+    y = res[4]["y_wheel"].values
+    z4 = res[4]["profile_z_wheel"].isel(state=-1).sel(wheelset=1, side="right").values
+    z8 = res[8]["profile_z_wheel"].isel(state=-1).sel(wheelset=1, side="right").values
+    depth = res[8]["wear_depth_wheel"].sel(wheelset=1, side="right").sum("step").values
+    diff = np.abs(z4 - z8)
+    ok = np.isfinite(diff)
+    i = int(np.nanargmax(diff))
+    s8 = last[8]
+    w0 = s8.initial_wheels[1]
+    tabs = [build_table(w0, w0, *s8.rails[0], s8.rail_offsets, s8.settings),
+            build_table(*s8.wheels[0], *s8.rails[0], s8.rail_offsets, s8.settings)]
+    away = ok & _away_from_jumps(tabs, y)
+    j = int(np.nanargmax(np.where(away, diff, np.nan)))
+    out(f"\nStep size (Hertz + FASTSIM, {total / 1e3:.0f} km in 4 steps against 8 steps of "
+        f"half the distance): the final wheel profiles differ by at most "
+        f"{diff[ok].max() / depth.max() * 100:.2f} % of the maximum wear depth "
+        f"({depth.max() * 1e3:.3f} mm) at y = {y[i] * 1e3:.1f} mm; away from the contact "
+        f"jumps (wheel positions the contact skips between neighbouring table shifts of the "
+        f"new and the final profiles, widened by 2 mm; {np.count_nonzero(~away & ok) * 1e-1:.0f} "
+        f"mm of the profile): {diff[j] / depth.max() * 100:.2f} % at y = {y[j] * 1e3:.1f} mm "
+        "(target < 5 %)")
+    for n in (4, 8):
+        g = res[n]["equivalent_conicity"].sel(route="tangent", wheelset=1).values
+        out(f"* {n} steps: equivalent conicity at the end {g[-1]:.4f}, R300 wheelset 1 mean "
+            f"lateral position in the last step "
+            f"{float(res[n]['lateral_position'].sel(route='R300', wheelset=1).isel(step=-1)) * 1e3:.3f} mm")
+
+
+def _away_from_jumps(tables, y, gap=1e-3, margin=2e-3):
+    """Lateral wheel positions ``y`` farther than ``margin`` from the profile parts
+    that the contact skips: the gaps wider than ``gap`` between the contact positions
+    on the wheel (both sides, every patch slot) over the tables' shifts.  The edges
+    of a wear band lie there, and they move with the step size."""
+    from railcontact.dynamics.wheel_rail import F_SHARE, F_YWHEEL
+    pos = np.sort(np.concatenate([t.data[..., F_YWHEEL][t.data[..., F_SHARE] > 0]
+                                  for t in tables]))
+    keep = np.ones(y.size, dtype=bool)
+    for a, b in zip(pos[:-1], pos[1:]):
+        if b - a > gap:
+            keep &= (y < a - margin) | (y > b + margin)
+    return keep
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -669,6 +873,7 @@ def main():
     bench_fast_models()
     bench_strips_accuracy()
     bench_dynamics()
+    bench_wear_closed_loop()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
 
 

@@ -24,7 +24,6 @@ def test_case_examples(path, tmp_path, request):
         assert ds.sizes["step"] >= 1 and ds.sizes["route"] >= 3
         for f in ("wear.nc", "wear.png", "measures.png", "checkpoint.npz"):
             assert (out / f).is_file()
-        assert len(list((out / "records").glob("*.nc"))) == ds.sizes["step"] * ds.sizes["route"]
         return
     if "[vehicle]" in text:
         from railcontact.dynamics.scenario import run_scenario

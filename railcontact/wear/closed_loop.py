@@ -19,8 +19,9 @@ Each wear step of a :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenar
    profiles move along their inward normals; the next step runs on them.
 
 Results go to ``wear.nc`` after every step (see ``docs/wear.md``), with a checkpoint
-from which an interrupted run resumes; ``records/`` holds per step and route the
-post-processed samples (dynamics inputs and the local model's results per patch).
+from which an interrupted run resumes; with ``wear.records = true``, ``records/``
+holds per step and route the post-processed samples (the dynamics' inputs and the
+local model's results per patch).
 """
 
 from __future__ import annotations
@@ -34,6 +35,7 @@ import time
 from pathlib import Path
 
 import numpy as np
+from dask.callbacks import Callback
 from scipy.ndimage import gaussian_filter1d
 
 from ..errors import InputError, RailContactError
@@ -158,26 +160,26 @@ def _smooth(depth, step, length):
     return out * (tot / got) if got > 0 else out
 
 
-class _RouteProgress:
-    """A tqdm bar over the routes of a step, advanced as their Dask tasks finish."""
+class RouteProgress(Callback):
+    """A tqdm bar over the routes of a wear step, advanced as their Dask tasks
+    (``run_route-...``) finish."""
 
-    def __init__(self, total, desc, enabled):
-        from dask.callbacks import Callback
+    def __init__(self, total: int, desc: str, enabled: bool = True):
+        super().__init__()
+        self.total, self.desc, self.enabled = total, desc, enabled
+
+    def _start(self, dsk):
         from tqdm.auto import tqdm
+        self.bar = tqdm(total=self.total, desc=self.desc, unit="route", leave=False,
+                        file=sys.stderr, disable=not self.enabled)
 
-        class _CB(Callback):
-            def _start(cb, dsk):
-                cb.bar = tqdm(total=total, desc=desc, unit="route", leave=False,
-                              file=sys.stderr, disable=not enabled)
+    def _posttask(self, key, result, dsk, state, worker_id):
+        name = key[0] if isinstance(key, tuple) else key
+        if str(name).startswith("run_route"):
+            self.bar.update(1)
 
-            def _posttask(cb, key, result, dsk, state, worker_id):
-                name = key[0] if isinstance(key, tuple) else key
-                if str(name).startswith("run_route"):
-                    cb.bar.update(1)
-
-            def _finish(cb, dsk, state, errored):
-                cb.bar.close()
-        self.callback = _CB()
+    def _finish(self, dsk, state, errored):
+        self.bar.close()
 
 
 # ------------------------------------------------------------------ the loop
@@ -188,7 +190,7 @@ class ClosedLoopWear:
     ----------
     scenario : VehicleWearScenario
     out_dir : path, optional
-        Folder for ``wear.nc``, ``checkpoint.npz`` and ``records/``.
+        Folder for ``wear.nc``, ``checkpoint.npz`` and ``records/`` (``wear.records``).
     progress : bool
         Progress bars over the steps and the routes.
     """
@@ -284,8 +286,7 @@ class ClosedLoopWear:
                     self.wheels, self.rails[r], wheel_grids,
                     [grid_of[id(p)] for p in self.rails[r]], post)
                 for r, item in enumerate(sc.routes)]
-        cb = _RouteProgress(self.nr, f"step {self.step + 1}: routes", self.progress).callback
-        with cb:
+        with RouteProgress(self.nr, f"step {self.step + 1}: routes", self.progress):
             out = self._dask_compute(tasks + runs)
         return [[out[i] for i in row] for row in rows], out[len(tasks):]
 
@@ -418,7 +419,8 @@ class ClosedLoopWear:
         rec["energy"] = np.array([res["energy"] for res in results])
         stats = [res["stats"] for res in results]
         for key, attr in (("patches", "patches"), ("patches_solved", "solved"),
-                          ("patches_reused", "reused"), ("not_converged", "not_converged"),
+                          ("patches_reused", "reused"), ("patches_skipped", "skipped"),
+                          ("not_converged", "not_converged"),
                           ("solve_time", "solve_time"), ("postprocess_time", "cpu_time"),
                           ("samples", "samples")):
             rec[key] = np.array([float(getattr(s, attr)) for s in stats])
@@ -438,7 +440,8 @@ class ClosedLoopWear:
         self.distance += dist
         self.steps.append(rec)
         if self.out:
-            self._write_records(results)
+            if sc.records:
+                self._write_records(results)
             self.save_checkpoint()
             self.write()
         return rec
@@ -542,6 +545,8 @@ class ClosedLoopWear:
                                  ("patches_solved", "1", "patches solved by the local model"),
                                  ("patches_reused", "1", "patches that reused a repeated "
                                                          "state"),
+                                 ("patches_skipped", "1", "loaded patches without a "
+                                                          "table geometry (none expected)"),
                                  ("not_converged", "1", "solves not converged"),
                                  ("samples", "1", "samples post-processed"),
                                  ("stride", "1", "post-processed every stride-th sample"),

@@ -57,6 +57,8 @@ class PostProcessStats:
     patches : int        loaded patches in them
     solved : int         patches solved with the local model
     reused : int         patches that took a repeated state's wear
+    skipped : int        patches entering between two table shifts (a slot loaded by the
+                         interpolated table with no geometry at either shift)
     solve_time : float   CPU time [s] of the normal and tangential solves
     cpu_time : float     CPU time [s] of the whole post-processing
     not_converged : int  solves whose status is not converged
@@ -67,6 +69,7 @@ class PostProcessStats:
     patches: int = 0
     solved: int = 0
     reused: int = 0
+    skipped: int = 0
     solve_time: float = 0.0
     cpu_time: float = 0.0
     not_converged: int = 0
@@ -197,8 +200,9 @@ class PatchPostProcessor:
                         if geom is None:
                             ti = int(other[i, w])
                             geom = geo_tab[ti][j][k]
-                        if geom is None:
-                            continue                # entering between table points: N ~ 0
+                        if geom is None:            # entering between table points
+                            st.skipped += 1
+                            continue
                         cr = (float(creep[i, w, j, k, 0]), float(creep[i, w, j, k, 1]),
                               float(creep[i, w, j, k, 2]))
                         key = self._key(w, ti, j, k, n, cr, float(sa[i, w, j, k]),

@@ -23,7 +23,7 @@ from .laws import get_wear_law
 #: keys of [wear] in a vehicle scenario
 WEAR_KEYS = {"law", "parameters", "body", "steps", "max_depth_per_step", "step_distance",
              "smoothing", "profile_smoothing", "grid_step", "scheduler", "wheels",
-             "sample_distance", "reuse_tolerance", "rail_traffic"}
+             "sample_distance", "reuse_tolerance", "rail_traffic", "records"}
 #: keys of [dynamics]
 DYNAMICS_KEYS = {"tangential", "tangential_options", "fastsim_grid", "sample_rate",
                  "table_range", "table_step", "integrator", "step", "rtol",
@@ -112,6 +112,7 @@ class VehicleWearScenario:
     sample_distance: float = 1.0
     reuse_tolerance: float = 1e-3
     rail_traffic: float = 1.0
+    records: bool = False
     #: imposed step distances [m] (wear-compare runs every model over the first's)
     distances: list | None = None
     title: str = ""
@@ -214,6 +215,9 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
     sc.sample_distance = number(wear, "wear", "sample_distance", 1.0, 1e-3, 1e3)
     sc.reuse_tolerance = number(wear, "wear", "reuse_tolerance", 1e-3, 0.0, 0.05)
     sc.rail_traffic = number(wear, "wear", "rail_traffic", 1.0, 1e-9, 1e9)
+    sc.records = wear.get("records", False)
+    if not isinstance(sc.records, bool):
+        raise CaseFileError(f"wear.records = {sc.records!r}: expected true or false")
     return sc
 
 

@@ -118,7 +118,7 @@ def test_local_model_meets_the_dynamics(tmp_path):
     normal force; Hertz + FASTSIM on the table's patches gives the creep forces of
     the online FASTSIM (same creepage conventions) to a median of 1 % of mu N."""
     import xarray as xr
-    ClosedLoopWear(tiny(steps=1), tmp_path, progress=False).run(resume=False)
+    ClosedLoopWear(tiny(steps=1, records=True), tmp_path, progress=False).run(resume=False)
     for route in ("R300", "tangent"):
         rec = xr.open_dataset(tmp_path / "records" / f"step001_{route}.nc")
         N = rec["patch_normal_force"].values
@@ -204,6 +204,7 @@ def test_tables_travel_to_processes():
     ({"route": [{"name": "a", "cant": 0.1}]}, "give radius"),
     ({"wear": {"wheels": "pairs"}}, "wear.wheels"),
     ({"wear": {"sample_distance": 0.0}}, "wear.sample_distance"),
+    ({"wear": {"records": 1}}, "wear.records"),
     ({"wear": {"bogus": 1}}, "unknown key"),
     ({"dynamics": {"duration": 3.0}}, "unknown key"),
     ({"dynamics": {"tangential": "nonsense"}}, "dynamics.tangential"),
@@ -227,7 +228,8 @@ def _write_tiny(tmp_path, steps=1):
              "inclination = 0.025", "[solver]", 'normal = "hertz"', 'tangential = "fastsim"',
              "grid = [20, 20]", "[vehicle]", 'model = "bogie"', "[dynamics]",
              "table_range = 0.010", "table_step = 5e-4", "[wear]", 'law = "usfd"',
-             f"steps = {steps}", 'scheduler = "sync"', "[[route]]", 'name = "R300"',
+             f"steps = {steps}", 'scheduler = "sync"', "records = true", "[[route]]",
+             'name = "R300"',
              "radius = 300.0", "cant = 0.1", "speed = 20.0", "length = 30.0", "lead = 5.0"]
     p = tmp_path / "tiny.toml"
     p.write_text("\n".join(lines) + "\n")
@@ -317,3 +319,15 @@ def test_conicity_grows_as_the_tread_hollows():
     assert np.trapezoid(total[band], y[band]) > 0.9 * np.trapezoid(total, y)
     gamma = ds["equivalent_conicity"].sel(route="tangent", wheelset=1).values
     assert np.all(np.diff(gamma) > 0) and gamma[-1] > gamma[0] + 0.015
+
+
+def test_documented_scenario_parses():
+    """The closed-loop scenario of docs/wear.md is a valid scenario."""
+    import tomllib
+    from pathlib import Path
+    text = (Path(__file__).resolve().parents[2] / "docs" / "wear.md").read_text()
+    block = text.split("## Closed loop")[1].split("```toml")[1].split("```")[0]
+    sc = scenario_from_dict(tomllib.loads(block))
+    assert [r.name for r in sc.routes] == ["tangent", "R300", "S-curve"]
+    assert sc.routes[1].route.curvature.max() == pytest.approx(1 / 300.0)
+    assert sc.routes[2].length == pytest.approx(350.0 - 2 * (9.5 + 1.28))   # wheelsets
