@@ -192,8 +192,10 @@ class _StripModel(ExactNormalModel):
             lo, hi = 0.2 * guess, 2.0 * guess
             while f(hi) < 0:
                 hi *= 2
-            while f(lo) > 0 and lo > 1e-12:
-                lo *= 0.5
+            if f(lo) > 0:
+                # down to the approach at which no element interpenetrates (F = 0): below
+                # 0 where the grid's deepest point lies below the search's (a small load)
+                lo = min(float(h0.min()), 0.0)
             delta = brentq(f, lo, hi, rtol=1e-10, xtol=1e-15)
             p, contact, strips = at(delta)
         interp = RegularGridInterpolator((x, y), p, bounds_error=False, fill_value=0.0)

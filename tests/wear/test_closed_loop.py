@@ -331,3 +331,22 @@ def test_documented_scenario_parses():
     assert [r.name for r in sc.routes] == ["tangent", "R300", "S-curve"]
     assert sc.routes[1].route.curvature.max() == pytest.approx(1 / 300.0)
     assert sc.routes[2].length == pytest.approx(350.0 - 2 * (9.5 + 1.28))   # wheelsets
+
+
+def test_worn_rails_stay_in_place():
+    """A rail worn on its gauge face is not moved back to the gauge: the closed loop
+    places worn rails where the new ones were (Track.rail_offsets)."""
+    from railcontact.geometry.track import Track
+    from railcontact.profiles import rail_profile
+    from railcontact.wear.mapping import wear_profile
+    new = rail_profile("60E1", 0.025)
+    s = np.arange(0.0, float(new.arc_length(new.y_max)) + 1e-4, 1e-4)
+    s_gauge = float(new.arc_length(Track(new).gauge_point(new)))
+    worn = wear_profile(new, s, 3e-4 * np.exp(-((s - s_gauge) / 6e-3) ** 2), "rail")
+    placed = {side: Track(new).rail_offset(side) for side in ("left", "right")}
+    by_gauge = Track(worn).rail_offset("right")
+    kept = Track(worn, rail_offsets=placed).rail_offset("right")
+    assert kept == placed["right"]
+    assert kept - by_gauge > 2e-4     # by the gauge the worn rail would move to the track centre
+    with pytest.raises(InputError, match="rail_offsets"):
+        Track(worn, rail_offsets={"right": 0.7})
