@@ -120,7 +120,7 @@ def route_measures(ds, item, model) -> dict:
     yq = np.abs(ds["Y_over_Q"].values)
     return {"lateral_position": mean_over(ds["lateral_displacement"].values),
             "yaw": mean_over(ds["yaw"].values),
-            "max_Y_over_Q": np.nanmax(np.where(np.isfinite(yq), yq, -np.inf), axis=0),
+            "max_Y_over_Q": np.where(np.isfinite(yq), yq, 0.0).max(axis=0),
             "Tgamma": ds["Tgamma"].values.mean(axis=0),
             "contact_y_wheel": mean_over(ds["y_wheel"].values),
             "contact_y_rail": mean_over(ds["y_rail"].values),
