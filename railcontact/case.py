@@ -28,6 +28,7 @@ _ALLOWED = {
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options", "force_tolerance"},
     "bodies": {"radii", "normal_force", "velocity"},
+    "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
 }
 _RADII = {"wheel_rolling", "wheel_lateral", "rail_rolling", "rail_lateral"}
 
@@ -173,6 +174,8 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         case.creepage = (case.number("creepage.longitudinal", 0.0, -1.0, 1.0),
                          case.number("creepage.lateral", 0.0, -1.0, 1.0),
                          case.number("creepage.spin", 0.0, -100.0, 100.0, "1/m"))
+    if "plasticity" in raw:
+        _plasticity(case)
     # resolve models early so that a bad name fails before any work
     from .normal import get_normal_model
     from .tangential import get_tangential_model
@@ -207,6 +210,35 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         case.number("wheel.nominal_radius", 0.46, 0.1, 1.5, "m")
         case.number("rail.inclination", 0.0, -0.1, 0.1, "rad")
     return case
+
+
+def _plasticity(case: Case) -> None:
+    """``[plasticity]``: the pressure limit of elastic-perfectly-plastic contact
+    (:mod:`railcontact.normal.plasticity`), passed to the exact normal model as its
+    ``pressure_limit`` option: ``pressure_limit`` [Pa] as given, else
+    ``pressure_factor`` (default 3, Tabor's hardness) x ``yield_stress`` [Pa]."""
+    from .normal.plasticity import HARDNESS_FACTOR, pressure_limit
+    pl = case.raw["plasticity"]
+    if case.normal != "exact":
+        raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "
+                            f"solver.normal is {case.normal!r} (expected 'exact')")
+    if "pressure_limit" in pl:
+        if "yield_stress" in pl or "pressure_factor" in pl:
+            raise CaseFileError("[plasticity]: give pressure_limit, or yield_stress (with "
+                                "pressure_factor), not both")
+        limit = case.number("plasticity.pressure_limit", None, 1e6, 1e12, "Pa")
+    else:
+        if "yield_stress" not in pl:
+            raise CaseFileError("[plasticity]: missing yield_stress (Pa) or pressure_limit (Pa)")
+        try:
+            limit = pressure_limit(case.number("plasticity.yield_stress", unit="Pa"),
+                                   case.number("plasticity.pressure_factor", HARDNESS_FACTOR))
+        except InputError as exc:
+            raise CaseFileError(str(exc)) from None
+    if "pressure_limit" in case.normal_options:
+        raise CaseFileError("pressure limit given both in [plasticity] and in "
+                            "solver.normal_options; give it once")
+    case.normal_options["pressure_limit"] = limit
 
 
 def _body_curvatures(case: Case):

@@ -67,6 +67,9 @@ class PatchResult:
             d["stick_fraction"] = t.stick_fraction
             d["frictional_power"] = t.frictional_power
         d["halfspace_ratio"] = _f(self.halfspace_ratio)
+        if math.isfinite(getattr(n, "pressure_limit", math.inf)):
+            d["pressure_limit"] = n.pressure_limit
+            d["plastic_area"] = n.plastic_area
         return d
 
 
