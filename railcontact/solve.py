@@ -262,7 +262,14 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     vertical load and the patches; each patch is solved with its own penetration.
     A warm-started case that does not converge is solved again cold (except where
     the model's vertical force jumps across the load: ``balance.force_jump``).
+
+    A case on rail surfaces (rails given by slices, several rails, a roller:
+    :mod:`railcontact.surface_contact`) is solved by
+    :func:`railcontact.surface_contact.solve_on_surfaces`.
     """
+    from .surface_contact import is_surface_case, solve_on_surfaces
+    if not case.is_bodies and is_surface_case(case):
+        return solve_on_surfaces(case, normal, tangential, warm_start=warm_start)
     if warm_start is not None:
         res = _solve(case, normal, tangential, warm_start)
         # a force that jumps across the load is the model's: a cold start meets it too
