@@ -48,7 +48,7 @@ log = logging.getLogger(__name__)
 
 #: keys of one rail (``[rail]`` or an entry of ``[[rails]]``) in a surface case
 RAIL_KEYS = {"profile", "slices", "inclination", "units", "name", "lateral_position",
-             "vertical_position", "slice_spacing"}
+             "vertical_position", "slice_spacing", "lateral_range"}
 ROLLER_KEYS = {"radius", "angular_velocity", "position"}
 
 
@@ -107,6 +107,12 @@ def _check_rail(r: dict, where: str) -> None:
     if "slices" in r and "lateral_position" not in r:
         raise CaseFileError(f"[{where}]: a rail given by slices needs lateral_position (y of "
                             "its profile origin in the track frame, m)")
+    lr = r.get("lateral_range")
+    if lr is not None and not (isinstance(lr, list) and len(lr) == 2 and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and abs(v) < 1 for v in lr)
+            and lr[0] < lr[1]):
+        raise CaseFileError(f"{where}.lateral_range = {lr!r}: expected [y_min, y_max] in m "
+                            "(rail-profile coordinates), y_min < y_max")
     for key, lim in (("lateral_position", 2.0), ("vertical_position", 0.5)):
         v = r.get(key)
         if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
@@ -167,9 +173,16 @@ def build_surface_case(case: Case) -> SurfaceSetup:
     pv = case.get("wheelset.pitch_velocity")
     pv = -V / r0 if pv is None else case.number("wheelset.pitch_velocity")
     rails = []
+    shared = {}           # rails naming one slices file share its surface (and cache)
     for k, spec in enumerate(specs):
         where = "rails[%d]" % k if "rails" in case.raw else "rail"
-        surf = _rail_surface(case, spec, where)
+        key = (str(spec.get("slices")), spec.get("units"), spec.get("slice_spacing")) \
+            if isinstance(spec.get("slices"), str) else None
+        surf = shared.get(key) if key is not None else None
+        if surf is None:
+            surf = _rail_surface(case, spec, where)
+            if key is not None:
+                shared[key] = surf
         omega = 0.0
         if roller is not None:
             if not isinstance(surf, ProfileSurface):
@@ -185,8 +198,10 @@ def build_surface_case(case: Case) -> SurfaceSetup:
                        gauge=case.number("track.gauge", 1.435),
                        gauge_height=case.number("track.gauge_height", 0.014))
             y0 = tr.rail_offset("right")
+        lr = spec.get("lateral_range")
         rails.append(PlacedRail(surf, str(spec.get("name", surf.name)), float(y0),
-                                float(spec.get("vertical_position", 0.0)), omega))
+                                float(spec.get("vertical_position", 0.0)), omega,
+                                None if lr is None else tuple(lr)))
     z = case.get("wheelset.vertical_position")
     load = None
     if z is None:

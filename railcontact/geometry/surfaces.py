@@ -29,7 +29,7 @@ from __future__ import annotations
 
 import math
 from collections import OrderedDict
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from numba import njit
@@ -392,6 +392,10 @@ class PlacedRail:
         Label of the rail in results ("wing rail", "nose", "check rail", ...).
     lateral_position, vertical_position : float
         Position [m] of the rail-profile origin in the side frame.
+    lateral_range : (float, float) or None
+        The part [m] of the surface (rail-profile y) that belongs to this rail: one
+        set of slices may hold several rails side by side (a crossing's wing rail
+        and nose with the flangeway between), each named on its own.
     angular_velocity : float
         For a roller: its angular velocity [rad/s] about +y (CONTACT's VPITCH_ROL;
         positive with the wheel's negative pitch velocity in pure rolling); 0 for a
@@ -403,12 +407,25 @@ class PlacedRail:
     lateral_position: float = 0.75
     vertical_position: float = 0.0
     angular_velocity: float = 0.0
-    _cache: dict = field(default_factory=dict, init=False, repr=False)
+    lateral_range: tuple | None = None
+
+    def __post_init__(self):
+        if self.lateral_range is not None:
+            lo, hi = (float(v) for v in self.lateral_range)
+            if not lo < hi:
+                raise InputError(f"rail {self.name!r}: lateral_range = {self.lateral_range!r}:"
+                                 " expected [y_min, y_max] with y_min < y_max (m)")
+            self.lateral_range = (lo, hi)
 
     def height(self, s, y):
         """Surface height z [m] and slope dz/dy in the side frame at track position s
-        and side-frame lateral position y."""
-        z, d = self.surface.height(s, np.asarray(y, float) - self.lateral_position)
+        and side-frame lateral position y (NaN outside the rail's lateral range)."""
+        yr = np.asarray(y, float) - self.lateral_position
+        z, d = self.surface.height(s, yr)
+        if self.lateral_range is not None:
+            out = (yr < self.lateral_range[0]) | (yr > self.lateral_range[1])
+            z = np.where(out, np.nan, z)
+            d = np.where(out, np.nan, d)
         return z + self.vertical_position, d
 
     @property

@@ -43,7 +43,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ProfileError
-from .io import read_profile
+from .io import read_profile, write_profile
 from .profile import Profile
 
 log = logging.getLogger(__name__)
@@ -277,3 +277,86 @@ def slices_from_list(entries, base_dir: Path | None = None, units: str = "auto",
 def is_slices_file(spec) -> bool:
     """Whether a rail specification names a slices file."""
     return isinstance(spec, (str, Path)) and re.search(r"\.slcs$", str(spec), re.I) is not None
+
+
+def write_slices(slices: RailSlices, path, units: str = "mm") -> Path:
+    """Write a slices file (``.slcs``, CONTACT's format) and one SIMPACK profile
+    file per slice in a folder beside it (``<stem>/<stem>_<k>.prr``); positions in
+    mm (U_SCALE 1).  Returns the path of the ``.slcs`` file."""
+    path = Path(path)
+    folder = path.with_suffix("")
+    folder.mkdir(parents=True, exist_ok=True)
+    lines = [f"% rail slices {slices.name!r} written by railcontact", "",
+             "   0.000   1.0   U_OFFSET [usr], U_SCALE [mm/usr], usr = mm",
+             f"   {len(slices)}   NSLC",
+             f"   {0 if slices.features is None else slices.features.shape[1]}   0   0   "
+             "NFEAT, NKINK, NACCEL",
+             "   1   U_INTPOL", "", "% slice positions U_SLC [mm] and file names"]
+    for k, (sk, prof) in enumerate(zip(slices.s, slices.profiles), 1):
+        name = f"{folder.name}/{folder.name}_{k}.prr"
+        write_profile(prof, path.parent / name, units=units)
+        lines.append(f"  {sk * 1e3:.6f}   '{name}'")
+    if slices.features is not None:
+        lines += ["", "% features S_F [mm] per slice"]
+        for sk, f in zip(slices.s, slices.features):
+            lines.append(f"  {sk * 1e3:.6f}   " + "  ".join(f"{v * 1e3:.6f}" for v in f))
+    tmp = path.with_name(path.name + ".tmp")
+    tmp.write_text("\n".join(lines) + "\n")
+    tmp.replace(path)
+    return path
+
+
+def _nose_section(width: float, drop: float, crown: float, corner: float,
+                  depth: float = 0.04):
+    """Points (y, z) [m] of a crossing nose's cross-section centred at y = 0: a crown
+    of radius ``crown`` across ``width``, corner arcs of radius ``corner`` turning
+    to 80 degree flanks, ``drop`` below the running level."""
+    half = 0.5 * width
+    r = min(corner, 0.45 * width)
+    flat = half - r
+    y = np.linspace(-half - 0.012, half + 0.012, 801)
+    u = np.abs(y)
+    z = drop + u ** 2 / (2 * crown)
+    zc = drop + flat ** 2 / (2 * crown)
+    th = math.radians(80.0)
+    e = u - flat
+    arc = (e > 0) & (e <= r * math.sin(th))
+    z = np.where(arc, zc + r - np.sqrt(np.maximum(r * r - e * e, 0.0)), z)
+    e_end, z_end = r * math.sin(th), zc + r - r * math.cos(th)
+    z = np.where(e > e_end, np.minimum(z_end + (e - e_end) * math.tan(th), drop + depth), z)
+    return y, z
+
+
+def artificial_crossing(length: float = 0.5, n: int = 41, angle: float = 1 / 9,
+                        nose_gauge: float = -0.026, flangeway: float = 0.042,
+                        tip_width: float = 0.004, tip_drop: float = 0.006,
+                        rise: float = 1 / 60, final_drop: float = 0.002,
+                        crown: float = 0.2, corner: float = 0.005, wing: str = "60E1"):
+    """An artificial common crossing for the right wheel of a straight route:
+    the wing rail (a ``wing`` head, not inclined) diverging to the field side at
+    ``angle`` from s = 0, and the nose on the gauge side: its gauge flank straight
+    at ``nose_gauge`` [m], its width growing from ``tip_width`` at s = 0 at
+    ``angle``, its crown starting ``tip_drop`` below the running level and rising
+    at ``rise`` to ``final_drop`` below it (rail-profile coordinates of a rail
+    placed at the wheel's tape circle; the flangeway at the tip ``flangeway``).
+
+    Returns (nose, wing rail) as :class:`RailSlices` over s in [-0.05, ``length``]
+    [m] (``n`` slices).  With an S1002 wheel at its nominal position the wheel
+    runs down the diverging wing rail (its tread's cone), passes to the nose about
+    0.09 m after the tip and is lifted by 2 mm on the rising nose: the 'dip' of a
+    crossing.
+    """
+    from .library import get_profile
+    s = np.linspace(-0.05, float(length), int(n))
+    head = get_profile(wing, "rail", inclination=0.0)
+    noses, wings = [], []
+    for si in s:
+        d = max(float(si), 0.0)
+        w = tip_width + d * angle
+        drop = max(tip_drop - rise * d, final_drop)
+        y, z = _nose_section(w, drop, crown, corner)
+        noses.append(Profile(y + nose_gauge + 0.5 * w, z, kind="rail", name=f"nose@{si:.4f}"))
+        y_wing = nose_gauge + tip_width + flangeway + 0.036 + d * angle
+        wings.append(head.shifted(y_wing, 0.0))
+    return (RailSlices(s, tuple(noses), name="nose"),
+            RailSlices(s, tuple(wings), name="wing rail"))
