@@ -93,6 +93,17 @@ def check_surface_case(case: Case) -> None:
         case.number("wheelset.vertical_position", None, -0.05, 0.05, "m")
     case.number("wheelset.position", 0.0, -1e5, 1e5, "m")
     case.number("wheelset.roll", 0.0, -0.1, 0.1, "rad")
+    inc = case.get("solver.contact_angle", "local")
+    if inc not in ("local", "wheelset"):
+        raise CaseFileError(f"solver.contact_angle = {inc!r}: expected 'local' (the rail's "
+                            "inclination at each point of the patch) or 'wheelset' (on its "
+                            "cross-section at the wheelset's position, as CONTACT)")
+    slip = case.get("solver.rigid_slip", "planar")
+    if slip not in ("planar", "surfaces"):
+        raise CaseFileError(f"solver.rigid_slip = {slip!r}: expected 'planar' (the creepages of "
+                            "the reference point) or 'surfaces' (on the actual surfaces)")
+    if slip == "surfaces" and case.tangential != "exact":
+        raise CaseFileError("solver.rigid_slip = 'surfaces' needs solver.tangential = 'exact'")
 
 
 def _check_rail(r: dict, where: str) -> None:
@@ -155,6 +166,7 @@ class SurfaceSetup:
     load: float | None
     search_length: float | None = None
     inclination: str = "local"
+    rigid_slip: str = "planar"
 
 
 def build_surface_case(case: Case) -> SurfaceSetup:
@@ -216,13 +228,10 @@ def build_surface_case(case: Case) -> SurfaceSetup:
                     0.0, 0.0, case.number("wheelset.yaw_rate", 0.0))
     sl = case.get("solver.search_length")
     inc = case.get("solver.contact_angle", "local")
-    if inc not in ("local", "wheelset"):
-        raise CaseFileError(f"solver.contact_angle = {inc!r}: expected 'local' (the rail's "
-                            "inclination at each point of the patch) or 'wheelset' (on its "
-                            "cross-section at the wheelset's position, as CONTACT)")
+    slip = case.get("solver.rigid_slip", "planar")
     return SurfaceSetup(wheel, rails, side, pose, motion, load,
                         None if sl is None else case.number("solver.search_length", None,
-                                                            1e-3, 1.0, "m"), inc)
+                                                            1e-3, 1.0, "m"), inc, slip)
 
 
 @dataclass
@@ -282,7 +291,20 @@ def _validity(result: PatchResult, setup: SurfaceSetup) -> PatchResult:
     return result
 
 
-def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, tangential=True):
+def _surface_slip_field(g, ns, setup, creep):
+    """The rigid slip on the actual surfaces (:func:`railcontact.geometry.
+    surface_search.surface_slip`) minus the planar rigid slip of the patch's
+    creepages (xi - phi y, eta + phi x), on the normal solution's grid: the exact
+    tangential solver's ``extra_slip`` (``solver.rigid_slip = "surfaces"``)."""
+    from .geometry.surface_search import surface_slip
+    X, Y = np.meshgrid(ns.x, ns.y, indexing="ij")
+    sx, sy = surface_slip(g, setup.wheel, setup.rails[g.rail_index], setup.motion, X, Y)
+    xi, eta, phi = creep
+    return sx - (xi - phi * Y), sy - (eta + phi * X)
+
+
+def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, tangential=True,
+                   setup=None):
     """Normal (and tangential) solutions of the patches of a search; ``previous``
     results warm-start the models that accept it (the nearest patch on the same
     rail)."""
@@ -299,6 +321,8 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, tangential=
         ts = None
         if tangential and tmodel is not None and ns.normal_force > 0:
             tkw = {}
+            if setup is not None and setup.rigid_slip == "surfaces":
+                tkw["extra_slip"] = _surface_slip_field(g, ns, setup, creep)
             if best is not None and best.tangential is not None and \
                     getattr(tmodel, "accepts_warm_start", False):
                 tkw["warm_start"] = best.tangential
@@ -343,7 +367,7 @@ def solve_on_surfaces(case: Case, normal: str | None = None, tangential: str | N
         pose = SurfacePose(setup.pose.s, setup.pose.lateral, z, setup.pose.roll, setup.pose.yaw)
         c = search(setup.wheel, setup.rails, pose, setup.side, setup.motion,
                    x_range=setup.search_length, inclination=setup.inclination)
-        return c, _solve_patches(case, c, nmodel, tmodel, kw, prev, tang)
+        return c, _solve_patches(case, c, nmodel, tmodel, kw, prev, tang, setup)
 
     balance = None
     if setup.load is None:

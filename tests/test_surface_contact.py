@@ -231,3 +231,24 @@ def test_slices_written_and_read_back(tmp_path):
     y = np.array([-0.018, -0.012])
     assert np.allclose(SlicedSurface(back).height(s, y)[0], SlicedSurface(nose).height(s, y)[0],
                        atol=1e-9)
+
+
+def test_left_wheel_is_the_mirrored_right_wheel(testbank):
+    """A left wheel on the same rails (placed in its side frame, y to its field
+    side) at the mirrored pose: positions and contact angles mirrored, the
+    longitudinal creepage and force equal, the lateral and spin ones negated."""
+    def run(side, y, yaw):
+        case = _case(testbank, "cross_nose.slcs", 0.0, y=y, fz=1e4)
+        raw = dict(case.raw, wheelset=dict(case.raw["wheelset"], side=side, yaw=yaw))
+        return rc.solve(case_from_dict(raw, testbank / "examples_s+c")).patches[0]
+    r = run("right", 1e-3, 2e-3)
+    left = run("left", -1e-3, -2e-3)
+    assert left.geometry.side == "left"
+    # (to the vertical iteration's tolerance: the two solves take other paths)
+    assert left.geometry.position == pytest.approx(r.geometry.position * [1, -1, 1], abs=1e-8)
+    assert left.geometry.contact_angle == pytest.approx(-r.geometry.contact_angle, abs=1e-8)
+    assert left.creepage == pytest.approx(np.array(r.creepage) * [1, -1, -1], rel=1e-6,
+                                          abs=1e-10)
+    assert left.normal.normal_force == pytest.approx(r.normal.normal_force, rel=1e-5)
+    assert left.tangential.fx == pytest.approx(r.tangential.fx, rel=1e-4)
+    assert left.tangential.fy == pytest.approx(-r.tangential.fy, rel=1e-4)

@@ -102,18 +102,19 @@ class VerticalContactTable:
         self._filled = (np.ascontiguousarray(off.T), np.ascontiguousarray(C.T),
                         np.ascontiguousarray(cd.T))
 
-    def forces(self, s: float, d: float) -> np.ndarray:
-        """Vertical force [N] on each rail at position s with the wheel's vertical
-        approach d [m] (beyond its touching height), linear in s between the table's
-        positions."""
+    def forces(self, s, d) -> np.ndarray:
+        """Vertical force [N] on each rail (last axis) at positions s with the wheel's
+        vertical approach d [m] beyond its touching height (scalars or arrays of one
+        shape), linear in s between the table's positions."""
         off, C, cd = self._filled
-        out = np.empty(len(self.rails))
-        for k in range(out.size):
+        s, d = np.broadcast_arrays(np.asarray(s, float), np.asarray(d, float))
+        out = np.empty(s.shape + (len(self.rails),))
+        for k in range(len(self.rails)):             # the rails (two or three)
             o = np.interp(s, self.s, off[k])
             c = np.interp(s, self.s, C[k])
             cs = np.interp(s, self.s, cd[k])
-            pen = (d - o) * cs
-            out[k] = c * pen * math.sqrt(pen) * cs if pen > 0.0 and c > 0.0 else 0.0
+            pen = np.maximum((d - o) * cs, 0.0)
+            out[..., k] = c * pen * np.sqrt(pen) * cs
         return out
 
     def touch(self, s: float) -> float:
@@ -256,7 +257,7 @@ def simulate_crossing(table: VerticalContactTable, velocity: float, load: float,
     s = s0 + V * t
     touch = np.interp(s, table.s, table.z_touch)
     d = zw - zt - touch
-    forces = np.array([table.forces(si, di) for si, di in zip(s, d)])
+    forces = table.forces(s, d)
     total = forces.sum(axis=1)
     i = int(np.argmax(total))
     ds = xr.Dataset(

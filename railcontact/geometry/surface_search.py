@@ -365,6 +365,44 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
     return SurfaceContact(pose, side, patches, gmin, grids)
 
 
+def surface_slip(patch: "SurfacePatch", wheel: SurfaceWheel, rail, motion: Motion, x, y):
+    """The rigid slip on the actual surfaces at the points (x, y) of a patch's
+    tangent plane (arrays of one shape), CONTACT's option D = 3: the velocity of
+    the rail's material relative to the wheel's, over the patch's rolling
+    velocity, in the plane's axes (x_c, y_c).  Each body's velocity is that of its
+    surface point in the cross-section (perpendicular to its axis) through the
+    plane point, where that section comes closest to the other body: the wheel's
+    at the point's axial position a, at its radius r0 + z_w(a - offset); a
+    roller's at its apex at the point's lateral position; a rail is at rest.
+    (The surfaces' curvature along the rolling direction gives the particles that
+    pass through the patch no slip in steady rolling; their radii across it do: a
+    sphere rolling on a plane brakes by -y^2 / (2 R^2).)  Returns (s_x, s_y) [-]."""
+    gap = patch.gap_function
+    side = patch.side
+    sp = gap.pose
+    mo = motion.mirrored(side)
+    x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
+    Q0 = gap.C + x[..., None] * np.array([1.0, 0.0, 0.0]) + (gap.sign * y)[..., None] * gap.t
+    O, R = wheel.frame(sp)
+    p = (Q0 - O) @ R                                  # wheelset coordinates
+    m = gap.n @ R                                     # the normal there: the section's
+    mm = math.hypot(m[0], m[2])                       # point nearest the rail
+    r = wheel.nominal_radius + wheel.profile.z_at(p[..., 1] - wheel.offset)
+    pb = np.stack((r * m[0] / mm, p[..., 1], r * m[2] / mm), axis=-1)
+    om_w = R @ np.array([mo.roll_rate, mo.pitch_velocity, 0.0]) + np.array([0, 0, mo.yaw_rate])
+    v_w = np.array([mo.velocity, mo.lateral_velocity, mo.vertical_velocity]) \
+        + np.cross(om_w, pb @ R.T)
+    if rail.is_roller:
+        surf = rail.surface
+        rho = surf.rolling_radius(Q0[..., 1] - rail.lateral_position)
+        apex = np.stack((np.zeros_like(rho), np.zeros_like(rho), -rho), axis=-1)
+        v_r = np.cross(np.array([0.0, rail.angular_velocity, 0.0]), apex)
+    else:
+        v_r = np.zeros_like(v_w)
+    dv = (v_r - v_w) / patch.velocity
+    return dv[..., 0], gap.sign * (dv @ gap.t)
+
+
 def _unique(patches):
     """Patches found twice (from overlapping candidate boxes) once."""
     out = []
