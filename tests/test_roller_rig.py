@@ -71,8 +71,9 @@ def test_contact_roller_rig_tests(testbank, k, name):
     assert n.normal_force == pytest.approx(q["fn"], rel=1e-3)
     assert abs(n.area / 0.04e-6 - q["ncon"]) <= 2
     assert n.pmax / 1e6 == pytest.approx(q["pmax"], rel=6e-3)
-    # the sphere's profile file lies 0.05 um off its circle except at its centre
-    assert n.penetration * 1e3 == pytest.approx(q["approach"], rel=1e-4)
+    # the sphere's profile file lies 0.05 um off its circle except at its centre;
+    # on the cone (3a) 0.03 um apart
+    assert n.penetration * 1e3 == pytest.approx(q["approach"], rel=3e-4 if k == 10 else 1e-4)
     if name == "test-rollers2" and k == 10:
         # on the cone: spin -2.004 1/m and F_s 14170 N (both as CONTACT's to 0.05 %);
         # xi -2.9e-5 against -3.4e-5 (a 0.5 um difference in the roller's radius
