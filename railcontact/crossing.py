@@ -17,14 +17,13 @@ from __future__ import annotations
 
 import dataclasses
 import logging
-import math
 from pathlib import Path
 
 import numpy as np
 
 from .case import Case
 from .errors import ContactNotFoundError, InputError
-from .surface_contact import SurfaceResult, build_surface_case, solve_on_surfaces
+from .surface_contact import build_surface_case, solve_on_surfaces
 
 log = logging.getLogger(__name__)
 

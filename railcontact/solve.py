@@ -282,15 +282,22 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     return _solve(case, normal, tangential, None)
 
 
-def _solve(case, normal, tangential, warm_start):
-    """:func:`solve` with or without a warm start."""
-    t0 = time.perf_counter()
+def case_models(case, normal=None, tangential=None):
+    """The normal and tangential models of a case (names overridden by ``normal``,
+    ``tangential``; the case's options with its own names) and their grid keywords:
+    (normal name, tangential name, normal model, tangential model or None, kw)."""
     nname = (normal or case.normal).lower()
     tname = (tangential or case.tangential).lower()
     nmodel = get_normal_model(nname, **(case.normal_options if normal is None else {}))
     tmodel = None if tname == "none" else get_tangential_model(
         tname, **(case.tangential_options if tangential is None else {}))
-    kw = {"grid": case.grid, "element_size": case.element_size}
+    return nname, tname, nmodel, tmodel, {"grid": case.grid, "element_size": case.element_size}
+
+
+def _solve(case, normal, tangential, warm_start):
+    """:func:`solve` with or without a warm start."""
+    t0 = time.perf_counter()
+    nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
     results, pose, contact, balance = [], None, None, None
     if case.is_bodies:
         A, B = body_curvatures(case)

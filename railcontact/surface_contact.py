@@ -37,12 +37,10 @@ from .geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface, Sliced
 from .geometry.track import Track
 from .geometry.validity import HALF_SPACE_LIMIT, halfspace_ratio
 from .geometry.validity import flange_state
-from .normal import get_normal_model
 from .profiles.library import get_profile
 from .profiles.slices import is_slices_file, read_slices, slices_from_list
-from .solve import PatchResult, SolveResult, VerticalBalance, vertical_force_on_rail
+from .solve import PatchResult, SolveResult, VerticalBalance, case_models, vertical_force_on_rail
 from .status import SolverStatus
-from .tangential import get_tangential_model
 
 log = logging.getLogger(__name__)
 
@@ -355,12 +353,7 @@ def solve_on_surfaces(case: Case, normal: str | None = None, tangential: str | N
     """
     t0 = time.perf_counter()
     setup = setup or build_surface_case(case)
-    nname = (normal or case.normal).lower()
-    tname = (tangential or case.tangential).lower()
-    nmodel = get_normal_model(nname, **(case.normal_options if normal is None else {}))
-    tmodel = None if tname == "none" else get_tangential_model(
-        tname, **(case.tangential_options if tangential is None else {}))
-    kw = {"grid": case.grid, "element_size": case.element_size}
+    nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
     previous = warm_start.patches if warm_start is not None else None
 
     def at(z, tang=True, prev=None):

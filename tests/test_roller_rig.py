@@ -10,7 +10,6 @@ import pytest
 import railcontact as rc
 from railcontact.case import case_from_dict
 from railcontact.materials import Material
-from railcontact.normal import get_normal_model, hertz_ellipse
 from tests.conftest import read_ref_out
 
 E = 2 * 82e9 * 1.28

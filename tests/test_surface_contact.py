@@ -10,8 +10,6 @@ same 0.2 x 0.05 or 0.2 x 0.2 mm grid) within 3 %; on patches that carry less
 than 2 % of the load (a strip of 2 to 9 elements where the other rail is just
 touched) F_n within 10 % of it or 1e-3 of the load, the position within 0.1 mm."""
 
-import math
-
 import numpy as np
 import pytest
 

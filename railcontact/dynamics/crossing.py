@@ -141,7 +141,7 @@ def contact_table(case, positions, depth: float = 4e-4, material: Material | Non
     curvatures and its vertical offset, see the module notes; the touching height
     from the search's smallest vertical gap); per rail the deepest patch."""
     from tqdm.auto import tqdm
-    from ..geometry.surface_search import SurfacePose, search
+    from ..geometry.surface_search import search
     from ..surface_contact import build_surface_case
     setup = build_surface_case(case)
     mat = material or case.material

@@ -67,6 +67,20 @@ class ProfileSurface:
 
 
 @njit(cache=True, nogil=True)
+def _interval(Y, r, m, yk):
+    """The interval i of row r's samples Y[r, :m] (increasing) with Y[r, i] <= yk <=
+    Y[r, i + 1], by bisection."""
+    lo, hi = 0, m - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if Y[r, mid] <= yk:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True, nogil=True)
 def _hermite(Y, Z, B, n, row, y, z, dz):
     """z(y) and dz/dy on the rows of cross-sections (points Y[r, :n[r]], Z[r, :n[r]],
     Y increasing): cubic Hermite interpolation with the three-point slopes of the
@@ -80,14 +94,7 @@ def _hermite(Y, Z, B, n, row, y, z, dz):
             z[k] = np.nan
             dz[k] = np.nan
             continue
-        lo, hi = 0, m - 1
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if Y[r, mid] <= yk:
-                lo = mid
-            else:
-                hi = mid
-        i = lo
+        i = _interval(Y, r, m, yk)
         h = Y[r, i + 1] - Y[r, i]
         # three-point slopes at i and i+1 (one-sided at the ends)
         d0 = (Z[r, i + 1] - Z[r, i]) / h
@@ -127,14 +134,7 @@ def _tensor(CY, CZ, Y, n, mono, row, y, z, dz):
             z[k] = np.nan
             dz[k] = np.nan
             continue
-        lo, hi = 0, m - 1
-        while hi - lo > 1:
-            mid = (lo + hi) // 2
-            if Y[r, mid] <= yk:
-                lo = mid
-            else:
-                hi = mid
-        j = lo
+        j = _interval(Y, r, m, yk)
         a0, a1, a2, a3 = CY[0, j, r], CY[1, j, r], CY[2, j, r], CY[3, j, r] - yk
         t = (yk - Y[r, j]) / (Y[r, j + 1] - Y[r, j])
         for _ in range(20):
