@@ -196,3 +196,19 @@ def test_rigid_slip_on_the_actual_surfaces(testbank, k):
     assert abs(p.tangential.fy) < 1e-3 * abs(q["fx"])
     with pytest.raises(rc.CaseFileError, match="rigid_slip"):
         case_from_dict(dict(raw, solver=dict(raw["solver"], rigid_slip="actual")), c.base_dir)
+
+
+def test_half_space_ratio_counts_the_rollers_radius(testbank):
+    """A patch on a roller reports its size against the smallest radii it touches,
+    the roller's rolling radius among them: a 4 mm circle between a 133 mm
+    cylinder and a roller of 400 mm (100 mm across) has max(b / 100, a / 133) = 0.04;
+    on a 20 mm roller a / 20 = 0.2 (here evaluated with the Hertz ellipse)."""
+    (p,) = rc.solve(_case(testbank, **CASES[6], normal="hertz", tangential="none")).patches
+    a, b = p.normal.semi_axes
+    # (the file's 100 mm circle: its smallest radius under the patch is 97.9 mm)
+    assert p.halfspace_ratio == pytest.approx(max(b / 0.1, a / (0.4 / 3)), rel=0.03)
+    small = dict(CASES[6], roller={"radius": 0.02, "angular_velocity": 5.0})
+    (q,) = rc.solve(_case(testbank, **small, normal="hertz", tangential="none")).patches
+    assert q.geometry.rail_rolling_radius == pytest.approx(0.02)
+    assert q.halfspace_ratio == pytest.approx(
+        max(q.normal.semi_axes[1] / 0.1, q.normal.semi_axes[0] / 0.02), rel=0.03)
