@@ -17,17 +17,23 @@ _ALLOWED = {
                  "wheel_poisson_ratio"},
     "friction": {"coefficient"},
     "wheel": {"profile", "nominal_radius", "profile_left", "units"},
-    "rail": {"profile", "inclination", "profile_left", "units"},
+    "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
+             "lateral_position", "vertical_position", "slice_spacing"},
+    "rails": None,
+    "roller": {"radius", "angular_velocity", "position"},
     "track": {"gauge", "gauge_height"},
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",
                  "vertical_force", "velocity", "pitch_velocity", "lateral_velocity", "yaw_rate",
-                 "combine_distance", "full_interaction_distance"},
+                 "combine_distance", "full_interaction_distance", "position",
+                 "vertical_position"},
     "creepage": {"longitudinal", "lateral", "spin"},
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
-               "tangential_options", "force_tolerance"},
+               "tangential_options", "force_tolerance", "search_length",
+               "contact_angle", "rigid_slip"},
     "bodies": {"radii", "normal_force", "velocity"},
+    "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
 }
 _RADII = {"wheel_rolling", "wheel_lateral", "rail_rolling", "rail_lateral"}
 
@@ -121,10 +127,11 @@ def _check_keys(raw: dict) -> None:
         for sub in value:
             if sub not in allowed:
                 raise CaseFileError(f"unknown key {key}.{sub}; expected one of {sorted(allowed)}")
-    if "bodies" in raw and any(k in raw for k in ("wheel", "rail", "track", "wheelset")):
+    if "bodies" in raw and any(k in raw for k in ("wheel", "rail", "rails", "roller", "track",
+                                                   "wheelset")):
         raise CaseFileError("a case has either [bodies] or [wheel]/[rail]/[track]/[wheelset], "
                             "not both")
-    if "bodies" not in raw and not ("wheel" in raw and "rail" in raw):
+    if "bodies" not in raw and not ("wheel" in raw and ("rail" in raw or "rails" in raw)):
         raise CaseFileError("missing [wheel] and [rail] (or [bodies]); expected a wheel-rail "
                             "case or a case given by curvatures")
     if "bodies" in raw:
@@ -173,6 +180,8 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         case.creepage = (case.number("creepage.longitudinal", 0.0, -1.0, 1.0),
                          case.number("creepage.lateral", 0.0, -1.0, 1.0),
                          case.number("creepage.spin", 0.0, -100.0, 100.0, "1/m"))
+    if "plasticity" in raw:
+        _plasticity(case)
     # resolve models early so that a bad name fails before any work
     from .normal import get_normal_model
     from .tangential import get_tangential_model
@@ -191,6 +200,13 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     if case.is_bodies:
         case.number("bodies.normal_force", None, 0.0, 1e8, "N")
         _body_curvatures(case)
+    elif _surface_case(case):
+        # rails along the track, several rails, a roller: railcontact.surface_contact
+        from .surface_contact import check_surface_case
+        check_surface_case(case)
+        case.wheel_loads()
+        case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
+        case.number("wheel.nominal_radius", 0.46, 0.01, 1.5, "m")
     else:
         side = case.get("wheelset.side", "both")
         if side not in ("left", "right", "both"):
@@ -207,6 +223,40 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         case.number("wheel.nominal_radius", 0.46, 0.1, 1.5, "m")
         case.number("rail.inclination", 0.0, -0.1, 0.1, "rad")
     return case
+
+
+def _surface_case(case: Case) -> bool:
+    from .surface_contact import is_surface_case
+    return is_surface_case(case)
+
+
+def _plasticity(case: Case) -> None:
+    """``[plasticity]``: the pressure limit of elastic-perfectly-plastic contact
+    (:mod:`railcontact.normal.plasticity`), passed to the exact normal model as its
+    ``pressure_limit`` option: ``pressure_limit`` [Pa] as given, else
+    ``pressure_factor`` (default 3, Tabor's hardness) x ``yield_stress`` [Pa]."""
+    from .normal.plasticity import HARDNESS_FACTOR, pressure_limit
+    pl = case.raw["plasticity"]
+    if case.normal != "exact":
+        raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "
+                            f"solver.normal is {case.normal!r} (expected 'exact')")
+    if "pressure_limit" in pl:
+        if "yield_stress" in pl or "pressure_factor" in pl:
+            raise CaseFileError("[plasticity]: give pressure_limit, or yield_stress (with "
+                                "pressure_factor), not both")
+        limit = case.number("plasticity.pressure_limit", None, 1e6, 1e12, "Pa")
+    else:
+        if "yield_stress" not in pl:
+            raise CaseFileError("[plasticity]: missing yield_stress (Pa) or pressure_limit (Pa)")
+        try:
+            limit = pressure_limit(case.number("plasticity.yield_stress", unit="Pa"),
+                                   case.number("plasticity.pressure_factor", HARDNESS_FACTOR))
+        except InputError as exc:
+            raise CaseFileError(str(exc)) from None
+    if "pressure_limit" in case.normal_options:
+        raise CaseFileError("pressure limit given both in [plasticity] and in "
+                            "solver.normal_options; give it once")
+    case.normal_options["pressure_limit"] = limit
 
 
 def _body_curvatures(case: Case):

@@ -176,6 +176,29 @@ def cmd_profile(args):
     print(path)
 
 
+def cmd_track(args):
+    """A quasi-static pass along the track of a case on rail surfaces."""
+    import numpy as np
+    from .case import load_case
+    from .crossing import plot_track_sweep, sweep_along_track
+    if not (args.step > 0 and args.stop >= args.start):
+        raise InputError(f"track: --from {args.start} --to {args.stop} --step {args.step}: "
+                         "expected start <= stop and a step > 0 (m)")
+    positions = np.arange(args.start, args.stop + 0.5 * args.step, args.step)
+    ds = sweep_along_track(load_case(args.case), positions, args.normal, args.tangential,
+                           progress=True)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    tmp = out / "track_sweep.nc.tmp"
+    ds.to_netcdf(tmp, engine="h5netcdf")
+    tmp.replace(out / "track_sweep.nc")
+    plot_track_sweep(ds, out / "track_sweep.png")
+    print(f"{ds.sizes['s']} positions, rails {', '.join(map(str, ds['rail'].values))}; wrote "
+          f"{out / 'track_sweep.nc'} and track_sweep.png")
+    return 0 if bool(ds["converged"].all()) else _report_status(
+        False, "the vertical load was not met at some positions (see 'converged')", [])
+
+
 def cmd_demo(args):
     from .demo import run_demo
     run_demo(Path(args.out))
@@ -244,6 +267,16 @@ def build_parser():
     pr.add_argument("--units", choices=["mm", "m"], default="mm", help="units of exported files")
     pr.add_argument("--out")
     pr.set_defaults(func=cmd_profile)
+    t = sub.add_parser("track", help="a wheel passing along rails given by slices (a "
+                       "crossing): force on each rail, contact positions, p_max, area vs s")
+    t.add_argument("case", help="case file on rail surfaces (rail.slices or [[rails]])")
+    t.add_argument("--from", dest="start", type=float, required=True, help="first s [m]")
+    t.add_argument("--to", dest="stop", type=float, required=True, help="last s [m]")
+    t.add_argument("--step", type=float, required=True, help="step of s [m]")
+    t.add_argument("--normal")
+    t.add_argument("--tangential")
+    t.add_argument("--out", default="track_output")
+    t.set_defaults(func=cmd_track)
     d = sub.add_parser("demo", help="lateral-shift sweep S1002 on 60E1 1:40 (Hertz + FASTSIM)")
     d.add_argument("--out", default="demo_output")
     d.set_defaults(func=cmd_demo)

@@ -67,6 +67,9 @@ class PatchResult:
             d["stick_fraction"] = t.stick_fraction
             d["frictional_power"] = t.frictional_power
         d["halfspace_ratio"] = _f(self.halfspace_ratio)
+        if math.isfinite(getattr(n, "pressure_limit", math.inf)):
+            d["pressure_limit"] = n.pressure_limit
+            d["plastic_area"] = n.plastic_area
         return d
 
 
@@ -259,7 +262,14 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     vertical load and the patches; each patch is solved with its own penetration.
     A warm-started case that does not converge is solved again cold (except where
     the model's vertical force jumps across the load: ``balance.force_jump``).
+
+    A case on rail surfaces (rails given by slices, several rails, a roller:
+    :mod:`railcontact.surface_contact`) is solved by
+    :func:`railcontact.surface_contact.solve_on_surfaces`.
     """
+    from .surface_contact import is_surface_case, solve_on_surfaces
+    if not case.is_bodies and is_surface_case(case):
+        return solve_on_surfaces(case, normal, tangential, warm_start=warm_start)
     if warm_start is not None:
         res = _solve(case, normal, tangential, warm_start)
         # a force that jumps across the load is the model's: a cold start meets it too
@@ -272,15 +282,22 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     return _solve(case, normal, tangential, None)
 
 
-def _solve(case, normal, tangential, warm_start):
-    """:func:`solve` with or without a warm start."""
-    t0 = time.perf_counter()
+def case_models(case, normal=None, tangential=None):
+    """The normal and tangential models of a case (names overridden by ``normal``,
+    ``tangential``; the case's options with its own names) and their grid keywords:
+    (normal name, tangential name, normal model, tangential model or None, kw)."""
     nname = (normal or case.normal).lower()
     tname = (tangential or case.tangential).lower()
     nmodel = get_normal_model(nname, **(case.normal_options if normal is None else {}))
     tmodel = None if tname == "none" else get_tangential_model(
         tname, **(case.tangential_options if tangential is None else {}))
-    kw = {"grid": case.grid, "element_size": case.element_size}
+    return nname, tname, nmodel, tmodel, {"grid": case.grid, "element_size": case.element_size}
+
+
+def _solve(case, normal, tangential, warm_start):
+    """:func:`solve` with or without a warm start."""
+    t0 = time.perf_counter()
+    nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
     results, pose, contact, balance = [], None, None, None
     if case.is_bodies:
         A, B = body_curvatures(case)

@@ -29,7 +29,7 @@ from ..errors import ProfileError
 log = logging.getLogger(__name__)
 
 #: plausible extent of a wheel or rail profile [m]
-MIN_WIDTH, MAX_WIDTH = 0.02, 0.4
+MIN_WIDTH, MAX_WIDTH = 0.01, 0.4       # 10 mm: a rail head on a 1:5 scaled roller rig
 MAX_HEIGHT = 0.2
 
 
