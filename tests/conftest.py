@@ -29,3 +29,14 @@ def refdir() -> Path:
 def read_csv(path):
     with open(path, newline="") as f:
         return list(csv.DictReader(f))
+
+
+@pytest.fixture(scope="session")
+def testbank() -> Path:
+    """CONTACT's testbank inputs and outputs (../shared/contact_testbank)."""
+    ref = reference_dir()
+    for cand in ([ref.parent / "contact_testbank"] if ref else []) + \
+            [ROOT.parent / "shared" / "contact_testbank"]:
+        if (cand / "README.md").is_file():
+            return cand
+    pytest.skip("CONTACT testbank not found (../shared/contact_testbank)")

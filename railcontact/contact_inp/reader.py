@@ -6,7 +6,7 @@ appendix "Specification of the input file"):
 * ``%`` starts a comment; empty lines are skipped;
 * a group of values is read from one line, continuing on the next lines while
   values are missing; text after the last value of a group is ignored (the
-  inputs name their variables there);
+  inputs name their variables there), text before it is an error;
 * optional values (the guide's ``{...}``) are read only from the line of the
   group's last mandatory value, where they are numbers;
 * reals may carry ``d`` (degrees) or ``r`` (radians); strings are in single quotes;
@@ -91,25 +91,21 @@ class _Lines:
         optional values not given)."""
         names_l = [n.strip() for n in names.split(",")]
         out = []
-        toks, j, from_line = [], 0, 0
+        toks, j = [], 0
         while len(out) < len(kinds):
             if j >= len(toks):
                 if self.i >= len(self.lines):
                     raise self.error(f"unexpected end of file reading {names}")
-                toks, j, from_line = self._tokens(self.lines[self.i][1]), 0, 0
+                toks, j = self._tokens(self.lines[self.i][1]), 0
                 self.i += 1
             kind, tok = kinds[len(out)], toks[j]
             val = _parse(kind, tok)
             if val is None:
-                if from_line:            # the rest of a line of values is a comment:
-                    j = len(toks)        # the group goes on on the next line
-                    continue
                 self.i -= 1
                 raise self.error(f"{names_l[min(len(out), len(names_l) - 1)]} = {tok!r}: "
                                  f"expected {_KIND_NAMES[kind]}")
             out.append(val)
             j += 1
-            from_line += 1
         for kind in optional:
             val = _parse(kind, toks[j]) if j < len(toks) else None
             if val is None:
@@ -405,7 +401,8 @@ def _read_wheelset(lines, case, d):
             last = {0: "VPITCH", 1: "FX_WS", 2: "MY_WS"}.get(d["F"], "VPITCH")
             put(f"VS_WS, VY_WS, VZ_WS, VROLL, VYAW, {last}",
                 lines.group("dddddd", f"VS_WS, VY_WS, VZ_WS, VROLL, VYAW, {last}"))
-    if e >= 4:
-        put("DXWHL, DYWHL, DZWHL, DROLLW, DYAWW, DPITCHW, VXWHL, VYWHL, VZWHL, VROLLW, VYAWW, "
-            "VPITCHW", lines.group("dddddddddddd", "DXWHL, DYWHL, DZWHL, DROLLW, DYAWW, DPITCHW, "
-                                                  "VXWHL, VYWHL, VZWHL, VROLLW, VYAWW, VPITCHW"))
+    if e >= 4:               # on two lines (positions, velocities), as CONTACT reads them
+        put("DXWHL, DYWHL, DZWHL, DROLLW, DYAWW, DPITCHW",
+            lines.group("dddddd", "DXWHL, DYWHL, DZWHL, DROLLW, DYAWW, DPITCHW"))
+        put("VXWHL, VYWHL, VZWHL, VROLLW, VYAWW, VPITCHW",
+            lines.group("dddddd", "VXWHL, VYWHL, VZWHL, VROLLW, VYAWW, VPITCHW"))

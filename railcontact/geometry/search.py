@@ -329,13 +329,26 @@ def _bracketed_roll(f, roll0, tol, y_ws):
     return brentq(f, lo, hi, xtol=tol, rtol=1e-15, maxiter=200)
 
 
+def _end_point(loc: Locus, i: int, k: int):
+    """Rail-surface point (y, z) [m] where the interpenetration region ending at
+    locus sample i ends towards its neighbour k = i +- 1: the zero of the gap
+    interpolated between them, so that it moves continuously with the
+    interpenetration."""
+    zr = loc.gap + loc.point[2]
+    gi, gk = loc.gap[i], loc.gap[k]
+    t = gi / (gi - gk) if np.isfinite(gk) and gk > 0 > gi else 0.0
+    return (loc.y_rail[i] + t * (loc.y_rail[k] - loc.y_rail[i]),
+            zr[i] + t * (zr[k] - zr[i]) if np.isfinite(zr[k]) else zr[i])
+
+
 def _end_distance(loc: Locus, i: int, j: int) -> float:
-    """Distance [m] between the rail-surface points of locus samples i and j (the
-    facing ends of two interpenetration regions): CONTACT measures it in y and z,
-    so that a region on the flange flank, below one on the gauge corner, lies apart
-    from it however close their lateral positions."""
-    zi, zj = loc.gap[i] + loc.point[2, i], loc.gap[j] + loc.point[2, j]
-    return float(math.hypot(loc.y_rail[j] - loc.y_rail[i], zj - zi))
+    """Distance [m] between the facing ends of two interpenetration regions, the
+    one ending at locus sample i and the one starting at sample j > i, on the rail
+    surface: CONTACT measures it in y and z, so that a region on the flange flank,
+    below one on the gauge corner, lies apart from it however close their lateral
+    positions (its ends interpolated, :func:`_end_point`)."""
+    (yi, zi), (yj, zj) = _end_point(loc, i, i + 1), _end_point(loc, j, j - 1)
+    return float(math.hypot(yj - yi, zj - zi))
 
 
 def _regions(loc: Locus, rigid: bool, combine_distance: float):
@@ -410,10 +423,10 @@ class _GapEvaluator:
         if x.ndim == 2 and ys.ndim == 2 and x.shape[1] == 1 and ys.shape[0] == 1:
             # a grid x[:, None], y[None, :]: line by line, the rail distance once per
             # line and every projection started from the neighbouring line's
-            return _gap_lines_kernel(np.ascontiguousarray(x.T), np.ascontiguousarray(ys),
-                                     self.frame[None, :], self.rail._breaks,
-                                     self.rail._coefs, self.wheel._breaks,
-                                     self.wheel._coefs)[0]
+            return _sane(_gap_lines_kernel(np.ascontiguousarray(x.T), np.ascontiguousarray(ys),
+                                           self.frame[None, :], self.rail._breaks,
+                                           self.rail._coefs, self.wheel._breaks,
+                                           self.wheel._coefs)[0])
         x, ys = np.broadcast_arrays(x, ys)
         h = self.points(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(ys.ravel()),
                         signed=True)
@@ -424,9 +437,21 @@ class _GapEvaluator:
         in the side's lateral sense, as ``__call__`` passes it)."""
         if not signed:
             ys = self.sign * ys
-        return _gap_kernel(x, ys, self.C, self.t, self.n, self.y_off, self.rail._breaks,
-                           self.rail._coefs, self.Rt, self.O, self.e, self.r0,
-                           self.wheel._breaks, self.wheel._coefs)
+        return _sane(_gap_kernel(x, ys, self.C, self.t, self.n, self.y_off, self.rail._breaks,
+                                 self.rail._coefs, self.Rt, self.O, self.e, self.r0,
+                                 self.wheel._breaks, self.wheel._coefs))
+
+
+#: an undeformed distance below this [m] is no interpenetration of the patch: the
+#: normal through the tangent-plane point met another part of a surface (far from a
+#: steep patch, e.g. the other wall of a groove); taken as missing the surface
+DEEPEST_GAP = -5e-3
+
+
+def _sane(h: np.ndarray) -> np.ndarray:
+    """The gap with points whose normal met another part of a surface (an
+    interpenetration deeper than ``DEEPEST_GAP``) taken as missing it (1 m)."""
+    return np.where(h < DEEPEST_GAP, 1.0, h)
 
 
 @njit(cache=True, nogil=True)
@@ -589,9 +614,9 @@ def sample_gap_lines(patches, x, y) -> np.ndarray:
         f0 = patches[idx[0]].gap_function
         frames = np.array([patches[k].gap_function.frame for k in idx])
         sign = np.array([patches[k].gap_function.sign for k in idx])
-        h[idx] = _gap_lines_kernel(x[idx], np.ascontiguousarray(sign[:, None] * y[idx]), frames,
-                                   f0.rail._breaks, f0.rail._coefs, f0.wheel._breaks,
-                                   f0.wheel._coefs)
+        h[idx] = _sane(_gap_lines_kernel(x[idx], np.ascontiguousarray(sign[:, None] * y[idx]),
+                                         frames, f0.rail._breaks, f0.rail._coefs,
+                                         f0.wheel._breaks, f0.wheel._coefs))
     return h
 
 

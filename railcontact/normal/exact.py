@@ -394,6 +394,22 @@ def own_gap(geometry, x, y) -> np.ndarray:
 GROWTH_STEPS = 3
 
 
+def _edge_sides(contact):
+    """Which sides of the grid (x low, x high, y low, y high) the contact reaches."""
+    return (contact[0, :].any(), contact[-1, :].any(), contact[:, 0].any(),
+            contact[:, -1].any())
+
+
+def _plausible_growth(before, after, displacement: bool) -> bool:
+    """Whether the solution on an enlarged potential area continues the truncated
+    one: with the approach given, the force grows by at most a factor 2 (the
+    truncated contact held most of it); with the force given, the approach falls
+    and stays above a fifth of the truncated one."""
+    if displacement:
+        return after.normal_force <= 2.0 * before.normal_force + 1e-12
+    return 0.2 * before.penetration <= after.penetration <= before.penetration * (1 + 1e-6)
+
+
 def _grown_box(x, y, sides):
     """Centre and half-extents [m] of the potential area of the grid lines x, y
     enlarged by half its width on each of the ``sides`` (x low, x high, y low, y
@@ -605,12 +621,18 @@ class ExactNormalModel:
         truncated contact remains only where that does not suffice (or a kept grid,
         or ``extra_gap`` on it, fixes the area)."""
         t0 = time.perf_counter()
-        box = None
+        box, sol = None, None
         for _ in range(GROWTH_STEPS + 1):
-            sol = self._solve(geometry, material, normal_force, penetration, grid, element_size,
-                              warm_start, extra_gap, reuse_grid, box)
-            c = sol.contact
-            sides = (c[0, :].any(), c[-1, :].any(), c[:, 0].any(), c[:, -1].any())
+            new = self._solve(geometry, material, normal_force, penetration, grid,
+                              element_size, warm_start, extra_gap, reuse_grid, box)
+            if sol is not None and not _plausible_growth(sol, new, normal_force is None):
+                # the enlarged area reached other parts of the surfaces (the tangent
+                # plane's normals meet them far from the patch): keep the last one
+                log.info("exact normal solver: an enlarged potential area changes the "
+                         "solution implausibly; the area is kept")
+                break
+            sol = new
+            sides = _edge_sides(sol.contact)
             if not any(sides) or extra_gap is not None or geometry.gap_function is None:
                 break
             box = _grown_box(sol.x, sol.y, sides)
@@ -618,6 +640,7 @@ class ExactNormalModel:
             warm_start = sol if sol.pressure.max() > 0 else warm_start
             log.info("exact normal solver: the contact reaches the edge of its potential area; "
                      "enlarged to %.2f x %.2f mm", 2e3 * box[1][0], 2e3 * box[1][1])
+        sides = _edge_sides(sol.contact)
         if any(sides):
             log.warning("exact normal solver: contact reaches the edge of the potential contact "
                         "area; results may be truncated")
