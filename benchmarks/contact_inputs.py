@@ -214,6 +214,7 @@ def bench_testbank():
         rows, t = _solve(path, cases=ok)
         ref = parse_ref_out(folder / f"{name}.ref_out")
         dev = {k: [] for k in ("fz_tr_N", "fy_tr_N", "fx_tr_N")}
+        case_lines = []
         for case in sorted({r["case"] for r in rows}):
             mine = [r for r in rows if r["case"] == case]
             theirs = ref.get(case, {})
@@ -228,14 +229,16 @@ def bench_testbank():
                    f"({tot['fx_tr_N']:.0f} / {tot['fy_tr_N']:.0f} / {tot['fz_tr_N']:.0f})")
             if "z_ws_mm" in theirs and r0.get("z_ws_mm") is not None:
                 msg += f"; z_ws {r0['z_ws_mm']:.4f} mm ({theirs['z_ws_mm']:.4f})"
-            out(msg)
+            case_lines.append(msg)
             for k in dev:
                 dev[k].append((r0.get(k, 0.0) - tot[k]) / max(abs(tot["fz_tr_N"]), 1.0))
         if any(dev.values()):
             out(f"* {name}.inp ({len({r['case'] for r in rows})} cases, {t:.1f} s): track "
                 "forces against CONTACT's, relative to its vertical force: "
                 + ", ".join(f"{k[:2]} max {100 * max(abs(v) for v in d):.2f} %"
-                            for k, d in dev.items() if d))
+                            for k, d in dev.items() if d) + " (CONTACT's in brackets):")
+        for msg in case_lines:
+            out(msg)
 
 
 def main():
