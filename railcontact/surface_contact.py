@@ -51,12 +51,14 @@ ROLLER_KEYS = {"radius", "angular_velocity", "position"}
 
 
 def is_surface_case(case: Case) -> bool:
-    """Whether a case needs the 3-D surfaces: slices, several rails, a roller, or a
-    wheelset position along the track / vertical position."""
+    """Whether a case needs the 3-D surfaces: slices, several rails, a roller, a rail
+    placed by its own position, or a wheelset position along the track.  (A
+    prescribed ``wheelset.vertical_position`` alone, on one rail placed by the track's
+    gauge, is a profile case: :func:`railcontact.solve`'s position control.)"""
     raw = case.raw
-    return ("rails" in raw or "roller" in raw or "slices" in raw.get("rail", {})
-            or "position" in raw.get("wheelset", {})
-            or "vertical_position" in raw.get("wheelset", {}))
+    placed = RAIL_KEYS - {"profile", "inclination", "units"}
+    return ("rails" in raw or "roller" in raw or bool(placed & set(raw.get("rail", {})))
+            or "position" in raw.get("wheelset", {}))
 
 
 def check_surface_case(case: Case) -> None:

@@ -425,6 +425,42 @@ def own_gap(geometry, x, y) -> np.ndarray:
     return h
 
 
+#: how often :meth:`ExactNormalModel.solve` enlarges a potential contact area that the
+#: contact reaches the edge of
+GROWTH_STEPS = 3
+
+
+def _edge_sides(contact):
+    """Which sides of the grid (x low, x high, y low, y high) the contact reaches."""
+    return (contact[0, :].any(), contact[-1, :].any(), contact[:, 0].any(),
+            contact[:, -1].any())
+
+
+def _plausible_growth(before, after, displacement: bool) -> bool:
+    """Whether the solution on an enlarged potential area continues the truncated
+    one: with the approach given, the force grows by at most a factor 2 (the
+    truncated contact held most of it); with the force given, the approach falls
+    and stays above a fifth of the truncated one."""
+    if displacement:
+        return after.normal_force <= 2.0 * before.normal_force + 1e-12
+    return 0.2 * before.penetration <= after.penetration <= before.penetration * (1 + 1e-6)
+
+
+def _grown_box(x, y, sides):
+    """Centre and half-extents [m] of the potential area of the grid lines x, y
+    enlarged by half its width on each of the ``sides`` (x low, x high, y low, y
+    high) the contact reaches."""
+    dx, dy = x[1] - x[0], y[1] - y[0]
+    lo_x, hi_x = x[0] - 0.5 * dx, x[-1] + 0.5 * dx
+    lo_y, hi_y = y[0] - 0.5 * dy, y[-1] + 0.5 * dy
+    wx, wy = hi_x - lo_x, hi_y - lo_y
+    lo_x -= 0.5 * wx * sides[0]
+    hi_x += 0.5 * wx * sides[1]
+    lo_y -= 0.5 * wy * sides[2]
+    hi_y += 0.5 * wy * sides[3]
+    return ((0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y)), (0.5 * (hi_x - lo_x), 0.5 * (hi_y - lo_y)))
+
+
 def _fits(sol, cx, cy, ex, ey, grid) -> bool:
     """Whether the potential area [cx - ex, cx + ex] x [cy - ey, cy + ey] lies in the
     grid of the solution ``sol`` and fills at least REUSE_FILL of it (and the grid has
@@ -678,7 +714,45 @@ class ExactNormalModel:
               warm_start: NormalSolution | None = None,
               extra_gap: np.ndarray | None = None,
               reuse_grid: NormalSolution | None = None) -> NormalSolution:
-        """Solve for a given normal force [N] or approach [m].
+        """Solve for a given normal force [N] or approach [m] (see :meth:`_solve`).
+
+        Where the contact reaches the edge of the potential contact area (the
+        interpenetration region's extent, found on a coarse sampling of the gap,
+        can miss parts of a rough or conformal patch of measured profiles), the
+        area is enlarged by half its width on each side the contact reaches and the
+        problem solved again, up to ``GROWTH_STEPS`` times; the warning of a
+        truncated contact remains only where that does not suffice (or a kept grid,
+        or ``extra_gap`` on it, fixes the area)."""
+        t0 = time.perf_counter()
+        box, sol = None, None
+        for _ in range(GROWTH_STEPS + 1):
+            new = self._solve(geometry, material, normal_force, penetration, grid,
+                              element_size, warm_start, extra_gap, reuse_grid, box)
+            if sol is not None and not _plausible_growth(sol, new, normal_force is None):
+                # the enlarged area reached other parts of the surfaces (the tangent
+                # plane's normals meet them far from the patch): keep the last one
+                log.info("exact normal solver: an enlarged potential area changes the "
+                         "solution implausibly; the area is kept")
+                break
+            sol = new
+            sides = _edge_sides(sol.contact)
+            if not any(sides) or extra_gap is not None or geometry.gap_function is None:
+                break
+            box = _grown_box(sol.x, sol.y, sides)
+            reuse_grid = None
+            warm_start = sol if sol.pressure.max() > 0 else warm_start
+            log.info("exact normal solver: the contact reaches the edge of its potential area; "
+                     "enlarged to %.2f x %.2f mm", 2e3 * box[1][0], 2e3 * box[1][1])
+        sides = _edge_sides(sol.contact)
+        if any(sides):
+            log.warning("exact normal solver: contact reaches the edge of the potential contact "
+                        "area; results may be truncated")
+        sol.cpu_time = time.perf_counter() - t0
+        return sol
+
+    def _solve(self, geometry, material, normal_force, penetration, grid, element_size,
+               warm_start, extra_gap, reuse_grid, box) -> NormalSolution:
+        """Solve for a given normal force [N] or approach [m] on one potential area.
 
         ``extra_gap``: a displacement difference [m] added to the undeformed distance
         on the solution grid (the tangential tractions' share for dissimilar
@@ -698,6 +772,9 @@ class ExactNormalModel:
         The undeformed distance is taken from ``geometry.gap`` (the exact gap of the
         geometry layer, shifted so that ``penetration`` is measured from the
         search position's approach), or from its curvatures for a bodies case.
+
+        ``box``: centre and half-extents [m] of the potential contact area instead of
+        the model's choice (:meth:`solve` enlarging it).
         """
         t0 = time.perf_counter()
         if (normal_force is None) == (penetration is None):
@@ -712,9 +789,9 @@ class ExactNormalModel:
         if h0 is not None:
             x, y = reuse_grid.x, reuse_grid.y
         else:
-            (cx, cy), (ex, ey) = self._potential_area(geometry, material, normal_force,
-                                                      penetration, continuous=True)
-            if geometry.gap_function is None or geometry.extent is None:
+            (cx, cy), (ex, ey) = box or self._potential_area(geometry, material, normal_force,
+                                                             penetration, continuous=True)
+            if box is None and (geometry.gap_function is None or geometry.extent is None):
                 ex, ey = self._plastic_extent(geometry, material, normal_force, ex, ey)
             if reuse_grid is not None and element_size is None and _fits(reuse_grid, cx, cy,
                                                                           ex, ey, grid):
@@ -763,8 +840,6 @@ class ExactNormalModel:
         edge = contact[0, :].any() or contact[-1, :].any() or contact[:, 0].any() or \
             contact[:, -1].any()
         if edge:
-            log.warning("exact normal solver: contact reaches the edge of the potential contact "
-                        "area; results may be truncated")
             status = status.with_warnings("the contact reaches the edge of the potential "
                                           "contact area (results may be truncated)")
         F = float(p.sum() * dA)
