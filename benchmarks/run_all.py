@@ -875,6 +875,8 @@ def main():
     bench_dynamics()
     bench_wear_closed_loop()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
+    import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
+    contact_inputs.main()
 
 
 if __name__ == "__main__":

@@ -94,6 +94,11 @@ def _gauge_point(rail: Profile, gauge_height: float) -> float:
     yy = np.linspace(rail.y_min, top_y, 4000)
     below = rail.z_at(yy) >= zg
     if not np.any(below):
+        # the gauge side ends above the gauge height (a gauge face whose head overhangs
+        # it, seen from above): its leftmost point, as CONTACT takes the leftmost
+        # point above the gauge height
+        if rail.y_min < top_y and np.isfinite(rail.z_at(rail.y_min)):
+            return float(rail.y_min)
         raise ProfileError(f"rail profile {rail.name!r} does not reach {gauge_height * 1e3:.1f}"
                            " mm below its top on the gauge side; cannot place it by gauge")
     i = np.flatnonzero(below)[-1]
