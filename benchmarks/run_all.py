@@ -808,57 +808,55 @@ def bench_wear_closed_loop():
             out(f"| {m} | {tol:g} | {share * 100:.0f} % | "
                 f"{np.max(np.abs(w - ref)) / ref.max() * 100:.3f} % | {c / c_ref:.2f} |")
 
-    # (e) step size: 4 steps against 8 of half the distance
-    from railcontact.wear.closed_loop import build_table
+    # (e) step size: K steps against 2K of half the distance
+    out(f"\nStep size (Hertz + FASTSIM): the final wheel profiles of K steps against 2K "
+        "steps of half the distance, max |difference| / the maximum wear depth, over the "
+        "whole profile and away from the contact jumps (the wheel positions the contact "
+        "skips between neighbouring table shifts of the new and the final profiles, "
+        "widened by 2 mm; target < 5 %):\n")
+    out("| steps | distance [km] | max depth [mm] | whole profile | at y [mm] | away from "
+        "jumps | at y [mm] | excluded [mm] | conicity at the end (K, 2K) |")
+    out("|---|---|---|---|---|---|---|---|---|")
     total = float(hf.attrs["total_distance_m"])
-    res, last = {}, {}
-    for n in (4, 8):
-        s2 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
-        s2.scheduler, s2.steps, s2.step_distance = "sync", n, total / n
-        sim2 = ClosedLoopWear(s2, None, progress=False)
-        res[n] = sim2.run(resume=False)
-        last[n] = sim2
-    y = res[4]["y_wheel"].values
-    z4 = res[4]["profile_z_wheel"].isel(state=-1).sel(wheelset=1, side="right").values
-    z8 = res[8]["profile_z_wheel"].isel(state=-1).sel(wheelset=1, side="right").values
-    depth = res[8]["wear_depth_wheel"].sel(wheelset=1, side="right").sum("step").values
-    diff = np.abs(z4 - z8)
+    d = [float(v) for v in hf["distance"].values]
+    runs = {}
+    for label, dists in (("2 (step control) / 4", [d[0], d[1]]),
+                         ("4 / 8", [total / 4] * 4), ("8 / 16", [total / 8] * 8)):
+        pair = []
+        for ds_ in (dists, [x / 2 for x in dists for _ in (0, 1)]):
+            key = tuple(ds_)
+            if key not in runs:
+                s2 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+                s2.scheduler, s2.steps, s2.distances = "sync", len(ds_), list(ds_)
+                sim2 = ClosedLoopWear(s2, None, progress=False)
+                runs[key] = (sim2.run(resume=False), sim2)
+            pair.append(runs[key])
+        out("| " + label + " | " + _halving_row(*pair[0], *pair[1]) + " |")
+
+
+def _halving_row(coarse, _, fine, sim):
+    """A row of the step-size table: the final wheel profiles of a run and of its
+    run of halved steps (wheelset 1, right; the example wears all wheels alike)."""
+    from railcontact.wear.closed_loop import away_from_contact_jumps, build_table
+    sel = {"wheelset": 1, "side": "right"}
+    y = coarse["y_wheel"].values
+    diff = np.abs(coarse["profile_z_wheel"].sel(**sel).isel(state=-1).values
+                  - fine["profile_z_wheel"].sel(**sel).isel(state=-1).values)
+    depth = fine["wear_depth_wheel"].sel(**sel).sum("step").values.max()
     ok = np.isfinite(diff)
-    i = int(np.nanargmax(diff))
-    s8 = last[8]
-    w0 = s8.initial_wheels[1]
-    tabs = [build_table(w0, w0, *s8.rails[0], s8.rail_offsets, s8.settings),
-            build_table(*s8.wheels[0], *s8.rails[0], s8.rail_offsets, s8.settings)]
-    away = ok & _away_from_jumps(tabs, y)
+    w0 = sim.initial_wheels[1]
+    tabs = [build_table(w0, w0, *sim.rails[0], sim.rail_offsets, sim.settings),
+            build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)]
+    away = ok & away_from_contact_jumps(tabs, y)
+    i = int(np.nanargmax(np.where(ok, diff, np.nan)))
     j = int(np.nanargmax(np.where(away, diff, np.nan)))
-    out(f"\nStep size (Hertz + FASTSIM, {total / 1e3:.0f} km in 4 steps against 8 steps of "
-        f"half the distance): the final wheel profiles differ by at most "
-        f"{diff[ok].max() / depth.max() * 100:.2f} % of the maximum wear depth "
-        f"({depth.max() * 1e3:.3f} mm) at y = {y[i] * 1e3:.1f} mm; away from the contact "
-        f"jumps (wheel positions the contact skips between neighbouring table shifts of the "
-        f"new and the final profiles, widened by 2 mm; {np.count_nonzero(~away & ok) * 1e-1:.0f} "
-        f"mm of the profile): {diff[j] / depth.max() * 100:.2f} % at y = {y[j] * 1e3:.1f} mm "
-        "(target < 5 %)")
-    for n in (4, 8):
-        g = res[n]["equivalent_conicity"].sel(route="tangent", wheelset=1).values
-        out(f"* {n} steps: equivalent conicity at the end {g[-1]:.4f}, R300 wheelset 1 mean "
-            f"lateral position in the last step "
-            f"{float(res[n]['lateral_position'].sel(route='R300', wheelset=1).isel(step=-1)) * 1e3:.3f} mm")
+    g = [float(r["equivalent_conicity"].sel(route="tangent", wheelset=1).values[-1])
+         for r in (coarse, fine)]
+    return (f"{float(fine.attrs['total_distance_m']) / 1e3:.0f} | {depth * 1e3:.3f} | "
+            f"{diff[i] / depth * 100:.1f} % | {y[i] * 1e3:.1f} | {diff[j] / depth * 100:.1f} % | "
+            f"{y[j] * 1e3:.1f} | {np.count_nonzero(~away & ok) * (y[1] - y[0]) * 1e3:.0f} | "
+            f"{g[0]:.4f}, {g[1]:.4f}")
 
-
-def _away_from_jumps(tables, y, gap=1e-3, margin=2e-3):
-    """Lateral wheel positions ``y`` farther than ``margin`` from the profile parts
-    that the contact skips: the gaps wider than ``gap`` between the contact positions
-    on the wheel (both sides, every patch slot) over the tables' shifts.  The edges
-    of a wear band lie there, and they move with the step size."""
-    from railcontact.dynamics.wheel_rail import F_SHARE, F_YWHEEL
-    pos = np.sort(np.concatenate([t.data[..., F_YWHEEL][t.data[..., F_SHARE] > 0]
-                                  for t in tables]))
-    keep = np.ones(y.size, dtype=bool)
-    for a, b in zip(pos[:-1], pos[1:]):
-        if b - a > gap:
-            keep &= (y < a - margin) | (y > b + margin)
-    return keep
 
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "

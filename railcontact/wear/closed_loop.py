@@ -70,6 +70,36 @@ def build_table(wheel_left, wheel_right, rail_left, rail_right, rail_offsets, se
     return table
 
 
+def away_from_contact_jumps(tables, y, gap: float = 1e-3, margin: float = 2e-3):
+    """Where a wheel profile lies away from the contact jumps of some tables.
+
+    The contact skips the parts of the wheel between neighbouring contact positions
+    more than ``gap`` apart over the tables' lateral shifts (both sides, every patch
+    slot); the edges of a wear band lie there and move with the step size.
+
+    Parameters
+    ----------
+    tables : sequence of WheelRailTable
+        E.g. the tables of the new and of the final profiles.
+    y : ndarray
+        Lateral positions on the wheel profile [m].
+    gap, margin : float
+        Smallest skipped width, and the width added on either side of it [m].
+
+    Returns
+    -------
+    ndarray of bool
+        True at the positions ``y`` farther than ``margin`` from every skipped part.
+    """
+    from ..dynamics.wheel_rail import F_SHARE, F_YWHEEL
+    pos = np.sort(np.concatenate([t.data[..., F_YWHEEL][t.data[..., F_SHARE] > 0]
+                                  for t in tables]))
+    keep = np.ones(np.shape(y), dtype=bool)
+    for a, b in zip(pos[:-1][np.diff(pos) > gap], pos[1:][np.diff(pos) > gap]):
+        keep &= (y < a - margin) | (y > b + margin)
+    return keep
+
+
 def run_route(item, model, tables, dyn, material, wheels, rails, wheel_grids, rail_grids,
               post) -> dict:
     """One route of a wear step (a Dask task): the dynamics run on the tables, its
