@@ -350,3 +350,18 @@ def test_worn_rails_stay_in_place():
     assert kept - by_gauge > 2e-4     # by the gauge the worn rail would move to the track centre
     with pytest.raises(InputError, match="rail_offsets"):
         Track(worn, rail_offsets={"right": 0.7})
+
+
+def test_away_from_contact_jumps():
+    """The step-size measure's mask: the wheel positions the contact skips (gaps
+    wider than 1 mm between the tabulated contact positions), widened by 2 mm."""
+    from types import SimpleNamespace
+    from railcontact.dynamics.wheel_rail import F_SHARE, F_YWHEEL
+    from railcontact.wear.closed_loop import away_from_contact_jumps
+    data = np.zeros((5, 2, 2, 13))
+    data[:, 0, 0, F_YWHEEL] = [0.0, 0.5e-3, 1.0e-3, 5.0e-3, 5.5e-3]     # a jump 1 -> 5 mm
+    data[:, 0, 0, F_SHARE] = 1.0
+    data[:, 1, 1, F_YWHEEL] = -0.03                 # no share: not a contact position
+    y = (np.arange(-4, 10) + 0.5) * 1e-3
+    keep = away_from_contact_jumps([SimpleNamespace(data=data)], y)
+    np.testing.assert_allclose(y[~keep] * 1e3, np.arange(-0.5, 7.0))   # (-1, 7) mm
