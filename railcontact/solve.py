@@ -316,7 +316,7 @@ def _solve(case, normal, tangential, warm_start):
         geom = ContactGeometry(curvatures=(A, B), rolling_radius=float(r))
         wkw = {}
         if warm_start is not None and warm_start.patches:
-            if getattr(nmodel, "accepts_warm_start", False):
+            if "warm-start" in nmodel.capabilities:
                 wkw["warm_start"] = warm_start.patches[0].normal
         ns = nmodel.solve(geom, case.material, normal_force=case.number("bodies.normal_force"),
                           **kw, **wkw)
@@ -336,7 +336,7 @@ def _solve(case, normal, tangential, warm_start):
         else:
             tkw = {}
             if (warm_start is not None and warm_start.patches and tmodel is not None
-                    and getattr(tmodel, "accepts_warm_start", False)
+                    and "warm-start" in tmodel.capabilities
                     and warm_start.patches[0].tangential is not None):
                 tkw["warm_start"] = warm_start.patches[0].tangential
             ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, V, **tkw)
@@ -422,11 +422,11 @@ def _coupled(case, nmodel, tmodel) -> bool:
     """Dissimilar materials with both exact models: solve the coupled problems."""
     if not case.material.is_dissimilar:
         return False
-    if getattr(nmodel, "name", "") == "exact" and getattr(tmodel, "name", "") == "exact":
+    if tmodel is not None and "coupled" in nmodel.capabilities & tmodel.capabilities:
         return True
     log.info("dissimilar materials: the %s/%s models use the combined constants G, nu, E*; "
              "the normal-tangential coupling needs normal = tangential = 'exact'",
-             getattr(nmodel, "name", "?"), getattr(tmodel, "name", "none"))
+             nmodel.name, tmodel.name if tmodel is not None else "none")
     return False
 
 
@@ -454,7 +454,7 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only
     their sides."""
     out = []
     keep = {id(r.geometry): r for r in kept}
-    nwarm = getattr(nmodel, "accepts_warm_start", False)
+    nwarm = "warm-start" in nmodel.capabilities
     for geom in contact.patches:
         if id(geom) in keep:
             out.append(keep[id(geom)])
@@ -487,7 +487,7 @@ def _add_tangential(case, results, tmodel, previous=None):
     the nearest of ``previous`` where the model accepts it)."""
     if tmodel is None:
         return results
-    warm = getattr(tmodel, "accepts_warm_start", False)
+    warm = "warm-start" in tmodel.capabilities
     out = []
     for r in results:
         if r.tangential is None:
@@ -637,7 +637,7 @@ def _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous):
     F_n = Q / (cos d - (F_y/F_n) sin d); the interpenetration of the side then moves
     by the change of approach over cos d.  Returns (interpenetrations, patch results)
     or None where the step does not apply."""
-    warm = getattr(nmodel, "accepts_warm_start", False)
+    warm = "warm-start" in nmodel.capabilities
     d, out = dict(contact.interpenetration), []
     for s in sides:
         pats = [g for g in contact.patches if g.side == s and g.approach > 0]

@@ -314,7 +314,7 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, tangential=
             continue
         nkw = dict(kw)
         best = _nearest(previous, g)
-        if best is not None and getattr(nmodel, "accepts_warm_start", False):
+        if best is not None and "warm-start" in nmodel.capabilities:
             nkw["warm_start"] = best.normal
         ns = nmodel.solve(g, case.material, penetration=g.approach, **nkw)
         creep = tuple(case.creepage) if case.creepage is not None else tuple(g.creepage)
@@ -324,7 +324,7 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, tangential=
             if setup is not None and setup.rigid_slip == "surfaces":
                 tkw["extra_slip"] = _surface_slip_field(g, ns, setup, creep)
             if best is not None and best.tangential is not None and \
-                    getattr(tmodel, "accepts_warm_start", False):
+                    "warm-start" in tmodel.capabilities:
                 tkw["warm_start"] = best.tangential
             ts = tmodel.solve(ns, g, case.material, creep, case.friction, g.velocity, **tkw)
         out.append(PatchResult(g, ns, ts, creep))

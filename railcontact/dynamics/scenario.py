@@ -145,10 +145,9 @@ def load_simulation(path):
     rt = route_from_section(route, path.parent, v * duration + vehicle_length + 10.0)
     tang = sim.get("tangential", "fastsim")
     from ..tangential import tangential_models
-    from .wheel_rail import COMPILED_LAWS
-    if tang not in COMPILED_LAWS and tang not in tangential_models():
+    if tang not in tangential_models():
         raise CaseFileError(f"simulation.tangential = {tang!r}: expected one of "
-                            f"{sorted(set(COMPILED_LAWS) | set(tangential_models()))}")
+                            f"{tangential_models()}")
     grid = sim.get("fastsim_grid", [12, 12])
     if not (isinstance(grid, list) and len(grid) == 2 and all(isinstance(g, int) for g in grid)):
         raise CaseFileError(f"simulation.fastsim_grid = {grid!r}: expected [nx, ny] integers")

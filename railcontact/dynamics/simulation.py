@@ -17,7 +17,7 @@ from ..geometry.validity import nadal_limit
 from ..materials import STEEL, Material
 from .route import Route
 from .vehicle import NORMAL_PASSES, PIN, POUT, VehicleModel, rhs_core, rk4_run
-from .wheel_rail import COMPILED_LAWS, WheelRailTable, python_patch_forces
+from .wheel_rail import WheelRailTable, online_law, python_patch_forces
 
 log = logging.getLogger(__name__)
 
@@ -60,8 +60,9 @@ class _System:
         if not (2 <= nx <= 200 and 2 <= ny <= 200):
             raise InputError(f"fastsim grid {fastsim_grid!r}: expected two integers in [2, 200]")
         self.tp = np.array([mu, material.shear_modulus, nx, ny, kA, kS, fall[0], fall[1]])
-        if tangential in COMPILED_LAWS:
-            self.law, self.py_model = COMPILED_LAWS[tangential], None
+        law = online_law(tangential)
+        if law is not None:
+            self.law, self.py_model = law, None
         else:
             from ..tangential import get_tangential_model
             self.law = -1

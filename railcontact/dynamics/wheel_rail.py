@@ -29,7 +29,7 @@ from tqdm.auto import tqdm
 from ..errors import ContactNotFoundError, InputError
 from ..geometry.validity import flange
 from ..materials import STEEL, Material
-from ..tangential.online import COMPILED_LAWS, patch_forces  # noqa: F401 (re-exported)
+from ..tangential.online import online_law, patch_forces  # noqa: F401 (re-exported)
 
 log = logging.getLogger(__name__)
 

@@ -706,7 +706,7 @@ class ExactNormalModel:
         k = math.sqrt(1.3 * normal_force / (self.pressure_limit * hz.area))
         return ex * max(k, 1.0), ey * max(k, 1.0)
 
-    accepts_warm_start = True
+    capabilities = frozenset({"force-control", "warm-start", "coupled"})
     reuses_grids = True
 
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,

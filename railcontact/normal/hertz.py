@@ -27,6 +27,8 @@ class HertzModel:
         The potential contact grid covers the ellipse times (1 + margin).
     """
 
+    capabilities = frozenset({"force-control", "ellipse", "batch"})
+
     def __init__(self, margin: float = 0.05):
         if not 0 <= margin <= 1:
             raise InputError(f"hertz margin {margin!r}: expected a value in [0, 1]")

@@ -68,7 +68,7 @@ class _StripModel(ExactNormalModel):
     approach iteration and result are common, the model's rules are
     :func:`~railcontact.normal.strip_theory.strip_pressures`'s."""
 
-    accepts_warm_start = False
+    capabilities = frozenset({"force-control", "batch", "strips"})
     #: Kik-Piotrowski's constant scaling (used by ``kik-piotrowski`` only)
     eps = 0.55
 

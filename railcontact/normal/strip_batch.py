@@ -32,8 +32,6 @@ from ..errors import InputError
 from .hertz_theory import hertz_ellipses
 from .strip_theory import MIN_CURVATURE, STRIP_MODELS, parabolic_minima, strip_pressures
 
-#: the strip models that have a batch solution (all of them)
-BATCH_MODELS = STRIP_MODELS
 
 
 @dataclass
@@ -210,8 +208,8 @@ def solve_strips(model: str, patches, contact_modulus: float, penetration=None,
     eps : float
         Kik-Piotrowski's scaling factor.
     """
-    if model not in BATCH_MODELS:
-        raise InputError(f"batch strip model {model!r}: expected one of {', '.join(BATCH_MODELS)}")
+    if model not in STRIP_MODELS:
+        raise InputError(f"batch strip model {model!r}: expected one of {', '.join(STRIP_MODELS)}")
     patches = list(patches)
     if not patches:
         raise InputError("solve_strips: no patches given")
