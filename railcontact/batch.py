@@ -3,7 +3,7 @@
 For sweeps, wear loops and anything that needs the forces of thousands of patches
 (the geometry layer's :class:`~railcontact.geometry.ContactGeometry` objects), where
 building grids and result objects per patch would dominate.  Hertz's solution is
-vectorised over the patches (:func:`railcontact.normal.hertz_theory.hertz_ellipses`),
+vectorised over the patches (:func:`railcontact.hertz_theory.hertz_ellipses`),
 Kalker's coefficients come from the compiled table lookup, and the creep law runs in
 one compiled loop (:mod:`railcontact.tangential.online`).  The strip models run on
 strips of all patches together (:mod:`railcontact.normal.strip_batch`), with FASTSIM,
@@ -26,7 +26,7 @@ from numba import njit
 from .errors import InputError
 from .materials import STEEL, Material
 from .normal import normal_model_class, normal_supports
-from .normal.hertz_theory import hertz_ellipses
+from .hertz_theory import hertz_ellipses
 from .normal.strip_batch import hertz_ellipse_strips, solve_strips
 from .tangential import tangential_model_class, tangential_supports
 from .tangential.kalker import kalker_coefficients_array

@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .case import Case, body_curvatures
+from .case_surfaces import is_surface_case
 from .errors import ContactNotFoundError
 from .geometry.contact import ContactGeometry
 from .geometry.locus import min_gap
@@ -278,7 +279,7 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     :mod:`railcontact.surface_contact`) is solved by
     :func:`railcontact.surface_contact.solve_on_surfaces`.
     """
-    from .surface_contact import is_surface_case, solve_on_surfaces
+    from .surface_contact import solve_on_surfaces
     if not case.is_bodies and is_surface_case(case):
         return solve_on_surfaces(case, normal, tangential, warm_start=warm_start)
     if warm_start is not None:

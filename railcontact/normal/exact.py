@@ -29,7 +29,7 @@ from ..errors import InputError
 from ..materials import STEEL, Material
 from ..status import SolverStatus
 from .base import NormalSolution, bilinear, make_grid, register, same_grid
-from .hertz_theory import hertz_ellipse
+from ..hertz_theory import hertz_ellipse
 from .influence import bounding_box, normal_operator, normal_operator_block
 
 log = logging.getLogger(__name__)

@@ -24,7 +24,7 @@ from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
 from .exact import ExactNormalModel, own_gap
-from .hertz_theory import hertz_ellipse
+from ..hertz_theory import hertz_ellipse
 from .strip_theory import MIN_CURVATURE, parabolic_minima, strip_pressures
 
 __all__ = ["strip_minima", "KikPiotrowskiModel", "KPECModel", "AnalynModel",

@@ -29,7 +29,8 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from .hertz_theory import hertz_ellipses
+from ..geometry.search import sample_gap_lines
+from ..hertz_theory import hertz_ellipses
 from .strip_theory import MIN_CURVATURE, STRIP_MODELS, parabolic_minima, strip_pressures
 
 
@@ -109,7 +110,6 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
     interpenetrating strips through the deepest strip within the extent; strips
     outside it get g = penetration + 1 m (no contact).
     """
-    from ..geometry.search import sample_gap_lines
     n = len(patches)
     if strips < 5:
         raise InputError(f"strips {strips!r}: expected at least 5")

@@ -27,8 +27,9 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
+from ..geometry.search import sample_strip_spin
 from ..materials import STEEL, Material
-from ..normal.hertz_theory import hertz_ellipses, hertz_ellipses_table
+from ..hertz_theory import hertz_ellipses, hertz_ellipses_table
 from ..normal.semi_hertzian import strip_minima
 from .base import TangentialSolution, check_inputs, register
 from .kalker import flexibilities, flexibilities_array
@@ -520,7 +521,6 @@ class FastsimStripsModel(FastsimModel):
     def _batch_flexibilities(strips, patches, a, b, ok, creepage, material, friction):
         """A local ellipse per strip, from the gap's curvatures along the strip, and
         the spin of the local contact angle (as :meth:`_strip_parameters`)."""
-        from ..geometry.search import sample_strip_spin
         from .kalker import flexibilities_from_coefficients, kalker_coefficients_array
         L, _ = FastsimModel._batch_flexibilities(strips, patches, a, b, ok, creepage,
                                                  material, friction)

@@ -12,7 +12,7 @@ from railcontact.dynamics.vehicle import G_ACC
 from railcontact.dynamics.wheel_rail import patch_forces, python_patch_forces
 from railcontact.errors import InputError
 from railcontact.materials import STEEL
-from railcontact.normal.hertz_theory import hertz_ellipse
+from railcontact.hertz_theory import hertz_ellipse
 from railcontact.tangential import get_tangential_model
 from railcontact.tangential.kalker import kalker_coefficients
 from railcontact.tangential.polach import polach_forces, polach_kernel
