@@ -117,9 +117,9 @@ class PatchPostProcessor:
         self.law, self.material = law, material
         self.kw = {"grid": grid, "element_size": element_size}
         self.tol = float(reuse_tolerance)
-        self.nwarm = warm and getattr(self.nmodel, "accepts_warm_start", False)
+        self.nwarm = warm and "warm-start" in self.nmodel.capabilities
         self.regrid = warm and getattr(self.nmodel, "reuses_grids", False)
-        self.twarm = warm and getattr(self.tmodel, "accepts_warm_start", False)
+        self.twarm = warm and "warm-start" in self.tmodel.capabilities
 
     def _key(self, w, ti, j, k, N, creep, a, b, mu):
         """Bin of a patch state (None: no reuse)."""

@@ -151,7 +151,6 @@ def is_vehicle_scenario(raw: dict) -> bool:
 def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
     """Validate a parsed closed-loop wear scenario (nothing is computed)."""
     from ..dynamics.scenario import vehicle_from_section
-    from ..dynamics.wheel_rail import COMPILED_LAWS
     from ..tangential import tangential_models
     raw = copy.deepcopy(raw)
     base_dir = Path(base_dir or Path.cwd())
@@ -180,9 +179,9 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
     if case.tangential == "none":
         raise CaseFileError("wear needs a tangential model (solver.tangential is 'none')")
     tang = dyn.get("tangential", "fastsim")
-    if tang not in COMPILED_LAWS and tang not in tangential_models():
+    if tang not in tangential_models():           # compiled ('online') or per patch
         raise CaseFileError(f"dynamics.tangential = {tang!r}: expected one of "
-                            f"{sorted(set(COMPILED_LAWS) | set(tangential_models()))}")
+                            f"{tangential_models()}")
     grid = dyn.get("fastsim_grid", [12, 12])
     if not (isinstance(grid, list) and len(grid) == 2 and all(isinstance(g, int) for g in grid)):
         raise CaseFileError(f"dynamics.fastsim_grid = {grid!r}: expected [nx, ny] integers")
