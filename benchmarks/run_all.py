@@ -699,8 +699,10 @@ def _wear_post(sc, sim, tables, runs, grid, rgrid, model, sample_distance=None,
     return _smooth(total, sc.grid_step, sc.smoothing), stats
 
 
-def bench_wear_closed_loop():
-    """Issue 24: closed-loop wear of examples/wear_vehicle.toml (one core)."""
+def bench_wear_closed_loop(full: bool = True):
+    """Issue 24: closed-loop wear of examples/wear_vehicle.toml (one core): (a) exact +
+    exact against Hertz + FASTSIM, (b) the per-patch cost of every model and, unless
+    ``full`` is False, (c) the sample stride, (d) repeated states, (e) the step size."""
     from railcontact.wear import load_scenario
     from railcontact.wear.closed_loop import ClosedLoopWear
     out("## Closed-loop wear: examples/wear_vehicle.toml (Manchester vehicle, tangent + "
@@ -771,6 +773,8 @@ def bench_wear_closed_loop():
     for name, n, solve, allt in rows:
         out(f"| {name} | {n} | {solve:.3f} | {allt:.3f} | {allt / rows[0][3]:.1f} |")
 
+    if not full:
+        return
     # (c) the stride: samples every 0.25 .. 4 m against every dynamics sample
     out("\nSample stride (step-1 runs, dynamics sampled at 400 Hz: one sample per 0.1, "
         "0.09, 0.05 m on the three routes): the route mix's wheel wear per metre "
