@@ -13,7 +13,7 @@ from .errors import (CaseFileError, ContactNotFoundError, ConvergenceError, Inpu
                      ProfileError, RailContactError, UnknownModelError)
 from .materials import Material
 from .solve import PatchResult, SolveResult, VerticalBalance, solve
-from .sweep import sweep
+from .case_sweep import sweep
 
 __version__ = "0.1.0"
 logging.getLogger(__name__).addHandler(logging.NullHandler())

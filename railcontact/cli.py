@@ -131,7 +131,7 @@ def cmd_geometry(args):
 
 def cmd_sweep(args):
     from .case import load_case
-    from .sweep import parse_vary, sweep
+    from .case_sweep import parse_vary, sweep
     if _is_inp(args.case):
         return _run_inp(args, args.scheduler, warm=args.warm)
     if not args.vary:

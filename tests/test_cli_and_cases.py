@@ -91,7 +91,7 @@ def test_auto_scheduler_uses_processes_for_long_sweeps_only(monkeypatch):
     import importlib
 
     import dask
-    sw = importlib.import_module("railcontact.sweep")
+    sw = importlib.import_module("railcontact.case_sweep")
     case = rc.load_case(EX / "wheel_rail.toml")
     assert sw._expected_seconds(case, 100, "exact", "exact") == pytest.approx(2.0)
     assert sw._expected_seconds(case, 100, "hertz", "fastsim") == pytest.approx(0.5)

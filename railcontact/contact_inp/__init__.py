@@ -87,7 +87,7 @@ def solve_inp(path, cases=None, profile_dirs=(), scheduler: str = "sync",
     consecutive cases, each warm-started from the previous one.  ``normal``,
     ``tangential``: models overriding the file's.
     """
-    from ..sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
+    from ..case_sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
     mapped = load_inp(path, cases, profile_dirs)
     names = {m.raw["solver"]["normal"] for m in mapped} | {m.raw["solver"]["tangential"]
                                                           for m in mapped}
