@@ -67,6 +67,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
+from .errors import InputError
 from .status import SolverStatus
 
 log = logging.getLogger(__name__)
@@ -143,8 +144,10 @@ class VerticalBalance:
 class _Track:
     """The evaluations of one balance: residuals, history, passes, the best final."""
 
-    def __init__(self, evaluate, sides, loads, tol, max_passes):
+    def __init__(self, evaluate, sides, loads, tol, max_passes, start):
         self.evaluate, self.sides, self.tol, self.max_passes = evaluate, sides, tol, max_passes
+        self.start = {s: float(start[s]) for s in sides}
+        self.v0 = np.log([self.start[s] for s in sides])
         self.q = np.array([float(loads[s]) for s in sides])
         self.passes = 0
         self.final = False          # every evaluation from now on is final
@@ -152,7 +155,9 @@ class _Track:
 
     def __call__(self, v, final=False):
         """Evaluate at ln d = v; returns the evaluation and its residual ln(F/Q)."""
-        d = {s: float(math.exp(x)) for s, x in zip(self.sides, v)}
+        # (the start as given: exp(ln d) may differ from d in the last bit)
+        d = dict(self.start) if np.array_equal(v, self.v0) else {
+            s: float(math.exp(x)) for s, x in zip(self.sides, v)}
         ev = self.evaluate(d, final=final or self.final)
         self.passes += 1
         self.last_v = v
@@ -219,8 +224,10 @@ def balance(evaluate, start: dict, loads: dict, tol: float, max_passes: int = 40
         and how the iteration ended.
     """
     sides = tuple(start)
-    track = _Track(evaluate, sides, loads, tol, max_passes)
-    v0 = np.log([float(start[s]) for s in sides])
+    if not all(math.isfinite(float(start[s])) and float(start[s]) > 0 for s in sides):
+        raise InputError(f"balance start {start!r}: expected interpenetrations > 0 m")
+    track = _Track(evaluate, sides, loads, tol, max_passes, start)
+    v0 = track.v0
     jump = False
     if len(sides) == 1:
         jump = _scalar(track, v0, jacobian)

@@ -200,13 +200,23 @@ def test_provisional_evaluations_then_final():
 
 def test_a_provisional_evaluation_within_tolerance_is_evaluated_again():
     """A provisional evaluation that meets the load is evaluated again, as final, at
-    the same interpenetrations (where the evaluation may reuse its work)."""
+    the same interpenetrations (where the evaluation may reuse its work); the first
+    evaluation is at the start exactly as given (not exp(ln d), which may differ in
+    the last bit, so that the evaluation may reuse the search it started from)."""
     def standin(d):
         return hertz(d), {s: 0.0 for s in SIDES}
     f = Forces(lambda d: {s: 1.00001 * v for s, v in hertz(d).items()}, standin)
-    ev, bal = balance(f, dict(ROOT), Q, 1e-4)
+    begin = {"left": 7.015463661686019e-05, "right": 1.2e-4}   # exp(ln d) != d
+    ROOT_saved = dict(ROOT)
+    try:
+        ROOT.update(begin)
+        ev, bal = balance(f, dict(begin), Q, 1e-4)
+    finally:
+        ROOT.update(ROOT_saved)
     assert bal.converged and [c[1] for c in f.calls] == [False, True]
-    assert f.calls[0][0] == f.calls[1][0]
+    assert f.calls[0][0] == f.calls[1][0] == begin
+    with pytest.raises(Exception, match="expected interpenetrations > 0"):
+        balance(f, {"left": 0.0, "right": 1e-4}, Q, 1e-4)
 
 
 def test_warm_jacobian():
