@@ -67,7 +67,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
-from .errors import InputError
+from .errors import ConvergenceError, InputError
 from .status import SolverStatus
 
 log = logging.getLogger(__name__)
@@ -162,6 +162,9 @@ class _Track:
         self.passes += 1
         self.last_v = v
         f = np.array([float(ev.forces[s]) for s in self.sides])
+        if not np.all(np.isfinite(f)):
+            raise ConvergenceError(f"vertical balance: the contact evaluation at the "
+                                   f"interpenetrations {d} m gave the forces {list(f)} N")
         log.debug("balance pass %d: d %s, F/Q - 1 %s%s", self.passes, np.exp(v), f / self.q - 1,
                   "" if ev.final else " (provisional)")
         if ev.final:

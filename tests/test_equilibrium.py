@@ -219,6 +219,16 @@ def test_a_provisional_evaluation_within_tolerance_is_evaluated_again():
         balance(f, {"left": 0.0, "right": 1e-4}, Q, 1e-4)
 
 
+def test_bad_evaluations_are_named():
+    """A start that is no interpenetration, or an evaluation that returns no finite
+    force, is an error naming what was given (no silent NaN steps)."""
+    from railcontact.errors import ConvergenceError, InputError
+    with pytest.raises(InputError, match="expected interpenetrations > 0"):
+        balance(Forces(hertz), {"left": -1e-5, "right": 1e-4}, Q, 1e-4)
+    with pytest.raises(ConvergenceError, match="contact evaluation .* gave the forces"):
+        balance(Forces(lambda d: {"left": math.nan, "right": 1.0}), start(1.0), Q, 1e-4)
+
+
 def test_warm_jacobian():
     """Started from the Jacobian of a neighbouring case (here the exact one), the
     coupled balance takes fewer passes than from Hertz's 1.5 I."""
