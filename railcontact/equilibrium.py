@@ -28,12 +28,14 @@ steps did not halve the side's residual, the side is bisected in its bracket
 (Brent's safeguard of the secant method).
 
 A model's force may jump across the load (a strip entering the contact of a strip
-model, the deepest point passing between two minima of the gap for Hertz).  Where
-every side off the load has a bracket whose residual grows faster than
-``JUMP_SLOPE`` times ln d between its ends (the other side moving less), no
-continuous force of smaller slope has such a bracket (mean-value theorem): the
-iteration stops there with the final evaluation nearest the load
-(``force_jump``).
+model, the deepest point passing between two minima of the gap for Hertz).  A side
+off the load whose bracket at the present point has its residual growing faster
+than ``JUMP_SLOPE`` times ln d between its ends (the other side moving less) jumps:
+by the mean-value theorem no continuous force of smaller slope has such a bracket.
+It is held at the edge of the jump nearest its load and the other side balanced
+with it; the iteration then stops with that evaluation (``force_jump``).  Where the
+contact cannot be evaluated at a step (a model raises, as Hertz does where the
+deepest point of a patch lies on a concave part of a profile), the step is halved.
 
 Provisional and final evaluations
 ---------------------------------
@@ -67,7 +69,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
-from .errors import ConvergenceError, InputError
+from .errors import ConvergenceError, InputError, RailContactError
 from .status import SolverStatus
 
 log = logging.getLogger(__name__)
@@ -168,10 +170,14 @@ class _Track:
         log.debug("balance pass %d: d %s, F/Q - 1 %s%s", self.passes, np.exp(v), f / self.q - 1,
                   "" if ev.final else " (provisional)")
         if ev.final:
-            worst = float(np.max(np.abs(f / self.q - 1.0)))
+            worst = self.worst(ev)
             if self.best is None or worst < self.best[0]:
                 self.best = (worst, ev)
         return ev, np.log(np.maximum(f, FORCE_FLOOR * self.q) / self.q)
+
+    def worst(self, ev) -> float:
+        """The largest relative residual |F/Q - 1| of the sides of an evaluation."""
+        return max(abs(float(ev.forces[s]) / float(q) - 1.0) for s, q in zip(self.sides, self.q))
 
     def limits(self, ev) -> np.ndarray:
         """Each side's limit of the relative residual: the tolerance, or, where
@@ -240,8 +246,8 @@ def balance(evaluate, start: dict, loads: dict, tol: float, max_passes: int = 40
     if track.best is None:                   # out of passes before any final evaluation
         track(track.last_v, final=True)
     ev = track.best[1]
-    residual = {s: float(ev.forces[s]) / q - 1.0 for s, q in zip(sides, track.q)}
-    converged = track.best[0] <= tol
+    residual = {s: float(ev.forces[s]) / float(q) - 1.0 for s, q in zip(sides, track.q)}
+    converged = bool(track.best[0] <= tol)
     if not converged:
         (log.warning if track.best[0] > 10 * tol else log.info)(
             "vertical force: %s; the evaluation nearest the load is %.2g of it off",
@@ -267,40 +273,49 @@ def _broyden(track, v, J):
     ev, r = track(v)
     points = [(v, r)]               # the evaluations of the present fidelity
     prev_r = older_r = None         # the residuals one and two steps before
+    held = {}                       # sides held at the edge of a jump: their ln d
     while True:
         off = track.off(ev)
-        if not off.any():
-            if ev.final:
-                return False, J
-            ev, r = track.make_final(v, ev, r)      # met by a provisional evaluation
-            points, prev_r, older_r = [(v, r)], None, None
-            continue
+        free = np.array([s not in held for s in range(n)])
+        if not off[free].any():
+            if not ev.final:                         # met by a provisional evaluation
+                ev, r = track.make_final(v, ev, r)
+                points, prev_r, older_r, held = [(v, r)], None, None, {}
+                continue
+            if off.any():                            # the others met, held at a jump:
+                track.best = (track.worst(ev), ev)   # this evaluation is the result
+            return bool(off.any()), J
         if track.passes >= track.max_passes:
             return False, J
-        # the Newton step of the linear model, clipped, safeguarded per side
-        cand = v + np.clip(np.linalg.solve(J, -r), -clip, clip)
-        jump = np.zeros(n, dtype=bool)
-        for s in range(n):
+        # a side off the load whose bracket (at the present point) shows a jump is
+        # held at the edge of the jump nearest its load, the others balanced with it
+        for s in np.flatnonzero(free & off):
+            lo, hi = _bracket(points, s, v)
+            if lo is not None and hi is not None and _jumps(*lo, *hi, s):
+                held[s] = min(lo, hi, key=lambda e: abs(math.expm1(e[1][s])))[0][s]
+        if held and not ev.final:
+            # a jump of the provisional force: evaluated again with the final forces
+            ev, r = track.make_final(v, ev, r)
+            points, prev_r, older_r, held = [(v, r)], None, None, {}
+            continue
+        if held and all(s in held for s in np.flatnonzero(off)):
+            return True, J                           # every side off the load jumps
+        # the Newton step, safeguarded per free side by its bracket at the step
+        cand = _newton(J, r, v, held, clip)
+        for s in np.flatnonzero(np.array([s not in held for s in range(n)])):
             lo, hi = _bracket(points, s, cand)
             if lo is None or hi is None:
                 continue
-            jump[s] = _jumps(*lo, *hi, s)
             # two steps that did not halve the side's residual: bisect (Brent's rule)
             slow = older_r is not None and off[s] and abs(r[s]) > 0.5 * abs(older_r[s])
             if slow or not lo[0][s] < cand[s] < hi[0][s]:
                 cand[s] = 0.5 * (lo[0][s] + hi[0][s])
-        if np.all(jump[off]):
-            if ev.final:
-                return True, J                       # a jump across the load
-            ev, r = track.make_final(v, ev, r)      # a jump of the provisional force
-            points, prev_r, older_r = [(v, r)], None, None
-            continue
         # provisional steps end where the last step's contraction, applied once
         # more, predicts each side within its limit: the next evaluation is final
         switch = not track.final and prev_r is not None and np.all(
             r * r <= track.limits(ev) * np.abs(prev_r))
         track.final = track.final or switch
-        ev, r_new = track(cand)
+        ev, r_new, cand = _trial(track, v, cand)
         if switch:
             points, prev_r, older_r = [], None, None    # afresh; J stays
         elif np.any(cand != v):
@@ -312,6 +327,37 @@ def _broyden(track, v, J):
                 J = HERTZ_SLOPE * np.eye(n)
         older_r, prev_r, v, r = prev_r, r, cand, r_new
         points.append((v, r))
+
+
+def _newton(J, r, v, held, clip):
+    """The Newton step of the linear model r + J dv = 0 from v, each component
+    clipped to ``clip``, with the ``held`` sides (index: ln d) fixed."""
+    cand = v + np.clip(np.linalg.solve(J, -r), -clip, clip)
+    if held:
+        h = np.array(sorted(held))
+        f = np.array([s for s in range(v.size) if s not in held])
+        dh = np.array([held[s] for s in h]) - v[h]
+        cand[h] = v[h] + dh
+        if f.size:
+            step = np.linalg.solve(J[np.ix_(f, f)], -(r[f] + J[np.ix_(f, h)] @ dh))
+            cand[f] = v[f] + np.clip(step, -clip, clip)
+    return cand
+
+
+def _trial(track, v, cand, halvings=5):
+    """The evaluation at ``cand``; where the contact cannot be evaluated there (a
+    model raises: a Hertzian patch with a concave curvature, say), the step from v
+    is halved, up to ``halvings`` times.  Returns (evaluation, residual, point)."""
+    for k in range(halvings + 1):
+        try:
+            ev, r = track(cand)
+            return ev, r, cand
+        except RailContactError as exc:
+            if k == halvings or isinstance(exc, ConvergenceError):
+                raise
+            log.info("vertical balance: no evaluation at d %s (%s); the step halved",
+                     np.exp(cand), exc)
+            cand = v + 0.5 * (cand - v)
 
 
 def _bracket(points, s, at):

@@ -161,6 +161,46 @@ def test_a_jump_across_the_load_stops_with_the_evaluation_nearest_it(caplog):
     assert bal.passes <= 20
 
 
+def test_a_jump_on_one_side_holds_it_at_the_edge_and_balances_the_other():
+    """The right side's force jumps across its load while the left side's depends
+    on the right's interpenetration (the roll): the right side is held at the edge of
+    its jump nearest the load and the left side balanced with it; the result is
+    that evaluation."""
+    def force(d):
+        f = rolled(d, 0.3)
+        f["right"] *= 0.8 if d["right"] < ROOT["right"] else 1.3
+        return f
+    ev, bal = balance(Forces(force), start(1.1, 0.9), Q, 1e-6)
+    assert bal.force_jump and not bal.converged
+    assert abs(ev.forces["left"] / Q["left"] - 1) <= 1e-6
+    assert ev.forces["right"] / Q["right"] - 1 == pytest.approx(-0.2, abs=0.02)
+    assert bal.residual["left"] == pytest.approx(ev.forces["left"] / Q["left"] - 1)
+
+
+def test_a_failed_evaluation_halves_the_step():
+    """Where the contact cannot be evaluated (a model raises, as Hertz does on a
+    concave patch), the step is halved; an evaluation that keeps failing raises."""
+    from railcontact.errors import InputError
+
+    def force(d):
+        if d["right"] > 1.3 * ROOT["right"]:
+            raise InputError("relative curvature B < 0")
+        return hertz(d)
+    f = Forces(force)
+    ev, bal = balance(f, start(1.0, 0.45), Q, 1e-6)      # the first step goes to 2.2
+    assert bal.converged and residual(ev) <= 1e-6
+    begin = start(1.5)
+
+    def only_at_the_start(d):
+        if d != begin:
+            raise InputError("relative curvature B < 0")
+        return hertz(d)
+    f = Forces(only_at_the_start)
+    with pytest.raises(InputError, match="curvature"):
+        balance(f, dict(begin), Q, 1e-6)
+    assert len(f.calls) == 7                # the start, the step and five halvings
+
+
 def test_a_jump_beside_the_load_is_no_obstacle():
     """A jump of the force that does not cross the load (the root, at 1.11 times the
     interpenetration where Hertz's force met it, lies below the jump at 1.3) is
