@@ -757,6 +757,8 @@ def main():
     bench_strips_accuracy()
     bench_dynamics()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
+    import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
+    contact_inputs.main()
 
 
 if __name__ == "__main__":

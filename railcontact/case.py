@@ -11,23 +11,33 @@ from pathlib import Path
 from .errors import CaseFileError, InputError, RailContactError
 from .materials import Material
 
+#: a profile file's processing (:class:`railcontact.profiles.ProfileOptions`)
+_PROFILE_OPTIONS = {"mirror_y", "mirror_z", "scale", "smoothing", "zigzag", "kinks"}
+
 _ALLOWED = {
     "title": None,
     "material": {"young_modulus", "poisson_ratio", "wheel_young_modulus",
                  "wheel_poisson_ratio"},
-    "friction": {"coefficient"},
-    "wheel": {"profile", "nominal_radius", "profile_left", "units"},
-    "rail": {"profile", "inclination", "profile_left", "units"},
-    "track": {"gauge", "gauge_height"},
+    "friction": {"coefficient", "variation"},
+    "wheel": {"profile", "nominal_radius", "profile_left", "units"} | _PROFILE_OPTIONS,
+    "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
+             "lateral_position", "vertical_position", "slice_spacing"} | _PROFILE_OPTIONS,
+    "rails": None,
+    "roller": {"radius", "angular_velocity", "position"},
+    "track": {"gauge", "gauge_height", "rail_offset"},
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",
-                 "vertical_force", "velocity", "pitch_velocity", "lateral_velocity", "yaw_rate",
-                 "combine_distance", "full_interaction_distance"},
+                 "vertical_force", "vertical_position", "velocity", "pitch_velocity",
+                 "lateral_velocity", "yaw_rate",
+                 "combine_distance", "full_interaction_distance", "turn_distance",
+                 "separation_angle", "position"},
     "creepage": {"longitudinal", "lateral", "spin"},
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
-               "tangential_options", "force_tolerance"},
+               "tangential_options", "force_tolerance", "search_length",
+               "contact_angle", "rigid_slip"},
     "bodies": {"radii", "normal_force", "velocity"},
+    "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
 }
 _RADII = {"wheel_rolling", "wheel_lateral", "rail_rolling", "rail_lateral"}
 
@@ -76,6 +86,33 @@ class Case:
             raise CaseFileError(f"{dotted} = {v!r}: expected a value in [{lo:g}, {hi:g}] {unit}")
         return float(v)
 
+    def profile_options(self, body: str):
+        """The profile-file options of ``[wheel]`` or ``[rail]`` as
+        :class:`~railcontact.profiles.ProfileOptions` (None where none is given) and
+        the file's length unit."""
+        from .profiles.processing import ProfileOptions
+        table = self.raw.get(body, {})
+        units = table.get("units", "auto")
+        if units not in ("auto", "mm", "m"):
+            raise CaseFileError(f"{body}.units = {units!r}: expected 'auto', 'mm' or 'm'")
+        if not _PROFILE_OPTIONS & set(table):
+            return None, units
+        try:
+            return ProfileOptions.from_table(table, body), units
+        except RailContactError as exc:
+            raise CaseFileError(str(exc)) from None
+
+    def friction_at(self, angle: float) -> float:
+        """Friction coefficient of a patch whose rail surface has the inclination
+        ``angle`` [rad] (rail-profile coordinates: negative on the gauge face):
+        ``friction.variation`` interpolated linearly, constant beyond its ends
+        (CONTACT's VARFRC = 1), else ``friction.coefficient``."""
+        var = self.get("friction.variation")
+        if var is None:
+            return self.friction
+        import numpy as np
+        return float(np.interp(angle, var["angle"], var["coefficient"]))
+
     def wheel_loads(self) -> dict:
         """Vertical wheel loads [N] per side: ``vertical_force`` is one value for both
         wheels or [left, right]."""
@@ -121,10 +158,11 @@ def _check_keys(raw: dict) -> None:
         for sub in value:
             if sub not in allowed:
                 raise CaseFileError(f"unknown key {key}.{sub}; expected one of {sorted(allowed)}")
-    if "bodies" in raw and any(k in raw for k in ("wheel", "rail", "track", "wheelset")):
+    if "bodies" in raw and any(k in raw for k in ("wheel", "rail", "rails", "roller", "track",
+                                                   "wheelset")):
         raise CaseFileError("a case has either [bodies] or [wheel]/[rail]/[track]/[wheelset], "
                             "not both")
-    if "bodies" not in raw and not ("wheel" in raw and "rail" in raw):
+    if "bodies" not in raw and not ("wheel" in raw and ("rail" in raw or "rails" in raw)):
         raise CaseFileError("missing [wheel] and [rail] (or [bodies]); expected a wheel-rail "
                             "case or a case given by curvatures")
     if "bodies" in raw:
@@ -151,6 +189,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
     case.friction = case.number("friction.coefficient", 0.3, 0.0, 5.0)
+    _check_friction_variation(case)
     sol = raw.get("solver", {})
     case.normal = str(sol.get("normal", "hertz")).lower()
     case.tangential = str(sol.get("tangential", "fastsim")).lower()
@@ -173,6 +212,8 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         case.creepage = (case.number("creepage.longitudinal", 0.0, -1.0, 1.0),
                          case.number("creepage.lateral", 0.0, -1.0, 1.0),
                          case.number("creepage.spin", 0.0, -100.0, 100.0, "1/m"))
+    if "plasticity" in raw:
+        _plasticity(case)
     # resolve models early so that a bad name fails before any work
     from .normal import get_normal_model
     from .tangential import get_tangential_model
@@ -191,6 +232,13 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     if case.is_bodies:
         case.number("bodies.normal_force", None, 0.0, 1e8, "N")
         _body_curvatures(case)
+    elif _surface_case(case):
+        # rails along the track, several rails, a roller: railcontact.surface_contact
+        from .surface_contact import check_surface_case
+        check_surface_case(case)
+        case.wheel_loads()
+        case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
+        case.number("wheel.nominal_radius", 0.46, 0.01, 1.5, "m")
     else:
         side = case.get("wheelset.side", "both")
         if side not in ("left", "right", "both"):
@@ -206,7 +254,83 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
                                     "'right' (with a given roll only one wheel is in equilibrium)")
         case.number("wheel.nominal_radius", 0.46, 0.1, 1.5, "m")
         case.number("rail.inclination", 0.0, -0.1, 0.1, "rad")
+        case.profile_options("wheel")
+        case.profile_options("rail")
+        if case.get("track.rail_offset") is not None:
+            case.number("track.rail_offset", None, 0.25, 1.0, "m")
+        combine = case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m")
+        turn = case.number("wheelset.turn_distance", 0.0, 0.0, 0.2, "m")
+        if 0 < turn <= combine:
+            raise CaseFileError(f"wheelset.turn_distance = {turn!r}: expected 0 (no turning) or "
+                                f"a distance beyond wheelset.combine_distance ({combine!r} m)")
+        case.number("wheelset.separation_angle", math.pi / 2, 0.0, math.pi, "rad")
+        if case.get("wheelset.vertical_position") is not None:
+            case.number("wheelset.vertical_position", None, -0.05, 0.05, "m")
+            if case.get("wheelset.roll") is None:
+                raise CaseFileError("wheelset.vertical_position is prescribed: give wheelset.roll "
+                                    "and wheelset.side = 'left' or 'right' too (one wheel at a "
+                                    "given position, CONTACT's NORM = 0)")
+            if "vertical_force" in raw.get("wheelset", {}):
+                raise CaseFileError("wheelset: give either vertical_force or vertical_position, "
+                                    "not both")
     return case
+
+
+def _surface_case(case: Case) -> bool:
+    from .surface_contact import is_surface_case
+    return is_surface_case(case)
+
+
+def _plasticity(case: Case) -> None:
+    """``[plasticity]``: the pressure limit of elastic-perfectly-plastic contact
+    (:mod:`railcontact.normal.plasticity`), passed to the exact normal model as its
+    ``pressure_limit`` option: ``pressure_limit`` [Pa] as given, else
+    ``pressure_factor`` (default 3, Tabor's hardness) x ``yield_stress`` [Pa]."""
+    from .normal.plasticity import HARDNESS_FACTOR, pressure_limit
+    pl = case.raw["plasticity"]
+    if case.normal != "exact":
+        raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "
+                            f"solver.normal is {case.normal!r} (expected 'exact')")
+    if "pressure_limit" in pl:
+        if "yield_stress" in pl or "pressure_factor" in pl:
+            raise CaseFileError("[plasticity]: give pressure_limit, or yield_stress (with "
+                                "pressure_factor), not both")
+        limit = case.number("plasticity.pressure_limit", None, 1e6, 1e12, "Pa")
+    else:
+        if "yield_stress" not in pl:
+            raise CaseFileError("[plasticity]: missing yield_stress (Pa) or pressure_limit (Pa)")
+        try:
+            limit = pressure_limit(case.number("plasticity.yield_stress", unit="Pa"),
+                                   case.number("plasticity.pressure_factor", HARDNESS_FACTOR))
+        except InputError as exc:
+            raise CaseFileError(str(exc)) from None
+    if "pressure_limit" in case.normal_options:
+        raise CaseFileError("pressure limit given both in [plasticity] and in "
+                            "solver.normal_options; give it once")
+    case.normal_options["pressure_limit"] = limit
+
+
+def _check_friction_variation(case: Case) -> None:
+    """``friction.variation = {angle = [...], coefficient = [...]}``: friction
+    coefficients at rail surface inclinations [rad], increasing."""
+    var = case.get("friction.variation")
+    if var is None:
+        return
+    ok = isinstance(var, dict) and set(var) == {"angle", "coefficient"}
+    if ok:
+        a, c = var["angle"], var["coefficient"]
+        ok = (isinstance(a, list) and isinstance(c, list) and len(a) == len(c) >= 1
+              and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                      for v in a + c))
+    if not ok:
+        raise CaseFileError(f"friction.variation = {var!r}: expected a table with lists angle "
+                            "[rad] and coefficient of equal length")
+    if any(b <= a for a, b in zip(var["angle"], var["angle"][1:])):
+        raise CaseFileError(f"friction.variation.angle = {var['angle']!r}: expected increasing "
+                            "angles [rad]")
+    if any(not 0.0 <= c <= 5.0 for c in var["coefficient"]):
+        raise CaseFileError(f"friction.variation.coefficient = {var['coefficient']!r}: expected "
+                            "values in [0, 5]")
 
 
 def _body_curvatures(case: Case):

@@ -40,9 +40,66 @@ def _report_status(converged: bool, message: str, warnings, what: str = "") -> i
     return 0
 
 
+def _is_inp(path: str) -> bool:
+    return str(path).lower().endswith(".inp")
+
+
+def _parse_cases(spec):
+    """``--case 1,3-5`` -> [1, 3, 4, 5]."""
+    if not spec:
+        return None
+    out = []
+    try:
+        for part in spec.split(","):
+            lo, _, hi = part.partition("-")
+            out += list(range(int(lo), int(hi or lo) + 1))
+    except ValueError:
+        raise InputError(f"--case {spec!r}: expected case numbers such as 1,3-5") from None
+    return out
+
+
+def _run_inp(args, scheduler: str, warm: bool = False) -> int:
+    """``solve``/``sweep`` of a CONTACT input file: the per-patch table in CONTACT's
+    units and frames (text, ``--json``, or ``--out`` .csv/.json)."""
+    from .contact_inp import solve_inp, to_csv, to_json, to_text
+    if getattr(args, "vary", None):
+        raise InputError("--vary applies to case files (TOML); a CONTACT input file sweeps "
+                         "over the cases it holds")
+    out = Path(args.out) if args.out else None
+    if out is not None and out.suffix.lower() not in (".csv", ".json"):
+        raise InputError(f"--out {args.out!r}: expected a .csv or .json file for a CONTACT "
+                         "input file")
+    table = solve_inp(args.case, cases=_parse_cases(args.cases), profile_dirs=args.profiles or (),
+                      scheduler=scheduler, warm=warm, normal=args.normal,
+                      tangential=args.tangential,
+                      progress=sys.stderr.isatty() and scheduler != "sync")
+    if args.json:
+        sys.stdout.write(to_json(table, args.case) + "\n")
+    else:
+        print(to_text(table))
+    if out is not None:
+        text = to_csv(table) if out.suffix.lower() == ".csv" else to_json(table, args.case)
+        tmp = out.with_name(out.name + ".tmp")
+        tmp.write_text(text + ("" if text.endswith("\n") else "\n"))
+        tmp.replace(out)
+    status = 0
+    seen = set()
+    for r in table:
+        if not r.get("converged", True) and r["case"] not in seen:
+            seen.add(r["case"])
+            print(f"railcontact: not converged: case {r['case']}: {r.get('message', '')}",
+                  file=sys.stderr)
+            status = 1
+    return status
+
+
 def cmd_solve(args):
     from .case import load_case
     from .solve import solve
+    if _is_inp(args.case):
+        return _run_inp(args, "sync")
+    if args.cases or args.profiles:
+        raise InputError("--case and --profiles apply to CONTACT input files (.inp)")
     res = solve(load_case(args.case), args.normal, args.tangential)
     d = res.to_dict()
     if args.json:
@@ -75,6 +132,13 @@ def cmd_geometry(args):
 def cmd_sweep(args):
     from .case import load_case
     from .sweep import parse_vary, sweep
+    if _is_inp(args.case):
+        return _run_inp(args, args.scheduler, warm=args.warm)
+    if not args.vary:
+        raise InputError("sweep: give --vary KEY=START:STOP:STEP (a case file) or a CONTACT "
+                         "input file (.inp)")
+    if args.cases or args.profiles or args.out:
+        raise InputError("--case, --profiles and --out apply to CONTACT input files (.inp)")
     case = load_case(args.case)
     vary = dict(parse_vary(v) for v in args.vary)
     out = sweep(case, vary, args.normal, args.tangential, scheduler=args.scheduler,
@@ -176,9 +240,39 @@ def cmd_profile(args):
     print(path)
 
 
+def cmd_track(args):
+    """A quasi-static pass along the track of a case on rail surfaces."""
+    import numpy as np
+    from .case import load_case
+    from .crossing import plot_track_sweep, sweep_along_track
+    if not (args.step > 0 and args.stop >= args.start):
+        raise InputError(f"track: --from {args.start} --to {args.stop} --step {args.step}: "
+                         "expected start <= stop and a step > 0 (m)")
+    positions = np.arange(args.start, args.stop + 0.5 * args.step, args.step)
+    ds = sweep_along_track(load_case(args.case), positions, args.normal, args.tangential,
+                           progress=True)
+    out = Path(args.out)
+    out.mkdir(parents=True, exist_ok=True)
+    tmp = out / "track_sweep.nc.tmp"
+    ds.to_netcdf(tmp, engine="h5netcdf")
+    tmp.replace(out / "track_sweep.nc")
+    plot_track_sweep(ds, out / "track_sweep.png")
+    print(f"{ds.sizes['s']} positions, rails {', '.join(map(str, ds['rail'].values))}; wrote "
+          f"{out / 'track_sweep.nc'} and track_sweep.png")
+    return 0 if bool(ds["converged"].all()) else _report_status(
+        False, "the vertical load was not met at some positions (see 'converged')", [])
+
+
 def cmd_demo(args):
     from .demo import run_demo
     run_demo(Path(args.out))
+
+
+def _inp_arguments(p):
+    p.add_argument("--case", dest="cases", metavar="N[,M-K]",
+                   help=".inp: solve these cases only (numbered from 1 in file order)")
+    p.add_argument("--profiles", action="append", metavar="DIR",
+                   help=".inp: another folder with the profile files it names")
 
 
 def build_parser():
@@ -186,20 +280,27 @@ def build_parser():
                                 description="Wheel-rail rolling contact (SI units).")
     p.add_argument("-v", "--verbose", action="store_true", help="log progress details")
     sub = p.add_subparsers(dest="command", required=True)
-    s = sub.add_parser("solve", help="solve one contact case")
-    s.add_argument("case", help="case file (TOML)")
-    s.add_argument("--json", action="store_true", help="print the JSON result contract")
-    s.add_argument("--normal", help="normal model (overrides [solver])")
+    s = sub.add_parser("solve", help="solve one contact case, or the cases of a CONTACT "
+                       "input file one after the other")
+    s.add_argument("case", help="case file (TOML) or CONTACT input file (.inp)")
+    s.add_argument("--json", action="store_true", help="print the JSON result contract (.inp: "
+                   "the per-patch table in CONTACT's units)")
+    s.add_argument("--normal", help="normal model (overrides [solver] or the .inp's)")
     s.add_argument("--tangential", help="tangential model (overrides [solver]); 'none' to skip")
-    s.add_argument("--out", help="also write the patch results to NetCDF")
+    s.add_argument("--out", help="also write the patch results to NetCDF (.inp: the table to "
+                   ".csv or .json)")
+    _inp_arguments(s)
     s.set_defaults(func=cmd_solve)
     g = sub.add_parser("geometry", help="contact points from the geometry layer only")
     g.add_argument("case")
     g.add_argument("--json", action="store_true")
     g.set_defaults(func=cmd_geometry)
-    w = sub.add_parser("sweep", help="solve every combination of varied case keys")
-    w.add_argument("case")
-    w.add_argument("--vary", action="append", required=True, metavar="KEY=START:STOP:STEP")
+    w = sub.add_parser("sweep", help="solve every combination of varied case keys, or the "
+                       "cases of a CONTACT input file, in parallel")
+    w.add_argument("case", help="case file (TOML) or CONTACT input file (.inp)")
+    w.add_argument("--vary", action="append", metavar="KEY=START:STOP:STEP")
+    w.add_argument("--out", help=".inp: write the per-patch table to .csv or .json")
+    _inp_arguments(w)
     w.add_argument("--json", action="store_true")
     w.add_argument("--normal")
     w.add_argument("--tangential")
@@ -244,6 +345,16 @@ def build_parser():
     pr.add_argument("--units", choices=["mm", "m"], default="mm", help="units of exported files")
     pr.add_argument("--out")
     pr.set_defaults(func=cmd_profile)
+    t = sub.add_parser("track", help="a wheel passing along rails given by slices (a "
+                       "crossing): force on each rail, contact positions, p_max, area vs s")
+    t.add_argument("case", help="case file on rail surfaces (rail.slices or [[rails]])")
+    t.add_argument("--from", dest="start", type=float, required=True, help="first s [m]")
+    t.add_argument("--to", dest="stop", type=float, required=True, help="last s [m]")
+    t.add_argument("--step", type=float, required=True, help="step of s [m]")
+    t.add_argument("--normal")
+    t.add_argument("--tangential")
+    t.add_argument("--out", default="track_output")
+    t.set_defaults(func=cmd_track)
     d = sub.add_parser("demo", help="lateral-shift sweep S1002 on 60E1 1:40 (Hertz + FASTSIM)")
     d.add_argument("--out", default="demo_output")
     d.set_defaults(func=cmd_demo)

@@ -12,9 +12,9 @@ class TqdmCallback(Callback):
     """Dask callback that advances a tqdm bar by the cases of each finished sweep
     task (a chain of consecutive cases)."""
 
-    def __init__(self, total: int, desc: str = ""):
+    def __init__(self, total: int, desc: str = "", prefix: str = "_solve"):
         super().__init__()
-        self.total, self.desc = total, desc
+        self.total, self.desc, self.prefix = total, desc, prefix
 
     def _start(self, dsk):
         self.bar = tqdm(total=self.total, desc=self.desc, file=sys.stderr,
@@ -22,7 +22,7 @@ class TqdmCallback(Callback):
 
     def _posttask(self, key, result, dsk, state, worker_id):
         name = key[0] if isinstance(key, tuple) else key
-        if str(name).startswith("_solve_chain"):
+        if str(name).startswith(self.prefix) and isinstance(result, list):
             self.bar.update(len(result))
 
     def _finish(self, dsk, state, errored):

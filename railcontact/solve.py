@@ -14,11 +14,12 @@ from .case import Case, body_curvatures
 from .equilibrium import VerticalBalance, balance as solve_balance
 from .errors import ContactNotFoundError
 from .geometry.contact import ContactGeometry
+from .geometry.locus import min_gap
 from .geometry.search import WheelsetContact, find_contact
-from .geometry.track import Track, Wheelset, WheelsetPose
+from .geometry.track import SIDES, Track, Wheelset, WheelsetPose
 from .geometry.validity import HALF_SPACE_LIMIT, contact_size, patch_validity
 from .normal import NormalSolution, get_normal_model
-from .profiles.library import get_profile
+from .profiles.library import DEFAULT_INCLINATION, RAIL_PROFILES, get_profile
 from .status import SolverStatus
 from .tangential import TangentialSolution, get_tangential_model
 
@@ -68,6 +69,9 @@ class PatchResult:
             d["stick_fraction"] = t.stick_fraction
             d["frictional_power"] = t.frictional_power
         d["halfspace_ratio"] = _f(self.halfspace_ratio)
+        if math.isfinite(getattr(n, "pressure_limit", math.inf)):
+            d["pressure_limit"] = n.pressure_limit
+            d["plastic_area"] = n.plastic_area
         return d
 
 
@@ -154,18 +158,26 @@ def _f(v):
 def build_wheelset_track(case: Case):
     """Wheelset and track of a wheel-rail case."""
     base = case.base_dir
-    wheel = get_profile(case.get("wheel.profile", "S1002"), "wheel", base_dir=base)
+    kw = {}
+    for body in ("wheel", "rail"):
+        # a profile file's options (mirroring, scale, smoothing, ...) and length unit
+        options, units = case.profile_options(body)
+        kw[body] = {"base_dir": base, "units": units,
+                    **({"options": options} if options is not None else {})}
+    wheel = get_profile(case.get("wheel.profile", "S1002"), "wheel", **kw["wheel"])
     wl = case.get("wheel.profile_left")
-    wheel_left = get_profile(wl, "wheel", base_dir=base) if wl else None
+    wheel_left = get_profile(wl, "wheel", **kw["wheel"]) if wl else None
     incl = case.get("rail.inclination")
-    rail = get_profile(case.get("rail.profile", "60E1"), "rail", inclination=incl, base_dir=base)
+    rail = get_profile(case.get("rail.profile", "60E1"), "rail", inclination=incl, **kw["rail"])
     rl = case.get("rail.profile_left")
-    rail_left = get_profile(rl, "rail", inclination=incl, base_dir=base) if rl else None
+    rail_left = get_profile(rl, "rail", inclination=incl, **kw["rail"]) if rl else None
     ws = Wheelset(wheel, wheel_left, nominal_radius=case.number("wheel.nominal_radius", 0.46),
                   flange_back_distance=case.number("wheelset.flange_back_distance", 1.360),
                   flange_back_position=case.number("wheelset.flange_back_position", -0.070))
+    offset = case.get("track.rail_offset")
     tr = Track(rail, rail_left, gauge=case.number("track.gauge", 1.435),
-               gauge_height=case.number("track.gauge_height", 0.014))
+               gauge_height=case.number("track.gauge_height", 0.014),
+               rail_offsets=None if offset is None else {s: float(offset) for s in SIDES})
     return ws, tr
 
 
@@ -198,7 +210,9 @@ def contact_search(case: Case, interpenetration: dict | None = None,
                         roll=None if roll is None else case.number("wheelset.roll"),
                         side=case.get("wheelset.side", "both") if roll is not None else "both",
                         roll_start=roll_start if roll is None else 0.0,
-                        load_iterations=load_iterations)
+                        load_iterations=load_iterations,
+                        turn_distance=case.number("wheelset.turn_distance", 0.0),
+                        separation_angle=case.number("wheelset.separation_angle", math.pi / 2))
 
 
 def solve(case: Case, normal: str | None = None, tangential: str | None = None,
@@ -220,7 +234,14 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     vertical load and the patches; each patch is solved with its own penetration.
     A warm-started case that does not converge is solved again cold (except where
     the model's vertical force jumps across the load: ``balance.force_jump``).
+
+    A case on rail surfaces (rails given by slices, several rails, a roller:
+    :mod:`railcontact.surface_contact`) is solved by
+    :func:`railcontact.surface_contact.solve_on_surfaces`.
     """
+    from .surface_contact import is_surface_case, solve_on_surfaces
+    if not case.is_bodies and is_surface_case(case):
+        return solve_on_surfaces(case, normal, tangential, warm_start=warm_start)
     if warm_start is not None:
         res = _solve(case, normal, tangential, warm_start)
         # a force that jumps across the load is the model's: a cold start meets it too
@@ -233,15 +254,22 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     return _solve(case, normal, tangential, None)
 
 
-def _solve(case, normal, tangential, warm_start):
-    """:func:`solve` with or without a warm start."""
-    t0 = time.perf_counter()
+def case_models(case, normal=None, tangential=None):
+    """The normal and tangential models of a case (names overridden by ``normal``,
+    ``tangential``; the case's options with its own names) and their grid keywords:
+    (normal name, tangential name, normal model, tangential model or None, kw)."""
     nname = (normal or case.normal).lower()
     tname = (tangential or case.tangential).lower()
     nmodel = get_normal_model(nname, **(case.normal_options if normal is None else {}))
     tmodel = None if tname == "none" else get_tangential_model(
         tname, **(case.tangential_options if tangential is None else {}))
-    kw = {"grid": case.grid, "element_size": case.element_size}
+    return nname, tname, nmodel, tmodel, {"grid": case.grid, "element_size": case.element_size}
+
+
+def _solve(case, normal, tangential, warm_start):
+    """:func:`solve` with or without a warm start."""
+    t0 = time.perf_counter()
+    nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
     results, pose, contact, balance = [], None, None, None
     if case.is_bodies:
         A, B = body_curvatures(case)
@@ -275,6 +303,9 @@ def _solve(case, normal, tangential, warm_start):
             ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, V, **tkw)
                   if tmodel else None)
         results.append(_bodies_validity(case, PatchResult(geom, ns, ts, tuple(creep))))
+    elif case.get("wheelset.vertical_position") is not None:
+        results, contact = _solve_at_position(case, nmodel, tmodel, kw)
+        pose = contact.pose
     else:
         results, contact, balance = _solve_wheel_rail(case, nmodel, tmodel, kw,
                                                       rtol=case.force_tolerance,
@@ -282,6 +313,35 @@ def _solve(case, normal, tangential, warm_start):
         pose = contact.pose
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact,
                        balance)
+
+
+def _solve_at_position(case, nmodel, tmodel, kw):
+    """Patches of one wheel (``wheelset.side``) at a prescribed vertical position and
+    roll of the wheelset (CONTACT's NORM = 0): the interpenetration follows from
+    the position, and no vertical-force iteration runs.  Returns the patch results
+    (none where the wheel does not reach the rail) and the contact search."""
+    bodies = build_wheelset_track(case)
+    ws, tr = bodies
+    side = case.get("wheelset.side")
+    y, yaw = case.number("wheelset.lateral_shift", 0.0), case.number("wheelset.yaw", 0.0)
+    roll, z = case.number("wheelset.roll"), case.number("wheelset.vertical_position")
+    # the deepest interpenetration: the wheel lowered from where it touches (gap g0
+    # at z = 0) to z
+    g0 = min_gap(ws, tr, side, y, 0.0, roll, yaw)
+    if not math.isfinite(g0):
+        raise ContactNotFoundError(f"no wheel-rail overlap found on the {side} side at lateral "
+                                   f"shift {y * 1e3:.3f} mm")
+    depth = z - g0
+    if not depth > 0:
+        log.info("the %s wheel at z = %.4f mm does not reach the rail (gap %.4f mm)", side,
+                 z * 1e3, -depth * 1e3)
+        return [], WheelsetContact(WheelsetPose(y, z, roll, yaw), [], {}, None, {side: 0.0})
+    contact = contact_search(case, interpenetration={side: depth}, bodies=bodies)
+    results = _solve_patches(case, contact, nmodel, tmodel, kw,
+                             coupled=_coupled(case, nmodel, tmodel))
+    results = [r for r in results if r.geometry.side == side]
+    _wheel_rail_validity(results, bodies)
+    return results, contact
 
 
 def _bodies_validity(case, result: PatchResult) -> PatchResult:
@@ -360,8 +420,9 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only
         creep = _creepage(case, geom)
         if coupled:
             from .coupling import solve_coupled
-            ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep, case.friction,
-                                   geom.velocity, penetration=geom.approach, **kw)
+            ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep,
+                                   _friction(case, geom), geom.velocity,
+                                   penetration=geom.approach, **kw)
             out.append(PatchResult(geom, ns, ts, creep))
             continue
         nkw = dict(kw)
@@ -390,8 +451,8 @@ def _add_tangential(case, results, tmodel, previous=None):
             best = _nearest(previous, r.geometry) if warm else None
             if best is not None and best.tangential is not None:
                 extra["warm_start"] = best.tangential
-            ts = tmodel.solve(r.normal, r.geometry, case.material, r.creepage, case.friction,
-                              r.geometry.velocity, **extra)
+            ts = tmodel.solve(r.normal, r.geometry, case.material, r.creepage,
+                              _friction(case, r.geometry), r.geometry.velocity, **extra)
             r = PatchResult(r.geometry, r.normal, ts, r.creepage)
         out.append(r)
     return out
@@ -424,6 +485,21 @@ def _ratio(result) -> float:
     if result is None or result.tangential is None or not result.normal.normal_force > 0:
         return 0.0
     return result.tangential.fy / result.normal.normal_force
+
+
+def _friction(case, geom) -> float:
+    """The friction coefficient of a wheel-rail patch: ``friction.coefficient``, or
+    ``friction.variation`` at the inclination of its rail surface in rail-profile
+    coordinates (the contact angle in the side frame plus the rail's inclination;
+    CONTACT's VARFRC = 1)."""
+    if case.get("friction.variation") is None:
+        return case.friction
+    sgn = 1.0 if geom.side == "right" else -1.0
+    incl = case.get("rail.inclination")
+    if incl is None:
+        incl = DEFAULT_INCLINATION if str(case.get("rail.profile", "60E1")).upper() in \
+            RAIL_PROFILES else 0.0
+    return case.friction_at(sgn * geom.contact_angle + float(incl))
 
 
 def _creepage(case, geom) -> tuple:

@@ -2,6 +2,7 @@
 
 from __future__ import annotations
 
+import functools
 import itertools
 import logging
 import os
@@ -109,7 +110,6 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
     dict ``{"cases": [{"params": {...}, "patches": [...]}], "cpu_time": s}``; a case
     that fails carries an ``"error"`` message instead of patches.
     """
-    import dask
     t0 = time.perf_counter()
     keys = list(vary)
     combos = list(itertools.product(*[vary[k] for k in keys]))
@@ -119,16 +119,35 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
         for k, v in zip(keys, combo):
             c = c.with_value(k, v)   # validates every combination before any work
         raws.append(c.raw)
+    chain = functools.partial(_solve_chain, base_dir=case.base_dir, normal=normal,
+                              tangential=tangential)
+    out = run_chains(chain, raws, scheduler=scheduler, progress=progress, warm=warm,
+                     chains=chains,
+                     expected_seconds=_expected_seconds(case, len(raws), normal, tangential))
+    cases = [{"params": dict(zip(keys, combo)), **o} for combo, o in zip(combos, out)]
+    return {"cases": cases, "cpu_time": time.perf_counter() - t0}
+
+
+def run_chains(chain, items: list, scheduler: str = "auto", progress: bool = True,
+               warm: bool = False, chains: int | None = None, expected_seconds: float = 0.0,
+               desc: str = "sweep") -> list:
+    """``chain(items[a:b], warm)`` over consecutive slices of ``items`` in Dask tasks
+    (the machinery of :func:`sweep`; ``chain`` returns one output per item and must
+    be picklable for worker processes).  ``scheduler`` and ``chains`` as in
+    :func:`sweep`; "auto" runs in processes where ``expected_seconds`` exceeds
+    ``PROCESSES_FROM``.  Returns the outputs in the order of ``items``."""
+    import dask
     if scheduler == "auto":
-        long = _expected_seconds(case, len(raws), normal, tangential) > PROCESSES_FROM
+        long = expected_seconds > PROCESSES_FROM
         scheduler = "processes" if long and (os.cpu_count() or 1) > 1 else "sync"
     if chains is None:
-        chains = len(raws) if not warm else (1 if scheduler == "sync" else (os.cpu_count() or 1))
+        chains = len(items) if not warm else (1 if scheduler == "sync" else (os.cpu_count() or 1))
     if not (isinstance(chains, int) and chains >= 1):
         raise InputError(f"chains {chains!r}: expected a positive integer")
-    bounds = np.linspace(0, len(raws), min(chains, len(raws)) + 1).round().astype(int)
-    tasks = [dask.delayed(_solve_chain)(raws[a:b], case.base_dir, normal, tangential, warm)
-             for a, b in zip(bounds[:-1], bounds[1:])]
+    if not items:
+        return []
+    bounds = np.linspace(0, len(items), min(chains, len(items)) + 1).round().astype(int)
+    tasks = [dask.delayed(chain)(items[a:b], warm=warm) for a, b in zip(bounds[:-1], bounds[1:])]
     kwargs = {}
     if scheduler.startswith(("tcp://", "tls://", "inproc://")):
         from distributed import Client
@@ -140,10 +159,8 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
             kwargs["num_workers"] = None
     if progress:
         from .progress import TqdmCallback
-        with TqdmCallback(total=len(raws), desc="sweep"):
+        with TqdmCallback(total=len(items), desc=desc):
             out = dask.compute(*tasks, **kwargs)
     else:
         out = dask.compute(*tasks, **kwargs)
-    out = [o for chain in out for o in chain]
-    cases = [{"params": dict(zip(keys, combo)), **o} for combo, o in zip(combos, out)]
-    return {"cases": cases, "cpu_time": time.perf_counter() - t0}
+    return [o for chain_out in out for o in chain_out]

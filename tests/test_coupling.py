@@ -115,14 +115,19 @@ def test_swapping_the_bodies_mirrors_the_solution(coupled):
     assert ts_b.fy == pytest.approx(-ts_a.fy, rel=1e-3, abs=1.0)
 
 
+def _dissimilar_bodies() -> dict:
+    """A bodies case of a steel rail and a wheel ten times softer (exact models)."""
+    return {"material": {"young_modulus": 2.1e11, "poisson_ratio": 0.28,
+                         "wheel_young_modulus": 2.1e10, "wheel_poisson_ratio": 0.45},
+            "bodies": {"radii": {"wheel_rolling": 0.46, "wheel_lateral": 0.3,
+                                 "rail_rolling": math.inf, "rail_lateral": 0.3},
+                       "normal_force": 5e4, "velocity": 30.0},
+            "creepage": {"longitudinal": -1e-3},
+            "solver": {"normal": "exact", "tangential": "exact", "grid": [24, 24]}}
+
+
 def test_case_file_with_dissimilar_materials():
-    raw = {"material": {"young_modulus": 2.1e11, "poisson_ratio": 0.28,
-                        "wheel_young_modulus": 2.1e10, "wheel_poisson_ratio": 0.45},
-           "bodies": {"radii": {"wheel_rolling": 0.46, "wheel_lateral": 0.3,
-                                "rail_rolling": math.inf, "rail_lateral": 0.3},
-                      "normal_force": 5e4, "velocity": 30.0},
-           "creepage": {"longitudinal": -1e-3},
-           "solver": {"normal": "exact", "tangential": "exact", "grid": [24, 24]}}
+    raw = _dissimilar_bodies()
     res = rc.solve(rc.case_from_dict(raw))
     assert res.patches[0].tangential.converged and res.converged
     raw["solver"] = {"normal": "hertz", "tangential": "fastsim"}
@@ -141,13 +146,7 @@ def test_unconverged_alternation_makes_the_case_unconverged(monkeypatch):
 
     from railcontact import coupling
     monkeypatch.setattr(coupling, "MAX_ALTERNATIONS", 2)
-    raw = {"material": {"young_modulus": 2.1e11, "poisson_ratio": 0.28,
-                        "wheel_young_modulus": 2.1e10, "wheel_poisson_ratio": 0.45},
-           "bodies": {"radii": {"wheel_rolling": 0.46, "wheel_lateral": 0.3,
-                                "rail_rolling": math.inf, "rail_lateral": 0.3},
-                      "normal_force": 5e4, "velocity": 30.0},
-           "creepage": {"longitudinal": -1e-3},
-           "solver": {"normal": "exact", "tangential": "exact", "grid": [24, 24]}}
+    raw = _dissimilar_bodies()
     res = rc.solve(rc.case_from_dict(raw))
     (p,) = res.patches
     assert p.normal.converged                     # each solve met its own tolerance ...

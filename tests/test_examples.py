@@ -1,6 +1,7 @@
 """Every example in examples/ runs."""
 
 import runpy
+import sys
 from pathlib import Path
 
 import pytest
@@ -11,7 +12,11 @@ EX = Path(__file__).resolve().parents[1] / "examples"
 
 
 @pytest.mark.parametrize("path", sorted(EX.glob("*.py")), ids=lambda p: p.name)
-def test_python_examples(path, capsys):
+def test_python_examples(path, capsys, monkeypatch, tmp_path):
+    # run as `python examples/NAME.py` from a scratch folder: an example that takes an
+    # output folder from its command line must not read pytest's arguments as one
+    monkeypatch.setattr(sys, "argv", [str(path)])
+    monkeypatch.chdir(tmp_path)
     runpy.run_path(str(path), run_name="__main__")
     assert capsys.readouterr().out.strip()
 

@@ -42,6 +42,7 @@ from ..profiles.profile import ppoly_at
 from .contact import ContactGeometry, interaction_factor
 from .locus import LOCUS_WINDOW, Locus, compute_locus, min_gap
 from .track import SIDES, Track, Wheelset, WheelsetPose
+from .turning import turned_angles
 
 log = logging.getLogger(__name__)
 
@@ -328,11 +329,33 @@ def _bracketed_roll(f, roll0, tol, y_ws):
     return brentq(f, lo, hi, xtol=tol, rtol=1e-15, maxiter=200)
 
 
+def _end_point(loc: Locus, i: int, k: int):
+    """Rail-surface point (y, z) [m] where the interpenetration region ending at
+    locus sample i ends towards its neighbour k = i +- 1: the zero of the gap
+    interpolated between them, so that it moves continuously with the
+    interpenetration."""
+    zr = loc.gap + loc.point[2]
+    gi, gk = loc.gap[i], loc.gap[k]
+    t = gi / (gi - gk) if np.isfinite(gk) and gk > 0 > gi else 0.0
+    return (loc.y_rail[i] + t * (loc.y_rail[k] - loc.y_rail[i]),
+            zr[i] + t * (zr[k] - zr[i]) if np.isfinite(zr[k]) else zr[i])
+
+
+def _end_distance(loc: Locus, i: int, j: int) -> float:
+    """Distance [m] between the facing ends of two interpenetration regions, the
+    one ending at locus sample i and the one starting at sample j > i, on the rail
+    surface: CONTACT measures it in y and z, so that a region on the flange flank,
+    below one on the gauge corner, lies apart from it however close their lateral
+    positions (its ends interpolated, :func:`_end_point`)."""
+    (yi, zi), (yj, zj) = _end_point(loc, i, i + 1), _end_point(loc, j, j - 1)
+    return float(math.hypot(yj - yi, zj - zi))
+
+
 def _regions(loc: Locus, rigid: bool, combine_distance: float):
     """Index ranges [i0, i1] of the interpenetration regions of a locus, each with
     the joins inside it where regions closer than ``combine_distance`` were
     combined: (rail-profile position halfway between the facing ends [m], their
-    distance [m])."""
+    distance [m], :func:`_end_distance`)."""
     if rigid:
         return [(loc.i_min, loc.i_min, ())]
     inside = loc.gap < 0.0
@@ -349,7 +372,7 @@ def _regions(loc: Locus, rigid: bool, combine_distance: float):
     merged = [runs[0] + [[]]]
     for a, b in runs[1:]:
         end = merged[-1][1]
-        dist = abs(loc.y_rail[a] - loc.y_rail[end])
+        dist = _end_distance(loc, end, a)
         if dist < combine_distance:
             merged[-1][1] = b
             merged[-1][2].append((0.5 * float(loc.y_rail[a] + loc.y_rail[end]), float(dist)))
@@ -400,10 +423,10 @@ class _GapEvaluator:
         if x.ndim == 2 and ys.ndim == 2 and x.shape[1] == 1 and ys.shape[0] == 1:
             # a grid x[:, None], y[None, :]: line by line, the rail distance once per
             # line and every projection started from the neighbouring line's
-            return _gap_lines_kernel(np.ascontiguousarray(x.T), np.ascontiguousarray(ys),
-                                     self.frame[None, :], self.rail._breaks,
-                                     self.rail._coefs, self.wheel._breaks,
-                                     self.wheel._coefs)[0]
+            return _sane(_gap_lines_kernel(np.ascontiguousarray(x.T), np.ascontiguousarray(ys),
+                                           self.frame[None, :], self.rail._breaks,
+                                           self.rail._coefs, self.wheel._breaks,
+                                           self.wheel._coefs)[0])
         x, ys = np.broadcast_arrays(x, ys)
         h = self.points(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(ys.ravel()),
                         signed=True)
@@ -414,9 +437,21 @@ class _GapEvaluator:
         in the side's lateral sense, as ``__call__`` passes it)."""
         if not signed:
             ys = self.sign * ys
-        return _gap_kernel(x, ys, self.C, self.t, self.n, self.y_off, self.rail._breaks,
-                           self.rail._coefs, self.Rt, self.O, self.e, self.r0,
-                           self.wheel._breaks, self.wheel._coefs)
+        return _sane(_gap_kernel(x, ys, self.C, self.t, self.n, self.y_off, self.rail._breaks,
+                                 self.rail._coefs, self.Rt, self.O, self.e, self.r0,
+                                 self.wheel._breaks, self.wheel._coefs))
+
+
+#: an undeformed distance below this [m] is no interpenetration of the patch: the
+#: normal through the tangent-plane point met another part of a surface (far from a
+#: steep patch, e.g. the other wall of a groove); taken as missing the surface
+DEEPEST_GAP = -5e-3
+
+
+def _sane(h: np.ndarray) -> np.ndarray:
+    """The gap with points whose normal met another part of a surface (an
+    interpenetration deeper than ``DEEPEST_GAP``) taken as missing it (1 m)."""
+    return np.where(h < DEEPEST_GAP, 1.0, h)
 
 
 @njit(cache=True, nogil=True)
@@ -579,9 +614,9 @@ def sample_gap_lines(patches, x, y) -> np.ndarray:
         f0 = patches[idx[0]].gap_function
         frames = np.array([patches[k].gap_function.frame for k in idx])
         sign = np.array([patches[k].gap_function.sign for k in idx])
-        h[idx] = _gap_lines_kernel(x[idx], np.ascontiguousarray(sign[:, None] * y[idx]), frames,
-                                   f0.rail._breaks, f0.rail._coefs, f0.wheel._breaks,
-                                   f0.wheel._coefs)
+        h[idx] = _sane(_gap_lines_kernel(x[idx], np.ascontiguousarray(sign[:, None] * y[idx]),
+                                         frames, f0.rail._breaks, f0.rail._coefs,
+                                         f0.wheel._breaks, f0.wheel._coefs))
     return h
 
 
@@ -665,7 +700,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                  full_interaction_distance: float | None = None,
                  interpenetration: dict | None = None, roll: float | None = None,
                  side: str = "both", roll_start: float = 0.0,
-                 load_iterations: int = 10) -> WheelsetContact:
+                 load_iterations: int = 10, turn_distance: float = 0.0,
+                 separation_angle: float = math.pi / 2) -> WheelsetContact:
     """Find the wheelset position and all contact patches.
 
     Parameters
@@ -716,6 +752,14 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         stop earlier when the interpenetrations change by less than 1 nm).  One
         gives a first estimate (what :func:`railcontact.solve` needs: its own
         vertical-force iteration follows with the chosen models).
+    turn_distance : float
+        Separate patches of a wheel whose facing ends lie between
+        ``combine_distance`` and this [m] apart have their contact angles turned
+        towards their weighted mean (CONTACT's D_TURN,
+        :func:`railcontact.geometry.turning.turned_angles`); 0 (default): no turning.
+    separation_angle : float
+        ... except where their angles differ by more than this [rad] (CONTACT's
+        A_SEP).
     """
     for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
                          ("wheelset.yaw", yaw, 0.1)):
@@ -783,11 +827,18 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     for sd in sides:
         loc = loci[sd]
         regions = _regions(loc, loads is None, combine_distance)
-        for (i0, i1, joins), lim in zip(regions, _territories(loc, regions)):
+        angles = [None] * len(regions)
+        if turn_distance > combine_distance and len(regions) > 1 and loads is not None:
+            aw = [_weighted_angle(loc, i0, i1) for i0, i1, _ in regions]
+            angles = turned_angles([a for a, _ in aw], [w for _, w in aw],
+                                   [_end_distance(loc, p[1], q[0])
+                                    for p, q in zip(regions[:-1], regions[1:])],
+                                   combine_distance, turn_distance, separation_angle)
+        for (i0, i1, joins), lim, angle in zip(regions, _territories(loc, regions), angles):
             factors = [(y, interaction_factor(d, full, combine_distance)) for y, d in joins]
             patches.append(_make_patch(wheelset, track, sd, loc, i0, i1, pose, loads is None,
                                        velocity, pitch_velocity, lateral_velocity, yaw_rate,
-                                       lim, factors))
+                                       lim, factors, angle))
     return WheelsetContact(pose, patches, loci, loads, targets)
 
 
@@ -806,9 +857,23 @@ def _territories(loc: Locus, regions) -> list:
     return out
 
 
+def _weighted_angle(loc: Locus, i0: int, i1: int):
+    """Weighted contact angle [rad] (side frame) and total weight of the region
+    [i0, i1] of a locus (the weights of :func:`_make_patch`)."""
+    sl = slice(i0, i1 + 1)
+    w = (-np.minimum(loc.gap[sl], 0.0)) ** GAP_WEIGHT
+    if not w.sum() > 0:
+        return float(np.arctan(loc.slope[loc.i_min])), 0.0
+    return (float(np.dot(w, np.arctan(loc.slope[sl])) / w.sum()),
+            float(w.sum() * abs(loc.y_wheel[1] - loc.y_wheel[0])))
+
+
 def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch_velocity,
                 lateral_velocity, yaw_rate, territory=(-math.inf, math.inf),
-                joins=()) -> ContactGeometry:
+                joins=(), angle=None) -> ContactGeometry:
+    """The geometry of the patch of locus region [i0, i1]; ``angle``: its contact
+    angle [rad] in the side frame instead of the weighted one (a turned angle,
+    :mod:`railcontact.geometry.turning`)."""
     sl = slice(i0, i1 + 1)
     g = loc.gap[sl]
     im = i0 + int(np.argmin(g))
@@ -829,7 +894,7 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
         weight = float(w.sum() * abs(loc.y_wheel[1] - loc.y_wheel[0]))
         y_ref = float(np.dot(w, loc.y_rail[sl]) / w.sum())
         x_ref = float(np.dot(w, loc.point[0, sl]) / w.sum())
-        a_ref = float(np.dot(w, ang) / w.sum())
+        a_ref = float(np.dot(w, ang) / w.sum()) if angle is None else float(angle)
     rail = track.rail(side)
     y_off = track.rail_offset(side)
     z_ref = float(rail.z_at(y_ref))
@@ -870,6 +935,16 @@ def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch
                          pitch_velocity, lateral_velocity, yaw_rate)
     ys = loc.y_rail[sl]
     ext_y = (sgn * (ys.min() - y_ref), sgn * (ys.max() - y_ref))
+    if not (A > 0.0 and B > 0.0):
+        # a conformal or rough patch (measured profiles): the curvatures of the
+        # paraboloid that has the interpenetration region's extent at its approach
+        # (so that the approximate models, and the vertical-force iteration's
+        # Hertzian start, see a patch of the right size)
+        half_y = 0.5 * (max(ext_y) - min(ext_y)) / math.cos(a_ref)
+        B = B if B > 0.0 else max(approach, 1e-9) / max(half_y, 1e-4) ** 2
+        A = A if A > 0.0 else math.cos(a_ref) / (2.0 * (wheelset.nominal_radius + z_w))
+        log.debug("%s patch: curvatures of its interpenetration region's extent "
+                  "(%.3g, %.3g) 1/m", side, A, B)
     half_x = math.sqrt(max(approach, 0.0) / max(A, 1e-9))
     extent = (x_m - half_x, x_m + half_x, min(ext_y) / math.cos(a_ref) if rigid is False else 0.0,
               max(ext_y) / math.cos(a_ref) if rigid is False else 0.0)

@@ -43,12 +43,17 @@ class Track:
         Track gauge [m] between the gauge faces (default 1.435).
     gauge_height : float
         Depth [m] below the rail top where the gauge is measured (default 0.014).
+    rail_offsets : dict, optional
+        ``{"left": o, "right": o}``: lateral positions [m] of the rail-profile origins
+        in the side frames, instead of placing the rails by the gauge (worn rails stay
+        where the new ones were: the new track's ``rail_offset`` of each side).
     """
 
     rail_right: Profile
     rail_left: Profile | None = None
     gauge: float = 1.435
     gauge_height: float = 0.014
+    rail_offsets: dict | None = None
     _offsets: dict = field(init=False, repr=False, default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -60,7 +65,12 @@ class Track:
             rail = self.rail(side)
             if rail.kind != "rail":
                 raise ProfileError(f"{side} rail profile {rail.name!r} is a wheel profile")
-            self._offsets[side] = self.gauge / 2.0 - self.gauge_point(rail)
+            if self.rail_offsets is not None:
+                _check(f"track.rail_offsets[{side!r}]", self.rail_offsets.get(side), 0.25,
+                       1.0, "m")
+                self._offsets[side] = float(self.rail_offsets[side])
+            else:
+                self._offsets[side] = self.gauge / 2.0 - self.gauge_point(rail)
 
     def rail(self, side: str) -> Profile:
         return self.rail_right if side == "right" else self.rail_left
@@ -84,6 +94,11 @@ def _gauge_point(rail: Profile, gauge_height: float) -> float:
     yy = np.linspace(rail.y_min, top_y, 4000)
     below = rail.z_at(yy) >= zg
     if not np.any(below):
+        # the gauge side ends above the gauge height (a gauge face whose head overhangs
+        # it, seen from above): its leftmost point, as CONTACT takes the leftmost
+        # point above the gauge height
+        if rail.y_min < top_y and np.isfinite(rail.z_at(rail.y_min)):
+            return float(rail.y_min)
         raise ProfileError(f"rail profile {rail.name!r} does not reach {gauge_height * 1e3:.1f}"
                            " mm below its top on the gauge side; cannot place it by gauge")
     i = np.flatnonzero(below)[-1]

@@ -121,9 +121,13 @@ def _smallest_radius(profile: Profile, y0: float, half: float) -> float:
     return 1.0 / k.max() if k.size and k.max() > 0 else math.inf
 
 
-def halfspace_ratio(geometry, normal, wheel: Profile, rail: Profile) -> float:
+def halfspace_ratio(geometry, normal, wheel: Profile, rail: Profile,
+                    rail_rolling_radius: float = math.inf) -> float:
     """Size of a patch against the radii of curvature of the surfaces it touches
-    (see the module notes): max(b / R_lateral, a / R_rolling)."""
+    (see the module notes): max(b / R_lateral, a / R_rolling), R_rolling the
+    smaller of the wheel's rolling radius and ``rail_rolling_radius`` (a roller's
+    radius; a rail is straight along the track).  For a rail that varies along the
+    track, ``rail`` is its cross-section at the patch."""
     a, b = contact_size(normal)
     if not (a > 0 and b > 0):
         return 0.0
@@ -133,6 +137,7 @@ def halfspace_ratio(geometry, normal, wheel: Profile, rail: Profile) -> float:
     r_lat = min(_smallest_radius(rail, geometry.y_rail, half),
                 _smallest_radius(wheel, geometry.y_wheel, half))
     r_roll = geometry.rolling_radius if math.isfinite(geometry.rolling_radius) else math.inf
+    r_roll = min(r_roll, abs(rail_rolling_radius))
     return max(b / r_lat, a / r_roll if r_roll > 0 else 0.0)
 
 

@@ -56,6 +56,10 @@ class NormalSolution:
     status : SolverStatus
         Whether the solver met its tolerance, and warnings (a contact that reaches
         the edge of the grid); ``converged`` reads it.
+    pressure_limit : float
+        Upper bound [Pa] of the pressure of an elastic-perfectly-plastic solution
+        (inf: elastic); ``plastic`` is the mask of the elements at it and
+        ``plastic_area`` their area [m^2].
     """
 
     model: str
@@ -73,10 +77,24 @@ class NormalSolution:
     status: SolverStatus = field(default_factory=SolverStatus)
     cpu_time: float = 0.0
     gap: np.ndarray | None = field(default=None, repr=False)
+    pressure_limit: float = math.inf
 
     @property
     def converged(self) -> bool:
         return self.status.converged
+
+    @property
+    def plastic(self) -> np.ndarray:
+        """Mask of the elements at the pressure limit (none for an elastic solution)."""
+        if not math.isfinite(self.pressure_limit):
+            return np.zeros(self.pressure.shape, dtype=bool)
+        return self.pressure >= self.pressure_limit * (1.0 - 1e-9)
+
+    @property
+    def plastic_area(self) -> float:
+        """Area [m^2] of the elements at the pressure limit."""
+        n = int(self.plastic.sum())
+        return n * self.dx * self.dy if n else 0.0
 
     @property
     def dx(self) -> float:

@@ -36,7 +36,7 @@ log = logging.getLogger(__name__)
 
 
 def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=None,
-                  regions=None):
+                  regions=None, pressure_limit=math.inf):
     """Solve the discrete normal contact problem.
 
     Parameters
@@ -53,6 +53,10 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
                        each column, ``factors`` (k x k) the factor on the
                        displacements that a sub-region's pressure causes in another
                        (1 on the diagonal; :func:`railcontact.geometry.contact.interaction_factor`)
+    pressure_limit : float
+                       upper bound [Pa] of the pressure (elastic-perfectly-plastic
+                       contact, :mod:`railcontact.normal.plasticity`; default inf:
+                       elastic); with the approach given only (``force=None``)
 
     Returns
     -------
@@ -62,6 +66,12 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
     rocket-fft's ``numpy.fft`` for Numba.
     """
     h = np.ascontiguousarray(h, dtype=float)
+    plimit = float(pressure_limit)
+    if not plimit > 0:
+        raise InputError(f"pressure limit {pressure_limit!r} Pa: expected a value > 0")
+    if force is not None and math.isfinite(plimit):
+        raise InputError("a pressure limit needs the approach given (force=None): the "
+                         "force-controlled iteration scales the pressure as a whole")
     if p0 is None:
         if force is not None:
             p = np.where(h <= np.min(h) + 0.5 * (np.median(h) - np.min(h)), 1.0, 0.0)
@@ -70,7 +80,7 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
             p = np.maximum(-h, 0.0) / op.diag * 0.5
     else:
         p = np.array(p0, dtype=float)
-    p = np.ascontiguousarray(p)
+    p = np.ascontiguousarray(np.minimum(p, plimit))
     scale = float(np.max(np.abs(h))) if scale is None else float(scale)
     if regions is None:
         cols, fm = np.zeros(h.shape[1], dtype=np.int64), np.ones((1, 1))
@@ -83,7 +93,8 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
                              f"({h.shape[1]}) and a square factor matrix covering them")
     gbar, it, converged = _pk_kernel(op.khat, op.shape, h, float(dA),
                                      0.0 if force is None else float(force), force is not None,
-                                     float(tol), int(maxiter), p, scale, op.kernel, cols, fm)
+                                     float(tol), int(maxiter), p, scale, op.kernel, cols, fm,
+                                     plimit)
     approach = gbar if force is not None else 0.0
     return p, approach, int(it), bool(converged)
 
@@ -167,7 +178,7 @@ DIRECT_FRACTION = 0.02
 
 @njit(cache=True, nogil=True)
 def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, kernel, cols,
-               fm):
+               fm, plimit):
     """Constrained conjugate gradients of Polonsky & Keer on the pressure ``p``
     (the initial estimate, overwritten with the solution).
 
@@ -181,6 +192,12 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
     else A p by a convolution; refreshed by a convolution every 10 steps.
     ``cols``, ``fm``: sub-regions of the columns and their interaction factors
     (:func:`_apply`; one region: the plain operator).
+    ``plimit``: the upper bound of the pressure (inf: elastic).  An element that
+    reaches the limit is clipped to it (it may overlap: plastic flow) and leaves
+    the directions; an element at the limit whose gap opens joins them again (it
+    may unload; the directions restart), so that at the solution p = 0 with a gap,
+    0 < p < limit without one, or p = limit with an overlap.  Only with the
+    approach given (``controlled`` False).
     Returns the approach (mean gap, force-controlled), iterations, converged.
     """
     mx, my = h.shape
@@ -190,6 +207,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
     g = np.zeros((mx, my))
     pn = np.zeros((mx, my))
     S = np.zeros((mx, my), dtype=np.bool_)
+    Sp = np.zeros((mx, my), dtype=np.bool_)    # the last iteration's S
     limit = int(DIRECT_FRACTION * mx * my)
     idx = np.zeros(limit + 1, dtype=np.int64)  # the elements clipped or loaded
     dq = np.zeros(limit + 1)                   # and their changes beyond -tau t
@@ -209,16 +227,31 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
         for i in range(mx):
             for j in range(my):
                 g[i, j] = u[i, j] + h[i, j]
-                S[i, j] = p[i, j] > 0.0
+                # an element at the limit whose gap opens joins the directions
+                # (it may unload), as an element between the bounds
+                at = p[i, j] >= plimit
+                S[i, j] = (0.0 < p[i, j] and not at) or (at and g[i, j] > 0.0)
+                if at and S[i, j] and not Sp[i, j]:
+                    restart = True
                 nS += S[i, j]
         if nS == 0:
-            gmin = np.min(g)
-            if not controlled and gmin >= 0.0:
-                converged = True             # no overlap anywhere: p = 0 is the solution
+            # no free element: the solution where no element at zero overlaps and
+            # none at the limit has a gap; else start from the deepest free overlap
+            gmin = np.inf
+            kkt = True
+            for i in range(mx):
+                for j in range(my):
+                    if p[i, j] < plimit:
+                        gmin = min(gmin, g[i, j])
+                        kkt = kkt and g[i, j] >= 0.0
+                    else:
+                        kkt = kkt and g[i, j] <= 0.0
+            if not controlled and kkt:
+                converged = True             # e.g. no overlap anywhere: p = 0
                 break
             for i in range(mx):
                 for j in range(my):
-                    S[i, j] = g[i, j] <= gmin + 1e-15
+                    S[i, j] = p[i, j] < plimit and g[i, j] <= gmin + 1e-15
                     nS += S[i, j]
         if controlled:
             gbar = _mean_on(g, S)
@@ -228,6 +261,7 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
             for j in range(my):
                 if S[i, j]:
                     G += g[i, j] * g[i, j]
+        Sp[:, :] = S
         beta = 0.0 if restart else G / G_old
         for i in range(mx):
             for j in range(my):
@@ -258,8 +292,10 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
                 q = q0
                 if q < 0.0:
                     q = 0.0                     # clipped
+                elif q > plimit:
+                    q = plimit                  # clipped at the limit: plastic
                 if q == 0.0 and g[i, j] < 0.0:
-                    q = -tau * g[i, j]          # an overlap: load the element
+                    q = min(-tau * g[i, j], plimit)  # an overlap: load the element
                     restart = True
                 if q != q0:
                     if nd < limit:
@@ -389,6 +425,42 @@ def own_gap(geometry, x, y) -> np.ndarray:
     return h
 
 
+#: how often :meth:`ExactNormalModel.solve` enlarges a potential contact area that the
+#: contact reaches the edge of
+GROWTH_STEPS = 3
+
+
+def _edge_sides(contact):
+    """Which sides of the grid (x low, x high, y low, y high) the contact reaches."""
+    return (contact[0, :].any(), contact[-1, :].any(), contact[:, 0].any(),
+            contact[:, -1].any())
+
+
+def _plausible_growth(before, after, displacement: bool) -> bool:
+    """Whether the solution on an enlarged potential area continues the truncated
+    one: with the approach given, the force grows by at most a factor 2 (the
+    truncated contact held most of it); with the force given, the approach falls
+    and stays above a fifth of the truncated one."""
+    if displacement:
+        return after.normal_force <= 2.0 * before.normal_force + 1e-12
+    return 0.2 * before.penetration <= after.penetration <= before.penetration * (1 + 1e-6)
+
+
+def _grown_box(x, y, sides):
+    """Centre and half-extents [m] of the potential area of the grid lines x, y
+    enlarged by half its width on each of the ``sides`` (x low, x high, y low, y
+    high) the contact reaches."""
+    dx, dy = x[1] - x[0], y[1] - y[0]
+    lo_x, hi_x = x[0] - 0.5 * dx, x[-1] + 0.5 * dx
+    lo_y, hi_y = y[0] - 0.5 * dy, y[-1] + 0.5 * dy
+    wx, wy = hi_x - lo_x, hi_y - lo_y
+    lo_x -= 0.5 * wx * sides[0]
+    hi_x += 0.5 * wx * sides[1]
+    lo_y -= 0.5 * wy * sides[2]
+    hi_y += 0.5 * wy * sides[3]
+    return ((0.5 * (lo_x + hi_x), 0.5 * (lo_y + hi_y)), (0.5 * (hi_x - lo_x), 0.5 * (hi_y - lo_y)))
+
+
 def _fits(sol, cx, cy, ex, ey, grid) -> bool:
     """Whether the potential area [cx - ex, cx + ex] x [cy - ey, cy + ey] lies in the
     grid of the solution ``sol`` and fills at least REUSE_FILL of it (and the grid has
@@ -420,12 +492,26 @@ class ExactNormalModel:
     maxiter : int      iteration limit
     margin : float     the potential contact area extends the expected contact by
                        this fraction on each side
+    pressure_limit : float, optional
+                       upper bound [Pa] of the pressure: elastic-perfectly-plastic
+                       contact (:mod:`railcontact.normal.plasticity`, e.g.
+                       ``pressure_limit(yield_stress)``); default none (elastic).
+                       With the force given, the approach that carries it is
+                       found by Brent's method on displacement-controlled solves.
     """
 
-    def __init__(self, tol: float = 1e-5, maxiter: int = 3000, margin: float = 0.25):
+    def __init__(self, tol: float = 1e-5, maxiter: int = 3000, margin: float = 0.25,
+                 pressure_limit: float | None = None):
         if not (0 < tol < 1e-2):
             raise InputError(f"exact tol {tol!r}: expected a value in (0, 0.01)")
         self.tol, self.maxiter, self.margin = tol, int(maxiter), margin
+        if pressure_limit is None:
+            pressure_limit = math.inf
+        if isinstance(pressure_limit, bool) or not (isinstance(pressure_limit, (int, float))
+                                                    and pressure_limit > 0):
+            raise InputError(f"exact pressure_limit = {pressure_limit!r} Pa: expected a "
+                             "pressure > 0 (or none: elastic)")
+        self.pressure_limit = float(pressure_limit)
 
     def _potential_area(self, geometry, material, normal_force, penetration,
                         continuous=False):
@@ -531,7 +617,8 @@ class ExactNormalModel:
         q, _, it, ok = polonsky_keer(op, h[box], dA, None, self.tol, self.maxiter,
                                      p0=None if p0 is None else p0[box],
                                      scale=float(np.max(np.abs(h))),
-                                     regions=_cut(regions, box[1]))
+                                     regions=_cut(regions, box[1]),
+                                     pressure_limit=self.pressure_limit)
         p = np.zeros(h.shape)
         p[box] = q
         return p, it, ok
@@ -567,6 +654,58 @@ class ExactNormalModel:
                                        scale=scale, regions=regions)
         return p, app, it0 + it, ok
 
+    def _force_by_approach(self, grid_key, h0, dA, force, p0, regions=None):
+        """Force-controlled solve with the pressure limit: the approach delta that
+        carries ``force`` by Brent's method on displacement-controlled solves (each
+        from the last solution), the force F(delta) being continuous and increasing.
+        The bracket starts at the elastic approach, which carries less than the
+        force once the pressure is capped.  Returns p, approach, iterations,
+        converged."""
+        from scipy.optimize import brentq
+
+        limit = self.pressure_limit
+        self.pressure_limit = math.inf
+        try:
+            p, app, it, ok = self._force_controlled(grid_key, h0, dA, force, p0, 0.0, regions)
+        finally:
+            self.pressure_limit = limit
+        if not ok or p.max() <= limit:
+            return p, app, it, ok                   # the elastic solution holds
+        state = {"p": np.minimum(p, limit), "it": it, "ok": True}
+
+        def excess(delta):
+            q, k, good = self._displacement_controlled(grid_key, h0 - delta, dA, state["p"],
+                                                       regions)
+            state["it"] += k
+            state["ok"] &= good
+            if q.max() > 0:
+                state["p"] = q
+            return float(q.sum() * dA) / force - 1.0
+
+        lo, hi = app, app * 1.25
+        f_hi = excess(hi)
+        while f_hi < 0.0:
+            lo, hi = hi, hi * 1.5
+            f_hi = excess(hi)
+            if hi > 1e3 * app:
+                return state["p"], hi, state["it"], False
+        delta = brentq(excess, lo, hi, xtol=1e-10 * app, rtol=1e-12, maxiter=100)
+        excess(delta)                      # the solution at the root (its pressure)
+        return state["p"], delta, state["it"], state["ok"]
+
+    def _plastic_extent(self, geometry, material, normal_force, ex, ey):
+        """Half-extents of the potential area widened for a pressure limit below
+        Hertz's peak: the contact then spreads to about force / limit (with its
+        elastic rim), against Hertz's pi a b."""
+        if normal_force is None or not math.isfinite(self.pressure_limit):
+            return ex, ey
+        A, B = geometry.curvatures
+        hz = hertz_ellipse(A, B, material.contact_modulus, force=normal_force)
+        if hz.p0 <= self.pressure_limit:
+            return ex, ey
+        k = math.sqrt(1.3 * normal_force / (self.pressure_limit * hz.area))
+        return ex * max(k, 1.0), ey * max(k, 1.0)
+
     accepts_warm_start = True
     reuses_grids = True
 
@@ -575,7 +714,45 @@ class ExactNormalModel:
               warm_start: NormalSolution | None = None,
               extra_gap: np.ndarray | None = None,
               reuse_grid: NormalSolution | None = None) -> NormalSolution:
-        """Solve for a given normal force [N] or approach [m].
+        """Solve for a given normal force [N] or approach [m] (see :meth:`_solve`).
+
+        Where the contact reaches the edge of the potential contact area (the
+        interpenetration region's extent, found on a coarse sampling of the gap,
+        can miss parts of a rough or conformal patch of measured profiles), the
+        area is enlarged by half its width on each side the contact reaches and the
+        problem solved again, up to ``GROWTH_STEPS`` times; the warning of a
+        truncated contact remains only where that does not suffice (or a kept grid,
+        or ``extra_gap`` on it, fixes the area)."""
+        t0 = time.perf_counter()
+        box, sol = None, None
+        for _ in range(GROWTH_STEPS + 1):
+            new = self._solve(geometry, material, normal_force, penetration, grid,
+                              element_size, warm_start, extra_gap, reuse_grid, box)
+            if sol is not None and not _plausible_growth(sol, new, normal_force is None):
+                # the enlarged area reached other parts of the surfaces (the tangent
+                # plane's normals meet them far from the patch): keep the last one
+                log.info("exact normal solver: an enlarged potential area changes the "
+                         "solution implausibly; the area is kept")
+                break
+            sol = new
+            sides = _edge_sides(sol.contact)
+            if not any(sides) or extra_gap is not None or geometry.gap_function is None:
+                break
+            box = _grown_box(sol.x, sol.y, sides)
+            reuse_grid = None
+            warm_start = sol if sol.pressure.max() > 0 else warm_start
+            log.info("exact normal solver: the contact reaches the edge of its potential area; "
+                     "enlarged to %.2f x %.2f mm", 2e3 * box[1][0], 2e3 * box[1][1])
+        sides = _edge_sides(sol.contact)
+        if any(sides):
+            log.warning("exact normal solver: contact reaches the edge of the potential contact "
+                        "area; results may be truncated")
+        sol.cpu_time = time.perf_counter() - t0
+        return sol
+
+    def _solve(self, geometry, material, normal_force, penetration, grid, element_size,
+               warm_start, extra_gap, reuse_grid, box) -> NormalSolution:
+        """Solve for a given normal force [N] or approach [m] on one potential area.
 
         ``extra_gap``: a displacement difference [m] added to the undeformed distance
         on the solution grid (the tangential tractions' share for dissimilar
@@ -595,6 +772,9 @@ class ExactNormalModel:
         The undeformed distance is taken from ``geometry.gap`` (the exact gap of the
         geometry layer, shifted so that ``penetration`` is measured from the
         search position's approach), or from its curvatures for a bodies case.
+
+        ``box``: centre and half-extents [m] of the potential contact area instead of
+        the model's choice (:meth:`solve` enlarging it).
         """
         t0 = time.perf_counter()
         if (normal_force is None) == (penetration is None):
@@ -609,8 +789,10 @@ class ExactNormalModel:
         if h0 is not None:
             x, y = reuse_grid.x, reuse_grid.y
         else:
-            (cx, cy), (ex, ey) = self._potential_area(geometry, material, normal_force,
-                                                      penetration, continuous=True)
+            (cx, cy), (ex, ey) = box or self._potential_area(geometry, material, normal_force,
+                                                             penetration, continuous=True)
+            if box is None and (geometry.gap_function is None or geometry.extent is None):
+                ex, ey = self._plastic_extent(geometry, material, normal_force, ex, ey)
             if reuse_grid is not None and element_size is None and _fits(reuse_grid, cx, cy,
                                                                           ex, ey, grid):
                 x, y = reuse_grid.x, reuse_grid.y
@@ -640,8 +822,12 @@ class ExactNormalModel:
                 # Hertz's shape: with the rigid overlap approach - h0, the elastic
                 # contact is where it exceeds half the approach, and p ~ its root there
                 p0 = np.sqrt(np.maximum(0.5 * geometry.approach - h0, 0.0))
-            p, app, it, ok = self._force_controlled(grid_key, h0, dA, normal_force, p0,
-                                                    geometry.approach, regions)
+            if math.isfinite(self.pressure_limit):
+                p, app, it, ok = self._force_by_approach(grid_key, h0, dA, normal_force, p0,
+                                                         regions)
+            else:
+                p, app, it, ok = self._force_controlled(grid_key, h0, dA, normal_force, p0,
+                                                        geometry.approach, regions)
         else:
             p, it, ok = self._displacement_controlled(grid_key, h0 - penetration, dA, p0,
                                                       regions)
@@ -654,8 +840,6 @@ class ExactNormalModel:
         edge = contact[0, :].any() or contact[-1, :].any() or contact[:, 0].any() or \
             contact[:, -1].any()
         if edge:
-            log.warning("exact normal solver: contact reaches the edge of the potential contact "
-                        "area; results may be truncated")
             status = status.with_warnings("the contact reaches the edge of the potential "
                                           "contact area (results may be truncated)")
         F = float(p.sum() * dA)
@@ -667,4 +851,5 @@ class ExactNormalModel:
                               area=float(contact.sum() * dA), pmax=float(p.max()),
                               penetration=float(app), normal_force=F, semi_axes=None,
                               strips=(x_lead, x_trail), pressure_at=pressure_at, status=status,
-                              cpu_time=time.perf_counter() - t0)
+                              cpu_time=time.perf_counter() - t0,
+                              pressure_limit=self.pressure_limit)

@@ -152,6 +152,29 @@ def hertz_ellipse(A: float, B: float, contact_modulus: float, force: float | Non
     return HertzEllipse(a, b, p0, delta, F)
 
 
+def hertz_curvatures(a: float, b: float, contact_modulus: float, force: float):
+    """Relative curvatures (A, B) [1/m] of the Hertzian contact with semi-axes a
+    (x, rolling) and b (y, lateral) [m] under the normal force [N]: the inverse of
+    :func:`hertz_ellipse` (CONTACT's module 3 with the semi-axes prescribed,
+    IPOTCN = -3).  With p0 = 3 F / (2 pi a b), k = minor / major and m = 1 - k^2,
+    the curvature along the major axis is p0 k (K - E) / (E* a_major m), along the
+    minor axis p0 k (E / k^2 - K) / (E* a_major m) (Johnson 1985, section 4.2)."""
+    for name, v in (("a", a), ("b", b), ("force", force)):
+        if not (math.isfinite(v) and v > 0.0):
+            raise InputError(f"Hertzian {name} = {v!r}: expected a value > 0")
+    p0 = 3.0 * force / (2.0 * math.pi * a * b)
+    major, minor = max(a, b), min(a, b)
+    k = minor / major
+    m = 1.0 - k * k
+    if m < 1e-12:
+        A = B = math.pi * p0 / (4.0 * contact_modulus * a)
+        return A, B
+    K, E = float(ellipk(m)), float(ellipe(m))
+    along_major = p0 * k * (K - E) / (contact_modulus * major * m)
+    along_minor = p0 * k * (E / k ** 2 - K) / (contact_modulus * major * m)
+    return (along_major, along_minor) if a >= b else (along_minor, along_major)
+
+
 def _ratio_array(m: np.ndarray) -> np.ndarray:
     """Vectorised :func:`_ratio`."""
     small = m < SERIES_M

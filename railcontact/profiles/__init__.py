@@ -6,9 +6,11 @@ See :class:`~railcontact.profiles.profile.Profile` for the conventions.
 from .io import read_profile, write_profile
 from .library import builtin_names, get_profile
 from .measures import wheel_measures
+from .processing import ProfileOptions, Smoothing, process_points
 from .profile import Profile
 from .rails import rail_profile
 from .s1002 import s1002
 
-__all__ = ["Profile", "read_profile", "write_profile", "get_profile", "builtin_names",
-           "rail_profile", "s1002", "wheel_measures"]
+__all__ = ["Profile", "ProfileOptions", "Smoothing", "process_points", "read_profile",
+           "write_profile", "get_profile", "builtin_names", "rail_profile", "s1002",
+           "wheel_measures"]

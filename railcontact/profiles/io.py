@@ -4,26 +4,33 @@ Supported formats
 -----------------
 * SIMPACK ``.prr`` (rail) / ``.prw`` (wheel): the header options ``mirror.y``,
   ``mirror.z``, ``inversion`` and ``units.len.f`` are applied.
-* MiniProf ``.ban`` (rail) / ``.whl`` (wheel): ``Key=Value`` header lines, then
-  columns as named by ``ColumnDef`` (X lateral, Y vertical); values in mm.
-* Plain text / CSV: two columns y, z; ``#``, ``%`` and ``!`` start comments.
+* MiniProf ``.ban`` (rail) / ``.whl`` (wheel): header lines (``Key=Value`` or
+  old-style free text) up to the first empty line, then columns as named by
+  ``ColumnDef`` (X lateral, Y vertical; default X, Y), shifted by ``XOffset`` and
+  ``YOffset``; values in mm.  ``!``, ``"``, ``%`` and ``#`` start comments.
+* Plain text / CSV: two columns y, z; ``#``, ``%``, ``"`` and ``!`` start comments.
 
 Units are detected from the profile width unless given (``units="mm"`` or ``"m"``);
-the assumption is logged.  The vertical orientation is detected (both wheel flange
-and rail flanks lie on the *large-z* side when z points down) unless ``z_down`` is
-given; a wheel whose flange lies at positive y is mirrored so that the flange is
-at negative y (right-wheel convention).
+the assumption is logged.  The vertical orientation is detected as CONTACT
+detects it (:func:`~railcontact.profiles.processing.z_points_down`) unless
+``z_down`` or ``options.mirror_z`` is given; a wheel whose flange lies at positive
+y is mirrored so that the flange is at negative y (right-wheel convention) unless
+mirroring is given.  The points are then processed along their arc length
+(:func:`~railcontact.profiles.processing.process_points`: zig-zag repair, the
+options' scale and smoothing, the visible surface of a folded face).
 """
 
 from __future__ import annotations
 
 import logging
 import re
+from dataclasses import replace
 from pathlib import Path
 
 import numpy as np
 
 from ..errors import ProfileError
+from .processing import ProfileOptions, process_points, z_points_down
 from .profile import MAX_WIDTH, MIN_WIDTH, Profile
 
 log = logging.getLogger(__name__)
@@ -36,19 +43,32 @@ def _kind_from_suffix(path: Path) -> str | None:
         path.suffix.lower())
 
 
+_COMMENT = re.compile(r'[!"%#]')
+
+
+def _strip_comment(line: str) -> str:
+    """The line up to its first comment character (``!``, ``"``, ``%``, ``#``)."""
+    m = _COMMENT.search(line)
+    return (line[:m.start()] if m else line).strip()
+
+
 def _parse_numbers(lines, path, ncol_min=2):
     rows = []
     for ln, line in lines:
-        s = line.split("!")[0].split("#")[0].split("%")[0].strip()
+        s = _strip_comment(line)
         if not s:
             continue
         parts = [p for p in re.split(r"[\s,;]+", s) if p]
-        try:
-            vals = [float(p) for p in parts]
-        except ValueError:
+        vals = []
+        for p in parts:             # the leading numbers; text after them is ignored
+            try:
+                vals.append(float(p))
+            except ValueError:
+                break
+        if not vals:
             if rows:
                 raise ProfileError(f"{path}: line {ln}: {line.strip()!r} is not numeric; "
-                                   "expected columns of numbers y z") from None
+                                   "expected columns of numbers y z")
             continue  # header line before the data
         if len(vals) < ncol_min:
             raise ProfileError(f"{path}: line {ln}: expected at least {ncol_min} columns, "
@@ -100,18 +120,36 @@ def _read_simpack(path: Path):
 
 def _read_miniprof(path: Path):
     text = path.read_text(errors="replace").splitlines()
-    header, data_lines = {}, []
+    header, data_lines, in_header = {}, [], None
     for ln, line in enumerate(text, 1):
-        m = re.match(r"^\s*([A-Za-z_][\w]*)\s*=\s*(.*)$", line)
-        if m and not data_lines:
-            header[m.group(1).lower()] = m.group(2).strip()
-        else:
-            data_lines.append((ln, line))
+        s = _strip_comment(line)
+        if in_header is None:                  # before the first line that counts
+            if not s:
+                continue
+            in_header = not _NUM.match(s) or "=" in s
+        if in_header:
+            if not line.strip():               # the data follow the first empty line
+                in_header = False
+                continue
+            m = re.match(r"^\s*([A-Za-z_][\w.]*)\s*=\s*(.*)$", s)
+            if m:
+                header[m.group(1).lower()] = m.group(2).strip()
+            continue
+        data_lines.append((ln, line))
     cols = [c.strip().upper() for c in header.get("columndef", "X,Y").split(",")]
     if "X" not in cols or "Y" not in cols:
         raise ProfileError(f"{path}: ColumnDef={header.get('columndef')!r}; expected X and Y")
-    data = _parse_numbers(data_lines, path, ncol_min=len(cols))
-    return data[:, cols.index("X")], data[:, cols.index("Y")], None, "mm", None
+    data = _parse_numbers(data_lines, path, ncol_min=max(cols.index("X"), cols.index("Y")) + 1)
+
+    def offset(key):
+        try:
+            return float(header.get(key) or 0.0)
+        except ValueError:
+            raise ProfileError(f"{path}: {key} = {header.get(key)!r}; expected a number "
+                               "(mm)") from None
+
+    return (data[:, cols.index("X")] + offset("xoffset"),
+            data[:, cols.index("Y")] + offset("yoffset"), None, "mm", None)
 
 
 def _read_text(path: Path):
@@ -126,25 +164,31 @@ def _read_text(path: Path):
 
 
 def read_profile(path, kind: str | None = None, units: str = "auto",
-                 z_down: bool | None = None, mirror_y: bool = False,
-                 name: str | None = None) -> Profile:
+                 z_down: bool | None = None, mirror_y: bool | None = None,
+                 name: str | None = None, options: ProfileOptions | None = None) -> Profile:
     """Read a profile file into a :class:`Profile` in SI units.
 
     Parameters
     ----------
     path : str or Path
         ``.prr``, ``.prw``, ``.ban``, ``.whl``, ``.csv`` or ``.txt`` file.
-    kind : {"wheel", "rail"}, optional
+    kind : {"wheel", "rail"}
         Body; taken from the file type or extension when not given.
     units : {"auto", "mm", "m"}
         Length unit of the file.  ``"auto"`` detects it from the profile width.
     z_down : bool, optional
         Whether the file's vertical axis already points down (into the rail, away
-        from the wheel axle).  Detected when not given.
-    mirror_y : bool
-        Mirror the lateral axis (e.g. a left-side measurement).
+        from the wheel axle).  Detected when not given (``options.mirror_z``, where
+        given, is its negation).
+    mirror_y : bool, optional
+        Mirror the lateral axis (e.g. a left-side measurement); overrides
+        ``options.mirror_y``.  None: a wheel whose flange lies at positive y is
+        mirrored (except SIMPACK files, whose header says).
     name : str, optional
         Label; the file name by default.
+    options : ProfileOptions, optional
+        CONTACT's profile options: mirroring, scale, zig-zag repair, kinks and
+        smoothing along the arc length (:mod:`railcontact.profiles.processing`).
     """
     path = Path(path)
     if not path.is_file():
@@ -165,10 +209,13 @@ def read_profile(path, kind: str | None = None, units: str = "auto",
     if kind not in ("wheel", "rail"):
         raise ProfileError(f"{path}: cannot tell whether this is a wheel or a rail profile; "
                            "pass kind='wheel' or kind='rail'")
+    if y.size < 2:
+        raise ProfileError(f"{path}: {y.size} profile point(s); expected at least 8")
+    opts = options or ProfileOptions()
     if units == "auto":
         units = funits
     if units is None:
-        width = np.ptp(y)
+        width = np.ptp(y) * opts.scale
         if MIN_WIDTH <= width <= MAX_WIDTH:
             units = "m"
         elif MIN_WIDTH * 1e3 <= width <= MAX_WIDTH * 1e3:
@@ -179,25 +226,29 @@ def read_profile(path, kind: str | None = None, units: str = "auto",
         log.info("%s: lengths assumed in %s (profile width %g)", path.name, units, width)
     if units == "mm" and funits != "m":
         y, z = y * 1e-3, z * 1e-3
+    if mirror_y is None:
+        mirror_y = opts.mirror_y
     if mirror_y:
         y = -y
+    if z_down is None and opts.mirror_z is not None:
+        z_down = not opts.mirror_z
     if z_down is None:
         z_down = fz_down
     if z_down is None:
-        med = np.median(z)
-        z_down = (z.max() - med) >= (med - z.min())
+        z_down = z_points_down(y, z, kind)
         if not z_down:
             log.info("%s: vertical axis points up; flipped to z down", path.name)
     if not z_down:
         z = -z
-    if kind == "wheel" and fz_down is None and not mirror_y:
+    if kind == "wheel" and fz_down is None and mirror_y is None:
         order = np.argsort(y)
         ys, zs = y[order], z[order]
         if ys[np.argmax(zs)] > 0.5 * (ys[0] + ys[-1]):
             log.info("%s: flange at positive y; mirrored to the right-wheel convention",
                      path.name)
             y = -y
-    return Profile(y, z, kind=kind, name=name or path.stem)
+    return process_points(y, z, kind, replace(opts, mirror_y=False, mirror_z=False),
+                          name=name or path.stem)
 
 
 def write_profile(profile: Profile, path, units: str = "mm") -> Path:

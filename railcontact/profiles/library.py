@@ -38,12 +38,20 @@ def get_profile(spec, kind: str, inclination: float | None = None,
         files it is 0, since a file usually holds the rail as mounted (canted).
     base_dir : Path, optional
         Directory relative to which file paths are resolved (the case file's).
+    **read_kw
+        Passed to :func:`read_profile` for files: ``units``, ``options``
+        (:class:`~railcontact.profiles.ProfileOptions`), ...
     """
     if isinstance(spec, Profile):
         prof = spec
     else:
         name = str(spec)
         upper = name.upper()
+        builtin = (kind == "wheel" and upper in WHEEL_PROFILES) or \
+            (kind == "rail" and upper in RAIL_PROFILES)
+        if builtin and read_kw.get("options") is not None:
+            raise ProfileError(f"{kind} profile {name!r} is built in: the profile-file options "
+                               "(mirroring, scale, smoothing, kinks) apply to files")
         if kind == "wheel" and upper in WHEEL_PROFILES:
             return s1002()
         if kind == "rail" and upper in RAIL_PROFILES:

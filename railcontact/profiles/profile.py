@@ -11,8 +11,10 @@ Conventions (see ``docs/conventions.md``)
 
 A profile is evaluated through a cubic spline ``z(y)``: :meth:`Profile.z`,
 :meth:`Profile.slope` and :meth:`Profile.curvature`.  Interpolating splines are
-used by default; :meth:`Profile.smoothed` fits a penalised smoothing spline whose
-cut-off wavelength is a physical length.
+used by default; :meth:`Profile.smoothed` smooths along the arc length with the
+weighted smoothing spline of CONTACT (cut-off wavelength a physical length, split
+at kinks; :mod:`railcontact.profiles.processing`).  Points that fold back in y
+(a measured gauge face or flange back) give the surface the other body sees.
 """
 
 from __future__ import annotations
@@ -25,44 +27,13 @@ from numba import njit
 from scipy import interpolate
 
 from ..errors import ProfileError
+from .processing import Smoothing, find_kinks, smooth_points, visible_surface
 
 log = logging.getLogger(__name__)
 
 #: plausible extent of a wheel or rail profile [m]
-MIN_WIDTH, MAX_WIDTH = 0.02, 0.4
+MIN_WIDTH, MAX_WIDTH = 0.01, 0.4       # 10 mm: a rail head on a 1:5 scaled roller rig
 MAX_HEIGHT = 0.2
-
-
-def _trim_foldback(y: np.ndarray, z: np.ndarray, name: str):
-    """Remove folded-back ends so that y is strictly increasing.
-
-    A measured wheel profile may continue past the vertical tangent of the flange
-    back, and a rail profile past the vertical tangent of the head flank; there y
-    turns back.  Points at either end beyond the turning point are dropped.  A
-    reversal anywhere else means the data are not a function z(y): error.
-    """
-    dy = np.diff(y)
-    if np.all(dy > 0):
-        return y, z
-    pos = dy > 0
-    # longest run of increasing y
-    best_len, best_start, start = 0, 0, 0
-    for i in range(len(pos) + 1):  # runs over points, not grid elements: O(n) once
-        if i == len(pos) or not pos[i]:
-            if i - start > best_len:
-                best_len, best_start = i - start, start
-            start = i + 1
-    lo, hi = best_start, best_start + best_len + 1
-    # the parts outside [lo, hi) lie at the ends; they are a fold-back only if short
-    frac = (hi - lo) / len(y)
-    if frac < 0.8:
-        i_bad = int(np.flatnonzero(~pos)[0]) if lo == 0 else lo - 1
-        raise ProfileError(
-            f"profile {name!r} is not a function of y: y decreases at point {i_bad + 2} "
-            f"(y = {y[i_bad + 1] * 1e3:.3f} mm) inside the profile; expected y increasing "
-            "except for a folded-back flange back or rail flank at the ends")
-    log.info("profile %s: dropped %d folded-back end points", name, len(y) - (hi - lo))
-    return y[lo:hi], z[lo:hi]
 
 
 @njit(cache=True, nogil=True)
@@ -149,14 +120,19 @@ class Profile:
     Parameters
     ----------
     y, z : array_like
-        Lateral and vertical (downward) coordinates [m].  Points are sorted so that
-        y increases; duplicate points are removed; folded-back ends are trimmed.
+        Lateral and vertical (downward) coordinates [m], in order along the
+        surface.  Duplicate points are removed; where the points fold back in y the
+        visible surface is kept (:func:`~railcontact.profiles.processing.visible_surface`:
+        a rail seen from above, a wheel from the rail); a curve crossing itself is an
+        error.
     kind : {"wheel", "rail"}
         Which body the profile belongs to.
     name : str
         Label used in messages and results.
     smoothing : float, optional
-        Cut-off wavelength [m] of a smoothing spline; 0 (default) interpolates.
+        L_filt [m] of the smoothing spline along the arc length that the profile is
+        evaluated through (CONTACT's weighted spline: fluctuations of wavelength
+        L_filt are halved; kinks are kept); 0 (default) interpolates the points.
 
     A profile is immutable (its arrays are read-only): built-in profiles and parsed
     files are cached and shared by the cases that name them.  Methods such as
@@ -188,7 +164,9 @@ class Profile:
             y, z = y[::-1], z[::-1]
         keep = np.concatenate(([True], np.hypot(np.diff(y), np.diff(z)) > 1e-9))
         y, z = y[keep], z[keep]
-        y, z = _trim_foldback(y, z, self.name)
+        # points that fold back in y (a measured gauge face or flange back): the
+        # surface the other body sees (processing.visible_surface)
+        y, z = visible_surface(y, z, self.kind, self.name)
         width, height = y[-1] - y[0], np.ptp(z)
         if not (MIN_WIDTH <= width <= MAX_WIDTH) or height > MAX_HEIGHT:
             raise ProfileError(
@@ -214,11 +192,18 @@ class Profile:
     def _fit(self):
         y, z = self.y, self.z
         if self.smoothing > 0:
-            # penalised cubic smoothing spline; lam ~ (L / 2 pi)^4 puts the half-power
-            # cut-off near wavelength L for unit point weights per unit length
-            h = np.median(np.diff(y))
-            lam = (self.smoothing / (2 * np.pi)) ** 4 / h
-            return interpolate.make_smoothing_spline(y, z, lam=lam)
+            # smoothing spline along the arc length, split at the kinks (CONTACT's
+            # weighted spline: lambda = (L / 2 pi)^4 halves wavelength L), sampled
+            # densely; the function through its visible surface, held to the
+            # points' range [y_min, y_max] (the smoothed ends move by far less than
+            # a sample: cut there, or continued flat)
+            ys, zs = smooth_points(y, z, Smoothing("weighted", self.smoothing),
+                                   find_kinks(y, z))
+            ys, zs = visible_surface(ys, zs, self.kind, self.name)
+            inside = (ys > y[0]) & (ys < y[-1])
+            zl, zr = np.interp([y[0], y[-1]], ys, zs)
+            y, z = (np.concatenate(([y[0]], ys[inside], [y[-1]])),
+                    np.concatenate(([zl], zs[inside], [zr])))
         return interpolate.make_interp_spline(y, z, k=3)
 
     @property
@@ -269,7 +254,9 @@ class Profile:
                        smoothing=self.smoothing if smoothing is None else smoothing)
 
     def smoothed(self, length: float) -> "Profile":
-        """Return the profile smoothed with cut-off wavelength ``length`` [m]."""
+        """Return the profile smoothed along its arc length with cut-off wavelength
+        ``length`` [m] (L_filt of CONTACT's weighted smoothing spline; its points
+        stay, its evaluation is smoothed)."""
         if not (length > 0):
             raise ProfileError(f"smoothing length {length!r}: expected a length > 0 m")
         return self._new(self.y, self.z, smoothing=length)

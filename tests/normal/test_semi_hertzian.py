@@ -3,7 +3,6 @@
 import numpy as np
 import pytest
 
-import railcontact as rc
 from railcontact.geometry import ContactGeometry
 from railcontact.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
@@ -33,34 +32,27 @@ def test_kik_piotrowski_overestimates_area(AB):
     assert ns.pmax < hz.p0
 
 
-def _case(refdir, y, vpitch, method):
-    prof = refdir / "profiles"
-    return rc.case_from_dict({
-        "material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
-        "friction": {"coefficient": 0.3},
-        "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
-        "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
-        "wheelset": {"lateral_shift": y * 1e-3, "yaw": 2.4e-3 * y, "vertical_force": 1e4,
-                     "velocity": 2.0, "pitch_velocity": vpitch},
-        "solver": {"normal": method, "tangential": "fastsim", "element_size": [2e-4, 2e-4]}})
+#: cases of CONTACT's mbench_a22_kpec.inp: KPEC (B = 5) and ANALYN (B = 6) with
+#: modified FASTSIM (M = 3) on the right wheel of A-2.2
+KPEC_CASES = {("kpec", 0.0): 1, ("kpec", 0.5): 2, ("analyn", 0.0): 4, ("analyn", 0.5): 5}
 
 
 @pytest.mark.parametrize("method, y", [("analyn", 0.0), ("analyn", 0.5), ("kpec", 0.5),
                                        pytest.param("kpec", 0.0, marks=pytest.mark.xfail(
                                            strict=True, reason="pmax 347 vs 443 MPa (-22 %)"))])
 def test_against_contact_a22(refdir, method, y):
-    """CONTACT's KPEC/ANALYN (with FASTSIM) on A-2.2, right wheel: area and pmax 5 %."""
+    """CONTACT's KPEC/ANALYN (with FASTSIM) on A-2.2, right wheel, run from its input
+    file: area, p_max and approach within 5 %."""
+    from railcontact.contact_inp import solve_inp
     ref = {(r["method"], float(r["y_ws_mm"])): r
            for r in read_csv(refdir / "mbench_a22" / "a22_kpec.csv")}
-    a22 = {float(r["y_ws_mm"]): r for r in read_csv(refdir / "mbench_a22" / "a22_patches.csv")
-           if r["side"] == "right"}
     r = ref[(method, y)]
-    res = rc.solve(_case(refdir, y, float(a22[y]["vpitch_rad_s"]), method))
-    assert res.converged
-    (p,) = [q for q in res.patches if q.geometry.side == "right"]
-    assert p.normal.area == pytest.approx(float(r["area_mm2"]) * 1e-6, rel=0.05)
-    assert p.normal.pmax == pytest.approx(float(r["pmax_MPa"]) * 1e6, rel=0.05)
-    assert p.normal.penetration == pytest.approx(float(r["approach_mm"]) * 1e-3, rel=0.05)
+    (p,) = solve_inp(refdir / "mbench_a22" / "mbench_a22_kpec.inp",
+                     cases=[KPEC_CASES[(method, y)]], profile_dirs=[refdir / "profiles"])
+    assert p["converged"] and p["npatch"] == 1
+    assert p["area_mm2"] == pytest.approx(float(r["area_mm2"]), rel=0.05)
+    assert p["pmax_MPa"] == pytest.approx(float(r["pmax_MPa"]), rel=0.05)
+    assert p["approach_mm"] == pytest.approx(float(r["approach_mm"]), rel=0.05)
 
 
 @pytest.mark.parametrize("model", ["kik-piotrowski", "kpec", "stripes", "analyn"])

@@ -66,11 +66,13 @@ def test_bad_profiles(tmp_path):
         Profile(y, np.where(y > 0, np.nan, z))
     with pytest.raises(ProfileError, match="implausible"):
         Profile(y * 1e3, z)
-    # interior reversal: not a function of y
-    yb = y.copy()
+    # a curve that crosses itself (a loop) is no profile; one that folds back is
+    # (its visible surface, tests/profiles/test_processing.py)
+    yb, zb = y.copy(), z.copy()
     yb[20:25] = yb[20:25][::-1]
-    with pytest.raises(ProfileError, match="not a function of y"):
-        Profile(yb, z, kind="wheel", name="bad")
+    zb[20:25] = zb[20:25] + np.array([-2e-3, 2e-3, -2e-3, 2e-3, -2e-3])
+    with pytest.raises(ProfileError, match="crosses itself"):
+        Profile(yb, zb, kind="wheel", name="bad")
     p = tmp_path / "x.dat"
     p.write_text("1 2\n3 4\nabc def\n")
     with pytest.raises(ProfileError, match="not numeric"):

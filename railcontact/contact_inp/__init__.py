@@ -1,0 +1,98 @@
+"""CONTACT's input files (``.inp``) in railcontact.
+
+``railcontact solve FILE.inp`` and ``railcontact sweep FILE.inp`` read the cases of
+a CONTACT input file (module 1, wheel-rail; module 3, basic Hertzian contact),
+map each onto a railcontact case (:mod:`.mapping`; CONTACT's mm and N converted
+to SI), solve them with :func:`railcontact.solve`, and return one row per contact
+patch in CONTACT's units and frames (:mod:`.table`), so that results compare line
+by line with CONTACT's output.  An option railcontact does not support stops the
+run before any work with one line naming it (:class:`InpError`).
+
+>>> from railcontact.contact_inp import solve_inp
+>>> rows = solve_inp("mbench_sweep_10kN.inp", cases=[1, 2])       # doctest: +SKIP
+"""
+
+from __future__ import annotations
+
+import functools
+from pathlib import Path
+
+from .mapping import MappedCase, map_case
+from .reader import InpCase, InpError, read_inp
+from .table import COLUMNS, rows, to_csv, to_json, to_text
+
+__all__ = ["read_inp", "load_inp", "solve_inp", "map_case", "InpCase", "MappedCase",
+           "InpError", "COLUMNS", "rows", "to_csv", "to_json", "to_text"]
+
+
+def load_inp(path, cases=None, profile_dirs=()) -> list:
+    """The railcontact cases of a CONTACT input file, every one checked before any
+    is solved.
+
+    Parameters
+    ----------
+    path : str or Path
+        The ``.inp`` file.
+    cases : iterable of int, optional
+        Case numbers (1-based, in file order, as CONTACT counts them) to keep;
+        default all.
+    profile_dirs : iterable of str or Path
+        More folders where profile files are looked for (after the input file's
+        folder and the working directory).
+
+    Returns a list of :class:`MappedCase`.
+    """
+    read = read_inp(path)
+    if cases is not None:
+        want = sorted(set(int(c) for c in cases))
+        have = {c.number for c in read}
+        missing = [c for c in want if c not in have]
+        if missing:
+            raise InpError(f"{Path(path).name}: no case {missing[0]} (the file holds cases "
+                           f"1-{max(have)})")
+        read = [c for c in read if c.number in want]
+    return [map_case(c, tuple(profile_dirs)) for c in read]
+
+
+def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
+    """Solve mapped cases in order (each warm-started from the previous one where
+    ``warm``); returns each case's rows, or its one-line error."""
+    from ..case import case_from_dict
+    from ..errors import RailContactError
+    from ..solve import solve
+    out, prev = [], None
+    for m in items:
+        try:
+            res = solve(case_from_dict(m.raw), normal, tangential,
+                        warm_start=prev if warm else None)
+            prev = res
+            out.append(rows(res, m))
+        except RailContactError as exc:
+            prev = None
+            out.append([{"case": m.number, "module": m.module, "patch": 0, "npatch": 0,
+                         "converged": False, "message": f"error: {exc}"}])
+    return out
+
+
+def solve_inp(path, cases=None, profile_dirs=(), scheduler: str = "sync",
+              progress: bool = False, warm: bool = False, normal: str | None = None,
+              tangential: str | None = None) -> list:
+    """Solve the cases of a CONTACT input file; returns the rows of
+    :mod:`.table` (one per contact patch, CONTACT's units and frames), cases in
+    file order.
+
+    ``scheduler``: "sync" solves the cases one after the other (``railcontact
+    solve``), "auto", "processes", "threads" or a Dask address in parallel
+    (``railcontact sweep``; see :func:`railcontact.sweep`).  ``warm``: chains of
+    consecutive cases, each warm-started from the previous one.  ``normal``,
+    ``tangential``: models overriding the file's.
+    """
+    from ..sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
+    mapped = load_inp(path, cases, profile_dirs)
+    names = {m.raw["solver"]["normal"] for m in mapped} | {m.raw["solver"]["tangential"]
+                                                          for m in mapped}
+    expected = len(mapped) * max(CASE_SECONDS.get(n, OTHER_CASE_SECONDS) for n in names)
+    chain = functools.partial(_solve_inp_chain, normal=normal, tangential=tangential)
+    out = run_chains(chain, mapped, scheduler=scheduler, progress=progress, warm=warm,
+                     expected_seconds=expected, desc=Path(path).name)
+    return [r for case_rows in out for r in case_rows]

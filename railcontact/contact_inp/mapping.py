@@ -1,0 +1,346 @@
+"""From a CONTACT case (:class:`~railcontact.contact_inp.reader.InpCase`) to a
+railcontact case file (SI units), and what is not supported.
+
+Module 1 (wheel-rail) becomes a wheel-rail case in CONTACT's single-wheel mode
+(``wheelset.side`` and ``wheelset.roll`` given, as CONTACT solves one wheel of a
+given roll); module 3 with a Hertzian geometry (IPOTCN = -1 or -3) becomes a
+``[bodies]`` case.  Every option is checked: one that railcontact does not
+support raises :class:`~railcontact.contact_inp.reader.InpError` naming the case,
+the option and what is supported.  ``docs/contact_users.md`` lists the mapping.
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..geometry.turning import default_turn_distance
+from ..normal.hertz_theory import hertz_curvatures
+from .reader import InpCase, InpError
+
+MM = 1e-3
+
+
+@dataclass
+class MappedCase:
+    """A CONTACT case as a railcontact case dictionary (``raw``, for
+    :func:`railcontact.case.case_from_dict`) with what the results table needs to
+    return to CONTACT's frames (``meta``)."""
+
+    number: int
+    module: int
+    raw: dict
+    meta: dict = field(default_factory=dict)
+
+
+def _unsupported(case: InpCase, what: str, supported: str) -> InpError:
+    return InpError(f"{case.where()}: {what} is not supported; {supported}")
+
+
+def _need(case, name):
+    v = case.values.get(name)
+    if v is None:
+        raise InpError(f"{case.where()}: {name} is not set (no earlier case gave it)")
+    return v
+
+
+#: what the unsupported values of the control digits ask for (for the error message)
+MEANINGS = {
+    "T": {1: "transient shift or rolling, material-fixed grid", 2: "transient rolling"},
+    "D": {3: "planar contact with rigid slip on the actual surfaces", 4: "conformal contact",
+          5: "brute-force contact search", 6: "brute-force search for steep slopes",
+          7: "initial contact point and local angle", 8: "oblique view", 9: "oblique view"},
+    "B": {1: "compressible elastic layer", 2: "elliptical traction bound",
+          3: "parabolic traction bound", 4: "SDEC"},
+    "C": {4: "roller rig, left wheel", 5: "roller rig, right wheel"},
+    "F": {1: "total force FX_WS prescribed", 2: "moment MY_WS prescribed",
+          3: "massless rail model"},
+    "M": {1: "viscoelastic material", 2: "FASTSIM with one given flexibility",
+          4: "interfacial layer, plasticity", 6: "original FaStrip", 7: "FaStrip with full "
+          "sliding correction"},
+    "N": {0: "approach PEN prescribed"},
+    "C3": {3: "bilinear tractions", 4: "conformal influence coefficients",
+           9: "numerical influence coefficients"},
+    "H": {1: "surface temperatures", 3: "surface temperatures"},
+    "M2": {2: "proportional damping"},
+    "S": {1: "subsurface stresses", 2: "subsurface stresses", 3: "subsurface stresses"},
+}
+
+
+def _digit(case, letter, allowed: dict, label: str):
+    """The meaning of a control digit, or the one-line error naming it."""
+    v = case.digits[letter]
+    if v not in allowed:
+        supported = ", ".join(f"{k} ({m})" for k, m in allowed.items())
+        what = MEANINGS.get(letter, {}).get(v)
+        raise _unsupported(case, f"{label} = {v}" + (f" ({what})" if what else ""),
+                           f"expected {supported}")
+    return allowed[v]
+
+
+def _material(case) -> dict:
+    nu1, nu2 = _need(case, "POISS1"), _need(case, "POISS2")
+    g1, g2 = _need(case, "GG1") * 1e6, _need(case, "GG2") * 1e6      # N/mm^2 -> Pa
+    mat = {"young_modulus": 2.0 * g1 * (1.0 + nu1), "poisson_ratio": nu1}
+    if (g2, nu2) != (g1, nu1):
+        mat.update(wheel_young_modulus=2.0 * g2 * (1.0 + nu2), wheel_poisson_ratio=nu2)
+    return mat
+
+
+def _friction(case) -> dict:
+    law = case.values.get("FRICTION_LAW", 0)
+    if law != 0:
+        raise _unsupported(case, f"FRCLAW = {law} (friction depending on slip velocity or "
+                                 "temperature)", "expected L = 0 (Coulomb) or 1 (kept)")
+    if case.values.get("NVF", 0):
+        if case.digits["V"] == 2:
+            raise _unsupported(case, "VARFRC = 2 (friction varying along the track)",
+                               "expected V = 0 or 1 (varying across the rail profile)")
+        rows = case.values["VARFRC_ROWS"]
+        # Coulomb friction: CONTACT uses the kinetic coefficient (FKIN) throughout
+        return {"coefficient": rows[0][2],
+                "variation": {"angle": [r[0] for r in rows],
+                              "coefficient": [r[2] for r in rows]}}
+    return {"coefficient": _need(case, "FKIN")}
+
+
+def _tangential_model(case) -> tuple:
+    """(tangential model, options) from the TANG and MATER digits."""
+    if case.digits["T"] == 0:
+        return "none", {}
+    m = _digit(case, "M", {0: "exact", 3: "fastsim", 5: "fastrip"}, "MATER")
+    if m in ("fastsim", "fastrip"):
+        k0, alpha = case.values.get("K0_MF"), case.values.get("ALFAMF")
+        if k0 is not None and (abs(k0 - 1.0) > 1e-12 or abs(alpha - 1.0) > 1e-12):
+            raise _unsupported(case, f"K0_MF = {k0:g}, ALFAMF = {alpha:g} (slope reduction of "
+                                     "the modified FASTSIM)", "expected K0_MF = ALFAMF = 1")
+    return m, {}
+
+
+def _check_common(case) -> None:
+    d = case.digits
+    _digit(case, "T", {0: "frictionless compression", 3: "steady rolling"}, "TANG")
+    _digit(case, "S", {0: "no subsurface stresses"}, "STRESS")
+    _digit(case, "M2", {0: "no damping", 1: "kept"}, "MATER2")
+    _digit(case, "H", {0: "no temperatures"}, "HEAT")
+    _digit(case, "C3", {0: "kept", 1: "kept", 2: "elastic half-space"}, "INFLCF")
+    if d["L"] not in (0, 1):
+        _friction(case)
+    _digit(case, "L", {0: "Coulomb", 1: "kept"}, "FRCLAW")
+
+
+def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
+    """The railcontact case of one CONTACT case; InpError where it asks for what
+    railcontact does not support.  Profile files are looked up next to the input
+    file, in the working directory, then in ``profile_dirs``."""
+    _check_common(case)
+    if case.module == 3:
+        return _map_module3(case)
+    return _map_module1(case, profile_dirs)
+
+
+# ------------------------------------------------------------------ module 3
+def _map_module3(case: InpCase) -> MappedCase:
+    d, v = case.digits, case.values
+    normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
+    _digit(case, "N", {1: "normal force FN prescribed"}, "NORM")
+    _digit(case, "F", {0: "creepages prescribed"}, "FORCE")
+    _digit(case, "E", {0: "no extra rigid slip", 1: "kept"}, "EXRHS")
+    tang, topt = _tangential_model(case)
+    if abs(_need(case, "CHI")) > 1e-12:
+        raise _unsupported(case, f"CHI = {v['CHI']:g} rad (rolling direction)", "expected 0")
+    if (v.get("SPINXO") or 0.0) != 0.0 or (v.get("SPINYO") or 0.0) != 0.0:
+        raise _unsupported(case, "SPINXO, SPINYO (a spin centre off the origin)",
+                           "expected them left out")
+    ipotcn = _need(case, "IPOTCN")
+    mat = _material(case)
+    fn = _need(case, "FN")
+    from ..materials import Material
+    es = Material(**mat).contact_modulus
+    if ipotcn == -3:
+        a, b = v["AA"] * MM, v["BB"] * MM
+        A, B = hertz_curvatures(a, b, es, fn)
+    elif ipotcn == -1:
+        A, B = v["A1"] / MM, v["B1"] / MM        # 1/mm -> 1/m
+        from ..normal.hertz_theory import hertz_ellipse
+        h = hertz_ellipse(A, B, es, force=fn)
+        a, b = h.a, h.b
+    else:
+        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1 (curvatures A1, B1) or -3 "
+                                                      "(semi-axes AA, BB) of a Hertzian contact")
+    scale = _need(case, "SCALE")
+    raw = {"title": f"{case.path.name} case {case.number}", "material": mat,
+           "friction": _friction(case),
+           "bodies": {"radii": {"wheel_rolling": 1.0 / (2.0 * A),
+                                "wheel_lateral": 1.0 / (2.0 * B)},
+                      "normal_force": fn, "velocity": _need(case, "VELOC") * MM},
+           "creepage": {"longitudinal": _need(case, "CKSI"), "lateral": _need(case, "CETA"),
+                        "spin": _need(case, "CPHI") / MM},
+           "solver": {"normal": normal, "tangential": tang, "grid": [v["MX"], v["MY"]],
+                      # the potential contact area is SCALE times the ellipse
+                      "normal_options": {"margin": scale - 1.0} if normal == "exact" else {},
+                      "tangential_options": topt}}
+    return MappedCase(case.number, 3, raw, {"module": 3, "semi_axes_mm": (a / MM, b / MM)})
+
+
+# ------------------------------------------------------------------ module 1
+def _profile_path(case: InpCase, name: str, dirs) -> str:
+    p = Path(name.replace("\\", "/"))
+    if p.suffix.lower() in (".slcs", ".slcw"):
+        raise _unsupported(case, f"the variable profile {name!r} (slices file)",
+                           "expected one profile file per rail and wheel (.prr, .prw, .ban, .whl, "
+                           "or 2 columns)")
+    cands = [p] if p.is_absolute() else [case.path.parent / p, Path.cwd() / p] + \
+        [Path(dd) / p for dd in dirs] + [Path(dd) / p.name for dd in dirs]
+    for c in cands:
+        if c.is_file():
+            return str(c.resolve())
+    where = ", ".join(str(c.parent) for c in cands[:3])
+    raise InpError(f"{case.where()}: profile file {name!r} not found (looked in {where}); "
+                   "give its folder with --profiles DIR")
+
+
+def _profile_table(case: InpCase, prefix: str, dirs) -> dict:
+    """The case file's profile table ([wheel] or [rail]) of CONTACT's profile
+    inputs: MIRRORY, SCALE, SMOOTH, MIRRORZ and PRFOPT's ISMOOTH, ZIGTHRS,
+    KINKHIGH, KINKLOW, KINKWID."""
+    g = lambda k: case.values.get(prefix + k)   # noqa: E731
+    fname = _need(case, prefix + "FNAME")
+    path = _profile_path(case, fname, dirs)
+    t = {"profile": path, "mirror_y": g("MIRRORY") == 1,
+         "mirror_z": {1: True, -1: False}.get(g("MIRRORZ"), "auto"), "scale": g("SCALE")}
+    suffix = Path(path).suffix.lower()
+    if suffix not in (".prr", ".prw"):
+        t["units"] = "mm"                         # MiniProf and plain tables: mm
+    if g("MIRRORY") not in (-1, 0, 1) or g("MIRRORZ") not in (-1, 0, 1):
+        raise InpError(f"{case.where()}: {prefix}MIRRORY = {g('MIRRORY')}, MIRRORZ = "
+                       f"{g('MIRRORZ')}: expected -1, 0 or 1")
+    smooth, ismooth = g("SMOOTH"), g("ISMOOTH")
+    if smooth and smooth > 0:
+        if ismooth == 0:
+            t["smoothing"] = {"method": "unweighted", "lambda": smooth * MM ** 3}
+        elif ismooth == 1:
+            t["smoothing"] = {"method": "weighted", "length": smooth * MM}
+        else:
+            raise _unsupported(case, f"ISMOOTH = {ismooth} (B-spline smoothing) of "
+                                     f"{fname!r}", "expected 0 (lambda) or 1 (L_filt)")
+    if g("PRFOPT") >= 1:
+        t["zigzag"] = g("ZIGTHRS")
+        t["kinks"] = {"high": g("KINKHIGH"), "low": g("KINKLOW"), "width": g("KINKWID") * MM}
+    return t
+
+
+def _rail_frame(raw: dict, base_dir: Path) -> dict:
+    """What returns rail-profile coordinates and the track's vertical origin to
+    CONTACT's: railcontact places a rail file's origin in the track plane (and a
+    rail it inclines with its origin at the new top), CONTACT shifts the rail
+    until its top touches the track plane."""
+    from ..case import case_from_dict
+    from ..profiles import get_profile
+    case = case_from_dict(raw, base_dir)
+    options, units = case.profile_options("rail")
+    kw = {"units": units, **({"options": options} if options is not None else {})}
+    incl = float(raw["rail"].get("inclination", 0.0))
+    upright = get_profile(raw["rail"]["profile"], "rail", inclination=0.0, **kw)
+    mounted = upright.rotated(incl) if incl else upright
+    top = mounted.with_origin_at_top()
+    y0, z0 = float(mounted.y[0] - top.y[0]), float(mounted.z[0] - top.z[0])
+    if incl:
+        # railcontact's inclined rail has its origin at the top: undo that shift,
+        # then the rotation, for rail-profile coordinates; its top is at z = 0
+        return {"cant": incl, "origin_shift": (y0, z0), "z_top": 0.0}
+    return {"cant": 0.0, "origin_shift": (0.0, 0.0), "z_top": z0}
+
+
+def _map_module1(case: InpCase, dirs) -> MappedCase:
+    d, v = case.digits, case.values
+    side = _digit(case, "C", {0: "left", 1: "right"}, "CONFIG")
+    normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
+    force = _digit(case, "N", {0: "position", 1: "force"}, "NORM")
+    _digit(case, "F", {0: "pitch velocity prescribed"}, "FORCE")
+    _digit(case, "D", {0: "kept", 1: "kept", 2: "planar contact, contact locus"}, "DISCNS")
+    if d["E"] == 0 and "Y_WS" not in v:
+        raise InpError(f"{case.where()}: EWHEEL = 0 in the first case: no wheelset data")
+    tang, topt = _tangential_model(case)
+    sgn = 1.0 if side == "right" else -1.0
+    track = {}
+    if _need(case, "GAUGHT") <= 0:
+        # absolute placement: the rail-profile origin at (RAILY0, RAILZ0)
+        offset = sgn * _need(case, "RAILY0") * MM
+        if not 0.25 <= offset <= 1.0:
+            raise _unsupported(case, f"RAILY0 = {v['RAILY0']:g} mm on the {side} side",
+                               "expected the rail origin 250-1000 mm from the track centre "
+                               "on its side")
+        track["rail_offset"] = offset
+        if v.get("CANT"):
+            raise _unsupported(case, f"CANT = {v['CANT']:g} with absolute rail placement "
+                                     "(GAUGHT <= 0)", "expected CANT = 0 (a rail file as mounted)")
+    else:
+        track.update(gauge=_need(case, "GAUGWD") * MM, gauge_height=v["GAUGHT"] * MM)
+    if v.get("GAUGSQ", 0) not in (0, None):
+        raise _unsupported(case, f"GAUGSQ = {v['GAUGSQ']:g}", "expected 0 (the leftmost gauge "
+                                                              "face)")
+    if v.get("CURV"):
+        raise _unsupported(case, f"CURV = {v['CURV']:g} 1/mm (curved track)",
+                           "expected 0 (straight track)")
+    for name in ("DYRAIL", "DZRAIL", "DROLLR", "VYRAIL", "VZRAIL", "VROLLR"):
+        if v.get(name):
+            raise _unsupported(case, f"{name} = {v[name]:g} (rail deviations)", "expected 0")
+    for name in ("DXWHL", "DYWHL", "DZWHL", "DROLLW", "DYAWW", "DPITCHW", "VXWHL", "VYWHL",
+                 "VZWHL", "VROLLW", "VYAWW", "VPITCHW"):
+        if v.get(name):
+            raise _unsupported(case, f"{name} = {v[name]:g} (flexible wheelset deviations, "
+                                     f"EWHEEL = {d['E']})", "expected 0")
+    if v.get("YTAPE") is not None and abs(v["YTAPE"]) < 1000:
+        raise _unsupported(case, f"YTAPE = {v['YTAPE']:g} mm (tape circle offset)",
+                           "expected it left out")
+    for name in ("VZ_WS", "VROLL"):
+        if v.get(name):
+            raise _unsupported(case, f"{name} = {v[name]:g}", "expected 0 (railcontact's "
+                                                              "kinematic creepages use VS, VY, "
+                                                              "VYAW and VPITCH)")
+    if v.get("G_MISS") is not None and v["G_MISS"] >= 0:
+        raise _unsupported(case, f"G_MISS = {v['G_MISS']:g} mm (near-miss patches)",
+                           "expected it left out or negative")
+    a_sep = _need(case, "A_SEP")
+    if a_sep < math.pi / 2 - 1e-9:
+        raise _unsupported(case, f"A_SEP = {a_sep:.4f} rad", "expected at least pi/2: "
+                                                            "railcontact combines regions by "
+                                                            "their distance alone")
+    d_sep, d_comb = _need(case, "D_SEP"), _need(case, "D_COMB")
+    d_turn = v.get("D_TURN")
+    if d_turn is None:
+        d_turn = default_turn_distance(d_sep, d_comb)
+    base = case.path.parent
+    raw = {"title": f"{case.path.name} case {case.number}", "material": _material(case),
+           "friction": _friction(case),
+           "wheel": {**_profile_table(case, "W_", dirs),
+                     "nominal_radius": _need(case, "NOMRADW") * MM},
+           "rail": {**_profile_table(case, "R_", dirs), "inclination": _need(case, "CANT")},
+           "track": track,
+           "wheelset": {"flange_back_distance": _need(case, "FBDIST") * MM,
+                        "flange_back_position": _need(case, "FBPOS") * MM,
+                        "lateral_shift": _need(case, "Y_WS") * MM, "yaw": _need(case, "YAW"),
+                        "roll": _need(case, "ROLL"), "side": side,
+                        "velocity": _need(case, "VS_WS") * MM,
+                        "pitch_velocity": _need(case, "VPITCH"),
+                        "lateral_velocity": (v.get("VY_WS") or 0.0) * MM,
+                        "yaw_rate": v.get("VYAW") or 0.0,
+                        "combine_distance": d_sep * MM, "full_interaction_distance": d_comb * MM,
+                        "turn_distance": d_turn * MM if d_turn > d_sep else 0.0,
+                        "separation_angle": min(a_sep, math.pi)},
+           "solver": {"normal": normal, "tangential": tang,
+                      "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
+                      "tangential_options": topt}}
+    frame = _rail_frame(raw, base)
+    if "rail_offset" in track:
+        # CONTACT's rail origin at z = RAILZ0; railcontact's in the track plane
+        frame["z_top"] = -(v.get("RAILZ0") or 0.0) * MM
+    if force == "force":
+        raw["wheelset"]["vertical_force"] = _need(case, "FZ_WS")
+    else:
+        raw["wheelset"]["vertical_position"] = _need(case, "Z_WS") * MM + frame["z_top"]
+    meta = {"module": 1, "side": side, "nominal_radius": v["NOMRADW"] * MM,
+            "wheel_offset": (v["FBDIST"] / 2 - v["FBPOS"]) * MM, **frame}
+    return MappedCase(case.number, 1, raw, meta)

@@ -1,0 +1,408 @@
+"""Reading CONTACT's input files (``.inp``): the cases of modules 1 and 3.
+
+The format is that of CONTACT's user guide (eve70a/CONTACT, ``doc/user-guide``,
+appendix "Specification of the input file"):
+
+* ``%`` starts a comment; empty lines are skipped;
+* a group of values is read from one line, continuing on the next lines while
+  values are missing; text after the last value of a group is ignored (the
+  inputs name their variables there), text before it is an error;
+* optional values (the guide's ``{...}``) are read only from the line of the
+  group's last mandatory value, where they are numbers;
+* reals may carry ``d`` (degrees) or ``r`` (radians); strings are in single quotes;
+* a case starts with its module number (1 wheel-rail, 3 basic contact, 0 stop),
+  then its control words, whose digits say which inputs follow and which are kept
+  from the previous case of the same module.
+
+This module only reads: :class:`InpCase` holds the control digits and every value
+as CONTACT has them after the case was read (the kept ones included), in
+CONTACT's units (mm, N, rad, s).  What railcontact supports and how it maps onto a
+case file is :mod:`railcontact.contact_inp.mapping`.
+"""
+
+from __future__ import annotations
+
+import copy
+import math
+import re
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from ..errors import CaseFileError
+
+#: control words: digit names from left to right (module 1; module 3 without C and V)
+WORDS = {1: ("CPBTNFS", "VLDCMZE", "XHGIAOWR"), 3: ("PBTNFS", "LDCMZE", "XHGIAOWR")}
+
+_REAL = re.compile(r"^([-+]?(\d+\.?\d*|\.\d+)([eEdD][-+]?\d+)?)([dr]?)$")
+
+
+class InpError(CaseFileError):
+    """A CONTACT input file cannot be read, or asks for what railcontact does not
+    support."""
+
+
+def _real(tok: str):
+    """A real number of CONTACT's input (``180d`` in degrees, ``3.1r`` in radians,
+    Fortran's ``1.0D-3``), or None."""
+    m = _REAL.match(tok)
+    if not m:
+        return None
+    v = float(m.group(1).replace("D", "e").replace("d", "e") if m.group(3) else m.group(1))
+    return math.radians(v) if m.group(4) == "d" else v
+
+
+def _int(tok: str):
+    return int(tok) if re.fullmatch(r"[-+]?\d+", tok) else None
+
+
+class _Lines:
+    """The input's lines (comments stripped, empty ones skipped) and a position."""
+
+    def __init__(self, path: Path):
+        self.path = path
+        try:
+            text = path.read_text(errors="replace")
+        except OSError as exc:
+            raise InpError(f"{path}: cannot read: {exc}") from None
+        self.lines = []
+        for ln, line in enumerate(text.splitlines(), 1):
+            s = line.split("%", 1)[0].strip()
+            if s:
+                self.lines.append((ln, s))
+        self.i = 0
+
+    @property
+    def line_number(self) -> int:
+        return self.lines[self.i][0] if self.i < len(self.lines) else (
+            self.lines[-1][0] if self.lines else 0)
+
+    def error(self, what: str) -> InpError:
+        return InpError(f"{self.path.name}, line {self.line_number}: {what}")
+
+    @staticmethod
+    def _tokens(s: str):
+        return re.findall(r"'[^']*'|[^\s,]+", s)
+
+    def group(self, kinds: str, names: str, optional: str = ""):
+        """Read a group: ``kinds`` one letter per mandatory value (``i`` integer, ``d``
+        real, ``s`` quoted string), ``optional`` the optional ones (read from the
+        line of the last mandatory value where they are numbers).  ``names`` (comma
+        separated) name the values in errors.  Returns the list of values (None for
+        optional values not given)."""
+        names_l = [n.strip() for n in names.split(",")]
+        out = []
+        toks, j = [], 0
+        while len(out) < len(kinds):
+            if j >= len(toks):
+                if self.i >= len(self.lines):
+                    raise self.error(f"unexpected end of file reading {names}")
+                toks, j = self._tokens(self.lines[self.i][1]), 0
+                self.i += 1
+            kind, tok = kinds[len(out)], toks[j]
+            val = _parse(kind, tok)
+            if val is None:
+                self.i -= 1
+                raise self.error(f"{names_l[min(len(out), len(names_l) - 1)]} = {tok!r}: "
+                                 f"expected {_KIND_NAMES[kind]}")
+            out.append(val)
+            j += 1
+        for kind in optional:
+            val = _parse(kind, toks[j]) if j < len(toks) else None
+            if val is None:
+                break
+            out.append(val)
+            j += 1
+        out += [None] * (len(kinds) + len(optional) - len(out))
+        return out
+
+    def done(self) -> bool:
+        return self.i >= len(self.lines)
+
+
+_KIND_NAMES = {"i": "an integer", "d": "a real number", "s": "a quoted file name"}
+
+
+def _parse(kind, tok):
+    if kind == "i":
+        return _int(tok)
+    if kind == "d":
+        return _real(tok)
+    if kind == "s":
+        return tok[1:-1] if len(tok) >= 2 and tok[0] == tok[-1] == "'" else None
+    raise ValueError(kind)
+
+
+def _digits(word: str, value: int, line: _Lines) -> dict:
+    """The digits of a control word, named by the letters of ``word`` (from the
+    right: leading zeros may be left out; X of XHGIAOWR is 0 when the word has
+    seven digits)."""
+    if value < 0:
+        raise line.error(f"control word {word} = {value}: expected a non-negative integer")
+    s = str(value).rjust(len(word), "0")
+    if len(s) > len(word):
+        raise line.error(f"control word {word} = {value}: expected at most {len(word)} digits")
+    return {c: int(d) for c, d in zip(word, s)}
+
+
+@dataclass
+class InpCase:
+    """One case of a CONTACT input file, as CONTACT holds it after reading it.
+
+    ``digits``: the control digits (module 1: C P B T N F S V L D C3 M Z E M2 X H G I
+    A O W R; the influence-coefficient digit is ``C3``); ``values``: every input
+    value in CONTACT's units (names of the user guide), kept ones included;
+    ``read``: the names read in this case (not kept from an earlier one).
+    """
+
+    path: Path
+    number: int
+    module: int
+    line: int
+    digits: dict
+    values: dict = field(default_factory=dict)
+    read: set = field(default_factory=set)
+
+    def where(self) -> str:
+        return f"{self.path.name}, case {self.number} (line {self.line})"
+
+
+def read_inp(path) -> list:
+    """All cases of a CONTACT input file up to its ``0 MODULE`` (or its end), as
+    :class:`InpCase`; cases with RETURN digit 2 or 3 (preprocessing only) are
+    read and left out.  Raises :class:`InpError` (one line: file, line, what was
+    expected) where the file does not follow the format."""
+    path = Path(path)
+    if not path.is_file():
+        raise InpError(f"CONTACT input file {str(path)!r} does not exist")
+    lines = _Lines(path)
+    state = {1: {}, 3: {}}                      # per module: the values kept
+    cases, number = [], 0
+    while not lines.done():
+        first = lines.line_number
+        module, = lines.group("i", "MODULE")
+        if module == 0:
+            break
+        if module not in (1, 3):
+            raise lines.error(f"MODULE = {module}: expected 1 (wheel-rail), 3 (basic contact) "
+                              "or 0 (stop)")
+        number += 1
+        case = InpCase(path, number, module, first, {}, copy.deepcopy(state[module]))
+        _read_case(lines, case)
+        state[module] = copy.deepcopy(case.values)
+        if case.digits["R"] in (0, 1):
+            cases.append(case)
+    if not cases:
+        raise InpError(f"{path.name}: no case found; expected cases starting with '1 MODULE' "
+                       "or '3 MODULE'")
+    return cases
+
+
+def _put(case, names: str, vals):
+    for n, v in zip([n.strip() for n in names.split(",")], vals):
+        if v is not None or n not in case.values:
+            case.values[n] = v
+        case.read.add(n)
+
+
+def _read_case(lines: _Lines, case: InpCase) -> None:
+    """Read one case's control words and the inputs they call for (the user
+    guide's input specification of modules 1 and 3)."""
+    m1 = case.module == 1
+    w1, w2, w3 = WORDS[case.module]
+    d = {}
+    d.update(_digits(w1, lines.group("i", w1)[0], lines))
+    word2, m2 = lines.group("i", w2, "i")
+    dd = _digits(w2, word2, lines)
+    dd["C3"] = dd.pop("C")
+    d.update(dd)
+    d["M2"] = m2 if m2 is not None else 0
+    d.update(_digits(w3, lines.group("i", w3)[0], lines))
+    if not m1:
+        d["C"], d["V"] = 1, 0
+    case.digits = d
+    put = lambda names, vals: _put(case, names, vals)   # noqa: E731
+    if d["X"] == 1:
+        put("PSFLCIN", lines.group("i", "PSFLCIN", "i"))
+    if d["G"] != 1:
+        if m1:
+            put("MAXGS, MAXIN, MAXNR, MAXOUT, EPS, NPOT_MAX",
+                lines.group("iiiid", "MAXGS, MAXIN, MAXNR, MAXOUT, EPS", "i"))
+        else:
+            put("MAXGS, MAXIN, MAXNR, MAXOUT, EPS", lines.group("iiiid", "MAXGS, MAXIN, MAXNR, "
+                                                                "MAXOUT, EPS"))
+    if d["G"] in (2, 3):
+        put("OMEGAH, OMEGAS, INISLP, OMGSLP",
+            lines.group("ddid", "OMEGAH, OMEGAS, INISLP, OMGSLP"))
+    elif d["G"] == 4:
+        put("INISLP, OMGSLP", lines.group("id", "INISLP, OMGSLP"))
+    elif d["G"] == 5:
+        put("FDECAY, BETATH, KDOWFB, D_IFC, D_LIN, D_CNS, D_SLP, POW_S",
+            lines.group("dddddddd", "FDECAY, BETATH, KDOWFB, D_IFC, D_LIN, D_CNS, D_SLP, POW_S"))
+    if not m1:
+        put("FN, CKSI, CETA, CPHI, SPINXO, SPINYO" if d["N"] == 1 else
+            "PEN, CKSI, CETA, CPHI, SPINXO, SPINYO",
+            lines.group("dddd", "PEN/FN, CKSI/FXREL, CETA/FYREL, CPHI", "dd"))
+    _read_friction(lines, case, d)
+    if m1:
+        _read_materials(lines, case, d)
+        if d["D"] >= 2:
+            put("DX, DS, DQREL, A_SEP, D_SEP, D_COMB, D_TURN, G_MISS",
+                lines.group("dddddd", "DX, DS, DQREL, A_SEP, D_SEP, D_COMB", "dd"))
+        _read_track(lines, case, d)
+        _read_wheelset(lines, case, d)
+    else:
+        _read_materials(lines, case, d)
+        if d["D"] == 2:
+            ipotcn, = lines.group("i", "IPOTCN")
+            put("IPOTCN", [ipotcn])
+            spec = {-1: "MX, MY, A1, B1, SCALE", -2: "MX, MY, A1, AOB, SCALE",
+                    -3: "MX, MY, AA, BB, SCALE", -4: "MX, MY, A1, BB, SCALE",
+                    -5: "MX, MY, AA, BB, SCALE", -6: "MX, MY, AA, BNEG, BPOS, SCALE",
+                    1: "MX, MY, XL, YL, DX, DY", 2: "MX, MY, XL, YL, XH, YH",
+                    3: "MX, MY, XC1, YC1, DX, DY", 4: "MX, MY, XC1, YC1, XCM, YCM"}.get(ipotcn)
+            if spec is None:
+                raise lines.error(f"IPOTCN = {ipotcn}: expected -6 .. -1 or 1 .. 4")
+            kinds = "ii" + "d" * (spec.count(",") - 1)
+            put(spec, lines.group(kinds, spec))
+            if d["Z"] > 1 and ipotcn > 0:
+                raise lines.error("a non-Hertzian undeformed distance (IPOTCN > 0: IBASE, "
+                                  "IPLAN) is not supported; expected IPOTCN = -1 or -3")
+    if d["S"] in (2, 3):
+        raise lines.error(f"subsurface stresses (STRESS = {d['S']}) are not supported; "
+                          "expected S = 0")
+
+
+def _read_friction(lines, case, d):
+    put = lambda names, vals: _put(case, names, vals)   # noqa: E731
+    law = d["L"]
+    if law == 1:
+        return
+    params = {0: ("FSTAT, FKIN", "dd"), 2: ("FKIN, FLIN1, SABSH1, FLIN2, SABSH2", "ddddd"),
+              3: ("FKIN, FRAT1, SABSH1, FRAT2, SABSH2", "ddddd"),
+              4: ("FKIN, FEXP1, SABSH1, FEXP2, SABSH2", "ddddd"),
+              5: ("FKIN, FEXP1, SABSH1, FEXP2, SABSH2", "ddddd"),
+              6: ("FREF, TREF, DFHEAT, DTHEAT", "dddd")}.get(law)
+    if params is None:
+        raise lines.error(f"FRCLAW = {law}: expected 0 .. 6")
+    names, kinds = params
+    case.values["FRICTION_LAW"] = law
+    if d["V"] == 0:
+        put(names, lines.group(kinds, names))
+        case.values["NVF"] = 0
+    else:
+        nvf, = lines.group("i", "NVF")
+        if nvf < 1:
+            raise lines.error(f"NVF = {nvf}: expected at least one friction control point")
+        rows = [lines.group("d" + kinds, "ALPHA/SVF, " + names) for _ in range(nvf)]
+        case.values["NVF"] = nvf
+        case.values["VARFRC_ROWS"] = rows
+        case.read.update(("NVF", "VARFRC_ROWS"))
+    if law in (2, 3, 4, 5, 6):
+        put("MEMDST, MEM_S0", lines.group("dd", "MEMDST, MEM_S0"))
+
+
+def _read_materials(lines, case, d):
+    put = lambda names, vals: _put(case, names, vals)   # noqa: E731
+    c3, m = d["C3"], d["M"]
+    if c3 >= 2:
+        _read_elastic(lines, case, d, put)
+    if d["M2"] == 2:
+        put("CDAMPN, CDAMPT, DFNMAX, DFTMAX", lines.group("dddd", "CDAMPN, CDAMPT, DFNMAX, "
+                                                          "DFTMAX"))
+    if d["H"] == 3:
+        put("BKTEMP1, HEATCP1, LAMBDA1, DENS1, BKTEMP2, HEATCP2, LAMBDA2, DENS2",
+            lines.group("dddddddd", "BKTEMP1, HEATCP1, LAMBDA1, DENS1, BKTEMP2, HEATCP2, "
+                                    "LAMBDA2, DENS2"))
+        if m == 4:
+            put("BETAPL", lines.group("d", "BETAPL"))
+
+
+def _read_elastic(lines, case, d, put):
+    """The inputs of INFLCF >= 2: rolling step (module 3), materials, model
+    parameters."""
+    c3, m = d["C3"], d["M"]
+    if case.module == 3:
+        if d["T"] <= 1 and m == 5:
+            put("DT", lines.group("d", "DT"))
+        if d["T"] > 1:
+            put("CHI, DQ, VELOC", lines.group("ddd", "CHI, DQ, VELOC"))
+        if c3 == 4:
+            raise lines.error("conformal influence coefficients (INFLCF = 4) are not supported")
+        if c3 == 9:
+            put("CFNAME", lines.group("s", "CFNAME"))
+    elif c3 == 4:
+        put("IF_METH, VARIANT", lines.group("ii", "IF_METH, VARIANT"))
+    put("POISS1, POISS2, GG1, GG2", lines.group("dddd", "POISS1, POISS2, GG1, GG2"))
+    if d["B"] == 1:
+        put("FLXZ", lines.group("d", "FLXZ"))
+    if m == 1:
+        put("FG1, FG2, VT1, VT2", lines.group("dddd", "FG1, FG2, VT1, VT2"))
+    elif m == 2:
+        put("FLX, K0_MF, ALFAMF, BETAMF", lines.group("dddd", "FLX, K0_MF, ALFAMF, BETAMF"))
+    elif m in (3, 5):
+        put("K0_MF, ALFAMF, BETAMF", lines.group("ddd", "K0_MF, ALFAMF, BETAMF"))
+    elif m == 4:
+        put("GG3, LAYTHK, TAU_C0, K_TAU", lines.group("dddd", "GG3, LAYTHK, TAU_C0, K_TAU"))
+
+
+def _read_profile_line(lines, case, prefix: str):
+    """``'FNAME' MIRRORY SCALE SMOOTH {MIRRORZ} {PRFOPT}`` and the lines PRFOPT
+    calls for, stored as ``<prefix>FNAME`` etc. (prefix R_ or W_)."""
+    fname, mir_y, scale, smooth, mir_z, prfopt = lines.group(
+        "sidd", f"{prefix}FNAME, MIRRORY, SCALE, SMOOTH", "ii")
+    vals = {"FNAME": fname, "MIRRORY": mir_y, "SCALE": scale, "SMOOTH": smooth,
+            "MIRRORZ": mir_z or 0, "PRFOPT": prfopt or 0, "ISMOOTH": 0,
+            "ZIGTHRS": None, "KINKHIGH": None, "KINKLOW": None, "KINKWID": None}
+    if vals["PRFOPT"] >= 1:
+        vals.update(zip(("ISMOOTH", "ZIGTHRS", "KINKHIGH", "KINKLOW", "KINKWID"),
+                        lines.group("idddd", "ISMOOTH, ZIGTHRS, KINKHIGH, KINKLOW, KINKWID")))
+    if vals["PRFOPT"] >= 2:
+        vals.update(zip(("ERRHND", "MAXOMIT"), lines.group("id", "ERRHND, MAXOMIT")))
+    for k, v in vals.items():
+        case.values[prefix + k] = v
+        case.read.add(prefix + k)
+
+
+def _read_track(lines, case, d):
+    put = lambda names, vals: _put(case, names, vals)   # noqa: E731
+    z = d["Z"]
+    if z in (1, 3):
+        gaught, a, b, c, curv = lines.group("dddd", "GAUGHT, GAUGSQ/RAILY0, GAUGWD/RAILZ0, CANT",
+                                            "d")
+        if gaught > 0:
+            put("GAUGHT, GAUGSQ, GAUGWD, CANT, CURV", [gaught, a, b, c, curv or 0.0])
+        else:
+            put("GAUGHT, RAILY0, RAILZ0, CANT, CURV", [gaught, a, b, c, curv or 0.0])
+    if z == 3:
+        _read_profile_line(lines, case, "R_")
+    if z in (2, 3):
+        put("DYRAIL, DZRAIL, DROLLR, VYRAIL, VZRAIL, VROLLR",
+            lines.group("dddddd", "DYRAIL, DZRAIL, DROLLR, VYRAIL, VZRAIL, VROLLR"))
+        if d["F"] == 3:
+            put("KYRAIL, FYRAIL, KZRAIL, FZRAIL, DYSTEP0",
+                lines.group("dddd", "KYRAIL, FYRAIL, KZRAIL, FZRAIL", "d"))
+
+
+def _read_wheelset(lines, case, d):
+    put = lambda names, vals: _put(case, names, vals)   # noqa: E731
+    e = d["E"]
+    if e in (3, 5):
+        put("FBDIST, FBPOS, NOMRADW, YTAPE", lines.group("ddd", "FBDIST, FBPOS, NOMRADW", "d"))
+        _read_profile_line(lines, case, "W_")
+    if e >= 1:
+        put(f"S_WS, Y_WS, {'FZ_WS' if d['N'] == 1 else 'Z_WS'}, ROLL, YAW, PITCH",
+            lines.group("dddddd", "S_WS, Y_WS, Z_WS/FZ_WS, ROLL, YAW, PITCH"))
+    if e >= 2:
+        if d["T"] == 1:
+            put("SHFT_SWS, SHFT_YWS, SHFT_ZWS, SHFT_ROL, SHFT_YAW, SHFT_WPIT",
+                lines.group("dddddd", "SHFT_SWS, SHFT_YWS, SHFT_ZWS, SHFT_ROL, SHFT_YAW, "
+                                      "SHFT_WPIT"))
+        else:
+            last = {0: "VPITCH", 1: "FX_WS", 2: "MY_WS"}.get(d["F"], "VPITCH")
+            put(f"VS_WS, VY_WS, VZ_WS, VROLL, VYAW, {last}",
+                lines.group("dddddd", f"VS_WS, VY_WS, VZ_WS, VROLL, VYAW, {last}"))
+    if e >= 4:               # on two lines (positions, velocities), as CONTACT reads them
+        put("DXWHL, DYWHL, DZWHL, DROLLW, DYAWW, DPITCHW",
+            lines.group("dddddd", "DXWHL, DYWHL, DZWHL, DROLLW, DYAWW, DPITCHW"))
+        put("VXWHL, VYWHL, VZWHL, VROLLW, VYAWW, VPITCHW",
+            lines.group("dddddd", "VXWHL, VYWHL, VZWHL, VROLLW, VYAWW, VPITCHW"))

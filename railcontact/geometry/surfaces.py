@@ -1,0 +1,443 @@
+"""Rail surfaces in three dimensions: prismatic rails, rails that vary along the
+track (slices), rollers; and their placement.
+
+A surface gives the height z(s, y) [m] (down, rail-profile coordinates) and its
+lateral slope dz/dy at track positions s [m] and lateral profile positions y [m]
+(positive to the field side of a right rail); NaN where there is no surface.
+
+* :class:`ProfileSurface`: one profile, the same at every s (a straight rail).
+* :class:`SlicedSurface`: a rail given by slices (:class:`railcontact.profiles.
+  slices.RailSlices`), interpolated as CONTACT does (its user guide, "3D surface
+  building"): each slice is resampled uniformly in its summed chord length, part
+  by part between its features, with as many points per part in every slice
+  (1 + int(longest part / ``spacing``) segments; CONTACT's spacing 0.5 mm); the
+  points of equal index form 'interpolation paths' y_j(s), z_j(s) along the track,
+  interpolated by cubic splines through the slices (not-a-knot); the cross-section
+  at s is the curve through (y_j(s), z_j(s)), a parametric natural cubic spline in
+  its summed chord length (CONTACT's ``varprof_get_loc_z_at_xy``; a spline in the
+  point index instead oscillates by about 1 um where the resampling's spacing
+  changes at a feature, enough to move the approach by 2 % on a nose's edge).
+* :class:`RollerSurface`: a roller of a roller rig, the profile revolved about an
+  axis along y at depth ``radius`` below its crown: z(x, y) = R - sqrt((R - z_p(y))^2
+  - x^2), x = s - ``position``.
+
+:class:`PlacedRail` places a surface in the side frame of a wheel (y to the field
+side, z down): its profile origin at (``lateral_position``, ``vertical_position``).
+"""
+
+from __future__ import annotations
+
+import math
+from collections import OrderedDict
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from scipy.interpolate import CubicSpline, make_interp_spline
+
+from ..errors import InputError, ProfileError
+from ..profiles.profile import Profile
+from ..profiles.slices import RailSlices
+
+#: CONTACT's largest spacing [m] of the resampled slices (``ds_max2d`` = 0.5 mm)
+SLICE_SPACING = 5e-4
+
+
+class ProfileSurface:
+    """A prismatic rail: the profile ``profile`` at every position s."""
+
+    def __init__(self, profile: Profile):
+        if profile.kind != "rail":
+            raise ProfileError(f"profile {profile.name!r} is a wheel profile; expected a rail")
+        self.profile = profile
+        self.name = profile.name
+
+    def height(self, s, y):
+        """Height z [m] and slope dz/dy [-] at (s, y) (arrays of one shape)."""
+        s, y = np.broadcast_arrays(np.asarray(s, float), np.asarray(y, float))
+        z, d = self.profile.z_and_slope(y)
+        return np.asarray(z, float), np.asarray(d, float)
+
+    def section(self, s: float) -> Profile:
+        """The cross-section at s."""
+        return self.profile
+
+    def s_range(self) -> tuple:
+        return (-math.inf, math.inf)
+
+
+@njit(cache=True, nogil=True)
+def _interval(Y, r, m, yk):
+    """The interval i of row r's samples Y[r, :m] (increasing) with Y[r, i] <= yk <=
+    Y[r, i + 1], by bisection."""
+    lo, hi = 0, m - 1
+    while hi - lo > 1:
+        mid = (lo + hi) // 2
+        if Y[r, mid] <= yk:
+            lo = mid
+        else:
+            hi = mid
+    return lo
+
+
+@njit(cache=True, nogil=True)
+def _hermite(Y, Z, B, n, row, y, z, dz):
+    """z(y) and dz/dy on the rows of cross-sections (points Y[r, :n[r]], Z[r, :n[r]],
+    Y increasing): cubic Hermite interpolation with the three-point slopes of the
+    samples, one-sided at the break points B (the features: a kink may lie there);
+    NaN outside a row."""
+    for k in range(y.size):
+        r = row[k]
+        m = n[r]
+        yk = y[k]
+        if m < 2 or not (Y[r, 0] <= yk <= Y[r, m - 1]):
+            z[k] = np.nan
+            dz[k] = np.nan
+            continue
+        i = _interval(Y, r, m, yk)
+        h = Y[r, i + 1] - Y[r, i]
+        # three-point slopes at i and i+1 (one-sided at the ends)
+        d0 = (Z[r, i + 1] - Z[r, i]) / h
+        if i > 0 and not B[r, i]:
+            h0 = Y[r, i] - Y[r, i - 1]
+            s0 = (Z[r, i] - Z[r, i - 1]) / h0
+            m0 = (h * s0 + h0 * d0) / (h0 + h)
+        else:
+            m0 = d0
+        if i + 2 < m and not B[r, i + 1]:
+            h2 = Y[r, i + 2] - Y[r, i + 1]
+            s2 = (Z[r, i + 2] - Z[r, i + 1]) / h2
+            m1 = (h2 * d0 + h * s2) / (h + h2)
+        else:
+            m1 = d0
+        t = (yk - Y[r, i]) / h
+        t2 = t * t
+        t3 = t2 * t
+        z[k] = ((2 * t3 - 3 * t2 + 1) * Z[r, i] + (t3 - 2 * t2 + t) * h * m0
+                + (-2 * t3 + 3 * t2) * Z[r, i + 1] + (t3 - t2) * h * m1)
+        dz[k] = ((6 * t2 - 6 * t) * Z[r, i] / h + (3 * t2 - 4 * t + 1) * m0
+                 + (-6 * t2 + 6 * t) * Z[r, i + 1] / h + (3 * t2 - 2 * t) * m1)
+
+
+@njit(cache=True, nogil=True)
+def _tensor(CY, CZ, Y, n, mono, row, y, z, dz):
+    """z(y) and dz/dy on cross-sections given as parametric cubic splines in the
+    point index v (coefficients CY, CZ (4, nv - 1, rows), highest power first; the
+    samples Y[r, :n[r]]): the interval holding y by bisection, its parameter by
+    Newton's method on Y(v) = y.  Rows whose Y is not increasing (``mono`` False)
+    and points outside a row give NaN (the caller uses the samples instead)."""
+    for k in range(y.size):
+        r = row[k]
+        m = n[r]
+        yk = y[k]
+        if not mono[r] or m < 2 or not (Y[r, 0] <= yk <= Y[r, m - 1]):
+            z[k] = np.nan
+            dz[k] = np.nan
+            continue
+        j = _interval(Y, r, m, yk)
+        a0, a1, a2, a3 = CY[0, j, r], CY[1, j, r], CY[2, j, r], CY[3, j, r] - yk
+        t = (yk - Y[r, j]) / (Y[r, j + 1] - Y[r, j])
+        for _ in range(20):
+            f = ((a0 * t + a1) * t + a2) * t + a3
+            d = (3.0 * a0 * t + 2.0 * a1) * t + a2
+            if d == 0.0:
+                break
+            step = f / d
+            t = min(max(t - step, 0.0), 1.0)
+            if abs(step) < 1e-14:
+                break
+        b0, b1, b2, b3 = CZ[0, j, r], CZ[1, j, r], CZ[2, j, r], CZ[3, j, r]
+        z[k] = ((b0 * t + b1) * t + b2) * t + b3
+        dzt = (3.0 * b0 * t + 2.0 * b1) * t + b2
+        dyt = (3.0 * a0 * t + 2.0 * a1) * t + a2
+        dz[k] = dzt / dyt if dyt != 0.0 else np.nan
+
+
+@njit(cache=True, nogil=True)
+def _chord_splines(Ys, Zs, cy, cz):
+    """Natural cubic splines y(c), z(c) of each row of points in its summed chord
+    length c (CONTACT's cross-sections: ``varprof_get_loc_z_at_xy`` fits a spline
+    in arc length through the resampled points), as coefficients in the local
+    parameter t in [0, 1] of each interval (highest power first), written into cy,
+    cz of shape (4, n - 1, rows)."""
+    rows, n = Ys.shape
+    h = np.empty(n - 1)
+    diag = np.empty(n)
+    rhs = np.empty(n)
+    M = np.empty(n)
+    cp = np.empty(n)
+    for r in range(rows):
+        for i in range(n - 1):
+            h[i] = max(math.hypot(Ys[r, i + 1] - Ys[r, i], Zs[r, i + 1] - Zs[r, i]), 1e-15)
+        for arr, out in ((Ys, cy), (Zs, cz)):
+            # natural spline: second derivatives M by the Thomas algorithm
+            M[0] = 0.0
+            M[n - 1] = 0.0
+            if n > 2:
+                for i in range(1, n - 1):
+                    diag[i] = 2.0 * (h[i - 1] + h[i])
+                    rhs[i] = 6.0 * ((arr[r, i + 1] - arr[r, i]) / h[i]
+                                    - (arr[r, i] - arr[r, i - 1]) / h[i - 1])
+                cp[1] = h[1] / diag[1] if n > 3 else 0.0
+                rhs[1] = rhs[1] / diag[1]
+                for i in range(2, n - 1):
+                    den = diag[i] - h[i - 1] * cp[i - 1]
+                    cp[i] = h[i] / den if i < n - 2 else 0.0
+                    rhs[i] = (rhs[i] - h[i - 1] * rhs[i - 1]) / den
+                M[n - 2] = rhs[n - 2]
+                for i in range(n - 3, 0, -1):
+                    M[i] = rhs[i] - cp[i] * M[i + 1]
+            for i in range(n - 1):
+                hi = h[i]
+                out[0, i, r] = (M[i + 1] - M[i]) / (6.0 * hi) * hi ** 3
+                out[1, i, r] = 0.5 * M[i] * hi * hi
+                out[2, i, r] = (arr[r, i + 1] - arr[r, i]) - hi * hi * (2.0 * M[i] + M[i + 1]) / 6.0
+                out[3, i, r] = arr[r, i]
+
+
+class SlicedSurface:
+    """A rail that varies along the track, interpolated between its slices (see
+    the module notes).
+
+    Parameters
+    ----------
+    slices : RailSlices
+    spacing : float
+        Largest spacing [m] of the resampled slices (default CONTACT's 0.5 mm).
+    """
+
+    #: cross-sections kept (by position), each a row of ~n_paths points
+    CACHE = 4096
+
+    def __init__(self, slices: RailSlices, spacing: float = SLICE_SPACING):
+        if not (isinstance(spacing, (int, float)) and 1e-5 <= spacing <= 5e-3):
+            raise InputError(f"slice spacing {spacing!r} m: expected a value in [1e-5, 5e-3]")
+        self.slices = slices
+        self.name = slices.name
+        self.spacing = float(spacing)
+        Y, Z, self._breaks = self._resample(slices, self.spacing)
+        self.paths = (Y, Z)
+        self._y = CubicSpline(slices.s, Y, axis=0, bc_type="not-a-knot")
+        self._z = CubicSpline(slices.s, Z, axis=0, bc_type="not-a-knot")
+        self._cache: OrderedDict = OrderedDict()
+
+    @staticmethod
+    def _resample(slices: RailSlices, spacing: float):
+        """Each slice at the same number of points per part, uniformly in its summed
+        chord length (CONTACT's varprof_make_vj / make_2dspline)."""
+        n = len(slices)
+        chords, splines = [], []
+        for p in slices.profiles:
+            c = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(p.y), np.diff(p.z)))))
+            chords.append(c)
+            splines.append((make_interp_spline(c, p.y, k=3), make_interp_spline(c, p.z, k=3)))
+        if slices.features is None:
+            feats = np.array([[0.0, c[-1]] for c in chords])
+        else:
+            feats = np.array(slices.features, dtype=float)
+            for k, c in enumerate(chords):
+                feats[k, -1] = min(feats[k, -1], c[-1])     # the last feature: the end
+        lengths = np.diff(feats, axis=1)
+        if np.any(lengths <= 1e-9):
+            k = int(np.flatnonzero((lengths <= 1e-9).any(axis=1))[0])
+            raise ProfileError(f"rail slices {slices.name!r}: the features of slice {k + 1} "
+                               f"(s = {slices.s[k]:.6g} m) are not increasing within the "
+                               "profile")
+        nseg = 1 + ((lengths.max(axis=0) + 1e-9) / spacing).astype(int)
+        nv = int(nseg.sum()) + 1
+        breaks = np.zeros(nv, dtype=bool)
+        breaks[np.cumsum(nseg)[:-1]] = True            # the inner features
+        Y = np.empty((n, nv))
+        Z = np.empty((n, nv))
+        for k in range(n):
+            sj = [feats[k, 0]]
+            for p, m in enumerate(nseg):
+                sj.append(feats[k, p] + lengths[k, p] * np.arange(1, m + 1) / m)
+            sj = np.clip(np.concatenate([np.atleast_1d(v) for v in sj]), 0.0, chords[k][-1])
+            Y[k] = splines[k][0](sj)
+            Z[k] = splines[k][1](sj)
+        return Y, Z, breaks
+
+    def _rows(self, s_unique):
+        """Cross-sections at the positions ``s_unique`` (cached by position): their
+        samples (y_j, z_j) and parametric cubic splines in j; rows whose y is not
+        increasing (a fold-back, seen from above) also as the samples that keep y
+        increasing (points behind the running maximum dropped).  Returns the arrays
+        of :func:`_tensor` and :func:`_hermite`."""
+        keys = [round(float(v), 12) for v in s_unique]
+        missing = sorted({k for k in keys if k not in self._cache})
+        if missing:
+            m = np.asarray(missing, float)
+            lo, hi = self.slices.s[0], self.slices.s[-1]
+            Ys, Zs = self._y(m), self._z(m)
+            cy = np.empty((4, Ys.shape[1] - 1, Ys.shape[0]))
+            cz = np.empty_like(cy)
+            _chord_splines(np.ascontiguousarray(Ys), np.ascontiguousarray(Zs), cy, cz)
+            for i, key in enumerate(missing):
+                yr, zr = Ys[i], Zs[i]
+                if not (lo <= key <= hi):
+                    entry = None
+                else:
+                    mono = bool(np.all(np.diff(yr) > 0))
+                    keep = np.concatenate(([True], yr[1:] > np.maximum.accumulate(yr)[:-1]))
+                    entry = (yr, zr, cy[:, :, i], cz[:, :, i], mono, yr[keep], zr[keep],
+                             self._breaks[keep])
+                self._cache[key] = entry
+                if len(self._cache) > self.CACHE:
+                    self._cache.popitem(last=False)
+        rows = [self._cache.get(k) for k in keys]
+        nr = len(rows)
+        nv = self.paths[0].shape[1]
+        width = max([1] + [r[5].size for r in rows if r is not None])
+        Y = np.full((nr, nv), np.nan)
+        CY = np.zeros((4, nv - 1, nr))
+        CZ = np.zeros((4, nv - 1, nr))
+        n = np.zeros(nr, dtype=np.int64)
+        mono = np.zeros(nr, dtype=np.bool_)
+        Yf = np.full((nr, width), np.nan)
+        Zf = np.full((nr, width), np.nan)
+        Bf = np.zeros((nr, width), dtype=np.bool_)
+        nf = np.zeros(nr, dtype=np.int64)
+        for i, r in enumerate(rows):
+            if r is None:
+                continue
+            yr, zr, cyr, czr, mo, yk, zk, bk = r
+            Y[i] = yr
+            CY[:, :, i] = cyr
+            CZ[:, :, i] = czr
+            n[i] = nv
+            mono[i] = mo
+            Yf[i, :yk.size] = yk
+            Zf[i, :zk.size] = zk
+            Bf[i, :bk.size] = bk
+            nf[i] = yk.size
+        return (CY, CZ, Y, n, mono), (Yf, Zf, Bf, nf)
+
+    def height(self, s, y):
+        """Height z [m] and slope dz/dy [-] at (s, y) (arrays of one shape); NaN
+        outside the slices' range of s or beyond a cross-section's ends."""
+        s, y = np.broadcast_arrays(np.asarray(s, float), np.asarray(y, float))
+        shape = s.shape
+        su, inv = np.unique(s.ravel(), return_inverse=True)
+        tensor, samples = self._rows(su)
+        row = inv.astype(np.int64)
+        yy = np.ascontiguousarray(y.ravel())
+        z = np.empty(y.size)
+        dz = np.empty(y.size)
+        _tensor(*tensor, row, yy, z, dz)
+        fold = ~tensor[4][row]
+        if fold.any():                      # rows with a fold-back: the samples seen from above
+            zf = np.empty(int(fold.sum()))
+            dzf = np.empty(zf.size)
+            _hermite(*samples, row[fold], yy[fold], zf, dzf)
+            z[fold], dz[fold] = zf, dzf
+        return z.reshape(shape), dz.reshape(shape)
+
+    def section(self, s: float) -> Profile:
+        """The cross-section at s as a :class:`Profile` (for curvatures)."""
+        _, (Y, Z, _, n) = self._rows(np.array([float(s)]))
+        if n[0] < 8:
+            raise ProfileError(f"rail {self.name!r}: no cross-section at s = {s:.6g} m (slices "
+                               f"cover [{self.slices.s[0]:.6g}, {self.slices.s[-1]:.6g}] m)")
+        return Profile(Y[0, :n[0]], Z[0, :n[0]], kind="rail", name=f"{self.name}@{s:.4f}")
+
+    def s_range(self) -> tuple:
+        return (float(self.slices.s[0]), float(self.slices.s[-1]))
+
+
+class RollerSurface:
+    """A roller of radius ``radius`` [m] at its crown (the profile origin), its axis
+    along y at track position ``position`` [m], carrying the lateral profile
+    ``profile`` (a rail profile: z down into the roller)."""
+
+    def __init__(self, profile: Profile, radius: float, position: float = 0.0):
+        if profile.kind != "rail":
+            raise ProfileError(f"profile {profile.name!r} is a wheel profile; expected the "
+                               "roller's (rail) profile")
+        if not (isinstance(radius, (int, float)) and math.isfinite(radius) and 0.02 <= radius <= 10):
+            raise InputError(f"roller.radius = {radius!r} m: expected a radius in [0.02, 10] m")
+        self.profile, self.radius, self.position = profile, float(radius), float(position)
+        self.name = f"roller {profile.name}"
+
+    def height(self, s, y):
+        s, y = np.broadcast_arrays(np.asarray(s, float), np.asarray(y, float))
+        zp, dp = self.profile.z_and_slope(y)
+        rho = self.radius - zp
+        x = s - self.position
+        root = np.sqrt(np.maximum(rho * rho - x * x, 0.0))
+        with np.errstate(invalid="ignore", divide="ignore"):
+            z = np.where(np.abs(x) < rho, self.radius - root, np.nan)
+            dz = rho * dp / root
+        return z, dz
+
+    def section(self, s: float) -> Profile:
+        return self.profile
+
+    def rolling_radius(self, y) -> np.ndarray:
+        """Radius [m] of the roller at lateral profile position y."""
+        return self.radius - np.asarray(self.profile.z_at(y), float)
+
+    def s_range(self) -> tuple:
+        return (self.position - self.radius, self.position + self.radius)
+
+
+@dataclass
+class PlacedRail:
+    """A rail surface placed in a wheel's side frame (y to the field side, z down).
+
+    Attributes
+    ----------
+    surface : ProfileSurface, SlicedSurface or RollerSurface
+    name : str
+        Label of the rail in results ("wing rail", "nose", "check rail", ...).
+    lateral_position, vertical_position : float
+        Position [m] of the rail-profile origin in the side frame.
+    lateral_range : (float, float) or None
+        The part [m] of the surface (rail-profile y) that belongs to this rail: one
+        set of slices may hold several rails side by side (a crossing's wing rail
+        and nose with the flangeway between), each named on its own.
+    angular_velocity : float
+        For a roller: its angular velocity [rad/s] about +y (CONTACT's VPITCH_ROL;
+        positive with the wheel's negative pitch velocity in pure rolling); 0 for a
+        rail (at rest).
+    """
+
+    surface: object
+    name: str = "rail"
+    lateral_position: float = 0.75
+    vertical_position: float = 0.0
+    angular_velocity: float = 0.0
+    lateral_range: tuple | None = None
+
+    def __post_init__(self):
+        if self.lateral_range is not None:
+            lo, hi = (float(v) for v in self.lateral_range)
+            if not lo < hi:
+                raise InputError(f"rail {self.name!r}: lateral_range = {self.lateral_range!r}:"
+                                 " expected [y_min, y_max] with y_min < y_max (m)")
+            self.lateral_range = (lo, hi)
+
+    def height(self, s, y):
+        """Surface height z [m] and slope dz/dy in the side frame at track position s
+        and side-frame lateral position y (NaN outside the rail's lateral range)."""
+        yr = np.asarray(y, float) - self.lateral_position
+        z, d = self.surface.height(s, yr)
+        if self.lateral_range is not None:
+            out = (yr < self.lateral_range[0]) | (yr > self.lateral_range[1])
+            z = np.where(out, np.nan, z)
+            d = np.where(out, np.nan, d)
+        return z + self.vertical_position, d
+
+    @property
+    def is_roller(self) -> bool:
+        return isinstance(self.surface, RollerSurface)
+
+    def section(self, s: float) -> Profile:
+        return self.surface.section(s)
+
+    def rolling_radius(self, y_profile: float) -> float:
+        """The rail's radius in the rolling direction at a lateral profile position
+        (a roller's radius there; inf for a rail)."""
+        if self.is_roller:
+            return float(self.surface.rolling_radius(y_profile))
+        return math.inf

@@ -1,0 +1,161 @@
+"""The wheel-rail inputs of CONTACT's testbank (examples_trans) against .ref_out.
+
+Measured profiles ``site_b_hr.prr`` and ``worn_high_mileage.prw`` (North American
+heavy haul), friction varying with the rail's inclination (0.2 on the gauge face,
+0.35 on the head; V = 1), 0.4 mm elements, patches combined within 6 mm (D_SEP)
+and turned up to 9 mm apart; force control (force_site_b, t3_*_force case 1) and
+position control (iestim_site_b).  The transient and conformal inputs are
+rejected with their one-line error.  benchmarks/contact_inputs.py lists every case.
+"""
+
+import re
+from pathlib import Path
+
+import pytest
+
+from railcontact.contact_inp import InpError, load_inp, solve_inp
+
+_NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
+
+
+def ref_out(path) -> dict:
+    """Per case of a CONTACT output file: total forces on the rail, z_ws and the
+    patches' (y_tr, delta, F_n, F_x, F_s, p_max, mu)."""
+    text = Path(path).read_text()
+    parts = re.split(r"\n Case +(\d+)\n", text)
+    out = {}
+    for num, body in zip(parts[1::2], parts[2::2]):
+        c = {"patches": []}
+        m = re.search(r"TOTAL FORCES ON RAIL\n.*\n\s*" + r"\s+".join([f"({_NUM})"] * 3), body)
+        if m:
+            c["fx"], c["fy"], c["fz"] = (float(g) for g in m.groups())
+        m = re.search(r"S_WS\s+Y_WS\s+Z_WS.*\n\s*" + r"\s+".join([f"({_NUM})"] * 3), body)
+        if m:
+            c["z_ws"] = float(m.group(3))
+        for pb in body.split("----- DATA FOR CONTACT PATCH")[1:]:
+            p = {}
+            m = re.search(r"XCP\(TR\).*\n\s*" + r"\s+".join([f"({_NUM})"] * 4), pb)
+            p["ycp_tr_mm"], p["delta_tr_rad"] = float(m.group(2)), float(m.group(4))
+            m = re.search(r"FSTAT\s+FKIN\s*\n\s*(" + _NUM + ")", pb)
+            p["mu"] = float(m.group(1))
+            m = re.search(r"FN\s+FX\s+FS\s+MN.*\n\s*" + r"\s+".join([f"({_NUM})"] * 3), pb)
+            p["fn_N"], p["fx_N"], p["fs_N"] = (float(g) for g in m.groups())
+            m = re.search(r"APPROACH\s+PMAX\s*\n\s*" + r"\s+".join([f"({_NUM})"] * 5), pb)
+            p["pmax_MPa"] = float(m.group(5))
+            c["patches"].append(p)
+        out[int(num)] = c
+    return out
+
+
+def _compare(rows, ref, cases, load_tol=0.01, patch_tol=0.01,
+             keys=("fn_N", "fx_N", "fs_N", "pmax_MPa")):
+    """Totals within ``load_tol`` of the vertical force; each patch carrying at least
+    a tenth of it within ``patch_tol`` (F_n, F_x, F_s) and 3 % (p_max) (the
+    Manchester comparisons' tolerances); every patch where CONTACT's is (0.05 mm),
+    its contact angle within 0.01 rad and its friction coefficient CONTACT's.
+    Returns the relative F_n deviations of the smaller patches."""
+    small = []
+    for case in cases:
+        mine = [r for r in rows if r["case"] == case]
+        c = ref[case]
+        assert mine[0]["converged"], mine[0]["message"]
+        fz = c["fz"]
+        for k in ("fx", "fy", "fz"):
+            assert abs(mine[0][f"{k}_tr_N"] - c[k]) <= load_tol * fz, (case, k)
+        for p in c["patches"]:
+            r = min(mine, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp_tr_mm"]))
+            assert abs(r["ycp_tr_mm"] - p["ycp_tr_mm"]) < 0.05
+            assert r["delta_tr_rad"] == pytest.approx(p["delta_tr_rad"], abs=0.01)
+            assert r["mu"] == pytest.approx(p["mu"], abs=1e-3)
+            if p["fn_N"] < 0.1 * fz:
+                small.append(r["fn_N"] / p["fn_N"] - 1)
+                continue
+            for k in keys:
+                t = 0.03 if k == "pmax_MPa" else patch_tol
+                assert r[k] == pytest.approx(p[k], rel=t), (case, k)
+    return small
+
+
+@pytest.fixture(scope="module")
+def force_site_b(testbank):
+    path = testbank / "examples_trans" / "force_site_b.inp"
+    return solve_inp(path), ref_out(path.with_suffix(".ref_out"))
+
+
+def test_force_control(force_site_b):
+    """force_site_b: 3.7 to 128 kN, one to two patches (tread, gauge corner, flange
+    flank).  Measured: totals within 0.15 % of F_z; patches above a tenth of the
+    load within 0.6 % (F_n, F_x, F_s), p_max 1.2 %; z_ws within 1.2 um."""
+    rows, ref = force_site_b
+    _compare(rows, ref, [1, 2, 3, 4])
+    for case in (1, 2, 3, 4):
+        z = [r for r in rows if r["case"] == case][0]["z_ws_mm"]
+        assert z == pytest.approx(ref[case]["z_ws"], abs=2e-3)
+
+
+@pytest.mark.xfail(strict=True, reason="flange-flank patches of 5 kN at 128 kN: F_n +5.7 "
+                   "and +4.9 % of CONTACT's")
+def test_force_control_small_flange_patch(force_site_b):
+    """At 127.5 and 128 kN a flange-flank patch of 5 kN (4 % of the load, 70-85
+    elements) forms beside the combined tread and gauge-corner patch.  Its force
+    follows the approach of 13 um to the power 1.5, and the combined patch (0.5
+    rad of contact angle across one tangent plane) sits about 1 um deeper in
+    railcontact than in CONTACT: F_n +5.7 % and +4.9 %."""
+    rows, ref = force_site_b
+    small = _compare(rows, ref, [3, 4])
+    assert small and max(abs(v) for v in small) <= 0.01
+
+
+@pytest.fixture(scope="module")
+def t3_t1_force(testbank):
+    path = testbank / "examples_trans" / "t3_t1_force.inp"
+    return solve_inp(path, cases=[1]), ref_out(path.with_suffix(".ref_out")), path
+
+
+def test_steady_then_transient(t3_t1_force):
+    """t3_t1_force: its first case (steady rolling, mu 0.9 on the head, 137 kN,
+    three patches: tread, gauge corner, flange flank) runs; its second (transient
+    shift, T = 1) is rejected with one line.  Measured: totals within 0.2 % of F_z,
+    F_n of the tread and gauge-corner patches +0.2 and -0.7 %."""
+    rows, ref, path = t3_t1_force
+    _compare(rows, ref, [1], keys=("fn_N", "pmax_MPa"))
+    with pytest.raises(InpError, match=r"case 2 \(line 26\): TANG = 1 \(transient"):
+        load_inp(path)
+
+
+@pytest.mark.xfail(strict=True, reason="gauge-corner patch F_s -1.1 % of CONTACT's")
+def test_steady_then_transient_creep_forces(t3_t1_force):
+    """The tread and gauge-corner patches lie 6.5 mm apart, between D_SEP = 6 and
+    D_TURN = 9 mm, and their contact angles are turned towards their mean by 83 %
+    (CONTACT's 80 %: it measures the distance between the last samples inside the
+    regions, railcontact between the interpolated ends, which move continuously
+    with the wheelset height, so that the vertical balance converges): the
+    gauge-corner patch's angle is 0.009 rad off, its F_s -1.1 %."""
+    rows, ref, _ = t3_t1_force
+    _compare(rows, ref, [1])
+
+
+def test_position_control(testbank):
+    """iestim_site_b: z_ws prescribed from 1.13 to 1.23 mm.  The force follows the
+    approach to the power 1.5, so that the few 0.1 um by which the geometries
+    differ show most where the approach is smallest: measured F_z -2.4 % at 284 N
+    (1.13 mm), within 0.5 % from 33 kN (1.17 mm) on."""
+    path = testbank / "examples_trans" / "iestim_site_b.inp"
+    rows = solve_inp(path, cases=[1, 8, 11])
+    ref = ref_out(path.with_suffix(".ref_out"))
+    _compare(rows, ref, [8, 11])
+    light = [r for r in rows if r["case"] == 1][0]
+    assert light["z_ws_mm"] == pytest.approx(1.13, abs=1e-9)
+    assert light["fz_tr_N"] == pytest.approx(ref[1]["fz"], rel=0.03)
+
+
+@pytest.mark.parametrize("name, match", [
+    ("m1_trans_roll", r"TANG = 2 \(transient rolling\)"),
+    ("t1_zws", r"TANG = 1 \(transient shift"),
+    ("t3_t2_conformal", r"DISCNS = 4 \(conformal contact\)"),
+    ("m1_steady_roll", r"RAILY0 = 0 mm"),
+])
+def test_unsupported_inputs(testbank, name, match):
+    with pytest.raises(InpError, match=match) as err:
+        load_inp(testbank / "examples_trans" / f"{name}.inp")
+    assert "\n" not in str(err.value)

@@ -1,0 +1,110 @@
+"""Rail surfaces: slices files, the interpolated 3-D surface, rollers, placement."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railcontact.errors import InputError, ProfileError
+from railcontact.geometry.surfaces import (PlacedRail, ProfileSurface, RollerSurface,
+                                           SlicedSurface)
+from railcontact.profiles.io import read_profile
+from railcontact.profiles.slices import RailSlices, read_slices, slices_from_list
+
+
+def test_read_slices_files(testbank):
+    prof = testbank / "profiles"
+    nose = read_slices(prof / "cross_nose.slcs")
+    assert len(nose) == 21 and nose.s[0] == pytest.approx(-0.1) and nose.s[-1] == pytest.approx(0.1)
+    assert nose.features.shape == (21, 5)
+    assert nose.features[0, 1] == pytest.approx(33.0541e-3)
+    assert all(p.kind == "rail" for p in nose.profiles)
+    uk = read_slices(prof / "uk_crossing.slcs")              # u in m, U_SCALE 1000 mm/m
+    assert len(uk) == 148 and uk.features is None
+    assert uk.s[0] == pytest.approx(-75.0) and uk.s[70] == pytest.approx(0.24836)
+    # the profiles of the UK crossing are in metres, those of the nose in mm: both read
+    assert 0.1 < uk.profiles[69].y_max - uk.profiles[69].y_min < 0.2
+    assert 0.04 < nose.profiles[0].y_max - nose.profiles[0].y_min < 0.06
+
+
+def test_slices_errors(tmp_path, testbank):
+    with pytest.raises(ProfileError, match="does not exist"):
+        read_slices(tmp_path / "none.slcs")
+    f = tmp_path / "bad.slcs"
+    f.write_text("0 1 U_OFFSET U_SCALE\n1 NSLC\n0 NFEAT\n1 U_INTPOL\n0 'a.prr'\n")
+    with pytest.raises(ProfileError, match="NSLC = 1"):
+        read_slices(f)
+    f.write_text("0 1\n2\n0\n1 1 U_INTPOL PERTURB\n0 'a.prr'\n1 'b.prr'\n")
+    with pytest.raises(ProfileError, match="perturbations"):
+        read_slices(f)
+    p = read_profile(testbank / "profiles" / "cross_nose" / "nose_1.prr")
+    with pytest.raises(ProfileError, match="increase"):
+        RailSlices(np.array([0.0, 0.0]), (p, p))
+    with pytest.raises(ProfileError, match="interrupted"):
+        RailSlices(np.array([0.0, 1.0]), (p, p), features=np.array([[0, -1, 0.05], [0, 0.01, 0.05]]))
+    with pytest.raises(ProfileError, match="expected a list"):
+        slices_from_list([{"s": 0.0, "profile": p}])
+    with pytest.raises(ProfileError, match="position in m"):
+        slices_from_list([{"s": "x", "profile": p}, {"s": 1.0, "profile": p}])
+
+
+def test_slices_list_equals_the_file(testbank):
+    prof = testbank / "profiles"
+    f = read_slices(prof / "cross_nose.slcs")
+    entries = [{"s": float(s), "profile": f"cross_nose/nose_{k + 1}.prr",
+                "features": list(f.features[k])} for k, s in enumerate(f.s)]
+    lst = slices_from_list(entries, prof)
+    a, b = SlicedSurface(f), SlicedSurface(lst)
+    s = np.array([-0.0234, 0.0457, 0.0811])
+    y = np.array([0.004, 0.006, 0.012])
+    assert np.array_equal(a.height(s, y)[0], b.height(s, y)[0])
+
+
+def test_sliced_surface_through_the_slices_and_along_the_nose(testbank):
+    """At a slice the surface is that slice (to the resampling's 0.5 mm spacing:
+    measured 0.07 um on the flat crown, 1.3 um on the 5 mm gauge-corner arc, whose
+    curvature jumps at its ends), between slices the nose rising 1:10 rises
+    linearly (the splines along s are exact for a linear rise)."""
+    sl = read_slices(testbank / "profiles" / "cross_nose.slcs")
+    surf = SlicedSurface(sl)
+    for k in (0, 7, 13, 20):
+        p = sl.profiles[k]
+        y = np.linspace(0.006, 0.014, 60)                     # the nose's flat crown
+        z, d = surf.height(np.full(y.shape, sl.s[k]), y)
+        assert np.max(np.abs(z - p.z_at(y))) < 0.1e-6
+        assert np.max(np.abs(d - p.slope(y))) < 1.5e-3
+        y = np.linspace(0.0017, 0.0048, 40)                   # its 5 mm gauge-corner arc
+        z, d = surf.height(np.full(y.shape, sl.s[k]), y)
+        assert np.max(np.abs(z - p.z_at(y))) < 1.5e-6
+        assert np.max(np.abs(d - p.slope(y))) < 1e-2
+    s = np.array([-0.0951, -0.0123, 0.0457571, 0.0999])
+    z, _ = surf.height(s, np.full(s.shape, 0.01))
+    assert np.allclose(z, -s / 10, atol=1e-9)
+    # outside the slices: no surface
+    z, _ = surf.height(np.array([0.2]), np.array([0.01]))
+    assert np.isnan(z[0])
+    with pytest.raises(ProfileError, match="no cross-section"):
+        surf.section(0.3)
+    assert surf.section(0.0457).curvature(0.003) == pytest.approx(200.0, rel=0.02)
+    with pytest.raises(InputError, match="spacing"):
+        SlicedSurface(sl, spacing=0.1)
+
+
+def test_roller_surface_is_the_revolved_profile(testbank):
+    p = read_profile(testbank / "profiles" / "circ_r100.prr")
+    roller = RollerSurface(p, 0.4)
+    x = np.array([0.0, 0.01, -0.03, 0.02])
+    y = np.array([0.0, 0.0, 0.01, -0.02])
+    z, dz = roller.height(x, y)
+    rho = 0.4 - p.z_at(y)
+    assert np.allclose(z, 0.4 - np.sqrt(rho ** 2 - x ** 2), atol=1e-12)
+    assert roller.rolling_radius(0.0) == pytest.approx(0.4)
+    rail = PlacedRail(roller, "roller", lateral_position=0.2, vertical_position=1e-3,
+                      angular_velocity=0.25)
+    z2, _ = rail.height(x, y + 0.2)
+    assert np.allclose(z2, z + 1e-3) and rail.is_roller
+    assert rail.rolling_radius(0.0) == pytest.approx(0.4)
+    flat = PlacedRail(ProfileSurface(read_profile(testbank / "profiles" / "flat_plane.prr")))
+    assert flat.rolling_radius(0.0) == math.inf and not flat.is_roller
+    with pytest.raises(InputError, match="roller.radius"):
+        RollerSurface(p, 0.0)
