@@ -12,6 +12,7 @@ import numpy as np
 
 from .case import Case, body_curvatures
 from .case_surfaces import is_surface_case
+from .equilibrium import VerticalBalance, balance as solve_balance
 from .errors import ContactNotFoundError
 from .geometry.contact import ContactGeometry
 from .geometry.locus import min_gap
@@ -73,46 +74,6 @@ class PatchResult:
             d["pressure_limit"] = n.pressure_limit
             d["plastic_area"] = n.plastic_area
         return d
-
-
-@dataclass
-class VerticalBalance:
-    """How the vertical-force iteration of a wheel-rail case ended.
-
-    Attributes
-    ----------
-    converged : bool
-        Whether each side's vertical force met its load to ``solver.force_tolerance``.
-    force_jump : bool
-        Whether the iteration stopped where the model's vertical force jumps across
-        the load (a strip entering the contact): then no interpenetration carries it.
-    passes : int
-        How many times the patches' normal problems were solved (each pass one
-        contact search).
-    residual : dict
-        Relative residual (F_z - Q)/Q [-] of each side's balance.
-    standin : list of PatchResult or None
-        The Hertz + FASTSIM patch results whose F_y/F_n stood in for the lateral
-        forces before the tangential solutions (a warm start of a neighbouring case
-        corrects them by its own, :class:`_CorrectedRatio`).
-    """
-
-    converged: bool
-    force_jump: bool
-    passes: int
-    residual: dict
-    standin: list | None = field(default=None, repr=False)
-
-    @property
-    def status(self) -> SolverStatus:
-        """The balance as a :class:`SolverStatus` (iterations: the passes)."""
-        if self.converged:
-            return SolverStatus(True, "", self.passes)
-        worst = max(abs(v) for v in self.residual.values()) if self.residual else math.nan
-        why = ("the model's vertical force jumps across the load" if self.force_jump
-               else f"not met after {self.passes} passes")
-        return SolverStatus.failed(f"{why}; the wheel load is missed by {worst:.2g} of it",
-                                   self.passes)
 
 
 @dataclass
@@ -444,22 +405,17 @@ def _nearest(previous, geom):
 
 
 def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only=False,
-                   coupled=False, same_case=False, kept=()):
-    """Solve every loaded patch; ``previous`` results (an earlier iteration of the
+                   coupled=False, same_case=False):
+    """Solve every loaded patch; ``previous`` results (an earlier evaluation of the
     same case, or a neighbouring case of a sweep) serve as warm starts where a model
     accepts them.  ``normal_only``: leave the tangential problems to
     :func:`_add_tangential`.  ``coupled``: dissimilar materials with the exact
     models (:func:`_coupled`), both problems solved together.  ``same_case``:
-    ``previous`` is an earlier pass of this case, whose grids a model may keep.
-    ``kept``: results (of an earlier pass) taken as they are, for the patches of
-    their sides."""
+    ``previous`` is an earlier evaluation of this case, whose grids a model may
+    keep."""
     out = []
-    keep = {id(r.geometry): r for r in kept}
     nwarm = "warm-start" in nmodel.capabilities
     for geom in contact.patches:
-        if id(geom) in keep:
-            out.append(keep[id(geom)])
-            continue
         if geom.approach <= 0:
             continue
         creep = _creepage(case, geom)
@@ -474,7 +430,7 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only
         best = _nearest(previous, geom) if nwarm else None
         if best is not None:
             nkw["warm_start"] = best.normal
-            if same_case and getattr(nmodel, "reuses_grids", False):
+            if same_case and "grid-reuse" in nmodel.capabilities:
                 nkw["reuse_grid"] = best.normal
         ns = nmodel.solve(geom, case.material, penetration=geom.approach, **nkw)
         out.append(PatchResult(geom, ns, None, creep))
@@ -503,75 +459,33 @@ def _add_tangential(case, results, tmodel, previous=None):
     return out
 
 
-def _fast_estimate(case, contact):
-    """Hertz + FASTSIM on the loaded patches (stand-in lateral forces)."""
-    hz, fs = get_normal_model("hertz"), get_tangential_model("fastsim")
-    out = []
-    for g in contact.patches:
-        if g.approach > 0:
-            ns = hz.solve(g, case.material, penetration=g.approach, grid=(20, 20))
-            creep = _creepage(case, g)
-            out.append(PatchResult(g, ns, fs.solve(ns, g, case.material, creep,
-                                                   _friction(case, g), g.velocity), creep))
-    return out
-
-
 def vertical_force_on_rail(results, side: str, lateral=None) -> float:
     """Total vertical force [N] the wheel exerts on the rail of one side (track z).
 
     On the rail, F_z = f_n cos(d) + f_s sin(d) with f_s = -F_y the lateral force on
-    the rail (the patch results hold forces on the wheel).  A patch without a
-    tangential solution takes the ratio F_y/F_n of the nearest of the results
-    ``lateral`` (an earlier iteration; near saturation F_y follows F_n), else F_y = 0.
+    the rail (the patch results hold forces on the wheel).  ``lateral``: a function
+    of a patch result giving the lateral force F_y [N] that stands in for its
+    tangential solution (:class:`WheelRailContact`); else the tangential
+    solution's (0 without one).
     """
     total = 0.0
     for r in results:
         if r.geometry.side == side:
             d = r.geometry.contact_angle
             fn = r.normal.normal_force
-            if r.tangential is not None:
-                fy = r.tangential.fy
+            if lateral is not None:
+                fy = lateral(r)
             else:
-                fy = _standin_ratio(lateral, r.geometry) * fn
+                fy = r.tangential.fy if r.tangential is not None else 0.0
             total += fn * math.cos(d) - fy * math.sin(d)
     return total
 
 
-def _standin_ratio(lateral, geom) -> float:
-    """F_y/F_n of the result among ``lateral`` nearest to the patch ``geom`` (see
-    :func:`_nearest`), 0 without one; ``lateral`` may also be a function of the
-    patch giving the ratio (:class:`_CorrectedRatio`)."""
-    if callable(lateral):
-        return lateral(geom)
-    return _ratio(_nearest(lateral, geom))
-
-
 def _ratio(result) -> float:
-    """F_y/F_n of a patch result; 0 without one, its tangential solution or load."""
+    """F_y/F_n of a patch result; 0 without its tangential solution or load."""
     if result is None or result.tangential is None or not result.normal.normal_force > 0:
         return 0.0
     return result.tangential.fy / result.normal.normal_force
-
-
-class _CorrectedRatio:
-    """Stand-in F_y/F_n of a warm-started case: the neighbouring case's solved ratio
-    plus the change of Hertz + FASTSIM's ratio from the neighbour's patch to this
-    one, r = r_neighbour + (r_HF - r_HF,neighbour).  FASTSIM's own error, 10 % of
-    F_y, largely cancels: on the benchmark sweep the balance's stand-in term
-    F_y sin(d) is then within 1e-4 F_n for 78 % of the patches (FASTSIM's alone for
-    50 %), so fewer passes of the vertical-force iteration solve the tangential
-    problems again.  Where a patch has no counterpart in either of the neighbour's
-    lists, FASTSIM's ratio stands in alone."""
-
-    def __init__(self, fast, neighbour, neighbour_fast):
-        self.fast, self.neighbour, self.neighbour_fast = fast, neighbour, neighbour_fast
-
-    def __call__(self, geom) -> float:
-        r = _standin_ratio(self.fast, geom)
-        a, b = _nearest(self.neighbour, geom), _nearest(self.neighbour_fast, geom)
-        if a is None or b is None or a.tangential is None or b.tangential is None:
-            return r
-        return r + _ratio(a) - _ratio(b)
 
 
 def _friction(case, geom) -> float:
@@ -594,186 +508,8 @@ def _creepage(case, geom) -> tuple:
     return tuple(float(c) for c in (case.creepage or geom.creepage))
 
 
-#: the vertical-force iteration solves the tangential problems once the balance with
-#: stand-in lateral forces holds to this many times its tolerance (at least 1)
-STANDIN_FACTOR = 10.0
-
-#: the first step of the vertical-force iteration solves for the normal force on
-#: sides with one loaded patch whose contact angle is below this [rad] (a flange's
-#: interpenetration moves with the roll as much as with the height)
-FORCE_STEP_ANGLE = 0.5
-
-
-#: a side whose vertical balance holds keeps its patch results while the other side's
-#: interpenetration is corrected, where the new contact search changed its patches
-#: by under this: relative approach, contact angle [rad], relative creepages (the
-#: side's vertical force then changes by a few of this relative to the load, far
-#: below the balance's tolerance)
-KEEP_TOLERANCE = 1e-6
-
-
-def _unmoved(case, results, contact, side) -> bool:
-    """Whether the side's loaded patches of ``contact`` are those of ``results`` to
-    ``KEEP_TOLERANCE`` (as many; approach, contact angle, the creepages solved
-    with): their solutions then hold for them."""
-    old = [r for r in results if r.geometry.side == side]
-    new = [g for g in contact.patches if g.side == side and g.approach > 0]
-    if not old or len(old) != len(new):
-        return False
-    k = KEEP_TOLERANCE
-    for r, g in zip(old, new):
-        a = r.geometry
-        if not (abs(a.approach - g.approach) <= k * a.approach
-                and abs(a.contact_angle - g.contact_angle) <= k
-                and all(abs(p - q) <= k * max(abs(p), 1e-3)
-                        for p, q in zip(r.creepage, _creepage(case, g)))):
-            return False
-    return True
-
-
-def _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous):
-    """First step of the vertical-force iteration: where every side has one loaded
-    patch (contact angle below ``FORCE_STEP_ANGLE``), its normal problem solved for
-    the normal force that carries the side's load with the stand-in lateral force,
-    F_n = Q / (cos d - (F_y/F_n) sin d); the interpenetration of the side then moves
-    by the change of approach over cos d.  Returns (interpenetrations, patch results)
-    or None where the step does not apply."""
-    warm = "warm-start" in nmodel.capabilities
-    d, out = dict(contact.interpenetration), []
-    for s in sides:
-        pats = [g for g in contact.patches if g.side == s and g.approach > 0]
-        if len(pats) != 1 or abs(pats[0].contact_angle) >= FORCE_STEP_ANGLE:
-            return None
-        g = pats[0]
-        ratio = _standin_ratio(lateral, g)
-        c, sn = math.cos(g.contact_angle), math.sin(g.contact_angle)
-        if c - ratio * sn < 0.5 * c:
-            return None
-        nkw = dict(kw)
-        near = _nearest(previous, g) if warm else None
-        if near is not None:
-            nkw["warm_start"] = near.normal
-        ns = nmodel.solve(g, case.material, normal_force=loads[s] / (c - ratio * sn), **nkw)
-        if not (ns.converged and ns.penetration > 0):
-            return None
-        d[s] = max(d[s] + (ns.penetration - g.approach) / c, 0.2 * d[s])
-        creep = _creepage(case, g)
-        out.append(PatchResult(g, ns, None, creep))
-    return d, out
-
-
-#: a point of one side's history of the vertical-force iteration stands for the
-#: side's force curve while the other side's interpenetration is within this
-#: fraction of the one it was taken at: the other side's height turns the
-#: wheelset and so moves this side's force (on the benchmark sweep at 6.4 mm shift
-#: the tread side's force moved by 2 % of the load when the flange side's
-#: interpenetration grew 2.7-fold).  With 2 % 989 of the sweep's 1000 cases meet
-#: the load cold (the others jump, residuals up to 1.3 %), with 5 or 10 % 982 or
-#: 975, with the whole history 973 (residuals up to 39 %); as many passes
-COUPLED_CHANGE = 0.02
-
-
-def _current(hist, d, side):
-    """The points (interpenetration, force, interpenetrations of all sides) of a
-    side's history taken where the other sides' interpenetrations were those of
-    ``d`` to ``COUPLED_CHANGE``: a bracket or secant of points taken at a far other
-    height of the other side (an early pass, before its first large correction)
-    would hold this side's force curve of another wheelset position, and the
-    steps would stall on it."""
-    return [p for p in hist if all(abs(p[2][o] - d[o]) <= COUPLED_CHANGE * d[o]
-                                   for o in d if o != side)]
-
-
-def _collapsed(current, err, loads, d, sides, rtol) -> bool:
-    """Whether the bracket of the load has collapsed on every side off the balance
-    (a model whose force jumps with the interpenetration, e.g. a strip entering the
-    contact, may have no exact solution), from each side's ``current`` history
-    points."""
-    for s in sides:
-        # a jump shows at one interpenetration of the other side too (to ten
-        # tolerances): where that moved, a side's force moves with the roll, also at
-        # its own unchanged interpenetration (a side held in balance while the other
-        # was corrected: its points above and below the load at one interpenetration
-        # are no bracket of a jump)
-        pts = [p for p in current[s] if _same_other(p, d, s, STANDIN_FACTOR * rtol)]
-        lo = [p[0] for p in pts if p[1] < loads[s]]
-        hi = [p[0] for p in pts if p[1] > loads[s]]
-        # collapsed: narrower than a tenth of the tolerance times the interpenetration,
-        # across which a force continuous at 1.5 Q/d (Hertz's slope) would change by
-        # 0.15 tolerances; missing the load at both ends of it takes a slope over 13
-        # times that, i.e. a jump
-        width = max(1e-11, 0.1 * rtol * d[s])
-        if abs(err[s]) > rtol * loads[s] and not (lo and hi and min(hi) - max(lo) < width):
-            return False
-    return True
-
-
-def _with_solved_forces(case, results, tmodel, previous, loads, sides):
-    """The results with their tangential solutions (solved where missing) and the
-    largest relative residual of the sides' vertical balances with them."""
-    if tmodel is not None and any(r.tangential is None for r in results):
-        results = _add_tangential(case, results, tmodel, previous=previous)
-    return results, max(abs(vertical_force_on_rail(results, s) - loads[s]) / loads[s]
-                        for s in sides)
-
-
-def _bracket(pts, load):
-    """The history points nearest the load below and above it (by interpenetration;
-    None where there is none)."""
-    below = [p for p in pts if p[1] < load]
-    above = [p for p in pts if p[1] > load]
-    return (max(below, key=lambda p: p[0]) if below else None,
-            min(above, key=lambda p: p[0]) if above else None)
-
-
-def _same_other(point, d, side, rel) -> bool:
-    """Whether a history point (interpenetration, force, interpenetrations of all
-    sides) was taken at the other sides' interpenetrations of ``d`` to ``rel``."""
-    return all(abs(point[2][o] - d[o]) <= rel * d[o] for o in d if o != side)
-
-
-def _step(pts, load, d, s, rtol) -> float:
-    """The next interpenetration [m] of side ``s`` from its history points ``pts``
-    (interpenetration, force, interpenetrations of all sides): a secant step,
-    safeguarded by bisection in the bracket of the load, within 0.2 to 5 times the
-    present interpenetration ``d[s]``."""
-    # bracket of the load from the history (force grows with the interpenetration)
-    lo, hi = _bracket(pts, load)
-    near = STANDIN_FACTOR * rtol
-    if lo is not None and hi is not None and hi[0] - lo[0] <= near * d[s] \
-            and not _same_other(lo, hi[2], s, near):
-        # no bracket but the roll's effect: points at about one interpenetration
-        # of this side (to ten tolerances), above and below the load, taken while
-        # the other side moved (a steep flange side's correction by 1 % moves the
-        # other side's force by a few tolerances); bisecting on them held the
-        # side in place.  The points at the other side's present
-        # interpenetration (to ten tolerances) bracket it, if any do
-        lo, hi = _bracket([p for p in pts if _same_other(p, d, s, near)], load)
-    if lo is not None and hi is not None and hi[0] <= lo[0]:
-        # the force is not monotone on these points (taken at other wheelset
-        # positions): no bracket (bisecting between such ends stood still)
-        lo = hi = None
-    # a secant needs two interpenetrations (a side held while the other was
-    # corrected has points at one, whose forces differ by the roll's effect: a
-    # secant through them stays put): the last point and the latest before it
-    # at another interpenetration
-    other = [p for p in pts[:-1] if p[0] != pts[-1][0] and p[1] != pts[-1][1]]
-    if other:
-        (d0, f0, _), (d1, f1, _) = other[-1], pts[-1]
-        cand = d1 + (load - f1) * (d1 - d0) / (f1 - f0)
-    else:  # Hertz-like F ~ d^1.5
-        fz = max(pts[-1][1], 1e-9 * load)
-        cand = pts[-1][0] * (load / fz) ** (2.0 / 3.0)
-    slow = len(pts) >= 3 and abs(pts[-1][1] - load) > 0.5 * abs(pts[-3][1] - load)
-    if lo is not None and hi is not None and (slow or not (lo[0] < cand < hi[0])):
-        # safeguard: bisection in the bracket, also where the last two steps
-        # did not halve the residual (a jump, on which secant steps stall)
-        cand = 0.5 * (lo[0] + hi[0])
-    return min(max(cand, 0.2 * d[s]), 5.0 * d[s] + 1e-7)
-
-
 def _first_search(case, bodies, loads, sides, start):
-    """The contact search the vertical-force iteration starts from.
+    """The contact search the vertical balance starts from.
 
     With ``start`` (the contact of a neighbouring case's result, e.g. the previous
     case of a sweep): at its interpenetrations, scaled to this case's loads as
@@ -782,7 +518,7 @@ def _first_search(case, bodies, loads, sides, start):
     interpenetrations costs about half the estimate's.  Else (or where ``start``
     has no interpenetration on a side): the geometry layer's multi-Hertzian
     estimate, one load iteration (its own fixed-point iteration costs more passes
-    of the iteration than it saves)."""
+    of the balance than it saves)."""
     if start is not None and start.interpenetration and start.loads:
         d0 = {}
         for s in sides:
@@ -794,185 +530,153 @@ def _first_search(case, bodies, loads, sides, start):
     return contact_search(case, bodies=bodies, load_iterations=1)
 
 
+#: the uncertainty of a stand-in lateral force: FASTSIM's F_y on the exact normal
+#: solution is within this fraction of the exact F_y (measured on the benchmark
+#: sweep's patches: median 3-4 %, in flange contact F_y sin(d) within 9 % of the load)
+STANDIN_UNCERTAINTY = 0.1
+
+
+@dataclass
+class ContactEvaluation:
+    """The contact of a wheel-rail case evaluated at given interpenetrations.
+
+    ``interpenetration`` [m] per side, the contact search's result ``contact``, the
+    loaded patches' ``results``, the vertical force each wheel exerts on its rail
+    (``forces`` [N], :func:`vertical_force_on_rail`) and whether those are the
+    forces of a result (``final``: the tangential problems solved); where not, the
+    lateral forces are stand-ins and ``uncertainty`` says how far off the load that
+    may put each side's force (relative to the load)."""
+
+    interpenetration: dict
+    contact: WheelsetContact
+    results: list
+    forces: dict
+    final: bool
+    uncertainty: dict | None = None
+
+
+class WheelRailContact:
+    """The contact evaluation that :func:`railcontact.equilibrium.balance` drives for
+    a wheel-rail case.
+
+    ``evaluate(d, final)`` searches the contact at the interpenetrations ``d`` (from
+    the last search's roll) and solves the loaded patches' normal problems,
+    warm-started from the last evaluation's solutions (on its grids where they
+    fit); at the interpenetrations of the last call its normal solutions are
+    reused.  With the exact tangential model the tangential problems are solved
+    where ``final`` is asked (warm-started from the last tangential solutions), and
+    else FASTSIM on the normal solutions stands in for the lateral forces (the
+    exact solver's own first estimate), each side's uncertainty
+    ``STANDIN_UNCERTAINTY`` times its lateral forces' share of the balance,
+    sum |F_y sin(d)| / Q; the other tangential models solve every time.
+
+    ``start``: the :class:`SolveResult` of a neighbouring case (warm start: the
+    first search at its interpenetrations, the solvers from its solutions)."""
+
+    def __init__(self, case, nmodel, tmodel, kw, start=None):
+        self.case, self.nmodel, self.tmodel, self.kw = case, nmodel, tmodel, kw
+        self.bodies = build_wheelset_track(case)
+        self.loads = case.wheel_loads()
+        side = case.get("wheelset.side", "both")
+        self.sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
+        self.first = _first_search(case, self.bodies, self.loads, self.sides,
+                                   start.contact if start is not None else None)
+        self.coupled = _coupled(case, nmodel, tmodel)
+        self.lazy = (tmodel is not None and "lazy" in tmodel.capabilities
+                     and not self.coupled)
+        self.previous = start.patches if start is not None else None
+        # the results whose tangential solutions start the next tangential solves
+        self.tangential_start = self.previous
+        # the neighbour's solved patches and FASTSIM's on them: the stand-in's correction
+        self.neighbour = None
+        if start is not None and start.balance is not None and start.balance.standin:
+            self.neighbour = (start.patches, start.balance.standin)
+        self.standin = None         # FASTSIM on the last provisional evaluation's patches
+        self.last = None
+
+    def start(self) -> dict:
+        """The interpenetrations [m] of the first search."""
+        return {s: self.first.interpenetration[s] for s in self.sides}
+
+    def __call__(self, d: dict, final: bool = False) -> ContactEvaluation:
+        last, case = self.last, self.case
+        if last is not None and last.interpenetration == d:
+            contact, results = last.contact, last.results
+        else:
+            if last is None and d == self.start():
+                contact = self.first
+            else:
+                roll = (last.contact if last is not None else self.first).pose.roll
+                contact = contact_search(case, interpenetration=d, bodies=self.bodies,
+                                         roll_start=roll)
+            results = _solve_patches(case, contact, self.nmodel, self.tmodel, self.kw,
+                                     previous=last.results if last else self.previous,
+                                     normal_only=self.lazy, coupled=self.coupled,
+                                     same_case=last is not None)
+        if final and self.lazy and any(r.tangential is None for r in results):
+            results = _add_tangential(case, results, self.tmodel,
+                                      previous=self.tangential_start or self.standin)
+            self.tangential_start = results
+        done = all(r.tangential is not None for r in results) or self.tmodel is None
+        lateral = uncertainty = None
+        if not done:
+            if last is None or last.results is not results or self.standin is None:
+                self.standin = _add_tangential(case, results, get_tangential_model("fastsim"))
+            fy = _standin_lateral(self.standin, self.neighbour)
+            lateral = lambda r: fy[id(r.geometry)]                      # noqa: E731
+            uncertainty = {s: STANDIN_UNCERTAINTY * sum(
+                abs(fy[id(r.geometry)] * math.sin(r.geometry.contact_angle))
+                for r in results if r.geometry.side == s) / self.loads[s] for s in self.sides}
+        forces = {s: vertical_force_on_rail(results, s, lateral) for s in self.sides}
+        self.last = ContactEvaluation(dict(d), contact, results, forces, done, uncertainty)
+        return self.last
+
+
+def _standin_lateral(standin, neighbour) -> dict:
+    """F_y [N] standing in for each patch's tangential solution (by the id of its
+    geometry): FASTSIM's on the patch's normal solution (``standin``), where a
+    neighbouring case (``neighbour``: its solved patch results and FASTSIM's on
+    them) has a patch of the same side within ``WARM_DISTANCE`` plus the neighbour's
+    difference of the solved F_y/F_n from FASTSIM's, times F_n: FASTSIM's own error
+    (median 3-4 % of F_y on the benchmark sweep) largely cancels between
+    neighbours."""
+    out = {}
+    for r in standin:
+        fy = r.tangential.fy
+        if neighbour is not None:
+            a, b = _nearest(neighbour[0], r.geometry), _nearest(neighbour[1], r.geometry)
+            if a is not None and b is not None and a.tangential is not None:
+                fy += (_ratio(a) - _ratio(b)) * r.normal.normal_force
+        out[id(r.geometry)] = fy
+    return out
+
+
 def _solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
                       start=None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
 
-    The geometry layer's multi-Hertzian estimate gives the first wheelset height
-    (a neighbouring case's interpenetrations where ``start``, its result, is given:
-    :func:`_first_search`);
-    where each side has one loaded patch of small contact angle, a first step
-    solves those normal problems for the force that carries the load and moves the
-    interpenetrations by the change of approach (:func:`_force_step`); then the
-    vertical interpenetration of each side is corrected by secant steps
-    until the vertical force of normal plus tangential contact forces (the chosen
-    models) equals the load, as CONTACT does with its Newton iteration on z (each
-    side's steps from the points of its history taken at about the other side's
-    present interpenetration, :func:`_current`).
-
-    The tangential forces enter the balance only through F_y sin(d): the passes
-    solve the normal problems with the lateral forces of the last tangential
-    solution (Hertz + FASTSIM's before the first); once the balance holds to
-    ``STANDIN_FACTOR`` tolerances the tangential problems are solved on those
-    normal solutions and the balance checked again (the iteration goes on, with the
-    new lateral forces, until it holds with the forces of the result).
-
-    ``start`` (the :class:`SolveResult` of a neighbouring case) warm-starts the
-    models that accept it with its patch results.  Returns the patch results, the
-    final contact search and the :class:`VerticalBalance`.
+    The balance of each wheel's vertical force, normal plus tangential contact
+    forces of the case's models, with its load is solved by
+    :func:`railcontact.equilibrium.balance` on the evaluations of
+    :class:`WheelRailContact` (the sides' interpenetrations the unknowns), from the
+    geometry layer's multi-Hertzian estimate or, where ``start`` (the
+    :class:`SolveResult` of a neighbouring case) is given, from its
+    interpenetrations and its Jacobian.  Returns the patch results, the final
+    contact search and the :class:`VerticalBalance`.
     """
-    bodies = build_wheelset_track(case)
-    converged, jump = True, False
+    evaluate = WheelRailContact(case, nmodel, tmodel, kw, start)
+    jac = start.balance.jacobian if start is not None and start.balance is not None else None
+    ev, balance = solve_balance(evaluate, evaluate.start(), evaluate.loads, rtol, max_iter,
+                                jacobian=jac)
+    balance.standin = evaluate.standin
+    results = ev.results
     side = case.get("wheelset.side", "both")
-    loads = case.wheel_loads()
-    sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
-    previous = start.patches if start is not None else None
-    contact = _first_search(case, bodies, loads, sides,
-                            start.contact if start is not None else None)
-    coupled = _coupled(case, nmodel, tmodel)
-    lazy = tmodel is not None and not coupled
-    # whose F_y/F_n stands in until the tangential solution: Hertz + FASTSIM's on
-    # these patches (cheap, with this case's creepages, within about 10 % of the
-    # exact F_y: a few 1e-4 of the load in the balance)
-    lateral = standin = _fast_estimate(case, contact) if lazy else None
-    if lazy and previous and start is not None and start.balance is not None \
-            and start.balance.standin:
-        lateral = _CorrectedRatio(standin, previous, start.balance.standin)
-    # the normal problems start from the force step's solutions where it ran (else
-    # from the neighbouring case's), the tangential ones from the neighbour's
-    step = None if coupled else _force_step(case, contact, nmodel, kw, loads, sides, lateral,
-                                            previous)
-    normal_start = previous
-    if step is not None:
-        d_step, normal_start = step
-        contact = contact_search(case, interpenetration=d_step, bodies=bodies,
-                                 roll_start=contact.pose.roll)
-    results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=normal_start,
-                             normal_only=lazy, coupled=coupled, same_case=step is not None)
-    passes = 1 if step is None else 2
-    tangential_start = previous   # warm starts of the tangential solver (a neighbour's)
-    d = dict(contact.interpenetration)
-    hist = {s: [] for s in sides}
-    # points of each side's balance with the tangential forces solved at them (the
-    # passes' own balance uses the last solution's F_y/F_n, whose change with F_n
-    # it lags)
-    solved = {s: [] for s in sides}
-    best = None
-    eager = False          # every pass solves the tangential problems
-    for _ in range(max_iter):
-        err = {}
-        final = all(r.tangential is not None for r in results) or tmodel is None
-        for s in sides:
-            fz = vertical_force_on_rail(results, s, lateral)
-            err[s] = fz - loads[s]
-            hist[s].append((d[s], fz, dict(d)))
-            if final and lazy:                  # a pass that solved them (``eager``)
-                solved[s].append((d[s], fz, dict(d)))
-        # with stand-in lateral forces, solve the tangential problems once the balance
-        # is within ten tolerances: the stand-in's F_y sin(d) is itself a few 1e-4 of
-        # the load off, so converging further on it is wasted; the passes after that
-        # run with the solved forces
-        tol = {s: (1.0 if final else STANDIN_FACTOR) * rtol * loads[s] for s in sides}
-        met = all(abs(err[s]) <= tol[s] for s in sides)
-        if met and final:
-            break
-        # each side's points taken at about the other side's present interpenetration
-        current = {s: _current(hist[s], d, s) for s in sides}
-        # a jump of the stand-in's balance is no jump of the result's: its F_y sin(d)
-        # may be several per cent of the load off (ANALYN + Polach in flange contact:
-        # 10 %), which moves where the load lies against the jump.  From there on
-        # every pass solves the tangential problems, so that the jump test sees
-        # balances with solved forces
-        if not met and not final and _collapsed(current, err, loads, d, sides, rtol):
-            met = eager = True
-        if met:
-            # met (or stuck at a jump) with the stand-in lateral forces: solve the
-            # tangential problems and check the balance with their forces
-            results = _add_tangential(case, results, tmodel, previous=tangential_start)
-            lateral = tangential_start = results
-            final = True
-            err = {}
-            for s in sides:
-                fz = vertical_force_on_rail(results, s)
-                err[s] = fz - loads[s]
-                # the force curve moved with the new F_y: shift its history by the
-                # change at this point (the slope stays), then go on from there
-                shift = fz - hist[s][-1][1]
-                hist[s] = [(dd, ff + shift, other) for dd, ff, other in hist[s]]
-                solved[s].append((d[s], fz, dict(d)))
-            if all(abs(err[s]) <= rtol * loads[s] for s in sides):
-                break
-            current = {s: _current(hist[s], d, s) for s in sides}
-        # the pass nearest the load (where the force jumps across it, its results are
-        # returned rather than the last pass's, which may lie on the far side)
-        score = max(abs(err[s]) / loads[s] for s in sides)
-        if final and (best is None or score < best[0]):
-            best = (score, results, contact)
-        if final and lazy:
-            # two balances with solved forces: their secant holds the change of F_y/F_n
-            # with F_n, which the stand-in lags (a flange side's balance then
-            # converged by a factor of about -0.2 per pass); the steps and the jump
-            # test use those
-            for s in sides:
-                own = _current(solved[s], d, s)
-                if len(own) >= 2 and own[-1][0] != own[-2][0]:
-                    current[s] = own
-        # stop at a jump of the result's balance (a collapsed bracket of a balance
-        # with solved forces; with stand-in ones the branch above has solved them)
-        if final and _collapsed(current, err, loads, d, sides, rtol):
-            results, worst = _with_solved_forces(case, results, tmodel, tangential_start,
-                                                 loads, sides)
-            if best is not None and best[0] < worst:
-                worst, results, contact = best
-            (log.warning if worst > STANDIN_FACTOR * rtol else log.info)(
-                "vertical force: the model's force jumps across the load; the pass nearest "
-                "it is %.2g of the load off", worst)
-            jump = True
-            break
-        new = dict(d)
-        # with the solved lateral forces, a side already in balance stays where it is
-        balanced = {s for s in sides if final and abs(err[s]) <= rtol * loads[s]}
-        for s in sides:
-            if s in balanced:
-                continue
-            new[s] = _step(current[s], loads[s], d, s, rtol)
-        d = new
-        contact = contact_search(case, interpenetration=d, bodies=bodies,
-                                 roll_start=contact.pose.roll)
-        if lazy and all(r.tangential is not None for r in results):
-            lateral = tangential_start = results
-        # the balanced sides' patches, where the search (the other side's correction
-        # turns the wheelset slightly) left them in place: their results stand
-        still = {s for s in balanced if _unmoved(case, results, contact, s)}
-        kept = [r for r in results if r.geometry.side in still]
-        if kept:
-            contact.patches = [g for s in SIDES for g in (
-                [r.geometry for r in kept if r.geometry.side == s] if s in still
-                else [g for g in contact.patches if g.side == s])]
-        results = _solve_patches(case, contact, nmodel, tmodel, kw, previous=results,
-                                 normal_only=lazy and not eager, coupled=coupled,
-                                 same_case=True, kept=kept)
-        passes += 1
-    else:
-        converged = False
-        results, last = _with_solved_forces(case, results, tmodel, tangential_start, loads,
-                                            sides)
-        if best is not None and best[0] < last:
-            last, results, contact = best
-        log.warning("vertical force not met to %.0e after %d iterations; the pass nearest "
-                    "it is %.2g of the load off", rtol, max_iter, last)
-    if any(r.tangential is None for r in results):   # left the iteration without them
-        results = _add_tangential(case, results, tmodel, previous=tangential_start)
-    residual = {s: vertical_force_on_rail(results, s) / loads[s] - 1.0 for s in sides}
-    # a load missed by more than the tolerance is not a solution of the case, also
-    # where the model's force jumps across it (no interpenetration carries it)
-    converged &= all(abs(v) <= rtol for v in residual.values())
     if side != "both":
         results = [r for r in results if r.geometry.side == side]
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
-    _wheel_rail_validity(results, bodies)
-    return results, contact, VerticalBalance(converged, jump, passes, residual, standin)
+    _wheel_rail_validity(results, evaluate.bodies)
+    return results, ev.contact, balance
 
 
 def geometry_dict(contact: WheelsetContact, side: str = "both") -> dict:

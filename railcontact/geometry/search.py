@@ -127,32 +127,35 @@ def _candidates(loc: Locus):
 
 
 def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -> float:
-    """Vertical interpenetration [m] of the deepest point that carries ``load`` [N]."""
+    """Vertical interpenetration [m] of the deepest point that carries ``load`` [N]:
+    the root of the candidates' summed Hertzian vertical forces, each
+    k c^2.5 (d - off)^1.5 (k: Hertz's force per approach^1.5 at the candidate's
+    curvatures, c: cosine of its contact angle, off: its gap above the deepest
+    point).  The deepest candidate alone carries the load at the largest d, so that
+    its closed form bounds the root (and is the root where it is the only one)."""
     cands = _candidates(loc)
     gmin = loc.gap_min
-    data = []
     Es = material.contact_modulus
-    for i in cands:
+    off, kc = np.empty(len(cands)), np.empty(len(cands))
+    for j, i in enumerate(cands):
         A, B = _locus_curvatures(loc, i, r0)
         # at fixed curvatures Hertz's force grows as the approach^(3/2): one solution
         # gives its factor
         k = hertz_ellipse(A, B, Es, penetration=1e-4).force / 1e-6
-        data.append((loc.gap[i] - gmin, k, math.cos(math.atan(loc.slope[i]))))
+        off[j] = loc.gap[i] - gmin
+        kc[j] = k * math.cos(math.atan(loc.slope[i])) ** 2.5
+    deepest = int(np.argmin(off))
+    hi = float(off[deepest] + (load / kc[deepest]) ** (2.0 / 3.0))
+    if not hi <= 0.05:
+        raise ContactNotFoundError(f"wheel load {load:g} N cannot be carried "
+                                   "(interpenetration above 50 mm)")
+    if np.count_nonzero(off < hi) == 1:
+        return hi
 
     def vertical_force(d):
-        total = 0.0
-        for off, k, c in data:
-            pen = (d - off) * c
-            if pen > 0:
-                total += k * pen * math.sqrt(pen) * c
-        return total
+        pen = np.maximum(d - off, 0.0)
+        return float(np.dot(kc, pen * np.sqrt(pen)))
 
-    hi = 1e-4
-    while vertical_force(hi) < load:
-        hi *= 2.0
-        if hi > 0.05:
-            raise ContactNotFoundError(f"wheel load {load:g} N cannot be carried "
-                                       "(interpenetration above 50 mm)")
     return brentq(lambda d: vertical_force(d) - load, 0.0, hi, xtol=1e-13)
 
 

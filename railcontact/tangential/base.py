@@ -42,6 +42,8 @@ TANGENTIAL_CAPABILITIES = {
     "strip-march": "marches the strips of many patches at once (class method "
                    "strip_forces): batches of the strip models",
     "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials)",
+    "lazy": "costly: the vertical balance lets FASTSIM stand in for it until its last "
+            "passes (railcontact.equilibrium)",
 }
 
 
