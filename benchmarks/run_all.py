@@ -314,7 +314,7 @@ def conv_time(m=40, n=40, repeat=7, number=400):
 
 #: the parts of a wheel-rail case whose time :func:`time_split` reports: (label,
 #: module, attribute); nested parts are reported inside their parent
-SPLIT = [("contact search", "railcontact.solve", "contact_search"),
+SPLIT = [("contact search", "railcontact.wheel_rail_balance", "contact_search"),
          ("exact normal solves", "railcontact.normal.exact", "ExactNormalModel.solve"),
          ("  of which Polonsky-Keer iterations", "railcontact.normal.exact", "_pk_kernel"),
          ("exact tangential solves", "railcontact.tangential.exact", "ExactTangentialModel.solve"),
@@ -377,7 +377,7 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
                                       "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
                          "solver": {"grid": [40, 40]}})
     from railcontact.case import case_from_dict
-    from railcontact.solve import contact_search
+    from railcontact.bodies import contact_search
     cases = [case_from_dict(r) for r in raws]
     shifts = np.array([r["wheelset"]["lateral_shift"] for r in raws])
     loose = []
@@ -539,7 +539,7 @@ def _solves_alone(case, res, neighbour):
     ``res`` solved once on its geometry, warm-started from the nearest patch of
     ``neighbour`` (a result) or cold."""
     from railcontact.normal import get_normal_model
-    from railcontact.solve import _nearest
+    from railcontact.patches import nearest_patch as _nearest
     from railcontact.tangential import get_tangential_model
     nm, tm = get_normal_model("exact"), get_tangential_model("exact")
     for p in res.patches:

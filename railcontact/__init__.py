@@ -12,7 +12,9 @@ from .case import Case, case_from_dict, load_case
 from .errors import (CaseFileError, ContactNotFoundError, ConvergenceError, InputError,
                      ProfileError, RailContactError, UnknownModelError)
 from .materials import Material
-from .solve import PatchResult, SolveResult, VerticalBalance, solve
+from .case_solve import solve
+from .equilibrium import VerticalBalance
+from .results import PatchResult, SolveResult
 from .case_sweep import sweep
 
 __version__ = "0.1.0"

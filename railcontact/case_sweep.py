@@ -44,7 +44,7 @@ def _solve_chain(raws, base_dir, normal, tangential, warm):
     """Solve consecutive cases in order; with ``warm`` each starts from the previous
     case's solution (:func:`railcontact.solve`'s ``warm_start``)."""
     from .case import case_from_dict
-    from .solve import solve
+    from .case_solve import solve
     out, prev = [], None
     for raw in raws:
         try:

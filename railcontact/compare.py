@@ -23,9 +23,9 @@ def compare(case: Case, models=DEFAULT_MODELS, tangential: str | None = None):
     """Solve ``case`` with every normal model in ``models``.
 
     Returns (rows, results): one row per model and side (units in the column names),
-    and the :class:`~railcontact.solve.SolveResult` of each model.
+    and the :class:`~railcontact.results.SolveResult` of each model.
     """
-    from .solve import solve
+    from .case_solve import solve
     unknown = [m for m in models if m not in normal_models()]
     if unknown:
         raise RailContactError(f"compare: unknown normal model(s) {unknown}; expected "

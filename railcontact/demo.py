@@ -15,7 +15,7 @@ from .materials import Material
 from .normal import get_normal_model
 from .plotting import plot_contact_positions, plot_patches
 from .profiles import rail_profile, s1002
-from .solve import PatchResult
+from .results import PatchResult
 from .tangential import get_tangential_model
 
 log = logging.getLogger(__name__)

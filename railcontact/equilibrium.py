@@ -4,8 +4,9 @@ The unknowns are the vertical interpenetrations d_s of the wheels (s = left, rig
 one wheel where the roll is given), the equations that the vertical force F_s(d)
 each wheel exerts on its rail, normal and tangential contact forces of the case's
 models, equals its load Q_s.  The forces come from a callable, the contact
-evaluation (:class:`railcontact.solve` builds it from the contact search and the
-models), so that the method itself knows nothing of profiles or solvers.
+evaluation (:class:`railcontact.wheel_rail_balance.WheelRailContact` builds it
+from the contact search and the models), so that the method itself knows
+nothing of profiles or solvers.
 
 Both wheels: safeguarded Broyden steps
 --------------------------------------

@@ -40,7 +40,9 @@ from .geometry.validity import HALF_SPACE_LIMIT, halfspace_ratio
 from .geometry.validity import flange_state
 from .profiles.library import get_profile
 from .profiles.slices import is_slices_file, read_slices, slices_from_list
-from .solve import PatchResult, SolveResult, VerticalBalance, case_models, vertical_force_on_rail
+from .equilibrium import VerticalBalance
+from .patches import case_models
+from .results import PatchResult, SolveResult, vertical_force_on_rail
 from .status import SolverStatus
 
 log = logging.getLogger(__name__)
@@ -149,7 +151,7 @@ def build_surface_case(case: Case) -> SurfaceSetup:
 
 @dataclass
 class SurfaceResult(SolveResult):
-    """:class:`railcontact.solve.SolveResult` of a case on rail surfaces: also the
+    """:class:`railcontact.results.SolveResult` of a case on rail surfaces: also the
     search (``surface_contact``); each patch's JSON carries the rail it lies on
     (``rail``), its reference point in the track frame (``position`` [m]) and its
     track position ``s`` [m]."""

@@ -1,5 +1,5 @@
 """Warm starts across cases and the vertical-force iteration with stand-in lateral
-forces (railcontact.solve, railcontact.sweep)."""
+forces (railcontact.case_solve, railcontact.case_sweep)."""
 
 import numpy as np
 import pytest
@@ -9,7 +9,7 @@ from railcontact.case import case_from_dict
 from railcontact.geometry.contact import ContactGeometry
 from railcontact.materials import STEEL
 from railcontact.normal import get_normal_model
-from railcontact.solve import vertical_force_on_rail
+from railcontact.results import vertical_force_on_rail
 from railcontact.tangential import get_tangential_model
 
 
@@ -73,7 +73,7 @@ def test_result_patches_come_from_the_final_search():
     """Every patch of a result is one of its final contact search's (the pose it
     reports), and a fresh search at the final interpenetrations gives the same
     patches: the balance's last, final evaluation searched afresh."""
-    from railcontact.solve import build_wheelset_track, contact_search
+    from railcontact.bodies import build_wheelset_track, contact_search
     case = case_from_dict(_raw(2e-3))
     res = rc.solve(case)
     ids = {id(g) for g in res.contact.patches}
@@ -147,9 +147,8 @@ def test_warm_start_searches_first_at_the_neighbours_interpenetrations(monkeypat
     multi-Hertzian estimate; it meets its load and equals the cold result to the
     iteration's tolerance.  A start without interpenetrations falls back to the
     estimate."""
-    import importlib
     from types import SimpleNamespace
-    S = importlib.import_module("railcontact.solve")
+    import railcontact.wheel_rail_balance as S
     prev = rc.solve(case_from_dict(_raw(2.0e-3, element=7e-4)))
     case = case_from_dict(_raw(2.5e-3, load=5e4, element=7e-4))
     calls = []
@@ -190,23 +189,25 @@ def test_warm_start_corrects_the_stand_in_lateral_forces():
     corrected stand-in's error in the balance, F_y sin(d) relative to the load, is
     under a quarter of FASTSIM's on average, and a warm-started case takes at most
     four passes."""
-    import importlib
     import math
     from types import SimpleNamespace as NS
-    S = importlib.import_module("railcontact.solve")
+    from railcontact.patches import add_tangential
+    from railcontact.results import PatchResult
+    from railcontact.tangential import get_tangential_model
+    from railcontact.wheel_rail_balance import _standin_lateral
 
     def patch(side, y, fn, fy):
-        return S.PatchResult(NS(side=side, y_rail=y), NS(normal_force=fn), NS(fy=fy), ())
+        return PatchResult(NS(side=side, y_rail=y), NS(normal_force=fn), NS(fy=fy), ())
 
     fast = [patch("left", 0.0, 100.0, 10.0), patch("right", 0.0, 50.0, 5.0)]
     nb = ([patch("left", 1e-3, 200.0, 24.0)], [patch("left", 1e-3, 200.0, 22.0)])
-    fy = S._standin_lateral(fast, nb)
+    fy = _standin_lateral(fast, nb)
     assert fy[id(fast[0].geometry)] == pytest.approx(10.0 + (0.12 - 0.11) * 100.0)
     assert fy[id(fast[1].geometry)] == pytest.approx(5.0)      # no neighbour: FASTSIM's
-    assert S._standin_lateral(fast, None)[id(fast[0].geometry)] == pytest.approx(10.0)
+    assert _standin_lateral(fast, None)[id(fast[0].geometry)] == pytest.approx(10.0)
 
     err_fast, err_corrected, prev, passes = [], [], None, []
-    fastsim = S.get_tangential_model("fastsim")
+    fastsim = get_tangential_model("fastsim")
     for j in range(330, 338):
         case = case_from_dict(_sweep_raw(j, grid=[40, 40]))
         res = rc.solve(case, warm_start=prev)
@@ -215,10 +216,10 @@ def test_warm_start_corrects_the_stand_in_lateral_forces():
         if prev is not None:
             passes.append(res.balance.passes)
             # FASTSIM on the final normal solutions, and corrected by the neighbour's
-            fs = S._add_tangential(case, [S.PatchResult(p.geometry, p.normal, None, p.creepage)
+            fs = add_tangential(case, [PatchResult(p.geometry, p.normal, None, p.creepage)
                                           for p in res.patches], fastsim)
-            plain = S._standin_lateral(fs, None)
-            corrected = S._standin_lateral(fs, (prev.patches, prev.balance.standin))
+            plain = _standin_lateral(fs, None)
+            corrected = _standin_lateral(fs, (prev.patches, prev.balance.standin))
             for p, f in zip(res.patches, fs):
                 sd = abs(math.sin(p.geometry.contact_angle)) / 6e4
                 err_fast.append(sd * abs(plain[id(f.geometry)] - p.tangential.fy))
@@ -284,8 +285,7 @@ def test_exact_solvers_accept_a_solution_on_another_grid():
 def test_unconverged_warm_start_falls_back_to_a_cold_solve(monkeypatch):
     """A warm-started case that does not converge is solved again cold (deep flange
     contact can take a warm start into a state where the exact solver fails)."""
-    import importlib
-    S = importlib.import_module("railcontact.solve")
+    import railcontact.case_solve as S
     calls = []
     real = S._solve
 
@@ -312,7 +312,6 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     vertical_residual shows the miss and the result is flagged unconverged
     (balance.force_jump tells why).  A warm-started result that stops so is not
     solved again cold (the jump is the model's)."""
-    import importlib
     import logging
     raw = _random_case(-0.005818754733893278, -0.001077907347123405, 86929.72985745202,
                        (-0.0001983961034347759, 0.0010905774279293635, -0.18215570996119113),
@@ -325,7 +324,7 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     assert not res.converged and res.balance.force_jump
     assert res.to_dict()["converged"] is False
     assert "jumps across the load" in res.status.message
-    S = importlib.import_module("railcontact.solve")
+    import railcontact.case_solve as S
     calls, real = [], S._solve
 
     def jumping(case, normal, tangential, warm_start):
@@ -346,8 +345,7 @@ def test_a_jump_returns_the_evaluation_nearest_the_load(monkeypatch):
     falls from 3.95 to 0.28 1/m, so that Hertz's force at one approach jumps by half
     of the load.  The balance stops at that jump; its result is the evaluation
     nearest the load (0.02 % off)."""
-    import importlib
-    E = importlib.import_module("railcontact.equilibrium")
+    import railcontact.equilibrium as E
     seen = []
     real = E._Track.__call__
 
@@ -404,8 +402,7 @@ def test_warm_start_carries_the_jacobian(monkeypatch):
     (``balance.jacobian``, d ln F / d ln d): on the tread its diagonal is about
     Hertz's 1.5, on a flange knee (case 199) the flange side's is over 5 and the
     coupling term from the tread side negative."""
-    import importlib
-    S = importlib.import_module("railcontact.solve")
+    import railcontact.wheel_rail_balance as S
     tread = rc.solve(case_from_dict(_sweep_raw(100, grid=[40, 40])))
     J = tread.balance.jacobian
     assert J.shape == (2, 2) and np.all(np.abs(np.diag(J) - 1.65) < 0.35)

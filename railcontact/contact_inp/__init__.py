@@ -59,7 +59,7 @@ def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
     ``warm``); returns each case's rows, or its one-line error."""
     from ..case import case_from_dict
     from ..errors import RailContactError
-    from ..solve import solve
+    from ..case_solve import solve
     out, prev = [], None
     for m in items:
         try:

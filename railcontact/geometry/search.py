@@ -70,7 +70,7 @@ class WheelsetContact:
         The vertical interpenetration [m] of each side the patches were cut at.
 
     How the solve layer's vertical-force iteration ended is not the search's: see
-    :class:`railcontact.solve.VerticalBalance`.
+    :class:`railcontact.equilibrium.VerticalBalance`.
     """
 
     pose: WheelsetPose
