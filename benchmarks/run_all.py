@@ -250,7 +250,7 @@ def bench_exact_wheel_rail():
     five = ys == 5.0
     out(f"\n* the patches' reference points lie within {dev['dy_ref'][~five].max() * 1e3:.1f} um "
         "of CONTACT's on the rail, except at 5 mm (weighted as CONTACT weights them, "
-        "railcontact.geometry.search.GAP_WEIGHT; weighted by the interpenetration itself "
+        "railcontact.geometry.regions.GAP_WEIGHT; weighted by the interpenetration itself "
         "they lay up to 1.1 mm away at 0-1 mm and 0.06-0.16 mm on the rail's crown)")
     out("* at 5 mm (a contact jump: 0-1 mm and 4.5-7 mm are where CONTACT's reference notes "
         "say another contact search can legitimately differ) CONTACT combines tread and "

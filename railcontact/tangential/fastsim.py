@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
-from ..geometry.search import sample_strip_spin
+from ..geometry.gap import sample_strip_spin
 from ..materials import STEEL, Material
 from ..hertz_theory import hertz_ellipses, hertz_ellipses_table
 from ..normal.semi_hertzian import strip_minima

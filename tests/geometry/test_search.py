@@ -76,12 +76,12 @@ def test_loci_of_given_interpenetrations_hold_the_same_patches(monkeypatch):
     the interpenetration plus REGION_MARGIN of the closest approach; the patches
     (tread, and flange root with flange on the deep right wheel) are those of loci
     over the whole LOCUS_WINDOW."""
-    import railcontact.geometry.search as search
+    import railcontact.geometry.pose as pose
     from railcontact.geometry.locus import LOCUS_WINDOW
     tr = Track(rail_profile("60E1", math.atan(1 / 40)))
     runs = []
-    for margin in (search.REGION_MARGIN, LOCUS_WINDOW):
-        monkeypatch.setattr(search, "REGION_MARGIN", margin)
+    for margin in (pose.REGION_MARGIN, LOCUS_WINDOW):
+        monkeypatch.setattr(pose, "REGION_MARGIN", margin)
         out = []
         for y, d in ((1e-3, {"left": 7e-5, "right": 6.5e-5}),
                      (6.44e-3, {"left": 7.6e-5, "right": 6.3e-4})):
