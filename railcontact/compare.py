@@ -9,6 +9,7 @@ from pathlib import Path
 
 
 from .case import Case
+from .case_solve import solve
 from .errors import RailContactError
 from .normal import normal_models
 
@@ -25,7 +26,6 @@ def compare(case: Case, models=DEFAULT_MODELS, tangential: str | None = None):
     Returns (rows, results): one row per model and side (units in the column names),
     and the :class:`~railcontact.results.SolveResult` of each model.
     """
-    from .case_solve import solve
     unknown = [m for m in models if m not in normal_models()]
     if unknown:
         raise RailContactError(f"compare: unknown normal model(s) {unknown}; expected "

@@ -31,17 +31,16 @@ from scipy.optimize import brentq
 
 from .case import Case
 from .case_surfaces import check_surface_case
+from .equilibrium import VerticalBalance
 from .errors import CaseFileError, ContactNotFoundError, ProfileError
 from .geometry.surface_search import (Motion, SurfaceContact, SurfacePose, SurfaceWheel,
-                                      search)
+                                      search, surface_slip)
 from .geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface, SlicedSurface
 from .geometry.track import Track
-from .geometry.validity import HALF_SPACE_LIMIT, halfspace_ratio
-from .geometry.validity import flange_state
+from .geometry.validity import HALF_SPACE_LIMIT, flange_state, halfspace_ratio
+from .patches import case_models
 from .profiles.library import get_profile
 from .profiles.slices import is_slices_file, read_slices, slices_from_list
-from .equilibrium import VerticalBalance
-from .patches import case_models
 from .results import PatchResult, SolveResult, vertical_force_on_rail
 from .status import SolverStatus
 
@@ -211,7 +210,6 @@ def _surface_slip_field(g, ns, setup, creep):
     surface_search.surface_slip`) minus the planar rigid slip of the patch's
     creepages (xi - phi y, eta + phi x), on the normal solution's grid: the exact
     tangential solver's ``extra_slip`` (``solver.rigid_slip = "surfaces"``)."""
-    from .geometry.surface_search import surface_slip
     X, Y = np.meshgrid(ns.x, ns.y, indexing="ij")
     sx, sy = surface_slip(g, setup.wheel, setup.rails[g.rail_index], setup.motion, X, Y)
     xi, eta, phi = creep

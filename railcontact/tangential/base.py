@@ -7,6 +7,7 @@ from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
+from ..errors import InputError
 from ..registry import Registry
 from ..status import SolverStatus
 
@@ -70,7 +71,6 @@ def check_inputs(creepage, friction):
     """Validate creepages (xi, eta, phi) and the friction coefficient; return floats."""
     import math
 
-    from ..errors import InputError
     try:
         xi, eta, phi = (float(c) for c in creepage)
     except (TypeError, ValueError):
