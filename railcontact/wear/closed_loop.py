@@ -226,7 +226,7 @@ class ClosedLoopWear:
     """
 
     def __init__(self, scenario, out_dir=None, progress: bool = True):
-        from ..solve import build_wheelset_track
+        from ..bodies import build_wheelset_track
         self.sc = scenario
         self.out = Path(out_dir) if out_dir else None
         self.progress = progress
