@@ -118,7 +118,7 @@ def bench_exact_module3():
             if r["workload"] == "module3_hertz_40x40" and r["build"] == "mkl_fft"
             and r["omp_threads"] == "1" and r["eps"] == "1e-05"]
     mat = rc.Material.from_shear_modulus(82e9, 0.28)
-    from railcontact.normal.hertz_theory import hertz_ellipse
+    from railcontact.hertz_theory import hertz_ellipse
     problems = {"circ_partial_slip": (5e-3, 5e-3, (-1e-3, 2e-4, 0.1)),
                 "circ_adhesion": (5e-3, 5e-3, (-1e-5, 0.0, 0.0)),
                 "ellip_partial_slip": (3.5355e-3, 7.0711e-3, (-1e-3, 2e-4, 0.1))}

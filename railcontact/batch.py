@@ -3,13 +3,15 @@
 For sweeps, wear loops and anything that needs the forces of thousands of patches
 (the geometry layer's :class:`~railcontact.geometry.ContactGeometry` objects), where
 building grids and result objects per patch would dominate.  Hertz's solution is
-vectorised over the patches (:func:`railcontact.normal.hertz_theory.hertz_ellipses`),
+vectorised over the patches (:func:`railcontact.hertz_theory.hertz_ellipses`),
 Kalker's coefficients come from the compiled table lookup, and the creep law runs in
 one compiled loop (:mod:`railcontact.tangential.online`).  The strip models run on
 strips of all patches together (:mod:`railcontact.normal.strip_batch`), with FASTSIM,
 its strip-wise variant or FaStrip marching their strip pressures in compiled loops.
 Any other model pair is solved patch by patch with the registered models (same
-outputs, slower).
+outputs, slower).  Which path a pair takes follows from the capabilities the models
+declare in their registries: ``"ellipse"`` and ``"batch"`` (normal), ``"online"``
+and ``"strip-march"`` (tangential).
 """
 
 from __future__ import annotations
@@ -23,11 +25,12 @@ from numba import njit
 
 from .errors import InputError
 from .materials import STEEL, Material
-from .normal.strip_batch import BATCH_MODELS, solve_strips
-from .tangential.online import COMPILED_LAWS, patch_forces
-
-#: creep laws that march the strip pressures of the strip models (compiled path)
-STRIP_LAWS = ("fastsim-strips", "fastrip")
+from .normal import normal_model_class, normal_supports
+from .hertz_theory import hertz_ellipses
+from .normal.strip_batch import hertz_ellipse_strips, solve_strips
+from .tangential import tangential_model_class, tangential_supports
+from .tangential.kalker import kalker_coefficients_array
+from .tangential.online import online_law, patch_forces
 
 
 @dataclass
@@ -92,8 +95,6 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
         ``"hertz"`` with ``"fastrip"`` cuts the ellipse in ``fastsim_grid[1]`` strips.
         Any other registered pair is solved patch by patch on ``grid``.
     """
-    from .normal.hertz_theory import hertz_ellipses
-    from .tangential.kalker import kalker_coefficients_array
     patches = list(patches)
     if not patches:
         raise InputError("solve_patches: no patches given")
@@ -108,7 +109,10 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
                    for p in patches], dtype=float).reshape(n, 3)
     V = np.fromiter((p.velocity if math.isfinite(p.velocity) else 1.0 for p in patches),
                     float, n)
-    if normal == "hertz" and tangential in COMPILED_LAWS:
+    normal_model_class(normal), tangential_model_class(tangential)     # known names
+    law = online_law(tangential)
+    ellipse = normal_supports(normal, "ellipse")
+    if ellipse and law is not None:
         nx, ny = (int(v) for v in fastsim_grid)
         if not (2 <= nx <= 500 and 2 <= ny <= 500):
             raise InputError(f"fastsim_grid {fastsim_grid!r}: expected two integers in "
@@ -121,7 +125,7 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
             C11[ok], C22[ok], C23[ok] = c
         tp = np.array([friction, material.shear_modulus, nx, ny, 1.0, 1.0, 1.0, 0.0])
         out = np.zeros((n, 3))
-        _forces(COMPILED_LAWS[tangential], tp, F, a, b, C11, C22, C23,
+        _forces(law, tp, F, a, b, C11, C22, C23,
                 np.ascontiguousarray(cr[:, 0]), np.ascontiguousarray(cr[:, 1]),
                 np.ascontiguousarray(cr[:, 2]), V, out)
         area = math.pi * a * b
@@ -130,9 +134,9 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
         return PatchForces(F, area, pmax, np.maximum(pen, 0.0), a, b, out[:, 0], out[:, 1],
                            out[:, 2], normal, tangential, time.perf_counter() - t0,
                            {"compiled": True, "fastsim_grid": (nx, ny)})
-    if (normal in BATCH_MODELS and (tangential in COMPILED_LAWS or tangential in STRIP_LAWS)) or \
-            (normal == "hertz" and tangential == "fastrip"):
-        if normal == "hertz":                  # the ellipse in strips, as FASTSIM's grid
+    marches = tangential_supports(tangential, "strip-march")
+    if normal_supports(normal, "batch") and (law is not None or marches):
+        if ellipse:                            # the ellipse in strips, as FASTSIM's grid
             strips = int(fastsim_grid[1])
         return _strip_patches(patches, normal, tangential, material, friction, cr, V,
                               strips, fastsim_grid[0], t0)
@@ -153,71 +157,35 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
 
 
 def _strip_patches(patches, normal, tangential, material, friction, cr, V, strips, nx, t0):
-    """Compiled path of :func:`solve_patches` for the strip models (and Hertz's
-    ellipse cut in strips for FaStrip)."""
-    from .normal.strip_batch import hertz_ellipse_strips
-    from .tangential.fastsim import (blended_flexibilities, fastsim_strip_patches)
-    from .tangential.kalker import (flexibilities_array, flexibilities_from_coefficients,
-                                    kalker_coefficients_array)
+    """Compiled path of :func:`solve_patches` for the normal models with strips in
+    batch (the strip models, and Hertz's ellipse cut in strips): a tangential model
+    that marches strips does so (``strip_forces``), an online law runs on each
+    patch's equivalent ellipse."""
     if not (isinstance(strips, (int, np.integer)) and 5 <= strips <= 1000):
         raise InputError(f"strips {strips!r}: expected an integer in [5, 1000]")
     nx = int(nx)
     if not 2 <= nx <= 500:
         raise InputError(f"fastsim_grid elements per strip {nx!r}: expected [2, 500]")
-    if normal == "hertz":
+    if normal_supports(normal, "ellipse"):
         st = hertz_ellipse_strips(patches, material.contact_modulus, strips=int(strips))
     else:
         st = solve_strips(normal, patches, material.contact_modulus, strips=int(strips))
     F = st.normal_force
     a, b = st.equivalent_ellipses()
     ok = (F > 0) & (a > 0) & (b > 0)
-    n, my = st.y.shape
-    G, nu = material.shear_modulus, material.nu
-    xi, eta, phi = (np.ascontiguousarray(cr[:, i]) for i in range(3))
-    mu = np.full(n, float(friction))
+    n = F.size
+    creepage = tuple(np.ascontiguousarray(cr[:, i]) for i in range(3))
     out = np.zeros((n, 3))
-    if tangential in ("fastsim", "fastsim-strips"):
-        L = np.zeros((3, n, my))
-        if ok.any():
-            f = flexibilities_array(a[ok], b[ok], G, nu)
-            L[:, ok] = np.array(blended_flexibilities(a[ok], b[ok], *f, G, nu, xi[ok],
-                                                      eta[ok], phi[ok], friction,
-                                                      F[ok]))[:, :, None]
-        spin = np.repeat(phi[:, None], my, axis=1)
-        if tangential == "fastsim-strips":
-            # a local ellipse per strip, from the gap's curvatures along the strip
-            # (FastsimStripsModel), and the spin of the local contact angle
-            from .geometry.search import sample_strip_spin
-            from .normal.hertz_theory import hertz_ellipses_table
-            act = ok[:, None] & (st.half > 0)
-            rows = np.nonzero(act)[0]
-            la, lb, _ = hertz_ellipses_table(st.A[act], st.B[act],
-                                             material.contact_modulus, st.penetration[rows])
-            c = kalker_coefficients_array(la / lb, nu)
-            f = flexibilities_from_coefficients(la, lb, *c, G)
-            L[:, act] = blended_flexibilities(la, lb, *f, G, nu, xi[rows], eta[rows],
-                                              phi[rows], friction, F[rows], coefficients=c[:2])
-            spin = np.ascontiguousarray(sample_strip_spin(patches, st.y))
-        fastsim_strip_patches(st.y, st.dy, st.x_mid, st.half, st.p_strip,
-                              *(np.ascontiguousarray(v) for v in L), mu, xi, eta, spin, nx,
-                              out)
-    elif tangential == "fastrip":
-        from .tangential.fastrip import fastrip_strip_patches, strip_parameters
-        c11, c22, L3 = np.ones(n), np.ones(n), np.zeros(n)
-        if ok.any():
-            c11[ok], c22[ok], _ = kalker_coefficients_array(a[ok] / b[ok], nu)
-            L3[ok] = flexibilities_array(a[ok], b[ok], G, nu)[2]
-        with np.errstate(divide="ignore", invalid="ignore"):
-            wn, ex, ey, K = strip_parameters(a, b, F, xi, eta, c11, c22, G, friction)
-        fastrip_strip_patches(st.y, st.dy, st.x_mid, st.half, st.p_strip, mu, wn, ex, ey, K,
-                              L3, phi, nx, out)
+    if tangential_supports(tangential, "strip-march"):
+        tangential_model_class(tangential).strip_forces(st, patches, a, b, ok, creepage,
+                                                        material, friction, nx, out)
     else:
         C11, C22, C23 = (np.ones(n) for _ in range(3))
         if ok.any():
-            C11[ok], C22[ok], C23[ok] = kalker_coefficients_array(a[ok] / b[ok], nu)
-        tp = np.array([friction, G, nx, nx, 1.0, 1.0, 1.0, 0.0])
-        _forces(COMPILED_LAWS[tangential], tp, np.where(ok, F, 0.0), a, b, C11, C22, C23,
-                xi, eta, phi, V, out)
+            C11[ok], C22[ok], C23[ok] = kalker_coefficients_array(a[ok] / b[ok], material.nu)
+        tp = np.array([friction, material.shear_modulus, nx, nx, 1.0, 1.0, 1.0, 0.0])
+        _forces(online_law(tangential), tp, np.where(ok, F, 0.0), a, b, C11, C22, C23,
+                *creepage, V, out)
     return PatchForces(F, st.area, st.pmax, st.penetration, a, b, out[:, 0], out[:, 1],
                        out[:, 2], normal, tangential, time.perf_counter() - t0,
                        {"compiled": True, "strips": int(strips), "fastsim_elements": nx})

@@ -8,6 +8,7 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .case_surfaces import check_surface_case, is_surface_case
 from .errors import CaseFileError, InputError, RailContactError
 from .materials import Material
 
@@ -232,9 +233,8 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     if case.is_bodies:
         case.number("bodies.normal_force", None, 0.0, 1e8, "N")
         _body_curvatures(case)
-    elif _surface_case(case):
+    elif is_surface_case(case):
         # rails along the track, several rails, a roller: railcontact.surface_contact
-        from .surface_contact import check_surface_case
         check_surface_case(case)
         case.wheel_loads()
         case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
@@ -274,11 +274,6 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
                 raise CaseFileError("wheelset: give either vertical_force or vertical_position, "
                                     "not both")
     return case
-
-
-def _surface_case(case: Case) -> bool:
-    from .surface_contact import is_surface_case
-    return is_surface_case(case)
 
 
 def _plasticity(case: Case) -> None:

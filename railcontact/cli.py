@@ -202,7 +202,7 @@ def cmd_wear_compare(args):
 
 def cmd_simulate(args):
     if len(args.scenario) > 1:
-        from .dynamics.simulation import simulate_batch
+        from .dynamics.scenario import simulate_batch
         outs = [Path(args.out) / Path(s).stem for s in args.scenario]
         if len(set(outs)) != len(outs):
             raise InputError("simulate: scenario files with the same name would share an "

@@ -78,7 +78,7 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
     tangential solutions; the tangential one's ``status`` is unconverged where the
     alternation did not converge (its ``options`` hold ``coupling_iterations``).
     """
-    if getattr(nmodel, "name", "") != "exact" or getattr(tmodel, "name", "") != "exact":
+    if "coupled" not in nmodel.capabilities & tmodel.capabilities:
         raise InputError("coupled normal-tangential solution of dissimilar materials needs "
                          "normal = 'exact' and tangential = 'exact'")
     maxiter = MAX_ALTERNATIONS if maxiter is None else int(maxiter)

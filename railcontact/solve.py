@@ -11,6 +11,7 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from .case import Case, body_curvatures
+from .case_surfaces import is_surface_case
 from .errors import ContactNotFoundError
 from .geometry.contact import ContactGeometry
 from .geometry.locus import min_gap
@@ -278,7 +279,7 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     :mod:`railcontact.surface_contact`) is solved by
     :func:`railcontact.surface_contact.solve_on_surfaces`.
     """
-    from .surface_contact import is_surface_case, solve_on_surfaces
+    from .surface_contact import solve_on_surfaces
     if not case.is_bodies and is_surface_case(case):
         return solve_on_surfaces(case, normal, tangential, warm_start=warm_start)
     if warm_start is not None:
@@ -316,7 +317,7 @@ def _solve(case, normal, tangential, warm_start):
         geom = ContactGeometry(curvatures=(A, B), rolling_radius=float(r))
         wkw = {}
         if warm_start is not None and warm_start.patches:
-            if getattr(nmodel, "accepts_warm_start", False):
+            if "warm-start" in nmodel.capabilities:
                 wkw["warm_start"] = warm_start.patches[0].normal
         ns = nmodel.solve(geom, case.material, normal_force=case.number("bodies.normal_force"),
                           **kw, **wkw)
@@ -336,7 +337,7 @@ def _solve(case, normal, tangential, warm_start):
         else:
             tkw = {}
             if (warm_start is not None and warm_start.patches and tmodel is not None
-                    and getattr(tmodel, "accepts_warm_start", False)
+                    and "warm-start" in tmodel.capabilities
                     and warm_start.patches[0].tangential is not None):
                 tkw["warm_start"] = warm_start.patches[0].tangential
             ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, V, **tkw)
@@ -422,11 +423,11 @@ def _coupled(case, nmodel, tmodel) -> bool:
     """Dissimilar materials with both exact models: solve the coupled problems."""
     if not case.material.is_dissimilar:
         return False
-    if getattr(nmodel, "name", "") == "exact" and getattr(tmodel, "name", "") == "exact":
+    if tmodel is not None and "coupled" in nmodel.capabilities & tmodel.capabilities:
         return True
     log.info("dissimilar materials: the %s/%s models use the combined constants G, nu, E*; "
              "the normal-tangential coupling needs normal = tangential = 'exact'",
-             getattr(nmodel, "name", "?"), getattr(tmodel, "name", "none"))
+             nmodel.name, tmodel.name if tmodel is not None else "none")
     return False
 
 
@@ -454,7 +455,7 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_only
     their sides."""
     out = []
     keep = {id(r.geometry): r for r in kept}
-    nwarm = getattr(nmodel, "accepts_warm_start", False)
+    nwarm = "warm-start" in nmodel.capabilities
     for geom in contact.patches:
         if id(geom) in keep:
             out.append(keep[id(geom)])
@@ -487,7 +488,7 @@ def _add_tangential(case, results, tmodel, previous=None):
     the nearest of ``previous`` where the model accepts it)."""
     if tmodel is None:
         return results
-    warm = getattr(tmodel, "accepts_warm_start", False)
+    warm = "warm-start" in tmodel.capabilities
     out = []
     for r in results:
         if r.tangential is None:
@@ -637,7 +638,7 @@ def _force_step(case, contact, nmodel, kw, loads, sides, lateral, previous):
     F_n = Q / (cos d - (F_y/F_n) sin d); the interpenetration of the side then moves
     by the change of approach over cos d.  Returns (interpenetrations, patch results)
     or None where the step does not apply."""
-    warm = getattr(nmodel, "accepts_warm_start", False)
+    warm = "warm-start" in nmodel.capabilities
     d, out = dict(contact.interpenetration), []
     for s in sides:
         pats = [g for g in contact.patches if g.side == s and g.approach > 0]

@@ -11,7 +11,7 @@ from railcontact.errors import CaseFileError, InputError
 from railcontact.geometry.contact import ContactGeometry
 from railcontact.materials import Material
 from railcontact.normal import get_normal_model
-from railcontact.normal.hertz_theory import hertz_ellipse
+from railcontact.hertz_theory import hertz_ellipse
 from railcontact.normal.influence import coupling_kernels
 from railcontact.tangential import get_tangential_model
 

@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..geometry.turning import default_turn_distance
-from ..normal.hertz_theory import hertz_curvatures
+from ..hertz_theory import hertz_curvatures
 from .reader import InpCase, InpError
 
 MM = 1e-3
@@ -163,7 +163,7 @@ def _map_module3(case: InpCase) -> MappedCase:
         A, B = hertz_curvatures(a, b, es, fn)
     elif ipotcn == -1:
         A, B = v["A1"] / MM, v["B1"] / MM        # 1/mm -> 1/m
-        from ..normal.hertz_theory import hertz_ellipse
+        from ..hertz_theory import hertz_ellipse
         h = hertz_ellipse(A, B, es, force=fn)
         a, b = h.a, h.b
     else:

@@ -8,14 +8,16 @@
 - :mod:`~railcontact.dynamics.wheel_rail`: per-patch contact table from the geometry
   layer and the creep-force laws evaluated online;
 - :mod:`~railcontact.dynamics.simulation`: time integration, linear stability
-  (eigenvalues), Dask batches;
+  (eigenvalues);
+- :mod:`~railcontact.dynamics.scenario`: scenario files (vehicle, route, simulation)
+  and Dask batches of them;
 - :mod:`~railcontact.dynamics.wheelset`: the classical two-degree-of-freedom
   wheelset with tabulated geometry (verification of Klingel's wavelength).
 """
 
 from .route import Irregularities, Route, erri_psd
-from .simulation import amplitude_growth, critical_speed, simulate_batch, simulate_vehicle, \
-    state_matrix
+from .scenario import simulate_batch
+from .simulation import amplitude_growth, critical_speed, simulate_vehicle, state_matrix
 from .vehicle import MANCHESTER, Body, Element, VehicleModel
 from .wheel_rail import WheelRailTable
 from .wheelset import WheelsetModel, linear_matrix, simulate, wavelength

@@ -44,7 +44,7 @@ from scipy.integrate import solve_ivp
 
 from ..errors import ContactNotFoundError, InputError
 from ..materials import Material
-from ..normal.hertz_theory import hertz_ellipse
+from ..hertz_theory import hertz_ellipse
 
 log = logging.getLogger(__name__)
 

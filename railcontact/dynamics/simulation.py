@@ -17,7 +17,7 @@ from ..geometry.validity import nadal_limit
 from ..materials import STEEL, Material
 from .route import Route
 from .vehicle import NORMAL_PASSES, PIN, POUT, VehicleModel, rhs_core, rk4_run
-from .wheel_rail import COMPILED_LAWS, WheelRailTable, python_patch_forces
+from .wheel_rail import WheelRailTable, online_law, python_patch_forces
 
 log = logging.getLogger(__name__)
 
@@ -60,8 +60,9 @@ class _System:
         if not (2 <= nx <= 200 and 2 <= ny <= 200):
             raise InputError(f"fastsim grid {fastsim_grid!r}: expected two integers in [2, 200]")
         self.tp = np.array([mu, material.shear_modulus, nx, ny, kA, kS, fall[0], fall[1]])
-        if tangential in COMPILED_LAWS:
-            self.law, self.py_model = COMPILED_LAWS[tangential], None
+        law = online_law(tangential)
+        if law is not None:
+            self.law, self.py_model = law, None
         else:
             from ..tangential import get_tangential_model
             self.law = -1
@@ -372,38 +373,3 @@ def amplitude_growth(model: VehicleModel, table: WheelRailTable, velocity: float
     y = np.abs(ds["lateral_displacement"].values).max(axis=1)
     n = y.size
     return float(y[-n // 4:].max() / y[:n // 4].max())
-
-
-# --------------------------------------------------------------- batches
-def _run_one(path, out):
-    from .scenario import run_scenario
-    try:
-        ds = run_scenario(path, out, progress=False)
-        return {"scenario": str(path), "out": str(out), "wall_time_s": ds.attrs["wall_time_s"],
-                "duration_s": float(ds["time"][-1])}
-    except RailContactError as exc:
-        return {"scenario": str(path), "out": str(out), "error": str(exc)}
-
-
-def simulate_batch(scenarios, out_dirs, scheduler: str = "processes", progress: bool = True):
-    """Run several scenario files as one Dask batch (``scheduler``: "processes",
-    "threads", "synchronous", or the address of a ``dask.distributed`` scheduler).
-
-    Returns one summary dict per run (with ``error`` for runs that failed)."""
-    import dask
-    scenarios, out_dirs = list(scenarios), list(out_dirs)
-    if len(scenarios) != len(out_dirs) or not scenarios:
-        raise InputError("simulate_batch: give one output folder per scenario (at least one)")
-    tasks = [dask.delayed(_run_one)(str(s), str(o)) for s, o in zip(scenarios, out_dirs)]
-    if scheduler.startswith("tcp://"):
-        from dask.distributed import Client
-        with Client(scheduler) as client:
-            return list(client.gather(client.compute(tasks)))
-    if scheduler not in ("processes", "threads", "synchronous"):
-        raise InputError(f"scheduler {scheduler!r}: expected 'processes', 'threads', "
-                         "'synchronous' or tcp://host:port")
-    if progress:
-        from dask.diagnostics import ProgressBar
-        with ProgressBar():
-            return list(dask.compute(*tasks, scheduler=scheduler))
-    return list(dask.compute(*tasks, scheduler=scheduler))

@@ -29,7 +29,7 @@ from tqdm.auto import tqdm
 from ..errors import ContactNotFoundError, InputError
 from ..geometry.validity import flange
 from ..materials import STEEL, Material
-from ..tangential.online import COMPILED_LAWS, patch_forces  # noqa: F401 (re-exported)
+from ..tangential.online import online_law, patch_forces  # noqa: F401 (re-exported)
 
 log = logging.getLogger(__name__)
 
@@ -79,7 +79,7 @@ class WheelRailTable:
               shift_range: float = 0.012, step: float = 2e-4, progress: bool = False):
         """Contact search at every shift in [-shift_range, shift_range] (yaw 0)."""
         from ..geometry import find_contact
-        from ..normal.hertz_theory import hertz_ellipse
+        from ..hertz_theory import hertz_ellipse
         from ..tangential.kalker import kalker_coefficients
         if not (math.isfinite(reference_load) and reference_load > 0):
             raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")

@@ -86,7 +86,7 @@ class WheelsetModel:
         table's vertical force (``vertical_force_N`` attribute).
         """
         from ..materials import STEEL
-        from ..normal.hertz_theory import hertz_ellipse
+        from ..hertz_theory import hertz_ellipse
         from ..tangential.kalker import kalker_coefficients
         mat = material or STEEL
         y = table["lateral_shift"].values

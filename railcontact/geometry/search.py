@@ -37,7 +37,7 @@ from scipy.signal import find_peaks
 
 from ..errors import ContactNotFoundError, InputError
 from ..materials import STEEL, Material
-from ..normal.hertz_theory import hertz_ellipse
+from ..hertz_theory import hertz_ellipse
 from ..profiles.profile import ppoly_at
 from .contact import ContactGeometry, interaction_factor
 from .locus import LOCUS_WINDOW, Locus, compute_locus, min_gap

@@ -4,7 +4,7 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass, field
-from typing import Callable
+from typing import Callable, ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 from numba import njit
@@ -22,9 +22,49 @@ def get_normal_model(name: str, **options):
     return _REGISTRY.create(name, **options)
 
 
-def normal_models() -> list:
-    """Names of the registered normal models."""
-    return _REGISTRY.names()
+def normal_models(capability: str | None = None) -> list:
+    """Names of the registered normal models (those that declare ``capability``)."""
+    return _REGISTRY.names(capability)
+
+
+def normal_model_class(name: str) -> type:
+    """The class of the normal model registered as ``name``."""
+    return _REGISTRY.model_class(name)
+
+
+def normal_supports(name: str, capability: str) -> bool:
+    """Whether the normal model ``name`` declares ``capability``."""
+    return _REGISTRY.supports(name, capability)
+
+
+#: what a normal model may declare in ``capabilities``
+NORMAL_CAPABILITIES = {
+    "force-control": "solve(normal_force=F) meets a given normal force",
+    "warm-start": "solve(..., warm_start=previous solution) starts from it",
+    "ellipse": "the patch is Hertz's ellipse of the geometry's curvatures (semi_axes)",
+    "batch": "solves many patches at once, forces only (railcontact.batch)",
+    "strips": "a strip model: semi-elliptic pressure per strip (strip_theory)",
+    "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials)",
+}
+
+
+@runtime_checkable
+class NormalModel(Protocol):
+    """What a normal model provides (the layer's contract; register with
+    ``@register(name)``).
+
+    ``solve`` takes a :class:`~railcontact.geometry.ContactGeometry` and exactly one
+    of ``normal_force`` [N] and ``penetration`` [m] and returns a
+    :class:`NormalSolution` whose ``status`` says whether it converged.  Its
+    capabilities are declared, never probed: ``capabilities`` is a frozenset of
+    keys of :data:`NORMAL_CAPABILITIES`.
+    """
+
+    name: ClassVar[str]
+    capabilities: ClassVar[frozenset]
+
+    def solve(self, geometry, material=..., normal_force=None, penetration=None,
+              grid=None, element_size=None) -> "NormalSolution": ...
 
 
 @dataclass

@@ -29,7 +29,7 @@ from ..errors import InputError
 from ..materials import STEEL, Material
 from ..status import SolverStatus
 from .base import NormalSolution, bilinear, make_grid, register, same_grid
-from .hertz_theory import hertz_ellipse
+from ..hertz_theory import hertz_ellipse
 from .influence import bounding_box, normal_operator, normal_operator_block
 
 log = logging.getLogger(__name__)
@@ -706,7 +706,7 @@ class ExactNormalModel:
         k = math.sqrt(1.3 * normal_force / (self.pressure_limit * hz.area))
         return ex * max(k, 1.0), ey * max(k, 1.0)
 
-    accepts_warm_start = True
+    capabilities = frozenset({"force-control", "warm-start", "coupled"})
     reuses_grids = True
 
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,

@@ -1,7 +1,7 @@
 """Hertz normal contact model (``normal="hertz"``).
 
 Hertz (1882); formulas as in Johnson, *Contact Mechanics* (1985), ch. 4, with
-complete elliptic integrals (:mod:`railcontact.normal.hertz_theory`).  The patch is
+complete elliptic integrals (:mod:`railcontact.hertz_theory`).  The patch is
 the ellipse of the relative curvatures at the first point of contact.
 """
 
@@ -14,7 +14,7 @@ import numpy as np
 from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
-from .hertz_theory import hertz_ellipse
+from ..hertz_theory import hertz_ellipse
 
 
 @register("hertz")
@@ -26,6 +26,8 @@ class HertzModel:
     margin : float
         The potential contact grid covers the ellipse times (1 + margin).
     """
+
+    capabilities = frozenset({"force-control", "ellipse", "batch"})
 
     def __init__(self, margin: float = 0.05):
         if not 0 <= margin <= 1:

@@ -1,10 +1,12 @@
 """The strip models for many patches at once: forces, area and p_max only.
 
-The per-patch models of :mod:`railcontact.normal.semi_hertzian` evaluate the exact
-gap on a full grid and build a :class:`~railcontact.normal.base.NormalSolution` for
+The per-patch models of :mod:`railcontact.normal.semi_hertzian` lay their strips
+on a full grid and build a :class:`~railcontact.normal.base.NormalSolution` for
 every patch.  For sweeps, wear loops and dynamics, where only the patch results
-are needed, this module solves the same models (``kik-piotrowski``, ``kpec``,
-``stripes``, ``analyn``; same equations, see that module) on all patches together:
+are needed, this module runs the same models (``kik-piotrowski``, ``kpec``,
+``stripes``, ``analyn``; the one implementation of their equations,
+:func:`railcontact.normal.strip_theory.strip_pressures`) on all patches together;
+only the sampling of the gap differs:
 
 * the gap of every patch is sampled at three points along x on each of ``strips``
   strips, in one compiled loop per profile pair
@@ -12,11 +14,8 @@ are needed, this module solves the same models (``kik-piotrowski``, ``kpec``,
   samples gives each strip's minimum g(y), its position x_m(y) and the longitudinal
   curvature A(y); the lateral curvature B(y) is the second difference across the
   strips at x_m(y);
-* the models work on arrays of shape (patches, strips); the semi-elliptic pressure
-  of strip j has half-length l_j around x_m(y_j) and maximum p_j, so that
-  F_n = sum (pi/2) p_j l_j dy and the area is sum 2 l_j dy;
-* Kik-Piotrowski's displacement at the deepest point is summed over the elements
-  of the strips in a compiled loop over the patches.
+* the semi-elliptic pressure of strip j has half-length l_j around x_m(y_j) and
+  maximum p_j, so that F_n = sum (pi/2) p_j l_j dy and the area is sum 2 l_j dy.
 
 The results agree with the per-patch models within their grid resolution (tested in
 ``tests/normal/test_strip_batch.py``).
@@ -28,14 +27,12 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
-from numba import njit
 
 from ..errors import InputError
-from .hertz_theory import hertz_ellipses, hertz_ellipses_table
-from .semi_hertzian import MIN_CURVATURE, corrected_gap
+from ..geometry.search import sample_gap_lines
+from ..hertz_theory import hertz_ellipses
+from .strip_theory import MIN_CURVATURE, STRIP_MODELS, parabolic_minima, strip_pressures
 
-#: the strip models that have a batch solution
-BATCH_MODELS = ("kik-piotrowski", "kpec", "stripes", "analyn")
 
 
 @dataclass
@@ -113,7 +110,6 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
     interpenetrating strips through the deepest strip within the extent; strips
     outside it get g = penetration + 1 m (no contact).
     """
-    from ..geometry.search import sample_gap_lines
     n = len(patches)
     if strips < 5:
         raise InputError(f"strips {strips!r}: expected at least 5")
@@ -138,12 +134,8 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
         d = dx[todo, None]
         xs = xc[todo, None] + d * np.array([0.0, -1.0, 1.0])[None, :]
         h = sample_gap_lines([patches[k] for k in todo], xs, y) + app[todo, None, None]
-        h0, hm, hp = h[:, 0], h[:, 1], h[:, 2]
-        c2 = (hp - 2.0 * h0 + hm) / (2.0 * d * d)
-        c1 = (hp - hm) / (2.0 * d)
-        curved = c2 > 0
-        t = np.where(curved, np.clip(-c1 / np.where(curved, 2.0 * c2, 1.0), -2 * d, 2 * d), 0.0)
-        g = h0 + c1 * t + c2 * t * t
+        h0 = h[:, 0]
+        t, c1, c2, g = parabolic_minima(h[:, 1], h0, h[:, 2], d, 2.0 * d)
         A = np.maximum(c2, MIN_CURVATURE)
         # lateral curvature at fixed x = x_m(y), across the neighbouring strips
         dy = 2.0 * hy[todo, None] / strips
@@ -197,150 +189,6 @@ def hertz_ellipse_strips(patches, contact_modulus: float, strips: int = 40) -> S
                          np.broadcast_to(B[:, None], y.shape), semi_axes=(a, b))
 
 
-def _hertz_strips(a, b, force, depth, alpha1, A, penloc):
-    """Half-length and maximum pressure of Hertz strips at local approach ``penloc``
-    (ANALYN, STRIPES; as ``semi_hertzian._hertz_strips``), from the Hertz solution
-    (a, b, force) of the same curvatures at the approach ``depth``: at fixed
-    curvatures the semi-axes scale with sqrt(approach) and the force with
-    approach^(3/2), so p_max(penloc) = p_max(depth) sqrt(penloc / depth)."""
-    ok = (penloc > 0) & (a > 0)
-    pl = np.where(ok, penloc, 0.0)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        half = np.where(ok, np.sqrt(pl / (alpha1 * A)), 0.0)
-        pm = np.where(ok, 1.5 * force / (math.pi * a * b) * np.sqrt(pl / depth), 0.0)
-    return half, pm
-
-
-@njit(cache=True, nogil=True)
-def _rect(X, Y):
-    """x ln(y + r) + y ln(x + r), the antiderivative of 1/r (stable for x, y < 0)."""
-    r = math.hypot(X, Y)
-    v = 0.0
-    if X != 0.0:
-        s = Y + r if Y >= 0.0 else X * X / (r - Y)
-        v += X * math.log(s)
-    if Y != 0.0:
-        s = X + r if X >= 0.0 else Y * Y / (r - X)
-        v += Y * math.log(s)
-    return v
-
-
-#: elements farther than FAR element sizes from the point use the mid-point rule
-#: (relative error below (1/FAR)^2 / 12 per element), those between NEAR and FAR
-#: sizes the 2 x 2 Gauss rule (below (1/NEAR)^4 / 80), the nearest the exact
-#: rectangle integral
-FAR = 8.0
-NEAR = 2.0
-_G = 0.5 / math.sqrt(3.0)          # 2-point Gauss abscissae, in element sizes
-
-
-@njit(cache=True, nogil=True)
-def _kp_displacements(y, dy, xm, half, j0, nx, Es, out):
-    """Normal displacement [m] at the deepest point (x_m[j0], y[j0]) of every patch
-    due to its unit semi-elliptic strip pressures sqrt(l_j^2 - (x - x_m)^2)/l_max,
-    on nx elements per strip (uniform rectangles, Love's influence coefficients;
-    elements away from the point by 2 x 2 Gauss or mid-point quadrature)."""
-    for k in range(y.shape[0]):
-        lmax = 0.0
-        for j in range(y.shape[1]):
-            lmax = max(lmax, half[k, j])
-        if lmax <= 0.0:
-            out[k] = 0.0
-            continue
-        x0 = xm[k, j0[k]]
-        y0 = y[k, j0[k]]
-        hy = 0.5 * dy[k]
-        u = 0.0
-        for j in range(y.shape[1]):
-            lj = half[k, j]
-            if lj <= 0.0:
-                continue
-            ex = 2.0 * lj / nx
-            size2 = max(ex, dy[k]) ** 2
-            Y = y[k, j] - y0
-            X = xm[k, j] - lj - x0                  # trailing edge of the strip
-            gy1 = Y - _G * dy[k]
-            gy2 = Y + _G * dy[k]
-            exact = False                           # edge integrals below are valid
-            top = 0.0
-            bot = 0.0
-            for i in range(nx):
-                s = -1.0 + (2.0 * i + 1.0) / nx
-                p = lj * math.sqrt(max(0.0, 1.0 - s * s)) / lmax
-                xc = X + 0.5 * ex
-                r2 = xc * xc + Y * Y
-                if r2 > FAR * FAR * size2:
-                    u += p * ex * dy[k] / math.sqrt(r2)
-                    exact = False
-                elif r2 > NEAR * NEAR * size2:
-                    gx1 = xc - _G * ex
-                    gx2 = xc + _G * ex
-                    u += 0.25 * p * ex * dy[k] * (
-                        1.0 / math.sqrt(gx1 * gx1 + gy1 * gy1)
-                        + 1.0 / math.sqrt(gx1 * gx1 + gy2 * gy2)
-                        + 1.0 / math.sqrt(gx2 * gx2 + gy1 * gy1)
-                        + 1.0 / math.sqrt(gx2 * gx2 + gy2 * gy2))
-                    exact = False
-                else:
-                    if not exact:
-                        top = _rect(X, Y + hy)      # element edges are shared
-                        bot = _rect(X, Y - hy)
-                        exact = True
-                    t1 = _rect(X + ex, Y + hy)
-                    b1 = _rect(X + ex, Y - hy)
-                    u += p * (t1 - top - b1 + bot)
-                    top = t1
-                    bot = b1
-                X += ex
-        out[k] = u / (math.pi * Es)
-
-
-def _kp(y, dy, xm, hstar, A, eps, Es, nx):
-    """Kik-Piotrowski strips for a scaling ``eps`` per strip (patches, strips)."""
-    hmin = hstar.min(axis=1)
-    thr = (1.0 - eps) * hmin[:, None]
-    half = np.sqrt(np.maximum(thr - hstar, 0.0) / A)
-    half = np.where(hmin[:, None] < 0, half, 0.0)
-    j0 = np.argmin(hstar, axis=1)
-    u = np.empty(y.shape[0])
-    _kp_displacements(y, dy, xm, half, j0, nx, Es, u)
-    lmax = half.max(axis=1)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        p0 = np.where((u > 0) & (lmax > 0), -hmin / u, 0.0)
-        pm = np.where(lmax[:, None] > 0, p0[:, None] * half / lmax[:, None], 0.0)
-    return half, pm
-
-
-def _kpec_eps(y, dy, hstar, A, Es):
-    """KPEC's scaling per strip (``semi_hertzian.KPECModel._eps`` on the strips)."""
-    n, my = hstar.shape
-    rows = np.arange(n)
-    hmin = hstar.min(axis=1)
-    jm = np.argmin(hstar, axis=1)
-    A0 = A[rows, jm]
-    thr = 0.5 * hmin
-    inreg = hstar <= thr[:, None]
-    j0 = np.clip(np.argmax(inreg, axis=1), 1, my - 2)
-    j1 = np.clip(my - 1 - np.argmax(inreg[:, ::-1], axis=1), 1, my - 2)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        ysta = y[rows, j0] - (thr - hstar[rows, j0]) * dy / (hstar[rows, j0 - 1]
-                                                             - hstar[rows, j0])
-        yend = y[rows, j1] + (thr - hstar[rows, j1]) * dy / (hstar[rows, j1 + 1]
-                                                             - hstar[rows, j1])
-    ymid = 0.5 * (ysta + yend)
-    ymid = np.where(np.isfinite(ymid), ymid, y[rows, jm])
-    with np.errstate(divide="ignore", invalid="ignore"):
-        Bf = np.maximum(MIN_CURVATURE, (thr - hmin) / (yend - ymid) ** 2)
-    Bf = np.where(np.isfinite(Bf), Bf, MIN_CURVATURE)
-    a, b, _ = hertz_ellipses_table(A0, Bf, Es, np.maximum(-hmin, 0.0))
-    b = np.where(j0 >= j1, np.maximum(b, 1.1 * np.abs(y[rows, jm] - ymid)), b)
-    with np.errstate(divide="ignore", invalid="ignore"):
-        q = ((y - ymid[:, None]) / b[:, None]) ** 2
-        eps = (A0 * a * a)[:, None] - (A0 * a * a - Bf * b * b)[:, None] * q
-        eps = np.maximum(0.0, eps / (-hmin)[:, None])
-    return np.where(np.isfinite(eps), eps, 0.0)
-
-
 def solve_strips(model: str, patches, contact_modulus: float, penetration=None,
                  strips: int = 40, elements: int = 20, eps: float = 0.55) -> StripSolution:
     """One strip model on many patches at given approaches.
@@ -360,8 +208,8 @@ def solve_strips(model: str, patches, contact_modulus: float, penetration=None,
     eps : float
         Kik-Piotrowski's scaling factor.
     """
-    if model not in BATCH_MODELS:
-        raise InputError(f"batch strip model {model!r}: expected one of {', '.join(BATCH_MODELS)}")
+    if model not in STRIP_MODELS:
+        raise InputError(f"batch strip model {model!r}: expected one of {', '.join(STRIP_MODELS)}")
     patches = list(patches)
     if not patches:
         raise InputError("solve_strips: no patches given")
@@ -370,29 +218,6 @@ def solve_strips(model: str, patches, contact_modulus: float, penetration=None,
     if not np.all(np.isfinite(pen)) or np.any(pen < 0):
         raise InputError("penetration: expected finite values >= 0 m")
     y, dy, xm, g, A, B = strip_geometry(patches, strips, pen)
-    Aloc = A
-    hstar = g - pen[:, None]
-    depth = np.maximum(-hstar.min(axis=1), 0.0)            # total approach of the model
-    Es = contact_modulus
-    if model in ("kik-piotrowski", "kpec"):
-        e = (np.full(hstar.shape, eps) if model == "kik-piotrowski"
-             else _kpec_eps(y, dy, hstar, A, Es))
-        half, pm = _kp(y, dy, xm, hstar, A, e, Es, elements)
-    else:
-        glat = hstar + depth[:, None]                         # lateral gap >= 0
-        if model == "stripes":
-            j0 = np.argmin(glat, axis=1)
-            A = np.broadcast_to(A[np.arange(len(patches)), j0][:, None], A.shape)
-        dep = np.broadcast_to(depth[:, None], A.shape)
-        a, b, fh = hertz_ellipses_table(A, B, Es, dep)
-        with np.errstate(divide="ignore", invalid="ignore"):
-            alpha1 = np.where(a > 0, depth[:, None] / (A * a * a), 1.0)
-            beta1 = np.where(b > 0, depth[:, None] / (B * b * b), 1.0)
-        if model == "stripes":
-            glat = corrected_gap(np.ascontiguousarray(glat), np.ascontiguousarray(beta1), j0)
-        else:
-            glat = beta1 * glat
-        half, pm = _hertz_strips(a, b, fh, dep, alpha1, A, depth[:, None] - glat)
-        none = depth <= 0
-        half[none], pm[none] = 0.0, 0.0
-    return StripSolution(y, dy, xm, half, pm, pen, Aloc, B)
+    half, pm = strip_pressures(model, y, dy, xm, g - pen[:, None], A, B, contact_modulus,
+                               eps=eps, elements=elements)
+    return StripSolution(y, dy, xm, half, pm, pen, A, B)

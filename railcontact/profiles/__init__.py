@@ -3,10 +3,10 @@
 See :class:`~railcontact.profiles.profile.Profile` for the conventions.
 """
 
-from .io import read_profile, write_profile
+from .io import process_points, read_profile, write_profile
 from .library import builtin_names, get_profile
 from .measures import wheel_measures
-from .processing import ProfileOptions, Smoothing, process_points
+from .processing import ProfileOptions, Smoothing
 from .profile import Profile
 from .rails import rail_profile
 from .s1002 import s1002

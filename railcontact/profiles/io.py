@@ -16,7 +16,7 @@ detects it (:func:`~railcontact.profiles.processing.z_points_down`) unless
 ``z_down`` or ``options.mirror_z`` is given; a wheel whose flange lies at positive
 y is mirrored so that the flange is at negative y (right-wheel convention) unless
 mirroring is given.  The points are then processed along their arc length
-(:func:`~railcontact.profiles.processing.process_points`: zig-zag repair, the
+(:func:`process_points`: zig-zag repair, the
 options' scale and smoothing, the visible surface of a folded face).
 """
 
@@ -30,7 +30,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ProfileError
-from .processing import ProfileOptions, process_points, z_points_down
+from .processing import (ProfileOptions, find_kinks, remove_close_points, remove_zigzags,
+                         smooth_points, z_points_down)
 from .profile import MAX_WIDTH, MIN_WIDTH, Profile
 
 log = logging.getLogger(__name__)
@@ -286,3 +287,43 @@ def write_profile(profile: Profile, path, units: str = "mm") -> Path:
     tmp.write_text("\n".join(lines) + "\n")
     tmp.replace(path)
     return path
+
+
+def process_points(y, z, kind: str, options: ProfileOptions | None = None,
+                   name: str = "profile", z_down: bool | None = None):
+    """A :class:`~railcontact.profiles.profile.Profile` from measured points [m],
+    processed as CONTACT processes a profile: close points dropped, zig-zags
+    repaired, mirrored and scaled by ``options``, kinks found, smoothed along the
+    arc length where asked, and the visible surface of a curve that folds back.
+
+    ``z_down``: the reader's knowledge of the vertical axis (a SIMPACK file's is
+    down), used where ``options.mirror_z`` is None; None: detected.
+    """
+    opt = options or ProfileOptions()
+    y = np.asarray(y, dtype=float) * opt.scale
+    z = np.asarray(z, dtype=float) * opt.scale
+    if y.size < 8 or not (np.all(np.isfinite(y)) and np.all(np.isfinite(z))):
+        return Profile(y, z, kind=kind, name=name)       # its own error messages
+    y, z = remove_close_points(y, z)
+    y, z, nzig = remove_zigzags(y, z, opt.zigzag)
+    if nzig:
+        log.info("profile %s: %d zig-zag pattern(s) replaced by their mean point", name, nzig)
+    if opt.mirror_y:
+        y = -y
+    if opt.mirror_z is not None:
+        flip = opt.mirror_z
+    else:
+        flip = not (z_down if z_down is not None else z_points_down(y, z, kind))
+        if flip:
+            log.info("profile %s: vertical axis points up; mirrored to z down", name)
+    if flip:
+        z = -z
+    if y[-1] < y[0]:
+        y, z = y[::-1], z[::-1]
+    if opt.smoothing is not None and opt.smoothing.active:
+        kinks = find_kinks(y, z, opt.kink_high, opt.low, opt.kink_width)
+        if kinks.size > 2:
+            log.info("profile %s: kinks at y = %s mm", name,
+                     ", ".join(f"{v * 1e3:.2f}" for v in y[kinks[1:-1]]))
+        y, z = smooth_points(y, z, opt.smoothing, kinks)
+    return Profile(y, z, kind=kind, name=name)

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 from dataclasses import dataclass, field
+from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
@@ -18,9 +19,49 @@ def get_tangential_model(name: str, **options):
     return _REGISTRY.create(name, **options)
 
 
-def tangential_models() -> list:
-    """Names of the registered tangential models."""
-    return _REGISTRY.names()
+def tangential_models(capability: str | None = None) -> list:
+    """Names of the registered tangential models (those that declare ``capability``)."""
+    return _REGISTRY.names(capability)
+
+
+def tangential_model_class(name: str) -> type:
+    """The class of the tangential model registered as ``name``."""
+    return _REGISTRY.model_class(name)
+
+
+def tangential_supports(name: str, capability: str) -> bool:
+    """Whether the tangential model ``name`` declares ``capability``."""
+    return _REGISTRY.supports(name, capability)
+
+
+#: what a tangential model may declare in ``capabilities``
+TANGENTIAL_CAPABILITIES = {
+    "warm-start": "solve(..., warm_start=previous solution) starts from it",
+    "online": "a compiled law for one elliptic patch (class attribute online_law, "
+              "railcontact.tangential.online): vehicle dynamics and batches",
+    "strip-march": "marches the strips of many patches at once (class method "
+                   "strip_forces): batches of the strip models",
+    "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials)",
+}
+
+
+@runtime_checkable
+class TangentialModel(Protocol):
+    """What a tangential model provides (the layer's contract; register with
+    ``@register(name)``).
+
+    ``solve(normal, geometry, material, creepage, friction, velocity)`` returns a
+    :class:`TangentialSolution` whose ``status`` says whether it converged.
+    ``capabilities`` is a frozenset of keys of :data:`TANGENTIAL_CAPABILITIES`; a
+    model with ``"online"`` names its compiled law in ``online_law``, one with
+    ``"strip-march"`` implements ``strip_forces``.
+    """
+
+    name: ClassVar[str]
+    capabilities: ClassVar[frozenset]
+
+    def solve(self, normal, geometry=None, material=..., creepage=(0.0, 0.0, 0.0),
+              friction: float = 0.3, velocity: float = 1.0) -> "TangentialSolution": ...
 
 
 def check_inputs(creepage, friction):

@@ -604,7 +604,7 @@ class ExactTangentialModel:
         of the rail relative to the wheel, and the slip a displacement [m].
     """
 
-    accepts_warm_start = True
+    capabilities = frozenset({"warm-start", "coupled"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling"):
         if not 0 < tol < 1e-2:

@@ -269,12 +269,35 @@ class FastripModel:
         one coefficient per strip from the mean slip velocity of its slip zone.
     """
 
+    capabilities = frozenset({"strip-march"})
+
     def __init__(self, elements: int | None = None, falling=None):
         if elements is not None and not (isinstance(elements, int) and 2 <= elements <= 5000):
             raise InputError(f"fastrip elements {elements!r}: expected an integer in [2, 5000]")
         self.elements = elements
         from .friction import falling_friction
         self.falling = falling_friction(falling)
+
+    @staticmethod
+    def strip_forces(strips, patches, a, b, ok, creepage, material, friction, elements, out):
+        """Forces of many strip-model patches at once (:mod:`railcontact.batch`;
+        arguments as :meth:`railcontact.tangential.fastsim.FastsimModel.strip_forces`):
+        FaStrip's strip theory on each patch's equivalent ellipse and its spin march
+        over the strips."""
+        from .kalker import flexibilities_array, kalker_coefficients_array
+        xi, eta, phi = creepage
+        G, nu = material.shear_modulus, material.nu
+        n = xi.size
+        c11, c22, L3 = np.ones(n), np.ones(n), np.zeros(n)
+        if ok.any():
+            c11[ok], c22[ok], _ = kalker_coefficients_array(a[ok] / b[ok], nu)
+            L3[ok] = flexibilities_array(a[ok], b[ok], G, nu)[2]
+        with np.errstate(divide="ignore", invalid="ignore"):
+            wn, ex, ey, K = strip_parameters(a, b, strips.normal_force, xi, eta, c11, c22, G,
+                                             friction)
+        fastrip_strip_patches(strips.y, strips.dy, strips.x_mid, strips.half, strips.p_strip,
+                              np.full(n, float(friction)), wn, ex, ey, K, L3, phi,
+                              int(elements), out)
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0) -> TangentialSolution:

@@ -27,8 +27,9 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
+from ..geometry.search import sample_strip_spin
 from ..materials import STEEL, Material
-from ..normal.hertz_theory import hertz_ellipses
+from ..hertz_theory import hertz_ellipses, hertz_ellipses_table
 from ..normal.semi_hertzian import strip_minima
 from .base import TangentialSolution, check_inputs, register
 from .kalker import flexibilities, flexibilities_array
@@ -322,6 +323,10 @@ class FastsimModel:
         ``"single"``: Kalker's single weighted flexibility.
     """
 
+    capabilities = frozenset({"online", "strip-march"})
+    #: code of the compiled law (:mod:`railcontact.tangential.online`)
+    online_law = 1
+
     def __init__(self, bound: str = "elliptic", elements: int | None = None,
                  flexibility: str = "blended", falling=None):
         if bound not in ("elliptic", "parabolic"):
@@ -344,6 +349,40 @@ class FastsimModel:
         L = self._flexibilities(a, b, G, nu, creepage, friction, normal.normal_force)
         my = normal.y.size
         return (*(np.full(my, v) for v in L), np.full(my, phi))
+
+    @classmethod
+    def strip_forces(cls, strips, patches, a, b, ok, creepage, material, friction,
+                     elements, out):
+        """Forces of many strip-model patches at once (:mod:`railcontact.batch`).
+
+        ``strips`` is a :class:`~railcontact.normal.strip_batch.StripSolution`,
+        (a, b) [m] the patches' equivalent ellipses (``ok`` where they carry load),
+        ``creepage`` the arrays (xi, eta, phi); FASTSIM marches every strip's
+        semi-elliptic pressure with ``elements`` elements and writes
+        (F_x, F_y, M_z) [N, N, N m] into ``out`` (patches, 3).
+        """
+        L, spin = cls._batch_flexibilities(strips, patches, a, b, ok, creepage, material,
+                                           friction)
+        xi, eta, _ = creepage
+        fastsim_strip_patches(strips.y, strips.dy, strips.x_mid, strips.half, strips.p_strip,
+                              *(np.ascontiguousarray(v) for v in L),
+                              np.full(xi.size, float(friction)), xi, eta, spin, int(elements),
+                              out)
+
+    @staticmethod
+    def _batch_flexibilities(strips, patches, a, b, ok, creepage, material, friction):
+        """Blended flexibilities of each patch's equivalent ellipse on all its strips,
+        and the patch's spin: arrays (3, patches, strips) and (patches, strips)."""
+        xi, eta, phi = creepage
+        G, nu = material.shear_modulus, material.nu
+        L = np.zeros((3,) + strips.y.shape)
+        if ok.any():
+            F = strips.normal_force
+            f = flexibilities_array(a[ok], b[ok], G, nu)
+            L[:, ok] = np.array(blended_flexibilities(a[ok], b[ok], *f, G, nu, xi[ok],
+                                                      eta[ok], phi[ok], friction,
+                                                      F[ok]))[:, :, None]
+        return L, np.repeat(phi[:, None], strips.y.shape[1], axis=1)
 
     def _reported_flexibilities(self, L1, L2, L3):
         """Flexibilities for the solution's options: one value each (uniform)."""
@@ -474,6 +513,29 @@ class FastsimStripsModel(FastsimModel):
     solution is an ellipse (Hertz), in which case it equals ``fastsim``.
     Options as :class:`FastsimModel`.
     """
+
+    capabilities = frozenset({"strip-march"})
+    online_law = None
+
+    @staticmethod
+    def _batch_flexibilities(strips, patches, a, b, ok, creepage, material, friction):
+        """A local ellipse per strip, from the gap's curvatures along the strip, and
+        the spin of the local contact angle (as :meth:`_strip_parameters`)."""
+        from .kalker import flexibilities_from_coefficients, kalker_coefficients_array
+        L, _ = FastsimModel._batch_flexibilities(strips, patches, a, b, ok, creepage,
+                                                 material, friction)
+        xi, eta, phi = creepage
+        G, nu = material.shear_modulus, material.nu
+        act = ok[:, None] & (strips.half > 0)
+        rows = np.nonzero(act)[0]
+        la, lb, _ = hertz_ellipses_table(strips.A[act], strips.B[act],
+                                         material.contact_modulus, strips.penetration[rows])
+        c = kalker_coefficients_array(la / lb, nu)
+        f = flexibilities_from_coefficients(la, lb, *c, G)
+        L[:, act] = blended_flexibilities(la, lb, *f, G, nu, xi[rows], eta[rows], phi[rows],
+                                          friction, strips.normal_force[rows],
+                                          coefficients=c[:2])
+        return L, np.ascontiguousarray(sample_strip_spin(patches, strips.y))
 
     def _reported_flexibilities(self, L1, L2, L3):
         """Flexibilities per strip (arrays over y)."""

@@ -1,7 +1,9 @@
 """Compiled creep-force laws for one elliptic patch, for use inside loops: vehicle
 dynamics (evaluated at every step) and batches of patches (:mod:`railcontact.batch`).
 
-Laws by name (``COMPILED_LAWS``):
+The laws are the registered tangential models that declare the ``"online"``
+capability; their class attribute ``online_law`` is the code below
+(:func:`online_law` looks it up in the registry):
 
 * ``linear``: Kalker's linear theory, F_x = G c² C11 ξ, F_y = G c² C22 η + G c³ C23 φ
   (no saturation, no spin moment);
@@ -18,11 +20,18 @@ import math
 
 from numba import njit
 
+from .base import tangential_model_class, tangential_supports
 from .fastsim import fastsim_ellipse
 from .polach import polach_kernel
 
-#: compiled laws by name -> code used by :func:`patch_forces`
-COMPILED_LAWS = {"linear": 0, "fastsim": 1, "polach": 2}
+
+def online_law(name: str) -> int | None:
+    """Code of the compiled law of the tangential model ``name`` for
+    :func:`patch_forces`, or None where the model has none (it then runs through
+    its Python ``solve``).  Unknown names raise
+    :class:`~railcontact.errors.UnknownModelError`."""
+    cls = tangential_model_class(name)
+    return cls.online_law if tangential_supports(name, "online") else None
 
 
 @njit(cache=True, nogil=True)
@@ -32,7 +41,7 @@ def patch_forces(law, tp, N, a, b, C11, C22, C23, xi, eta, phi, V):
     Parameters
     ----------
     law : int
-        Code from ``COMPILED_LAWS``.
+        Code from :func:`online_law`.
     tp : ndarray
         (mu0, G [Pa], nx, ny (FASTSIM elements), kA, kS, A, B [s/m]) — Polach's
         reduction factors and falling-friction parameters (A = 1: constant friction).

@@ -92,6 +92,10 @@ class PolachModel:
         friction coefficient.
     """
 
+    capabilities = frozenset({"online"})
+    #: code of the compiled law (:mod:`railcontact.tangential.online`)
+    online_law = 2
+
     def __init__(self, kA: float = 1.0, kS: float = 1.0, falling=None, preset: str | None = None):
         self.mu0 = None
         if preset is not None:

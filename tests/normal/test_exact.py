@@ -379,7 +379,7 @@ def test_potential_area_grows_to_hold_the_contact(caplog):
     from railcontact.geometry import ContactGeometry
     from railcontact.materials import Material
     from railcontact.normal import get_normal_model
-    from railcontact.normal.hertz_theory import hertz_ellipse
+    from railcontact.hertz_theory import hertz_ellipse
     mat = Material(2.1e11, 0.28)
     A, B = 1.0, 4.0
     hz = hertz_ellipse(A, B, mat.contact_modulus, force=1e5)

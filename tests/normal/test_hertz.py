@@ -97,7 +97,7 @@ def test_model_grid_and_errors():
 
 
 def test_vectorised_hertz_equals_scalar():
-    from railcontact.normal.hertz_theory import hertz_ellipses
+    from railcontact.hertz_theory import hertz_ellipses
     rng = np.random.default_rng(7)
     A = 10 ** rng.uniform(-1, 3, 300)
     B = 10 ** rng.uniform(-1, 3, 300)
@@ -118,7 +118,7 @@ def test_table_hertz_equals_scalar():
     """The tabulated Hertz solution for the strip models: within 1e-7 of the exact
     one, also for circles, nearly circles and slender ellipses (a/b up to 1e-2),
     zero at zero or negative approach, and bad curvatures rejected."""
-    from railcontact.normal.hertz_theory import hertz_ellipses_table
+    from railcontact.hertz_theory import hertz_ellipses_table
     rng = np.random.default_rng(8)
     A = 10 ** rng.uniform(-1, 3, 300)
     B = 10 ** rng.uniform(-1, 3, 300)
@@ -140,7 +140,7 @@ def test_table_hertz_equals_scalar():
 
 
 def test_ratio_is_continuous_where_the_series_takes_over():
-    from railcontact.normal.hertz_theory import SERIES_M, _ratio
+    from railcontact.hertz_theory import SERIES_M, _ratio
     # series below SERIES_M, elliptic integrals above: both must agree there
     lo, hi = _ratio(SERIES_M * (1 - 1e-9)) - 1, _ratio(SERIES_M * (1 + 1e-9)) - 1
     assert lo == pytest.approx(hi, rel=1e-8)

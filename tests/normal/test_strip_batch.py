@@ -14,12 +14,15 @@ from railcontact.geometry.contact import ContactGeometry
 from railcontact.geometry.search import sample_gap_lines, sample_strip_spin
 from railcontact.materials import STEEL
 from railcontact.normal import get_normal_model
-from railcontact.normal.hertz_theory import hertz_ellipse
-from railcontact.normal.strip_batch import BATCH_MODELS, solve_strips
+from railcontact.hertz_theory import hertz_ellipse
+from railcontact.normal import normal_models
+from railcontact.normal.strip_batch import solve_strips
 from railcontact.profiles import rail_profile, s1002
 from railcontact.tangential import get_tangential_model
 
 Es = STEEL.contact_modulus
+#: the strip models, as the registry knows them
+BATCH_MODELS = normal_models("strips")
 LAWS = ("fastsim", "polach", "fastsim-strips", "fastrip")
 
 

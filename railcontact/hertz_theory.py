@@ -28,7 +28,7 @@ from numba import njit
 from scipy.optimize import brentq
 from scipy.special import ellipe, ellipk
 
-from ..errors import InputError
+from .errors import InputError
 
 
 def _k_minus_e_over_m(m: float) -> float:
