@@ -165,11 +165,16 @@ def test_nose_that_begins_between_slices(testbank):
     Case 2 (the wheel at s = 0 on the nose's crown, a prescribed position): the
     nose's front face cuts the patch at x = 0: contact only ahead of it, one
     patch, the elements in contact within 0.3 %, the approach within 0.1 %, the
-    reference point 15 um (x) and 12 um (y) from CONTACT's.  F_n is 1.4 % below
-    CONTACT's (short of the 1 % aimed at): the grid of elements lies on a lattice
-    through the reference point, so its first row behind the cut lies 15 um
-    further ahead than CONTACT's, where the pressure is highest; one row more
-    (the cut 0.1 mm earlier) gives +2.3 %."""
+    reference point 15 um (x) and 12 um (y) from CONTACT's.  The cut makes the
+    reference point (the weighted mean over the interpenetration region) move by
+    22 um per um of the region's depth, x and y alike: 0.7 um less depth (1.8 %)
+    puts both within 1 um of CONTACT's.  F_n is 1.4 % below CONTACT's (short of
+    the 1 % aimed at): the grid of elements lies on a lattice through the
+    reference point, so its first row behind the cut, where the pressure is
+    highest, starts 15 um further ahead than CONTACT's (one row more, the face
+    0.1 mm earlier: +2.3 %); with the reference point moved onto CONTACT's, -1.1 %
+    and 990 elements against 991, the rest from the patch's rear (x = 3.5-5 mm,
+    1-3 elements fewer per row)."""
     refs = read_ref_out(testbank / "examples_s+c" / "cw_interrupt.ref_out")
     q = refs[0]["patches"][0]
     res = rc.solve(_case(testbank, "cross+wing_extd.slcs", 0.0, y=0.04, fz=1e4))
