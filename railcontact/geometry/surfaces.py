@@ -267,10 +267,13 @@ class SlicedSurface:
         # the paths' splines along s: one per set of paths that exist in the same
         # slices, and per run of successive slices of that set
         self._splines = []
-        patterns, which = np.unique(np.isfinite(Y).T, axis=0, return_inverse=True)
-        for g, pattern in enumerate(patterns):
-            cols = np.flatnonzero(np.ravel(which) == g)
-            for a, b in _runs(pattern):
+        exists = np.isfinite(Y)
+        packed = np.ascontiguousarray(np.packbits(exists, axis=0).T)     # a key per path
+        _, first, which = np.unique(packed.view(f"V{packed.shape[1]}").ravel(),
+                                    return_index=True, return_inverse=True)
+        for g, j in enumerate(first):
+            cols = np.flatnonzero(which.ravel() == g)
+            for a, b in _runs(exists[:, j]):
                 self._splines.append((cols, s[a], s[b], CubicSpline(
                     s[a:b + 1], np.hstack((Y[a:b + 1, cols], Z[a:b + 1, cols])), axis=0,
                     bc_type="not-a-knot")))
