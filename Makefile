@@ -11,7 +11,7 @@ STAMP  := $(VENV)/.installed
 SRC_HASH := $(shell find railcontact -name '*.py' | LC_ALL=C sort | xargs cat | sha1sum | cut -c1-12)
 export NUMBA_CACHE_DIR := $(CURDIR)/$(VENV)/numba-cache/$(SRC_HASH)
 
-.PHONY: demo test test-random bench lock clone-check clean
+.PHONY: demo test test-random bench api lock clone-check clean
 
 $(STAMP): pyproject.toml $(LOCK)
 	rm -rf $(VENV)
@@ -34,6 +34,10 @@ test-random: $(STAMP)
 bench: $(STAMP)
 	$(BIN)/python benchmarks/run_all.py
 
+# the API reference from the docstrings (pdoc), in docs/api/index.html
+api: $(STAMP)
+	$(BIN)/python scripts/api_reference.py docs/api
+
 # re-resolve the newest registry versions into requirements.lock
 lock:
 	rm -rf .lock-venv
@@ -50,4 +54,4 @@ clone-check:
 	scripts/clone-check
 
 clean:
-	rm -rf $(VENV) demo_output .pytest_cache
+	rm -rf $(VENV) demo_output .pytest_cache docs/api

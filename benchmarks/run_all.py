@@ -217,10 +217,20 @@ def bench_exact_wheel_rail():
     # differ: near the jumps of the contact point
     jumps = ((ys >= 0.0) & (ys <= 1.0)) | ((ys >= 4.5) & (ys <= 7.0))
     dev = _mbench_deviations(rows, 0.25e-3, timed=True)
-    ratio = dev["ms"] / np.array([float(r["time_ms_mkl_1thread"]) for r in rows])
-    out(f"* time per case, ours / CONTACT: median {statistics.median(ratio):.1f} "
-        f"(min {min(ratio):.1f}, max {max(ratio):.1f}); ours includes the geometry search and "
-        "the vertical-force iteration, as CONTACT's does")
+    # CONTACT's time per case (MKL build, 1 thread; contact_timing.csv, README section 3.6)
+    timing = {float(r["y_ws_mm"]): float(r["ms_per_case"])
+              for r in csv.DictReader(open(REF / "contact_timing.csv"))
+              if r["workload"] == "mbench_sweep_10kN"}
+    ratio = dev["ms"] / np.array([timing[float(r["y_ws_mm"])] for r in rows])
+    tc, shape = conv_time()
+    out(f"* time per case, ours / CONTACT's reference timing (contact_timing.csv): median "
+        f"{statistics.median(ratio):.2f} (min {min(ratio):.2f}, max {max(ratio):.2f}; target "
+        f"0.1); ours {statistics.median(dev['ms']):.2f} ms median = "
+        f"{statistics.median(dev['ms']) * 1e-3 / tc:.0f} FFT convolutions of a {shape[0]} x "
+        f"{shape[1]} padded grid, CONTACT's {statistics.median(timing.values()):.1f} ms "
+        "(another machine and day: a ratio across runs, not interleaved); ours includes the "
+        "contact search and the vertical balance (brentq, the roll given), as CONTACT's "
+        "does")
 
     def table(dev, title):
         out(f"\n{title}\n")
@@ -240,7 +250,7 @@ def bench_exact_wheel_rail():
     five = ys == 5.0
     out(f"\n* the patches' reference points lie within {dev['dy_ref'][~five].max() * 1e3:.1f} um "
         "of CONTACT's on the rail, except at 5 mm (weighted as CONTACT weights them, "
-        "railcontact.geometry.search.GAP_WEIGHT; weighted by the interpenetration itself "
+        "railcontact.geometry.regions.GAP_WEIGHT; weighted by the interpenetration itself "
         "they lay up to 1.1 mm away at 0-1 mm and 0.06-0.16 mm on the rail's crown)")
     out("* at 5 mm (a contact jump: 0-1 mm and 4.5-7 mm are where CONTACT's reference notes "
         "say another contact search can legitimately differ) CONTACT combines tread and "
@@ -288,9 +298,70 @@ def bench_exact_wheel_rail():
     out(text)
 
 
+def conv_time(m=40, n=40, repeat=7, number=400):
+    """Time [s] of one real FFT convolution of an m x n grid, zero-padded as the exact
+    solvers pad it (:class:`railcontact.normal.influence.Convolution`), through the
+    solvers' own compiled path (rocket-fft's numpy.fft in Numba): the unit in which
+    the exact timings are also reported, so that they carry across machines."""
+    from railcontact.normal.exact import _convolve
+    from railcontact.normal.influence import normal_operator
+    op = normal_operator(m, n, 1e-4, 1e-4, 2.3e11)
+    p = np.random.default_rng(1).random((m, n))
+    buf = np.zeros(op.shape)
+    _convolve(p, op.khat, op.shape, buf)
+    return best_of(lambda: _convolve(p, op.khat, op.shape, buf), repeat, number), op.shape
+
+
+#: the parts of a wheel-rail case whose time :func:`time_split` reports: (label,
+#: module, attribute); nested parts are reported inside their parent
+SPLIT = [("contact search", "railcontact.wheel_rail_balance", "contact_search"),
+         ("exact normal solves", "railcontact.normal.exact", "ExactNormalModel.solve"),
+         ("  of which Polonsky-Keer iterations", "railcontact.normal.exact", "_pk_kernel"),
+         ("exact tangential solves", "railcontact.tangential.exact", "ExactTangentialModel.solve"),
+         ("  of which semi-smooth Newton-GMRES", "railcontact.tangential.exact", "_ssn_solve"),
+         ("FASTSIM stand-ins", "railcontact.tangential.fastsim", "FastsimModel.solve")]
+
+
+def time_split(cases, warm=False):
+    """Wall time per case [s] of whole exact cases and of their parts (:data:`SPLIT`),
+    and the calls per case, measured by wrapping the parts with timers."""
+    import functools
+    import importlib
+    spent = {label: [0.0, 0] for label, _, _ in SPLIT}
+    saved = []
+    for label, mod, attr in SPLIT:
+        owner = importlib.import_module(mod)
+        *path, name = attr.split(".")
+        for p in path:
+            owner = getattr(owner, p)
+        real = getattr(owner, name)
+
+        def timed(*a, _real=real, _label=label, **k):
+            t0 = time.perf_counter()
+            try:
+                return _real(*a, **k)
+            finally:
+                spent[_label][0] += time.perf_counter() - t0
+                spent[_label][1] += 1
+        saved.append((owner, name, real))
+        setattr(owner, name, functools.wraps(real)(timed))
+    try:
+        prev = None
+        t0 = time.perf_counter()
+        for c in cases:
+            prev = rc.solve(c, "exact", "exact", warm_start=prev if warm else None)
+        total = time.perf_counter() - t0
+    finally:
+        for owner, name, real in saved:
+            setattr(owner, name, real)
+    n = len(cases)
+    return total / n, {k: (v[0] / n, v[1] / n) for k, v in spent.items()}
+
+
 def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     """Exact normal + exact steady rolling on a 40x40 grid against Hertz + FASTSIM,
-    cold and warm-started, on ~1000 wheel-rail cases with the vertical force given."""
+    cold and warm-started, on ~1000 wheel-rail cases with the vertical force given;
+    every timing also in units of one real FFT convolution of the padded grid."""
     n = n_shift * len(yaws)
     out(f"\n## Exact solvers on a {n}-case sweep (S1002 on 60E1 1:40, shift -4..9 mm, "
         "yaw 0..6 mrad, creepages varying along the sweep, 60 kN per wheel, 40x40 grid)")
@@ -306,7 +377,7 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
                                       "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
                          "solver": {"grid": [40, 40]}})
     from railcontact.case import case_from_dict
-    from railcontact.solve import contact_search
+    from railcontact.bodies import contact_search
     cases = [case_from_dict(r) for r in raws]
     shifts = np.array([r["wheelset"]["lateral_shift"] for r in raws])
     loose = []
@@ -315,43 +386,45 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
         r["solver"]["force_tolerance"] = 1e-3
         loose.append(case_from_dict(r))
     rc.solve(cases[0], "exact", "exact")                       # compile / load
-    # the five runs interleaved in blocks of 50 cases, so that a slower phase of the
-    # machine falls on all of them alike
-    t = {k: 0.0 for k in ("geom", "hf", "cold", "warm", "loose", "alone_warm", "alone_cold")}
+    rc.solve(cases[0], "hertz", "fastsim")
+    # the runs interleaved in blocks of 50 cases, so that a slower phase of the
+    # machine falls on all of them alike; every case timed on its own
+    keys = ("geom", "hf", "cold", "warm", "loose", "alone_warm", "alone_cold")
+    t = {k: np.zeros(n) for k in keys}
+    conv = []
     ok = {"cold": 0, "warm": 0}
     stick, cold, warm_fx, passes, resid, loose_fx, ok_loose = [], [], [], [], [], [], 0
     cold_fn, warm_fn, warm_resid, warm_passes = [], [], [], []
     prev = last = None
+
+    def timed(key, i, fn):
+        t0 = time.perf_counter()
+        res = fn()
+        t[key][i] = time.perf_counter() - t0
+        return res
+
     for b0 in range(0, n, 50):
         block = range(b0, min(b0 + 50, n))
-        t0 = time.perf_counter()
+        conv.append(conv_time(repeat=3, number=100)[0])
+        for i in block:                                   # as the solve's first search
+            timed("geom", i, lambda: contact_search(cases[i], load_iterations=1))
         for i in block:
-            contact_search(cases[i], load_iterations=1)   # as the solve's first search
-        t["geom"] += time.perf_counter() - t0
-        t0 = time.perf_counter()
-        for i in block:
-            rc.solve(cases[i], "hertz", "fastsim")
-        t["hf"] += time.perf_counter() - t0
-        t0 = time.perf_counter()
-        cold_res = [rc.solve(cases[i], "exact", "exact") for i in block]
-        t["cold"] += time.perf_counter() - t0
-        t0 = time.perf_counter()
+            timed("hf", i, lambda: rc.solve(cases[i], "hertz", "fastsim"))
+        cold_res = [timed("cold", i, lambda: rc.solve(cases[i], "exact", "exact"))
+                    for i in block]
         warm_res = []
         for i in block:
-            prev = rc.solve(cases[i], "exact", "exact", warm_start=prev)
+            prev = timed("warm", i, lambda: rc.solve(cases[i], "exact", "exact",
+                                                     warm_start=prev))
             warm_res.append(prev)
-        t["warm"] += time.perf_counter() - t0
-        t0 = time.perf_counter()
-        loose_res = [rc.solve(loose[i], "exact", "exact") for i in block]
-        t["loose"] += time.perf_counter() - t0
+        loose_res = [timed("loose", i, lambda: rc.solve(loose[i], "exact", "exact"))
+                     for i in block]
         # the exact solves alone: each patch of the warm results once more on its final
         # geometry, from the previous case's solutions and cold
         for mode in ("alone_warm", "alone_cold"):
-            t0 = time.perf_counter()
             for k, i in enumerate(block):
                 nb = (warm_res[k - 1] if k else last) if mode == "alone_warm" else None
-                _solves_alone(cases[i], warm_res[k], nb)
-            t[mode] += time.perf_counter() - t0
+                timed(mode, i, lambda: _solves_alone(cases[i], warm_res[k], nb))
         last = warm_res[-1]
         for res in cold_res:
             ok["cold"] += res.converged
@@ -369,47 +442,57 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
         for res in loose_res:
             ok_loose += res.converged
             loose_fx.append(sum(p.tangential.fx for p in res.patches))
-    t = {k: v / n for k, v in t.items()}
-    t_geom, t_hf, t_loose = t["geom"], t["hf"], t["loose"]
-    alone_warm, alone_cold = t["alone_warm"], t["alone_cold"]
+    tc = float(np.median(conv))
+    _, shape = conv_time()
+    mean = {k: float(v.mean()) for k, v in t.items()}
     cold = np.asarray(cold)
     dev_warm = np.abs(np.asarray(warm_fx) - cold) / (0.3 * 1.2e5)
-    runs = {"cold": (t["cold"], ok["cold"], 0.0), "warm": (t["warm"], ok["warm"], dev_warm.max())}
     dev_loose = np.abs(np.asarray(loose_fx) - cold) / (0.3 * 1.2e5)
     st = np.asarray(stick)
+
+    def both(s):
+        return f"{s * 1e3:.2f} ms = {s / tc:.0f} convolutions"
+
+    out(f"* the unit: one real FFT convolution of the padded grid ({shape[0]} x {shape[1]} "
+        f"for 40 x 40 elements; rocket-fft in Numba, as the solvers' products) took "
+        f"{tc * 1e6:.1f} µs in this run (median of {len(conv)} measurements between the "
+        "blocks)")
     out(f"* patches in partial slip (stick fraction 5-95 %): "
         f"{np.mean((st > 0.05) & (st < 0.95)) * 100:.0f} %, in full slip "
         f"{np.mean(st <= 0.05) * 100:.0f} %")
-    out(f"* (a) Hertz + FASTSIM, whole case (geometry, vertical-force iteration): "
-        f"{t_hf * 1e3:.1f} ms per case")
-    for mode, (t, ok, dev) in runs.items():
-        out(f"* (b) exact + exact, {mode}: {t * 1e3:.1f} ms per case, (b)/(a) = "
-            f"{t / t_hf:.1f}; {ok} of {n} converged"
-            + (" (the others meet the vertical load only to the residuals below)"
-               if ok < n else ""))
+    out(f"* (a) Hertz + FASTSIM, whole case (geometry, vertical balance): "
+        f"{both(mean['hf'])} per case (target 1 ms)")
+    for mode, ok_n, target in (("cold", ok["cold"], 5e-3), ("warm", ok["warm"], 2e-3)):
+        v = t[mode]
+        out(f"* (b) exact + exact, {mode}: {both(mean[mode])} per case (target "
+            f"{target * 1e3:.0f} ms), (b)/(a) = {mean[mode] / mean['hf']:.1f}; median "
+            f"{np.median(v) * 1e3:.2f} ms, slowest {v.max() * 1e3:.1f} ms = "
+            f"{v.max() / np.median(v):.1f} x the median (case {int(np.argmax(v))}, "
+            f"{shifts[int(np.argmax(v))] * 1e3:.2f} mm); {ok_n} of {n} meet the load")
     resid = np.asarray(resid)
     miss = resid > 1e-4
     if miss.any():
         out(f"* vertical load met to 1e-4 in {n - miss.sum()} of {n} cases (cold); the "
-            f"others ({', '.join(f'{r * 100:.2g} %' for r in np.sort(resid[miss])[::-1])}), "
-            f"at {_span(shifts[miss] * 1e3)} mm shift, are "
-            "steep flange contact (the flange side's vertical force changes by 10-20 Q per "
-            "unit relative interpenetration there, measured at 6.34 and 6.39 mm) where the "
-            "iteration's bracket narrows below the jump test's width first "
-            "(`vertical_residual` in the result; see "
-            "docs/case_files.md, Convergence)")
+            f"others: {', '.join(f'{r * 100:.2g} %' for r in np.sort(resid[miss])[::-1])}, "
+            f"at {_span(shifts[miss] * 1e3)} mm shift")
     else:
-        out(f"* vertical load met to 1e-4 in all {n} cases (cold)")
-    both = ~miss & (np.asarray(warm_resid) <= 1e-4)
-    tread = both & (shifts < 6.2e-3)
-    flange = both & (shifts >= 6.2e-3)
+        out(f"* vertical load met to 1e-4 in all {n} cases, cold and "
+            f"{'warm' if max(warm_resid) <= 1e-4 else 'not all warm'}-started")
+    out(f"* passes of the vertical balance (each a contact search and the normal problems, "
+        f"or the tangential problems at the last interpenetrations): {np.mean(passes):.2f} "
+        f"per case cold (max {max(passes)}), {np.mean(warm_passes):.2f} warm-started "
+        f"(max {max(warm_passes)}); the slowest cases are flange contact at 6.2-7 mm where "
+        "a second region joins the flange patch near the load")
+    both_met = ~miss & (np.asarray(warm_resid) <= 1e-4)
+    tread = both_met & (shifts < 6.2e-3)
+    flange = both_met & (shifts >= 6.2e-3)
     dfn = np.abs(np.asarray(warm_fn) - np.asarray(cold_fn)) / 1.2e5
-    out(f"* warm / cold: {runs['warm'][0] / runs['cold'][0]:.2f}: a warm-started case starts "
-        "from a contact search at its neighbour's interpenetrations (no multi-Hertzian "
-        "estimate) and its pressures and tractions")
+    out(f"* warm / cold: {mean['warm'] / mean['cold']:.2f}: a warm-started case starts "
+        "from a contact search at its neighbour's interpenetrations and Jacobian, and its "
+        "pressures and tractions")
     out(f"* warm against cold, where both met the load: sum F_x differs by "
-        f"{np.median(dev_warm[both]) * 100:.3f} % of mu Q (median), "
-        f"{np.percentile(dev_warm[both], 95) * 100:.2f} % (95th percentile); up to "
+        f"{np.median(dev_warm[both_met]) * 100:.3f} % of mu Q (median), "
+        f"{np.percentile(dev_warm[both_met], 95) * 100:.2f} % (95th percentile); up to "
         f"{dev_warm[tread].max() * 100:.2f} % below 6.2 mm shift, where the 40x40 grid's "
         "extent follows the iteration's path (docs/case_files.md); up to "
         f"{dev_warm[flange].max() * 100:.2f} % in flange contact (6.2-9 mm), where the "
@@ -419,26 +502,30 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
         "6.2 mm; on CONTACT's lattice of elements warm and cold agree, "
         "tests/test_warm_start.py)")
     out(f"* (b) exact + exact, cold, vertical load to 1e-3 (`solver.force_tolerance`): "
-        f"{t_loose * 1e3:.1f} ms per case, (b)/(a) = {t_loose / t_hf:.1f}; {ok_loose} of {n} "
-        f"converged; sum F_x within {dev_loose[~miss].max() * 100:.3f} % of mu Q of the "
-        f"1e-4 run where that met the load ({dev_loose.max() * 100:.1f} % over all cases: "
-        "where the force jumps, the two runs stop on different sides of the jump)")
-    out(f"* one contact search under the load (both wheels, one multi-Hertzian iteration) "
-        f"costs {t_geom * 1e3:.1f} ms; the vertical-force iteration made {np.mean(passes):.1f} "
-        f"passes per case on average (max {max(passes)}; warm-started "
-        f"{np.mean(warm_passes):.1f}), each a contact search and the "
-        "normal problems, the tangential ones once the balance with stand-in lateral "
-        "forces holds to ten tolerances")
+        f"{both(mean['loose'])} per case, (b)/(a) = {mean['loose'] / mean['hf']:.1f}; "
+        f"{ok_loose} of {n} converged; sum F_x within {dev_loose[~miss].max() * 100:.3f} % "
+        "of mu Q of the 1e-4 run")
+    out(f"* one contact search under the load (both wheels, one multi-Hertzian iteration): "
+        f"{both(mean['geom'])}")
     out(f"* the exact solves alone, once per patch on the warm result's final geometry "
         f"(normal problem at its approach, then the tangential one; no contact search, no "
-        f"vertical-force iteration): {alone_warm * 1e3:.1f} ms per case from the "
-        f"previous case's solutions, {alone_cold * 1e3:.1f} ms cold: the floor of "
-        "this sweep with these solvers, "
-        f"{'above' if alone_warm > 2e-3 else 'below'} the 2 ms warm target")
-    out("* the seven timings above were taken interleaved, in blocks of 50 cases")
-    out("* targets of issue 4: under 5 ms cold and 2 ms warm per case (not met); CONTACT "
-        "takes 46.5 ms per case on its 10 kN sweep (one wheel): ours on those cases in the "
-        "section above")
+        f"vertical balance): {both(mean['alone_warm'])} per case from the previous case's "
+        f"solutions, {both(mean['alone_cold'])} cold")
+    out("* the timings above were taken interleaved, in blocks of 50 cases")
+    # where the time goes: the parts of a case, timed on every fifth case
+    sub = cases[::5]
+    for mode in ("cold", "warm"):
+        total, parts = time_split(sub if mode == "cold" else cases[:len(sub)], mode == "warm")
+        out(f"\nWhere an exact case's time goes ({mode}, {len(sub)} cases, "
+            f"{both(total)} per case):\n")
+        out("| part | ms per case | share | calls per case |")
+        out("|---|---|---|---|")
+        for label, (s, calls) in parts.items():
+            out(f"| {label.strip()}{' (within the above)' if label.startswith(' ') else ''} "
+                f"| {s * 1e3:.2f} | {s / total * 100:.0f} % | {calls:.1f} |")
+        rest = total - sum(s for label, (s, _) in parts.items() if not label.startswith(" "))
+        out(f"| the rest (balance, creepages, grids, results) | {rest * 1e3:.2f} | "
+            f"{rest / total * 100:.0f} % | |")
 
 
 def _span(v):
@@ -452,7 +539,7 @@ def _solves_alone(case, res, neighbour):
     ``res`` solved once on its geometry, warm-started from the nearest patch of
     ``neighbour`` (a result) or cold."""
     from railcontact.normal import get_normal_model
-    from railcontact.solve import _nearest
+    from railcontact.patches import nearest_patch as _nearest
     from railcontact.tangential import get_tangential_model
     nm, tm = get_normal_model("exact"), get_tangential_model("exact")
     for p in res.patches:

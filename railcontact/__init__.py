@@ -12,8 +12,10 @@ from .case import Case, case_from_dict, load_case
 from .errors import (CaseFileError, ContactNotFoundError, ConvergenceError, InputError,
                      ProfileError, RailContactError, UnknownModelError)
 from .materials import Material
-from .solve import PatchResult, SolveResult, VerticalBalance, solve
-from .sweep import sweep
+from .case_solve import solve
+from .equilibrium import VerticalBalance
+from .results import PatchResult, SolveResult
+from .case_sweep import sweep
 
 __version__ = "0.1.0"
 logging.getLogger(__name__).addHandler(logging.NullHandler())

@@ -24,11 +24,11 @@ import numpy as np
 from numba import njit
 
 from .errors import InputError
-from .materials import STEEL, Material
-from .normal import normal_model_class, normal_supports
 from .hertz_theory import hertz_ellipses
+from .materials import Material, STEEL
+from .normal import get_normal_model, normal_model_class, normal_supports
 from .normal.strip_batch import hertz_ellipse_strips, solve_strips
-from .tangential import tangential_model_class, tangential_supports
+from .tangential import get_tangential_model, tangential_model_class, tangential_supports
 from .tangential.kalker import kalker_coefficients_array
 from .tangential.online import online_law, patch_forces
 
@@ -140,8 +140,6 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
             strips = int(fastsim_grid[1])
         return _strip_patches(patches, normal, tangential, material, friction, cr, V,
                               strips, fastsim_grid[0], t0)
-    from .normal import get_normal_model
-    from .tangential import get_tangential_model
     nm, tm = get_normal_model(normal), get_tangential_model(tangential)
     res = np.zeros((n, 9))
     for i, g in enumerate(patches):

@@ -11,6 +11,10 @@ from pathlib import Path
 from .case_surfaces import check_surface_case, is_surface_case
 from .errors import CaseFileError, InputError, RailContactError
 from .materials import Material
+from .normal import get_normal_model
+from .normal.plasticity import HARDNESS_FACTOR, pressure_limit
+from .profiles.processing import ProfileOptions
+from .tangential import get_tangential_model
 
 #: a profile file's processing (:class:`railcontact.profiles.ProfileOptions`)
 _PROFILE_OPTIONS = {"mirror_y", "mirror_z", "scale", "smoothing", "zigzag", "kinks"}
@@ -91,7 +95,6 @@ class Case:
         """The profile-file options of ``[wheel]`` or ``[rail]`` as
         :class:`~railcontact.profiles.ProfileOptions` (None where none is given) and
         the file's length unit."""
-        from .profiles.processing import ProfileOptions
         table = self.raw.get(body, {})
         units = table.get("units", "auto")
         if units not in ("auto", "mm", "m"):
@@ -216,8 +219,6 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     if "plasticity" in raw:
         _plasticity(case)
     # resolve models early so that a bad name fails before any work
-    from .normal import get_normal_model
-    from .tangential import get_tangential_model
     try:
         get_normal_model(case.normal, **case.normal_options)
         if case.tangential != "none":
@@ -281,7 +282,6 @@ def _plasticity(case: Case) -> None:
     (:mod:`railcontact.normal.plasticity`), passed to the exact normal model as its
     ``pressure_limit`` option: ``pressure_limit`` [Pa] as given, else
     ``pressure_factor`` (default 3, Tabor's hardness) x ``yield_stress`` [Pa]."""
-    from .normal.plasticity import HARDNESS_FACTOR, pressure_limit
     pl = case.raw["plasticity"]
     if case.normal != "exact":
         raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "

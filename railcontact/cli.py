@@ -95,7 +95,7 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
 
 def cmd_solve(args):
     from .case import load_case
-    from .solve import solve
+    from .case_solve import solve
     if _is_inp(args.case):
         return _run_inp(args, "sync")
     if args.cases or args.profiles:
@@ -116,7 +116,8 @@ def cmd_solve(args):
 
 def cmd_geometry(args):
     from .case import load_case
-    from .solve import contact_search, geometry_dict
+    from .bodies import contact_search
+    from .results import geometry_dict
     case = load_case(args.case)
     if case.is_bodies:
         raise RailContactError("geometry needs a wheel-rail case ([wheel], [rail]); this case "
@@ -131,7 +132,7 @@ def cmd_geometry(args):
 
 def cmd_sweep(args):
     from .case import load_case
-    from .sweep import parse_vary, sweep
+    from .case_sweep import parse_vary, sweep
     if _is_inp(args.case):
         return _run_inp(args, args.scheduler, warm=args.warm)
     if not args.vary:

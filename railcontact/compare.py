@@ -9,6 +9,7 @@ from pathlib import Path
 
 
 from .case import Case
+from .case_solve import solve
 from .errors import RailContactError
 from .normal import normal_models
 
@@ -23,9 +24,8 @@ def compare(case: Case, models=DEFAULT_MODELS, tangential: str | None = None):
     """Solve ``case`` with every normal model in ``models``.
 
     Returns (rows, results): one row per model and side (units in the column names),
-    and the :class:`~railcontact.solve.SolveResult` of each model.
+    and the :class:`~railcontact.results.SolveResult` of each model.
     """
-    from .solve import solve
     unknown = [m for m in models if m not in normal_models()]
     if unknown:
         raise RailContactError(f"compare: unknown normal model(s) {unknown}; expected "

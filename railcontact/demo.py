@@ -15,8 +15,10 @@ from .materials import Material
 from .normal import get_normal_model
 from .plotting import plot_contact_positions, plot_patches
 from .profiles import rail_profile, s1002
-from .solve import PatchResult
+from .results import PatchResult
 from .tangential import get_tangential_model
+from .wear import WearSimulation, scenario_from_dict
+from .wear.plots import plot_wear
 
 log = logging.getLogger(__name__)
 
@@ -73,8 +75,6 @@ def run_demo(out: Path, load: float = 75e3, velocity: float = 30.0, friction: fl
                  "(stick area outlined)")
     print(f"equivalent conicity at 3 mm amplitude: {ds.attrs['equivalent_conicity_3mm']:.4f}")
     # a short wear run on the built-in profiles (examples/wear_demo.toml settings)
-    from .wear import WearSimulation, scenario_from_dict
-    from .wear.plots import plot_wear
     wear_raw = {"friction": {"coefficient": friction}, "wheel": {"profile": "S1002"},
                 "rail": {"profile": "60E1"},
                 "wheelset": {"vertical_force": load, "velocity": velocity},

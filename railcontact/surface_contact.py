@@ -31,16 +31,17 @@ from scipy.optimize import brentq
 
 from .case import Case
 from .case_surfaces import check_surface_case
+from .equilibrium import VerticalBalance
 from .errors import CaseFileError, ContactNotFoundError, ProfileError
 from .geometry.surface_search import (Motion, SurfaceContact, SurfacePose, SurfaceWheel,
-                                      search)
+                                      search, surface_slip)
 from .geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface, SlicedSurface
 from .geometry.track import Track
-from .geometry.validity import HALF_SPACE_LIMIT, halfspace_ratio
-from .geometry.validity import flange_state
+from .geometry.validity import HALF_SPACE_LIMIT, flange_state, halfspace_ratio
+from .patches import case_models
 from .profiles.library import get_profile
 from .profiles.slices import is_slices_file, read_slices, slices_from_list
-from .solve import PatchResult, SolveResult, VerticalBalance, case_models, vertical_force_on_rail
+from .results import PatchResult, SolveResult, vertical_force_on_rail
 from .status import SolverStatus
 
 log = logging.getLogger(__name__)
@@ -149,7 +150,7 @@ def build_surface_case(case: Case) -> SurfaceSetup:
 
 @dataclass
 class SurfaceResult(SolveResult):
-    """:class:`railcontact.solve.SolveResult` of a case on rail surfaces: also the
+    """:class:`railcontact.results.SolveResult` of a case on rail surfaces: also the
     search (``surface_contact``); each patch's JSON carries the rail it lies on
     (``rail``), its reference point in the track frame (``position`` [m]) and its
     track position ``s`` [m]."""
@@ -209,7 +210,6 @@ def _surface_slip_field(g, ns, setup, creep):
     surface_search.surface_slip`) minus the planar rigid slip of the patch's
     creepages (xi - phi y, eta + phi x), on the normal solution's grid: the exact
     tangential solver's ``extra_slip`` (``solver.rigid_slip = "surfaces"``)."""
-    from .geometry.surface_search import surface_slip
     X, Y = np.meshgrid(ns.x, ns.y, indexing="ij")
     sx, sy = surface_slip(g, setup.wheel, setup.rails[g.rail_index], setup.motion, X, Y)
     xi, eta, phi = creep

@@ -88,10 +88,9 @@ def test_sweep_threads_equals_sync():
 def test_auto_scheduler_uses_processes_for_long_sweeps_only(monkeypatch):
     """"auto" starts worker processes only where the sweep is expected to take longer
     than their start-up is worth (PROCESSES_FROM seconds in one process)."""
-    import importlib
-
     import dask
-    sw = importlib.import_module("railcontact.sweep")
+
+    import railcontact.case_sweep as sw
     case = rc.load_case(EX / "wheel_rail.toml")
     assert sw._expected_seconds(case, 100, "exact", "exact") == pytest.approx(2.0)
     assert sw._expected_seconds(case, 100, "hertz", "fastsim") == pytest.approx(0.5)

@@ -17,6 +17,10 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
+from ..case import case_from_dict
+from ..case_solve import solve
+from ..case_sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
+from ..errors import RailContactError
 from .mapping import MappedCase, map_case
 from .reader import InpCase, InpError, read_inp
 from .table import COLUMNS, rows, to_csv, to_json, to_text
@@ -57,9 +61,6 @@ def load_inp(path, cases=None, profile_dirs=()) -> list:
 def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
     """Solve mapped cases in order (each warm-started from the previous one where
     ``warm``); returns each case's rows, or its one-line error."""
-    from ..case import case_from_dict
-    from ..errors import RailContactError
-    from ..solve import solve
     out, prev = [], None
     for m in items:
         try:
@@ -87,7 +88,6 @@ def solve_inp(path, cases=None, profile_dirs=(), scheduler: str = "sync",
     consecutive cases, each warm-started from the previous one.  ``normal``,
     ``tangential``: models overriding the file's.
     """
-    from ..sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
     mapped = load_inp(path, cases, profile_dirs)
     names = {m.raw["solver"]["normal"] for m in mapped} | {m.raw["solver"]["tangential"]
                                                           for m in mapped}

@@ -15,8 +15,11 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..case import case_from_dict
 from ..geometry.turning import default_turn_distance
-from ..hertz_theory import hertz_curvatures
+from ..hertz_theory import hertz_curvatures, hertz_ellipse
+from ..materials import Material
+from ..profiles import get_profile
 from .reader import InpCase, InpError
 
 MM = 1e-3
@@ -156,14 +159,12 @@ def _map_module3(case: InpCase) -> MappedCase:
     ipotcn = _need(case, "IPOTCN")
     mat = _material(case)
     fn = _need(case, "FN")
-    from ..materials import Material
     es = Material(**mat).contact_modulus
     if ipotcn == -3:
         a, b = v["AA"] * MM, v["BB"] * MM
         A, B = hertz_curvatures(a, b, es, fn)
     elif ipotcn == -1:
         A, B = v["A1"] / MM, v["B1"] / MM        # 1/mm -> 1/m
-        from ..hertz_theory import hertz_ellipse
         h = hertz_ellipse(A, B, es, force=fn)
         a, b = h.a, h.b
     else:
@@ -236,8 +237,6 @@ def _rail_frame(raw: dict, base_dir: Path) -> dict:
     CONTACT's: railcontact places a rail file's origin in the track plane (and a
     rail it inclines with its origin at the new top), CONTACT shifts the rail
     until its top touches the track plane."""
-    from ..case import case_from_dict
-    from ..profiles import get_profile
     case = case_from_dict(raw, base_dir)
     options, units = case.profile_options("rail")
     kw = {"units": units, **({"options": options} if options is not None else {})}

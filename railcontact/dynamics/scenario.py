@@ -177,7 +177,7 @@ def load_simulation(path):
 def build_table(sc, progress: bool = False):
     """Contact table of a parsed scenario at the static wheel load of its first
     wheelset."""
-    from ..solve import build_wheelset_track
+    from ..bodies import build_wheelset_track
     from .vehicle import G_ACC
     from .wheel_rail import WheelRailTable
     ws, tr = build_wheelset_track(sc["case"])

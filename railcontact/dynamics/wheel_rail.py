@@ -198,10 +198,10 @@ def python_patch_forces(model, material, friction, N, A, B, xi, eta, phi, V, gri
     """(F_x, F_y, M_z) of one patch with any registered tangential model (its Python
     ``solve``) on the Hertz patch with curvatures A, B and normal force N."""
     from ..geometry.contact import ContactGeometry
-    from ..normal.hertz import HertzModel
+    from ..normal import get_normal_model
     if N <= 0:
         return 0.0, 0.0, 0.0
     geo = ContactGeometry(curvatures=(A, B))
-    ns = HertzModel().solve(geo, material, normal_force=N, grid=grid)
+    ns = get_normal_model("hertz").solve(geo, material, normal_force=N, grid=grid)
     ts = model.solve(ns, geo, material, creepage=(xi, eta, phi), friction=friction, velocity=V)
     return ts.fx, ts.fy, ts.mz

@@ -131,7 +131,7 @@ class Wheelset:
     #: memo of the contact search by (lateral shift, yaw): its track, the minimum gaps
     #: of both wheels by roll, the last loci's wheel-sample ranges and the last roll
     #: slope, so that successive searches of one case, each starting where the last
-    #: ended, do not repeat work (``railcontact.geometry.search._PoseMemo``)
+    #: ended, do not repeat work (``railcontact.geometry.pose.PoseMemo``)
     gap_memo: dict = field(default_factory=dict, init=False, repr=False, compare=False)
 
     def __post_init__(self) -> None:

@@ -14,7 +14,7 @@ apart (default 2 d_sep - d_comb) towards their weighted mean:
 
 for each pair of neighbouring patches (sorted along the rail) whose angles differ
 by at most a_sep, with W_i the patch's total weight (the weight of its reference
-point and angle, :data:`railcontact.geometry.search.GAP_WEIGHT`) and the a-priori
+point and angle, :data:`railcontact.geometry.regions.GAP_WEIGHT`) and the a-priori
 angles on the right-hand side, so that a patch between two others is turned by
 both (CONTACT's user guide, section "Identification of contact patches", and its
 parameter D_TURN).
@@ -47,7 +47,7 @@ def turned_angles(angles, weights, distances, separation: float, turn_distance: 
     distances : array_like
         The distance [m] between the facing ends of each patch and the next (one
         fewer than the patches; the measure of the combination,
-        :func:`railcontact.geometry.search._end_distance`, so that at d = d_sep a
+        :func:`railcontact.geometry.regions.end_distance`, so that at d = d_sep a
         combined patch and two fully turned ones share the weighted angle).
     separation : float
         d_sep [m]: patches closer than this are combined, not turned.

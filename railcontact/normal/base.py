@@ -41,6 +41,7 @@ def normal_supports(name: str, capability: str) -> bool:
 NORMAL_CAPABILITIES = {
     "force-control": "solve(normal_force=F) meets a given normal force",
     "warm-start": "solve(..., warm_start=previous solution) starts from it",
+    "grid-reuse": "solve(..., reuse_grid=previous solution) keeps its grid and kernels",
     "ellipse": "the patch is Hertz's ellipse of the geometry's curvatures (semi_axes)",
     "batch": "solves many patches at once, forces only (railcontact.batch)",
     "strips": "a strip model: semi-elliptic pressure per strip (strip_theory)",

@@ -706,8 +706,7 @@ class ExactNormalModel:
         k = math.sqrt(1.3 * normal_force / (self.pressure_limit * hz.area))
         return ex * max(k, 1.0), ey * max(k, 1.0)
 
-    capabilities = frozenset({"force-control", "warm-start", "coupled"})
-    reuses_grids = True
+    capabilities = frozenset({"force-control", "warm-start", "grid-reuse", "coupled"})
 
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
               penetration: float | None = None, grid=None, element_size=None,

@@ -10,7 +10,7 @@ only the sampling of the gap differs:
 
 * the gap of every patch is sampled at three points along x on each of ``strips``
   strips, in one compiled loop per profile pair
-  (:func:`railcontact.geometry.search.sample_gap_lines`); a parabola through the three
+  (:func:`railcontact.geometry.gap.sample_gap_lines`); a parabola through the three
   samples gives each strip's minimum g(y), its position x_m(y) and the longitudinal
   curvature A(y); the lateral curvature B(y) is the second difference across the
   strips at x_m(y);
@@ -29,7 +29,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from ..errors import InputError
-from ..geometry.search import sample_gap_lines
+from ..geometry.gap import sample_gap_lines
 from ..hertz_theory import hertz_ellipses
 from .strip_theory import MIN_CURVATURE, STRIP_MODELS, parabolic_minima, strip_pressures
 

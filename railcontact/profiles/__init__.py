@@ -9,7 +9,7 @@ from .measures import wheel_measures
 from .processing import ProfileOptions, Smoothing
 from .profile import Profile
 from .rails import rail_profile
-from .s1002 import s1002
+from .en13715 import s1002
 
 __all__ = ["Profile", "ProfileOptions", "Smoothing", "process_points", "read_profile",
            "write_profile", "get_profile", "builtin_names", "rail_profile", "s1002",

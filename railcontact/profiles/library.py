@@ -10,7 +10,7 @@ from ..errors import ProfileError
 from .io import read_profile
 from .profile import Profile
 from .rails import ALIASES, HEADS, rail_profile
-from .s1002 import s1002
+from .en13715 import s1002
 
 WHEEL_PROFILES = ("S1002",)
 RAIL_PROFILES = tuple(sorted(HEADS)) + tuple(sorted(ALIASES))

@@ -46,6 +46,7 @@ import numpy as np
 
 from ..errors import ProfileError
 from .io import read_profile, write_profile
+from .library import get_profile
 from .profile import Profile
 
 log = logging.getLogger(__name__)
@@ -355,7 +356,6 @@ def artificial_crossing(length: float = 0.5, n: int = 41, angle: float = 1 / 9,
     0.09 m after the tip and is lifted by 2 mm on the rising nose: the 'dip' of a
     crossing.
     """
-    from .library import get_profile
     s = np.linspace(-0.05, float(length), int(n))
     head = get_profile(wing, "rail", inclination=0.0)
     noses, wings = [], []

@@ -7,6 +7,7 @@ from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
+from ..errors import InputError
 from ..registry import Registry
 from ..status import SolverStatus
 
@@ -42,6 +43,8 @@ TANGENTIAL_CAPABILITIES = {
     "strip-march": "marches the strips of many patches at once (class method "
                    "strip_forces): batches of the strip models",
     "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials)",
+    "lazy": "costly: the vertical balance lets FASTSIM stand in for it until its last "
+            "passes (railcontact.equilibrium)",
 }
 
 
@@ -68,7 +71,6 @@ def check_inputs(creepage, friction):
     """Validate creepages (xi, eta, phi) and the friction coefficient; return floats."""
     import math
 
-    from ..errors import InputError
     try:
         xi, eta, phi = (float(c) for c in creepage)
     except (TypeError, ValueError):

@@ -43,11 +43,13 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
-from ..status import SolverStatus
-from ..materials import STEEL, Material
+from ..materials import Material, STEEL
 from ..normal.base import bilinear, same_grid
-from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
+from ..normal.influence import (TangentialOperator, block_size, bounding_box,
+                                tangential_kernels)
+from ..status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
+from .fastsim import FastsimModel
 
 log = logging.getLogger(__name__)
 
@@ -604,7 +606,7 @@ class ExactTangentialModel:
         of the rail relative to the wheel, and the slip a displacement [m].
     """
 
-    capabilities = frozenset({"warm-start", "coupled"})
+    capabilities = frozenset({"warm-start", "coupled", "lazy"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling"):
         if not 0 < tol < 1e-2:
@@ -635,7 +637,6 @@ class ExactTangentialModel:
             # initial estimate from simplified theory (seed 000: an initial estimate of the
             # contact area "significantly accelerates the convergence"): FASTSIM has the
             # right global stiffness, so Newton starts close to the solution
-            from .fastsim import FastsimModel
             try:
                 warm_start = FastsimModel().solve(normal, geometry, material, (xi, eta, phi),
                                                   friction, velocity)

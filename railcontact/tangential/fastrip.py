@@ -54,11 +54,13 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
-from ..materials import STEEL, Material
+from ..materials import Material, STEEL
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import (_strip_to_grid, blend_weight, equivalent_ellipse,
                       semi_ellipse_weights, strip_pressures)
-from .kalker import flexibilities, kalker_coefficients
+from .friction import falling_friction
+from .kalker import (flexibilities, flexibilities_array, kalker_coefficients,
+                     kalker_coefficients_array)
 
 
 @njit(cache=True, nogil=True)
@@ -275,7 +277,6 @@ class FastripModel:
         if elements is not None and not (isinstance(elements, int) and 2 <= elements <= 5000):
             raise InputError(f"fastrip elements {elements!r}: expected an integer in [2, 5000]")
         self.elements = elements
-        from .friction import falling_friction
         self.falling = falling_friction(falling)
 
     @staticmethod
@@ -284,7 +285,6 @@ class FastripModel:
         arguments as :meth:`railcontact.tangential.fastsim.FastsimModel.strip_forces`):
         FaStrip's strip theory on each patch's equivalent ellipse and its spin march
         over the strips."""
-        from .kalker import flexibilities_array, kalker_coefficients_array
         xi, eta, phi = creepage
         G, nu = material.shear_modulus, material.nu
         n = xi.size

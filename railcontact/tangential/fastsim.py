@@ -27,12 +27,14 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
-from ..geometry.search import sample_strip_spin
-from ..materials import STEEL, Material
+from ..geometry.gap import sample_strip_spin
 from ..hertz_theory import hertz_ellipses, hertz_ellipses_table
+from ..materials import Material, STEEL
 from ..normal.semi_hertzian import strip_minima
 from .base import TangentialSolution, check_inputs, register
-from .kalker import flexibilities, flexibilities_array
+from .friction import falling_friction
+from .kalker import (flexibilities, flexibilities_array, flexibilities_from_coefficients,
+                     kalker_coefficients, kalker_coefficients_array)
 
 
 @njit(cache=True, nogil=True)
@@ -275,7 +277,6 @@ def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn, coeffic
     """Flexibilities blended towards a combined value as the creepage grows
     (scalars, or arrays of semi-axes and flexibilities, elementwise).
     ``coefficients``: Kalker's (C11, C22) of the ellipses, where already known."""
-    from .kalker import kalker_coefficients, kalker_coefficients_array
     if np.ndim(fn) == 0 and (mu <= 0 or fn <= 0):
         return L1, L2, L3
     if coefficients is not None:
@@ -339,7 +340,6 @@ class FastsimModel:
         self.bound = bound
         self.elements = elements
         self.flexibility = flexibility
-        from .friction import falling_friction
         self.falling = falling_friction(falling)
 
     def _strip_parameters(self, normal, geometry, material, a, b, creepage, friction):
@@ -521,7 +521,6 @@ class FastsimStripsModel(FastsimModel):
     def _batch_flexibilities(strips, patches, a, b, ok, creepage, material, friction):
         """A local ellipse per strip, from the gap's curvatures along the strip, and
         the spin of the local contact angle (as :meth:`_strip_parameters`)."""
-        from .kalker import flexibilities_from_coefficients, kalker_coefficients_array
         L, _ = FastsimModel._batch_flexibilities(strips, patches, a, b, ok, creepage,
                                                  material, friction)
         xi, eta, phi = creepage

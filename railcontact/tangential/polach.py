@@ -36,9 +36,10 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
-from ..materials import STEEL, Material
+from ..materials import Material, STEEL
 from .base import TangentialSolution, register
 from .fastsim import equivalent_ellipse
+from .friction import falling_friction
 from .kalker import kalker_coefficients
 
 #: extended-model presets: (k_A, k_S, mu0, A, B [s/m]); source REFERENCES.md 6.4
@@ -105,7 +106,6 @@ class PolachModel:
             falling = {"A": A, "B": B}
         if not (0 < kS <= kA <= 1):
             raise InputError(f"polach kA = {kA!r}, kS = {kS!r}: expected 0 < kS <= kA <= 1")
-        from .friction import falling_friction
         self.kA, self.kS, self.falling, self.preset = kA, kS, falling_friction(falling), preset
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),

@@ -212,7 +212,7 @@ def condition_wear(raw: dict, base_dir, law_name: str, law_params: dict, grids: 
                    profiles: dict) -> dict:
     """Wear of one operating condition: depth per revolution (wheels) and per passage
     (rails) on the s-grids, the rolling radii, and the frictional energy [J/m]."""
-    from ..solve import solve
+    from ..case_solve import solve
     law = get_wear_law(law_name, **law_params)
     res = solve(case_from_dict(raw, base_dir))
     out = {b: np.zeros_like(grids[b]) for b in BODIES}
@@ -249,7 +249,7 @@ class WearSimulation:
         self.progress = progress
         case = case_from_dict(_condition_raw(scenario, scenario.conditions[0], None),
                               scenario.base_dir)
-        from ..solve import build_wheelset_track
+        from ..bodies import build_wheelset_track
         ws, tr = build_wheelset_track(case)
         self.profiles = {"wheel_left": ws.wheel_left, "wheel_right": ws.wheel_right,
                          "rail_left": tr.rail_left, "rail_right": tr.rail_right}

@@ -76,12 +76,12 @@ def test_loci_of_given_interpenetrations_hold_the_same_patches(monkeypatch):
     the interpenetration plus REGION_MARGIN of the closest approach; the patches
     (tread, and flange root with flange on the deep right wheel) are those of loci
     over the whole LOCUS_WINDOW."""
-    import railcontact.geometry.search as search
+    import railcontact.geometry.pose as pose
     from railcontact.geometry.locus import LOCUS_WINDOW
     tr = Track(rail_profile("60E1", math.atan(1 / 40)))
     runs = []
-    for margin in (search.REGION_MARGIN, LOCUS_WINDOW):
-        monkeypatch.setattr(search, "REGION_MARGIN", margin)
+    for margin in (pose.REGION_MARGIN, LOCUS_WINDOW):
+        monkeypatch.setattr(pose, "REGION_MARGIN", margin)
         out = []
         for y, d in ((1e-3, {"left": 7e-5, "right": 6.5e-5}),
                      (6.44e-3, {"left": 7.6e-5, "right": 6.3e-4})):
@@ -139,3 +139,29 @@ def test_patch_bounds_lie_halfway_between_the_regions():
     assert meet[0] == pytest.approx(meet[1], abs=1e-9)
     ys = sorted(p.y_rail for p in pats)
     assert ys[0] < meet[0] < ys[1]
+
+
+@pytest.mark.parametrize("shift, candidates", [(1e-3, 1), (4.75e-3, 2), (5e-3, 2)])
+def test_multi_hertzian_approach_carries_the_load(shift, candidates):
+    """The multi-Hertzian estimate's interpenetration makes the candidates' Hertzian
+    vertical forces, summed independently here, carry the load: on the tread (one
+    candidate: the closed form) and where two tread minima lie within 0.05 mm of
+    each other (4.75 mm: the second loaded, 5 mm: both)."""
+    from railcontact.geometry.locus import compute_locus
+    from railcontact.geometry.search import _approach_for_load, _candidates, _locus_curvatures
+    from railcontact.materials import STEEL
+    from railcontact.hertz_theory import hertz_ellipse
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    rigid = find_contact(ws, tr, lateral_shift=shift)
+    loc = compute_locus(ws, tr, "right", shift, rigid.pose.vertical, rigid.pose.roll, 0.0)
+    d = _approach_for_load(loc, 6e4, ws.nominal_radius, STEEL)
+    assert len(_candidates(loc)) == candidates
+    total = 0.0
+    for i in _candidates(loc):
+        c = math.cos(math.atan(loc.slope[i]))
+        pen = (d - (loc.gap[i] - loc.gap_min)) * c
+        if pen > 0:
+            A, B = _locus_curvatures(loc, i, ws.nominal_radius)
+            total += hertz_ellipse(A, B, STEEL.contact_modulus, penetration=pen).force * c
+    assert total == pytest.approx(6e4, rel=1e-9)
+    assert 1e-5 < d < 1e-3

@@ -11,7 +11,7 @@ from railcontact.batch import solve_patches
 from railcontact.errors import InputError
 from railcontact.geometry import Track, Wheelset, find_contact
 from railcontact.geometry.contact import ContactGeometry
-from railcontact.geometry.search import sample_gap_lines, sample_strip_spin
+from railcontact.geometry.gap import sample_gap_lines, sample_strip_spin
 from railcontact.materials import STEEL
 from railcontact.normal import get_normal_model
 from railcontact.hertz_theory import hertz_ellipse

@@ -103,17 +103,13 @@ def _wheel_rail(refdir, y_mm, tangential):
 
 
 @pytest.mark.parametrize("y_mm", [0.0, 3.0, 6.5])
-def test_strip_spin_follows_local_contact_angle(refdir, y_mm, monkeypatch):
+def test_strip_spin_follows_local_contact_angle(refdir, y_mm):
     """Without yaw the wheelset turns about its axle, omega = p (0, cos r, sin r) with
     r the roll, so the spin on a surface element of contact angle d is
     p sin(d - r) / V: the strip spin must equal phi sin(d(y) - r) / sin(d0 - r) on
     both wheels (signs and the mirrored left side included), and the local angle
-    is that of the rail surface under the strip.  (Every patch from the final
-    search, whose roll the result reports: a side kept from an earlier search, as
-    the vertical-force iteration allows, has the roll of that search, up to ~1e-6
-    rad away.)"""
-    import importlib
-    monkeypatch.setattr(importlib.import_module("railcontact.solve"), "KEEP_TOLERANCE", 0.0)
+    is that of the rail surface under the strip (every patch of a result comes from
+    its final contact search, whose roll it reports)."""
     res = _wheel_rail(refdir, y_mm, "fastsim-strips")
     r = res.pose.roll
     for p in res.patches:

@@ -1,4 +1,4 @@
-"""S1002 wheel profile (EN 13715), piecewise-analytic definition.
+"""The S1002 wheel profile of EN 13715, piecewise-analytic definition.
 
 The coefficients are the widely used piecewise form credited to H. Netter (DLR);
 see ``REFERENCES.md`` section 1.1.  In the definition, S [mm] is lateral with

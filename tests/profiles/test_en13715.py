@@ -2,7 +2,7 @@ import numpy as np
 import pytest
 
 from railcontact.profiles import read_profile, s1002, wheel_measures
-from railcontact.profiles.s1002 import S_BREAKS, s1002_height
+from railcontact.profiles.en13715 import S_BREAKS, s1002_height
 
 
 def normal_distance(a, b):

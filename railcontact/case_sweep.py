@@ -10,8 +10,10 @@ import time
 
 import numpy as np
 
-from .case import Case
+from .case import Case, case_from_dict
+from .case_solve import solve
 from .errors import InputError, RailContactError
+from .progress import TqdmCallback
 
 log = logging.getLogger(__name__)
 
@@ -43,8 +45,6 @@ def parse_vary(spec: str):
 def _solve_chain(raws, base_dir, normal, tangential, warm):
     """Solve consecutive cases in order; with ``warm`` each starts from the previous
     case's solution (:func:`railcontact.solve`'s ``warm_start``)."""
-    from .case import case_from_dict
-    from .solve import solve
     out, prev = [], None
     for raw in raws:
         try:
@@ -158,7 +158,6 @@ def run_chains(chain, items: list, scheduler: str = "auto", progress: bool = Tru
         if scheduler == "processes":
             kwargs["num_workers"] = None
     if progress:
-        from .progress import TqdmCallback
         with TqdmCallback(total=len(items), desc=desc):
             out = dask.compute(*tasks, **kwargs)
     else:

@@ -1,0 +1,316 @@
+"""The undeformed distance h(x, y) of a patch: the rail's cylinder and the wheel's
+surface of revolution, with yaw and roll, along the normal of the patch's tangent
+plane (:class:`GapEvaluator`, compiled kernels), sampled on grids and lines for the
+normal models (:func:`sample_gap_lines`), the spin per strip
+(:func:`sample_strip_spin`), and the relative curvatures at a point by finite
+differences (:func:`curvatures_fd`)."""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..profiles.profile import ppoly_at
+from .locus import Locus
+from .track import Track, Wheelset
+
+
+#: Newton steps of the gap evaluation stop after a correction below this [m]: the
+#: convergence is quadratic, so the error left is of order kappa * NEWTON_TOL^2 with
+#: kappa <= 1e3 1/m the profile curvatures, below 1e-13 m
+NEWTON_TOL = 1e-8
+
+
+
+class GapEvaluator:
+    """Undeformed distance along the normal in a patch's tangent plane."""
+
+    def __init__(self, wheelset: Wheelset, track: Track, side: str, loc: Locus,
+                 center: np.ndarray, angle_side: float):
+        self.rail = track.rail(side)
+        self.wheel = wheelset.wheel(side)
+        self.y_off = track.rail_offset(side)
+        self.r0 = wheelset.nominal_radius
+        self.e = wheelset.wheel_offset
+        self.O, self.R = loc.origin, loc.axes
+        self.C = center
+        self.sign = 1.0 if side == "right" else -1.0
+        self.n = np.array([0.0, -math.sin(angle_side), math.cos(angle_side)])
+        self.t = np.array([0.0, math.cos(angle_side), math.sin(angle_side)])
+        self.angle = angle_side
+        self.y_ref = float(center[1] - self.y_off)
+        # the frame packed for the multi-patch kernel: C, t, n, y_off, R^T, O, e, r0
+        self.Rt = np.ascontiguousarray(self.R.T)
+        self.frame = np.concatenate([self.C, self.t, self.n, [self.y_off], self.Rt.ravel(),
+                                     self.O, [self.e, self.r0]]).astype(float)
+
+    def contact_angle_at(self, y):
+        """Local contact angle [rad] (track convention, as ``contact_angle``) at
+        patch coordinate ``y`` [m]: the rail-surface inclination where the strip at
+        y meets the rail, y_rail ~ y_ref + y cos(delta) on the side's profile axis."""
+        ys = self.sign * np.asarray(y, dtype=float)
+        yr = self.y_ref + ys * math.cos(self.angle)
+        return self.sign * np.arctan(self.rail.slope(yr))
+
+    def __call__(self, x, y):
+        x = np.asarray(x, dtype=float)
+        ys = self.sign * np.asarray(y, dtype=float)
+        if x.ndim == 2 and ys.ndim == 2 and x.shape[1] == 1 and ys.shape[0] == 1:
+            # a grid x[:, None], y[None, :]: line by line, the rail distance once per
+            # line and every projection started from the neighbouring line's
+            return sane_gap(_gap_lines_kernel(np.ascontiguousarray(x.T), np.ascontiguousarray(ys),
+                                           self.frame[None, :], self.rail._breaks,
+                                           self.rail._coefs, self.wheel._breaks,
+                                           self.wheel._coefs)[0])
+        x, ys = np.broadcast_arrays(x, ys)
+        h = self.points(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(ys.ravel()),
+                        signed=True)
+        return h.reshape(x.shape)
+
+    def points(self, x, ys, signed=False):
+        """The gap at points (x[i], y[i]) (1-D float arrays; ``signed``: y already
+        in the side's lateral sense, as ``__call__`` passes it)."""
+        if not signed:
+            ys = self.sign * ys
+        return sane_gap(_gap_kernel(x, ys, self.C, self.t, self.n, self.y_off, self.rail._breaks,
+                                 self.rail._coefs, self.Rt, self.O, self.e, self.r0,
+                                 self.wheel._breaks, self.wheel._coefs))
+
+
+
+#: an undeformed distance below this [m] is no interpenetration of the patch: the
+#: normal through the tangent-plane point met another part of a surface (far from a
+#: steep patch, e.g. the other wall of a groove); taken as missing the surface
+DEEPEST_GAP = -5e-3
+
+
+
+def sane_gap(h: np.ndarray) -> np.ndarray:
+    """The gap with points whose normal met another part of a surface (an
+    interpenetration deeper than ``DEEPEST_GAP``) taken as missing it (1 m)."""
+    return np.where(h < DEEPEST_GAP, 1.0, h)
+
+
+
+@njit(cache=True, nogil=True)
+def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr, k=-1):
+    """Distance along n from the tangent-plane point C + ysp t to the rail surface
+    (the rail is straight along x, so x does not enter): Newton on
+    z_r(P_y + tr n_y - y_off) = P_z + tr n_z from the estimate ``tr``, starting the
+    profile lookup at interval ``k``.  Returns the distance and the interval."""
+    p1 = C[1] + ysp * t[1]
+    p2 = C[2] + ysp * t[2]
+    for _ in range(8):
+        zr, dzr, k = ppoly_at(p1 + tr * n[1] - y_off, rb, rc, k)
+        step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
+        tr -= step
+        if not abs(step) > NEWTON_TOL:
+            break
+    return tr, k
+
+
+
+@njit(cache=True, nogil=True)
+def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw, k=-1):
+    """Distance along n from the tangent-plane point C + xp (1, 0, 0) + ysp t to
+    the wheel surface (radius r0 + z_w(eta - e) in wheelset axes), by Newton from
+    the estimate ``tw``, starting the profile lookup at interval ``k``.  Returns the
+    distance and the interval."""
+    nl0 = Rt[0, 0] * n[0] + Rt[0, 1] * n[1] + Rt[0, 2] * n[2]
+    nl1 = Rt[1, 0] * n[0] + Rt[1, 1] * n[1] + Rt[1, 2] * n[2]
+    nl2 = Rt[2, 0] * n[0] + Rt[2, 1] * n[1] + Rt[2, 2] * n[2]
+    d0 = C[0] + xp - O[0]
+    d1 = C[1] + ysp * t[1] - O[1]
+    d2 = C[2] + ysp * t[2] - O[2]
+    l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
+    l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
+    l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
+    return _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, tw, k)
+
+
+
+@njit(cache=True, nogil=True)
+def _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, tw, k):
+    """:func:`_wheel_distance` from the point l and the direction nl in wheelset
+    axes (the point's projection along n onto the wheel, by Newton)."""
+    for _ in range(8):
+        a0 = l0 + tw * nl0
+        a2 = l2 + tw * nl2
+        rho = math.sqrt(a0 * a0 + a2 * a2)
+        zw, dzw, k = ppoly_at(l1 + tw * nl1 - e, wb, wc, k)
+        step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
+        tw -= step
+        if not abs(step) > NEWTON_TOL:
+            break
+    return tw, k
+
+
+
+@njit(cache=True, nogil=True)
+def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
+    """Distance along the normal n between rail and wheel surfaces through the
+    tangent-plane points C + x (1, 0, 0) + ys t (1 m where a surface is missed)."""
+    h = np.empty(x.size)
+    kr = -1
+    kw = -1
+    for i in range(x.size):
+        tr, kr = _rail_distance(ys[i], C, t, n, y_off, rb, rc, 0.0, kr)
+        tw, kw = _wheel_distance(x[i], ys[i], C, t, n, Rt, O, e, r0, wb, wc, 0.0, kw)
+        g = tr - tw
+        h[i] = g if math.isfinite(g) else 1.0
+    return h
+
+
+
+@njit(cache=True, nogil=True)
+def _equally_spaced(ys):
+    """Whether the lines ys are equally spaced (to 1e-9 of their spacing)."""
+    if ys.size < 3:
+        return False
+    d = ys[1] - ys[0]
+    for j in range(2, ys.size):
+        if abs(ys[j] - ys[j - 1] - d) > 1e-9 * abs(d):
+            return False
+    return True
+
+
+
+@njit(cache=True, nogil=True)
+def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
+    """Gaps of many patches sharing one rail and one wheel profile on lines of
+    constant y: out[k, i, j] at (x[k, i], ys[k, j]) with row k of the packed frames
+    ``F`` (``GapEvaluator.frame``).  The rail distance is computed once per line;
+    every projection starts from its neighbours' solutions: along the line (the
+    wheel is smooth in x) where three points before it on the line are solved,
+    else from the neighbouring lines."""
+    nx = x.shape[1]
+    h = np.empty((x.shape[0], nx, ys.shape[1]))
+    tw = np.zeros((3, nx))              # the last three lines' wheel distances
+    kw = np.full(nx, -1)
+    tr = np.zeros(3)
+    for k in range(x.shape[0]):
+        f = F[k]
+        C, t, n, O = f[0:3], f[3:6], f[6:9], f[19:22]
+        Rt = f[10:19].reshape((3, 3))
+        y_off, e, r0 = f[9], f[22], f[23]
+        kr = -1
+        quadratic = _equally_spaced(ys[k])
+        along = _equally_spaced(x[k])
+        # n and the tangent-plane axes in wheelset axes: a point's wheelset
+        # coordinates are linear in its (x, y)
+        nl0 = Rt[0, 0] * n[0] + Rt[0, 1] * n[1] + Rt[0, 2] * n[2]
+        nl1 = Rt[1, 0] * n[0] + Rt[1, 1] * n[1] + Rt[1, 2] * n[2]
+        nl2 = Rt[2, 0] * n[0] + Rt[2, 1] * n[1] + Rt[2, 2] * n[2]
+        for j in range(ys.shape[1]):
+            # Newton starts from the last lines' solutions, extrapolated quadratically
+            # on equally spaced lines (else the last line's)
+            if quadratic and j >= 3:
+                c0, c1, c2 = 3.0, -3.0, 1.0
+            else:
+                c0, c1, c2 = (1.0 if j >= 1 else 0.0), 0.0, 0.0
+            r, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc,
+                                   c0 * tr[0] + c1 * tr[1] + c2 * tr[2], kr)
+            if not math.isfinite(r):
+                # the line misses the rail profile: gap 1 m (below) and the next
+                # lines start afresh
+                c0, c1, c2 = 0.0, 0.0, 0.0
+            tr[2], tr[1], tr[0] = tr[1], tr[0], (r if math.isfinite(r) else 0.0)
+            d1 = C[1] + ys[k, j] * t[1] - O[1]
+            d2 = C[2] + ys[k, j] * t[2] - O[2]
+            run = 0                     # solved points in a row before i on this line
+            for i in range(nx):
+                if along and run >= 3:
+                    # quadratic extrapolation along the line (equally spaced x)
+                    start = 3.0 * tw[0, i - 1] - 3.0 * tw[0, i - 2] + tw[0, i - 3]
+                else:
+                    start = c0 * tw[0, i] + c1 * tw[1, i] + c2 * tw[2, i]
+                d0 = C[0] + x[k, i] - O[0]
+                w, kw[i] = _wheel_newton(Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2,
+                                         Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2,
+                                         Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2,
+                                         nl0, nl1, nl2, e, r0, wb, wc, start, kw[i])
+                g = r - w
+                h[k, i, j] = g if math.isfinite(g) else 1.0
+                tw[2, i], tw[1, i] = tw[1, i], tw[0, i]
+                tw[0, i] = w if math.isfinite(w) else 0.0
+                run = run + 1 if math.isfinite(w) else 0
+    return h
+
+
+
+def sample_gap_lines(patches, x, y) -> np.ndarray:
+    """Undeformed distance [m] of many patches at once on lines of constant y:
+    ``x`` (patches, nx) and ``y`` (patches, ny) in each patch's tangent-plane
+    coordinates give h of shape (patches, nx, ny).  Patches of the geometry layer
+    are evaluated in one compiled loop per rail/wheel profile pair; others (bodies
+    cases) through their ``gap`` method."""
+    x = np.ascontiguousarray(x, dtype=float)
+    y = np.ascontiguousarray(y, dtype=float)
+    h = np.empty((x.shape[0], x.shape[1], y.shape[1]))
+    groups: dict = {}
+    for k, p in enumerate(patches):
+        f = p.gap_function
+        if isinstance(f, GapEvaluator):
+            groups.setdefault((id(f.rail), id(f.wheel)), []).append(k)
+        else:
+            h[k] = p.gap(x[k][:, None], y[k][None, :])
+    for idx in groups.values():
+        f0 = patches[idx[0]].gap_function
+        frames = np.array([patches[k].gap_function.frame for k in idx])
+        sign = np.array([patches[k].gap_function.sign for k in idx])
+        h[idx] = sane_gap(_gap_lines_kernel(x[idx], np.ascontiguousarray(sign[:, None] * y[idx]),
+                                         frames, f0.rail._breaks, f0.rail._coefs,
+                                         f0.wheel._breaks, f0.wheel._coefs))
+    return h
+
+
+
+def sample_strip_spin(patches, y) -> np.ndarray:
+    """Spin creepage [1/m] of many patches per strip, at patch coordinates ``y``
+    (patches, strips), as :meth:`ContactGeometry.spin_at` with each patch's own spin:
+    the local contact angles of patches on the same rail profile come from one
+    vectorised evaluation of its slope."""
+    y = np.asarray(y, dtype=float)
+    out = np.empty(y.shape)
+    groups: dict = {}
+    for k, p in enumerate(patches):
+        f = p.gap_function
+        if (isinstance(f, GapEvaluator) and math.isfinite(p.spin_derivative)
+                and getattr(p.local_contact_angle, "__self__", None) is f):
+            groups.setdefault(id(f.rail), []).append(k)
+        else:
+            out[k] = p.spin_at(y[k], p.creepage[2] if p.creepage is not None else 0.0)
+    for idx in groups.values():
+        pars = np.array([(p.gap_function.sign, p.gap_function.y_ref,
+                          math.cos(p.gap_function.angle), p.contact_angle,
+                          p.creepage[2] if p.creepage is not None else 0.0,
+                          p.spin_derivative) for p in (patches[k] for k in idx)])
+        sign, yref, cosa, delta, phi, dphi = (pars[:, i, None] for i in range(6))
+        # local angle sign * atan(s) with s the rail's slope: D = that - delta, and
+        # cos D, sin D without the angles (1 / sqrt(1 + s^2) = cos(atan s))
+        s = sign * patches[idx[0]].gap_function.rail.slope(yref + sign * y[idx] * cosa)
+        c = 1.0 / np.sqrt(1.0 + s * s)
+        cd = np.where(np.isfinite(s), c * (np.cos(delta) + s * np.sin(delta)), 1.0)
+        sd = np.where(np.isfinite(s), c * (s * np.cos(delta) - np.sin(delta)), 0.0)
+        out[idx] = phi * cd + dphi * sd      # off the profile (NaN slope): the patch spin
+    return out
+
+
+
+#: finite-difference steps for the curvatures of the gap [m] (rolling, lateral)
+FD_STEP = (2e-3, 2e-4)
+
+
+
+def curvatures_fd(gapf, x0, y0):
+    """Curvatures (A, B) [1/m] of the gap and the gap itself at (x0, y0): one
+    vectorised evaluation of the five-point stencil."""
+    hx, hy = FD_STEP
+    xs = np.array([x0, x0 + hx, x0 - hx, x0, x0])
+    ys = np.array([y0, y0, y0, y0 + hy, y0 - hy])
+    h = gapf.points(xs, ys)
+    A = (h[1] + h[2] - 2 * h[0]) / (2 * hx * hx)
+    B = (h[3] + h[4] - 2 * h[0]) / (2 * hy * hy)
+    return float(A), float(B), float(h[0])

@@ -1,0 +1,104 @@
+"""The package's layering (DESIGN.md, "The pipeline"): imports only run downhill,
+and no two modules import each other, directly or around a circle, counting the
+imports inside functions too."""
+
+import ast
+from collections import defaultdict
+from pathlib import Path
+
+PACKAGE = Path(__file__).resolve().parents[1] / "railcontact"
+
+#: rank of each part of the package; a module may import from its own rank or below
+RANKS = {
+    # base: no model, no case
+    "errors": 0, "registry": 0, "status": 0, "materials": 0, "hertz_theory": 0,
+    "progress": 0, "plotting": 0,
+    # the pipeline's layers
+    "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4,
+    # cases above the layers
+    "case_surfaces": 5, "case": 5, "coupling": 5, "equilibrium": 5, "results": 5,
+    "bodies": 5, "patches": 5, "wheel_rail_balance": 5, "surface_contact": 5,
+    "case_solve": 5, "case_sweep": 5, "crossing": 5, "compare": 5, "batch": 5,
+    "contact_inp": 5,
+    # systems that run cases
+    "dynamics": 6, "wear": 7,
+    # front ends
+    "demo": 8, "cli": 8, "__init__": 8,
+}
+
+
+def _modules():
+    out = {}
+    for path in PACKAGE.rglob("*.py"):
+        rel = path.relative_to(PACKAGE.parent).with_suffix("")
+        parts = list(rel.parts)
+        if parts[-1] == "__init__":
+            parts = parts[:-1]
+        out[".".join(parts)] = path
+    return out
+
+
+def _imports(mods):
+    """Module -> the package's modules it imports (TYPE_CHECKING blocks excepted)."""
+    edges = defaultdict(set)
+    for name, path in mods.items():
+        tree = ast.parse(path.read_text())
+        typing_only = set()
+        for node in tree.body:
+            if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING":
+                typing_only |= {id(n) for n in ast.walk(node)}
+        package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
+        for node in ast.walk(tree):
+            if id(node) in typing_only:
+                continue
+            if isinstance(node, ast.ImportFrom):
+                base = package[:len(package) - node.level + 1] if node.level else []
+                target = ".".join(base + ([node.module] if node.module else []))
+                for alias in node.names:
+                    full = f"{target}.{alias.name}"
+                    edges[name].add(full if full in mods else target)
+            elif isinstance(node, ast.Import):
+                edges[name].update(a.name for a in node.names)
+        edges[name] = {t for t in edges[name] if t in mods and t != name}
+    return edges
+
+
+def _rank(module):
+    parts = module.split(".")
+    return RANKS[parts[1] if len(parts) > 1 else "__init__"]
+
+
+def test_every_part_has_a_rank():
+    parts = {m.split(".")[1] for m in _modules() if "." in m}
+    assert parts <= set(RANKS), sorted(parts - set(RANKS))
+
+
+def test_imports_run_downhill():
+    edges = _imports(_modules())
+    uphill = sorted(f"{m} -> {t}" for m, ts in edges.items() for t in ts
+                    if _rank(t) > _rank(m) and not t.endswith(".__init__"))
+    assert not uphill, uphill
+
+
+def test_no_import_circles():
+    """Module-level circles, through the imports inside functions too (a package's
+    __init__ re-exporting its modules is not a circle)."""
+    mods = _modules()
+    edges = _imports(mods)
+    packages = {m for m, p in mods.items() if p.name == "__init__.py"}
+    graph = {m: {t for t in ts if t not in packages} for m, ts in edges.items()}
+    state, circles = {}, []
+
+    def visit(m, path):
+        state[m] = 1
+        for t in sorted(graph.get(m, ())):
+            if state.get(t) == 1:
+                circles.append(path[path.index(t):] + [t])
+            elif t not in state:
+                visit(t, path + [t])
+        state[m] = 2
+
+    for m in sorted(graph):
+        if m not in state:
+            visit(m, [m])
+    assert not circles, [" -> ".join(c) for c in circles]
