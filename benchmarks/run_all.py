@@ -303,7 +303,7 @@ def conv_time(m=40, n=40, repeat=7, number=400):
     solvers pad it (:class:`railcontact.normal.influence.Convolution`), through the
     solvers' own compiled path (rocket-fft's numpy.fft in Numba): the unit in which
     the exact timings are also reported, so that they carry across machines."""
-    from railcontact.normal.exact import _convolve
+    from railcontact.normal.polonsky_keer import _convolve
     from railcontact.normal.influence import normal_operator
     op = normal_operator(m, n, 1e-4, 1e-4, 2.3e11)
     p = np.random.default_rng(1).random((m, n))
@@ -316,7 +316,7 @@ def conv_time(m=40, n=40, repeat=7, number=400):
 #: module, attribute); nested parts are reported inside their parent
 SPLIT = [("contact search", "railcontact.wheel_rail_balance", "contact_search"),
          ("exact normal solves", "railcontact.normal.exact", "ExactNormalModel.solve"),
-         ("  of which Polonsky-Keer iterations", "railcontact.normal.exact", "_pk_kernel"),
+         ("  of which Polonsky-Keer iterations", "railcontact.normal.polonsky_keer", "_pk_kernel"),
          ("exact tangential solves", "railcontact.tangential.exact", "ExactTangentialModel.solve"),
          ("  of which semi-smooth Newton-GMRES", "railcontact.tangential.exact", "_ssn_solve"),
          ("FASTSIM stand-ins", "railcontact.tangential.fastsim", "FastsimModel.solve")]

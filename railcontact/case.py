@@ -9,6 +9,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .case_surfaces import check_surface_case, is_surface_case
+from .case_wheel_rail import WheelRailSetup, parse_wheel_rail
 from .errors import CaseFileError, InputError, RailContactError
 from .materials import Material
 from .normal import get_normal_model
@@ -67,6 +68,8 @@ class Case:
     force_tolerance: float = 1e-4
     creepage: tuple | None = None
     base_dir: Path = field(default_factory=Path.cwd)
+    #: the wheel-rail keys parsed (None for bodies cases and cases on rail surfaces)
+    wheel_rail: WheelRailSetup | None = None
 
     @property
     def is_bodies(self) -> bool:
@@ -241,39 +244,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
         case.number("wheel.nominal_radius", 0.46, 0.01, 1.5, "m")
     else:
-        side = case.get("wheelset.side", "both")
-        if side not in ("left", "right", "both"):
-            raise CaseFileError(f"wheelset.side = {side!r}: expected 'left', 'right' or 'both'")
-        case.wheel_loads()
-        case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
-        case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m")
-        case.number("wheelset.yaw", 0.0, -0.1, 0.1, "rad")
-        if case.get("wheelset.roll") is not None:
-            case.number("wheelset.roll", None, -0.1, 0.1, "rad")
-            if side == "both":
-                raise CaseFileError("wheelset.roll is prescribed: give wheelset.side = 'left' or "
-                                    "'right' (with a given roll only one wheel is in equilibrium)")
-        case.number("wheel.nominal_radius", 0.46, 0.1, 1.5, "m")
-        case.number("rail.inclination", 0.0, -0.1, 0.1, "rad")
-        case.profile_options("wheel")
-        case.profile_options("rail")
-        if case.get("track.rail_offset") is not None:
-            case.number("track.rail_offset", None, 0.25, 1.0, "m")
-        combine = case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m")
-        turn = case.number("wheelset.turn_distance", 0.0, 0.0, 0.2, "m")
-        if 0 < turn <= combine:
-            raise CaseFileError(f"wheelset.turn_distance = {turn!r}: expected 0 (no turning) or "
-                                f"a distance beyond wheelset.combine_distance ({combine!r} m)")
-        case.number("wheelset.separation_angle", math.pi / 2, 0.0, math.pi, "rad")
-        if case.get("wheelset.vertical_position") is not None:
-            case.number("wheelset.vertical_position", None, -0.05, 0.05, "m")
-            if case.get("wheelset.roll") is None:
-                raise CaseFileError("wheelset.vertical_position is prescribed: give wheelset.roll "
-                                    "and wheelset.side = 'left' or 'right' too (one wheel at a "
-                                    "given position, CONTACT's NORM = 0)")
-            if "vertical_force" in raw.get("wheelset", {}):
-                raise CaseFileError("wheelset: give either vertical_force or vertical_position, "
-                                    "not both")
+        case.wheel_rail = parse_wheel_rail(case)
     return case
 
 

@@ -99,7 +99,7 @@ def _solve(case, normal, tangential, warm_start):
             ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, V, **tkw)
                   if tmodel else None)
         results.append(bodies_validity(case, PatchResult(geom, ns, ts, tuple(creep))))
-    elif case.get("wheelset.vertical_position") is not None:
+    elif case.wheel_rail.vertical_position is not None:
         results, contact = solve_at_position(case, nmodel, tmodel, kw)
         pose = contact.pose
     else:

@@ -122,7 +122,7 @@ def cmd_geometry(args):
     if case.is_bodies:
         raise RailContactError("geometry needs a wheel-rail case ([wheel], [rail]); this case "
                                "gives [bodies]")
-    d = geometry_dict(contact_search(case), case.get("wheelset.side", "both"))
+    d = geometry_dict(contact_search(case), case.wheel_rail.side)
     if args.json:
         _print_json(d)
     else:

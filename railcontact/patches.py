@@ -130,10 +130,10 @@ def patch_friction(case, geom) -> float:
     if case.get("friction.variation") is None:
         return case.friction
     sgn = 1.0 if geom.side == "right" else -1.0
-    incl = case.get("rail.inclination")
+    rail = case.wheel_rail.rail
+    incl = rail.inclination
     if incl is None:
-        incl = DEFAULT_INCLINATION if str(case.get("rail.profile", "60E1")).upper() in \
-            RAIL_PROFILES else 0.0
+        incl = DEFAULT_INCLINATION if str(rail.name).upper() in RAIL_PROFILES else 0.0
     return case.friction_at(sgn * geom.contact_angle + float(incl))
 
 

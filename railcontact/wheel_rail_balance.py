@@ -29,9 +29,8 @@ def solve_at_position(case, nmodel, tmodel, kw):
     (none where the wheel does not reach the rail) and the contact search."""
     bodies = build_wheelset_track(case)
     ws, tr = bodies
-    side = case.get("wheelset.side")
-    y, yaw = case.number("wheelset.lateral_shift", 0.0), case.number("wheelset.yaw", 0.0)
-    roll, z = case.number("wheelset.roll"), case.number("wheelset.vertical_position")
+    s = case.wheel_rail
+    side, y, yaw, roll, z = s.side, s.lateral_shift, s.yaw, s.roll, s.vertical_position
     # the deepest interpenetration: the wheel lowered from where it touches (gap g0
     # at z = 0) to z
     g0 = min_gap(ws, tr, side, y, 0.0, roll, yaw)
@@ -123,9 +122,8 @@ class WheelRailContact:
     def __init__(self, case, nmodel, tmodel, kw, start=None):
         self.case, self.nmodel, self.tmodel, self.kw = case, nmodel, tmodel, kw
         self.bodies = build_wheelset_track(case)
-        self.loads = case.wheel_loads()
-        side = case.get("wheelset.side", "both")
-        self.sides = ("left", "right") if case.get("wheelset.roll") is None else (side,)
+        self.loads = case.wheel_rail.loads
+        self.sides = case.wheel_rail.balanced_sides
         self.first = _first_search(case, self.bodies, self.loads, self.sides,
                                    start.contact if start is not None else None)
         self.coupled = coupled_models(case, nmodel, tmodel)
@@ -219,7 +217,7 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
                                 jacobian=jac)
     balance.standin = evaluate.standin
     results = ev.results
-    side = case.get("wheelset.side", "both")
+    side = case.wheel_rail.side
     if side != "both":
         results = [r for r in results if r.geometry.side == side]
     if not results:

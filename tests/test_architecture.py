@@ -16,7 +16,7 @@ RANKS = {
     # the pipeline's layers
     "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4,
     # cases above the layers
-    "case_surfaces": 5, "case": 5, "coupling": 5, "equilibrium": 5, "results": 5,
+    "case_surfaces": 5, "case_wheel_rail": 5, "case": 5, "coupling": 5, "equilibrium": 5, "results": 5,
     "bodies": 5, "patches": 5, "wheel_rail_balance": 5, "surface_contact": 5,
     "case_solve": 5, "case_sweep": 5, "crossing": 5, "compare": 5, "batch": 5,
     "contact_inp": 5,

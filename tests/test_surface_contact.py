@@ -122,6 +122,105 @@ def test_uk_crossing_against_contacts_locus_search(testbank, case):
         assert p.normal.normal_force == pytest.approx(q["fn"], rel=0.01)
 
 
+def test_uk_crossing_with_interrupted_slices(testbank):
+    """mbench_intrup: 20 slices of the UK crossing (uk_interrupt_v2.slcs) whose
+    first seven hold the wing rail only (the nose's features missing, CONTACT's
+    'interruptions'); the nose's parts begin at the 8th slice, s = 118.94 mm.  The
+    wheel at a prescribed position on the wing rail from s = 110 to 130 mm, 43
+    cases, through the nose's beginning: every case one patch, F_n within 0.05 %
+    and elements in contact within 0.5 % of CONTACT's (tolerances 1 % and 3 %),
+    the reference point within 10 um (measured up to 8.7 um) but for the last two
+    cases, where the wing rail's crown rises under the wheel (F_n +2.8 % from
+    s = 128 to 130 mm) and the reference point moves by 40 um per mm of s: 31 and
+    22 um (tolerance 35 um there)."""
+    refs = read_ref_out(testbank / "examples_s+c" / "mbench_intrup.ref_out")
+    assert len(refs) == 43
+    for ref in refs:
+        res = rc.solve(_case(testbank, "uk_interrupt_v2.slcs", ref["s"] * 1e-3,
+                             y=ref["y"] * 1e-3, z=ref["z"] * 1e-3, ds=0.2e-3))
+        assert res.converged
+        (p,) = res.patches
+        (q,) = ref["patches"]
+        g, n = p.geometry, p.normal
+        tol = 0.01 if ref["case"] <= 41 else 0.035
+        assert g.position * 1e3 == pytest.approx([q["xcp"], q["ycp"], q["zcp"]], abs=tol)
+        assert n.normal_force == pytest.approx(q["fn"], rel=0.01)
+        assert n.area / (0.2e-3 * 0.2e-3) == pytest.approx(q["ncon"], rel=0.03)
+        assert g.contact_angle == pytest.approx(q["delta"], abs=1e-3)
+        assert n.penetration * 1e3 == pytest.approx(q["approach"], rel=0.015)
+
+
+def test_nose_that_begins_between_slices(testbank):
+    """cw_interrupt (cross+wing_extd.slcs: ten slices of a straight stock rail
+    ahead of the artificial nose and wing rail, the nose's features missing
+    there, so that the nose begins at s = 0 with a vertical face).
+
+    Case 1 (10 kN, the wheelset 40 mm to the field side, on the wing rail 1.2 mm
+    behind the kink where it leaves the straight line): F_n, vertical position,
+    elements in contact (-1.1 %) as CONTACT's; the reference point 8 um from
+    CONTACT's in y, 118 um in x (CONTACT ran this case with its contact locus,
+    D = 2, whose reference points differ from the brute-force ones by up to
+    68 um in x on the UK crossing).
+
+    Case 2 (the wheel at s = 0 on the nose's crown, a prescribed position): the
+    nose's front face cuts the patch at x = 0: contact only ahead of it, one
+    patch, the elements in contact within 0.3 %, the approach within 0.1 %, the
+    reference point 15 um (x) and 12 um (y) from CONTACT's.  The cut makes the
+    reference point (the weighted mean over the interpenetration region) move by
+    22 um per um of the region's depth, x and y alike: 0.7 um less depth (1.8 %)
+    puts both within 1 um of CONTACT's.  F_n is 1.4 % below CONTACT's (short of
+    the 1 % aimed at): the grid of elements lies on a lattice through the
+    reference point, so its first row behind the cut, where the pressure is
+    highest, starts 15 um further ahead than CONTACT's (one row more, the face
+    0.1 mm earlier: +2.3 %); with the reference point moved onto CONTACT's, -1.1 %
+    and 990 elements against 991, the rest from the patch's rear (x = 3.5-5 mm,
+    1-3 elements fewer per row)."""
+    refs = read_ref_out(testbank / "examples_s+c" / "cw_interrupt.ref_out")
+    q = refs[0]["patches"][0]
+    res = rc.solve(_case(testbank, "cross+wing_extd.slcs", 0.0, y=0.04, fz=1e4))
+    assert res.converged
+    (p,) = res.patches
+    assert res.pose.vertical * 1e3 == pytest.approx(refs[0]["z"], abs=5e-4)
+    assert p.normal.normal_force == pytest.approx(q["fn"], rel=0.01)
+    assert p.normal.area / (0.2e-3 * 0.05e-3) == pytest.approx(q["ncon"], rel=0.03)
+    assert p.geometry.position[1:] * 1e3 == pytest.approx([q["ycp"], q["zcp"]], abs=0.01)
+    assert p.geometry.position[0] * 1e3 == pytest.approx(q["xcp"], abs=0.15)
+
+    q = refs[1]["patches"][0]
+    res = rc.solve(_case(testbank, "cross+wing_extd.slcs", 0.0, z=2.5287e-3))
+    assert res.converged
+    (p,) = res.patches
+    g, n = p.geometry, p.normal
+    x = g.position[0] + n.x[n.contact.any(axis=1)]
+    assert x.min() > 0.0 and x.min() < 0.2e-3
+    assert n.area / (0.2e-3 * 0.05e-3) == pytest.approx(q["ncon"], rel=0.01)
+    assert n.penetration * 1e3 == pytest.approx(q["approach"], rel=0.002)
+    assert g.position * 1e3 == pytest.approx([q["xcp"], q["ycp"], q["zcp"]], abs=0.02)
+    assert n.normal_force == pytest.approx(q["fn"], rel=0.015)
+    assert n.normal_force < q["fn"]
+
+
+def test_wheel_just_before_the_nose_begins(testbank):
+    """The wheel at s = -0.05, -1 and -5 mm, before the nose's front face (s = 0):
+    the deepest point of the gap, at the face, is found by a descent that stops
+    there (a Newton step past the face used to leave the rail: approach 0, no
+    patch) and CONTACT's contact angle on the cross-section at the wheelset,
+    where the nose does not exist yet, falls back to the rail's own inclination
+    (was NaN).  The contact lies ahead of the face and the load falls as the
+    wheel's lowest point moves away from it."""
+    fn = []
+    for s in (-0.05e-3, -1e-3, -5e-3):
+        res = rc.solve(_case(testbank, "cross+wing_extd.slcs", s, z=2.5287e-3))
+        assert res.converged
+        (p,) = res.patches
+        n = p.normal
+        assert s + p.geometry.position[0] + n.x[n.contact.any(axis=1)].min() > 0.0
+        assert p.geometry.contact_angle == pytest.approx(-0.0084, abs=1e-3)
+        fn.append(n.normal_force)
+    assert fn[0] == pytest.approx(9900, rel=0.01)
+    assert fn[0] > fn[1] > fn[2] > 0.03 * fn[0]
+
+
 def test_local_contact_angle_on_the_shifting_wing_rail(testbank):
     """By default the contact angle is weighted with the rail's own inclination at
     each point of the patch; CONTACT takes it on the cross-section at the

@@ -306,7 +306,8 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
         taken: at each cell of the region (``"local"``, default), or on the
         cross-section at the wheelset's position s for every cell
         (``"wheelset"``: CONTACT's brute-force search, which evaluates the
-        inclination on the rail profile at s_ws; on a rail that varies along the
+        inclination on the rail profile at s_ws; the cell's own where that
+        section has no surface, an interrupted rail; on a rail that varies along the
         track its contact angles then differ, e.g. -0.077 against -0.053 rad on
         the wing rail shifting 1:10 of its testbank, the patch 2.4 mm behind
         the axle).
@@ -348,7 +349,9 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
             gf, zr, dz = _grid_gap(wheel, rail, sp, fx, fy)
             if inclination == "wheelset":
                 _, d0 = rail.height(np.full(fy.shape, sp.s), fy)
-                dz = np.broadcast_to(d0, gf.shape)
+                # the local inclination where that section has no surface (a rail
+                # interrupted between the wheelset's position and the patch)
+                dz = np.where(np.isfinite(d0), d0, dz)
             grids.append((ir, fx, fy, gf))
             inside = np.where(np.isfinite(gf), gf, 1.0) < 0.0
             if not inside.any():
@@ -481,14 +484,17 @@ def _principal_curvatures(gap, x0, y0):
 def _deepest(gap, start, fine, steps: int = 8):
     """Where the gap h is least near ``start`` (plane coordinates): Newton steps on
     h's finite-difference gradient and Hessian (nine points each, within the fine
-    cell's size), falling back to the best stencil point where the Hessian is not
-    positive definite."""
+    cell's size), each kept only where it lowers h below the stencil's best point,
+    else (and where the Hessian is not positive definite) a move to that point: a
+    descent, which stops at the edge of a rail that ends (an interruption) instead
+    of stepping off it."""
     x, y = float(start[0]), float(start[1])
     hx, hy = 0.5 * fine[0], 0.5 * fine[1]
     dx = np.array([-1, 0, 1, -1, 0, 1, -1, 0, 1], float)
     dy = np.array([-1, -1, -1, 0, 0, 0, 1, 1, 1], float)
     for _ in range(steps):
         h = gap.points(x + hx * dx, y + hy * dy)
+        k = int(np.argmin(h))
         gx = (h[5] - h[3]) / (2 * hx)
         gy = (h[7] - h[1]) / (2 * hy)
         hxx = (h[5] - 2 * h[4] + h[3]) / hx ** 2
@@ -500,14 +506,14 @@ def _deepest(gap, start, fine, steps: int = 8):
             sy = -(hxx * gy - hxy * gx) / det
             # at most two stencil widths per step
             f = min(1.0, 2 * hx / max(abs(sx), 1e-300), 2 * hy / max(abs(sy), 1e-300))
-            x, y = x + f * sx, y + f * sy
-            if f == 1.0 and abs(sx) < 1e-3 * hx and abs(sy) < 1e-3 * hy:
-                break
-        else:
-            k = int(np.argmin(h))
-            if k == 4:
-                break
-            x, y = x + hx * dx[k], y + hy * dy[k]
+            if float(gap.points(np.array(x + f * sx), np.array(y + f * sy))) <= h[k]:
+                x, y = x + f * sx, y + f * sy
+                if f == 1.0 and abs(sx) < 1e-3 * hx and abs(sy) < 1e-3 * hy:
+                    break
+                continue
+        if k == 4:
+            break
+        x, y = x + hx * dx[k], y + hy * dy[k]
     return x, y
 
 

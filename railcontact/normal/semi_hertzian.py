@@ -23,7 +23,8 @@ from scipy.optimize import brentq, root_scalar
 from ..errors import InputError
 from ..materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
-from .exact import ExactNormalModel, own_gap
+from .exact import ExactNormalModel
+from .potential_area import own_gap
 from ..hertz_theory import hertz_ellipse
 from .strip_theory import MIN_CURVATURE, parabolic_minima, strip_pressures
 

@@ -20,7 +20,9 @@ Sources
      [ U_SLC  'RFNAME' ]           % NSLC times, file names relative to the .slcs
      {[ P_KINK ], [ P_ACCEL ]}     % when NKINK, NACCEL > 0 (kept, not used)
      [ U_SLC  S_F(1..NFEAT) ]      % NSLC times when NFEAT > 1: the 'features' [mm],
-                                   % summed chord lengths from the slice's first point
+                                   % summed chord lengths from the slice's first point;
+                                   % negative: the slice lacks that feature (and the
+                                   % parts beside it: an 'interruption')
 
   Lines starting with ``%`` are comments.  Slices must be given in increasing u.
 * A list in a case file, ``rail.slices = [{s = -0.1, profile = "nose_1.prr"}, ...]``
@@ -63,7 +65,10 @@ class RailSlices:
     features : ndarray (n, nfeat) or None
         Break points [m] of each slice: summed chord lengths from its first point
         (gauge side) at which the slice is divided into 'parts' resampled
-        separately (CONTACT's features); None: one part, the whole slice.
+        separately (CONTACT's features); None: one part, the whole slice.  A
+        negative value marks a feature that the slice lacks: the parts on either
+        side of it do not exist there (CONTACT's 'interruptions' of a rail along
+        the track, e.g. a crossing nose that begins between two slices).
     name : str
     """
 
@@ -94,12 +99,16 @@ class RailSlices:
             if f.ndim != 2 or f.shape[0] != s.size or f.shape[1] < 2:
                 raise ProfileError(f"rail slices {self.name!r}: expected features of shape "
                                    f"({s.size}, >= 2), got {f.shape}")
-            if np.any(f < 0):
-                i = int(np.flatnonzero((f < 0).any(axis=1))[0])
+            if np.any(np.isnan(f)):
+                raise ProfileError(f"rail slices {self.name!r}: a feature is NaN; expected a "
+                                   "chord length [m], or a negative value for a feature that "
+                                   "the slice lacks")
+            whole = (f[:, :-1] >= 0) & (f[:, 1:] >= 0)
+            if not whole.any(axis=1).all():
+                i = int(np.flatnonzero(~whole.any(axis=1))[0])
                 raise ProfileError(
-                    f"rail slices {self.name!r}: slice {i + 1} (s = {s[i]:.6g} m) lacks a "
-                    "feature (negative s_f): interrupted parts of a variable rail are not "
-                    "supported; expected every feature in every slice")
+                    f"rail slices {self.name!r}: slice {i + 1} (s = {s[i]:.6g} m) has no part: "
+                    "expected two successive features (s_f >= 0) at least")
             object.__setattr__(self, "features", f)
         object.__setattr__(self, "s", s)
         object.__setattr__(self, "profiles", tuple(self.profiles))

@@ -40,8 +40,10 @@ def test_slices_errors(tmp_path, testbank):
     p = read_profile(testbank / "profiles" / "cross_nose" / "nose_1.prr")
     with pytest.raises(ProfileError, match="increase"):
         RailSlices(np.array([0.0, 0.0]), (p, p))
-    with pytest.raises(ProfileError, match="interrupted"):
+    with pytest.raises(ProfileError, match="slice 1 .* has no part"):
         RailSlices(np.array([0.0, 1.0]), (p, p), features=np.array([[0, -1, 0.05], [0, 0.01, 0.05]]))
+    with pytest.raises(ProfileError, match="NaN"):
+        RailSlices(np.array([0.0, 1.0]), (p, p), features=np.array([[0, np.nan], [0, 0.05]]))
     with pytest.raises(ProfileError, match="expected a list"):
         slices_from_list([{"s": 0.0, "profile": p}])
     with pytest.raises(ProfileError, match="position in m"):
@@ -88,6 +90,65 @@ def test_sliced_surface_through_the_slices_and_along_the_nose(testbank):
     assert surf.section(0.0457).curvature(0.003) == pytest.approx(200.0, rel=0.02)
     with pytest.raises(InputError, match="spacing"):
         SlicedSurface(sl, spacing=0.1)
+
+
+def test_interrupted_slices_a_nose_that_begins_between_slices(testbank):
+    """CONTACT's 'interruptions' (cross+wing_extd.slcs): ten slices of a straight
+    stock rail (s = -200 to -20 mm, its features 1-6 missing) ahead of the
+    artificial nose and wing rail (from s = 0).  The nose exists from the first
+    slice that holds it, with a vertical face at s = 0; the stock/wing rail runs
+    through all 31 slices, the same surface on both sides of s = 0; at a slice
+    the surface is that slice."""
+    sl = read_slices(testbank / "profiles" / "cross+wing_extd.slcs")
+    assert (sl.features[:10, :6] < 0).all() and (sl.features[10:] >= 0).all()
+    surf = SlicedSurface(sl)
+    y = np.array([0.014, 0.02, 0.1, 0.12])          # nose crown (2), stock/wing rail crown (2)
+    for s, nose in ((-0.1, False), (-0.02, False), (-1e-6, False), (0.0, True), (1e-6, True),
+                    (0.05, True)):
+        z, _ = surf.height(np.full(y.shape, s), y)
+        assert np.isfinite(z[:2]).all() == nose and np.isnan(z[:2]).all() == (not nose)
+        assert z[2:] == pytest.approx([-2.5341e-3, -2.5341e-3], abs=1e-6)
+        if nose:
+            assert z[:2] == pytest.approx([2.25e-3, 2.25e-3], abs=1e-6)
+    for k in (0, 5, 9, 10, 20):
+        p = sl.profiles[k]
+        yk = np.linspace(max(p.y_min, 0.0) + 1e-3, p.y_max - 1e-3, 400)
+        z, _ = surf.height(np.full(yk.shape, sl.s[k]), yk)
+        flat = np.abs(p.slope(yk)) < 0.5                 # away from the vertical faces
+        assert np.nanmax(np.abs(z - p.z_at(yk))[flat]) < 2e-6
+    # the wing rail's surface is continuous through the nose's beginning
+    yw = np.linspace(0.067, 0.075, 41)
+    za, _ = surf.height(np.full(yw.shape, -1e-9), yw)
+    zb, _ = surf.height(np.full(yw.shape, 1e-9), yw)
+    assert np.max(np.abs(za - zb)) < 1e-8
+
+
+def test_interrupted_slices_a_part_missing_in_the_middle(testbank):
+    """A part missing between two present ones (the nose's crown and field side
+    missing from the first ten slices of cross_nose.slcs): no surface across the
+    gap there; the parts on either side are the uninterrupted surface (to 0.1 um
+    1 mm away from the gap, 3.5 um at its ends, where each piece's spline ends);
+    where every part exists the surface is unchanged (the nose rises linearly,
+    which the splines through fewer slices keep exactly)."""
+    sl = read_slices(testbank / "profiles" / "cross_nose.slcs")
+    f = sl.features.copy()
+    f[:10, 2] = -1.0
+    full = SlicedSurface(sl)
+    cut = SlicedSurface(RailSlices(sl.s, sl.profiles, f, name="cut"))
+    y = np.linspace(-0.005, 0.04, 4501)
+    for s in (-0.05, -1e-9):
+        za, _ = full.height(np.full(y.shape, s), y)
+        zb, _ = cut.height(np.full(y.shape, s), y)
+        gap = np.isnan(zb) & (y > -0.005) & (y < 0.04)
+        assert y[gap].min() == pytest.approx(1.47e-3, abs=2e-5)
+        assert y[gap].max() == pytest.approx(26.52e-3, abs=2e-5)
+        far = ~gap & (np.abs(y - 1.47e-3) > 1e-3) & (np.abs(y - 26.52e-3) > 1e-3)
+        assert np.max(np.abs(za - zb)[far]) < 1e-7
+        assert np.nanmax(np.abs(za - zb)) < 4e-6
+    for s in (0.0, 0.05):
+        za, _ = full.height(np.full(y.shape, s), y)
+        zb, _ = cut.height(np.full(y.shape, s), y)
+        assert np.allclose(za, zb, atol=1e-12, equal_nan=True)
 
 
 def test_roller_surface_is_the_revolved_profile(testbank):

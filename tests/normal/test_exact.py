@@ -126,7 +126,7 @@ def test_force_is_continuous_in_the_approach():
 def test_no_overlap_gives_zero_pressure_at_once():
     """Displacement-controlled with a positive gap everywhere: p = 0 is the exact
     solution, reported converged after one iteration (not the iteration limit)."""
-    from railcontact.normal.exact import polonsky_keer
+    from railcontact.normal.polonsky_keer import polonsky_keer
     from railcontact.normal.influence import normal_operator
     mx = my = 20
     x = (np.arange(mx) - 9.5) * 1e-4
@@ -142,7 +142,7 @@ def test_grid_reused_while_the_potential_area_fits():
     REUSE_FILL of it; the force then equals the fresh-grid force within the
     discretisation error (0.5 %).  A deeper approach, whose area outgrows it, and a
     much shallower one get new grids."""
-    from railcontact.normal.exact import REUSE_FILL, REUSE_OVERHANG
+    from railcontact.normal.potential_area import REUSE_FILL, REUSE_OVERHANG
     assert REUSE_OVERHANG == pytest.approx(0.02)
     g = ContactGeometry(curvatures=(1.0, 3.0))
     nm = get_normal_model("exact")
@@ -193,7 +193,7 @@ def test_direct_displacements_of_a_few_elements_equal_the_convolution():
     """Polonsky-Keer adds the displacements of the few elements clipped or loaded in
     a step by a direct sum over the kernel: equal to the FFT product of those
     changes, on a block smaller than its operator's (whose kernel it uses)."""
-    from railcontact.normal.exact import _add_direct
+    from railcontact.normal.polonsky_keer import _add_direct
     from railcontact.normal.influence import normal_operator_block
     mx, my, dx, dy, E = 30, 26, 1e-4, 1.5e-4, MAT.contact_modulus
     op = normal_operator_block(mx, my, dx, dy, E, 11, 9)      # serves 11 x 9 in a 12 x 9
@@ -213,7 +213,8 @@ def test_displacement_controlled_solve_on_the_overlap_box():
     """With the approach given, Polonsky-Keer runs on the bounding box of the overlap
     (a block operator cut from the grid's kernel): the block's product equals the
     grid's on the block, and the pressure equals the whole grid's solution."""
-    from railcontact.normal.exact import ExactNormalModel, polonsky_keer
+    from railcontact.normal.exact import ExactNormalModel
+    from railcontact.normal.polonsky_keer import polonsky_keer
     from railcontact.normal.influence import normal_operator, normal_operator_block
     mx, my, dx, dy, E = 30, 26, 1e-4, 1.5e-4, MAT.contact_modulus
     rng = np.random.default_rng(3)
@@ -240,7 +241,8 @@ def test_force_controlled_solve_on_the_box_of_the_estimated_approach():
     distance is below FORCE_BOX times the estimated approach; the pressure and the
     approach equal the whole grid's, also where the estimate is far too small (the
     whole grid is then solved again from the box's solution)."""
-    from railcontact.normal.exact import ExactNormalModel, polonsky_keer
+    from railcontact.normal.exact import ExactNormalModel
+    from railcontact.normal.polonsky_keer import polonsky_keer
     from railcontact.normal.influence import normal_operator
     mx, my, dx, dy, E = 34, 30, 1e-4, 1.2e-4, MAT.contact_modulus
     x = (np.arange(mx) - 16.5) * dx
@@ -314,7 +316,7 @@ def test_reduced_interaction_products_equal_the_scaled_dense_matrix():
     """With sub-regions of columns, the FFT product and the direct sum of a few
     elements equal the dense influence matrix whose entries between sub-regions a
     and b are scaled by factors[a, b]."""
-    from railcontact.normal.exact import _add_direct, _apply
+    from railcontact.normal.polonsky_keer import _add_direct, _apply
     from railcontact.normal.influence import normal_operator
     mx, my, dx, dy, E = 9, 12, 1e-4, 1.5e-4, MAT.contact_modulus
     op = normal_operator(mx, my, dx, dy, E)
@@ -345,7 +347,7 @@ def test_two_contacts_without_interaction_are_solved_as_each_alone():
     """Two Hertzian overlaps on one grid, as two sub-regions of columns: with factor
     0 between them each pressure equals that of its overlap solved alone; with factor
     1 the result is the plain (fully interacting) solution."""
-    from railcontact.normal.exact import polonsky_keer
+    from railcontact.normal.polonsky_keer import polonsky_keer
     from railcontact.normal.influence import normal_operator
     mx, my, dx, dy, E = 30, 40, 1e-4, 1e-4, MAT.contact_modulus
     x = (np.arange(mx) - 14.5) * dx

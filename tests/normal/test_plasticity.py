@@ -10,7 +10,7 @@ from railcontact.errors import CaseFileError, InputError
 from railcontact.geometry import ContactGeometry
 from railcontact.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
-from railcontact.normal.exact import polonsky_keer
+from railcontact.normal.polonsky_keer import polonsky_keer
 from railcontact.normal.influence import normal_operator
 from railcontact.normal.plasticity import HARDNESS_FACTOR, pressure_limit
 

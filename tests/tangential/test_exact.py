@@ -7,7 +7,7 @@ import pytest
 
 from railcontact.materials import Material
 from railcontact.normal.base import NormalSolution
-from railcontact.normal.exact import polonsky_keer
+from railcontact.normal.polonsky_keer import polonsky_keer
 from railcontact.normal.influence import normal_operator
 from railcontact.tangential import get_tangential_model, kalker_coefficients
 from railcontact.tangential.exact import steady_rolling

@@ -1,0 +1,325 @@
+"""The constrained conjugate-gradient method of Polonsky & Keer (Wear 231, 1999)
+for the normal contact problem on a grid: p >= 0, e = h + A p - delta >= 0, p e = 0.
+
+Force-controlled (the mean gap over the contact area is the unknown approach) or
+displacement-controlled (approach given).  The products A p are FFT convolutions
+of the padded grid (compiled with Numba and rocket-fft), so an iteration costs
+O(N log N); within a combined patch the regions interact through a reduced
+influence (:class:`~railcontact.geometry.contact.ContactGeometry.interaction`), and
+near the few elements that change between iterations the product is corrected by
+direct sums.  The model around it (grid, potential area, warm starts) is
+:mod:`railcontact.normal.exact`.
+"""
+
+from __future__ import annotations
+
+import math
+
+import numpy as np
+from numba import njit
+
+from ..errors import InputError
+
+
+def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=None,
+                  regions=None, pressure_limit=math.inf):
+    """Solve the discrete normal contact problem.
+
+    Parameters
+    ----------
+    op : Convolution   p -> A p [m]
+    h : ndarray        undeformed distance [m]; for a given approach delta pass
+                       h - delta and ``force=None``
+    dA : float         element area [m^2]
+    force : float      total force [N] (force-controlled), or None
+    scale : float      gap scale [m] of the convergence test (default max |h|)
+    regions : (cols, factors), optional
+                       reduced interaction between the sub-regions of a combined
+                       patch: ``cols`` (int, one per grid column) the sub-region of
+                       each column, ``factors`` (k x k) the factor on the
+                       displacements that a sub-region's pressure causes in another
+                       (1 on the diagonal; :func:`railcontact.geometry.contact.interaction_factor`)
+    pressure_limit : float
+                       upper bound [Pa] of the pressure (elastic-perfectly-plastic
+                       contact, :mod:`railcontact.normal.plasticity`; default inf:
+                       elastic); with the approach given only (``force=None``)
+
+    Returns
+    -------
+    p [Pa], approach [m] (force-controlled; else 0), iterations, converged
+
+    The iteration runs compiled (:func:`_pk_kernel`), its FFT products by
+    rocket-fft's ``numpy.fft`` for Numba.
+    """
+    h = np.ascontiguousarray(h, dtype=float)
+    plimit = float(pressure_limit)
+    if not plimit > 0:
+        raise InputError(f"pressure limit {pressure_limit!r} Pa: expected a value > 0")
+    if force is not None and math.isfinite(plimit):
+        raise InputError("a pressure limit needs the approach given (force=None): the "
+                         "force-controlled iteration scales the pressure as a whole")
+    if p0 is None:
+        if force is not None:
+            p = np.where(h <= np.min(h) + 0.5 * (np.median(h) - np.min(h)), 1.0, 0.0)
+            p *= force / (p.sum() * dA)
+        else:
+            p = np.maximum(-h, 0.0) / op.diag * 0.5
+    else:
+        p = np.array(p0, dtype=float)
+    p = np.ascontiguousarray(np.minimum(p, plimit))
+    scale = float(np.max(np.abs(h))) if scale is None else float(scale)
+    if regions is None:
+        cols, fm = np.zeros(h.shape[1], dtype=np.int64), np.ones((1, 1))
+    else:
+        cols = np.ascontiguousarray(regions[0], dtype=np.int64)
+        fm = np.ascontiguousarray(regions[1], dtype=float)
+        if cols.shape != (h.shape[1],) or fm.shape != (fm.shape[0], fm.shape[0]) \
+                or cols.min() < 0 or cols.max() >= fm.shape[0]:
+            raise InputError(f"regions: expected one sub-region index per grid column "
+                             f"({h.shape[1]}) and a square factor matrix covering them")
+    gbar, it, converged = _pk_kernel(op.khat, op.shape, h, float(dA),
+                                     0.0 if force is None else float(force), force is not None,
+                                     float(tol), int(maxiter), p, scale, op.kernel, cols, fm,
+                                     plimit)
+    approach = gbar if force is not None else 0.0
+    return p, approach, int(it), bool(converged)
+
+
+
+@njit(cache=True, nogil=True)
+def _convolve(p, khat, shape, buf):
+    """A p by a zero-padded real FFT (``buf``: the padded work array, zero outside
+    the grid of p)."""
+    mx, my = p.shape
+    buf[:mx, :my] = p
+    f = np.fft.rfft2(buf)
+    f *= khat
+    return np.fft.irfft2(f, s=shape)[:mx, :my]
+
+
+
+@njit(cache=True, nogil=True)
+def _apply(p, khat, shape, buf, cols, fm):
+    """A p, with the displacements that one sub-region's pressure causes in another
+    scaled by ``fm`` (one convolution per sub-region; the plain product where the
+    patch is one region)."""
+    k = fm.shape[0]
+    if k == 1:
+        return _convolve(p, khat, shape, buf)
+    mx, my = p.shape
+    u = np.zeros((mx, my))
+    q = np.zeros((mx, my))
+    for a in range(k):
+        for j in range(my):
+            for i in range(mx):
+                q[i, j] = p[i, j] if cols[j] == a else 0.0
+        ua = _convolve(q, khat, shape, buf)
+        for j in range(my):
+            f = fm[a, cols[j]]
+            for i in range(mx):
+                u[i, j] += f * ua[i, j]
+    return u
+
+
+
+@njit(cache=True, nogil=True)
+def _mean_on(a, S):
+    """Mean of a over the elements where S is true (at least one)."""
+    s = 0.0
+    n = 0
+    for i in range(a.shape[0]):
+        for j in range(a.shape[1]):
+            if S[i, j]:
+                s += a[i, j]
+                n += 1
+    return s / n
+
+
+
+@njit(cache=True, nogil=True)
+def _add_direct(u, f, idx, dq, kernel, cols, fm):
+    """u += f A dq for dq nonzero only at the flat indices ``idx`` (values ``dq``):
+    each element's displacements summed directly from the kernel (offsets centred
+    at (kernel rows - 1) / 2), scaled between sub-regions as in :func:`_apply`."""
+    mx, my = u.shape
+    ci = (kernel.shape[0] - 1) // 2
+    cj = (kernel.shape[1] - 1) // 2
+    one = fm.shape[0] == 1
+    for k in range(idx.size):
+        i0 = idx[k] // my
+        j0 = idx[k] % my
+        a = f * dq[k]
+        if one:
+            for i in range(mx):
+                row = ci + i - i0
+                for j in range(my):
+                    u[i, j] += a * kernel[row, cj + j - j0]
+        else:
+            for i in range(mx):
+                row = ci + i - i0
+                for j in range(my):
+                    u[i, j] += a * fm[cols[j0], cols[j]] * kernel[row, cj + j - j0]
+
+
+
+#: Polonsky-Keer updates the displacements of a step directly (from the kernel) where
+#: at most this fraction of the elements were clipped or loaded, else by an FFT
+DIRECT_FRACTION = 0.02
+
+
+
+@njit(cache=True, nogil=True)
+def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, kernel, cols,
+               fm, plimit):
+    """Constrained conjugate gradients of Polonsky & Keer on the pressure ``p``
+    (the initial estimate, overwritten with the solution).
+
+    Conjugate directions on the set S of loaded elements; an element whose pressure
+    would turn negative is set to zero, an unloaded element with a negative gap
+    (an overlap) is loaded and the directions restart.  Force-controlled: the
+    approach is the mean gap over S and the pressure is scaled to the force.
+    After a step A p = f (A p_old - tau A t + A d), with f the force scaling (1
+    displacement-controlled) and d the changes of the clipped and loaded elements:
+    A d summed directly where they are few (``DIRECT_FRACTION`` of the elements),
+    else A p by a convolution; refreshed by a convolution every 10 steps.
+    ``cols``, ``fm``: sub-regions of the columns and their interaction factors
+    (:func:`_apply`; one region: the plain operator).
+    ``plimit``: the upper bound of the pressure (inf: elastic).  An element that
+    reaches the limit is clipped to it (it may overlap: plastic flow) and leaves
+    the directions; an element at the limit whose gap opens joins them again (it
+    may unload; the directions restart), so that at the solution p = 0 with a gap,
+    0 < p < limit without one, or p = limit with an overlap.  Only with the
+    approach given (``controlled`` False).
+    Returns the approach (mean gap, force-controlled), iterations, converged.
+    """
+    mx, my = h.shape
+    buf = np.zeros(shape)
+    t = np.zeros((mx, my))
+    u = np.zeros((mx, my))
+    g = np.zeros((mx, my))
+    pn = np.zeros((mx, my))
+    S = np.zeros((mx, my), dtype=np.bool_)
+    Sp = np.zeros((mx, my), dtype=np.bool_)    # the last iteration's S
+    limit = int(DIRECT_FRACTION * mx * my)
+    idx = np.zeros(limit + 1, dtype=np.int64)  # the elements clipped or loaded
+    dq = np.zeros(limit + 1)                   # and their changes beyond -tau t
+    scale = max(scale, 1e-12)
+    G_old = 1.0
+    restart = True
+    converged = False
+    gbar = 0.0
+    fresh = 0
+    valid = False
+    it = 0
+    for it in range(1, maxiter + 1):
+        if not valid or fresh >= 10:
+            u[:, :] = _apply(p, khat, shape, buf, cols, fm)
+            fresh = 0
+        nS = 0
+        for i in range(mx):
+            for j in range(my):
+                g[i, j] = u[i, j] + h[i, j]
+                # an element at the limit whose gap opens joins the directions
+                # (it may unload), as an element between the bounds
+                at = p[i, j] >= plimit
+                S[i, j] = (0.0 < p[i, j] and not at) or (at and g[i, j] > 0.0)
+                if at and S[i, j] and not Sp[i, j]:
+                    restart = True
+                nS += S[i, j]
+        if nS == 0:
+            # no free element: the solution where no element at zero overlaps and
+            # none at the limit has a gap; else start from the deepest free overlap
+            gmin = np.inf
+            kkt = True
+            for i in range(mx):
+                for j in range(my):
+                    if p[i, j] < plimit:
+                        gmin = min(gmin, g[i, j])
+                        kkt = kkt and g[i, j] >= 0.0
+                    else:
+                        kkt = kkt and g[i, j] <= 0.0
+            if not controlled and kkt:
+                converged = True             # e.g. no overlap anywhere: p = 0
+                break
+            for i in range(mx):
+                for j in range(my):
+                    S[i, j] = p[i, j] < plimit and g[i, j] <= gmin + 1e-15
+                    nS += S[i, j]
+        if controlled:
+            gbar = _mean_on(g, S)
+            g -= gbar
+        G = 0.0
+        for i in range(mx):
+            for j in range(my):
+                if S[i, j]:
+                    G += g[i, j] * g[i, j]
+        Sp[:, :] = S
+        beta = 0.0 if restart else G / G_old
+        for i in range(mx):
+            for j in range(my):
+                t[i, j] = g[i, j] + beta * t[i, j] if S[i, j] else 0.0
+        G_old = G
+        r = _apply(t, khat, shape, buf, cols, fm)
+        rbar = 0.0
+        if controlled:
+            rbar = _mean_on(r, S)
+            r -= rbar
+        den = 0.0
+        num = 0.0
+        for i in range(mx):
+            for j in range(my):
+                if S[i, j]:
+                    den += r[i, j] * t[i, j]
+                    num += g[i, j] * t[i, j]
+        if den == 0.0:
+            converged = True
+            break
+        tau = num / den
+        restart = False
+        total = 0.0
+        nd = 0                                  # elements clipped or loaded
+        for i in range(mx):
+            for j in range(my):
+                q0 = p[i, j] - tau * t[i, j]
+                q = q0
+                if q < 0.0:
+                    q = 0.0                     # clipped
+                elif q > plimit:
+                    q = plimit                  # clipped at the limit: plastic
+                if q == 0.0 and g[i, j] < 0.0:
+                    q = min(-tau * g[i, j], plimit)  # an overlap: load the element
+                    restart = True
+                if q != q0:
+                    if nd < limit:
+                        idx[nd] = i * my + j
+                        dq[nd] = q - q0
+                    nd += 1
+                total += q
+                pn[i, j] = q
+        f = force / (total * dA) if controlled and total > 0.0 else 1.0
+        diff = 0.0
+        ref = 0.0
+        for i in range(mx):
+            for j in range(my):
+                q = pn[i, j] * f
+                diff += abs(q - p[i, j])
+                ref += q
+                p[i, j] = q
+        if nd <= limit:
+            # p changed by -tau t (then scaled by f) and by dq on the few elements
+            # clipped or loaded: A p follows from A t, the product before the mean
+            # was taken off, and the direct sum of those elements' displacements
+            # (refreshed every 10 steps)
+            for i in range(mx):
+                for j in range(my):
+                    u[i, j] = f * (u[i, j] - tau * (r[i, j] + rbar))
+            _add_direct(u, f, idx[:nd], dq[:nd], kernel, cols, fm)
+            fresh += 1
+            valid = True
+        else:
+            valid = False
+        ref = max(ref, 1e-300)
+        if diff / ref < tol and G <= (tol * scale) ** 2 * max(nS, 1):
+            converged = True
+            break
+    return gbar, it, converged
