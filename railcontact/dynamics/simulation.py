@@ -14,7 +14,9 @@ from tqdm.auto import tqdm
 
 from ..errors import InputError, RailContactError
 from ..geometry.validity import nadal_limit
-from ..materials import STEEL, Material
+from ..materials import Material, STEEL
+from ..tangential import get_tangential_model
+from ..tangential.polach import PRESETS
 from .route import Route
 from .vehicle import NORMAL_PASSES, PIN, POUT, VehicleModel, rhs_core, rk4_run
 from .wheel_rail import WheelRailTable, online_law, python_patch_forces
@@ -73,7 +75,6 @@ class _System:
         kA = kS = 1.0
         fall = (1.0, 0.0)
         if tangential == "polach" and (polach_preset or opts.get("preset")):
-            from ..tangential.polach import PRESETS
             name = polach_preset or opts.get("preset")
             if name not in PRESETS:
                 raise InputError(f"polach preset {name!r}: expected one of {sorted(PRESETS)}")
@@ -87,7 +88,6 @@ class _System:
         if law is not None:
             self.law, self.py_model = law, None
         else:
-            from ..tangential import get_tangential_model
             self.law = -1
             self.py_model = get_tangential_model(tangential, **opts)
         self.material, self.friction = material, mu

@@ -27,9 +27,14 @@ from numba import njit
 from tqdm.auto import tqdm
 
 from ..errors import ContactNotFoundError, InputError
+from ..geometry import find_contact
+from ..geometry.contact import ContactGeometry
 from ..geometry.validity import flange
-from ..materials import STEEL, Material
-from ..tangential.online import online_law, patch_forces  # noqa: F401 (re-exported)
+from ..hertz_theory import hertz_ellipse
+from ..materials import Material, STEEL
+from ..normal import get_normal_model
+from ..tangential.kalker import kalker_coefficients
+from ..tangential.online import online_law, patch_forces
 
 log = logging.getLogger(__name__)
 
@@ -94,9 +99,6 @@ class WheelRailTable:
               keep_geometry: bool = False):
         """Contact search at every shift in [-shift_range, shift_range] (yaw 0);
         ``keep_geometry`` keeps the patches' geometry (:attr:`geometry`)."""
-        from ..geometry import find_contact
-        from ..hertz_theory import hertz_ellipse
-        from ..tangential.kalker import kalker_coefficients
         if not (math.isfinite(reference_load) and reference_load > 0):
             raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")
         if not (1e-3 <= shift_range <= 0.03 and 1e-5 <= step <= shift_range / 4):
@@ -185,7 +187,6 @@ class WheelRailTable:
         side, contact angles ±γ (or 0 with ``contact_angles=False``: the textbook
         wheelset without spin and contact-plane tilt), fixed Hertz semi-axes at the
         reference load."""
-        from ..tangential.kalker import kalker_coefficients
         shifts = np.linspace(-shift_range, shift_range, 401)
         a, b = semi_axes
         C = coefficients or kalker_coefficients(a / b, nu)
@@ -222,8 +223,6 @@ def lookup(shift, data, y, out):
 def python_patch_forces(model, material, friction, N, A, B, xi, eta, phi, V, grid):
     """(F_x, F_y, M_z) of one patch with any registered tangential model (its Python
     ``solve``) on the Hertz patch with curvatures A, B and normal force N."""
-    from ..geometry.contact import ContactGeometry
-    from ..normal import get_normal_model
     if N <= 0:
         return 0.0, 0.0, 0.0
     geo = ContactGeometry(curvatures=(A, B))

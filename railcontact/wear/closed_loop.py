@@ -38,7 +38,14 @@ import numpy as np
 from dask.callbacks import Callback
 from scipy.ndimage import gaussian_filter1d
 
+from ..bodies import build_wheelset_track
+from ..dynamics.simulation import simulate_vehicle
+from ..dynamics.vehicle import G_ACC
+from ..dynamics.wheel_rail import F_SHARE, F_YWHEEL, WheelRailTable
 from ..errors import InputError, RailContactError
+from ..geometry.tables import equivalent_conicity
+from ..geometry.track import Track, Wheelset
+from ..profiles.measures import wheel_measures
 from ..profiles.profile import Profile
 from .laws import get_wear_law
 from .mapping import removed_area, wear_profile
@@ -55,8 +62,6 @@ CONICITY_AMPLITUDE = 3e-3
 def build_table(wheel_left, wheel_right, rail_left, rail_right, rail_offsets, settings):
     """A contact table of one wheel pair on one rail pair, keeping the patches'
     geometry (a Dask task)."""
-    from ..dynamics.wheel_rail import WheelRailTable
-    from ..geometry.track import Track, Wheelset
     t0 = time.thread_time()
     ws = Wheelset(wheel_right, wheel_left, nominal_radius=settings["nominal_radius"],
                   flange_back_distance=settings["flange_back_distance"],
@@ -91,7 +96,6 @@ def away_from_contact_jumps(tables, y, gap: float = 1e-3, margin: float = 2e-3):
     ndarray of bool
         True at the positions ``y`` farther than ``margin`` from every skipped part.
     """
-    from ..dynamics.wheel_rail import F_SHARE, F_YWHEEL
     pos = np.sort(np.concatenate([t.data[..., F_YWHEEL][t.data[..., F_SHARE] > 0]
                                   for t in tables]))
     keep = np.ones(np.shape(y), dtype=bool)
@@ -105,7 +109,6 @@ def run_route(item, model, tables, dyn, material, wheels, rails, wheel_grids, ra
     """One route of a wear step (a Dask task): the dynamics run on the tables, its
     measures and the post-processing with the local model (``post``:
     :class:`PatchPostProcessor` settings)."""
-    from ..dynamics.simulation import simulate_vehicle
     t0 = time.thread_time()
     ds = simulate_vehicle(model, item.route, tables, item.speed, item.duration,
                           dyn["tangential"], item.friction, material,
@@ -226,7 +229,6 @@ class ClosedLoopWear:
     """
 
     def __init__(self, scenario, out_dir=None, progress: bool = True):
-        from ..bodies import build_wheelset_track
         self.sc = scenario
         self.out = Path(out_dir) if out_dir else None
         self.progress = progress
@@ -235,7 +237,6 @@ class ClosedLoopWear:
         self.nw = len(scenario.model.wheelsets)
         self.nr = len(scenario.routes)
         self.rail_offsets = {s: tr.rail_offset(s) for s in SIDES}
-        from ..dynamics.vehicle import G_ACC
         self.settings = {"nominal_radius": ws.nominal_radius,
                          "flange_back_distance": ws.flange_back_distance,
                          "flange_back_position": ws.flange_back_position,
@@ -336,8 +337,6 @@ class ClosedLoopWear:
         """Measures of the current profiles: profile heights, flange height, flange
         thickness, qR, Δr(y) and the equivalent conicity per route and wheelset."""
         import xarray as xr
-        from ..geometry.tables import equivalent_conicity
-        from ..profiles.measures import wheel_measures
         rec = {"profile_z_wheel": np.array([[p.z_at(self.y_wheel) for p in pair]
                                             for pair in self.wheels]),
                "profile_z_rail": np.array([[p.z_at(self.y_rail) for p in pair]

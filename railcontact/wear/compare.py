@@ -16,6 +16,8 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
+from .closed_loop import ClosedLoopWear
+from .plots import _wheel_panels
 from .simulation import WearSimulation
 
 
@@ -80,7 +82,6 @@ def _write(results, out: Path):
 def _compare_closed_loop(scenario, models, out, progress):
     """Each model pair through the closed loop of ``scenario``: the first pair sets
     the step distances (by its step control), the others run over the same."""
-    from .closed_loop import ClosedLoopWear
     results = {}
     distances = None
     for normal, tang in models:
@@ -103,7 +104,6 @@ def _compare_closed_loop(scenario, models, out, progress):
 
 def _panels(ds):
     """(body, label, selection) of the distinct worn profiles of a closed-loop run."""
-    from .plots import _wheel_panels
     out = []
     if ds.attrs["worn_body"] in ("wheel", "both"):
         out += [("wheel", label, {"wheelset": w, "side": s}) for label, w, s in _wheel_panels(ds)]

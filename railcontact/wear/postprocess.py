@@ -44,6 +44,8 @@ from dataclasses import dataclass, field
 import numpy as np
 
 from ..materials import Material
+from ..normal import get_normal_model
+from ..tangential import get_tangential_model
 from .mapping import profile_depth, strip_depth
 
 
@@ -110,8 +112,6 @@ class PatchPostProcessor:
     def __init__(self, normal: str, tangential: str, law, material: Material, grid=None,
                  element_size=None, normal_options=None, tangential_options=None,
                  reuse_tolerance: float = 1e-3, warm: bool = True):
-        from ..normal import get_normal_model
-        from ..tangential import get_tangential_model
         self.nmodel = get_normal_model(normal, **(normal_options or {}))
         self.tmodel = get_tangential_model(tangential, **(tangential_options or {}))
         self.law, self.material = law, material

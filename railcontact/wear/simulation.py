@@ -34,13 +34,15 @@ from pathlib import Path
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
+from ..bodies import build_wheelset_track
 from ..case import case_from_dict, read_toml
+from ..case_solve import solve
 from ..errors import CaseFileError, InputError, RailContactError
 from ..profiles.profile import Profile
 from .laws import get_wear_law
 from .mapping import profile_depth, strip_depth, wear_profile
-from .vehicle_scenario import apply_wear_settings, is_vehicle_scenario, number, \
-    vehicle_scenario_from_dict
+from .vehicle_scenario import (apply_wear_settings, is_vehicle_scenario, number,
+                               vehicle_scenario_from_dict)
 
 log = logging.getLogger(__name__)
 
@@ -206,7 +208,6 @@ def condition_wear(raw: dict, base_dir, law_name: str, law_params: dict, grids: 
                    profiles: dict) -> dict:
     """Wear of one operating condition: depth per revolution (wheels) and per passage
     (rails) on the s-grids, the rolling radii, and the frictional energy [J/m]."""
-    from ..case_solve import solve
     law = get_wear_law(law_name, **law_params)
     res = solve(case_from_dict(raw, base_dir))
     out = {b: np.zeros_like(grids[b]) for b in BODIES}
@@ -243,7 +244,6 @@ class WearSimulation:
         self.progress = progress
         case = case_from_dict(_condition_raw(scenario, scenario.conditions[0], None),
                               scenario.base_dir)
-        from ..bodies import build_wheelset_track
         ws, tr = build_wheelset_track(case)
         self.profiles = {"wheel_left": ws.wheel_left, "wheel_right": ws.wheel_right,
                          "rail_left": tr.rail_left, "rail_right": tr.rail_right}

@@ -17,7 +17,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..case import Case, case_from_dict
+from ..dynamics.scenario import route_from_section, vehicle_from_section
 from ..errors import CaseFileError
+from ..tangential import tangential_models
 from .laws import get_wear_law
 
 #: keys of [wear] in a vehicle scenario
@@ -150,8 +152,6 @@ def is_vehicle_scenario(raw: dict) -> bool:
 
 def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
     """Validate a parsed closed-loop wear scenario (nothing is computed)."""
-    from ..dynamics.scenario import vehicle_from_section
-    from ..tangential import tangential_models
     raw = copy.deepcopy(raw)
     base_dir = Path(base_dir or Path.cwd())
     veh = raw.pop("vehicle", {})
@@ -223,7 +223,6 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
 def _route_item(r, i: int, base_dir: Path, friction: float, vehicle_length: float) -> RouteItem:
     """One [[route]] item: segments (``[[route.segment]]``, as in ``railcontact
     simulate``) or the shorthand ``radius``, ``cant``, ``transition``, ``lead``."""
-    from ..dynamics.scenario import route_from_section
     if not isinstance(r, dict):
         raise CaseFileError(f"route {i + 1}: expected a table")
     name = str(r.get("name", f"route {i + 1}"))
