@@ -743,6 +743,212 @@ def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
         f"{float(curve['lateral_displacement'].sel(wheelset=1).mean()) * 1e3:.2f} mm.\n")
 
 
+def _wear_runs(sc):
+    """Step-1 tables and dynamics runs of a closed-loop scenario (the same for every
+    local model): (simulation, tables per route, datasets per route, grids)."""
+    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.wear.closed_loop import ClosedLoopWear, _s_grid, build_table
+    sim = ClosedLoopWear(sc, None, progress=False)
+    table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
+    tables = [table] * sim.nw
+    d = sc.dynamics
+    runs = [simulate_vehicle(sc.model, r.route, tables, r.speed, r.duration, d["tangential"],
+                             r.friction, sc.case.material, d["initial_lateral_shift"],
+                             d["sample_rate"], d["rtol"], False, d["tangential_options"],
+                             d["fastsim_grid"], integrator=d["integrator"], step=d["step"])
+            for r in sc.routes]
+    grid = _s_grid(sim.wheels[0][0], sc.grid_step)
+    rgrid = _s_grid(sim.rails[0][0], sc.grid_step)
+    return sim, tables, runs, grid, rgrid
+
+
+def _wear_post(sc, sim, tables, runs, grid, rgrid, model, sample_distance=None,
+               reuse=None, warm=True):
+    """Post-process the runs with one model: (vehicle-averaged wheel wear per metre
+    of the route mix, smoothed as the loop does; PostProcessStats per route)."""
+    from railcontact.wear import get_wear_law
+    from railcontact.wear.closed_loop import _smooth
+    from railcontact.wear.postprocess import PatchPostProcessor
+    n, t = model.split("+")
+    pp = PatchPostProcessor(n, t, get_wear_law(sc.law, **sc.parameters), sc.case.material,
+                            sc.case.grid, sc.case.element_size,
+                            reuse_tolerance=sc.reuse_tolerance if reuse is None else reuse,
+                            warm=warm)
+    total = np.zeros_like(grid)
+    stats = []
+    for w, item, ds in zip(sim.weights, sc.routes, runs):
+        stride = max(1, int(round((sample_distance or sc.sample_distance)
+                                  * sc.dynamics["sample_rate"] / item.speed)))
+        res = pp.run(ds, tables, sim.wheels, sim.rails[0], [[grid, grid]] * sim.nw,
+                     [rgrid, rgrid], item.friction, stride)
+        total += w * sum(d for pair in res["wheel"] for d in pair) / (2 * sim.nw)
+        stats.append(res["stats"])
+    return _smooth(total, sc.grid_step, sc.smoothing), stats
+
+
+def bench_wear_closed_loop(full: bool = True):
+    """Issue 24: closed-loop wear of examples/wear_vehicle.toml (one core): (a) exact +
+    exact against Hertz + FASTSIM, (b) the per-patch cost of every model and, unless
+    ``full`` is False, (c) the sample stride, (d) repeated states, (e) the step size."""
+    from railcontact.wear import load_scenario
+    from railcontact.wear.closed_loop import ClosedLoopWear
+    out("## Closed-loop wear: examples/wear_vehicle.toml (Manchester vehicle, tangent + "
+        "R1200 + R300, 4 steps of 0.1 mm, USFD), one core (scheduler sync)\n")
+    sc = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc.scheduler = "sync"
+    # (a) the example with Hertz + FASTSIM and with exact + exact, interleaved by step
+    models = {"hertz+fastsim": sc, "exact+exact": sc.with_models("exact", "exact")}
+    sims = {m: ClosedLoopWear(s, None, progress=False) for m, s in models.items()}
+    wall = dict.fromkeys(models, 0.0)
+    cpu = dict.fromkeys(models, 0.0)
+    for _ in range(sc.steps + 1):
+        for m, sim in sims.items():
+            t0, c0 = time.perf_counter(), time.process_time()
+            if sim.step < sc.steps:
+                sim.run_step()
+            else:
+                ds = sim.run(resume=False)        # the final state's measures
+                sims[m] = ds
+            wall[m] += time.perf_counter() - t0
+            cpu[m] += time.process_time() - c0
+    hf, ex = sims["hertz+fastsim"], sims["exact+exact"]
+    out("| local model | wall [s] | CPU [s] | tables [s] | dynamics [s] | post-processing "
+        "[s] | solves [s] | patches | solved | reused | ms per solved patch |")
+    out("|---|---|---|---|---|---|---|---|---|---|---|")
+    for m, ds in sims.items():
+        solved = float(ds["patches_solved"].sum())
+        out(f"| {m} | {wall[m]:.1f} | {cpu[m]:.1f} | {float(ds['table_time'].sum()):.1f} | "
+            f"{float(ds['dynamics_time'].sum()):.1f} | "
+            f"{float(ds['postprocess_time'].sum()):.1f} | {float(ds['solve_time'].sum()):.1f} "
+            f"| {int(ds['patches'].sum())} | {int(solved)} | {int(ds['patches_reused'].sum())} "
+            f"| {1e3 * float(ds['solve_time'].sum()) / solved:.2f} |")
+    out(f"\n* exact + exact / Hertz + FASTSIM, whole run: wall {wall['exact+exact'] / wall['hertz+fastsim']:.2f}, "
+        f"CPU {cpu['exact+exact'] / cpu['hertz+fastsim']:.2f} (target <= 5); Hertz + FASTSIM "
+        f"run {wall['hertz+fastsim']:.0f} s (target < 120 s); the two runs interleaved step "
+        "by step")
+    for m, ds in sims.items():
+        law, rem = ds["law_area_wheel"].values, ds["removed_area_wheel"].values
+        s = ds.sel(route="R300", wheelset=1)
+        out(f"* {m}: {ds.attrs['total_distance_m'] / 1e3:.0f} km; removed area / law's total "
+            f"- 1: max {np.max(np.abs(rem / law - 1)) * 100:.3f} %; equivalent conicity "
+            f"{' -> '.join(f'{g:.4f}' for g in ds['equivalent_conicity'].sel(route='tangent', wheelset=1).values)}; "
+            f"R300 wheelset 1 mean lateral position "
+            f"{float(s['lateral_position'].isel(step=0)) * 1e3:.3f} -> "
+            f"{float(s['lateral_position'].isel(step=-1)) * 1e3:.3f} mm, outer flange contact on "
+            f"the wheel {float(s['contact_y_wheel'].sel(side='left', patch='flange').isel(step=0)) * 1e3:.2f}"
+            f" -> {float(s['contact_y_wheel'].sel(side='left', patch='flange').isel(step=-1)) * 1e3:.2f} mm")
+
+    # (b) per-patch post-processing cost of every model, on the same step-1 runs
+    sim, tables, runs, grid, rgrid = _wear_runs(sc)
+    out("\nPer-patch cost of the post-processing, every model on the same step-1 dynamics "
+        f"({sc.case.grid[0]}x{sc.case.grid[1]} grids, samples every 2 m, no reuse; models "
+        "interleaved; 'all' includes the wear law and the mapping onto the profiles):\n")
+    out("| local model | patches | ms per patch (solves) | ms per patch (all) | / Hertz + FASTSIM |")
+    out("|---|---|---|---|---|")
+    rows = []
+    for m, warm in (("hertz+fastsim", True), ("kik-piotrowski+fastsim", True),
+                    ("kpec+fastsim", True), ("stripes+fastsim", True),
+                    ("analyn+fastsim", True), ("hertz+exact", True), ("exact+exact", True),
+                    ("exact+exact", False)):
+        c0 = time.process_time()
+        _, st = _wear_post(sc, sim, tables, runs, grid, rgrid, m, sample_distance=2.0,
+                           reuse=0.0, warm=warm)
+        c = time.process_time() - c0
+        n = sum(x.solved for x in st)
+        rows.append((m + ("" if warm else " (cold: no warm starts)"), n,
+                     1e3 * sum(x.solve_time for x in st) / n, 1e3 * c / n))
+    for name, n, solve, allt in rows:
+        out(f"| {name} | {n} | {solve:.3f} | {allt:.3f} | {allt / rows[0][3]:.1f} |")
+
+    if not full:
+        return
+    # (c) the stride: samples every 0.25 .. 4 m against every dynamics sample
+    out("\nSample stride (step-1 runs, dynamics sampled at 400 Hz: one sample per 0.1, "
+        "0.09, 0.05 m on the three routes): the route mix's wheel wear per metre "
+        "(vehicle-averaged, smoothed) against every sample's, max |difference| / max:\n")
+    sc4 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc4.dynamics["sample_rate"] = 400.0
+    sim4, tables4, runs4, grid4, rgrid4 = _wear_runs(sc4)
+    out("| local model | 0.25 m | 0.5 m | 1 m (default) | 2 m | 4 m |")
+    out("|---|---|---|---|---|---|")
+    for m in ("hertz+fastsim", "exact+exact"):
+        ref, _ = _wear_post(sc4, sim4, tables4, runs4, grid4, rgrid4, m,
+                            sample_distance=1e-3)
+        cells = []
+        for dist in (0.25, 0.5, 1.0, 2.0, 4.0):
+            w, _ = _wear_post(sc4, sim4, tables4, runs4, grid4, rgrid4, m,
+                              sample_distance=dist)
+            cells.append(f"{np.max(np.abs(w - ref)) / ref.max() * 100:.2f} %")
+        out(f"| {m} | " + " | ".join(cells) + " |")
+
+    # (d) repeated states: the reuse tolerance
+    out("\nRepeated states (step-1 runs, samples every 1 m): the wear per metre against "
+        "solving every patch, and the share of patches reused:\n")
+    out("| local model | tolerance | reused | max difference / max | post-processing CPU / "
+        "without reuse |")
+    out("|---|---|---|---|---|")
+    for m in ("hertz+fastsim", "exact+exact"):
+        c0 = time.process_time()
+        ref, _ = _wear_post(sc, sim, tables, runs, grid, rgrid, m, reuse=0.0)
+        c_ref = time.process_time() - c0
+        for tol in (1e-3, 1e-2):
+            c0 = time.process_time()
+            w, st = _wear_post(sc, sim, tables, runs, grid, rgrid, m, reuse=tol)
+            c = time.process_time() - c0
+            share = sum(x.reused for x in st) / sum(x.patches for x in st)
+            out(f"| {m} | {tol:g} | {share * 100:.0f} % | "
+                f"{np.max(np.abs(w - ref)) / ref.max() * 100:.3f} % | {c / c_ref:.2f} |")
+
+    # (e) step size: K steps against 2K of half the distance
+    out(f"\nStep size (Hertz + FASTSIM): the final wheel profiles of K steps against 2K "
+        "steps of half the distance, max |difference| / the maximum wear depth, over the "
+        "whole profile and away from the contact jumps (the wheel positions the contact "
+        "skips between neighbouring table shifts of the new and the final profiles, "
+        "widened by 2 mm; target < 5 %):\n")
+    out("| steps | distance [km] | max depth [mm] | whole profile | at y [mm] | away from "
+        "jumps | at y [mm] | excluded [mm] | conicity at the end (K, 2K) |")
+    out("|---|---|---|---|---|---|---|---|---|")
+    total = float(hf.attrs["total_distance_m"])
+    d = [float(v) for v in hf["distance"].values]
+    runs = {}
+    for label, dists in (("2 (step control) / 4", [d[0], d[1]]),
+                         ("4 / 8", [total / 4] * 4), ("8 / 16", [total / 8] * 8)):
+        pair = []
+        for ds_ in (dists, [x / 2 for x in dists for _ in (0, 1)]):
+            key = tuple(ds_)
+            if key not in runs:
+                s2 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+                s2.scheduler, s2.steps, s2.distances = "sync", len(ds_), list(ds_)
+                sim2 = ClosedLoopWear(s2, None, progress=False)
+                runs[key] = (sim2.run(resume=False), sim2)
+            pair.append(runs[key])
+        out("| " + label + " | " + _halving_row(*pair[0], *pair[1]) + " |")
+
+
+def _halving_row(coarse, _, fine, sim):
+    """A row of the step-size table: the final wheel profiles of a run and of its
+    run of halved steps (wheelset 1, right; the example wears all wheels alike)."""
+    from railcontact.wear.closed_loop import away_from_contact_jumps, build_table
+    sel = {"wheelset": 1, "side": "right"}
+    y = coarse["y_wheel"].values
+    diff = np.abs(coarse["profile_z_wheel"].sel(**sel).isel(state=-1).values
+                  - fine["profile_z_wheel"].sel(**sel).isel(state=-1).values)
+    depth = fine["wear_depth_wheel"].sel(**sel).sum("step").values.max()
+    ok = np.isfinite(diff)
+    w0 = sim.initial_wheels[1]
+    tabs = [build_table(w0, w0, *sim.rails[0], sim.rail_offsets, sim.settings),
+            build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)]
+    away = ok & away_from_contact_jumps(tabs, y)
+    i = int(np.nanargmax(np.where(ok, diff, np.nan)))
+    j = int(np.nanargmax(np.where(away, diff, np.nan)))
+    g = [float(r["equivalent_conicity"].sel(route="tangent", wheelset=1).values[-1])
+         for r in (coarse, fine)]
+    return (f"{float(fine.attrs['total_distance_m']) / 1e3:.0f} | {depth * 1e3:.3f} | "
+            f"{diff[i] / depth * 100:.1f} % | {y[i] * 1e3:.1f} | {diff[j] / depth * 100:.1f} % | "
+            f"{y[j] * 1e3:.1f} | {np.count_nonzero(~away & ok) * (y[1] - y[0]) * 1e3:.0f} | "
+            f"{g[0]:.4f}, {g[1]:.4f}")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -756,6 +962,7 @@ def main():
     bench_fast_models()
     bench_strips_accuracy()
     bench_dynamics()
+    bench_wear_closed_loop()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
     contact_inputs.main()

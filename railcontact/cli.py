@@ -177,12 +177,36 @@ def cmd_compare(args):
 
 
 def cmd_wear(args):
-    from .wear import WearSimulation, load_scenario
-    from .wear.plots import plot_wear
+    from .wear import load_scenario
     sc = load_scenario(args.scenario)
     if args.scheduler:
         sc.scheduler = args.scheduler
     out = Path(args.out)
+    if hasattr(sc, "routes"):                     # closed loop: a vehicle on routes
+        from .wear.closed_loop import ClosedLoopWear
+        from .wear.plots import plot_closed_loop
+        sc = sc.with_models(args.normal, args.tangential)
+        out.mkdir(parents=True, exist_ok=True)
+        ds = ClosedLoopWear(sc, out).run(resume=not args.restart)
+        plot_closed_loop(ds, out)
+        bad = int(ds["not_converged"].sum()) if "not_converged" in ds else 0
+        print(f"{ds.sizes['step']} steps, {ds.attrs['total_distance_m'] / 1e3:.1f} km, "
+              f"{sc.normal} + {sc.tangential}; wrote {out / 'wear.nc'}, wear.png, "
+              f"measures.png" + (" and records/" if sc.records else ""))
+        return _report_status(bad == 0, f"{bad} local solves did not converge (see "
+                              "'not_converged' in wear.nc)", [])
+    from .wear import WearSimulation
+    from .wear.plots import plot_wear
+    if args.normal or args.tangential:
+        from .normal import get_normal_model
+        from .tangential import get_tangential_model
+        solver = sc.base.setdefault("solver", {})
+        if args.normal:
+            get_normal_model(args.normal)
+            solver["normal"] = args.normal
+        if args.tangential:
+            get_tangential_model(args.tangential)
+            solver["tangential"] = args.tangential
     out.mkdir(parents=True, exist_ok=True)
     sim = WearSimulation(sc, out)
     ds = sim.run(resume=not args.restart)
@@ -193,11 +217,16 @@ def cmd_wear(args):
 
 def cmd_wear_compare(args):
     from .wear import load_scenario
-    from .wear.compare import compare_wear, parse_models
+    from .wear.compare import compare_wear, comparison_rows, format_rows, parse_models
     sc = load_scenario(args.scenario)
-    res = compare_wear(sc, parse_models(args.models), Path(args.out))
-    for label, ds in res.items():
-        print(f"{label:>24}: {ds.attrs['total_distance_m'] / 1e3:10.1f} km")
+    if args.scheduler:
+        sc.scheduler = args.scheduler
+    closed = hasattr(sc, "routes")
+    spec = args.models or ("hertz+fastsim,kik-piotrowski+fastsim,stripes+fastsim,"
+                           "analyn+fastsim,exact+exact" if closed else
+                           "hertz+fastsim,kpec+fastsim,analyn+fastsim")
+    res = compare_wear(sc, parse_models(spec), Path(args.out))
+    print(format_rows(comparison_rows(res)))
     print(f"wrote {Path(args.out) / 'wear_comparison.png'} and wear_comparison.csv")
 
 
@@ -323,11 +352,16 @@ def build_parser():
     wr.add_argument("--out", default="wear_output")
     wr.add_argument("--restart", action="store_true", help="ignore an existing checkpoint")
     wr.add_argument("--scheduler", help="sync, threads, processes or a Dask scheduler address")
+    wr.add_argument("--normal", help="local normal model (overrides [solver])")
+    wr.add_argument("--tangential", help="local tangential model (overrides [solver])")
     wr.set_defaults(func=cmd_wear)
     wc = sub.add_parser("wear-compare", help="one wear scenario with several contact models")
     wc.add_argument("scenario")
-    wc.add_argument("--models", default="hertz+fastsim,kpec+fastsim,analyn+fastsim",
-                    help="NORMAL+TANGENTIAL pairs, comma separated")
+    wc.add_argument("--models", help="NORMAL+TANGENTIAL pairs, comma separated (default: "
+                    "hertz+fastsim,kik-piotrowski+fastsim,stripes+fastsim,analyn+fastsim,"
+                    "exact+exact for a vehicle scenario; hertz+fastsim,kpec+fastsim,"
+                    "analyn+fastsim otherwise)")
+    wc.add_argument("--scheduler", help="sync, threads, processes or a Dask scheduler address")
     wc.add_argument("--out", default="wear_comparison")
     wc.set_defaults(func=cmd_wear_compare)
     sm = sub.add_parser("simulate", help="vehicle dynamics: wheelset, bogie or vehicle on a "

@@ -31,6 +31,20 @@ def read_csv(path):
         return list(csv.DictReader(f))
 
 
+@pytest.fixture(scope="session")
+def wear_vehicle_example(tmp_path_factory):
+    """examples/wear_vehicle.toml run once (closed-loop wear, Hertz + FASTSIM):
+    its output folder and dataset."""
+    from railcontact.wear import load_scenario
+    from railcontact.wear.closed_loop import ClosedLoopWear
+    from railcontact.wear.plots import plot_closed_loop
+    out = tmp_path_factory.mktemp("wear_vehicle")
+    ds = ClosedLoopWear(load_scenario(ROOT / "examples" / "wear_vehicle.toml"), out,
+                        progress=False).run(resume=False)
+    plot_closed_loop(ds, out)
+    return out, ds
+
+
 def testbank_dir() -> Path | None:
     """CONTACT's testbank (inputs and reference outputs): ../shared/contact_testbank."""
     env = os.environ.get("RAILCONTACT_TESTBANK")

@@ -22,8 +22,15 @@ def test_python_examples(path, capsys, monkeypatch, tmp_path):
 
 
 @pytest.mark.parametrize("path", sorted(EX.glob("*.toml")), ids=lambda p: p.name)
-def test_case_examples(path, tmp_path):
-    if "[vehicle]" in path.read_text():
+def test_case_examples(path, tmp_path, request):
+    text = path.read_text()
+    if "[vehicle]" in text and "[wear]" in text:       # closed-loop wear (run once)
+        out, ds = request.getfixturevalue("wear_vehicle_example")
+        assert ds.sizes["step"] >= 1 and ds.sizes["route"] >= 3
+        for f in ("wear.nc", "wear.png", "measures.png", "checkpoint.npz"):
+            assert (out / f).is_file()
+        return
+    if "[vehicle]" in text:
         from railcontact.dynamics.scenario import run_scenario
         ds = run_scenario(path, tmp_path, progress=False)
         assert ds.sizes["time"] > 10 and (tmp_path / "simulation.nc").is_file()
@@ -33,7 +40,7 @@ def test_case_examples(path, tmp_path):
         assert float(in_curve["lateral_displacement"].sel(wheelset=1).mean()) < -2e-3
         assert float(abs(ds["Y_over_Q"]).max()) < 0.8
         return
-    if "[wear]" in path.read_text():
+    if "[wear]" in text:
         from railcontact.wear import WearSimulation, load_scenario
         ds = WearSimulation(load_scenario(path), tmp_path, progress=False).run()
         assert ds.sizes["step"] >= 1 and (tmp_path / "wear.nc").is_file()

@@ -43,8 +43,10 @@ import numpy as np
 from scipy.integrate import solve_ivp
 
 from ..errors import ContactNotFoundError, InputError
-from ..materials import Material
+from ..geometry.surface_search import search
 from ..hertz_theory import hertz_ellipse
+from ..materials import Material
+from ..surface_contact import build_surface_case
 
 log = logging.getLogger(__name__)
 
@@ -141,8 +143,6 @@ def contact_table(case, positions, depth: float = 4e-4, material: Material | Non
     curvatures and its vertical offset, see the module notes; the touching height
     from the search's smallest vertical gap); per rail the deepest patch."""
     from tqdm.auto import tqdm
-    from ..geometry.surface_search import search
-    from ..surface_contact import build_surface_case
     setup = build_surface_case(case)
     mat = material or case.material
     s = np.asarray(positions, dtype=float)

@@ -6,11 +6,14 @@ import math
 from pathlib import Path
 
 
+from ..bodies import build_wheelset_track
 from ..case import case_from_dict, read_toml
 from ..errors import CaseFileError, InputError, RailContactError
+from ..tangential import tangential_models
 from .route import Irregularities, Route
 from .simulation import critical_speed, simulate_vehicle
-from .vehicle import MANCHESTER, VehicleModel
+from .vehicle import G_ACC, MANCHESTER, VehicleModel
+from .wheel_rail import WheelRailTable
 
 _VEHICLE = {"model", "preset", "parameters", "parameter_file", "mass", "yaw_inertia", "k_y", "k_psi",
             "wheel_load"}
@@ -145,7 +148,6 @@ def load_simulation(path):
     vehicle_length = max(b.x for b in model.bodies) - min(b.x for b in model.bodies)
     rt = route_from_section(route, path.parent, v * duration + vehicle_length + 10.0)
     tang = sim.get("tangential", "fastsim")
-    from ..tangential import tangential_models
     if tang not in tangential_models():
         raise CaseFileError(f"simulation.tangential = {tang!r}: expected one of "
                             f"{tangential_models()}")
@@ -177,9 +179,6 @@ def load_simulation(path):
 def build_table(sc, progress: bool = False):
     """Contact table of a parsed scenario at the static wheel load of its first
     wheelset."""
-    from ..bodies import build_wheelset_track
-    from .vehicle import G_ACC
-    from .wheel_rail import WheelRailTable
     ws, tr = build_wheelset_track(sc["case"])
     load = sc["model"].wheelsets[0][1] * G_ACC / 2
     return WheelRailTable.build(ws, tr, load, sc["case"].material, sc["table_range"],

@@ -14,7 +14,9 @@ from tqdm.auto import tqdm
 
 from ..errors import InputError, RailContactError
 from ..geometry.validity import nadal_limit
-from ..materials import STEEL, Material
+from ..materials import Material, STEEL
+from ..tangential import get_tangential_model
+from ..tangential.polach import PRESETS
 from .route import Route
 from .vehicle import NORMAL_PASSES, PIN, POUT, VehicleModel, rhs_core, rk4_run
 from .wheel_rail import WheelRailTable, online_law, python_patch_forces
@@ -22,8 +24,27 @@ from .wheel_rail import WheelRailTable, online_law, python_patch_forces
 log = logging.getLogger(__name__)
 
 
+def _per_wheelset(table, nw: int) -> list:
+    """One contact table per wheelset: ``table`` is one :class:`WheelRailTable` for
+    all or a sequence of ``nw`` (e.g. worn wheelsets) on one shift grid and nominal
+    radius."""
+    tables = [table] * nw if isinstance(table, WheelRailTable) else list(table)
+    if len(tables) != nw or not all(isinstance(t, WheelRailTable) for t in tables):
+        raise InputError(f"contact tables: expected one WheelRailTable or {nw} (one per "
+                         f"wheelset), got {len(tables)}")
+    t0 = tables[0]
+    for t in tables[1:]:
+        if (t.shift.shape != t0.shift.shape or not np.allclose(t.shift, t0.shift, atol=1e-12)
+                or t.nominal_radius != t0.nominal_radius or t.data.shape != t0.data.shape):
+            raise InputError("contact tables of the wheelsets: expected one shift grid and "
+                             "one nominal radius")
+    return tables
+
+
 class _System:
-    """A vehicle on a route at speed V with a tangential law: the right-hand side."""
+    """A vehicle on a route at speed V with a tangential law: the right-hand side.
+
+    ``table``: one :class:`WheelRailTable` for every wheelset, or one per wheelset."""
 
     def __init__(self, model: VehicleModel, route: Route, table: WheelRailTable,
                  velocity: float, tangential: str = "fastsim", friction: float = 0.3,
@@ -34,12 +55,16 @@ class _System:
             raise InputError(f"simulation velocity {velocity!r} m/s: expected 0.1 to 200 m/s")
         if not (math.isfinite(friction) and 0 < friction <= 2):
             raise InputError(f"friction coefficient {friction!r}: expected a value in (0, 2]")
-        self.model, self.route, self.table = model, route, table
+        self.model, self.route = model, route
         self.V = float(velocity)
         self.bodies, self.elems, self.bx, self.bf, self.wsets = model.packed()
         self.track = route.packed()
         self.s0 = -min(b.x for b in model.bodies)
         nw = len(model.wheelsets)
+        self.tables = _per_wheelset(table, nw)
+        self.table = self.tables[0]
+        self.table_data = np.ascontiguousarray(np.stack([tb.data for tb in self.tables]))
+        self.qrefs = np.array([tb.reference_load for tb in self.tables], dtype=float)
         self.pin = np.zeros((nw, 2, 2, len(PIN)))
         self.pout = np.zeros((nw, 2, 2, len(POUT)))
         self.wout = np.zeros((nw, 4))
@@ -50,7 +75,6 @@ class _System:
         kA = kS = 1.0
         fall = (1.0, 0.0)
         if tangential == "polach" and (polach_preset or opts.get("preset")):
-            from ..tangential.polach import PRESETS
             name = polach_preset or opts.get("preset")
             if name not in PRESETS:
                 raise InputError(f"polach preset {name!r}: expected one of {sorted(PRESETS)}")
@@ -64,7 +88,6 @@ class _System:
         if law is not None:
             self.law, self.py_model = law, None
         else:
-            from ..tangential import get_tangential_model
             self.law = -1
             self.py_model = get_tangential_model(tangential, **opts)
         self.material, self.friction = material, mu
@@ -73,7 +96,7 @@ class _System:
     def rhs(self, t, u):
         self.calls += 1
         args = (self.V, self.s0, self.bodies, self.elems, self.bx, self.bf, self.wsets,
-                *self.track, self.table.shift, self.table.data, self.table.reference_load,
+                *self.track, self.table.shift, self.table_data, self.qrefs,
                 self.table.nominal_radius)
         if self.law >= 0:
             return rhs_core(t, u, *args, self.law, self.tp, 0, self.fext, self.pin, self.pout,
@@ -104,7 +127,7 @@ class _System:
         return np.array(act + [nd + i for i in act])
 
 
-def simulate_vehicle(model: VehicleModel, route: Route, table: WheelRailTable,
+def simulate_vehicle(model: VehicleModel, route: Route, table,
                      velocity: float, duration: float, tangential: str = "fastsim",
                      friction: float = 0.3, material: Material = STEEL,
                      initial_lateral_shift: float = 0.0, sample_rate: float = 100.0,
@@ -119,6 +142,9 @@ def simulate_vehicle(model: VehicleModel, route: Route, table: WheelRailTable,
 
     Parameters
     ----------
+    table : WheelRailTable or sequence of WheelRailTable
+        The contact table of every wheelset, or one per wheelset (worn wheelsets,
+        on one shift grid).
     tangential : str
         ``"linear"``, ``"fastsim"``, ``"polach"`` (compiled) or any registered
         tangential model (Python, slow).
@@ -190,7 +216,7 @@ def rk4_step(sysm: _System, sample_rate: float, step: float | None = None):
     """The rk4 step [s]: 1 / spectral radius of the linearised model at this speed
     (linear creep, centred on tangent track), at most 1 ms, ``step`` and the
     sampling interval, which it divides exactly.  Returns (step, steps per sample)."""
-    J = state_matrix(sysm.model, sysm.table, sysm.V, material=sysm.material)
+    J = state_matrix(sysm.model, sysm.tables, sysm.V, material=sysm.material)
     rho = float(np.max(np.abs(np.linalg.eigvals(J))))
     dt = min(1.0 / rho, 1e-3, step or 1.0, 1.0 / sample_rate)
     every = int(math.ceil(1.0 / (sample_rate * dt)))
@@ -205,7 +231,7 @@ def _run_rk4(sysm: _System, u0, duration, sample_rate, step, progress, bar):
     Y[0] = u0
     u = u0.copy()
     args = (sysm.V, sysm.s0, sysm.bodies, sysm.elems, sysm.bx, sysm.bf, sysm.wsets,
-            *sysm.track, sysm.table.shift, sysm.table.data, sysm.table.reference_load,
+            *sysm.track, sysm.table.shift, sysm.table_data, sysm.qrefs,
             sysm.table.nominal_radius, sysm.law, sysm.tp, sysm.fext, sysm.pin, sysm.pout,
             sysm.wout)
     chunk = max(1, n_samples // 100)
@@ -286,6 +312,8 @@ def _dataset(sysm: _System, t, Y, wall):
         "contact_angle": (dims_p, pin[..., 9], {"units": "rad"}),
         "y_rail": (dims_p, np.where(pin[..., 0] > 0, pin[..., 13], np.nan),
                    {"units": "m", "long_name": "contact position on the rail profile"}),
+        "y_wheel": (dims_p, np.where(pin[..., 0] > 0, pin[..., 15], np.nan),
+                    {"units": "m", "long_name": "contact position on the wheel profile"}),
         "semi_axis_a": (dims_p, pin[..., 1], {"units": "m"}),
         "semi_axis_b": (dims_p, pin[..., 2], {"units": "m"}),
         "distance": ("time", s_first, {"units": "m", "long_name": "position of wheelset 1"}),
@@ -315,7 +343,8 @@ def _validity(sysm: _System, t, YQ, flange_loaded) -> list:
     """Where a run left the range of its models: Y/Q of a wheel in flange contact
     above Nadal's flange-climb limit (the table's largest flange angle, the run's
     friction; :func:`railcontact.geometry.validity.nadal_limit`)."""
-    angle = sysm.table.flange_angle
+    angles = [t.flange_angle for t in sysm.tables if math.isfinite(t.flange_angle)]
+    angle = min(angles) if angles else math.nan
     if not (math.isfinite(angle) and YQ.size):
         return []
     limit = nadal_limit(angle, sysm.friction)

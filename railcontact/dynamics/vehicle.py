@@ -56,14 +56,14 @@ from numba import njit
 
 from ..errors import InputError
 from .wheel_rail import F_A, F_B, F_C11, F_C22, F_C23, F_CA, F_CB, F_DELTA, F_R, F_SHARE, \
-    F_YP, F_YRAIL, lookup, patch_forces
+    F_YP, F_YRAIL, F_YWHEEL, lookup, patch_forces
 
 G_ACC = 9.81
 #: half the lateral distance of the wheel loads for the load transfer [m]
 LOAD_BASE = 0.75
 #: per-patch inputs and outputs kept by the right-hand side
 PIN = ("normal_force", "a", "b", "C11", "C22", "C23", "xi", "eta", "phi", "contact_angle",
-       "y_contact", "A", "B", "y_rail", "velocity")
+       "y_contact", "A", "B", "y_rail", "velocity", "y_wheel")
 POUT = ("Fx", "Fy", "Mz", "Y", "Q", "Tgamma")
 WOUT = ("relative_shift", "outside_table", "load_left", "load_right")
 #: fixed-point passes for the normal force of steep patches (creep force's vertical part)
@@ -346,8 +346,11 @@ def _track_at(s, ks, kk, kc):
 
 @njit(cache=True, nogil=True)
 def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, irc, shift,
-             table, qref, r0, law, tp, mode, fext, pin, pout, wout):
+             tables, qrefs, r0, law, tp, mode, fext, pin, pout, wout):
     """Time derivative of the state u = (q, q') with q = (y, ψ, φ) per body.
+
+    ``tables`` (nw, n, 2, 2, nfields): each wheelset's contact table on the common
+    shift grid ``shift``, with its reference loads ``qrefs`` (nw,) [N].
 
     ``mode`` 0: creep forces from the compiled law ``law``; 1: from ``fext``
     (nw, 2, 2, 4: F_x, F_y, M_z and the normal force, 0 for the table's) given by
@@ -401,7 +404,7 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
             F[3 * j] -= f
             F[3 * j + 1] -= aj * f + m
             F[3 * j + 2] -= -dj * f + mr
-    vals = np.empty((2, 2, table.shape[3]))
+    vals = np.empty((2, 2, tables.shape[4]))
     hs = 0.5 * (irs[1] - irs[0])
     for w in range(wsets.shape[0]):
         b = int(wsets[w, 0])
@@ -412,7 +415,7 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
         cl = np.interp(s, irs, irc)
         y, psi, yd, psid = q[3 * b], q[3 * b + 1], qd[3 * b], qd[3 * b + 1]
         yrel = y - ya
-        outside = lookup(shift, table, yrel, vals)
+        outside = lookup(shift, tables[w], yrel, vals)
         Qt = wsets[w, 1] * (G_ACC * math.cos(ct) + V * V * k * math.sin(ct))
         dQ = wsets[w, 2] * (V * V * k * math.cos(ct) - G_ACC * math.sin(ct)) / (2 * LOAD_BASE)
         loads = (max(0.5 * Qt + dQ, 0.0), max(0.5 * Qt - dQ, 0.0))
@@ -423,7 +426,7 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
         om = V / r0
         psid_abs = psid + V * k
         for sd in range(2):
-            ratio = loads[sd] / qref
+            ratio = loads[sd] / qrefs[w]
             sc = ratio ** (1.0 / 3.0)
             for sl in range(2):
                 v = vals[sd, sl]
@@ -440,6 +443,7 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
                 p[6], p[7], p[8] = xi, eta, phi
                 p[9], p[10], p[11], p[12], p[13], p[14] = delta, yp, v[F_CA], v[F_CB], \
                     v[F_YRAIL], V
+                p[15] = v[F_YWHEEL]
                 if mode == 0:
                     fx, fy, mz = patch_forces(law, tp, N, p[1], p[2], p[3], p[4], p[5], xi, eta,
                                               phi, V)
@@ -480,7 +484,7 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
 
 @njit(cache=True, nogil=True)
 def rk4_run(u, t0, dt, n_steps, every, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs,
-            ira, irc, shift, table, qref, r0, law, tp, fext, pin, pout, wout, samples):
+            ira, irc, shift, tables, qrefs, r0, law, tp, fext, pin, pout, wout, samples):
     """Classical fixed-step Runge-Kutta (4th order) with a compiled creep law: ``n_steps``
     steps of ``dt`` from (t0, u); every ``every`` steps the state goes to the next
     row of ``samples``.  Returns the final state."""
@@ -488,15 +492,15 @@ def rk4_run(u, t0, dt, n_steps, every, V, s0, bodies, elems, bx, bf, wsets, ks, 
     for n in range(n_steps):
         t = t0 + n * dt
         k1 = rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, irc,
-                      shift, table, qref, r0, law, tp, 0, fext, pin, pout, wout)
+                      shift, tables, qrefs, r0, law, tp, 0, fext, pin, pout, wout)
         k2 = rhs_core(t + 0.5 * dt, u + 0.5 * dt * k1, V, s0, bodies, elems, bx, bf, wsets, ks,
-                      kk, kc, irs, ira, irc, shift, table, qref, r0, law, tp, 0, fext, pin,
+                      kk, kc, irs, ira, irc, shift, tables, qrefs, r0, law, tp, 0, fext, pin,
                       pout, wout)
         k3 = rhs_core(t + 0.5 * dt, u + 0.5 * dt * k2, V, s0, bodies, elems, bx, bf, wsets, ks,
-                      kk, kc, irs, ira, irc, shift, table, qref, r0, law, tp, 0, fext, pin,
+                      kk, kc, irs, ira, irc, shift, tables, qrefs, r0, law, tp, 0, fext, pin,
                       pout, wout)
         k4 = rhs_core(t + dt, u + dt * k3, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc,
-                      irs, ira, irc, shift, table, qref, r0, law, tp, 0, fext, pin, pout, wout)
+                      irs, ira, irc, shift, tables, qrefs, r0, law, tp, 0, fext, pin, pout, wout)
         u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
         if (n + 1) % every == 0 and k < samples.shape[0]:
             samples[k] = u

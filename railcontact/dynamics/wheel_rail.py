@@ -27,9 +27,14 @@ from numba import njit
 from tqdm.auto import tqdm
 
 from ..errors import ContactNotFoundError, InputError
+from ..geometry import find_contact
+from ..geometry.contact import ContactGeometry
 from ..geometry.validity import flange
-from ..materials import STEEL, Material
-from ..tangential.online import online_law, patch_forces  # noqa: F401 (re-exported)
+from ..hertz_theory import hertz_ellipse
+from ..materials import Material, STEEL
+from ..normal import get_normal_model
+from ..tangential.kalker import kalker_coefficients
+from ..tangential.online import online_law, patch_forces
 
 log = logging.getLogger(__name__)
 
@@ -37,8 +42,9 @@ log = logging.getLogger(__name__)
 FLANGE_ANGLE = 0.35
 #: table fields per patch slot
 FIELDS = ("load_share", "contact_angle", "rolling_radius", "y_contact", "a", "b",
-          "C11", "C22", "C23", "A", "B", "y_rail")
-(F_SHARE, F_DELTA, F_R, F_YP, F_A, F_B, F_C11, F_C22, F_C23, F_CA, F_CB, F_YRAIL) = range(12)
+          "C11", "C22", "C23", "A", "B", "y_rail", "y_wheel")
+(F_SHARE, F_DELTA, F_R, F_YP, F_A, F_B, F_C11, F_C22, F_C23, F_CA, F_CB, F_YRAIL,
+ F_YWHEEL) = range(13)
 
 
 @dataclass
@@ -56,9 +62,10 @@ class WheelRailTable:
         angle changes fast), contact angle δ [rad] (track frame), rolling radius [m],
         lateral position of the contact point relative to the wheelset centre [m],
         Hertz semi-axes a, b [m], Kalker's C11, C22, C23, curvatures A, B [1/m] and
-        the rail profile coordinate [m].  Absent patches have normal force 0 (other
-        fields continued from the nearest shift where the slot exists).  At a wheel
-        load Q a patch has N = share Q / cos δ before the creep correction.
+        the rail and wheel profile coordinates [m] of the contact point.  Absent
+        patches have normal force 0 (other fields continued from the nearest shift
+        where the slot exists).  At a wheel load Q a patch has N = share Q / cos δ
+        before the creep correction.
     reference_load : float
         Vertical wheel load [N] of the table.
     nominal_radius : float
@@ -66,6 +73,16 @@ class WheelRailTable:
     flange_angle : float
         The wheels' largest flange angle [rad] (NaN without a flange: a conical
         table), for Nadal's flange-climb limit.
+    delta_r : ndarray (n,) or None
+        Rolling radius difference r_right - r_left [m] per shift, each side's patches
+        combined with CONTACT's weights (the Δr(y) function of EN 15302), where built
+        from profiles.
+    geometry : list or None
+        With ``keep_geometry``: per shift a ((left tread, left flange), (right tread,
+        right flange)) tuple of the geometry layer's
+        :class:`~railcontact.geometry.ContactGeometry` (None for an absent slot), at
+        the reference load: the patches a post-processing solves again with any
+        local contact model (:mod:`railcontact.wear.postprocess`).
     """
 
     shift: np.ndarray
@@ -73,14 +90,15 @@ class WheelRailTable:
     reference_load: float
     nominal_radius: float
     flange_angle: float = math.nan
+    delta_r: np.ndarray | None = None
+    geometry: list | None = None
 
     @classmethod
     def build(cls, wheelset, track, reference_load: float, material: Material = STEEL,
-              shift_range: float = 0.012, step: float = 2e-4, progress: bool = False):
-        """Contact search at every shift in [-shift_range, shift_range] (yaw 0)."""
-        from ..geometry import find_contact
-        from ..hertz_theory import hertz_ellipse
-        from ..tangential.kalker import kalker_coefficients
+              shift_range: float = 0.012, step: float = 2e-4, progress: bool = False,
+              keep_geometry: bool = False):
+        """Contact search at every shift in [-shift_range, shift_range] (yaw 0);
+        ``keep_geometry`` keeps the patches' geometry (:attr:`geometry`)."""
         if not (math.isfinite(reference_load) and reference_load > 0):
             raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")
         if not (1e-3 <= shift_range <= 0.03 and 1e-5 <= step <= shift_range / 4):
@@ -90,6 +108,8 @@ class WheelRailTable:
         shifts = np.linspace(-n * step, n * step, 2 * n + 1)
         data = np.full((shifts.size, 2, 2, len(FIELDS)), np.nan)
         data[..., F_SHARE] = 0.0
+        delta_r = np.full(shifts.size, np.nan)
+        kept = [] if keep_geometry else None
         Es, nu = material.contact_modulus, material.nu
         for i, y in enumerate(tqdm(shifts, desc="wheel-rail contact table",
                                    disable=not progress)):
@@ -99,6 +119,9 @@ class WheelRailTable:
             except ContactNotFoundError as exc:
                 raise InputError(f"contact table: no contact at lateral shift {y:g} m ({exc}); "
                                  "reduce the table range") from None
+            radius = [c.equivalent_point(side)["rolling_radius"] for side in ("left", "right")]
+            delta_r[i] = radius[1] - radius[0]
+            slots_here = [[None, None], [None, None]]
             for j, side in enumerate(("left", "right")):
                 ps = sorted(c.side_patches(side), key=lambda p: -p.y_rail)   # field side first
                 if len(ps) > 2:
@@ -118,14 +141,17 @@ class WheelRailTable:
                     C = kalker_coefficients(hz.a / hz.b, nu)
                     data[i, j, k] = (hz.force, p.contact_angle, p.rolling_radius,
                                      p.position[1] - y, hz.a, hz.b, C[0], C[1], C[2], A, B,
-                                     p.y_rail)
+                                     p.y_rail, p.y_wheel)
                     vert += hz.force * math.cos(p.contact_angle)
+                    slots_here[j][k] = p
                 if vert > 0:       # shares of the multi-Hertzian vertical forces
                     on = data[i, j, :, F_SHARE] > 0
                     data[i, j, on, F_SHARE] *= np.cos(data[i, j, on, F_DELTA]) / vert
+            if kept is not None:
+                kept.append(tuple(tuple(sl) for sl in slots_here))
         # continue the fields of absent slots from the nearest shift with the slot
         default = (0.0, 0.0, wheelset.nominal_radius, 0.75, 1e-3, 1e-3, 4.0, 3.5, 1.5, 1.0,
-                   1.0, 0.0)
+                   1.0, 0.0, 0.0)
         for j in range(2):
             for k in range(2):
                 ok = data[:, j, k, F_SHARE] > 0
@@ -137,13 +163,13 @@ class WheelRailTable:
         flanges = [flange(wheelset.wheel(s)) for s in ("left", "right")]
         angle = min((f.max_angle for f in flanges if f is not None), default=math.nan)
         return cls(shifts, np.ascontiguousarray(data), float(reference_load),
-                   float(wheelset.nominal_radius), angle)
+                   float(wheelset.nominal_radius), angle, delta_r, kept)
 
     def to_xarray(self):
         import xarray as xr
         units = {"load_share": "1", "contact_angle": "rad", "rolling_radius": "m",
                  "y_contact": "m", "a": "m", "b": "m", "C11": "1", "C22": "1", "C23": "1",
-                 "A": "1/m", "B": "1/m", "y_rail": "m"}
+                 "A": "1/m", "B": "1/m", "y_rail": "m", "y_wheel": "m"}
         dims = ("lateral_shift", "side", "slot")
         return xr.Dataset({f: (dims, self.data[..., i], {"units": units[f]})
                            for i, f in enumerate(FIELDS)},
@@ -161,7 +187,6 @@ class WheelRailTable:
         side, contact angles ±γ (or 0 with ``contact_angles=False``: the textbook
         wheelset without spin and contact-plane tilt), fixed Hertz semi-axes at the
         reference load."""
-        from ..tangential.kalker import kalker_coefficients
         shifts = np.linspace(-shift_range, shift_range, 401)
         a, b = semi_axes
         C = coefficients or kalker_coefficients(a / b, nu)
@@ -169,11 +194,12 @@ class WheelRailTable:
         for j, sgn in enumerate((-1.0, 1.0)):
             delta = -sgn * gamma if contact_angles else 0.0
             data[:, j, 0] = np.array([1.0, delta, r0, sgn *
-                                      half_distance, a, b, C[0], C[1], C[2], 1.0, 1.0, 0.0])
+                                      half_distance, a, b, C[0], C[1], C[2], 1.0, 1.0, 0.0,
+                                      0.0])
             data[:, j, 0, F_R] = r0 + sgn * gamma * shifts
             data[:, j, 1] = data[:, j, 0]
             data[:, j, 1, F_SHARE] = 0.0
-        return cls(shifts, data, float(reference_load), float(r0))
+        return cls(shifts, data, float(reference_load), float(r0), delta_r=2 * gamma * shifts)
 
 
 @njit(cache=True, nogil=True)
@@ -197,8 +223,6 @@ def lookup(shift, data, y, out):
 def python_patch_forces(model, material, friction, N, A, B, xi, eta, phi, V, grid):
     """(F_x, F_y, M_z) of one patch with any registered tangential model (its Python
     ``solve``) on the Hertz patch with curvatures A, B and normal force N."""
-    from ..geometry.contact import ContactGeometry
-    from ..normal import get_normal_model
     if N <= 0:
         return 0.0, 0.0, 0.0
     geo = ContactGeometry(curvatures=(A, B))

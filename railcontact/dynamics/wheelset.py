@@ -30,6 +30,9 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
 from ..errors import InputError
+from ..hertz_theory import hertz_ellipse
+from ..materials import STEEL
+from ..tangential.kalker import kalker_coefficients
 
 
 @dataclass
@@ -85,9 +88,6 @@ class WheelsetModel:
         Creep coefficients from the Hertz contact at the central position, with the
         table's vertical force (``vertical_force_N`` attribute).
         """
-        from ..materials import STEEL
-        from ..hertz_theory import hertz_ellipse
-        from ..tangential.kalker import kalker_coefficients
         mat = material or STEEL
         y = table["lateral_shift"].values
         dr = table["delta_r"].values

@@ -95,6 +95,7 @@ def equivalent_conicity(table, amplitude: float, method: str = "wavelength",
     def crest(s, u):          # velocity turns from + to -: the next crest, one wavelength
         return u[1]
     crest.direction = -1.0
+    crest.terminal = 2        # the start is the first crest: stop at the second
     span = 2 * np.pi * math.sqrt(e0 * r0 / 1e-3) * 4
     sol = solve_ivp(rhs, (0.0, span), [amplitude, 0.0], events=crest, rtol=1e-10,
                     atol=1e-13, max_step=1.0)

@@ -18,7 +18,7 @@ import time
 
 import numpy as np
 from scipy.interpolate import RegularGridInterpolator
-from scipy.optimize import brentq
+from scipy.optimize import brentq, root_scalar
 
 from ..errors import InputError
 from ..materials import STEEL, Material
@@ -92,6 +92,25 @@ class _StripModel(ExactNormalModel):
         p = np.where(inside, peak[None, :] * np.sqrt(np.clip(1 - r * r, 0, None)), 0.0)
         return p, p > 0, (np.where(on, xm + half, 0.0), np.where(on, xm - half, 0.0))
 
+    @staticmethod
+    def _secant_log(f, guess: float, force: float):
+        """The approach at which ``f`` (the force minus ``force``) vanishes, by secant
+        steps on log F against log approach (F grows about as the approach^1.5, so
+        that a few steps reach 1e-10; 12 steps of Brent's bracketing before).  None
+        where a step leaves the contact or does not converge (the caller brackets)."""
+        def g(s):
+            F = f(math.exp(s)) + force
+            return math.log(F / force) if F > 0 else math.nan
+
+        try:
+            r = root_scalar(g, method="secant", x0=math.log(guess),
+                            x1=math.log(guess) + 0.1, xtol=1e-11, rtol=1e-11, maxiter=20)
+        except (ValueError, ArithmeticError):
+            return None
+        if not (r.converged and math.isfinite(r.root)):
+            return None
+        return math.exp(r.root)
+
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
               penetration: float | None = None, grid=None, element_size=None) -> NormalSolution:
         """Solve for a given normal force [N] or approach [m] on the geometry's gap."""
@@ -118,15 +137,24 @@ class _StripModel(ExactNormalModel):
             p, contact, strips = at(penetration)
             delta = penetration
         else:
+            seen = {}
+
             def f(d):
-                return float(at(d)[0].sum() * dx * dy) - normal_force
-            lo, hi = 0.2 * guess, 2.0 * guess
-            while f(hi) < 0:
-                hi *= 2
-            while f(lo) > 0 and lo > 1e-12:
-                lo *= 0.5
-            delta = brentq(f, lo, hi, rtol=1e-10, xtol=1e-15)
-            p, contact, strips = at(delta)
+                seen[d] = at(d)
+                return float(seen[d][0].sum() * dx * dy) - normal_force
+
+            delta = self._secant_log(f, guess, normal_force) if normal_force > 0 else None
+            if delta is None:
+                lo, hi = 0.2 * guess, 2.0 * guess
+                while f(hi) < 0:
+                    hi *= 2
+                if f(lo) > 0:
+                    # down to the approach at which no element interpenetrates (F = 0):
+                    # below 0 where the grid's deepest point lies below the search's
+                    delta = min(float(h0.min()), 0.0)
+                    lo = delta
+                delta = brentq(f, lo, hi, rtol=1e-10, xtol=1e-15)
+            p, contact, strips = seen[delta] if delta in seen else at(delta)
         interp = RegularGridInterpolator((x, y), p, bounds_error=False, fill_value=0.0)
 
         def pressure_at(xq, yq, interp=interp):

@@ -21,6 +21,7 @@ from __future__ import annotations
 
 import logging
 from dataclasses import dataclass, field
+from functools import cached_property
 
 import numpy as np
 from numba import njit
@@ -308,10 +309,17 @@ class Profile:
             y0 = brentq(lambda t: float(self.slope(t)), lo, hi, xtol=1e-12)
         return self.shifted(-y0, -float(self.z_at(y0)))
 
-    def arc_length(self, y):
-        """Curvilinear coordinate along the profile from its first point [m]."""
+    @cached_property
+    def _arc_table(self):
+        """(y, s) of the arc-length table on 20 points per profile point, built once
+        (a profile is immutable)."""
         yf = np.linspace(self.y[0], self.y[-1], 20 * self.y.size)
         s = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(yf), np.diff(self.z_at(yf))))))
+        return yf, s
+
+    def arc_length(self, y):
+        """Curvilinear coordinate along the profile from its first point [m]."""
+        yf, s = self._arc_table
         return np.interp(y, yf, s)
 
     def __repr__(self) -> str:

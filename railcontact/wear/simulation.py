@@ -34,11 +34,15 @@ from pathlib import Path
 import numpy as np
 from scipy.ndimage import gaussian_filter1d
 
+from ..bodies import build_wheelset_track
 from ..case import case_from_dict, read_toml
+from ..case_solve import solve
 from ..errors import CaseFileError, InputError, RailContactError
 from ..profiles.profile import Profile
 from .laws import get_wear_law
 from .mapping import profile_depth, strip_depth, wear_profile
+from .vehicle_scenario import (apply_wear_settings, is_vehicle_scenario, number,
+                               vehicle_scenario_from_dict)
 
 log = logging.getLogger(__name__)
 
@@ -72,13 +76,19 @@ class WearScenario:
     base_dir: Path = field(default_factory=Path.cwd)
 
 
-def load_scenario(path) -> WearScenario:
-    """Read and validate a wear scenario TOML file."""
+def load_scenario(path):
+    """Read and validate a wear scenario TOML file: a :class:`WearScenario`
+    (operating conditions or a time history) or, with ``[vehicle]`` and
+    ``[[route]]``, a closed-loop
+    :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenario`."""
     path = Path(path)
     return scenario_from_dict(read_toml(path, "wear scenario"), path.parent)
 
 
-def scenario_from_dict(raw: dict, base_dir=None) -> WearScenario:
+def scenario_from_dict(raw: dict, base_dir=None):
+    """Validate a parsed wear scenario (see :func:`load_scenario`)."""
+    if is_vehicle_scenario(raw):
+        return vehicle_scenario_from_dict(raw, base_dir)
     raw = copy.deepcopy(raw)
     wear = raw.pop("wear", {})
     conds = raw.pop("condition", None)
@@ -104,22 +114,8 @@ def scenario_from_dict(raw: dict, base_dir=None) -> WearScenario:
         if not (isinstance(w, (int, float)) and w > 0):
             raise CaseFileError(f"condition {i + 1}: weight = {w!r}; expected a value > 0")
     sc = WearScenario(base=raw, conditions=conds, base_dir=Path(base_dir or Path.cwd()))
-    for key in ("law", "body", "scheduler"):
-        if key in wear:
-            setattr(sc, key, str(wear[key]))
-    sc.parameters = dict(wear.get("parameters", {}))
-    for key, lo, hi in (("steps", 1, 100000), ("max_depth_per_step", 1e-9, 1e-2),
-                        ("smoothing", 0.0, 0.05), ("profile_smoothing", 0.0, 0.05),
-                        ("rail_passages_per_meter", 1e-9, 1e3),
-                        ("grid_step", 1e-6, 1e-3), ("step_distance", 1e-6, 1e12)):
-        if key in wear:
-            v = wear[key]
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not lo <= v <= hi:
-                raise CaseFileError(f"wear.{key} = {v!r}: expected a value in [{lo:g}, {hi:g}]")
-            setattr(sc, key, int(v) if key == "steps" else float(v))
-    if sc.body not in ("wheel", "rail", "both"):
-        raise CaseFileError(f"wear.body = {sc.body!r}: expected 'wheel', 'rail' or 'both'")
-    get_wear_law(sc.law, **sc.parameters)             # fail early on a bad law
+    apply_wear_settings(sc, wear)
+    sc.rail_passages_per_meter = number(wear, "wear", "rail_passages_per_meter", 1.0, 1e-9, 1e3)
     # validate the base case with the first condition
     case_from_dict(_condition_raw(sc, conds[0], None), sc.base_dir)
     return sc
@@ -212,7 +208,6 @@ def condition_wear(raw: dict, base_dir, law_name: str, law_params: dict, grids: 
                    profiles: dict) -> dict:
     """Wear of one operating condition: depth per revolution (wheels) and per passage
     (rails) on the s-grids, the rolling radii, and the frictional energy [J/m]."""
-    from ..case_solve import solve
     law = get_wear_law(law_name, **law_params)
     res = solve(case_from_dict(raw, base_dir))
     out = {b: np.zeros_like(grids[b]) for b in BODIES}
@@ -249,7 +244,6 @@ class WearSimulation:
         self.progress = progress
         case = case_from_dict(_condition_raw(scenario, scenario.conditions[0], None),
                               scenario.base_dir)
-        from ..bodies import build_wheelset_track
         ws, tr = build_wheelset_track(case)
         self.profiles = {"wheel_left": ws.wheel_left, "wheel_right": ws.wheel_right,
                          "rail_left": tr.rail_left, "rail_right": tr.rail_right}

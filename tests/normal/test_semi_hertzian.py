@@ -78,3 +78,22 @@ def test_rounding_of_the_gap_does_not_move_the_strips(model):
         np.testing.assert_allclose(ns.pressure, ref.pressure, rtol=0, atol=1e-6 * ref.pmax)
         for e, e0 in zip(ns.strips, ref.strips):
             np.testing.assert_allclose(e, e0, rtol=0, atol=1e-6 * ref.dx)
+
+
+@pytest.mark.parametrize("model", ["kik-piotrowski", "kpec", "stripes", "analyn"])
+def test_force_control_in_few_evaluations(model, monkeypatch):
+    """Force-controlled: secant steps on log F against log approach meet the load to
+    1e-10 in at most 8 pressure evaluations (Brent's bracketing took 12-13), with the
+    approach Brent's method finds (1e-9)."""
+    from railcontact.normal.semi_hertzian import _StripModel
+    nm = get_normal_model(model)
+    calls = []
+    orig = nm._pressure
+    monkeypatch.setattr(nm, "_pressure", lambda *a: calls.append(1) or orig(*a))
+    g = ContactGeometry(curvatures=(3.0, 1.2))
+    ns = nm.solve(g, MAT, normal_force=5e4, grid=(30, 30))
+    assert len(calls) <= 8
+    assert ns.normal_force == pytest.approx(5e4, rel=1e-10)
+    monkeypatch.setattr(_StripModel, "_secant_log", staticmethod(lambda *a: None))
+    ref = nm.solve(g, MAT, normal_force=5e4, grid=(30, 30))
+    assert ns.penetration == pytest.approx(ref.penetration, rel=1e-9)
