@@ -142,7 +142,7 @@ def test_uk_crossing_with_interrupted_slices(testbank):
     the reference point within 10 um (measured up to 8.7 um) but for the last two
     cases, where the wing rail's crown rises under the wheel (F_n +2.8 % from
     s = 128 to 130 mm) and the reference point moves by 40 um per mm of s: 31 and
-    22 um (tolerance 35 um there)."""
+    22 um (an expected failure below)."""
     refs = read_ref_out(testbank / "examples_s+c" / "mbench_intrup.ref_out")
     assert len(refs) == 43
     for ref in refs:
@@ -152,13 +152,27 @@ def test_uk_crossing_with_interrupted_slices(testbank):
         (p,) = res.patches
         (q,) = ref["patches"]
         g, n = p.geometry, p.normal
-        tol = 0.01 if ref["case"] <= 41 else 0.035
-        assert g.position * 1e3 == pytest.approx([q["xcp"], q["ycp"], q["zcp"]], abs=tol)
+        if ref["case"] <= 41:                    # 42, 43: test_..._last_two_cases
+            assert g.position * 1e3 == pytest.approx([q["xcp"], q["ycp"], q["zcp"]],
+                                                      abs=0.01)
         assert n.normal_force == pytest.approx(q["fn"], rel=0.01)
         assert n.area / (0.2e-3 * 0.2e-3) == pytest.approx(q["ncon"], rel=0.03)
         assert g.contact_angle == pytest.approx(q["delta"], abs=1e-3)
         assert n.penetration * 1e3 == pytest.approx(q["approach"], rel=0.015)
 
+
+
+@pytest.mark.xfail(strict=True, reason="mbench_intrup 42, 43: reference point 31 and 22 um "
+                   "from CONTACT's (cause not found)")
+@pytest.mark.parametrize("case", [42, 43])
+def test_uk_crossing_with_interrupted_slices_last_two_cases(testbank, case):
+    """The reference point of mbench_intrup's last two cases within 10 um."""
+    ref = read_ref_out(testbank / "examples_s+c" / "mbench_intrup.ref_out")[case - 1]
+    res = rc.solve(_case(testbank, "uk_interrupt_v2.slcs", ref["s"] * 1e-3,
+                         y=ref["y"] * 1e-3, z=ref["z"] * 1e-3, ds=0.2e-3))
+    (q,) = ref["patches"]
+    assert res.patches[0].geometry.position * 1e3 == pytest.approx(
+        [q["xcp"], q["ycp"], q["zcp"]], abs=0.01)
 
 def test_nose_that_begins_between_slices(testbank):
     """cw_interrupt (cross+wing_extd.slcs: ten slices of a straight stock rail
@@ -194,7 +208,6 @@ def test_nose_that_begins_between_slices(testbank):
     assert p.normal.normal_force == pytest.approx(q["fn"], rel=0.01)
     assert p.normal.area / (0.2e-3 * 0.05e-3) == pytest.approx(q["ncon"], rel=0.03)
     assert p.geometry.position[1:] * 1e3 == pytest.approx([q["ycp"], q["zcp"]], abs=0.01)
-    assert p.geometry.position[0] * 1e3 == pytest.approx(q["xcp"], abs=0.15)
 
     q = refs[1]["patches"][0]
     res = rc.solve(_case(testbank, "cross+wing_extd.slcs", 0.0, z=2.5287e-3))
@@ -205,9 +218,28 @@ def test_nose_that_begins_between_slices(testbank):
     assert x.min() > 0.0 and x.min() < 0.2e-3
     assert n.area / (0.2e-3 * 0.05e-3) == pytest.approx(q["ncon"], rel=0.01)
     assert n.penetration * 1e3 == pytest.approx(q["approach"], rel=0.002)
-    assert g.position * 1e3 == pytest.approx([q["xcp"], q["ycp"], q["zcp"]], abs=0.02)
-    assert n.normal_force == pytest.approx(q["fn"], rel=0.015)
-    assert n.normal_force < q["fn"]
+
+
+@pytest.mark.xfail(strict=True, reason="cw_interrupt 1: x 118 um from CONTACT's contact-locus "
+                   "point (locus comparisons: 40 um); 2: F_n -1.4 %, the reference point "
+                   "15 um from CONTACT's (the first grid row behind the cut)")
+@pytest.mark.parametrize("case", [1, 2])
+def test_nose_that_begins_between_slices_targets(testbank, case):
+    """cw_interrupt at the issue's tolerances, which two figures miss (measured reasons
+    in test_nose_that_begins_between_slices): case 1's x against CONTACT's contact
+    locus (D = 2) within the 40 um that the UK crossing's locus cases meet, case 2's
+    F_n within 1 % and its reference point within 10 um."""
+    ref = read_ref_out(testbank / "examples_s+c" / "cw_interrupt.ref_out")[case - 1]
+    q = ref["patches"][0]
+    kw = dict(y=0.04, fz=1e4) if case == 1 else dict(z=2.5287e-3)
+    res = rc.solve(_case(testbank, "cross+wing_extd.slcs", 0.0, **kw))
+    (p,) = res.patches
+    if case == 1:
+        assert p.geometry.position[0] * 1e3 == pytest.approx(q["xcp"], abs=0.04)
+    else:
+        assert p.normal.normal_force == pytest.approx(q["fn"], rel=0.01)
+        assert p.geometry.position * 1e3 == pytest.approx([q["xcp"], q["ycp"], q["zcp"]],
+                                                          abs=0.01)
 
 
 def test_wheel_just_before_the_nose_begins(testbank):
