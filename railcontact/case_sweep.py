@@ -61,15 +61,13 @@ def _solve_chain(raws, base_dir, normal, tangential, warm):
 
 
 #: estimated time [s] of one wheel-rail case by the heavier of its models, for the
-#: "auto" scheduler (``make bench``: exact normal + tangential 15-20 ms per case,
-#: Hertz + FASTSIM and the strip models 3-7 ms)
+#: "auto" scheduler (docs/tuning.md, section "Sweeps")
 CASE_SECONDS = {"exact": 0.02}
 OTHER_CASE_SECONDS = 0.005
 
 #: "auto" runs a sweep in worker processes when it is expected to take longer than this
-#: [s] in one process: starting the workers (each imports railcontact and loads the
-#: compiled kernels) costs about 2.5 s, and two cores save half of the rest (``make
-#: bench``: 256 exact cases, 4.8 s in one process, took 5.6 s in two)
+#: [s] in one process (each worker imports railcontact and loads the compiled kernels;
+#: docs/tuning.md, section "Sweeps")
 PROCESSES_FROM = 8.0
 
 
@@ -92,8 +90,8 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
     scheduler : str
         Dask scheduler: ``"sync"``, ``"threads"``, ``"processes"``, ``"auto"``
         (processes where the sweep is expected to take over ``PROCESSES_FROM``
-        seconds in one process, e.g. from 400 exact or 1600 Hertz + FASTSIM cases:
-        starting the workers costs about 2.5 s) or the address of a Dask scheduler
+        seconds in one process, e.g. from 400 exact or 1600 Hertz + FASTSIM cases;
+        docs/tuning.md, section "Sweeps") or the address of a Dask scheduler
         (``tcp://host:8786``) to run on a cluster.
     progress : bool
         Show a progress bar.

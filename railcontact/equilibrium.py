@@ -83,18 +83,15 @@ STEP_FACTOR = 5.0
 
 #: a side's force that grows across the bracket of its load faster than this in
 #: proportion to its interpenetration, d(ln F)/d(ln d), with both ends off the load,
-#: jumps across it (Hertz: 1.5; flange contact where a second region joins the
-#: patch, or the lateral creep force nearly cancels the vertical component of the
-#: normal force: up to 20 on the benchmark sweep): by the mean-value theorem no force
-#: of smaller slope has such a bracket
+#: jumps across it (Hertz: 1.5): by the mean-value theorem no force of smaller slope
+#: has such a bracket (the slopes met: docs/tuning.md, section "Equilibrium")
 JUMP_SLOPE = 100.0
 
 #: the largest rate at which a wheel's force changes with the other wheel's
-#: interpenetration, |d(ln F_s)/d(ln d_o)| (measured up to 2.2 on the benchmark sweep's
-#: flange contact and 5.1 on a STRIPES case in steep flange contact: the roll moves
-#: the tread's contact): a point of a side's history brackets its load at other
-#: interpenetrations of the other side only where its residual exceeds this times
-#: their difference
+#: interpenetration, |d(ln F_s)/d(ln d_o)| (the roll moves the tread's contact; the
+#: rates met: docs/tuning.md, section "Equilibrium"): a point of a side's history
+#: brackets its load at other interpenetrations of the other side only where its
+#: residual exceeds this times their difference
 COUPLING_SLOPE = 10.0
 
 #: forces below this fraction of the load count as this fraction (ln 0 = -inf)

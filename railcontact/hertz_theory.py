@@ -57,7 +57,7 @@ def _checked_arrays(A, B, penetration):
 
 #: Taylor coefficients of the curvature ratio (E/(1-m) - K)/(K - E) in m, from the
 #: series of K and E; used below SERIES_M, where the closed form loses digits to
-#: cancellation (relative error 4e-4 at m = 1e-6, 6e-10 at 1e-3).
+#: cancellation (docs/tuning.md, section "Strip models and the Hertz formulas").
 _RATIO_SERIES = (1.0, 3 / 4, 21 / 32, 309 / 512, 291 / 512, 17781 / 32768)
 SERIES_M = 3e-3
 
@@ -278,8 +278,9 @@ def _axes_kernel(A, B, d, Es, dt, tab, a, b, F):
 
 def hertz_ellipses_table(A, B, contact_modulus: float, penetration):
     """:func:`hertz_ellipses` interpolated linearly in a table uniform in the log of
-    the curvature ratio (relative error below 1e-7, 15x faster): for the strip
-    models and FASTSIM's local ellipses, one Hertz solution per strip.
+    the curvature ratio (relative error below 1e-7; docs/tuning.md, section "Strip
+    models and the Hertz formulas"): for the strip models and FASTSIM's local
+    ellipses, one Hertz solution per strip.
 
     Returns a, b [m] and the force [N], arrays of the broadcast shape.
     """

@@ -56,12 +56,9 @@ def _first_search(case, bodies, loads, sides, start):
 
     With ``start`` (the contact of a neighbouring case's result, e.g. the previous
     case of a sweep): at its interpenetrations, scaled to this case's loads as
-    Hertz's approach (Q^(2/3)), from its roll; a neighbour's balanced
-    interpenetrations are a closer start than an estimate, and one search at given
-    interpenetrations costs about half the estimate's.  Else (or where ``start``
-    has no interpenetration on a side): the geometry layer's multi-Hertzian
-    estimate, one load iteration (its own fixed-point iteration costs more passes
-    of the balance than it saves)."""
+    Hertz's approach (Q^(2/3)), from its roll.  Else (or where ``start`` has no
+    interpenetration on a side): the geometry layer's multi-Hertzian estimate, one
+    load iteration (why these starts: docs/tuning.md, section "Equilibrium")."""
     if start is not None and start.interpenetration and start.loads:
         d0 = {}
         for s in sides:
@@ -75,8 +72,8 @@ def _first_search(case, bodies, loads, sides, start):
 
 
 #: the uncertainty of a stand-in lateral force: FASTSIM's F_y on the exact normal
-#: solution is within this fraction of the exact F_y (measured on the benchmark
-#: sweep's patches: median 3-4 %, in flange contact F_y sin(d) within 9 % of the load)
+#: solution is taken to be within this fraction of the exact F_y (docs/tuning.md,
+#: section "Equilibrium")
 STANDIN_UNCERTAINTY = 0.1
 
 
@@ -184,8 +181,7 @@ def _standin_lateral(standin, neighbour) -> dict:
     neighbouring case (``neighbour``: its solved patch results and FASTSIM's on
     them) has a patch of the same side within ``WARM_DISTANCE`` plus the neighbour's
     difference of the solved F_y/F_n from FASTSIM's, times F_n: FASTSIM's own error
-    (median 3-4 % of F_y on the benchmark sweep) largely cancels between
-    neighbours."""
+    largely cancels between neighbours (docs/tuning.md, section "Equilibrium")."""
     out = {}
     for r in standin:
         fy = r.tangential.fy

@@ -14,9 +14,7 @@ from .locus import Locus
 #: exponent of the interpenetration in the weights of a patch's reference point and
 #: contact angle: CONTACT's default weights each locus sample by the integral of the
 #: squared interpenetration over x, which for a parabolic gap in x grows as (-g)^2.5
-#: (its reference points on the Manchester 10 kN sweep are reproduced to 4 um except
-#: where it combines two regions into one patch; (-g)^1.5 put them 0.06-1.1 mm away on
-#: the 10-20 mm wide tread patches)
+#: (docs/tuning.md, section "Geometry search")
 GAP_WEIGHT = 2.5
 
 

@@ -56,8 +56,8 @@ COARSE = (1.0e-3, 0.4e-3)
 #: fine search grid (dx, dy) [m] over the candidate places (CONTACT: DX, 0.75 DS)
 FINE = (0.2e-3, 0.075e-3)
 #: a coarse sample whose vertical gap is below this [m] marks a candidate place (the
-#: gap between coarse samples can lie lower by about A dx^2/4 + B dy^2/4: 3 um on a
-#: 13 mm nose with 0.4 mm samples)
+#: gap between coarse samples can lie lower by about A dx^2/4 + B dy^2/4; docs/tuning.md,
+#: section "Geometry search")
 CANDIDATE_GAP = 3e-5
 #: finite-difference steps (rolling, lateral) [m] of the gap's curvatures
 FD_STEP = (1e-3, 1e-4)
@@ -307,10 +307,8 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
         cross-section at the wheelset's position s for every cell
         (``"wheelset"``: CONTACT's brute-force search, which evaluates the
         inclination on the rail profile at s_ws; the cell's own where that
-        section has no surface, an interrupted rail; on a rail that varies along the
-        track its contact angles then differ, e.g. -0.077 against -0.053 rad on
-        the wing rail shifting 1:10 of its testbank, the patch 2.4 mm behind
-        the axle).
+        section has no surface, an interrupted rail; how far the two differ:
+        docs/tuning.md, section "Geometry search").
 
     Returns
     -------

@@ -14,9 +14,8 @@ lateral slope dz/dy at track positions s [m] and lateral profile positions y [m]
   points of equal index form 'interpolation paths' y_j(s), z_j(s) along the track,
   interpolated by cubic splines through the slices (not-a-knot); the cross-section
   at s is the curve through (y_j(s), z_j(s)), a parametric natural cubic spline in
-  its summed chord length (CONTACT's ``varprof_get_loc_z_at_xy``; a spline in the
-  point index instead oscillates by about 1 um where the resampling's spacing
-  changes at a feature, enough to move the approach by 2 % on a nose's edge).
+  its summed chord length (CONTACT's ``varprof_get_loc_z_at_xy``; why not a spline
+  in the point index: docs/tuning.md, section "Geometry search").
   An interrupted rail (features missing from some slices) is made of the parts
   that exist at s, with gaps between them (see the class notes).
 * :class:`RollerSurface`: a roller of a roller rig, the profile revolved about an

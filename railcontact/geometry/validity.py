@@ -20,11 +20,8 @@ Two checks, applied to every patch of a wheel-rail result
   (a long, narrow patch on the 13 mm gauge corner is planar across its width).
   Above ``HALF_SPACE_LIMIT`` = 0.5 the patch is flagged: the surface normal then
   turns by more than asin(0.5) = 30 degrees between the patch's centre and edge,
-  and the planar contact of the half-space models no longer describes it.  For
-  scale: Kassa & Wiest's crossing-nose case (seed 003: 111.5 kN, rail 13 mm and
-  wheel -18 mm lateral radius), where Hertz and CONTACT agreed with elastic finite
-  elements within 1 %, has a ratio of 0.16 (0.72 by their own measure, the largest
-  semi-axis, 9.4 mm along x, over the smallest radius).
+  and the planar contact of the half-space models no longer describes it (a case
+  for scale: docs/tuning.md, section "Geometry search").
 """
 
 from __future__ import annotations

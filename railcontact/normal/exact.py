@@ -48,9 +48,8 @@ class ExactNormalModel:
     ----------
     tol : float        relative tolerance of the pressure iteration (default 1e-5: the
                        pressure's relative change per iteration, and the rms gap on
-                       the contact area relative to the gap's range); on S1002/60E1
-                       patches on 40 x 40 grids the force is then within 2e-6 and
-                       the pressure within 1e-4 p_max of a 1e-10 solution
+                       the contact area relative to the gap's range; what it costs
+                       in accuracy: docs/tuning.md, section "Normal: exact")
     maxiter : int      iteration limit
     margin : float     the potential contact area extends the expected contact by
                        this fraction on each side

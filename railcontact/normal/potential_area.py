@@ -70,9 +70,8 @@ REUSE_FILL = 0.8
 
 #: ... and reaches beyond it by at most this fraction of its half-widths (the
 #: potential area is the interpenetration region widened by the margin, so the
-#: contact stays well inside): a grid is built to fit its potential area exactly,
-#: and the next pass's area, after the small change of the approach, overhangs it
-#: by a median 0.08 %
+#: contact stays well inside): a grid is built to fit its potential area exactly
+#: (docs/tuning.md, section "Normal: exact")
 REUSE_OVERHANG = 0.02
 
 

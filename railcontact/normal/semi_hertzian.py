@@ -96,7 +96,8 @@ class _StripModel(ExactNormalModel):
     def _secant_log(f, guess: float, force: float):
         """The approach at which ``f`` (the force minus ``force``) vanishes, by secant
         steps on log F against log approach (F grows about as the approach^1.5, so
-        that a few steps reach 1e-10; 12 steps of Brent's bracketing before).  None
+        that a few steps reach 1e-10; docs/tuning.md, section "Strip models and the
+        Hertz formulas").  None
         where a step leaves the contact or does not converge (the caller brackets)."""
         def g(s):
             F = f(math.exp(s)) + force

@@ -21,10 +21,9 @@ slips on the bound against its slip).  Each Newton step is solved inexactly
 (Eisenstat-Walker forcing) by restarted GMRES with FFT matrix-vector products and a
 marching preconditioner (the self and upstream coupling of each element, i.e. the
 operator of simplified theory, inverted strip by strip from the leading edge);
-a backtracking line search on |F|^2 globalises it.  Plain Gauss-Seidel sweeps
-diverge on this non-symmetric system (spectral radius > 100 on a 20 x 20 grid);
-the preconditioned operator has real eigenvalues in about [0.8, 8.5].  A result
-that does not converge is flagged.
+a backtracking line search on |F|^2 globalises it (why not Gauss-Seidel sweeps:
+docs/tuning.md, section "Tangential: exact").  A result that does not converge is
+flagged.
 
 The whole iteration (Newton steps, GMRES, line search) runs compiled with Numba,
 its FFT products by rocket-fft's ``numpy.fft`` support for Numba, on the bounding
@@ -423,12 +422,11 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
             break
         rhs = -_pack(F[:, :, 0].copy(), F[:, :, 1].copy(), cidx)
         # inexact Newton (Eisenstat-Walker): loose linear solves far from the solution,
-        # the residual cut to at most 0.3 (0.1 took 8 % more products with J in all
-        # on the wheel-rail sweep, 0.5 as many as 0.3)
+        # the residual cut to at most 0.3 (docs/tuning.md, section "Tangential: exact")
         if it > 1:
             # no oversolving: the linear residual need not fall below what the
             # tolerance asks of the nonlinear one (a third of tol * gmax in 2-norm,
-            # which bounds the largest element's): 13 % fewer products with J
+            # which bounds the largest element's)
             forcing = min(0.3, max(0.9 * phi2 / max(phi_prev, 1e-300), 1e-6,
                                    0.3 * tol * gmax / math.sqrt(phi2)))
         else:
@@ -461,9 +459,8 @@ def _ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, 
 #: in steady rolling the lateral rigid slip of spin, eta + phi x, is taken at
 #: x + SPIN_OFFSET dx (towards the leading edge), as CONTACT does (the factor FACPHI of
 #: its rolling step, default 1/6, Vollebregt's CONTACT user guide): an O(dx) choice of
-#: the discretisation, with the same continuum limit, by which the lateral force of
-#: spin (C23) equals CONTACT's on the same grid to 0.05 % (taken at x it is 1-4 %
-#: lower on 80- to 20-element grids)
+#: the discretisation, with the same continuum limit [element lengths dx]
+#: (docs/tuning.md, section "Tangential: exact")
 SPIN_OFFSET = 1.0 / 6.0
 
 
@@ -595,9 +592,8 @@ class ExactTangentialModel:
     Parameters
     ----------
     tol : float      convergence: largest complementarity residual
-                     |p - Proj(p - rho s)| / largest bound (default 1e-5: on S1002/60E1
-                     patches on 40 x 40 grids F_x, F_y within 5e-7 mu F_n of a 1e-9
-                     solution)
+                     |p - Proj(p - rho s)| / largest bound (default 1e-5; what it
+                     costs in accuracy: docs/tuning.md, section "Tangential: exact")
     maxiter : int    limit of Newton iterations
     mode : {"rolling", "shift"}
         ``"rolling"``: steady-state rolling with creepages (xi, eta, phi).
