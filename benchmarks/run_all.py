@@ -747,7 +747,8 @@ def _wear_runs(sc):
     """Step-1 tables and dynamics runs of a closed-loop scenario (the same for every
     local model): (simulation, tables per route, datasets per route, grids)."""
     from railcontact.dynamics.simulation import simulate_vehicle
-    from railcontact.wear.closed_loop import ClosedLoopWear, _s_grid, build_table
+    from railcontact.wear.closed_loop import ClosedLoopWear, _s_grid
+    from railcontact.wear.route_tasks import build_table
     sim = ClosedLoopWear(sc, None, progress=False)
     table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
     tables = [table] * sim.nw
@@ -928,7 +929,7 @@ def bench_wear_closed_loop(full: bool = True):
 def _halving_row(coarse, _, fine, sim):
     """A row of the step-size table: the final wheel profiles of a run and of its
     run of halved steps (wheelset 1, right; the example wears all wheels alike)."""
-    from railcontact.wear.closed_loop import away_from_contact_jumps, build_table
+    from railcontact.wear.route_tasks import away_from_contact_jumps, build_table
     sel = {"wheelset": 1, "side": "right"}
     y = coarse["y_wheel"].values
     diff = np.abs(coarse["profile_z_wheel"].sel(**sel).isel(state=-1).values

@@ -9,7 +9,8 @@ import pytest
 
 from railcontact.errors import CaseFileError, InputError
 from railcontact.wear import scenario_from_dict
-from railcontact.wear.closed_loop import ClosedLoopWear, build_table
+from railcontact.wear.closed_loop import ClosedLoopWear
+from railcontact.wear.route_tasks import build_table
 
 # a bogie on a short tight curve and a short irregular tangent: seconds per step
 TINY = {
@@ -357,7 +358,7 @@ def test_away_from_contact_jumps():
     wider than 1 mm between the tabulated contact positions), widened by 2 mm."""
     from types import SimpleNamespace
     from railcontact.dynamics.wheel_rail import F_SHARE, F_YWHEEL
-    from railcontact.wear.closed_loop import away_from_contact_jumps
+    from railcontact.wear.route_tasks import away_from_contact_jumps
     data = np.zeros((5, 2, 2, 13))
     data[:, 0, 0, F_YWHEEL] = [0.0, 0.5e-3, 1.0e-3, 5.0e-3, 5.5e-3]     # a jump 1 -> 5 mm
     data[:, 0, 0, F_SHARE] = 1.0
