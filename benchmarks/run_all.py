@@ -318,7 +318,7 @@ SPLIT = [("contact search", "railcontact.wheel_rail_balance", "contact_search"),
          ("exact normal solves", "railcontact.normal.exact", "ExactNormalModel.solve"),
          ("  of which Polonsky-Keer iterations", "railcontact.normal.polonsky_keer", "_pk_kernel"),
          ("exact tangential solves", "railcontact.tangential.exact", "ExactTangentialModel.solve"),
-         ("  of which semi-smooth Newton-GMRES", "railcontact.tangential.exact", "_ssn_solve"),
+         ("  of which semi-smooth Newton-GMRES", "railcontact.tangential.exact", "ssn_solve"),
          ("FASTSIM stand-ins", "railcontact.tangential.fastsim", "FastsimModel.solve")]
 
 

@@ -195,7 +195,8 @@ def test_cattaneo_mindlin_shift(q):
 def test_compiled_slip_operator_equals_the_fft_operator():
     """The compiled linear part of the slip (FFT products by rocket-fft in Numba)
     equals the NumPy/SciPy tangential operator: rolling -(u_I+ - u_I)/dx, shift u_I."""
-    from railcontact.tangential.exact import _c_of, _operators
+    from railcontact.tangential.exact import _operators
+    from railcontact.tangential.semi_smooth_newton import _c_of
     mx, my, dx, dy = 13, 9, 2e-4, 3e-4
     op, _ = _operators(mx, my, dx, dy, 8e10, 0.28)
     rng = np.random.default_rng(5)
