@@ -5,7 +5,7 @@ Models are chosen by name (:func:`get_tangential_model`): ``"fastsim"``, ``"fast
 in its ``capabilities`` (:class:`~railcontact.tangential.base.TangentialModel`).
 """
 
-from . import exact, fastrip, fastsim, linear, polach  # noqa: F401  (register the models)
+from . import exact, fastrip, fastsim, fastsim_strips, linear, polach  # noqa: F401  (register the models)
 from .base import (TangentialModel, TangentialSolution, get_tangential_model,
                    tangential_model_class, tangential_models, tangential_supports)
 from .kalker import flexibilities, kalker_coefficients

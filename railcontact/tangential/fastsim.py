@@ -27,14 +27,10 @@ import numpy as np
 from numba import njit
 
 from ..errors import InputError
-from ..geometry.gap import sample_strip_spin
-from ..hertz_theory import hertz_ellipses, hertz_ellipses_table
 from ..materials import Material, STEEL
-from ..normal.semi_hertzian import strip_minima
 from .base import TangentialSolution, check_inputs, register
 from .friction import falling_friction
-from .kalker import (flexibilities, flexibilities_array, flexibilities_from_coefficients,
-                     kalker_coefficients, kalker_coefficients_array)
+from .kalker import flexibilities, flexibilities_array, kalker_coefficients, kalker_coefficients_array
 
 
 @njit(cache=True, nogil=True)
@@ -474,92 +470,3 @@ class FastsimModel:
                                   time.perf_counter() - t0,
                                   {"bound": self.bound, "flexibilities": flex,
                                    "friction_iterations": iters})
-
-
-def local_curvatures(normal, geometry):
-    """Relative curvatures (A(y), B(y)) [1/m] of the gap at each strip's minimum.
-
-    :func:`~railcontact.normal.semi_hertzian.strip_minima` of h(x, y) on the
-    normal solution's grid, reusing the normal solution's gap where it holds one.
-    """
-    x, y = normal.x, normal.y
-    if x.size < 3 or y.size < 3:
-        raise InputError("fastsim-strips needs a grid of at least 3 x 3 elements")
-    h = normal.gap if normal.gap is not None else geometry.gap(x[:, None], y[None, :])
-    _, _, A, B = strip_minima(h, x, normal.dx, normal.dy)
-    return A, B
-
-
-@register("fastsim-strips")
-class FastsimStripsModel(FastsimModel):
-    """FASTSIM with a local ellipse per strip (Ayasse & Chollet's STRIPES approach).
-
-    Each strip (fixed lateral position y) gets its own flexibilities L1, L2, L3,
-    computed from a *local ellipse*: the Hertz ellipse of the gap's relative
-    curvatures A(y), B(y) at the strip's centre line, for the patch's approach
-    (Ayasse & Chollet, VSD 43, 2005; described as used with STRIPES and ANALYN in
-    Tao et al., CM2015).  On a Hertzian (quadratic) gap every local ellipse is the
-    Hertz ellipse, so the model reduces to :class:`FastsimModel` and Kalker's linear
-    theory.  Where the lateral curvature varies across the patch (worn profiles,
-    gauge corner, the tread-flange transition) the flexibilities vary with it.
-
-    The spin varies per strip with the local contact angle delta(y) of the rail
-    surface under the strip (as in STRIPES and ANALYN, Tao et al. CM2015):
-    phi(y) = phi cos(D) + (omega . s / V) sin(D), D = delta(y) - delta, from the
-    wheelset's angular velocity (:meth:`ContactGeometry.spin_at`).  Patches without
-    profile geometry (bodies cases) keep the constant spin.
-
-    Needs the patch geometry (``solve(normal, geometry, ...)``) unless the normal
-    solution is an ellipse (Hertz), in which case it equals ``fastsim``.
-    Options as :class:`FastsimModel`.
-    """
-
-    capabilities = frozenset({"strip-march"})
-    online_law = None
-
-    @staticmethod
-    def _batch_flexibilities(strips, patches, a, b, ok, creepage, material, friction):
-        """A local ellipse per strip, from the gap's curvatures along the strip, and
-        the spin of the local contact angle (as :meth:`_strip_parameters`)."""
-        L, _ = FastsimModel._batch_flexibilities(strips, patches, a, b, ok, creepage,
-                                                 material, friction)
-        xi, eta, phi = creepage
-        G, nu = material.shear_modulus, material.nu
-        act = ok[:, None] & (strips.half > 0)
-        rows = np.nonzero(act)[0]
-        la, lb, _ = hertz_ellipses_table(strips.A[act], strips.B[act],
-                                         material.contact_modulus, strips.penetration[rows])
-        c = kalker_coefficients_array(la / lb, nu)
-        f = flexibilities_from_coefficients(la, lb, *c, G)
-        L[:, act] = blended_flexibilities(la, lb, *f, G, nu, xi[rows], eta[rows], phi[rows],
-                                          friction, strips.normal_force[rows],
-                                          coefficients=c[:2])
-        return L, np.ascontiguousarray(sample_strip_spin(patches, strips.y))
-
-    def _reported_flexibilities(self, L1, L2, L3):
-        """Flexibilities per strip (arrays over y)."""
-        return (L1, L2, L3)
-
-    def _strip_parameters(self, normal, geometry, material, a, b, creepage, friction):
-        my = normal.y.size
-        if geometry is None:
-            if normal.semi_axes is None:
-                raise InputError("fastsim-strips: the patch geometry is needed for the local "
-                                 "curvatures of a non-elliptic patch (solve(normal, geometry, ...))")
-            return super()._strip_parameters(normal, geometry, material, a, b, creepage,
-                                             friction)
-        G, nu = material.shear_modulus, material.nu
-        A, B = local_curvatures(normal, geometry)
-        x_lead, x_trail = normal.strips
-        active = np.flatnonzero(np.asarray(x_lead) > np.asarray(x_trail))
-        L = np.empty((3, my))
-        L[:] = np.asarray(self._flexibilities(a, b, G, nu, creepage, friction,
-                                                normal.normal_force))[:, None]
-        la, lb, _ = hertz_ellipses(A[active], B[active], material.contact_modulus,
-                                   normal.penetration)      # one local ellipse per strip
-        if active.size:
-            L[:, active] = np.asarray(self._flexibilities(la, lb, G, nu, creepage, friction,
-                                                          normal.normal_force))
-        phi = np.ascontiguousarray(geometry.spin_at(normal.y, creepage[2]), dtype=float)
-        return (np.ascontiguousarray(L[0]), np.ascontiguousarray(L[1]),
-                np.ascontiguousarray(L[2]), phi)

@@ -10,7 +10,7 @@ from railcontact.geometry import ContactGeometry
 from railcontact.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
 from railcontact.tangential import flexibilities, get_tangential_model, kalker_coefficients
-from railcontact.tangential.fastsim import local_curvatures
+from railcontact.tangential.fastsim_strips import local_curvatures
 
 MAT = Material(2.1e11, 0.28)
 FN = 5e4
