@@ -17,8 +17,9 @@ from ..geometry.validity import nadal_limit
 from ..materials import Material, STEEL
 from ..tangential import get_tangential_model
 from ..tangential.polach import PRESETS
+from .equations_of_motion import NORMAL_PASSES, PIN, POUT, rhs_core, rk4_run
 from .route import Route
-from .vehicle import NORMAL_PASSES, PIN, POUT, VehicleModel, rhs_core, rk4_run
+from .vehicle import VehicleModel
 from .wheel_rail import WheelRailTable, online_law, python_patch_forces
 
 log = logging.getLogger(__name__)
