@@ -41,8 +41,8 @@ from ..errors import CaseFileError, InputError, RailContactError
 from ..profiles.profile import Profile
 from .laws import get_wear_law
 from .mapping import profile_depth, strip_depth, wear_profile
-from .vehicle_scenario import (apply_wear_settings, is_vehicle_scenario, number,
-                               vehicle_scenario_from_dict)
+from .vehicle_scenario import (WearSettings, apply_wear_settings, is_vehicle_scenario,
+                               number, vehicle_scenario_from_dict)
 
 log = logging.getLogger(__name__)
 
@@ -59,21 +59,14 @@ _COND_KEYS = {"weight", "lateral_shift", "yaw", "vertical_force", "velocity", "p
 
 
 @dataclass
-class WearScenario:
+class WearScenario(WearSettings):
+    """A validated open-loop wear scenario: the base case (``base``, a case file's
+    dict), its operating conditions with their weights (``conditions``) and the
+    rail passages per metre of wheel travel."""
+
     base: dict
-    law: str = "frictional-power"
-    parameters: dict = field(default_factory=dict)
-    body: str = "wheel"
-    steps: int = 5
-    max_depth_per_step: float = 1e-4
-    step_distance: float | None = None
-    smoothing: float = 2e-3
-    profile_smoothing: float = 0.0
     rail_passages_per_meter: float = 1.0
-    grid_step: float = 1e-4
-    scheduler: str = "threads"
     conditions: list = field(default_factory=list)
-    base_dir: Path = field(default_factory=Path.cwd)
 
 
 def load_scenario(path):

@@ -49,6 +49,39 @@ def number(section: dict, name: str, key: str, default, lo: float, hi: float) ->
     return float(v)
 
 
+@dataclass(kw_only=True)
+class WearSettings:
+    """The [wear] settings common to the open-loop and the closed-loop scenario
+    (set from a file by :func:`apply_wear_settings`).
+
+    Attributes
+    ----------
+    law : str                   wear law by name (:func:`~railcontact.wear.get_wear_law`)
+    parameters : dict           the law's parameters
+    body : str                  what wears: "wheel", "rail" or "both"
+    steps : int                 number of wear steps
+    max_depth_per_step : float  largest depth of a worn profile per step [m]
+    step_distance : float       fixed distance per step instead [m] (None: by depth)
+    smoothing : float           length of the Gaussian smoothing of the depth [m]
+    profile_smoothing : float   smoothing spline of the worn profiles [m] (0: none)
+    grid_step : float           arc-length resolution of the wear distributions [m]
+    scheduler : str             Dask scheduler ("threads", "processes", "sync" or an address)
+    base_dir : Path             folder that relative paths of the scenario start from
+    """
+
+    law: str = "frictional-power"
+    parameters: dict = field(default_factory=dict)
+    body: str = "wheel"
+    steps: int = 5
+    max_depth_per_step: float = 1e-4
+    step_distance: float | None = None
+    smoothing: float = 2e-3
+    profile_smoothing: float = 0.0
+    grid_step: float = 1e-4
+    scheduler: str = "threads"
+    base_dir: Path = field(default_factory=Path.cwd)
+
+
 def apply_wear_settings(target, wear: dict) -> None:
     """The [wear] settings common to both scenario kinds, validated, set on ``target``
     (law, parameters, body, scheduler and the numbers of ``WEAR_RANGES``)."""
@@ -93,23 +126,13 @@ class RouteItem:
 
 
 @dataclass
-class VehicleWearScenario:
+class VehicleWearScenario(WearSettings):
     """A validated closed-loop wear scenario (see the module docstring)."""
 
     case: Case
     model: object
     routes: list
     dynamics: dict
-    law: str = "frictional-power"
-    parameters: dict = field(default_factory=dict)
-    body: str = "wheel"
-    steps: int = 5
-    max_depth_per_step: float = 1e-4
-    step_distance: float | None = None
-    smoothing: float = 2e-3
-    profile_smoothing: float = 0.0
-    grid_step: float = 1e-4
-    scheduler: str = "threads"
     wheels: str = "vehicle"
     sample_distance: float = 1.0
     reuse_tolerance: float = 1e-3
@@ -118,7 +141,6 @@ class VehicleWearScenario:
     #: imposed step distances [m] (wear-compare runs every model over the first's)
     distances: list | None = None
     title: str = ""
-    base_dir: Path = field(default_factory=Path.cwd)
 
     @property
     def normal(self) -> str:
