@@ -221,7 +221,7 @@ def test_a_grid_reaching_into_another_patch_does_not_load_it_again():
     1.1 kN to 48 kN (the large patch's) between two passes of the vertical-force
     iteration, which stopped 59 % off the load."""
     import dataclasses
-    from tests.geometry.test_search import _two_patch_contact
+    from tests.geometry.test_regions import _two_patch_contact
     big, small = sorted(_two_patch_contact(), key=lambda p: -p.approach)
     nm = get_normal_model("exact")
     fb = nm.solve(big, rc.Material(), penetration=big.approach, grid=(40, 40)).normal_force
