@@ -235,15 +235,6 @@ def test_a_grid_reaching_into_another_patch_does_not_load_it_again():
     assert twice > 0.5 * fb
 
 
-def test_interaction_factor_is_contacts_rule():
-    from railcontact.geometry.contact import interaction_factor
-    assert interaction_factor(3e-3, 4e-3, 8e-3) == 1.0
-    assert interaction_factor(4e-3, 4e-3, 8e-3) == 1.0
-    assert interaction_factor(6e-3, 4e-3, 8e-3) == pytest.approx(0.5 ** 0.8, rel=1e-12)
-    assert interaction_factor(8e-3, 4e-3, 8e-3) == 0.0
-    assert interaction_factor(9e-3, 4e-3, 8e-3) == 0.0
-
-
 def test_reduced_interaction_products_equal_the_scaled_dense_matrix():
     """With sub-regions of columns, the FFT product and the direct sum of a few
     elements equal the dense influence matrix whose entries between sub-regions a
