@@ -9,26 +9,9 @@ import railcontact as rc
 from railcontact.geometry import ContactGeometry
 from railcontact.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
-from railcontact.normal.influence import Convolution, normal_kernel
 from tests.conftest import read_csv
 
 MAT = Material(2.1e11, 0.28)
-
-
-def test_fft_product_equals_dense_matrix():
-    mx, my, dx, dy = 6, 5, 1e-3, 1.5e-3
-    K = normal_kernel(mx, my, dx, dy, MAT.contact_modulus)
-    p = np.random.default_rng(2).random((mx, my))
-    dense = np.zeros((mx, my))
-    for i in range(mx):
-        for j in range(my):
-            dense[i, j] = sum(K[i - k + mx - 1, j - m + my - 1] * p[k, m]
-                              for k in range(mx) for m in range(my))
-    assert np.allclose(Convolution(K, mx, my)(p), dense, rtol=1e-12, atol=0)
-    # centre of a square element of side 2c: 8 c ln(1 + sqrt 2) / (pi E*)
-    K1 = normal_kernel(1, 1, 2e-3, 2e-3, MAT.contact_modulus)
-    assert K1[0, 0] == pytest.approx(8e-3 * math.log(1 + math.sqrt(2)) /
-                                     (math.pi * MAT.contact_modulus), rel=1e-12)
 
 
 @pytest.mark.parametrize("AB", [(1.0, 1.0), (1.0, 4.0), (3.0, 1.0)])
@@ -90,16 +73,6 @@ def test_bad_input():
         get_normal_model("exact").solve(g, MAT)
     with pytest.raises(InputError):
         get_normal_model("exact").solve(g, MAT, normal_force=-5.0)
-
-
-def test_displacement_at_one_point_equals_the_fft_product():
-    from railcontact.normal.influence import normal_displacement_at, normal_operator
-    rng = np.random.default_rng(3)
-    p = rng.uniform(0, 1e9, (23, 17))
-    u = normal_operator(23, 17, 1e-4, 2.5e-4, 1.1e11)(p)
-    for i0, j0 in [(0, 0), (11, 8), (22, 3)]:
-        assert normal_displacement_at(p, 1e-4, 2.5e-4, i0, j0, 1.1e11) \
-            == pytest.approx(u[i0, j0], rel=1e-12)
 
 
 def test_force_is_continuous_in_the_approach():
@@ -189,26 +162,6 @@ def test_kept_grid_decided_on_the_grid_as_on_the_coarse_samples(monkeypatch):
         assert np.array_equal(coarse.pressure, near.pressure)
 
 
-def test_direct_displacements_of_a_few_elements_equal_the_convolution():
-    """Polonsky-Keer adds the displacements of the few elements clipped or loaded in
-    a step by a direct sum over the kernel: equal to the FFT product of those
-    changes, on a block smaller than its operator's (whose kernel it uses)."""
-    from railcontact.normal.polonsky_keer import _add_direct
-    from railcontact.normal.influence import normal_operator_block
-    mx, my, dx, dy, E = 30, 26, 1e-4, 1.5e-4, MAT.contact_modulus
-    op = normal_operator_block(mx, my, dx, dy, E, 11, 9)      # serves 11 x 9 in a 12 x 9
-    assert op.kernel.shape == (2 * op.mx - 1, 2 * op.my - 1)
-    rng = np.random.default_rng(5)
-    u = rng.random((11, 9))
-    idx = np.array([0, 17, 50, 98])                           # corners and inside
-    dq = rng.normal(size=idx.size) * 1e8
-    d = np.zeros(11 * 9)
-    d[idx] = dq
-    expected = u + 0.7 * op(d.reshape(11, 9))
-    _add_direct(u, 0.7, idx, dq, op.kernel, np.zeros(9, dtype=np.int64), np.ones((1, 1)))
-    assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
-
-
 def test_displacement_controlled_solve_on_the_overlap_box():
     """With the approach given, Polonsky-Keer runs on the bounding box of the overlap
     (a block operator cut from the grid's kernel): the block's product equals the
@@ -258,27 +211,6 @@ def test_force_controlled_solve_on_the_box_of_the_estimated_approach():
         assert np.abs(p - pf).max() <= 1e-4 * pf.max()
 
 
-def test_influence_kernels_against_quadrature_at_negative_offsets():
-    """The kernels, evaluated for non-negative offsets and mirrored by parity, equal
-    a direct quadrature of the Boussinesq and Cerruti kernels over the element at
-    negative offsets too (normal 1/r, tangential xy/r^3 odd in both offsets)."""
-    from scipy.integrate import dblquad
-    from railcontact.normal.influence import tangential_kernels
-    mx, my, dx, dy = 4, 3, 1e-3, 2e-3
-    K = normal_kernel(mx, my, dx, dy, MAT.contact_modulus)
-    G, nu = 8e10, 0.28
-    kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, G, nu)
-    for i, j in ((-3, -2), (2, -1), (-1, 2), (3, 2)):
-        x0, y0 = i * dx, j * dy
-        n = dblquad(lambda y, x: 1 / np.hypot(x, y), x0 - dx / 2, x0 + dx / 2,
-                    y0 - dy / 2, y0 + dy / 2, epsabs=1e-14)[0]
-        assert K[i + mx - 1, j + my - 1] == pytest.approx(n / (np.pi * MAT.contact_modulus),
-                                                         rel=1e-8)
-        c = dblquad(lambda y, x: x * y / np.hypot(x, y) ** 3, x0 - dx / 2, x0 + dx / 2,
-                    y0 - dy / 2, y0 + dy / 2, epsabs=1e-14)[0]
-        assert kxy[i + mx - 1, j + my - 1] == pytest.approx(nu * c / (np.pi * G), rel=1e-8)
-
-
 def test_a_grid_reaching_into_another_patch_does_not_load_it_again():
     """A small patch beside a large one (S1002 on 60E1 at 5.40 mm shift, right
     wheel: tread region 5 um deep, flange root region 85 um, a few mm apart): the
@@ -289,7 +221,7 @@ def test_a_grid_reaching_into_another_patch_does_not_load_it_again():
     1.1 kN to 48 kN (the large patch's) between two passes of the vertical-force
     iteration, which stopped 59 % off the load."""
     import dataclasses
-    from tests.geometry.test_search import _two_patch_contact
+    from tests.geometry.test_regions import _two_patch_contact
     big, small = sorted(_two_patch_contact(), key=lambda p: -p.approach)
     nm = get_normal_model("exact")
     fb = nm.solve(big, rc.Material(), penetration=big.approach, grid=(40, 40)).normal_force
@@ -301,15 +233,6 @@ def test_a_grid_reaching_into_another_patch_does_not_load_it_again():
     twice = nm.solve(unbounded, rc.Material(), penetration=small.approach,
                      grid=(40, 40)).normal_force
     assert twice > 0.5 * fb
-
-
-def test_interaction_factor_is_contacts_rule():
-    from railcontact.geometry.contact import interaction_factor
-    assert interaction_factor(3e-3, 4e-3, 8e-3) == 1.0
-    assert interaction_factor(4e-3, 4e-3, 8e-3) == 1.0
-    assert interaction_factor(6e-3, 4e-3, 8e-3) == pytest.approx(0.5 ** 0.8, rel=1e-12)
-    assert interaction_factor(8e-3, 4e-3, 8e-3) == 0.0
-    assert interaction_factor(9e-3, 4e-3, 8e-3) == 0.0
 
 
 def test_reduced_interaction_products_equal_the_scaled_dense_matrix():

@@ -1,0 +1,84 @@
+"""The constrained conjugate gradient of Polonsky & Keer
+(railcontact.normal.polonsky_keer): a Hertz circle on a grid, the pressure limit,
+and the direct corrections of its products."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railcontact.errors import InputError
+from railcontact.materials import Material
+from railcontact.normal.influence import normal_operator
+from railcontact.normal.polonsky_keer import polonsky_keer
+
+MAT = Material(2.1e11, 0.28)
+R, F = 0.3, 1e4                       # sphere on a plane (equal curvatures 1/R)
+
+
+@pytest.fixture(scope="module")
+def sphere():
+    E = MAT.contact_modulus
+    a = (3 * F * R / (4 * E)) ** (1 / 3)
+    n = 41
+    x = np.linspace(-1.5 * a, 1.5 * a, n)
+    dx = x[1] - x[0]
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    h = (X ** 2 + Y ** 2) / (2 * R)
+    return a, dx, h, normal_operator(n, n, dx, dx, E)
+
+
+def test_hertz_circle_force_controlled(sphere):
+    """Hertz: a = (3 F R / 4 E*)^(1/3), p0 = 3 F / (2 pi a^2), approach a^2 / R; on a
+    41 x 41 grid over 3a (27 elements across the contact)."""
+    a, dx, h, op = sphere
+    p, approach, it, ok = polonsky_keer(op, h, dx * dx, force=F)
+    assert ok and it < 100
+    assert p.sum() * dx * dx == pytest.approx(F, rel=1e-9)
+    assert p.max() == pytest.approx(3 * F / (2 * math.pi * a * a), rel=2e-3)
+    assert approach == pytest.approx(a * a / R, rel=1e-3)
+    assert (p > 0).sum() * dx * dx == pytest.approx(math.pi * a * a, rel=0.03)  # O(dx)
+    assert p.min() >= 0.0
+
+
+def test_displacement_controlled_and_pressure_limit(sphere):
+    a, dx, h, op = sphere
+    p0, delta = 3 * F / (2 * math.pi * a * a), a * a / R
+    p, approach, _, ok = polonsky_keer(op, h - delta, dx * dx)
+    assert ok and approach == 0.0
+    assert p.sum() * dx * dx == pytest.approx(F, rel=2e-3)
+    limit = 0.8 * p0
+    pl, _, _, ok = polonsky_keer(op, h - delta, dx * dx, pressure_limit=limit)
+    assert ok
+    assert pl.max() == pytest.approx(limit, rel=1e-12)
+    assert (pl >= limit * (1 - 1e-12)).sum() > 100          # a plastic core
+    # the capped contact carries less at the same approach, but more than the cap
+    # removes on the elastic solution alone (the contact widens)
+    assert pl.sum() < p.sum()
+    assert pl.sum() > np.minimum(p, limit).sum()
+    with pytest.raises(InputError, match="pressure limit"):
+        polonsky_keer(op, h - delta, dx * dx, pressure_limit=0.0)
+    with pytest.raises(InputError, match="approach given"):
+        polonsky_keer(op, h, dx * dx, force=F, pressure_limit=limit)
+    with pytest.raises(InputError, match="regions"):
+        polonsky_keer(op, h, dx * dx, force=F, regions=(np.zeros(3), np.ones((1, 1))))
+
+
+def test_direct_displacements_of_a_few_elements_equal_the_convolution():
+    """Polonsky-Keer adds the displacements of the few elements clipped or loaded in
+    a step by a direct sum over the kernel: equal to the FFT product of those
+    changes, on a block smaller than its operator's (whose kernel it uses)."""
+    from railcontact.normal.polonsky_keer import _add_direct
+    from railcontact.normal.influence import normal_operator_block
+    mx, my, dx, dy, E = 30, 26, 1e-4, 1.5e-4, MAT.contact_modulus
+    op = normal_operator_block(mx, my, dx, dy, E, 11, 9)      # serves 11 x 9 in a 12 x 9
+    assert op.kernel.shape == (2 * op.mx - 1, 2 * op.my - 1)
+    rng = np.random.default_rng(5)
+    u = rng.random((11, 9))
+    idx = np.array([0, 17, 50, 98])                           # corners and inside
+    dq = rng.normal(size=idx.size) * 1e8
+    d = np.zeros(11 * 9)
+    d[idx] = dq
+    expected = u + 0.7 * op(d.reshape(11, 9))
+    _add_direct(u, 0.7, idx, dq, op.kernel, np.zeros(9, dtype=np.int64), np.ones((1, 1)))
+    assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()

@@ -1,0 +1,58 @@
+"""Helpers of the exact model's potential contact area
+(railcontact.normal.potential_area) on small hand-made masks and grids."""
+
+from types import SimpleNamespace
+
+import numpy as np
+import pytest
+
+from railcontact.normal.potential_area import (crossings, edge_sides, fits, grown_box,
+                                               plausible_growth, strip_edges)
+
+
+def test_strip_edges_of_a_mask():
+    x = np.array([-2.0, -1.0, 0.0, 1.0, 2.0]) * 1e-3           # dx = 1 mm
+    c = np.zeros((5, 3), bool)
+    c[1:4, 0] = True            # elements -1..1 mm: edges -1.5 and 1.5 mm
+    c[3, 2] = True              # one element at 1 mm
+    lead, trail = strip_edges(c, x)
+    assert lead == pytest.approx([1.5e-3, 0.0, 1.5e-3], abs=1e-15)
+    assert trail == pytest.approx([-1.5e-3, 0.0, 0.5e-3], abs=1e-15)
+
+
+def test_crossings_interpolate_the_zeros():
+    s = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    g = np.array([1.0, -1.0, -2.0, -1.0, 3.0])                 # negative on 1..3
+    lo, hi = crossings(s, g, 1, 3)
+    assert lo == pytest.approx(0.5) and hi == pytest.approx(3.25)
+
+
+def test_edge_sides_and_grown_box():
+    c = np.zeros((4, 6), bool)
+    c[0, 2] = c[1, 5] = True
+    assert edge_sides(c) == (True, False, False, True)
+    x = np.linspace(0.5, 3.5, 4)                               # elements [0, 4] wide 1
+    y = np.linspace(0.5, 5.5, 6)                               # [0, 6]
+    (cx, cy), (ex, ey) = grown_box(x, y, (True, False, False, True))
+    # x grows by half the width (2) at its low side: [-2, 4]; y at its high side: [0, 9]
+    assert (cx, cy, ex, ey) == pytest.approx((1.0, 4.5, 3.0, 4.5))
+    (cx, cy), (ex, ey) = grown_box(x, y, (False,) * 4)
+    assert (cx, cy, ex, ey) == pytest.approx((2.0, 3.0, 2.0, 3.0))
+
+
+def test_plausible_growth():
+    s = lambda force, pen: SimpleNamespace(normal_force=force, penetration=pen)  # noqa: E731
+    assert plausible_growth(s(1.0, 0), s(1.9, 0), displacement=True)
+    assert not plausible_growth(s(1.0, 0), s(2.1, 0), displacement=True)
+    assert plausible_growth(s(0, 1e-5), s(0, 0.5e-5), displacement=False)
+    assert not plausible_growth(s(0, 1e-5), s(0, 0.1e-5), displacement=False)
+    assert not plausible_growth(s(0, 1e-5), s(0, 1.1e-5), displacement=False)
+
+
+def test_fits_needs_the_same_grid_and_a_box_inside():
+    sol = SimpleNamespace(x=np.linspace(-4.5, 4.5, 10), y=np.linspace(-2.5, 2.5, 6))
+    assert fits(sol, 0.0, 0.0, 4.0, 2.5, (10, 6))
+    assert not fits(sol, 0.0, 0.0, 4.0, 2.5, (12, 6))             # other element counts
+    assert not fits(sol, 3.0, 0.0, 4.0, 2.5, None)                # sticks out
+    assert not fits(sol, 0.0, 0.0, 0.5, 0.5, None)                # fills too little
+    assert not fits(SimpleNamespace(x=np.zeros(1), y=np.zeros(3)), 0, 0, 1, 1, None)

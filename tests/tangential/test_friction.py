@@ -1,0 +1,37 @@
+"""Friction laws (railcontact.tangential.friction): Polach's falling friction."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railcontact.errors import InputError
+from railcontact.tangential.friction import FallingFriction, falling_friction
+
+
+def test_falling_friction_values():
+    law = FallingFriction(A=0.4, B=0.6)
+    w = np.array([0.0, 1 / 0.6, 5.0, 1e3])
+    mu = law(0.5, w)
+    # mu0 at rest, mu0 ((1 - A)/e + A) at w = 1/B, mu0 A = mu_inf for w -> inf
+    assert mu == pytest.approx([0.5, 0.5 * (0.6 / math.e + 0.4),
+                                0.5 * (0.6 * math.exp(-3.0) + 0.4), 0.2], rel=1e-12)
+    assert np.all(np.diff(mu) < 0)
+    assert FallingFriction(A=1.0, B=2.0)(0.3, 10.0) == pytest.approx(0.3, rel=1e-15)
+
+
+def test_falling_friction_from_spec():
+    assert falling_friction(None) is None
+    law = FallingFriction(0.3, 1.0)
+    assert falling_friction(law) is law
+    assert falling_friction({"A": "0.3", "B": 1}) == law
+    with pytest.raises(InputError, match="unknown keys"):
+        falling_friction({"A": 0.3, "C": 1.0})
+    with pytest.raises(InputError, match="A and B"):
+        falling_friction(0.3)
+    with pytest.raises(InputError, match="mu_inf/mu0"):
+        FallingFriction(A=1.5)
+    with pytest.raises(InputError, match="s/m"):
+        FallingFriction(B=-1.0)
+    with pytest.raises(InputError, match="s/m"):
+        FallingFriction(B=math.inf)
