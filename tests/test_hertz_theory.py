@@ -73,7 +73,8 @@ def test_vectorised_forms_agree_with_the_scalar_one():
     assert a[3] == b[3] == F[3] == 0.0 and at[3] == bt[3] == Ft[3] == 0.0
 
 
-@pytest.mark.parametrize("kw", [dict(A=-1.0, B=1.0, force=1.0), dict(A=1.0, B=float("nan"), force=1.0),
+@pytest.mark.parametrize("kw", [dict(A=-1.0, B=1.0, force=1.0),
+                                dict(A=1.0, B=float("nan"), force=1.0),
                                 dict(A=1.0, B=1.0), dict(A=1.0, B=1.0, force=1.0, penetration=1e-5),
                                 dict(A=1.0, B=1.0, force=-1.0)])
 def test_bad_input(kw):

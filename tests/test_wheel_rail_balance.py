@@ -1,8 +1,6 @@
 """railcontact.wheel_rail_balance: the vertical balance of a wheel-rail case, and the
 contact at a prescribed position."""
 
-import pytest
-
 import railcontact as rc
 from railcontact.patches import case_models
 from railcontact.wheel_rail_balance import WheelRailContact, solve_at_position, solve_wheel_rail
