@@ -1,4 +1,4 @@
-"""Case files, the JSON contract, the command line, and bad input."""
+"""The command line (railcontact.cli): case files through the JSON contract, and bad input."""
 
 import json
 import math
@@ -10,7 +10,6 @@ import pytest
 
 import railcontact as rc
 from railcontact.cli import main
-from railcontact.errors import CaseFileError, UnknownModelError
 
 EX = Path(__file__).resolve().parents[1] / "examples"
 CONTRACT_KEYS = {"side", "area", "pmax", "penetration", "Fn", "Fx", "Fy", "Mz", "contact_angle",
@@ -76,41 +75,6 @@ def test_sweep_cli(capsys):
     assert all(abs(r) <= 1e-4 for c in d["cases"] for r in c["vertical_residual"].values())
 
 
-def test_sweep_threads_equals_sync():
-    case = rc.load_case(EX / "bodies.toml")
-    vary = {"creepage.longitudinal": [0.0, 1e-3, 2e-3], "bodies.normal_force": [5e4, 1e5]}
-    a = rc.sweep(case, vary, scheduler="sync", progress=False)
-    b = rc.sweep(case, vary, scheduler="threads", progress=False)
-    assert len(a["cases"]) == 6
-    assert [c["patches"][0]["Fx"] for c in a["cases"]] == [c["patches"][0]["Fx"] for c in b["cases"]]
-
-
-def test_auto_scheduler_uses_processes_for_long_sweeps_only(monkeypatch):
-    """"auto" starts worker processes only where the sweep is expected to take longer
-    than their start-up is worth (PROCESSES_FROM seconds in one process)."""
-    import dask
-
-    import railcontact.case_sweep as sw
-    case = rc.load_case(EX / "wheel_rail.toml")
-    assert sw._expected_seconds(case, 100, "exact", "exact") == pytest.approx(2.0)
-    assert sw._expected_seconds(case, 100, "hertz", "fastsim") == pytest.approx(0.5)
-    assert sw._expected_seconds(case, 100, "hertz", "exact") == pytest.approx(2.0)
-    used = []
-    real = dask.compute
-
-    def spy(*tasks, **kw):
-        used.append(kw.get("scheduler"))
-        return real(*tasks, scheduler="sync")
-
-    monkeypatch.setattr(dask, "compute", spy)
-    vary = {"wheelset.lateral_shift": [0.0, 1e-3]}
-    sw.sweep(case, vary, "hertz", "fastsim", progress=False)
-    monkeypatch.setattr(sw, "PROCESSES_FROM", 0.001)
-    monkeypatch.setattr(sw.os, "cpu_count", lambda: 2)
-    sw.sweep(case, vary, "hertz", "fastsim", progress=False)
-    assert used == ["sync", "processes"]
-
-
 @pytest.mark.parametrize("text, msg", [
     ("[wheel]\nprofile='S1002'\n[rail]\nprofile='60E1'\n[solver]\nnormal='hurtz'\n", "hurtz"),
     ("[wheel]\nprofile='S1003'\n[rail]\nprofile='60E1'\n", "S1003"),
@@ -150,13 +114,6 @@ def test_missing_case_file_and_bad_profile_file(tmp_path, capsys):
     assert code == 2 and "profile" in err
 
 
-def test_api_errors():
-    with pytest.raises(CaseFileError):
-        rc.case_from_dict({"wheel": {"profile": "S1002"}})
-    with pytest.raises(UnknownModelError):
-        rc.solve(rc.load_case(EX / "bodies.toml"), normal="nope")
-
-
 def test_profile_cli(tmp_path, capsys):
     out = tmp_path / "s1002.prw"
     code, _, err = run_cli(["profile", "export", "S1002", "--out", str(out)], capsys)
@@ -180,38 +137,6 @@ def test_console_script_entry_point():
     r = subprocess.run([sys.executable, "-m", "railcontact.cli", "--help"], capture_output=True,
                        text=True)
     assert r.returncode == 0 and "solve" in r.stdout
-
-
-def test_compare_cli(tmp_path, capsys):
-    code, out, err = run_cli(["compare", str(EX / "bodies.toml"), "--models",
-                              "hertz,kpec,analyn,exact", "--out", str(tmp_path)], capsys)
-    assert code == 0, err
-    assert "kpec" in out and "analyn" in out
-    import csv
-    rows = list(csv.DictReader(open(tmp_path / "comparison.csv")))
-    assert [r["model"] for r in rows] == ["hertz", "kpec", "analyn", "exact"]
-    # on a Hertzian case all four agree on the contact area within 3 %
-    areas = [float(r["area_mm2"]) for r in rows]
-    assert max(areas) / min(areas) < 1.03
-    for f in ("outlines.png", "lateral_pressure.png"):
-        assert (tmp_path / f).stat().st_size > 5000
-    code, out, err = run_cli(["compare", str(EX / "bodies.toml"), "--models", "hertz,nope"],
-                             capsys)
-    assert code == 2 and "nope" in err
-
-
-def test_per_wheel_loads():
-    res = rc.solve(rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-                                      "wheelset": {"lateral_shift": 0.002,
-                                                   "vertical_force": [50e3, 90e3]}}))
-    for side, load in (("left", 50e3), ("right", 90e3)):
-        fz = sum(p.normal.normal_force * math.cos(p.geometry.contact_angle)
-                 - p.tangential.fy * math.sin(p.geometry.contact_angle)
-                 for p in res.patches if p.geometry.side == side)
-        assert fz == pytest.approx(load, rel=2e-4)
-    with pytest.raises(CaseFileError, match="vertical_force"):
-        rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-                           "wheelset": {"vertical_force": [1.0, 2.0, 3.0]}})
 
 
 def test_prescribed_forces_bodies_case(tmp_path, capsys):
@@ -264,58 +189,3 @@ def test_flange_climb_is_flagged(tmp_path, capsys, shift, climbing):
     flagged = any("flange climb" in w for w in d["warnings"])
     assert flagged == climbing
     assert ("flange climb" in err) == climbing
-
-
-# ------------------------------------------------- CONTACT's options in case files
-def _mbench_raw(refdir, **wheelset):
-    prof = refdir / "profiles"
-    return {"material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
-            "friction": {"coefficient": 0.3},
-            "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
-            "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
-            "wheelset": {"vertical_force": 1e4, "velocity": 2.0, "side": "right", "roll": 0.0,
-                         **wheelset},
-            "solver": {"normal": "exact", "tangential": "exact",
-                       "element_size": [2.5e-4, 2.5e-4]}}
-
-
-def test_friction_varying_with_the_rail_inclination(refdir):
-    """friction.variation (CONTACT's VARFRC = 1): each patch takes the coefficient
-    at its rail surface's inclination, interpolated linearly, constant beyond."""
-    from railcontact import case_from_dict, solve
-    var = {"angle": [-0.5236, -0.3491], "coefficient": [0.2, 0.35]}
-    for y, mu in ((2e-3, 0.35), (9e-3, 0.2)):       # tread, flange flank
-        raw = _mbench_raw(refdir, lateral_shift=y)
-        raw["friction"]["variation"] = var
-        res = solve(case_from_dict(raw))
-        (p,) = res.patches
-        assert p.tangential.friction == mu
-        assert abs(complex(p.tangential.fx, p.tangential.fy)) <= mu * p.normal.normal_force * 1.0001
-    case = case_from_dict({**_mbench_raw(refdir), "friction": {"variation": var}})
-    assert case.friction_at(-0.4363) == pytest.approx(0.275, abs=1e-3)
-    for bad in ({"angle": [0.1, 0.0], "coefficient": [0.2, 0.3]},
-                {"angle": [0.0], "coefficient": [0.2, 0.3]}, {"angles": [0.0]}):
-        with pytest.raises(CaseFileError, match="friction.variation"):
-            case_from_dict({**_mbench_raw(refdir), "friction": {"variation": bad}})
-
-
-def test_vertical_position_prescribed(refdir):
-    """wheelset.vertical_position (CONTACT's NORM = 0): at the height the force
-    control found, the same patch and force (to the force tolerance)."""
-    from railcontact import case_from_dict, solve
-    force = solve(case_from_dict(_mbench_raw(refdir, lateral_shift=3e-3)))
-    raw = _mbench_raw(refdir, lateral_shift=3e-3, vertical_position=force.pose.vertical)
-    del raw["wheelset"]["vertical_force"]
-    pos = solve(case_from_dict(raw))
-    assert pos.balance is None and pos.pose.vertical == force.pose.vertical
-    assert pos.patches[0].normal.normal_force == pytest.approx(
-        force.patches[0].normal.normal_force, rel=2e-4)
-    # raised by 1 mm the wheel does not reach the rail: no patch, no error
-    raw["wheelset"]["vertical_position"] = force.pose.vertical - 1e-3
-    assert solve(case_from_dict(raw)).patches == []
-    raw["wheelset"]["vertical_force"] = 1e4
-    with pytest.raises(CaseFileError, match="either vertical_force or vertical_position"):
-        case_from_dict(raw)
-    del raw["wheelset"]["roll"], raw["wheelset"]["vertical_force"]
-    with pytest.raises(CaseFileError, match="give wheelset.roll"):
-        case_from_dict(raw)
