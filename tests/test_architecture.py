@@ -102,3 +102,18 @@ def test_no_import_circles():
         if m not in state:
             visit(m, [m])
     assert not circles, [" -> ".join(c) for c in circles]
+
+
+def test_every_module_has_its_test_file():
+    """tests/ mirrors the package: railcontact/<sub>/<name>.py is tested in
+    tests/<sub>/test_<name>.py (railcontact/<name>.py in tests/test_<name>.py)."""
+    tests = PACKAGE.parent / "tests"
+    missing = []
+    for path in PACKAGE.rglob("*.py"):
+        if path.name == "__init__.py":
+            continue
+        rel = path.relative_to(PACKAGE)
+        mirror = tests / rel.parent / f"test_{rel.name}"
+        if not mirror.is_file():
+            missing.append(str(mirror.relative_to(PACKAGE.parent)))
+    assert not missing, sorted(missing)

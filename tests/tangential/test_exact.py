@@ -192,25 +192,6 @@ def test_cattaneo_mindlin_shift(q):
     assert c / a == pytest.approx((1 - q) ** (1 / 3), rel=0.015)
 
 
-def test_compiled_slip_operator_equals_the_fft_operator():
-    """The compiled linear part of the slip (FFT products by rocket-fft in Numba)
-    equals the NumPy/SciPy tangential operator: rolling -(u_I+ - u_I)/dx, shift u_I."""
-    from railcontact.tangential.exact import _operators
-    from railcontact.tangential.semi_smooth_newton import _c_of
-    mx, my, dx, dy = 13, 9, 2e-4, 3e-4
-    op, _ = _operators(mx, my, dx, dy, 8e10, 0.28)
-    rng = np.random.default_rng(5)
-    px, py = rng.normal(size=(mx, my)), rng.normal(size=(mx, my))
-    ux, uy = op(px, py)
-    for shift, (ex, ey) in ((False, (-(ux[1:] - ux[:-1]) / dx, -(uy[1:] - uy[:-1]) / dx)),
-                            (True, (ux[:-1], uy[:-1]))):
-        cx, cy = _c_of(px, py, op.kxx, op.kxy, op.kyy, op.shape, np.zeros(op.shape),
-                       np.zeros(op.shape), dx, shift)
-        scale = np.abs(ex).max() + np.abs(ey).max()
-        assert np.abs(cx - ex).max() <= 1e-12 * scale
-        assert np.abs(cy - ey).max() <= 1e-12 * scale
-
-
 def test_block_operator_equals_the_grid_operator_on_the_block():
     """The tangential solver works on the contact's bounding box: the operator of a
     block, cut from the grid's kernels, gives the grid operator's displacements

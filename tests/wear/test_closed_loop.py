@@ -2,7 +2,6 @@
 every step, any local contact model in the post-processing."""
 
 import copy
-import pickle
 
 import numpy as np
 import pytest
@@ -10,7 +9,6 @@ import pytest
 from railcontact.errors import CaseFileError, InputError
 from railcontact.wear import scenario_from_dict
 from railcontact.wear.closed_loop import ClosedLoopWear
-from railcontact.wear.route_tasks import build_table
 
 # a bogie on a short tight curve and a short irregular tangent: seconds per step
 TINY = {
@@ -149,17 +147,6 @@ def test_threads_equal_sync():
     sc.scheduler = "threads"
     b = ClosedLoopWear(sc, None, progress=False).run(resume=False)
     np.testing.assert_array_equal(a["wear_depth_wheel"].values, b["wear_depth_wheel"].values)
-
-
-def test_tables_travel_to_processes():
-    """A table with its patches' geometry pickles (Dask's process and cluster
-    schedulers ship it) and gives the same gap after the round trip."""
-    sim = ClosedLoopWear(tiny(steps=1), progress=False)
-    t = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
-    t2 = pickle.loads(pickle.dumps(t))
-    g, g2 = t.geometry[20][1][0], t2.geometry[20][1][0]
-    x, y = np.linspace(-5e-3, 5e-3, 7), np.linspace(-5e-3, 5e-3, 5)
-    np.testing.assert_array_equal(g.gap(x[:, None], y[None, :]), g2.gap(x[:, None], y[None, :]))
 
 
 @pytest.mark.parametrize("patch, match", [
@@ -317,18 +304,3 @@ def test_worn_rails_stay_in_place():
     assert kept - by_gauge > 2e-4     # by the gauge the worn rail would move to the track centre
     with pytest.raises(InputError, match="rail_offsets"):
         Track(worn, rail_offsets={"right": 0.7})
-
-
-def test_away_from_contact_jumps():
-    """The step-size measure's mask: the wheel positions the contact skips (gaps
-    wider than 1 mm between the tabulated contact positions), widened by 2 mm."""
-    from types import SimpleNamespace
-    from railcontact.dynamics.wheel_rail import F_SHARE, F_YWHEEL
-    from railcontact.wear.route_tasks import away_from_contact_jumps
-    data = np.zeros((5, 2, 2, 13))
-    data[:, 0, 0, F_YWHEEL] = [0.0, 0.5e-3, 1.0e-3, 5.0e-3, 5.5e-3]     # a jump 1 -> 5 mm
-    data[:, 0, 0, F_SHARE] = 1.0
-    data[:, 1, 1, F_YWHEEL] = -0.03                 # no share: not a contact position
-    y = (np.arange(-4, 10) + 0.5) * 1e-3
-    keep = away_from_contact_jumps([SimpleNamespace(data=data)], y)
-    np.testing.assert_allclose(y[~keep] * 1e3, np.arange(-0.5, 7.0))   # (-1, 7) mm

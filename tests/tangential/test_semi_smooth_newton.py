@@ -1,0 +1,53 @@
+"""The compiled semi-smooth Newton iteration of the exact tangential model
+(railcontact.tangential.semi_smooth_newton): the local friction problem of one
+element against its closed form, and the compiled slip operator against the
+NumPy/SciPy one.  The whole solver is tested against Kalker's and Carter's
+solutions in test_exact.py."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railcontact.tangential.exact import _operators
+from railcontact.tangential.semi_smooth_newton import _c_of, _local_slip
+
+
+def test_local_problem_sticks_within_the_bound():
+    """|D^-1 r| <= g: the element sticks with p = -D^-1 r and zero slip."""
+    px, py, ex, ey, stick = _local_slip(0.3, -0.4, 0.5, 2.0, 1.0)
+    assert stick and (px, py) == pytest.approx((-0.6, 0.2)) and (ex, ey) == (0.0, 0.0)
+
+
+def test_local_problem_slips_on_the_bound():
+    """Equal flexibilities d: the slip |s| = |r| - g d along r, the traction -g r/|r|
+    (r = (3, 4), d = 1, g = 2: |s| = 3).  Unequal ones: the traction lies on the bound
+    against the slip s = r + D p that it leaves."""
+    px, py, ex, ey, stick = _local_slip(3.0, 4.0, 1.0, 1.0, 2.0)
+    assert not stick
+    assert (px, py) == pytest.approx((-1.2, -1.6), rel=1e-12)
+    assert (ex, ey) == pytest.approx((0.6, 0.8), rel=1e-12)
+    rx, ry, dxx, dyy, g = 3.0, -1.0, 0.4, 1.7, 2.5
+    px, py, ex, ey, stick = _local_slip(rx, ry, dxx, dyy, g)
+    sx, sy = rx + dxx * px, ry + dyy * py
+    assert not stick and math.hypot(px, py) == pytest.approx(g, rel=1e-12)
+    assert (ex, ey) == pytest.approx((sx / math.hypot(sx, sy), sy / math.hypot(sx, sy)),
+                                     rel=1e-10)
+    assert (px, py) == pytest.approx((-g * ex, -g * ey), rel=1e-12)
+
+
+def test_compiled_slip_operator_equals_the_fft_operator():
+    """The compiled linear part of the slip (FFT products by rocket-fft in Numba)
+    equals the NumPy/SciPy tangential operator: rolling -(u_I+ - u_I)/dx, shift u_I."""
+    mx, my, dx, dy = 13, 9, 2e-4, 3e-4
+    op, _ = _operators(mx, my, dx, dy, 8e10, 0.28)
+    rng = np.random.default_rng(5)
+    px, py = rng.normal(size=(mx, my)), rng.normal(size=(mx, my))
+    ux, uy = op(px, py)
+    for shift, (ex, ey) in ((False, (-(ux[1:] - ux[:-1]) / dx, -(uy[1:] - uy[:-1]) / dx)),
+                            (True, (ux[:-1], uy[:-1]))):
+        cx, cy = _c_of(px, py, op.kxx, op.kxy, op.kyy, op.shape, np.zeros(op.shape),
+                       np.zeros(op.shape), dx, shift)
+        scale = np.abs(ex).max() + np.abs(ey).max()
+        assert np.abs(cx - ex).max() <= 1e-12 * scale
+        assert np.abs(cy - ey).max() <= 1e-12 * scale
