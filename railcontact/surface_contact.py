@@ -35,7 +35,8 @@ from .equilibrium import VerticalBalance
 from .errors import CaseFileError, ContactNotFoundError, ProfileError
 from .geometry.surface_search import (Motion, SurfaceContact, SurfacePose, SurfaceWheel,
                                       search, surface_slip)
-from .geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface, SlicedSurface
+from .geometry.sliced_surface import SlicedSurface
+from .geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface
 from .geometry.track import Track
 from .geometry.validity import HALF_SPACE_LIMIT, flange_state, halfspace_ratio
 from .patches import case_models

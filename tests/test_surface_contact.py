@@ -325,7 +325,7 @@ def test_two_rails_of_one_slices_file_equal_the_one_rail(testbank):
 
 
 def test_slices_written_and_read_back(tmp_path):
-    from railcontact.geometry.surfaces import SlicedSurface
+    from railcontact.geometry.sliced_surface import SlicedSurface
     from railcontact.profiles.slices import artificial_crossing, read_slices, write_slices
     nose, wing = artificial_crossing(n=9)
     p = write_slices(nose, tmp_path / "nose.slcs")

@@ -4,7 +4,7 @@ A variable rail (a crossing nose, a wing rail, a switch blade) is given by
 cross-sections at positions s along the track, each a rail profile in the usual
 convention (y to the field side of a right rail, z down, SI units).  Between the
 slices the surface is interpolated as CONTACT does
-(:class:`railcontact.geometry.surfaces.SlicedSurface`).
+(:class:`railcontact.geometry.sliced_surface.SlicedSurface`).
 
 Sources
 -------
