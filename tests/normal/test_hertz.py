@@ -16,15 +16,6 @@ MAT = Material(2.1e11, 0.28)
 ES = MAT.contact_modulus
 
 
-def test_circle_closed_form():
-    R, F = 0.3, 5e4
-    h = hertz_ellipse(1 / (2 * R), 1 / (2 * R), ES, force=F)
-    a = (3 * F * R / (4 * ES)) ** (1 / 3)
-    assert h.a == pytest.approx(a, rel=1e-12) and h.b == pytest.approx(a, rel=1e-12)
-    assert h.penetration == pytest.approx(a * a / R, rel=1e-12)
-    assert h.p0 == pytest.approx(3 * F / (2 * math.pi * a * a), rel=1e-12)
-
-
 def _displacement(a, b, p0, x0, y0):
     """Surface approach at (x0, y0) under the Hertz pressure, by direct integration
     of the Boussinesq kernel in polar coordinates about the field point."""
