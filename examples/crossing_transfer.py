@@ -20,6 +20,7 @@ import numpy as np
 
 import railcontact as rc
 from railcontact.crossing import plot_track_sweep, sweep_along_track, transfer_range
+from railcontact.files import write_netcdf
 from railcontact.profiles.slices import artificial_crossing, write_slices
 
 CASE = """title = "S1002 through an artificial 1:9 crossing, 80 kN"
@@ -60,9 +61,7 @@ def main(out: Path) -> None:
     case = rc.load_case(out / "crossing.toml")
     positions = np.arange(0.090, 0.1001, 0.002)
     ds = sweep_along_track(case, positions, progress=False)
-    tmp = out / "crossing_sweep.nc.tmp"
-    ds.to_netcdf(tmp, engine="h5netcdf")
-    tmp.replace(out / "crossing_sweep.nc")
+    write_netcdf(ds, out / "crossing_sweep.nc")
     plot_track_sweep(ds, out / "crossing_sweep.png")
     print(f"{'s mm':>7} {'wing kN':>8} {'nose kN':>8} {'x wing mm':>10} {'x nose mm':>10} "
           f"{'pmax MPa':>9}")

@@ -9,6 +9,7 @@ import sys
 from pathlib import Path
 
 from .errors import InputError, RailContactError
+from .files import write_netcdf, write_text
 
 log = logging.getLogger("railcontact")
 
@@ -79,9 +80,7 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
         print(to_text(table))
     if out is not None:
         text = to_csv(table) if out.suffix.lower() == ".csv" else to_json(table, args.case)
-        tmp = out.with_name(out.name + ".tmp")
-        tmp.write_text(text + ("" if text.endswith("\n") else "\n"))
-        tmp.replace(out)
+        write_text(out, text + ("" if text.endswith("\n") else "\n"))
     status = 0
     seen = set()
     for r in table:
@@ -107,10 +106,7 @@ def cmd_solve(args):
     else:
         _print_table(d)
     if args.out:
-        out = Path(args.out)
-        tmp = out.with_name(out.name + ".tmp")
-        res.to_xarray().to_netcdf(tmp, engine="h5netcdf")
-        tmp.replace(out)
+        write_netcdf(res.to_xarray(), args.out)
     return _report_status(d["converged"], d["message"], d["warnings"])
 
 
@@ -283,9 +279,7 @@ def cmd_track(args):
                            progress=True)
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    tmp = out / "track_sweep.nc.tmp"
-    ds.to_netcdf(tmp, engine="h5netcdf")
-    tmp.replace(out / "track_sweep.nc")
+    write_netcdf(ds, out / "track_sweep.nc")
     plot_track_sweep(ds, out / "track_sweep.png")
     print(f"{ds.sizes['s']} positions, rails {', '.join(map(str, ds['rail'].values))}; wrote "
           f"{out / 'track_sweep.nc'} and track_sweep.png")

@@ -11,6 +11,7 @@ from pathlib import Path
 from .case import Case
 from .case_solve import solve
 from .errors import RailContactError
+from .files import written_whole
 from .normal import normal_models
 
 log = logging.getLogger(__name__)
@@ -69,12 +70,10 @@ def write_outputs(rows, results, out: Path, side: str | None = None):
     import matplotlib.pyplot as plt
     out = Path(out)
     out.mkdir(parents=True, exist_ok=True)
-    tmp = out / "comparison.csv.tmp"
-    with open(tmp, "w", newline="") as f:
+    with written_whole(out / "comparison.csv") as tmp, open(tmp, "w", newline="") as f:
         w = csv.DictWriter(f, fieldnames=COLUMNS)
         w.writeheader()
         w.writerows(rows)
-    tmp.replace(out / "comparison.csv")
     fig1, ax1 = plt.subplots(figsize=(7, 6))
     fig2, ax2 = plt.subplots(figsize=(8, 4))
     colours = plt.rcParams["axes.prop_cycle"].by_key()["color"]

@@ -23,6 +23,7 @@ import numpy as np
 
 from .case import Case
 from .errors import ContactNotFoundError, InputError
+from .files import written_whole
 from .surface_contact import build_surface_case, solve_on_surfaces
 
 log = logging.getLogger(__name__)
@@ -165,7 +166,6 @@ def plot_track_sweep(ds, path=None):
     fig.tight_layout()
     if path is not None:
         path = Path(path)
-        tmp = path.with_name(path.stem + ".tmp" + path.suffix)
-        fig.savefig(tmp, dpi=120)
-        tmp.replace(path)
+        with written_whole(path) as tmp:
+            fig.savefig(tmp, dpi=120, format=path.suffix.lstrip(".") or None)
     return fig

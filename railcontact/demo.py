@@ -10,6 +10,7 @@ from pathlib import Path
 import numpy as np
 from tqdm.auto import tqdm
 
+from .files import write_netcdf
 from .geometry import Track, Wheelset, contact_table, equivalent_conicity, find_contact
 from .materials import Material
 from .normal import get_normal_model
@@ -67,9 +68,7 @@ def run_demo(out: Path, load: float = 75e3, velocity: float = 30.0, friction: fl
                     normal_model="hertz", tangential_model="fastsim", load_N=load,
                     velocity_m_s=velocity, friction=friction,
                     equivalent_conicity_3mm=equivalent_conicity(table, amp))
-    tmp = out / "contact_table.nc.tmp"
-    ds.to_netcdf(tmp, engine="h5netcdf")
-    tmp.replace(out / "contact_table.nc")
+    write_netcdf(ds, out / "contact_table.nc")
     plot_contact_positions(table, wheel, rail, out / "contact_positions.png")
     plot_patches(shown, out / "patches.png", "S1002 / 60E1 1:40, right wheel: pressure "
                  "(stick area outlined)")

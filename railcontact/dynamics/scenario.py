@@ -9,6 +9,7 @@ from pathlib import Path
 from ..bodies import build_wheelset_track
 from ..case import case_from_dict, read_toml
 from ..errors import CaseFileError, InputError, RailContactError
+from ..files import write_netcdf, write_text
 from ..tangential import tangential_models
 from .route import Irregularities, Route
 from .simulation import critical_speed, simulate_vehicle
@@ -41,10 +42,7 @@ def write_history(ds, path, wheelset: int = 1):
     for t, y, psi, ql, qr in zip(ds["time"].values, w["relative_shift"].values,
                                  w["yaw"].values, w["load_left"].values, w["load_right"].values):
         rows.append(f"{t:.6g},{y:.9g},{psi:.9g},{ql:.6g},{qr:.6g},{v:.6g}")
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text("\n".join(rows) + "\n")
-    tmp.replace(path)
-    return path
+    return write_text(path, "\n".join(rows) + "\n")
 
 
 def vehicle_from_section(veh: dict, base_dir: Path | None = None) -> VehicleModel:
@@ -206,9 +204,7 @@ def run_scenario(path, out=None, progress: bool = True):
     if out is not None:
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
-        tmp = out / "simulation.nc.tmp"
-        ds.to_netcdf(tmp, engine="h5netcdf")
-        tmp.replace(out / "simulation.nc")
+        write_netcdf(ds, out / "simulation.nc")
         write_history(ds, out / "history.csv", sc["history_wheelset"])
         plot_simulation(ds, out / "simulation.png")
     return ds

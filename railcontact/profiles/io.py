@@ -30,6 +30,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ProfileError
+from ..files import write_text
 from .processing import (ProfileOptions, find_kinks, remove_close_points, remove_zigzags,
                          smooth_points, z_points_down)
 from .profile import MAX_WIDTH, MIN_WIDTH, Profile
@@ -283,10 +284,7 @@ def write_profile(profile: Profile, path, units: str = "mm") -> Path:
     else:
         raise ProfileError(f"cannot write profile format {suffix!r}; expected .csv, .txt, "
                            ".prr or .prw")
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text("\n".join(lines) + "\n")
-    tmp.replace(path)
-    return path
+    return write_text(path, "\n".join(lines) + "\n")
 
 
 def process_points(y, z, kind: str, options: ProfileOptions | None = None,

@@ -45,6 +45,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import ProfileError
+from ..files import write_text
 from .io import read_profile, write_profile
 from .library import get_profile
 from .profile import Profile
@@ -310,10 +311,7 @@ def write_slices(slices: RailSlices, path, units: str = "mm") -> Path:
         lines += ["", "% features S_F [mm] per slice"]
         for sk, f in zip(slices.s, slices.features):
             lines.append(f"  {sk * 1e3:.6f}   " + "  ".join(f"{v * 1e3:.6f}" for v in f))
-    tmp = path.with_name(path.name + ".tmp")
-    tmp.write_text("\n".join(lines) + "\n")
-    tmp.replace(path)
-    return path
+    return write_text(path, "\n".join(lines) + "\n")
 
 
 def _nose_section(width: float, drop: float, crown: float, corner: float,

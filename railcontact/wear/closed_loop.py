@@ -40,6 +40,7 @@ from scipy.ndimage import gaussian_filter1d
 from ..bodies import build_wheelset_track
 from ..dynamics.vehicle import G_ACC
 from ..errors import InputError, RailContactError
+from ..files import write_netcdf, written_whole
 from ..geometry.tables import equivalent_conicity
 from ..profiles.measures import wheel_measures
 from ..profiles.profile import Profile
@@ -353,16 +354,12 @@ class ClosedLoopWear:
         for item, res in zip(self.sc.routes, results):
             name = re.sub(r"[^A-Za-z0-9_.-]+", "_", item.name)
             path = folder / f"step{self.step:03d}_{name}.nc"
-            tmp = path.with_name(path.name + ".tmp")
-            res["records"].to_netcdf(tmp, engine="h5netcdf")
-            tmp.replace(path)
+            write_netcdf(res["records"], path)
 
     def write(self):
         """Write ``wear.nc`` (and ``wear.png``) into the output folder."""
         ds = self.to_xarray()
-        tmp = self.out / "wear.nc.tmp"
-        ds.to_netcdf(tmp, engine="h5netcdf")
-        tmp.replace(self.out / "wear.nc")
+        write_netcdf(ds, self.out / "wear.nc")
         return ds
 
     def to_xarray(self):
@@ -489,9 +486,8 @@ class ClosedLoopWear:
                 "steps": len(self.steps), "states": len(self.states),
                 "cpu_time": self.cpu_time, "scenario": self._fingerprint()}
         arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
-        tmp = self.out / "checkpoint.tmp.npz"
-        np.savez(tmp, **arrays)
-        tmp.replace(self.out / "checkpoint.npz")
+        with written_whole(self.out / "checkpoint.npz") as tmp, open(tmp, "wb") as f:
+            np.savez(f, **arrays)
 
     def _fingerprint(self) -> str:
         """What a checkpoint must match to be resumed: routes, wheels, models."""

@@ -38,6 +38,7 @@ from ..bodies import build_wheelset_track
 from ..case import case_from_dict, read_toml
 from ..case_solve import solve
 from ..errors import CaseFileError, InputError, RailContactError
+from ..files import write_netcdf, written_whole
 from ..profiles.profile import Profile
 from .laws import get_wear_law
 from .mapping import profile_depth, strip_depth, wear_profile
@@ -260,9 +261,8 @@ class WearSimulation:
                 "history": [{k: (v.tolist() if isinstance(v, np.ndarray) else v)
                              for k, v in h.items()} for h in self.history]}
         arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
-        tmp = p.with_name("checkpoint.tmp.npz")
-        np.savez(tmp, **arrays)
-        tmp.replace(p)
+        with written_whole(p) as tmp, open(tmp, "wb") as f:
+            np.savez(f, **arrays)
 
     def load_checkpoint(self) -> bool:
         p = self._checkpoint_path()
@@ -357,9 +357,7 @@ class WearSimulation:
         ds = self.to_xarray()
         ds.attrs["cpu_time_s"] = time.perf_counter() - t0
         if self.out:
-            tmp = self.out / "wear.nc.tmp"
-            ds.to_netcdf(tmp, engine="h5netcdf")
-            tmp.replace(self.out / "wear.nc")
+            write_netcdf(ds, self.out / "wear.nc")
         return ds
 
     def to_xarray(self):
