@@ -9,21 +9,35 @@ from tqdm.auto import tqdm
 
 
 class TqdmCallback(Callback):
-    """Dask callback that advances a tqdm bar by the cases of each finished sweep
-    task (a chain of consecutive cases)."""
+    """Dask callback that advances a tqdm bar as the tasks whose key starts with
+    ``prefix`` finish: by the cases of a task that returns a list (a sweep's chain
+    of consecutive cases), by one otherwise (e.g. a wear step's route).
 
-    def __init__(self, total: int, desc: str = "", prefix: str = "_solve"):
+    Parameters
+    ----------
+    total : int
+        Length of the bar.
+    desc : str
+    prefix : str
+        Key prefix of the counted tasks (Dask names a delayed call after its
+        function).
+    **bar
+        More options of the tqdm bar (``unit``, ``leave``, ``disable``).
+    """
+
+    def __init__(self, total: int, desc: str = "", prefix: str = "_solve", **bar):
         super().__init__()
-        self.total, self.desc, self.prefix = total, desc, prefix
+        self.total, self.desc, self.prefix, self.options = total, desc, prefix, bar
 
     def _start(self, dsk):
-        self.bar = tqdm(total=self.total, desc=self.desc, file=sys.stderr,
-                        disable=not sys.stderr.isatty() and None)
+        options = {"file": sys.stderr, "disable": not sys.stderr.isatty() and None}
+        options.update(self.options)
+        self.bar = tqdm(total=self.total, desc=self.desc, **options)
 
     def _posttask(self, key, result, dsk, state, worker_id):
         name = key[0] if isinstance(key, tuple) else key
-        if str(name).startswith(self.prefix) and isinstance(result, list):
-            self.bar.update(len(result))
+        if str(name).startswith(self.prefix):
+            self.bar.update(len(result) if isinstance(result, list) else 1)
 
     def _finish(self, dsk, state, errored):
         self.bar.close()

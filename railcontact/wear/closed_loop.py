@@ -44,8 +44,9 @@ from ..files import write_netcdf, written_whole
 from ..geometry.tables import equivalent_conicity
 from ..profiles.measures import wheel_measures
 from ..profiles.profile import Profile
+from ..progress import TqdmCallback
 from .mapping import removed_area, wear_profile
-from .route_tasks import RouteProgress, build_table, run_route
+from .route_tasks import build_table, run_route
 
 log = logging.getLogger(__name__)
 
@@ -169,7 +170,8 @@ class ClosedLoopWear:
                     self.wheels, self.rails[r], wheel_grids,
                     [grid_of[id(p)] for p in self.rails[r]], post)
                 for r, item in enumerate(sc.routes)]
-        with RouteProgress(self.nr, f"step {self.step + 1}: routes", self.progress):
+        with TqdmCallback(self.nr, f"step {self.step + 1}: routes", prefix="run_route",
+                          unit="route", leave=False, disable=not self.progress):
             out = self._dask_compute(tasks + runs)
         return [[out[i] for i in row] for row in rows], out[len(tasks):]
 

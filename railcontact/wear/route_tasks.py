@@ -1,18 +1,15 @@
 """The tasks of one closed-loop wear step, as Dask runs them: a contact table of a
 wheel pair on a rail pair (:func:`build_table`), one route's dynamics run with its
-measures and post-processing (:func:`run_route`), the progress bar over a step's
-routes (:class:`RouteProgress`), and where a step's contact skips positions
-(:func:`away_from_contact_jumps`).  The loop that drives them is
+measures and post-processing (:func:`run_route`), and where a step's contact skips
+positions (:func:`away_from_contact_jumps`).  The loop that drives them is
 :mod:`railcontact.wear.closed_loop`.
 """
 
 from __future__ import annotations
 
-import sys
 import time
 
 import numpy as np
-from dask.callbacks import Callback
 
 from ..dynamics.simulation import simulate_vehicle
 from ..dynamics.wheel_rail import F_SHARE, F_YWHEEL, WheelRailTable
@@ -139,25 +136,3 @@ def _records(ds, res, stride):
                                  "long_name": f"{name} of the local contact model"})
     out.attrs = {k: v for k, v in ds.attrs.items() if isinstance(v, (int, float, str))}
     return out
-
-
-class RouteProgress(Callback):
-    """A tqdm bar over the routes of a wear step, advanced as their Dask tasks
-    (``run_route-...``) finish."""
-
-    def __init__(self, total: int, desc: str, enabled: bool = True):
-        super().__init__()
-        self.total, self.desc, self.enabled = total, desc, enabled
-
-    def _start(self, dsk):
-        from tqdm.auto import tqdm
-        self.bar = tqdm(total=self.total, desc=self.desc, unit="route", leave=False,
-                        file=sys.stderr, disable=not self.enabled)
-
-    def _posttask(self, key, result, dsk, state, worker_id):
-        name = key[0] if isinstance(key, tuple) else key
-        if str(name).startswith("run_route"):
-            self.bar.update(1)
-
-    def _finish(self, dsk, state, errored):
-        self.bar.close()
