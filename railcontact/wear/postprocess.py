@@ -185,6 +185,7 @@ class PatchPostProcessor:
                                                       "frictional_power")}
         energy = 0.0
         cache: dict = {}
+        mapped: dict = {}                   # key -> (wheel, rail) depth on the grids
         last: dict = {}
         for i in range(idx.size):
             for w in range(nw):
@@ -222,12 +223,17 @@ class PatchPostProcessor:
                         energy += values[-1] / V
                         if not depth_y.any():
                             continue
-                        wp = wheels[w][j]
-                        wheel[w][j] += profile_depth(geom, strips, depth_y, wp, "wheel",
-                                                     wheel_grids[w][j]) \
-                            / (2 * math.pi * geom.rolling_radius)
-                        rail[j] += profile_depth(geom, strips, depth_y, rails[j], "rail",
-                                                 rail_grids[j])
+                        depths = mapped.get(key) if key is not None else None
+                        if depths is None:          # the same key maps onto the same profiles
+                            depths = (profile_depth(geom, strips, depth_y, wheels[w][j],
+                                                    "wheel", wheel_grids[w][j])
+                                      / (2 * math.pi * geom.rolling_radius),
+                                      profile_depth(geom, strips, depth_y, rails[j], "rail",
+                                                    rail_grids[j]))
+                            if key is not None:
+                                mapped[key] = depths
+                        wheel[w][j] += depths[0]
+                        rail[j] += depths[1]
         n_s = max(idx.size, 1)
         st.samples = int(idx.size)
         st.cpu_time = time.thread_time() - t0
