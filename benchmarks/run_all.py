@@ -747,7 +747,8 @@ def _wear_runs(sc):
     """Step-1 tables and dynamics runs of a closed-loop scenario (the same for every
     local model): (simulation, tables per route, datasets per route, grids)."""
     from railcontact.dynamics.simulation import simulate_vehicle
-    from railcontact.wear.closed_loop import ClosedLoopWear, _s_grid
+    from railcontact.wear.closed_loop import ClosedLoopWear
+    from railcontact.wear.mapping import arc_length_grid
     from railcontact.wear.route_tasks import build_table
     sim = ClosedLoopWear(sc, None, progress=False)
     table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
@@ -758,8 +759,8 @@ def _wear_runs(sc):
                              d["sample_rate"], d["rtol"], False, d["tangential_options"],
                              d["fastsim_grid"], integrator=d["integrator"], step=d["step"])
             for r in sc.routes]
-    grid = _s_grid(sim.wheels[0][0], sc.grid_step)
-    rgrid = _s_grid(sim.rails[0][0], sc.grid_step)
+    grid = arc_length_grid(sim.wheels[0][0], sc.grid_step)
+    rgrid = arc_length_grid(sim.rails[0][0], sc.grid_step)
     return sim, tables, runs, grid, rgrid
 
 
@@ -768,7 +769,7 @@ def _wear_post(sc, sim, tables, runs, grid, rgrid, model, sample_distance=None,
     """Post-process the runs with one model: (vehicle-averaged wheel wear per metre
     of the route mix, smoothed as the loop does; PostProcessStats per route)."""
     from railcontact.wear import get_wear_law
-    from railcontact.wear.closed_loop import _smooth
+    from railcontact.wear.mapping import smooth_depth
     from railcontact.wear.postprocess import PatchPostProcessor
     n, t = model.split("+")
     pp = PatchPostProcessor(n, t, get_wear_law(sc.law, **sc.parameters), sc.case.material,
@@ -784,7 +785,7 @@ def _wear_post(sc, sim, tables, runs, grid, rgrid, model, sample_distance=None,
                      [rgrid, rgrid], item.friction, stride)
         total += w * sum(d for pair in res["wheel"] for d in pair) / (2 * sim.nw)
         stats.append(res["stats"])
-    return _smooth(total, sc.grid_step, sc.smoothing), stats
+    return smooth_depth(total, sc.grid_step, sc.smoothing), stats
 
 
 def bench_wear_closed_loop(full: bool = True):

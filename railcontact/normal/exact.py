@@ -225,11 +225,7 @@ class ExactNormalModel:
         from scipy.optimize import brentq
 
         limit = self.pressure_limit
-        self.pressure_limit = math.inf
-        try:
-            p, app, it, ok = self._force_controlled(grid_key, h0, dA, force, p0, 0.0, regions)
-        finally:
-            self.pressure_limit = limit
+        p, app, it, ok = self._force_controlled(grid_key, h0, dA, force, p0, 0.0, regions)
         if not ok or p.max() <= limit:
             return p, app, it, ok                   # the elastic solution holds
         state = {"p": np.minimum(p, limit), "it": it, "ok": True}
@@ -397,9 +393,7 @@ class ExactNormalModel:
         if not ok:
             log.warning("exact normal solver: no convergence in %d iterations", it)
         contact = p > 0
-        edge = contact[0, :].any() or contact[-1, :].any() or contact[:, 0].any() or \
-            contact[:, -1].any()
-        if edge:
+        if any(edge_sides(contact)):
             status = status.with_warnings("the contact reaches the edge of the potential "
                                           "contact area (results may be truncated)")
         F = float(p.sum() * dA)

@@ -35,7 +35,6 @@ import time
 from pathlib import Path
 
 import numpy as np
-from scipy.ndimage import gaussian_filter1d
 
 from ..bodies import build_wheelset_track
 from ..dynamics.vehicle import G_ACC
@@ -45,7 +44,7 @@ from ..geometry.tables import equivalent_conicity
 from ..profiles.measures import wheel_measures
 from ..profiles.profile import Profile
 from ..progress import TqdmCallback
-from .mapping import removed_area, wear_profile
+from .mapping import arc_length_grid, removed_area, smooth_depth, wear_profile
 from .route_tasks import build_table, run_route
 
 log = logging.getLogger(__name__)
@@ -53,20 +52,6 @@ log = logging.getLogger(__name__)
 SIDES = ("left", "right")
 #: amplitude of the equivalent conicity (EN 15302's usual 3 mm) [m]
 CONICITY_AMPLITUDE = 3e-3
-
-
-def _s_grid(profile: Profile, step: float):
-    return np.arange(0.0, float(profile.arc_length(profile.y_max)) + step, step)
-
-
-def _smooth(depth, step, length):
-    """Gaussian smoothing of a depth on a grid of ``step`` with physical length
-    ``length`` [m] (2 sigma), the area conserved."""
-    if length <= 0:
-        return depth
-    out = gaussian_filter1d(depth, sigma=length / step / 2.0, mode="constant")
-    tot, got = depth.sum(), out.sum()
-    return out * (tot / got) if got > 0 else out
 
 
 class ClosedLoopWear:
@@ -115,7 +100,6 @@ class ClosedLoopWear:
         self.states: list = []       # per state (0 = new profiles): dict of arrays
         self.step = 0
         self.distance = 0.0
-        self.last_tables = None
         self.cpu_time = 0.0
 
     # ------------------------------------------------------------ profiles
@@ -237,7 +221,7 @@ class ClosedLoopWear:
         grid_of: dict = {}
         for p in [p for pair in self.wheels + self.rails for p in pair]:
             if id(p) not in grid_of:
-                grid_of[id(p)] = _s_grid(p, sc.grid_step)
+                grid_of[id(p)] = arc_length_grid(p, sc.grid_step)
         wheels0 = [list(pair) for pair in self.wheels]
         tables, results = self._compute(grid_of)
         if len(self.states) == self.step:
@@ -255,11 +239,11 @@ class ClosedLoopWear:
         bodies = []            # (kind, profile before, rate per metre, smoothed, members)
         if self._worn("wheel"):
             bodies += [("wheel", wheels0[g[0][0]][g[0][1]], rate,
-                        _smooth(rate, sc.grid_step, sc.smoothing), g)
+                        smooth_depth(rate, sc.grid_step, sc.smoothing), g)
                        for g, rate in zip(groups, group_rate)]
         if self._worn("rail"):
             bodies += [("rail", self.rails[r][j], rail_rate[r][j],
-                        _smooth(rail_rate[r][j], sc.grid_step, sc.smoothing), [(r, j)])
+                        smooth_depth(rail_rate[r][j], sc.grid_step, sc.smoothing), [(r, j)])
                        for r in range(self.nr) for j in range(2)]
         if sc.distances is not None and self.step < len(sc.distances):
             dist = float(sc.distances[self.step])

@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import numpy as np
+from scipy.ndimage import gaussian_filter1d
 
 from ..profiles.profile import Profile
 
@@ -62,3 +63,19 @@ def removed_area(old: Profile, new: Profile, body: str, n: int = 20000) -> float
     dz = new.z_at(y) - old.z_at(y)
     sign = 1.0 if body == "rail" else -1.0
     return float(np.trapezoid(np.nan_to_num(sign * dz), y))
+
+
+def arc_length_grid(profile: Profile, step: float):
+    """The grid along a profile's arc length [m], from its start to its end in steps
+    of ``step``: where wear depths are accumulated."""
+    return np.arange(0.0, float(profile.arc_length(profile.y_max)) + step, step)
+
+
+def smooth_depth(depth, step, length):
+    """Gaussian smoothing of a wear depth on a grid of ``step`` with physical length
+    ``length`` [m] (2 sigma), the removed area conserved; ``length`` <= 0: unchanged."""
+    if length <= 0:
+        return depth
+    out = gaussian_filter1d(depth, sigma=length / step / 2.0, mode="constant")
+    tot, got = depth.sum(), out.sum()
+    return out * (tot / got) if got > 0 else out

@@ -32,7 +32,6 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
-from scipy.ndimage import gaussian_filter1d
 
 from ..bodies import build_wheelset_track
 from ..case import case_from_dict, read_toml
@@ -41,7 +40,7 @@ from ..errors import CaseFileError, InputError, RailContactError
 from ..files import write_netcdf, written_whole
 from ..profiles.profile import Profile
 from .laws import get_wear_law
-from .mapping import profile_depth, strip_depth, wear_profile
+from .mapping import arc_length_grid, profile_depth, smooth_depth, strip_depth, wear_profile
 from .vehicle_scenario import (WearSettings, apply_wear_settings, is_vehicle_scenario,
                                number, vehicle_scenario_from_dict)
 
@@ -193,11 +192,6 @@ def _condition_raw(sc: WearScenario, cond: dict, profiles: dict | None) -> dict:
     return raw
 
 
-def _s_grid(profile: Profile, step: float):
-    s_end = float(profile.arc_length(profile.y_max))
-    return np.arange(0.0, s_end + step, step)
-
-
 def condition_wear(raw: dict, base_dir, law_name: str, law_params: dict, grids: dict,
                    profiles: dict) -> dict:
     """Wear of one operating condition: depth per revolution (wheels) and per passage
@@ -219,14 +213,6 @@ def condition_wear(raw: dict, base_dir, law_name: str, law_params: dict, grids: 
         radius[g.side] = g.rolling_radius
         energy += ts.frictional_power / max(ts.velocity, 1e-12)
     return {"depth": out, "radius": radius, "energy": energy, "converged": res.converged}
-
-
-def _smooth(depth, step, length):
-    if length <= 0:
-        return depth
-    out = gaussian_filter1d(depth, sigma=length / step / 2.0, mode="constant")
-    tot, got = depth.sum(), out.sum()
-    return out * (tot / got) if got > 0 else out
 
 
 class WearSimulation:
@@ -286,7 +272,7 @@ class WearSimulation:
 
     def run_step(self):
         sc = self.sc
-        grids = {b: _s_grid(self.profiles[b], sc.grid_step) for b in BODIES}
+        grids = {b: arc_length_grid(self.profiles[b], sc.grid_step) for b in BODIES}
         w = np.array([c.get("weight", 1.0) for c in sc.conditions], dtype=float)
         w /= w.sum()
         raws = [_condition_raw(sc, c, self.profiles) for c in sc.conditions]
@@ -318,7 +304,7 @@ class WearSimulation:
                     per_m[b] += wi * r["depth"][b] * sc.rail_passages_per_meter
         worn = [b for b in BODIES if self._worn(b)]
         law_area = {b: float(np.trapezoid(per_m[b], grids[b])) for b in BODIES}
-        per_m = {b: _smooth(per_m[b], sc.grid_step, sc.smoothing) for b in BODIES}
+        per_m = {b: smooth_depth(per_m[b], sc.grid_step, sc.smoothing) for b in BODIES}
         peak = max(float(per_m[b].max()) for b in worn)
         if peak <= 0:
             raise RailContactError("no wear in this step (no frictional work); check the "
