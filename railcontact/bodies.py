@@ -21,7 +21,10 @@ def wheel_rail_setup(case: Case) -> WheelRailSetup:
     return case.wheel_rail
 
 
-def _profiles(source: ProfileSource, kind: str, base_dir):
+def load_profiles(source: ProfileSource, kind: str, base_dir):
+    """The right and the left (None: the right one mirrored) profile of a case's
+    ``[wheel]`` or ``[rail]``, read with the case's units and CONTACT's processing
+    options (mirroring, scale, smoothing, kinks)."""
     kw = {"base_dir": base_dir, "units": source.units}
     if source.options is not None:
         kw["options"] = source.options
@@ -34,8 +37,8 @@ def _profiles(source: ProfileSource, kind: str, base_dir):
 def build_wheelset_track(case: Case):
     """Wheelset and track of a wheel-rail case."""
     s = wheel_rail_setup(case)
-    wheel, wheel_left = _profiles(s.wheel, "wheel", case.base_dir)
-    rail, rail_left = _profiles(s.rail, "rail", case.base_dir)
+    wheel, wheel_left = load_profiles(s.wheel, "wheel", case.base_dir)
+    rail, rail_left = load_profiles(s.rail, "rail", case.base_dir)
     ws = Wheelset(wheel, wheel_left, nominal_radius=s.nominal_radius,
                   flange_back_distance=s.flange_back_distance,
                   flange_back_position=s.flange_back_position)

@@ -29,8 +29,10 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
+from .bodies import load_profiles
 from .case import Case
 from .case_surfaces import check_surface_case
+from .case_wheel_rail import ProfileSource
 from .equilibrium import VerticalBalance
 from .errors import CaseFileError, ContactNotFoundError, ProfileError
 from .geometry.surface_search import (Motion, SurfaceContact, SurfacePose, SurfaceWheel,
@@ -40,7 +42,6 @@ from .geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface
 from .geometry.track import Track
 from .geometry.validity import HALF_SPACE_LIMIT, flange_state, halfspace_ratio
 from .patches import case_models
-from .profiles.library import get_profile
 from .profiles.slices import is_slices_file, read_slices, slices_from_list
 from .results import PatchResult, SolveResult, vertical_force_on_rail
 from .status import SolverStatus
@@ -64,8 +65,8 @@ def _rail_surface(case: Case, spec: dict, where: str):
                                 "{s, profile}")
         spacing = spec.get("slice_spacing")
         return SlicedSurface(slices) if spacing is None else SlicedSurface(slices, spacing)
-    return ProfileSurface(get_profile(spec["profile"], "rail",
-                                      inclination=spec.get("inclination"), base_dir=base))
+    source = ProfileSource(spec["profile"], units=units, inclination=spec.get("inclination"))
+    return ProfileSurface(load_profiles(source, "rail", base)[0])
 
 
 @dataclass
@@ -88,7 +89,9 @@ def build_surface_case(case: Case) -> SurfaceSetup:
     """The wheel, rails, pose and motion of a surface case."""
     check_surface_case(case)
     base = case.base_dir
-    wheel_p = get_profile(case.get("wheel.profile", "S1002"), "wheel", base_dir=base)
+    options, units = case.profile_options("wheel")
+    wheel_p = load_profiles(ProfileSource(case.get("wheel.profile", "S1002"), options=options,
+                                          units=units), "wheel", base)[0]
     r0 = case.number("wheel.nominal_radius", 0.46, 0.01, 1.5, "m")
     fbd = case.number("wheelset.flange_back_distance", 1.360, -2.0, 2.0, "m")
     fbp = case.number("wheelset.flange_back_position", -0.070, -0.2, 0.2, "m")

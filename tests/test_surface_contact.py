@@ -356,3 +356,22 @@ def test_left_wheel_is_the_mirrored_right_wheel(testbank):
     assert left.normal.normal_force == pytest.approx(r.normal.normal_force, rel=1e-5)
     assert left.tangential.fx == pytest.approx(r.tangential.fx, rel=1e-4)
     assert left.tangential.fy == pytest.approx(-r.tangential.fy, rel=1e-4)
+
+
+def test_profile_options_reach_the_surfaces(testbank):
+    """A surface case reads its wheel as profile cases do: with the [wheel] units and
+    CONTACT's processing (here a 1.05 scale), not the raw file (ignored before)."""
+    from railcontact.profiles import ProfileOptions
+    from railcontact.profiles.library import get_profile
+    from railcontact.surface_contact import build_surface_case
+    raw = {"wheel": {"profile": "../profiles/MBench_S1002_v3.prw", "nominal_radius": 0.46},
+           "rail": {"profile": "../profiles/MBench_UIC60_v3.prr", "lateral_position": 0.75,
+                    "vertical_position": 0.0, "units": "mm"},
+           "wheelset": {"side": "right", "vertical_force": 1e4}}
+    plain = build_surface_case(case_from_dict(raw, testbank / "examples_s+c")).wheel.profile
+    raw["wheel"]["scale"] = 1.05
+    got = build_surface_case(case_from_dict(raw, testbank / "examples_s+c")).wheel.profile
+    want = get_profile(testbank / "profiles" / "MBench_S1002_v3.prw", "wheel",
+                       options=ProfileOptions.from_table({"scale": 1.05}, "wheel"))
+    np.testing.assert_allclose(got.z_at(want.y[5:-5]), want.z[5:-5], atol=1e-12)
+    assert np.ptp(got.y) == pytest.approx(1.05 * np.ptp(plain.y), rel=1e-9)
