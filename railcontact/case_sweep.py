@@ -13,7 +13,6 @@ import numpy as np
 from .case import Case, case_from_dict
 from .case_solve import solve
 from .errors import InputError, RailContactError
-from .progress import TqdmCallback
 
 log = logging.getLogger(__name__)
 
@@ -156,6 +155,7 @@ def run_chains(chain, items: list, scheduler: str = "auto", progress: bool = Tru
         if scheduler == "processes":
             kwargs["num_workers"] = None
     if progress:
+        from .progress import TqdmCallback       # Dask's callbacks: loaded with dask
         with TqdmCallback(total=len(items), desc=desc):
             out = dask.compute(*tasks, **kwargs)
     else:
