@@ -37,7 +37,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, replace
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -49,8 +49,6 @@ from ..materials import Material
 from ..surface_contact import build_surface_case
 
 log = logging.getLogger(__name__)
-
-G = 9.81
 
 
 @dataclass(frozen=True)
@@ -156,8 +154,7 @@ def contact_table(case, positions, depth: float = 4e-4, material: Material | Non
     z_est = None                        # the last position's touching height + depth
 
     def find(si, z):
-        return search(setup.wheel, setup.rails, dataclass_replace(setup.pose, s=float(si),
-                                                                   vertical=z),
+        return search(setup.wheel, setup.rails, replace(setup.pose, s=float(si), vertical=z),
                       setup.side, setup.motion, x_range=setup.search_length,
                       inclination=setup.inclination)
 
@@ -186,11 +183,6 @@ def contact_table(case, positions, depth: float = 4e-4, material: Material | Non
             hz = hertz_ellipse(A, B, Es, penetration=1e-4)
             off[i, k], C[i, k], cd[i, k] = o, hz.force / 1e-6, cosd
     return VerticalContactTable(s, z_touch, names, off, C, cd, depth)
-
-
-def dataclass_replace(obj, **kw):
-    import dataclasses
-    return dataclasses.replace(obj, **kw)
 
 
 def simulate_crossing(table: VerticalContactTable, velocity: float, load: float,
@@ -232,7 +224,7 @@ def simulate_crossing(table: VerticalContactTable, velocity: float, load: float,
     m_w, m_t, k_t, c_t = float(wheel_mass), track.mass, track.stiffness, track.damping
     # static equilibrium at the start: the track carries Q + its own weight share
     d0 = table.static_approach(s0, load)
-    zt0 = (load + m_t * G) / k_t - m_t * G / k_t        # the load's deflection of the track
+    zt0 = load / k_t                                    # the load's deflection of the track
     zw0 = zt0 + table.touch(s0) + d0
     # the contact's period at the static load (a stiffness 1.5 Q / d): the step limit
     k_c = 1.5 * load / max(d0, 1e-7)
