@@ -147,3 +147,12 @@ def flexibilities_from_coefficients(a, b, c11, c22, c23, shear_modulus: float):
     G = shear_modulus
     return (8 * a / (3 * c11 * G), 8 * a / (3 * c22 * G),
             math.pi * a * np.sqrt(a / b) / (4 * G * c23))
+
+
+@njit(cache=True, nogil=True)
+def linear_forces(G, a, b, C11, C22, C23, xi, eta, phi):
+    """Kalker's linear theory: creep forces (F_x, F_y) [N] of an ellipse with semi-axes
+    a, b [m], shear modulus G [Pa] and coefficients C_ij for creepages xi, eta [-] and
+    spin phi [1/m]: F_x = G c^2 C11 xi, F_y = G c^2 C22 eta + G c^3 C23 phi, c = sqrt(a b)."""
+    c = math.sqrt(a * b)
+    return G * c * c * C11 * xi, G * c * c * C22 * eta + G * c * c * c * C23 * phi

@@ -15,7 +15,6 @@ the result are empty and ``options["local_fields"]`` is False.
 
 from __future__ import annotations
 
-import math
 import time
 
 import numpy as np
@@ -23,7 +22,7 @@ import numpy as np
 from ..materials import STEEL, Material
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import equivalent_ellipse
-from .kalker import kalker_coefficients
+from .kalker import kalker_coefficients, linear_forces
 
 
 @register("linear")
@@ -44,10 +43,7 @@ class LinearModel:
         fx = fy = 0.0
         if a > 0 and b > 0 and normal.normal_force > 0:
             c11, c22, c23 = kalker_coefficients(a / b, material.nu)
-            c = math.sqrt(a * b)
-            G = material.shear_modulus
-            fx = G * c * c * c11 * xi
-            fy = G * c * c * c22 * eta + G * c ** 3 * c23 * phi
+            fx, fy = linear_forces(material.shear_modulus, a, b, c11, c22, c23, xi, eta, phi)
         z = np.zeros_like(normal.pressure)
         return TangentialSolution(self.name, normal.x, normal.y, z, z.copy(), z.copy(), z.copy(),
                                   np.zeros(z.shape, bool), normal.contact, fx, fy, 0.0, velocity,

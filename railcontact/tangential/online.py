@@ -22,6 +22,7 @@ from numba import njit
 
 from .base import tangential_model_class, tangential_supports
 from .fastsim import fastsim_ellipse
+from .kalker import linear_forces
 from .polach import polach_kernel
 
 
@@ -52,8 +53,8 @@ def patch_forces(law, tp, N, a, b, C11, C22, C23, xi, eta, phi, V):
     if N <= 0.0 or a <= 0.0 or b <= 0.0:
         return 0.0, 0.0, 0.0
     if law == 0:
-        c = math.sqrt(a * b)
-        return (G * c * c * C11 * xi, G * c * c * C22 * eta + G * c * c * c * C23 * phi, 0.0)
+        fx, fy = linear_forces(G, a, b, C11, C22, C23, xi, eta, phi)
+        return fx, fy, 0.0
     if law == 1:
         return fastsim_ellipse(a, b, N, mu, G, C11, C22, C23, xi, eta, phi,
                                int(tp[2]), int(tp[3]))
