@@ -13,6 +13,7 @@ import numpy as np
 from .case import Case, case_from_dict
 from .case_solve import solve
 from .errors import InputError, RailContactError
+from .parallel import compute
 
 log = logging.getLogger(__name__)
 
@@ -145,19 +146,9 @@ def run_chains(chain, items: list, scheduler: str = "auto", progress: bool = Tru
         return []
     bounds = np.linspace(0, len(items), min(chains, len(items)) + 1).round().astype(int)
     tasks = [dask.delayed(chain)(items[a:b], warm=warm) for a, b in zip(bounds[:-1], bounds[1:])]
-    kwargs = {}
-    if scheduler.startswith(("tcp://", "tls://", "inproc://")):
-        from distributed import Client
-        client = Client(scheduler)
-        kwargs["scheduler"] = client.get
-    else:
-        kwargs["scheduler"] = scheduler
-        if scheduler == "processes":
-            kwargs["num_workers"] = None
+    bar = None
     if progress:
         from .progress import TqdmCallback       # Dask's callbacks: loaded with dask
-        with TqdmCallback(total=len(items), desc=desc):
-            out = dask.compute(*tasks, **kwargs)
-    else:
-        out = dask.compute(*tasks, **kwargs)
+        bar = TqdmCallback(total=len(items), desc=desc)
+    out = compute(tasks, scheduler, bar)
     return [o for chain_out in out for o in chain_out]

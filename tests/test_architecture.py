@@ -12,7 +12,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "railcontact"
 RANKS = {
     # base: no model, no case
     "errors": 0, "registry": 0, "status": 0, "materials": 0, "hertz_theory": 0,
-    "progress": 0, "plotting": 0, "files": 0,
+    "progress": 0, "plotting": 0, "files": 0, "parallel": 0,
     # the pipeline's layers
     "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4,
     # cases above the layers

@@ -43,6 +43,7 @@ from ..files import write_netcdf, written_whole
 from ..geometry.tables import equivalent_conicity
 from ..profiles.measures import wheel_measures
 from ..profiles.profile import Profile
+from ..parallel import compute
 from ..progress import TqdmCallback
 from .mapping import arc_length_grid, removed_area, smooth_depth, wear_profile
 from .route_tasks import build_table, run_route
@@ -154,22 +155,10 @@ class ClosedLoopWear:
                     self.wheels, self.rails[r], wheel_grids,
                     [grid_of[id(p)] for p in self.rails[r]], post)
                 for r, item in enumerate(sc.routes)]
-        with TqdmCallback(self.nr, f"step {self.step + 1}: routes", prefix="run_route",
-                          unit="route", leave=False, disable=not self.progress):
-            out = self._dask_compute(tasks + runs)
+        bar = TqdmCallback(self.nr, f"step {self.step + 1}: routes", prefix="run_route",
+                           unit="route", leave=False, disable=not self.progress)
+        out = compute(tasks + runs, sc.scheduler, bar, "wear.scheduler")
         return [[out[i] for i in row] for row in rows], out[len(tasks):]
-
-    def _dask_compute(self, tasks):
-        import dask
-        sched = self.sc.scheduler
-        if sched.startswith(("tcp://", "tls://", "inproc://")):
-            from distributed import Client
-            with Client(sched) as client:
-                return list(dask.compute(*tasks, scheduler=client.get))
-        if sched not in ("threads", "processes", "sync", "synchronous"):
-            raise InputError(f"wear.scheduler = {sched!r}: expected 'threads', 'processes', "
-                             "'sync' or a Dask scheduler address tcp://host:port")
-        return list(dask.compute(*tasks, scheduler=sched))
 
     def _state(self, tables) -> dict:
         """Measures of the current profiles: profile heights, flange height, flange
@@ -325,7 +314,7 @@ class ClosedLoopWear:
             self.run_step()
         if len(self.states) == self.step:            # the final profiles' measures
             tasks, rows = self._table_tasks()
-            out = self._dask_compute(tasks)
+            out = compute(tasks, self.sc.scheduler, what="wear.scheduler")
             self.states.append(self._state([[out[i] for i in row] for row in rows]))
         self.cpu_time += time.perf_counter() - t0
         if self.out:

@@ -38,6 +38,8 @@ from ..case import case_from_dict, read_toml
 from ..case_solve import solve
 from ..errors import CaseFileError, InputError, RailContactError
 from ..files import write_netcdf, written_whole
+from ..parallel import compute
+from ..progress import TqdmCallback
 from ..profiles.profile import Profile
 from .laws import get_wear_law
 from .mapping import arc_length_grid, profile_depth, smooth_depth, strip_depth, wear_profile
@@ -276,21 +278,12 @@ class WearSimulation:
         w = np.array([c.get("weight", 1.0) for c in sc.conditions], dtype=float)
         w /= w.sum()
         raws = [_condition_raw(sc, c, self.profiles) for c in sc.conditions]
-        if sc.scheduler == "sync":
-            from tqdm.auto import tqdm
-            results = [condition_wear(r, sc.base_dir, sc.law, sc.parameters, grids,
-                                      self.profiles)
-                       for r in tqdm(raws, desc=f"wear step {self.step + 1}", leave=False,
-                                     disable=not self.progress)]
-        else:
-            import dask
-            tasks = [dask.delayed(condition_wear)(r, sc.base_dir, sc.law, sc.parameters, grids,
-                                                  self.profiles) for r in raws]
-            if sc.scheduler.startswith(("tcp://", "tls://", "inproc://")):
-                from distributed import Client
-                results = list(dask.compute(*tasks, scheduler=Client(sc.scheduler).get))
-            else:
-                results = list(dask.compute(*tasks, scheduler=sc.scheduler))
+        import dask
+        tasks = [dask.delayed(condition_wear)(r, sc.base_dir, sc.law, sc.parameters, grids,
+                                              self.profiles) for r in raws]
+        bar = TqdmCallback(len(raws), f"wear step {self.step + 1}", prefix="condition_wear",
+                           leave=False, disable=not self.progress)
+        results = compute(tasks, sc.scheduler, bar, "wear.scheduler")
         per_m = {b: np.zeros_like(grids[b]) for b in BODIES}
         energy = 0.0
         for wi, r in zip(w, results):
