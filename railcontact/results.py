@@ -153,26 +153,27 @@ class SolveResult:
 
 
 
-def vertical_force_on_rail(results, side: str, lateral=None) -> float:
-    """Total vertical force [N] the wheel exerts on the rail of one side (track z).
+def patch_vertical_force(r, fy: float | None = None) -> float:
+    """Vertical force [N] that the wheel exerts on the rail through one patch (track z).
 
     On the rail, F_z = f_n cos(d) + f_s sin(d) with f_s = -F_y the lateral force on
-    the rail (the patch results hold forces on the wheel).  ``lateral``: a function
-    of a patch result giving the lateral force F_y [N] that stands in for its
-    tangential solution (:class:`WheelRailContact`); else the tangential
+    the rail (the patch results hold forces on the wheel).  ``fy``: a lateral force
+    F_y [N] that stands in for the patch's tangential solution; else the tangential
     solution's (0 without one).
     """
-    total = 0.0
-    for r in results:
-        if r.geometry.side == side:
-            d = r.geometry.contact_angle
-            fn = r.normal.normal_force
-            if lateral is not None:
-                fy = lateral(r)
-            else:
-                fy = r.tangential.fy if r.tangential is not None else 0.0
-            total += fn * math.cos(d) - fy * math.sin(d)
-    return total
+    d = r.geometry.contact_angle
+    if fy is None:
+        fy = r.tangential.fy if r.tangential is not None else 0.0
+    return r.normal.normal_force * math.cos(d) - fy * math.sin(d)
+
+
+def vertical_force_on_rail(results, side: str, lateral=None) -> float:
+    """Total vertical force [N] the wheel exerts on the rail of one side (track z):
+    :func:`patch_vertical_force` summed over the side's patches.  ``lateral``: a
+    function of a patch result giving the lateral force F_y [N] that stands in for
+    its tangential solution (:class:`WheelRailContact`)."""
+    return sum(patch_vertical_force(r, lateral(r) if lateral is not None else None)
+               for r in results if r.geometry.side == side)
 
 
 

@@ -43,7 +43,7 @@ from .geometry.track import Track
 from .geometry.validity import HALF_SPACE_LIMIT, flange_state, halfspace_ratio
 from .patches import case_models
 from .profiles.slices import is_slices_file, read_slices, slices_from_list
-from .results import PatchResult, SolveResult, vertical_force_on_rail
+from .results import PatchResult, SolveResult, patch_vertical_force, vertical_force_on_rail
 from .status import SolverStatus
 
 log = logging.getLogger(__name__)
@@ -176,10 +176,7 @@ class SurfaceResult(SolveResult):
         """Vertical force [N] on each rail (track z, forces on the rail)."""
         out = {}
         for p in self.patches:
-            d, fn = p.geometry.contact_angle, p.normal.normal_force
-            fy = p.tangential.fy if p.tangential is not None else 0.0
-            out[p.geometry.rail] = out.get(p.geometry.rail, 0.0) + fn * math.cos(d) \
-                - fy * math.sin(d)
+            out[p.geometry.rail] = out.get(p.geometry.rail, 0.0) + patch_vertical_force(p)
         return out
 
 
