@@ -45,6 +45,29 @@ def write_history(ds, path, wheelset: int = 1):
     return write_text(path, "\n".join(rows) + "\n")
 
 
+def creep_law_settings(section: dict, name: str) -> tuple:
+    """The dynamics' creep-law settings of a section (``[simulation]`` of a dynamics
+    scenario, ``[dynamics]`` of a wear scenario), checked: the tangential model
+    (compiled online or per patch), FASTSIM's grid [nx, ny] and the integrator."""
+    tang = section.get("tangential", "fastsim")
+    if tang not in tangential_models():
+        raise CaseFileError(f"{name}.tangential = {tang!r}: expected one of "
+                            f"{tangential_models()}")
+    grid = section.get("fastsim_grid", [12, 12])
+    if not (isinstance(grid, list) and len(grid) == 2 and all(isinstance(g, int) for g in grid)):
+        raise CaseFileError(f"{name}.fastsim_grid = {grid!r}: expected [nx, ny] integers")
+    integ = section.get("integrator", "auto")
+    if integ not in ("auto", "rk4", "lsoda"):
+        raise CaseFileError(f"{name}.integrator = {integ!r}: expected 'auto', 'rk4' or "
+                            "'lsoda'")
+    return tang, grid, integ
+
+
+def vehicle_length(model: VehicleModel) -> float:
+    """Distance [m] from the vehicle's last body to its first along the track."""
+    return max(b.x for b in model.bodies) - min(b.x for b in model.bodies)
+
+
 def vehicle_from_section(veh: dict, base_dir: Path | None = None) -> VehicleModel:
     """The ``[vehicle]`` table: model, preset, a parameter file and overrides (in
     that order of precedence, the last winning)."""
@@ -143,23 +166,12 @@ def load_simulation(path):
     model = vehicle_from_section(veh, path.parent)
     v = _num(sim, "simulation", "velocity", 30.0, 0.1, 200.0)
     duration = _num(sim, "simulation", "duration", 5.0, 1e-3, 1e5)
-    vehicle_length = max(b.x for b in model.bodies) - min(b.x for b in model.bodies)
-    rt = route_from_section(route, path.parent, v * duration + vehicle_length + 10.0)
-    tang = sim.get("tangential", "fastsim")
-    if tang not in tangential_models():
-        raise CaseFileError(f"simulation.tangential = {tang!r}: expected one of "
-                            f"{tangential_models()}")
-    grid = sim.get("fastsim_grid", [12, 12])
-    if not (isinstance(grid, list) and len(grid) == 2 and all(isinstance(g, int) for g in grid)):
-        raise CaseFileError(f"simulation.fastsim_grid = {grid!r}: expected [nx, ny] integers")
+    rt = route_from_section(route, path.parent, v * duration + vehicle_length(model) + 10.0)
+    tang, grid, integ = creep_law_settings(sim, "simulation")
     hw = sim.get("history_wheelset", 1)
     if isinstance(hw, bool) or not isinstance(hw, int) or not 1 <= hw <= len(model.wheelsets):
         raise CaseFileError(f"simulation.history_wheelset = {hw!r}: expected 1 to "
                             f"{len(model.wheelsets)}")
-    integ = sim.get("integrator", "auto")
-    if integ not in ("auto", "rk4", "lsoda"):
-        raise CaseFileError(f"simulation.integrator = {integ!r}: expected 'auto', 'rk4' or "
-                            "'lsoda'")
     case = case_from_dict(raw, path.parent)
     return {"path": path, "title": str(raw.get("title", "")), "case": case, "model": model,
             "route": rt, "velocity": v, "duration": duration, "tangential": tang,

@@ -17,9 +17,9 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from ..case import Case, case_from_dict
-from ..dynamics.scenario import route_from_section, vehicle_from_section
+from ..dynamics.scenario import (creep_law_settings, route_from_section, vehicle_from_section,
+                                 vehicle_length)
 from ..errors import CaseFileError
-from ..tangential import tangential_models
 from .laws import get_wear_law
 
 #: keys of [wear] in a vehicle scenario
@@ -200,17 +200,7 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
         raise CaseFileError("a wear scenario needs [wheel] and [rail] profiles, not [bodies]")
     if case.tangential == "none":
         raise CaseFileError("wear needs a tangential model (solver.tangential is 'none')")
-    tang = dyn.get("tangential", "fastsim")
-    if tang not in tangential_models():           # compiled ('online') or per patch
-        raise CaseFileError(f"dynamics.tangential = {tang!r}: expected one of "
-                            f"{tangential_models()}")
-    grid = dyn.get("fastsim_grid", [12, 12])
-    if not (isinstance(grid, list) and len(grid) == 2 and all(isinstance(g, int) for g in grid)):
-        raise CaseFileError(f"dynamics.fastsim_grid = {grid!r}: expected [nx, ny] integers")
-    integ = dyn.get("integrator", "auto")
-    if integ not in ("auto", "rk4", "lsoda"):
-        raise CaseFileError(f"dynamics.integrator = {integ!r}: expected 'auto', 'rk4' or "
-                            "'lsoda'")
+    tang, grid, integ = creep_law_settings(dyn, "dynamics")
     dynamics = {"tangential": tang, "tangential_options": dict(dyn.get("tangential_options", {})),
                 "fastsim_grid": grid, "integrator": integ,
                 "sample_rate": number(dyn, "dynamics", "sample_rate", 100.0, 1.0, 1e5),
@@ -220,8 +210,7 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
                 "rtol": number(dyn, "dynamics", "rtol", 1e-6, 1e-12, 1e-2),
                 "initial_lateral_shift": number(dyn, "dynamics", "initial_lateral_shift", 0.0,
                                                 -0.015, 0.015)}
-    vehicle_length = max(b.x for b in model.bodies) - min(b.x for b in model.bodies)
-    items = [_route_item(r, i, base_dir, case.friction, vehicle_length)
+    items = [_route_item(r, i, base_dir, case.friction, vehicle_length(model))
              for i, r in enumerate(routes)]
     names = [r.name for r in items]
     if len(set(names)) != len(names):
