@@ -266,10 +266,11 @@ class ClosedLoopWear:
                 rec[f"law_area_{kind}"][a, j] = law_area
                 rec[f"removed_area_{kind}"][a, j] = area
         # per route: each wheel's wear per metre run there (before smoothing)
+        s_y = [[wheels0[w][j].arc_length(self.y_wheel) for j in range(2)]
+               for w in range(self.nw)]
         rec["wear_rate_wheel"] = np.array([[[np.interp(
-            wheels0[w][j].arc_length(self.y_wheel), grid_of[id(wheels0[w][j])],
-            results[r]["wheel"][w][j], left=0.0, right=0.0) for j in range(2)]
-            for w in range(self.nw)] for r in range(self.nr)])
+            s_y[w][j], grid_of[id(wheels0[w][j])], results[r]["wheel"][w][j], left=0.0,
+            right=0.0) for j in range(2)] for w in range(self.nw)] for r in range(self.nr)])
         for key in results[0]["measures"]:
             rec[key] = np.array([res["measures"][key] for res in results])
         rec["energy"] = np.array([res["energy"] for res in results])
