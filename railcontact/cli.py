@@ -86,9 +86,7 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
     for r in table:
         if not r.get("converged", True) and r["case"] not in seen:
             seen.add(r["case"])
-            print(f"railcontact: not converged: case {r['case']}: {r.get('message', '')}",
-                  file=sys.stderr)
-            status = 1
+            status = _report_status(False, r.get("message", ""), [], f"case {r['case']}: ")
     return status
 
 
@@ -194,14 +192,14 @@ def cmd_wear(args):
     from .wear import WearSimulation
     from .wear.plots import plot_wear
     if args.normal or args.tangential:
-        from .normal import get_normal_model
-        from .tangential import get_tangential_model
+        from .normal import normal_model_class
+        from .tangential import tangential_model_class
         solver = sc.base.setdefault("solver", {})
         if args.normal:
-            get_normal_model(args.normal)
+            normal_model_class(args.normal)                 # a known name, or its error
             solver["normal"] = args.normal
         if args.tangential:
-            get_tangential_model(args.tangential)
+            tangential_model_class(args.tangential)
             solver["tangential"] = args.tangential
     out.mkdir(parents=True, exist_ok=True)
     sim = WearSimulation(sc, out)
