@@ -15,7 +15,7 @@ import sys
 
 import numpy as np
 
-from railcontact.case import case_from_dict
+from railcontact.cases.case import case_from_dict
 from railcontact.dynamics.crossing import (CrossingTrack, contact_table, jenkins_p2,
                                            simulate_crossing)
 from railcontact.profiles.slices import artificial_crossing

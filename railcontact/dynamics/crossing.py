@@ -42,11 +42,11 @@ from dataclasses import dataclass, field, replace
 import numpy as np
 from scipy.integrate import solve_ivp
 
-from ..errors import ContactNotFoundError, InputError
+from ..core.errors import ContactNotFoundError, InputError
 from ..geometry.surface_search import search
-from ..hertz_theory import hertz_ellipse
-from ..materials import Material
-from ..surface_contact import build_surface_case
+from ..core.hertz_theory import hertz_ellipse
+from ..core.materials import Material
+from ..cases.surfaces import build_surface_case
 
 log = logging.getLogger(__name__)
 
@@ -135,7 +135,7 @@ class VerticalContactTable:
 def contact_table(case, positions, depth: float = 4e-4, material: Material | None = None,
                   progress: bool = False) -> VerticalContactTable:
     """The vertical contact of a case on rail surfaces
-    (:mod:`railcontact.surface_contact`) at the wheelset positions ``positions``:
+    (:mod:`railcontact.cases.surfaces`) at the wheelset positions ``positions``:
     per position a search with the wheel about ``depth`` [m] below its touching
     height (the patches found there, each with Hertz's stiffness from its
     curvatures and its vertical offset, see the module notes; the touching height

@@ -6,10 +6,10 @@ import math
 from pathlib import Path
 
 
-from ..bodies import build_wheelset_track
-from ..case import case_from_dict, read_toml
-from ..errors import CaseFileError, InputError, RailContactError
-from ..files import write_netcdf, write_text
+from ..cases.bodies import build_wheelset_track
+from ..cases.case import case_from_dict, read_toml
+from ..core.errors import CaseFileError, InputError, RailContactError
+from ..core.files import write_netcdf, write_text
 from ..tangential import tangential_models
 from .route import Irregularities, Route
 from .simulation import critical_speed, simulate_vehicle

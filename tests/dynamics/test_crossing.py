@@ -7,10 +7,10 @@ import pytest
 from scipy.signal import butter, sosfiltfilt
 
 import railcontact as rc
-from railcontact.case import case_from_dict
+from railcontact.cases.case import case_from_dict
 from railcontact.dynamics.crossing import (CrossingTrack, contact_table, jenkins_p2,
                                            simulate_crossing)
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.profiles.slices import artificial_crossing
 
 Q = 80e3

@@ -2,7 +2,7 @@
 
 import pytest
 
-from railcontact.errors import CaseFileError
+from railcontact.core.errors import CaseFileError
 
 SHORT = """
 [wheel]

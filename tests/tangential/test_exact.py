@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal.base import NormalSolution
 from railcontact.normal.polonsky_keer import polonsky_keer
 from railcontact.normal.influence import normal_operator
