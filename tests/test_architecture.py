@@ -31,18 +31,13 @@ def _modules():
 
 
 def _imports(mods):
-    """Module -> the package's modules it imports (TYPE_CHECKING blocks excepted)."""
+    """Module -> the package's modules it imports, anywhere in it: inside functions
+    and under ``if TYPE_CHECKING:`` too (a type a lower layer needs belongs there)."""
     edges = defaultdict(set)
     for name, path in mods.items():
         tree = ast.parse(path.read_text())
-        typing_only = set()
-        for node in tree.body:
-            if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING":
-                typing_only |= {id(n) for n in ast.walk(node)}
         package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
         for node in ast.walk(tree):
-            if id(node) in typing_only:
-                continue
             if isinstance(node, ast.ImportFrom):
                 base = package[:len(package) - node.level + 1] if node.level else []
                 target = ".".join(base + ([node.module] if node.module else []))

@@ -8,26 +8,23 @@ import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .keys import PROFILE_OPTIONS, CaseKeys
 from .surface_setup import check_surface_case, is_surface_case
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
 from ..core.errors import CaseFileError, InputError, RailContactError
 from ..core.materials import Material
 from ..normal import get_normal_model
 from ..normal.plasticity import HARDNESS_FACTOR, pressure_limit
-from ..profiles.processing import ProfileOptions
 from ..tangential import get_tangential_model
-
-#: a profile file's processing (:class:`railcontact.profiles.ProfileOptions`)
-_PROFILE_OPTIONS = {"mirror_y", "mirror_z", "scale", "smoothing", "zigzag", "kinks"}
 
 _ALLOWED = {
     "title": None,
     "material": {"young_modulus", "poisson_ratio", "wheel_young_modulus",
                  "wheel_poisson_ratio"},
     "friction": {"coefficient", "variation"},
-    "wheel": {"profile", "nominal_radius", "profile_left", "units"} | _PROFILE_OPTIONS,
+    "wheel": {"profile", "nominal_radius", "profile_left", "units"} | PROFILE_OPTIONS,
     "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
-             "lateral_position", "vertical_position", "slice_spacing"} | _PROFILE_OPTIONS,
+             "lateral_position", "vertical_position", "slice_spacing"} | PROFILE_OPTIONS,
     "rails": None,
     "roller": {"radius", "angular_velocity", "position"},
     "track": {"gauge", "gauge_height", "rail_offset"},
@@ -49,13 +46,13 @@ _RADII = {"wheel_rolling", "wheel_lateral", "rail_rolling", "rail_lateral"}
 
 
 @dataclass
-class Case:
+class Case(CaseKeys):
     """One contact case, validated, in SI units.
 
-    ``raw`` keeps the parsed TOML so that a sweep can vary any dotted key.
+    ``raw`` keeps the parsed TOML so that a sweep can vary any dotted key; the
+    validated reading of its keys is :class:`~railcontact.cases.keys.CaseKeys`'s.
     """
 
-    raw: dict
     title: str = ""
     material: Material = field(default_factory=Material)
     friction: float = 0.3
@@ -75,40 +72,6 @@ class Case:
     def is_bodies(self) -> bool:
         return "bodies" in self.raw
 
-    # -- convenient access with validation -----------------------------------
-    def get(self, dotted: str, default=None):
-        node = self.raw
-        for part in dotted.split("."):
-            if not isinstance(node, dict) or part not in node:
-                return default
-            node = node[part]
-        return node
-
-    def number(self, dotted: str, default=None, lo=-math.inf, hi=math.inf, unit=""):
-        v = self.get(dotted, default)
-        if v is None:
-            raise CaseFileError(f"{dotted}: missing; expected a number in {unit or 'SI units'}")
-        if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
-            raise CaseFileError(f"{dotted} = {v!r}: expected a number in {unit or 'SI units'}")
-        if not lo <= v <= hi:
-            raise CaseFileError(f"{dotted} = {v!r}: expected a value in [{lo:g}, {hi:g}] {unit}")
-        return float(v)
-
-    def profile_options(self, body: str):
-        """The profile-file options of ``[wheel]`` or ``[rail]`` as
-        :class:`~railcontact.profiles.ProfileOptions` (None where none is given) and
-        the file's length unit."""
-        table = self.raw.get(body, {})
-        units = table.get("units", "auto")
-        if units not in ("auto", "mm", "m"):
-            raise CaseFileError(f"{body}.units = {units!r}: expected 'auto', 'mm' or 'm'")
-        if not _PROFILE_OPTIONS & set(table):
-            return None, units
-        try:
-            return ProfileOptions.from_table(table, body), units
-        except RailContactError as exc:
-            raise CaseFileError(str(exc)) from None
-
     def friction_at(self, angle: float) -> float:
         """Friction coefficient of a patch whose rail surface has the inclination
         ``angle`` [rad] (rail-profile coordinates: negative on the gauge face):
@@ -119,25 +82,6 @@ class Case:
             return self.friction
         import numpy as np
         return float(np.interp(angle, var["angle"], var["coefficient"]))
-
-    def wheel_loads(self) -> dict:
-        """Vertical wheel loads [N] per side: ``vertical_force`` is one value for both
-        wheels or [left, right]."""
-        v = self.get("wheelset.vertical_force", 70e3)
-        if isinstance(v, list):
-            if len(v) != 2:
-                raise CaseFileError(f"wheelset.vertical_force = {v!r}: expected one load or "
-                                    "[left, right] in N")
-            vals = v
-        else:
-            vals = [v, v]
-        out = {}
-        for side, x in zip(("left", "right"), vals):
-            if isinstance(x, bool) or not isinstance(x, (int, float)) or not 1.0 <= x <= 1e7:
-                raise CaseFileError(f"wheelset.vertical_force = {v!r}: expected loads in "
-                                    "[1, 1e7] N")
-            out[side] = float(x)
-        return out
 
     def with_value(self, dotted: str, value) -> "Case":
         """A copy of the case with one dotted key set (used by sweeps)."""

@@ -8,12 +8,9 @@ is :mod:`railcontact.cases.surfaces`'s.
 
 from __future__ import annotations
 
-from typing import TYPE_CHECKING
 
 from ..core.errors import CaseFileError
-
-if TYPE_CHECKING:
-    from .case import Case
+from .keys import CaseKeys
 
 #: keys of one rail (``[rail]`` or an entry of ``[[rails]]``) in a surface case
 RAIL_KEYS = {"profile", "slices", "inclination", "units", "name", "lateral_position",
@@ -21,7 +18,7 @@ RAIL_KEYS = {"profile", "slices", "inclination", "units", "name", "lateral_posit
 ROLLER_KEYS = {"radius", "angular_velocity", "position"}
 
 
-def is_surface_case(case: Case) -> bool:
+def is_surface_case(case: CaseKeys) -> bool:
     """Whether a case needs the 3-D surfaces: slices, several rails, a roller, a rail
     placed by its own position, or a wheelset position along the track.  (A
     prescribed ``wheelset.vertical_position`` alone, on one rail placed by the track's
@@ -32,7 +29,7 @@ def is_surface_case(case: Case) -> bool:
             or "position" in raw.get("wheelset", {}))
 
 
-def check_surface_case(case: Case) -> None:
+def check_surface_case(case: CaseKeys) -> None:
     """Validate the surface keys of a case (no files read): a clear
     :class:`CaseFileError` for what is wrong."""
     raw = case.raw

@@ -12,13 +12,10 @@ from __future__ import annotations
 
 import math
 from dataclasses import dataclass
-from typing import TYPE_CHECKING
 
 from ..core.errors import CaseFileError
+from .keys import CaseKeys
 from ..profiles.processing import ProfileOptions
-
-if TYPE_CHECKING:
-    from .case import Case
 
 SIDES_OR_BOTH = ("left", "right", "both")
 
@@ -91,11 +88,11 @@ class WheelRailSetup:
         return ("left", "right") if self.roll is None else (self.side,)
 
 
-def _optional(case: Case, key: str, lo: float, hi: float, unit: str):
+def _optional(case: CaseKeys, key: str, lo: float, hi: float, unit: str):
     return None if case.get(key) is None else case.number(key, None, lo, hi, unit)
 
 
-def parse_wheel_rail(case: Case) -> WheelRailSetup:
+def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
     """The validated :class:`WheelRailSetup` of a wheel-rail case; a
     :class:`~railcontact.core.errors.CaseFileError` names the first key that is wrong."""
     side = case.get("wheelset.side", "both")
