@@ -29,10 +29,16 @@ class TqdmCallback(Callback):
         super().__init__()
         self.total, self.desc, self.prefix, self.options = total, desc, prefix, bar
 
-    def _start(self, dsk):
+    def open_bar(self):
+        """The tqdm bar of this callback, opened (also for runs on a Dask cluster,
+        where :func:`railcontact.core.parallel.compute` advances it)."""
         options = {"file": sys.stderr, "disable": not sys.stderr.isatty() and None}
         options.update(self.options)
         self.bar = tqdm(total=self.total, desc=self.desc, **options)
+        return self.bar
+
+    def _start(self, dsk):
+        self.open_bar()
 
     def _posttask(self, key, result, dsk, state, worker_id):
         name = key[0] if isinstance(key, tuple) else key

@@ -8,6 +8,7 @@ module's Protocol).
 
 from __future__ import annotations
 
+from .checks import shown
 from .errors import UnknownModelError
 
 
@@ -30,7 +31,7 @@ class Registry:
         try:
             return self._models[str(name).lower()]
         except KeyError:
-            raise UnknownModelError(f"unknown {self.layer} model {name!r}; expected one of "
+            raise UnknownModelError(f"unknown {self.layer} model {shown(name)}; expected one of "
                                     f"{self.names()}") from None
 
     def create(self, name: str, **options):
