@@ -11,6 +11,7 @@ from pathlib import Path
 from .keys import PROFILE_OPTIONS, CaseKeys
 from .surface_setup import check_surface_case, is_surface_case
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
+from ..core.checks import check_grid_size, shown
 from ..core.errors import CaseFileError, InputError, RailContactError
 from ..core.materials import Material
 from ..normal import get_normal_model
@@ -20,7 +21,7 @@ from ..tangential import get_tangential_model
 _ALLOWED = {
     "title": None,
     "material": {"young_modulus", "poisson_ratio", "wheel_young_modulus",
-                 "wheel_poisson_ratio"},
+                 "wheel_poisson_ratio", "yield_stress"},
     "friction": {"coefficient", "variation"},
     "wheel": {"profile", "nominal_radius", "profile_left", "units"} | PROFILE_OPTIONS,
     "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
@@ -38,7 +39,7 @@ _ALLOWED = {
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options", "force_tolerance", "search_length",
-               "contact_angle", "rigid_slip"},
+               "contact_angle", "rigid_slip", "allow_large"},
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
 }
@@ -119,7 +120,7 @@ def _check_keys(raw: dict) -> None:
     if "bodies" in raw:
         radii = raw["bodies"].get("radii")
         if not isinstance(radii, dict) or set(radii) - _RADII or not radii:
-            raise CaseFileError(f"bodies.radii = {radii!r}: expected a table with keys "
+            raise CaseFileError(f"bodies.radii = {shown(radii)}: expected a table with keys "
                                 f"{sorted(_RADII)} (m; negative = concave, inf = flat)")
 
 
@@ -139,6 +140,8 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
                                  None if wnu is None else case.number("material.wheel_poisson_ratio"))
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
+    if case.get("material.yield_stress") is not None:
+        case.number("material.yield_stress", None, 1e6, 1e11, "Pa")
     case.friction = case.number("friction.coefficient", 0.3, 0.0, 5.0)
     _check_friction_variation(case)
     sol = raw.get("solver", {})
@@ -150,14 +153,21 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         v = sol.get(key)
         if v is not None:
             if not (isinstance(v, list) and len(v) == 2
-                    and all(isinstance(t, (int, float)) and t > 0 for t in v)):
-                raise CaseFileError(f"solver.{key} = {v!r}: expected two positive numbers "
-                                    "(rolling, lateral)")
-            if key == "grid" and not all(float(t).is_integer() for t in v):
-                raise CaseFileError(f"solver.grid = {v!r}: expected two integers")
+                    and all(isinstance(t, (int, float)) and not isinstance(t, bool)
+                            and math.isfinite(t) and t > 0 for t in v)):
+                raise CaseFileError(f"solver.{key} = {shown(v)}: expected two positive "
+                                    "finite numbers (rolling, lateral)")
+            if key == "grid" and not all(float(t).is_integer() and 2 <= t <= 2000 for t in v):
+                raise CaseFileError(f"solver.grid = {shown(v)}: expected two integers in "
+                                    "[2, 2000]")
             setattr(case, key, tuple(int(t) if key == "grid" else float(t) for t in v))
     if case.grid and case.element_size:
         raise CaseFileError("solver: give either grid or element_size, not both")
+    allow_large = sol.get("allow_large", False)
+    if not isinstance(allow_large, bool):
+        raise CaseFileError(f"solver.allow_large = {shown(allow_large)}: expected true or false")
+    if case.grid:
+        check_grid_size(case.grid, "solver.grid", allow_large)
     case.force_tolerance = case.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)")
     if "creepage" in raw:
         case.creepage = (case.number("creepage.longitudinal", 0.0, -1.0, 1.0),
@@ -200,7 +210,7 @@ def _plasticity(case: Case) -> None:
     pl = case.raw["plasticity"]
     if case.normal != "exact":
         raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "
-                            f"solver.normal is {case.normal!r} (expected 'exact')")
+                            f"solver.normal is {shown(case.normal)} (expected 'exact')")
     if "pressure_limit" in pl:
         if "yield_stress" in pl or "pressure_factor" in pl:
             raise CaseFileError("[plasticity]: give pressure_limit, or yield_stress (with "
@@ -233,13 +243,13 @@ def _check_friction_variation(case: Case) -> None:
               and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
                       for v in a + c))
     if not ok:
-        raise CaseFileError(f"friction.variation = {var!r}: expected a table with lists angle "
+        raise CaseFileError(f"friction.variation = {shown(var)}: expected a table with lists angle "
                             "[rad] and coefficient of equal length")
     if any(b <= a for a, b in zip(var["angle"], var["angle"][1:])):
-        raise CaseFileError(f"friction.variation.angle = {var['angle']!r}: expected increasing "
+        raise CaseFileError(f"friction.variation.angle = {shown(var['angle'])}: expected increasing "
                             "angles [rad]")
     if any(not 0.0 <= c <= 5.0 for c in var["coefficient"]):
-        raise CaseFileError(f"friction.variation.coefficient = {var['coefficient']!r}: expected "
+        raise CaseFileError(f"friction.variation.coefficient = {shown(var['coefficient'])}: expected "
                             "values in [0, 5]")
 
 
@@ -249,7 +259,7 @@ def _body_curvatures(case: Case):
     for k in _RADII:
         r = radii.get(k, math.inf)
         if isinstance(r, bool) or not isinstance(r, (int, float)) or r == 0 or math.isnan(r):
-            raise CaseFileError(f"bodies.radii.{k} = {r!r}: expected a radius in m (non-zero; "
+            raise CaseFileError(f"bodies.radii.{k} = {shown(r)}: expected a radius in m (non-zero; "
                                 "negative = concave, inf = flat)")
         curv[k] = 0.0 if math.isinf(r) else 1.0 / r
     A = 0.5 * (curv["wheel_rolling"] + curv["rail_rolling"])
@@ -265,7 +275,7 @@ def read_toml(path, what: str = "case file") -> dict:
     naming ``what`` the file was meant to be."""
     path = Path(path)
     if not path.is_file():
-        raise CaseFileError(f"{what} {str(path)!r} does not exist")
+        raise CaseFileError(f"{what} {shown(str(path))} does not exist")
     try:
         return tomllib.loads(path.read_text())
     except tomllib.TOMLDecodeError as exc:

@@ -247,7 +247,7 @@ def balance(evaluate, start: dict, loads: dict, tol: float, max_passes: int = 40
     residual = {s: float(ev.forces[s]) / float(q) - 1.0 for s, q in zip(sides, track.q)}
     converged = bool(track.best[0] <= tol)
     if not converged:
-        (log.warning if track.best[0] > 10 * tol else log.info)(
+        log.info(
             "vertical force: %s; the evaluation nearest the load is %.2g of it off",
             "the model's force jumps across the load" if jump
             else f"not met to {tol:.0e} after {track.passes} passes", track.best[0])

@@ -9,6 +9,7 @@ is :mod:`railcontact.cases.surfaces`'s.
 from __future__ import annotations
 
 
+from ..core.checks import shown
 from ..core.errors import CaseFileError
 from .keys import CaseKeys
 
@@ -47,14 +48,14 @@ def check_surface_case(case: CaseKeys) -> None:
     roller = raw.get("roller")
     if roller is not None:
         if not isinstance(roller, dict) or set(roller) - ROLLER_KEYS or "radius" not in roller:
-            raise CaseFileError(f"[roller] = {roller!r}: expected radius [m] and optionally "
+            raise CaseFileError(f"[roller] = {shown(roller)}: expected radius [m] and optionally "
                                 f"{sorted(ROLLER_KEYS - {'radius'})}")
         case.number("roller.radius", None, 0.02, 10.0, "m")
         if rails is not None and len(rails) > 1:
             raise CaseFileError("[roller] replaces one rail; give one rail")
     side = case.get("wheelset.side", "right")
     if side not in ("left", "right"):
-        raise CaseFileError(f"wheelset.side = {side!r}: a case on rail surfaces solves one "
+        raise CaseFileError(f"wheelset.side = {shown(side)}: a case on rail surfaces solves one "
                             "wheel; expected 'left' or 'right'")
     has_z = case.get("wheelset.vertical_position") is not None
     if has_z:
@@ -63,12 +64,12 @@ def check_surface_case(case: CaseKeys) -> None:
     case.number("wheelset.roll", 0.0, -0.1, 0.1, "rad")
     inc = case.get("solver.contact_angle", "local")
     if inc not in ("local", "wheelset"):
-        raise CaseFileError(f"solver.contact_angle = {inc!r}: expected 'local' (the rail's "
+        raise CaseFileError(f"solver.contact_angle = {shown(inc)}: expected 'local' (the rail's "
                             "inclination at each point of the patch) or 'wheelset' (on its "
                             "cross-section at the wheelset's position, as CONTACT)")
     slip = case.get("solver.rigid_slip", "planar")
     if slip not in ("planar", "surfaces"):
-        raise CaseFileError(f"solver.rigid_slip = {slip!r}: expected 'planar' (the creepages of "
+        raise CaseFileError(f"solver.rigid_slip = {shown(slip)}: expected 'planar' (the creepages of "
                             "the reference point) or 'surfaces' (on the actual surfaces)")
     if slip == "surfaces" and case.tangential != "exact":
         raise CaseFileError("solver.rigid_slip = 'surfaces' needs solver.tangential = 'exact'")
@@ -90,11 +91,11 @@ def _check_rail(r: dict, where: str) -> None:
     if lr is not None and not (isinstance(lr, list) and len(lr) == 2 and all(
             isinstance(v, (int, float)) and not isinstance(v, bool) and abs(v) < 1 for v in lr)
             and lr[0] < lr[1]):
-        raise CaseFileError(f"{where}.lateral_range = {lr!r}: expected [y_min, y_max] in m "
+        raise CaseFileError(f"{where}.lateral_range = {shown(lr)}: expected [y_min, y_max] in m "
                             "(rail-profile coordinates), y_min < y_max")
     for key, lim in (("lateral_position", 2.0), ("vertical_position", 0.5)):
         v = r.get(key)
         if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
                               or not abs(v) <= lim):
-            raise CaseFileError(f"{where}.{key} = {v!r}: expected a position in m, |value| <= "
+            raise CaseFileError(f"{where}.{key} = {shown(v)}: expected a position in m, |value| <= "
                                 f"{lim}")

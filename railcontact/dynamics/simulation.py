@@ -334,8 +334,8 @@ def _dataset(sysm: _System, t, Y, wall):
     if ds.attrs["outside_table"]:
         warnings.insert(0, "a wheelset left the contact table's range: the contact was "
                            "clamped to the table's edge; build the table with a larger range")
-    for w in warnings:
-        log.warning("%s", w)
+    for w in warnings:                 # in the result; the CLI prints them
+        log.info("%s", w)
     ds.attrs["warnings"] = "; ".join(warnings)
     return ds
 

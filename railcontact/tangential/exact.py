@@ -251,7 +251,7 @@ class ExactTangentialModel:
             if q[-1] or not ok:
                 px, py, sx, sy, stick, it, ok = q
         if not ok:
-            log.warning("exact tangential solver: not converged (flagged in the result)")
+            log.info("exact tangential solver: not converged (flagged in the result)")
         status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
             f"exact tangential solver: no convergence in {it} Newton iterations"
             + (" (also restarted from zero traction)" if fallback else ""), it)
