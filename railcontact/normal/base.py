@@ -10,10 +10,20 @@ import numpy as np
 from numba import njit
 
 from ..core.errors import InputError
+from ..core.checks import shown
 from ..core.registry import Registry
 from ..core.status import SolverStatus
 
-_REGISTRY = Registry("normal")
+def _check_solve(geometry=None, material=None, *args, **kwargs):
+    """The inputs every normal model's ``solve`` takes, checked first."""
+    if not hasattr(geometry, "curvatures"):
+        raise InputError(f"geometry = {shown(geometry)}: expected a ContactGeometry "
+                         "(railcontact.geometry)")
+    if material is not None and not hasattr(material, "contact_modulus"):
+        raise InputError(f"material = {shown(material)}: expected a railcontact.Material")
+
+
+_REGISTRY = Registry("normal", _check_solve)
 register = _REGISTRY.register
 
 
