@@ -480,7 +480,7 @@ def main(argv=None) -> int:
 
 
 #: seconds the command is given to stop by itself after Ctrl-C before it is ended
-INTERRUPT_GRACE = 0.5
+INTERRUPT_GRACE = 0.3
 
 
 def console_main() -> None:
@@ -535,12 +535,12 @@ def console_main() -> None:
             time.sleep(0.01)
         else:                                            # deaf to signals: ended
             os.kill(pid, signal.SIGKILL)
-            os.waitpid(pid, 0)
             print("railcontact: interrupted", file=sys.stderr)
-        sys.exit(130)
-    if os.WIFSIGNALED(status):
-        sys.exit(128 + os.WTERMSIG(status))
-    sys.exit(os.WEXITSTATUS(status))
+        sys.stderr.flush()
+        os._exit(130)                        # no clean-up of this process's imports
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(128 + os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status))
 
 
 if __name__ == "__main__":

@@ -78,9 +78,11 @@ class _Lines:
         return self.lines[self.i][0] if self.i < len(self.lines) else (
             self.lines[-1][0] if self.lines else 0)
 
-    def error(self, what: str) -> InpError:
-        """The error at the line of the value last read (or the next line, before any)."""
-        return InpError(f"{self.path.name}, line {self.last_line or self.line_number}: {what}")
+    def error(self, what: str, line: int | None = None) -> InpError:
+        """The error at ``line``, else at the line of the value last read (or the next
+        line, before any)."""
+        return InpError(f"{self.path.name}, line {line or self.last_line or self.line_number}: "
+                        f"{what}")
 
     @staticmethod
     def _tokens(s: str):
@@ -229,7 +231,9 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
     w1, w2, w3 = WORDS[case.module]
     d = {}
     d.update(_digits(w1, lines.group("i", w1)[0], lines))
+    case.value_lines[w1] = lines.last_line
     word2, m2 = lines.group("i", w2, "i")
+    case.value_lines[w2] = lines.last_line
     dd = _digits(w2, word2, lines)
     dd["C3"] = dd.pop("C")
     d.update(dd)
@@ -287,7 +291,7 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
                                   "IPLAN) is not supported; expected IPOTCN = -1 or -3")
     if d["S"] in (2, 3):
         raise lines.error(f"subsurface stresses (STRESS = {d['S']}) are not supported; "
-                          "expected S = 0")
+                          "expected S = 0", case.value_lines.get(w1))
 
 
 def _read_friction(lines, case, d):
@@ -301,7 +305,8 @@ def _read_friction(lines, case, d):
               5: ("FKIN, FEXP1, SABSH1, FEXP2, SABSH2", "ddddd"),
               6: ("FREF, TREF, DFHEAT, DTHEAT", "dddd")}.get(law)
     if params is None:
-        raise lines.error(f"FRCLAW = {law}: expected 0 .. 6")
+        raise lines.error(f"FRCLAW = {law}: expected 0 .. 6", case.value_lines.get(WORDS[
+            case.module][1]))
     names, kinds = params
     case.values["FRICTION_LAW"] = law
     if d["V"] == 0:
