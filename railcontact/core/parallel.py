@@ -37,7 +37,8 @@ def check_scheduler(scheduler, what: str = "--scheduler", auto: bool = False) ->
 def _on_cluster(client, tasks: list, callback=None) -> list:
     """The tasks computed on a dask.distributed ``client``, the progress bar of
     ``callback`` (a :class:`~railcontact.core.progress.TqdmCallback`) advanced as
-    each task's result comes back (Dask's local callbacks do not run there)."""
+    each of its counted tasks' result comes back, as the callback counts them
+    (Dask's local callbacks do not run there)."""
     from distributed import as_completed
     futures = client.compute(list(tasks))
     index = {}
@@ -48,9 +49,11 @@ def _on_cluster(client, tasks: list, callback=None) -> list:
         else None
     try:
         for fut, result in as_completed(futures, with_results=True):
+            name = fut.key[0] if isinstance(fut.key, tuple) else fut.key
+            counted = bar is not None and str(name).startswith(callback.prefix)
             for i in index[fut.key]:
                 out[i] = result
-                if bar is not None:
+                if counted:
                     bar.update(len(result) if isinstance(result, list) else 1)
     finally:
         if bar is not None:
