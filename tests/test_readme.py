@@ -71,6 +71,6 @@ def test_readme_commands_run_as_written(tmp_path):
             got[int(i)] = (int(code), float(t1) - float(t0))
     assert "Traceback" not in r.stderr, r.stderr[-3000:]
     for i, (line, expected) in enumerate(commands):
-        assert got[i][0] == expected, (line, got[i], r.stderr[-3000:])
+        assert got[i][0] == expected, (line, got[i], r.stderr.split(f"@@ {i - 1} ")[-1][:3000])
     assert sorted(p.name for p in repo.iterdir()) == [".venv", "examples", "out"]
     print("\n".join(f"{got[i][1]:7.1f} s  {line}" for i, (line, _) in enumerate(commands)))
