@@ -8,7 +8,7 @@ import logging
 import sys
 from pathlib import Path
 
-from .core.checks import MAX_JOB_CASES, check_job_size, check_output
+from .core.checks import MAX_JOB_CASES, check_job_size, check_output, shown
 from .core.errors import InputError, RailContactError
 from .core.files import write_netcdf, write_text
 from .core.parallel import check_scheduler
@@ -72,7 +72,7 @@ def _parse_cases(spec):
             lo, _, hi = part.partition("-")
             out += list(range(int(lo), int(hi or lo) + 1))
     except ValueError:
-        raise InputError(f"--case {spec!r}: expected case numbers such as 1,3-5") from None
+        raise InputError(f"--case {shown(spec)}: expected case numbers such as 1,3-5") from None
     return out
 
 
@@ -85,7 +85,7 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
                          "over the cases it holds")
     out = Path(args.out) if args.out else None
     if out is not None and out.suffix.lower() not in (".csv", ".json"):
-        raise InputError(f"--out {args.out!r}: expected a .csv or .json file for a CONTACT "
+        raise InputError(f"--out {shown(args.out)}: expected a .csv or .json file for a CONTACT "
                          "input file")
     if out is not None:
         check_output(out)

@@ -86,12 +86,12 @@ def check_inputs(creepage, friction):
     try:
         xi, eta, phi = (float(c) for c in creepage)
     except (TypeError, ValueError):
-        raise InputError(f"creepage = {creepage!r}: expected three numbers (xi, eta, phi)") \
+        raise InputError(f"creepage = {shown(creepage)}: expected three numbers (xi, eta, phi)") \
             from None
     if not all(math.isfinite(c) for c in (xi, eta, phi)):
-        raise InputError(f"creepage = {creepage!r}: expected finite values")
+        raise InputError(f"creepage = {shown(creepage)}: expected finite values")
     if not (math.isfinite(friction) and 0.0 <= friction <= 5.0):
-        raise InputError(f"friction.coefficient = {friction!r}: expected a value in [0, 5]")
+        raise InputError(f"friction.coefficient = {shown(friction)}: expected a value in [0, 5]")
     return xi, eta, phi
 
 
