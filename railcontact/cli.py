@@ -225,13 +225,16 @@ def cmd_wear_compare(args):
 
 
 def cmd_simulate(args):
+    from .inputs import load_dynamics_scenario
     if len(args.scenario) > 1:
         from .dynamics.scenario import simulate_batch
         outs = [Path(args.out) / Path(s).stem for s in args.scenario]
         if len(set(outs)) != len(outs):
             raise InputError("simulate: scenario files with the same name would share an "
                              "output folder; rename them")
-        res = simulate_batch(args.scenario, outs, scheduler=args.scheduler)
+        # every scenario is read and checked before any runs
+        scenarios = {str(s): load_dynamics_scenario(s) for s in args.scenario}
+        res = simulate_batch(scenarios, outs, scheduler=args.scheduler)
         for r in res:
             if "error" in r:
                 print(f"{r['scenario']}: FAILED: {r['error']}")
@@ -242,7 +245,7 @@ def cmd_simulate(args):
             raise SystemExit(1)
         return
     from .dynamics.scenario import run_scenario
-    ds = run_scenario(args.scenario[0], args.out)
+    ds = run_scenario(load_dynamics_scenario(args.scenario[0]), args.out)
     print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
           f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
           f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")

@@ -4,7 +4,6 @@ from __future__ import annotations
 
 import copy
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
@@ -12,6 +11,7 @@ from .keys import PROFILE_OPTIONS, CaseKeys
 from .surface_setup import check_surface_case, is_surface_case
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
 from ..core.errors import CaseFileError, InputError, RailContactError
+from ..core.files import read_toml
 from ..core.materials import Material
 from ..normal import get_normal_model
 from ..normal.plasticity import HARDNESS_FACTOR, pressure_limit
@@ -258,20 +258,6 @@ def _body_curvatures(case: Case):
         raise CaseFileError(f"bodies.radii give relative curvatures A = {A:.4g}, B = {B:.4g} 1/m; "
                             "expected both > 0 (a concave body must have the larger radius)")
     return A, B
-
-
-def read_toml(path, what: str = "case file") -> dict:
-    """Parse a TOML input file; a missing or unreadable file is a CaseFileError
-    naming ``what`` the file was meant to be."""
-    path = Path(path)
-    if not path.is_file():
-        raise CaseFileError(f"{what} {str(path)!r} does not exist")
-    try:
-        return tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
-    except UnicodeError as exc:
-        raise CaseFileError(f"{path}: cannot decode: {exc}") from None
 
 
 def load_case(path) -> Case:
