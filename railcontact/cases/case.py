@@ -8,7 +8,7 @@ from dataclasses import dataclass, field
 from pathlib import Path
 
 from .keys import PROFILE_OPTIONS, CaseKeys
-from .surface_setup import check_surface_case, is_surface_case
+from .surface_setup import SurfaceCaseSetup, is_surface_case, parse_surface_case
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
 from ..core.errors import CaseFileError, InputError, RailContactError
 from ..core.files import read_toml
@@ -67,6 +67,8 @@ class Case(CaseKeys):
     base_dir: Path = field(default_factory=Path.cwd)
     #: the wheel-rail keys parsed (None for bodies cases and cases on rail surfaces)
     wheel_rail: WheelRailSetup | None = None
+    #: the keys of a case on rail surfaces parsed (None for other cases)
+    surfaces: SurfaceCaseSetup | None = None
 
     @property
     def is_bodies(self) -> bool:
@@ -183,10 +185,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         _body_curvatures(case)
     elif is_surface_case(case):
         # rails along the track, several rails, a roller: railcontact.cases.surfaces
-        check_surface_case(case)
-        case.wheel_loads()
-        case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
-        case.number("wheel.nominal_radius", 0.46, 0.01, 1.5, "m")
+        case.surfaces = parse_surface_case(case, case.tangential)
     else:
         case.wheel_rail = parse_wheel_rail(case)
     return case
