@@ -7,6 +7,7 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .bodies_setup import RADII, BodiesSetup, parse_bodies
 from .keys import PROFILE_OPTIONS, CaseKeys
 from .surface_setup import SurfaceCaseSetup, is_surface_case, parse_surface_case
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
@@ -42,7 +43,6 @@ _ALLOWED = {
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
 }
-_RADII = {"wheel_rolling", "wheel_lateral", "rail_rolling", "rail_lateral"}
 
 
 @dataclass
@@ -69,6 +69,8 @@ class Case(CaseKeys):
     wheel_rail: WheelRailSetup | None = None
     #: the keys of a case on rail surfaces parsed (None for other cases)
     surfaces: SurfaceCaseSetup | None = None
+    #: the ``[bodies]`` (and ``[force]``) keys of a case given by curvatures parsed
+    bodies: BodiesSetup | None = None
 
     @property
     def is_bodies(self) -> bool:
@@ -120,9 +122,9 @@ def _check_keys(raw: dict) -> None:
                             "case or a case given by curvatures")
     if "bodies" in raw:
         radii = raw["bodies"].get("radii")
-        if not isinstance(radii, dict) or set(radii) - _RADII or not radii:
+        if not isinstance(radii, dict) or set(radii) - set(RADII) or not radii:
             raise CaseFileError(f"bodies.radii = {radii!r}: expected a table with keys "
-                                f"{sorted(_RADII)} (m; negative = concave, inf = flat)")
+                                f"{sorted(RADII)} (m; negative = concave, inf = flat)")
 
 
 def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
@@ -174,15 +176,11 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
             get_tangential_model(case.tangential, **case.tangential_options)
     except TypeError as exc:
         raise CaseFileError(f"solver options: {exc}") from None
-    if "force" in raw:
-        if "bodies" not in raw:
-            raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "
-                                "for wheel-rail cases give [creepage]")
-        case.number("force.longitudinal", 0.0, -1e8, 1e8, "N")
-        case.number("force.lateral", 0.0, -1e8, 1e8, "N")
+    if "force" in raw and "bodies" not in raw:
+        raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "
+                            "for wheel-rail cases give [creepage]")
     if case.is_bodies:
-        case.number("bodies.normal_force", None, 0.0, 1e8, "N")
-        _body_curvatures(case)
+        case.bodies = parse_bodies(case)
     elif is_surface_case(case):
         # rails along the track, several rails, a roller: railcontact.cases.surfaces
         case.surfaces = parse_surface_case(case, case.tangential)
@@ -242,23 +240,6 @@ def _check_friction_variation(case: Case) -> None:
                             "values in [0, 5]")
 
 
-def _body_curvatures(case: Case):
-    radii = case.get("bodies.radii")
-    curv = {}
-    for k in _RADII:
-        r = radii.get(k, math.inf)
-        if isinstance(r, bool) or not isinstance(r, (int, float)) or r == 0 or math.isnan(r):
-            raise CaseFileError(f"bodies.radii.{k} = {r!r}: expected a radius in m (non-zero; "
-                                "negative = concave, inf = flat)")
-        curv[k] = 0.0 if math.isinf(r) else 1.0 / r
-    A = 0.5 * (curv["wheel_rolling"] + curv["rail_rolling"])
-    B = 0.5 * (curv["wheel_lateral"] + curv["rail_lateral"])
-    if A <= 0 or B <= 0:
-        raise CaseFileError(f"bodies.radii give relative curvatures A = {A:.4g}, B = {B:.4g} 1/m; "
-                            "expected both > 0 (a concave body must have the larger radius)")
-    return A, B
-
-
 def load_case(path) -> Case:
     """Read and validate a TOML case file."""
     path = Path(path)
@@ -269,8 +250,3 @@ def load_case(path) -> Case:
         raise CaseFileError(f"{path.name}: {exc}") from None
     except RailContactError:
         raise
-
-
-def body_curvatures(case: Case):
-    """Relative curvatures (A, B) [1/m] of a ``[bodies]`` case."""
-    return _body_curvatures(case)
