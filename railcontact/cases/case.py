@@ -63,6 +63,8 @@ class Case(CaseKeys):
     grid: tuple | None = None
     element_size: tuple | None = None
     force_tolerance: float = 1e-4
+    #: ``friction.variation``: (angles [rad], coefficients) or None
+    friction_variation: tuple | None = None
     creepage: tuple | None = None
     base_dir: Path = field(default_factory=Path.cwd)
     #: the wheel-rail keys parsed (None for bodies cases and cases on rail surfaces)
@@ -81,11 +83,11 @@ class Case(CaseKeys):
         ``angle`` [rad] (rail-profile coordinates: negative on the gauge face):
         ``friction.variation`` interpolated linearly, constant beyond its ends
         (CONTACT's VARFRC = 1), else ``friction.coefficient``."""
-        var = self.get("friction.variation")
-        if var is None:
+        if self.friction_variation is None:
             return self.friction
         import numpy as np
-        return float(np.interp(angle, var["angle"], var["coefficient"]))
+        angles, coefficients = self.friction_variation
+        return float(np.interp(angle, angles, coefficients))
 
     def with_value(self, dotted: str, value) -> "Case":
         """A copy of the case with one dotted key set (used by sweeps)."""
@@ -144,7 +146,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
     case.friction = case.number("friction.coefficient", 0.3, 0.0, 5.0)
-    _check_friction_variation(case)
+    case.friction_variation = _friction_variation(case)
     sol = raw.get("solver", {})
     case.normal = str(sol.get("normal", "hertz")).lower()
     case.tangential = str(sol.get("tangential", "fastsim")).lower()
@@ -217,12 +219,13 @@ def _plasticity(case: Case) -> None:
     case.normal_options["pressure_limit"] = limit
 
 
-def _check_friction_variation(case: Case) -> None:
+def _friction_variation(case: Case) -> tuple | None:
     """``friction.variation = {angle = [...], coefficient = [...]}``: friction
-    coefficients at rail surface inclinations [rad], increasing."""
+    coefficients at rail surface inclinations [rad], increasing; returned as
+    (angles, coefficients) tuples of floats, None where not given."""
     var = case.get("friction.variation")
     if var is None:
-        return
+        return None
     ok = isinstance(var, dict) and set(var) == {"angle", "coefficient"}
     if ok:
         a, c = var["angle"], var["coefficient"]
@@ -238,6 +241,7 @@ def _check_friction_variation(case: Case) -> None:
     if any(not 0.0 <= c <= 5.0 for c in var["coefficient"]):
         raise CaseFileError(f"friction.variation.coefficient = {var['coefficient']!r}: expected "
                             "values in [0, 5]")
+    return (tuple(float(a) for a in var["angle"]), tuple(float(c) for c in var["coefficient"]))
 
 
 def load_case(path) -> Case:

@@ -126,7 +126,7 @@ def patch_friction(case, geom) -> float:
     ``friction.variation`` at the inclination of its rail surface in rail-profile
     coordinates (the contact angle in the side frame plus the rail's inclination;
     CONTACT's VARFRC = 1)."""
-    if case.get("friction.variation") is None:
+    if case.friction_variation is None:
         return case.friction
     sgn = 1.0 if geom.side == "right" else -1.0
     rail = case.wheel_rail.rail
