@@ -45,9 +45,10 @@ _ALLOWED = {
 }
 
 
-@dataclass
+@dataclass(frozen=True)
 class Case(CaseKeys):
-    """One contact case, validated, in SI units.
+    """One contact case, validated, in SI units (frozen: built once by
+    :func:`case_from_dict`).
 
     ``raw`` keeps the parsed TOML so that a sweep can vary any dotted key; the
     validated reading of its keys is :class:`~railcontact.cases.keys.CaseKeys`'s.
@@ -130,28 +131,72 @@ def _check_keys(raw: dict) -> None:
 
 
 def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
-    """Validate a parsed case and build a :class:`Case`."""
+    """Validate a parsed case and build its frozen :class:`Case`: every key is
+    checked here, once; a :class:`~railcontact.core.errors.CaseFileError` names the
+    first that is wrong."""
     if not isinstance(raw, dict):
         raise CaseFileError("case: expected a TOML table")
     _check_keys(raw)
-    case = Case(raw=raw, base_dir=Path(base_dir or Path.cwd()))
-    case.title = str(raw.get("title", ""))
+    keys = CaseKeys(raw)
+    sol = raw.get("solver", {})
+    normal = str(sol.get("normal", "hertz")).lower()
+    tangential = str(sol.get("tangential", "fastsim")).lower()
+    grid, element_size = _grid(sol)
+    normal_options = dict(sol.get("normal_options", {}))
+    if "plasticity" in raw:
+        if "pressure_limit" in normal_options:
+            raise CaseFileError("pressure limit given both in [plasticity] and in "
+                                "solver.normal_options; give it once")
+        normal_options["pressure_limit"] = _pressure_limit(keys, normal)
+    values = dict(
+        title=str(raw.get("title", "")), material=_material(keys),
+        friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
+        friction_variation=_friction_variation(keys), normal=normal, tangential=tangential,
+        normal_options=normal_options,
+        tangential_options=dict(sol.get("tangential_options", {})), grid=grid,
+        element_size=element_size,
+        force_tolerance=keys.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)"),
+        creepage=None if "creepage" not in raw else (
+            keys.number("creepage.longitudinal", 0.0, -1.0, 1.0),
+            keys.number("creepage.lateral", 0.0, -1.0, 1.0),
+            keys.number("creepage.spin", 0.0, -100.0, 100.0, "1/m")))
+    # resolve models early so that a bad name fails before any work
     try:
-        wE, wnu = case.get("material.wheel_young_modulus"), case.get("material.wheel_poisson_ratio")
-        case.material = Material(case.number("material.young_modulus", 2.1e11, unit="Pa"),
-                                 case.number("material.poisson_ratio", 0.28),
-                                 None if wE is None else case.number("material.wheel_young_modulus",
-                                                                     unit="Pa"),
-                                 None if wnu is None else case.number("material.wheel_poisson_ratio"))
+        get_normal_model(normal, **normal_options)
+        if tangential != "none":
+            get_tangential_model(tangential, **values["tangential_options"])
+    except TypeError as exc:
+        raise CaseFileError(f"solver options: {exc}") from None
+    if "force" in raw and "bodies" not in raw:
+        raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "
+                            "for wheel-rail cases give [creepage]")
+    if "bodies" in raw:
+        values["bodies"] = parse_bodies(keys)
+    elif is_surface_case(keys):
+        # rails along the track, several rails, a roller: railcontact.cases.surfaces
+        values["surfaces"] = parse_surface_case(keys, tangential)
+    else:
+        values["wheel_rail"] = parse_wheel_rail(keys)
+    return Case(raw=raw, base_dir=Path(base_dir or Path.cwd()), **values)
+
+
+def _material(keys: CaseKeys) -> Material:
+    """``[material]``: one material, or the wheel's own beside the rail's."""
+    try:
+        wE, wnu = keys.get("material.wheel_young_modulus"), keys.get("material.wheel_poisson_ratio")
+        return Material(keys.number("material.young_modulus", 2.1e11, unit="Pa"),
+                        keys.number("material.poisson_ratio", 0.28),
+                        None if wE is None else keys.number("material.wheel_young_modulus",
+                                                            unit="Pa"),
+                        None if wnu is None else keys.number("material.wheel_poisson_ratio"))
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
-    case.friction = case.number("friction.coefficient", 0.3, 0.0, 5.0)
-    case.friction_variation = _friction_variation(case)
-    sol = raw.get("solver", {})
-    case.normal = str(sol.get("normal", "hertz")).lower()
-    case.tangential = str(sol.get("tangential", "fastsim")).lower()
-    case.normal_options = dict(sol.get("normal_options", {}))
-    case.tangential_options = dict(sol.get("tangential_options", {}))
+
+
+def _grid(sol: dict) -> tuple:
+    """``solver.grid`` (two integers) and ``solver.element_size`` (two lengths [m]),
+    at most one of them given."""
+    out = {}
     for key in ("grid", "element_size"):
         v = sol.get(key)
         if v is not None:
@@ -161,65 +206,36 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
                                     "(rolling, lateral)")
             if key == "grid" and not all(float(t).is_integer() for t in v):
                 raise CaseFileError(f"solver.grid = {v!r}: expected two integers")
-            setattr(case, key, tuple(int(t) if key == "grid" else float(t) for t in v))
-    if case.grid and case.element_size:
+            out[key] = tuple(int(t) if key == "grid" else float(t) for t in v)
+    if len(out) == 2:
         raise CaseFileError("solver: give either grid or element_size, not both")
-    case.force_tolerance = case.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)")
-    if "creepage" in raw:
-        case.creepage = (case.number("creepage.longitudinal", 0.0, -1.0, 1.0),
-                         case.number("creepage.lateral", 0.0, -1.0, 1.0),
-                         case.number("creepage.spin", 0.0, -100.0, 100.0, "1/m"))
-    if "plasticity" in raw:
-        _plasticity(case)
-    # resolve models early so that a bad name fails before any work
-    try:
-        get_normal_model(case.normal, **case.normal_options)
-        if case.tangential != "none":
-            get_tangential_model(case.tangential, **case.tangential_options)
-    except TypeError as exc:
-        raise CaseFileError(f"solver options: {exc}") from None
-    if "force" in raw and "bodies" not in raw:
-        raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "
-                            "for wheel-rail cases give [creepage]")
-    if case.is_bodies:
-        case.bodies = parse_bodies(case)
-    elif is_surface_case(case):
-        # rails along the track, several rails, a roller: railcontact.cases.surfaces
-        case.surfaces = parse_surface_case(case, case.tangential)
-    else:
-        case.wheel_rail = parse_wheel_rail(case)
-    return case
+    return out.get("grid"), out.get("element_size")
 
 
-def _plasticity(case: Case) -> None:
-    """``[plasticity]``: the pressure limit of elastic-perfectly-plastic contact
+def _pressure_limit(keys: CaseKeys, normal: str) -> float:
+    """``[plasticity]``: the pressure limit [Pa] of elastic-perfectly-plastic contact
     (:mod:`railcontact.normal.plasticity`), passed to the exact normal model as its
     ``pressure_limit`` option: ``pressure_limit`` [Pa] as given, else
     ``pressure_factor`` (default 3, Tabor's hardness) x ``yield_stress`` [Pa]."""
-    pl = case.raw["plasticity"]
-    if case.normal != "exact":
+    pl = keys.raw["plasticity"]
+    if normal != "exact":
         raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "
-                            f"solver.normal is {case.normal!r} (expected 'exact')")
+                            f"solver.normal is {normal!r} (expected 'exact')")
     if "pressure_limit" in pl:
         if "yield_stress" in pl or "pressure_factor" in pl:
             raise CaseFileError("[plasticity]: give pressure_limit, or yield_stress (with "
                                 "pressure_factor), not both")
-        limit = case.number("plasticity.pressure_limit", None, 1e6, 1e12, "Pa")
-    else:
-        if "yield_stress" not in pl:
-            raise CaseFileError("[plasticity]: missing yield_stress (Pa) or pressure_limit (Pa)")
-        try:
-            limit = pressure_limit(case.number("plasticity.yield_stress", unit="Pa"),
-                                   case.number("plasticity.pressure_factor", HARDNESS_FACTOR))
-        except InputError as exc:
-            raise CaseFileError(str(exc)) from None
-    if "pressure_limit" in case.normal_options:
-        raise CaseFileError("pressure limit given both in [plasticity] and in "
-                            "solver.normal_options; give it once")
-    case.normal_options["pressure_limit"] = limit
+        return keys.number("plasticity.pressure_limit", None, 1e6, 1e12, "Pa")
+    if "yield_stress" not in pl:
+        raise CaseFileError("[plasticity]: missing yield_stress (Pa) or pressure_limit (Pa)")
+    try:
+        return pressure_limit(keys.number("plasticity.yield_stress", unit="Pa"),
+                              keys.number("plasticity.pressure_factor", HARDNESS_FACTOR))
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
 
 
-def _friction_variation(case: Case) -> tuple | None:
+def _friction_variation(case: CaseKeys) -> tuple | None:
     """``friction.variation = {angle = [...], coefficient = [...]}``: friction
     coefficients at rail surface inclinations [rad], increasing; returned as
     (angles, coefficients) tuples of floats, None where not given."""
