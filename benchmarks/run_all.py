@@ -951,6 +951,60 @@ def _halving_row(coarse, _, fine, sim):
             f"{g[0]:.4f}, {g[1]:.4f}")
 
 
+def bench_fmu(n_steps=400, dt=1e-3):
+    """The contact element's FMU (railcontact fmu) stepped by FMPy's FMI 3.0 API
+    through a hunting-like history, against the Python API's evaluation alone."""
+    out("\n## Contact element FMU (FMI 3.0 co-simulation, FMPy), cost per step")
+    try:
+        from fmpy import extract, read_model_description
+        from fmpy.fmi3 import FMU3Slave
+        from railcontact.dynamics.fmu import build_fmu
+    except ImportError as exc:
+        out(f"fmpy/pythonfmu3 not installed ({exc}); skipped")
+        return
+    import tempfile
+    from railcontact.dynamics.contact_element import ContactElement, WheelsetState
+    with tempfile.TemporaryDirectory() as tmp:
+        path = build_fmu(Path(tmp) / "element.fmu")
+        md = read_model_description(str(path))
+        vr = {v.name: v.valueReference for v in md.modelVariables}
+        unzipdir = extract(str(path))
+        t = np.arange(n_steps) * dt
+        w = 2 * np.pi * 5.0
+        y, yaw = 3e-3 * np.sin(w * t), 1e-3 * np.cos(w * t)
+        ins = [vr[k] for k in ("lateral_shift", "yaw", "vertical_position")]
+        outs = [vr[f"force_{c}"] for c in "xyz"] + [vr[f"torque_{c}"] for c in "xyz"]
+        fmu = FMU3Slave(guid=md.guid, unzipDirectory=unzipdir,
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bench")
+        fmu.instantiate()
+        fmu.enterInitializationMode()
+        fmu.setFloat64(ins, [y[0], yaw[0], 3e-4])
+        fmu.exitInitializationMode()
+        got = np.empty((n_steps, 6))
+        t0 = time.perf_counter()
+        for k in range(n_steps):
+            fmu.setFloat64(ins, [y[k], yaw[k], 3e-4])
+            fmu.doStep(currentCommunicationPoint=t[k], communicationStepSize=dt)
+            got[k] = fmu.getFloat64(outs)
+        t_fmu = (time.perf_counter() - t0) / n_steps
+        fmu.terminate()
+        fmu.freeInstance()
+    el = ContactElement.from_names()
+    want = np.empty((n_steps, 6))
+    t0 = time.perf_counter()
+    for k in range(n_steps):
+        r = el.evaluate(WheelsetState(lateral_shift=y[k], yaw=yaw[k], vertical_position=3e-4))
+        want[k, :3], want[k, 3:] = r.force, r.torque
+    t_api = (time.perf_counter() - t0) / n_steps
+    dev = np.abs(got - want).max() / np.abs(want).max()
+    out(f"* {n_steps} steps of {dt * 1e3:g} ms (y = 3 mm sin, yaw = 1 mrad cos at 5 Hz; S1002 on "
+        f"60E1, Hertz + FASTSIM, position mode): {t_fmu * 1e3:.2f} ms per FMU step "
+        f"(set inputs, doStep, get 6 outputs), {t_api * 1e3:.2f} ms per API evaluation: "
+        f"FMI overhead {(t_fmu - t_api) * 1e3:.3f} ms per step")
+    out(f"* largest deviation of the FMU's forces and torques from the API's: {dev:.1e} "
+        "(relative to the largest)")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -964,6 +1018,7 @@ def main():
     bench_fast_models()
     bench_strips_accuracy()
     bench_dynamics()
+    bench_fmu()
     bench_wear_closed_loop()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
