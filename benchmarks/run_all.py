@@ -981,28 +981,79 @@ def bench_fmu(n_steps=400, dt=1e-3):
         fmu.setFloat64(ins, [y[0], yaw[0], 3e-4])
         fmu.exitInitializationMode()
         got = np.empty((n_steps, 6))
-        t0 = time.perf_counter()
+        ts = np.empty(n_steps)
         for k in range(n_steps):
+            t0 = time.perf_counter()
             fmu.setFloat64(ins, [y[k], yaw[k], 3e-4])
             fmu.doStep(currentCommunicationPoint=t[k], communicationStepSize=dt)
             got[k] = fmu.getFloat64(outs)
-        t_fmu = (time.perf_counter() - t0) / n_steps
+            ts[k] = time.perf_counter() - t0
+        t_fmu = float(np.median(ts))
         fmu.terminate()
         fmu.freeInstance()
     el = ContactElement.from_names()
     want = np.empty((n_steps, 6))
-    t0 = time.perf_counter()
     for k in range(n_steps):
+        t0 = time.perf_counter()
         r = el.evaluate(WheelsetState(lateral_shift=y[k], yaw=yaw[k], vertical_position=3e-4))
         want[k, :3], want[k, 3:] = r.force, r.torque
-    t_api = (time.perf_counter() - t0) / n_steps
+        ts[k] = time.perf_counter() - t0
+    t_api = float(np.median(ts))
     dev = np.abs(got - want).max() / np.abs(want).max()
     out(f"* {n_steps} steps of {dt * 1e3:g} ms (y = 3 mm sin, yaw = 1 mrad cos at 5 Hz; S1002 on "
-        f"60E1, Hertz + FASTSIM, position mode): {t_fmu * 1e3:.2f} ms per FMU step "
+        f"60E1, Hertz + FASTSIM, position mode), medians: {t_fmu * 1e3:.2f} ms per FMU step "
         f"(set inputs, doStep, get 6 outputs), {t_api * 1e3:.2f} ms per API evaluation: "
         f"FMI overhead {(t_fmu - t_api) * 1e3:.3f} ms per step")
     out(f"* largest deviation of the FMU's forces and torques from the API's: {dev:.1e} "
         "(relative to the largest)")
+    _fmu_c_host(el)
+
+
+def _fmu_c_host(element):
+    """The FMU run by a host in C (benchmarks/fmu_c_host.c) in a process of its own,
+    with the environment of docs/multibody.md; its forces against the API's."""
+    import shutil
+    import subprocess
+    import sysconfig
+    import tempfile
+    import zipfile
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.dynamics.fmu import build_fmu
+    import pythonfmu3
+    if shutil.which("gcc") is None:
+        out("* C host: no gcc; skipped")
+        return
+    fmi = Path(pythonfmu3.__file__).parent / "pythonfmu-export" / "src" / "fmi"
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        subprocess.run(["gcc", "-O1", "-o", str(tmp / "host"), str(HERE / "fmu_c_host.c"),
+                        f"-I{fmi}", "-ldl"], check=True)
+        with zipfile.ZipFile(build_fmu(tmp / "e.fmu")) as z:
+            z.extractall(tmp / "fmu")
+        xml = (tmp / "fmu" / "modelDescription.xml").read_text()
+        token = xml.split('instantiationToken="')[1].split('"')[0]
+        import site
+        env = dict(os.environ,
+                   LD_PRELOAD=os.path.join(sysconfig.get_config_var("LIBDIR"),
+                                           sysconfig.get_config_var("LDLIBRARY")),
+                   PYTHONHOME=sys.base_prefix,
+                   PYTHONPATH=os.pathsep.join(site.getsitepackages() + [str(HERE.parent)]))
+        t0 = time.perf_counter()
+        run = subprocess.run([str(tmp / "host"),
+                              str(tmp / "fmu" / "binaries" / "x86_64-linux" /
+                                  "RailContactElement.so"), str(tmp / "fmu" / "resources"),
+                              token, "0.003", "1.8e-4"], env=env, capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+    if run.returncode != 0:
+        out(f"* C host: FAILED (exit status {run.returncode}): {run.stderr.strip()[-300:]}")
+        return
+    got = np.array([float(v) for v in run.stdout.split()])
+    r = element.evaluate(WheelsetState(lateral_shift=0.003, vertical_position=1.8e-4))
+    want = np.r_[r.force, r.torque]
+    out(f"* a host in C (benchmarks/fmu_c_host.c, libpython preloaded): one step in a fresh "
+        f"process in {wall:.1f} s (start of Python, imports, Numba cache); forces and torques "
+        f"against the API's: largest relative deviation "
+        f"{np.abs(got - want).max() / np.abs(want).max():.1e}")
 
 
 def main():
