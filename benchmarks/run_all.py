@@ -1056,6 +1056,69 @@ def _fmu_c_host(element):
         f"{np.abs(got - want).max() / np.abs(want).max():.1e}")
 
 
+def bench_quasi_elastic(alphas=(1e-5, 2e-5, 3e-5, 5e-5)):
+    """Arnold's quasi-elastic contact against the multi-Hertzian elastic one on
+    S1002/60E1 1:40 at 70 kN: the normal force across the rigid contact jumps, the
+    penetration, the equivalent conicity, the linear critical speed."""
+    out("\n## Arnold's quasi-elastic contact vs multi-Hertzian, S1002/60E1 1:40, 70 kN")
+    from railcontact.dynamics import VehicleModel, WheelRailTable, critical_speed
+    from railcontact.dynamics.contact_element import ContactElement, WheelsetState
+    from railcontact.geometry import contact_table, equivalent_conicity
+    from railcontact.geometry.quasi_elastic import quasi_elastic_contact, quasi_elastic_table
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", inclination=math.atan(1 / 40)))
+    element = ContactElement.from_names(tangential="none", mode="load")
+
+    def jump_at(lo, hi, size):
+        a = lambda y: quasi_elastic_contact(ws, tr, y, alpha=1e-8).points["right"].contact_angle
+        alo = a(lo)
+        while hi - lo > 1e-7:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if abs(a(mid) - alo) < size else (lo, mid)
+        return 0.5 * (lo + hi)
+
+    for lo, hi, size in ((4.9e-3, 5.1e-3, 0.05), (6.2e-3, 6.3e-3, 0.3)):
+        yj = jump_at(lo, hi, size)
+        row = []
+        for h in (4e-6, 1e-6):
+            ys = np.arange(yj - 2e-5, yj + 2e-5 + h / 2, h)
+            steps = {}
+            for a in (1e-8, 3e-5):
+                d = np.array([quasi_elastic_contact(ws, tr, y, alpha=a).points["right"]
+                              .contact_angle for y in ys])
+                steps[a] = np.abs(np.diff(70e3 / np.cos(d))).max()
+            fn = np.array([element.evaluate(WheelsetState(lateral_shift=y, loads=(70e3, 70e3)))
+                           .normal_force["right"] for y in ys])
+            steps["mh"] = np.abs(np.diff(fn)).max()
+            row.append(f"h = {h * 1e6:g} um: rigid {steps[1e-8] / 1e3:.2f} kN, quasi-elastic "
+                       f"(alpha 3e-5) {steps[3e-5] / 1e3:.3f} kN, multi-Hertzian {steps['mh'] / 1e3:.2f} kN")
+        out(f"* jump of the rigid contact point at y = {yj * 1e3:.3f} mm, largest step of the "
+            f"right wheel's normal force within +-20 um: " + "; ".join(row))
+    ys = np.arange(-4e-3, 4.01e-3, 1e-3)
+    el = [find_contact(ws, tr, y, 0.0, vertical_force=70e3).interpenetration for y in ys]
+    for a in alphas:
+        r = np.array([[quasi_elastic_contact(ws, tr, y, alpha=a).points[s].penetration / e[s]
+                       for s in ("left", "right")] for y, e in zip(ys, el)])
+        out(f"* alpha = {a:g} m: quasi-elastic / multi-Hertzian vertical penetration over shifts "
+            f"-4..4 mm: {r.min():.2f} .. {r.max():.2f} (mean {r.mean():.3f})")
+    ysc = np.arange(-8e-3, 8.01e-3, 2.5e-4)
+    amps = (1e-3, 2e-3, 3e-3, 4e-3, 6e-3)
+    tabs = {"multi-Hertzian (70 kN)": contact_table(ws, tr, ysc, vertical_force=70e3),
+            "rigid": quasi_elastic_table(ws, tr, ysc, alpha=1e-8)}
+    for a in alphas:
+        tabs[f"quasi-elastic alpha {a:g}"] = quasi_elastic_table(ws, tr, ysc, alpha=a)
+    out("* equivalent conicity (EN 15302 wavelength method) at amplitudes "
+        + ", ".join(f"{x * 1e3:g}" for x in amps) + " mm:")
+    for name, tb in tabs.items():
+        out(f"  * {name}: " + ", ".join(f"{equivalent_conicity(tb, x):.3f}" for x in amps))
+    mh = WheelRailTable.build(ws, tr, 60e3, shift_range=0.01, step=2.5e-4)
+    qe = WheelRailTable.quasi_elastic(ws, tr, 60e3, 3e-5, shift_range=0.01, step=2.5e-4)
+    for m in ("bogie", "vehicle"):
+        model = VehicleModel.from_parameters(m, {})
+        out(f"* Manchester {m}, linear critical speed: multi-Hertzian table "
+            f"{critical_speed(model, mh):.1f} m/s, quasi-elastic (alpha 3e-5) "
+            f"{critical_speed(model, qe):.1f} m/s")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -1070,6 +1133,7 @@ def main():
     bench_strips_accuracy()
     bench_dynamics()
     bench_fmu()
+    bench_quasi_elastic()
     bench_wear_closed_loop()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md

@@ -45,7 +45,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..core.errors import InputError
 from .locus import LOCUS_STEP, Locus, _wheel_samples
 from .pose import solve_pose
 from .search import _locus_curvatures
