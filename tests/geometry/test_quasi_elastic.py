@@ -8,7 +8,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.geometry import Track, Wheelset, contact_table, equivalent_conicity, find_contact
 from railcontact.geometry.quasi_elastic import (quasi_elastic_contact, quasi_elastic_table,
                                                 soft_min_offset)
