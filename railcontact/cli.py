@@ -288,6 +288,23 @@ def cmd_track(args):
         False, "the vertical load was not met at some positions (see 'converged')", [])
 
 
+def cmd_fmu(args):
+    """Write the contact element's FMI 3.0 co-simulation FMU."""
+    try:
+        from .dynamics.fmu import build_fmu
+    except ImportError as exc:
+        raise InputError(f"fmu: {exc}; install the 'fmu' extra (pip install "
+                         "'railcontact[fmu]')") from None
+    params = {"mode": args.mode}
+    for key, value in (("case_file", args.case), ("wheel_profile", args.wheel),
+                       ("rail_profile", args.rail), ("normal_model", args.normal),
+                       ("tangential_model", args.tangential), ("friction", args.friction)):
+        if value is not None:
+            params[key] = value
+    path = build_fmu(args.out, params)
+    print(f"wrote {path} (FMI 3.0 co-simulation; variables: docs/multibody.md)")
+
+
 def cmd_demo(args):
     from .demo import run_demo
     run_demo(Path(args.out))
@@ -385,6 +402,21 @@ def build_parser():
     t.add_argument("--tangential")
     t.add_argument("--out", default="track_output")
     t.set_defaults(func=cmd_track)
+    f = sub.add_parser("fmu", help="write the wheel-rail contact element as an FMI 3.0 "
+                       "co-simulation FMU for multibody tools (docs/multibody.md)")
+    f.add_argument("--out", default="RailContactElement.fmu",
+                   help="the .fmu file to write, or a folder")
+    f.add_argument("--case", help="wheel-rail case file (TOML) giving profiles, dimensions, "
+                   "material, friction and solver")
+    f.add_argument("--wheel", help="wheel profile: built-in name or file (default S1002)")
+    f.add_argument("--rail", help="rail profile: built-in name or file (default 60E1)")
+    f.add_argument("--normal", help="normal model (default hertz)")
+    f.add_argument("--tangential", help="tangential model (default fastsim)")
+    f.add_argument("--friction", type=float, help="friction coefficient (default 0.3)")
+    f.add_argument("--mode", choices=["position", "load"], default="position",
+                   help="position: vertical position and roll are inputs (elastic contact); "
+                        "load: the wheel loads are inputs")
+    f.set_defaults(func=cmd_fmu)
     d = sub.add_parser("demo", help="lateral-shift sweep S1002 on 60E1 1:40 (Hertz + FASTSIM)")
     d.add_argument("--out", default="demo_output")
     d.set_defaults(func=cmd_demo)

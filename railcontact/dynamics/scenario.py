@@ -30,7 +30,7 @@ _VEHICLE = {"model", "preset", "parameters", "parameter_file", "mass", "yaw_iner
             "wheel_load"}
 _SIM = {"velocity", "duration", "initial_lateral_shift", "sample_rate", "table_range",
         "table_step", "tangential", "tangential_options", "fastsim_grid", "rtol",
-        "history_wheelset", "integrator", "step"}
+        "history_wheelset", "integrator", "step", "contact", "alpha"}
 _IRR = {"spectrum", "seed", "wavelengths", "step", "file"}
 
 
@@ -172,7 +172,8 @@ class DynamicsScenario:
     law: ``tangential`` (a registered model), ``tangential_options``,
     ``fastsim_grid`` [nx, ny], ``integrator`` ("auto", "rk4", "lsoda"), ``step`` [s]
     of the fixed-step integrator and ``rtol`` of LSODA; the contact table:
-    ``table_range`` and ``table_step`` [m] of lateral shift.  Output:
+    ``table_range`` and ``table_step`` [m] of lateral shift, ``contact``
+    ("multi-hertz" or "quasi-elastic": Arnold's, regularisation ``alpha`` [m]).  Output:
     ``history_wheelset``, the wheelset (1-based) whose time history is written.
     """
 
@@ -196,6 +197,8 @@ class DynamicsScenario:
     table_step: float = 2e-4
     history_wheelset: int = 1
     title: str = ""
+    contact: str = "multi-hertz"
+    alpha: float = 3e-5
 
 
 def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsScenario:
@@ -236,12 +239,30 @@ def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsSc
         sample_rate=_num(sim, "simulation", "sample_rate", 100.0, 1.0, 1e5),
         table_range=_num(sim, "simulation", "table_range", 0.012, 1e-3, 0.03),
         table_step=_num(sim, "simulation", "table_step", 2e-4, 1e-5, 1e-3),
-        history_wheelset=hw, title=str(sections.get("title", "")))
+        history_wheelset=hw, title=str(sections.get("title", "")),
+        contact=_contact_model(sim),
+        alpha=_num(sim, "simulation", "alpha", 3e-5, 1e-7, 1e-3))
+
+
+#: the contact of the dynamics' tables (``simulation.contact``)
+CONTACT_MODELS = ("multi-hertz", "quasi-elastic")
+
+
+def _contact_model(sim: dict) -> str:
+    v = sim.get("contact", "multi-hertz")
+    if v not in CONTACT_MODELS:
+        raise CaseFileError(f"simulation.contact = {v!r}: expected one of {CONTACT_MODELS}")
+    return v
 
 
 def build_table(sc: DynamicsScenario, progress: bool = False) -> WheelRailTable:
-    """Contact table of a scenario at the static wheel load of its first wheelset."""
+    """Contact table of a scenario at the static wheel load of its first wheelset: the
+    multi-Hertzian search, or Arnold's quasi-elastic contact (``simulation.contact``,
+    ``simulation.alpha``)."""
     load = sc.model.wheelsets[0][1] * G_ACC / 2
+    if sc.contact == "quasi-elastic":
+        return WheelRailTable.quasi_elastic(sc.wheelset, sc.track, load, sc.alpha, sc.material,
+                                            sc.table_range, sc.table_step)
     return WheelRailTable.build(sc.wheelset, sc.track, load, sc.material, sc.table_range,
                                 sc.table_step, progress=progress)
 
@@ -259,7 +280,8 @@ def run_scenario(sc: DynamicsScenario, out=None, progress: bool = True):
         vc = critical_speed(sc.model, table, material=sc.material)
     except (InputError, ValueError):           # no crossing in the bracket
         vc = math.nan
-    ds.attrs.update(title=sc.title, critical_speed_m_s=vc,
+    ds.attrs.update(title=sc.title, critical_speed_m_s=vc, contact=sc.contact,
+                    alpha_m=sc.alpha if sc.contact == "quasi-elastic" else math.nan,
                     route_segments=str(sc.route.segments),
                     irregularities=sc.route.irregularities.source)
     if out is not None:

@@ -125,3 +125,20 @@ def test_parameter_file(tmp_path):
         vehicle_from_section({"parameter_file": "bad.toml"}, tmp_path)
     with pytest.raises(CaseFileError, match="does not exist"):
         vehicle_from_section({"parameter_file": "none.toml"}, tmp_path)
+
+
+def test_quasi_elastic_scenario(tmp_path):
+    """``simulation.contact = "quasi-elastic"``: the wheelset runs on Arnold's contact
+    (one point per wheel: the flange slot carries nothing)."""
+    from railcontact.dynamics.scenario import run_scenario
+    from railcontact.inputs import load_dynamics_scenario
+    text = SHORT.format(model="wheelset", duration=0.5, hw=1).replace(
+        "table_step = 5e-4", "table_step = 5e-4\ncontact = \"quasi-elastic\"\nalpha = 3e-5")
+    ds = run_scenario(load_dynamics_scenario(_write(tmp_path, text)), progress=False)
+    assert ds.attrs["contact"] == "quasi-elastic" and ds.attrs["alpha_m"] == 3e-5
+    assert float(abs(ds["patch_normal_force"].sel(patch="flange")).max()) == 0.0
+    assert float(ds["patch_normal_force"].sel(patch="tread").min()) > 0.5 * 9.81 * 1000
+    bad = SHORT.format(model="wheelset", duration=0.5, hw=1).replace(
+        "table_step = 5e-4", "table_step = 5e-4\ncontact = \"rigid\"")
+    with pytest.raises(CaseFileError, match="simulation.contact"):
+        load_dynamics_scenario(_write(tmp_path, bad, "b.toml"))
