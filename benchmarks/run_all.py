@@ -958,12 +958,13 @@ def bench_fmu(n_steps=400, dt=1e-3):
     try:
         from fmpy import extract, read_model_description
         from fmpy.fmi3 import FMU3Slave
-        from railcontact.dynamics.fmu import build_fmu
+        from railcontact.fmu import build_fmu
     except ImportError as exc:
         out(f"fmpy/pythonfmu3 not installed ({exc}); skipped")
         return
     import tempfile
-    from railcontact.dynamics.contact_element import ContactElement, WheelsetState
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.inputs import contact_element
     with tempfile.TemporaryDirectory() as tmp:
         path = build_fmu(Path(tmp) / "element.fmu")
         md = read_model_description(str(path))
@@ -991,7 +992,7 @@ def bench_fmu(n_steps=400, dt=1e-3):
         t_fmu = float(np.median(ts))
         fmu.terminate()
         fmu.freeInstance()
-    el = ContactElement.from_names()
+    el = contact_element()
     want = np.empty((n_steps, 6))
     for k in range(n_steps):
         t0 = time.perf_counter()
@@ -1018,7 +1019,8 @@ def _fmu_c_host(element):
     import tempfile
     import zipfile
     from railcontact.dynamics.contact_element import WheelsetState
-    from railcontact.dynamics.fmu import build_fmu
+    from railcontact.inputs import contact_element
+    from railcontact.fmu import build_fmu
     import pythonfmu3
     if shutil.which("gcc") is None:
         out("* C host: no gcc; skipped")
@@ -1062,11 +1064,12 @@ def bench_quasi_elastic(alphas=(1e-5, 2e-5, 3e-5, 5e-5)):
     penetration, the equivalent conicity, the linear critical speed."""
     out("\n## Arnold's quasi-elastic contact vs multi-Hertzian, S1002/60E1 1:40, 70 kN")
     from railcontact.dynamics import VehicleModel, WheelRailTable, critical_speed
-    from railcontact.dynamics.contact_element import ContactElement, WheelsetState
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.inputs import contact_element
     from railcontact.geometry import contact_table, equivalent_conicity
     from railcontact.geometry.quasi_elastic import quasi_elastic_contact, quasi_elastic_table
     ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", inclination=math.atan(1 / 40)))
-    element = ContactElement.from_names(tangential="none", mode="load")
+    element = contact_element(tangential="none", mode="load")
 
     def jump_at(lo, hi, size):
         a = lambda y: quasi_elastic_contact(ws, tr, y, alpha=1e-8).points["right"].contact_angle

@@ -291,7 +291,7 @@ def cmd_track(args):
 def cmd_fmu(args):
     """Write the contact element's FMI 3.0 co-simulation FMU."""
     try:
-        from .dynamics.fmu import build_fmu
+        from .fmu import build_fmu
     except ImportError as exc:
         raise InputError(f"fmu: {exc}; install the 'fmu' extra (pip install "
                          "'railcontact[fmu]')") from None

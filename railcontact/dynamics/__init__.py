@@ -15,7 +15,7 @@
   wheelset with tabulated geometry (verification of Klingel's wavelength);
 - :mod:`~railcontact.dynamics.contact_element`: the contact element of a multibody
   model (forces and torques of both rails on a wheelset from its pose and motion);
-- :mod:`~railcontact.dynamics.fmu`: that element as an FMI 3.0 co-simulation FMU
+- :mod:`~railcontact.fmu`: that element as an FMI 3.0 co-simulation FMU
   (needs the ``fmu`` extra; not imported here).
 """
 

@@ -5,7 +5,7 @@ normal and tangential model pair.
 A multibody tool integrates the wheelset's equations of motion and asks, at every
 step, for the contact forces at the wheelset's current pose relative to the track.
 :class:`ContactElement` answers that question (Python API); the FMI 3.0
-co-simulation FMU of :mod:`railcontact.dynamics.fmu` wraps it for Modelica,
+co-simulation FMU of :mod:`railcontact.fmu` wraps it for Modelica,
 SIMPACK-like and other FMI tools (``docs/multibody.md``).
 
 Two ways to give the vertical state (``docs/multibody.md``):
@@ -41,7 +41,6 @@ is (0, −ω_x (P − O)_z, ω_x (P − O)_y + ż), so the lateral creepage gain
 
 from __future__ import annotations
 
-import copy
 import dataclasses
 import logging
 import math
@@ -51,7 +50,7 @@ import numpy as np
 
 from ..cases.balance import solve_wheel_rail
 from ..cases.bodies import build_wheelset_track
-from ..cases.case import Case, case_from_dict
+from ..cases.case import Case
 from ..cases.patches import case_models, coupled_models, solve_case_patches
 from ..core.errors import ContactNotFoundError, InputError
 from ..geometry.locus import min_gap
@@ -176,11 +175,11 @@ class ContactElement:
 
     Parameters
     ----------
-    case : Case or dict
-        A wheel-rail case (:func:`railcontact.case_from_dict`, ``docs/case_files.md``)
-        giving the profiles, wheelset and track dimensions, material, friction,
-        models and their grids; its ``[wheelset]`` state keys are ignored (the
-        state is :meth:`evaluate`'s).
+    case : Case
+        A parsed wheel-rail case (:func:`railcontact.load_case`,
+        :func:`railcontact.inputs.contact_element` from names) giving the profiles,
+        wheelset and track dimensions, material, friction, models and their grids;
+        its wheelset state is ignored (the state is :meth:`evaluate`'s).
     normal, tangential : str, optional
         Registered model names overriding the case's ``[solver]``.
     mode : {"position", "load"}
@@ -190,13 +189,11 @@ class ContactElement:
     the same state always gives the same forces.
     """
 
-    def __init__(self, case, normal: str | None = None, tangential: str | None = None,
+    def __init__(self, case: Case, normal: str | None = None, tangential: str | None = None,
                  mode: str = "position"):
-        if isinstance(case, dict):
-            case = case_from_dict(case)
         if not isinstance(case, Case) or case.wheel_rail is None:
-            raise InputError("contact element: expected a wheel-rail case ([wheel], [rail], "
-                             "[wheelset]) as a Case or a dict")
+            raise InputError("contact element: expected a parsed wheel-rail case ([wheel], "
+                             "[rail], [wheelset]) as a Case")
         if mode not in MODES:
             raise InputError(f"contact element mode = {mode!r}: expected one of {MODES}")
         if case.creepage is not None:
@@ -208,22 +205,6 @@ class ContactElement:
         self.coupled = coupled_models(case, self.nmodel, self.tmodel)
         self.bodies = build_wheelset_track(case)
         self.nominal_radius = self.bodies[0].nominal_radius
-
-    @classmethod
-    def from_names(cls, wheel: str = "S1002", rail: str = "60E1", normal: str = "hertz",
-                   tangential: str = "fastsim", friction: float = 0.3, mode: str = "position",
-                   extra: dict | None = None):
-        """An element from profile and model names (``extra``: further case keys,
-        e.g. ``{"wheel": {"nominal_radius": 0.45}}``, merged into the case)."""
-        raw = {"wheel": {"profile": wheel}, "rail": {"profile": rail},
-               "friction": {"coefficient": friction},
-               "solver": {"normal": normal, "tangential": tangential}}
-        for key, table in (extra or {}).items():
-            if isinstance(table, dict):
-                raw.setdefault(key, {}).update(table)
-            else:
-                raw[key] = table
-        return cls(raw, mode=mode)
 
     def _check(self, st: WheelsetState) -> None:
         for name in ("lateral_shift", "vertical_position", "roll", "yaw", "lateral_velocity",
@@ -294,17 +275,14 @@ class ContactElement:
         return results, WheelsetPose(y, z, roll, yaw), True
 
     def _by_load(self, st: WheelsetState):
-        raw = copy.deepcopy(self.case.raw)
-        w = raw.setdefault("wheelset", {})
-        for key in ("vertical_position", "roll", "side"):
-            w.pop(key, None)
-        w.update({"lateral_shift": float(st.lateral_shift), "yaw": float(st.yaw),
-                  "vertical_force": [float(st.loads[0]), float(st.loads[1])],
-                  "velocity": float(st.velocity), "lateral_velocity": float(st.lateral_velocity),
-                  "yaw_rate": float(st.yaw_rate)})
-        if st.pitch_velocity is not None:
-            w["pitch_velocity"] = float(st.pitch_velocity)
-        case = case_from_dict(raw, self.case.base_dir)
+        setup = dataclasses.replace(
+            self.case.wheel_rail, lateral_shift=float(st.lateral_shift), yaw=float(st.yaw),
+            roll=None, side="both", vertical_position=None,
+            loads={"left": float(st.loads[0]), "right": float(st.loads[1])},
+            velocity=float(st.velocity), lateral_velocity=float(st.lateral_velocity),
+            yaw_rate=float(st.yaw_rate),
+            pitch_velocity=None if st.pitch_velocity is None else float(st.pitch_velocity))
+        case = dataclasses.replace(self.case, wheel_rail=setup)
         results, contact, balance = solve_wheel_rail(case, self.nmodel, self.tmodel, self.kw,
                                                      rtol=case.force_tolerance)
         return results, contact.pose, balance.converged

@@ -8,14 +8,14 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.dynamics.contact_element import (ContactElement, WheelsetState,
-                                                  patch_wrench)
+from railcontact.dynamics.contact_element import WheelsetState, patch_wrench
+from railcontact.inputs import contact_element
 from railcontact.core.errors import InputError
 
 
 @pytest.fixture(scope="module")
 def elements():
-    return (ContactElement.from_names(mode="position"), ContactElement.from_names(mode="load"))
+    return (contact_element(mode="position"), contact_element(mode="load"))
 
 
 @pytest.mark.parametrize("y", [0.0, 0.003, 0.007])
@@ -104,7 +104,7 @@ def test_bad_inputs(elements):
     with pytest.raises(InputError, match="loads"):
         load.evaluate(WheelsetState())
     with pytest.raises(InputError, match="mode"):
-        ContactElement.from_names(mode="elastic")
+        contact_element(mode="elastic")
     with pytest.raises(InputError, match="yaw"):
         pos.evaluate(WheelsetState(yaw=0.2))
     assert pos.evaluate(WheelsetState(vertical_position=3e-4)).to_xarray()["force"].attrs[

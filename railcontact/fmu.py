@@ -34,7 +34,7 @@ from pathlib import Path
 from pythonfmu3 import (Boolean, Float64, Fmi3Causality, Fmi3Slave, Fmi3Variability, FmuBuilder,
                         String, Unit)
 
-from railcontact.cases.case import load_case
+from railcontact.cases.case import case_from_dict, load_case
 from railcontact.dynamics.contact_element import MODES, ContactElement, WheelsetState
 from railcontact.core.errors import InputError
 from railcontact.profiles.library import DEFAULT_INCLINATION
@@ -212,7 +212,6 @@ class ContactElementSlave(Fmi3Slave):
         if self.mode not in MODES:
             raise InputError(f"FMU parameter mode = {self.mode!r}: expected one of {MODES}")
         base = Path(self.case_file).parent if self.case_file else None
-        from railcontact.cases.case import case_from_dict
         case = case_from_dict(element_case(self.parameter_values()), base)
         self.element = ContactElement(case, mode=self.mode)
         self._update()
@@ -273,7 +272,6 @@ def build_fmu(dest, parameters: dict | None = None) -> Path:
     for name, _, _, _, _ in FLOAT_PARAMETERS:
         if not math.isfinite(float(values[name])):
             raise InputError(f"FMU parameter {name} = {values[name]!r}: expected a finite number")
-    from railcontact.cases.case import case_from_dict
     base = Path(values["case_file"]).parent if values["case_file"] else None
     ContactElement(case_from_dict(element_case(values), base), mode=values["mode"])
     dest = Path(dest)
@@ -282,7 +280,7 @@ def build_fmu(dest, parameters: dict | None = None) -> Path:
         raise InputError(f"FMU destination {str(dest)!r}: expected a .fmu file or a folder")
     script = (f'"""railcontact\'s contact element (written by railcontact fmu)."""\n'
               f"from pythonfmu3 import Fmi3Slave\n"
-              f"from railcontact.dynamics.fmu import ContactElementSlave\n\n\n"
+              f"from railcontact.fmu import ContactElementSlave\n\n\n"
               f"class {MODEL_NAME}(ContactElementSlave, Fmi3Slave):\n"
               f"    START = {params!r}\n")
     with tempfile.TemporaryDirectory(prefix="railcontact_fmu_") as tmp:

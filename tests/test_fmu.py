@@ -14,8 +14,9 @@ pytest.importorskip("pythonfmu3")
 fmpy = pytest.importorskip("fmpy")
 
 from railcontact.cli import main                                     # noqa: E402
-from railcontact.dynamics.contact_element import ContactElement, WheelsetState  # noqa: E402
-from railcontact.dynamics.fmu import INPUTS, OUTPUTS, build_fmu      # noqa: E402
+from railcontact.dynamics.contact_element import WheelsetState  # noqa: E402
+from railcontact.inputs import contact_element  # noqa: E402
+from railcontact.fmu import INPUTS, OUTPUTS, build_fmu      # noqa: E402
 from railcontact.core.errors import InputError                       # noqa: E402
 
 log = logging.getLogger(__name__)
@@ -111,7 +112,7 @@ def test_fmu_time_history_equals_the_api(fmu_file):
              wall / (sig.size - 1) * 1e3)
     assert res.size == sig.size
     np.testing.assert_allclose(res["time"], sig["time"], rtol=0, atol=1e-12)
-    exp = _expected(ContactElement.from_names(), sig)
+    exp = _expected(contact_element(), sig)
     # the history runs through contact: both wheels loaded, forces that change
     assert np.all(exp["left_normal_force"][1:] > 1e3) and np.all(exp["right_normal_force"] > 1e3)
     assert np.ptp(exp["force_y"]) > 1e3
@@ -140,7 +141,7 @@ def test_fmu_parameters_load_mode_and_model_pair(fmu_file, tmp_path, built):
                             output_interval=dt, input=sig, start_values=start,
                             output=["force_x", "force_y", "force_z", "torque_z",
                                     "pose_vertical_position", "pose_roll"])
-    el = ContactElement.from_names(tangential="linear", mode="load")
+    el = contact_element(tangential="linear", mode="load")
     exp = _expected(el, sig, pure_rolling=False, load=True)
     for name in ("force_x", "force_y", "force_z", "torque_z"):
         np.testing.assert_allclose(res[name], exp[name], rtol=1e-9, atol=1e-4, err_msg=name)
