@@ -239,8 +239,9 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
         put("FDECAY, BETATH, KDOWFB, D_IFC, D_LIN, D_CNS, D_SLP, POW_S",
             lines.group("dddddddd", "FDECAY, BETATH, KDOWFB, D_IFC, D_LIN, D_CNS, D_SLP, POW_S"))
     if not m1:
-        put("FN, CKSI, CETA, CPHI, SPINXO, SPINYO" if d["N"] == 1 else
-            "PEN, CKSI, CETA, CPHI, SPINXO, SPINYO",
+        # the F digit says which of creepages and relative forces are given
+        tang = {0: "CKSI, CETA", 1: "FXREL, CETA", 2: "FXREL, FYREL"}.get(d["F"], "CKSI, CETA")
+        put(f"{'FN' if d['N'] == 1 else 'PEN'}, {tang}, CPHI, SPINXO, SPINYO",
             lines.group("dddd", "PEN/FN, CKSI/FXREL, CETA/FYREL, CPHI", "dd"))
     _read_friction(lines, case, d)
     if m1:
@@ -264,12 +265,31 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
                 raise lines.error(f"IPOTCN = {ipotcn}: expected -6 .. -1 or 1 .. 4")
             kinds = "ii" + "d" * (spec.count(",") - 1)
             put(spec, lines.group(kinds, spec))
-            if d["Z"] > 1 and ipotcn > 0:
-                raise lines.error("a non-Hertzian undeformed distance (IPOTCN > 0: IBASE, "
-                                  "IPLAN) is not supported; expected IPOTCN = -1 or -3")
+        if d["Z"] > 1 and case.values.get("IPOTCN", -1) > 0:
+            _read_undeformed_distance(lines, case)
+    if not m1 and d["T"] <= 1:
+        # no rolling: CONTACT sets CHI = 0, DQ = 1 mm, VELOC = 1 mm/s (user guide,
+        # "Tangential quantities in case of a shift")
+        case.values.update(CHI=0.0, DQ=1.0, VELOC=1.0)
     if d["S"] in (2, 3):
         raise lines.error(f"subsurface stresses (STRESS = {d['S']}) are not supported; "
                           "expected S = 0")
+
+
+def _read_undeformed_distance(lines, case):
+    """``IBASE IPLAN`` and their parameters (module 3 with IPOTCN > 0): the quadratic
+    undeformed distance (IBASE = 1: B1 .. B6) on an unrestricted planform (IPLAN =
+    1) is read; the other forms stop with the line naming them."""
+    ibase, iplan = lines.group("ii", "IBASE, IPLAN")
+    if ibase != 1:
+        raise lines.error(f"IBASE = {ibase}: only the quadratic undeformed distance (IBASE = "
+                          "1) is supported")
+    if iplan != 1:
+        raise lines.error(f"IPLAN = {iplan}: only the unrestricted planform (IPLAN = 1) is "
+                          "supported")
+    _put(case, "IBASE, IPLAN", [ibase, iplan])
+    case.values["B"] = lines.group("dddddd", "B1, B2, B3, B4, B5, B6")
+    case.read.add("B")
 
 
 def _read_friction(lines, case, d):

@@ -163,6 +163,100 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     return px, py, sx, sy, stick & contact, it, converged
 
 
+def grid_offset(origin_from, origin_to, element_size, shift=(0.0, 0.0)):
+    """Index offset (di, dj) of a grid whose first element centre is ``origin_to``
+    (moved by ``shift`` [m]) in a grid of the same element size whose first centre is
+    ``origin_from``: element (i, j) of the first lies at element (i + di, j + dj) of
+    the second.  The offset must be whole elements (CONTACT's transient cases: a
+    grid moved by whole elements, a rolling step DQ of whole elements); InputError
+    otherwise."""
+    dx, dy = element_size
+    fx = (origin_to[0] + shift[0] - origin_from[0]) / dx
+    fy = (origin_to[1] + shift[1] - origin_from[1]) / dy
+    di, dj = round(fx), round(fy)
+    if abs(fx - di) > 1e-6 or abs(fy - dj) > 1e-6:
+        raise InputError(f"transient step: the grid moved by {fx:.4f} x {fy:.4f} elements "
+                         "relative to the previous step's material points; expected whole "
+                         "elements")
+    return int(di), int(dj)
+
+
+def previous_displacement(px, py, offset, shape, dx, dy, G, nu):
+    """Displacement difference u' = B p' [m] that the previous time step's tractions
+    (px, py) [Pa] (body 1, on their own mx' x my' grid) cause at the elements of
+    the current grid (``shape`` (mx, my)), whose element (i, j) lies at element
+    (i + di, j + dj) of the previous grid (``offset``, :func:`grid_offset`).
+
+    The influence coefficients are those of the steady solver (Cerruti, uniform
+    tractions on rectangles); evaluated once per time step by FFT convolution on the
+    union of both grids."""
+    from scipy.signal import fftconvolve
+
+    di, dj = offset
+    m0, n0 = px.shape
+    mx, my = shape
+    lo_i, lo_j = min(0, di), min(0, dj)
+    Mu, Nu = max(m0, di + mx) - lo_i, max(n0, dj + my) - lo_j
+    kxx, kxy, kyy = tangential_kernels(Mu, Nu, dx, dy, G, nu)
+    qx, qy = np.zeros((Mu, Nu)), np.zeros((Mu, Nu))
+    qx[-lo_i:m0 - lo_i, -lo_j:n0 - lo_j] = px
+    qy[-lo_i:m0 - lo_i, -lo_j:n0 - lo_j] = py
+    # u[i] = sum_k K[i - k] q[k]: the full convolution's rows Mu-1 .. 2Mu-2
+    conv = lambda k, q: fftconvolve(q, k, mode="full")[Mu - 1:2 * Mu - 1, Nu - 1:2 * Nu - 1]  # noqa: E731
+    ux = conv(kxx, qx) + conv(kxy, qy)
+    uy = conv(kxy, qx) + conv(kyy, qy)
+    cut = (slice(di - lo_i, di - lo_i + mx), slice(dj - lo_j, dj - lo_j + my))
+    return np.ascontiguousarray(ux[cut]), np.ascontiguousarray(uy[cut])
+
+
+def shifted_tractions(px, py, offset, shape):
+    """The previous tractions on the current grid (element (i, j) from element
+    (i + di, j + dj) of the previous grid; zero where it has none)."""
+    di, dj = offset
+    m0, n0 = px.shape
+    mx, my = shape
+    qx, qy = np.zeros(shape), np.zeros(shape)
+    i0, i1 = max(0, -di), min(mx, m0 - di)
+    j0, j1 = max(0, -dj), min(my, n0 - dj)
+    if i0 < i1 and j0 < j1:
+        qx[i0:i1, j0:j1] = px[i0 + di:i1 + di, j0 + dj:j1 + dj]
+        qy[i0:i1, j0:j1] = py[i0 + di:i1 + di, j0 + dj:j1 + dj]
+    return qx, qy
+
+
+def transient_step(x, y, contact, bound, rigid_shift, u_prev, G, nu, tol=1e-7, maxiter=60,
+                   p0=None):
+    """One time step of a transient problem (CONTACT's T = 1, shift or rolling with
+    material-fixed coordinates, and T = 2, rolling with contact-fixed coordinates):
+    the slip over the step of element I,
+
+        s_I = W_I + u_I - u'_I,        u = B p,
+
+    with W the rigid shift [m] of body 1 over the step (per element: (W_x, W_y)),
+    u the displacement difference of the current tractions and u' that of the
+    previous step's tractions at the same material points (:func:`previous_displacement`;
+    for rolling, at the position the material had one step DQ before).  Kalker
+    (1990), sec. 2.2 and 5.2; Cattaneo's shift from the unloaded state is u' = 0.
+    It is the shift mode of :func:`steady_rolling` (the same semi-smooth Newton
+    iteration and influence coefficients), with the rigid shift and -u' as its
+    extra slip.
+
+    Returns px, py [Pa] (body 1), slip sx, sy [m] per step, stick mask, Newton
+    iterations, converged.
+    """
+    wx = np.asarray(rigid_shift[0], dtype=float) - u_prev[0]
+    wy = np.asarray(rigid_shift[1], dtype=float) - u_prev[1]
+    if p0 is not None:
+        mag = np.hypot(p0[0], p0[1])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            scale = np.where(mag > bound, bound / np.where(mag > 0, mag, 1.0), 1.0)
+        p0 = (np.ascontiguousarray(np.where(contact, p0[0] * scale, 0.0)),
+              np.ascontiguousarray(np.where(contact, p0[1] * scale, 0.0)))
+    return steady_rolling(x, y, contact, bound, (0.0, 0.0, 0.0), G, nu, tol, maxiter, p0=p0,
+                          mode="shift", w_extra=(np.broadcast_to(wx, contact.shape),
+                                                 np.broadcast_to(wy, contact.shape)))
+
+
 def _initial_tractions(warm, x, y, contact, bound):
     """Tractions on the rail (body 1) from a previous solution ``warm``: on the same
     grid as they are, on another grid interpolated (linear, zero outside); inside

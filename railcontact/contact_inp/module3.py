@@ -1,0 +1,417 @@
+"""CONTACT's module 3 on its own grid: non-Hertzian geometries (IPOTCN > 0) and the
+transient problems (TANG = 1, shift; TANG = 2, transient rolling), case after case.
+
+A case with a potential contact area given by its grid (IPOTCN = 1 .. 4, the
+quadratic undeformed distance IBASE = 1) or with a transient tangential problem is
+solved here, on CONTACT's grid, rather than through a railcontact case file:
+
+* normal problem: Kalker's exact theory (:func:`railcontact.normal.polonsky_keer.polonsky_keer`
+  with the influence coefficients of :mod:`railcontact.normal.influence`), the
+  normal force FN (N = 1) or the approach PEN (N = 0) given;
+* tangential problem: the exact solver of :mod:`railcontact.tangential.exact`,
+  steady rolling (T = 3, :func:`~railcontact.tangential.exact.steady_rolling`)
+  or one time step of a transient problem (T = 1, 2,
+  :func:`~railcontact.tangential.exact.transient_step`), with the creepages
+  (F = 0) or the relative forces FX/(FSTAT FN) (F = 1, with CETA; F = 2, with
+  FY) given; a force is met by Brent's method on the creepage (or shift).
+
+What carries over from case to case follows CONTACT's PVTIME digit (user guide,
+"P - PVTIME"): the tractions that a case leaves are the next case's previous time
+instance where it has P = 0; P = 1 and P = 2 start from zero tangential tractions
+(P = 2: a new sequence); P = 3 repeats the last case's time step (its previous
+instance is kept).  The inputs kept or re-read between cases are the reader's
+(:mod:`.reader`, the D, Z, C digits).
+
+Rigid shift per step of element I (user guide, "Tangential quantities in case of
+a shift" and "... of rolling"), in mm:
+
+* T = 1: W = (CKSI - CPHI y, CETA + CPHI x), CKSI, CETA the shift [mm], CPHI [rad];
+  the coordinates are material-fixed, so the previous tractions act where they
+  were (a grid that moves between cases does so by whole elements);
+* T = 2: W = DQ (CKSI - CPHI y, CETA + CPHI (x + DQ/6)), creepages; the grid moves
+  with the contact by DQ per step (rolling direction CHI = 0 or 180 degrees), so
+  the previous displacements are taken DQ upstream.
+
+Units: CONTACT's (mm, N, N/mm^2) at this boundary, SI inside.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..hertz_theory import hertz_curvatures, hertz_ellipse
+from ..normal.influence import normal_operator
+from ..normal.polonsky_keer import polonsky_keer
+from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
+                                steady_rolling, transient_step)
+from .reader import InpCase, InpError
+
+log = logging.getLogger(__name__)
+
+MM = 1e-3
+#: relative tolerance of the normal iteration and of the tangential residual
+NORMAL_TOL = 1e-9
+TANGENTIAL_TOL = 1e-9
+#: a prescribed relative force is met to this absolute tolerance (of FX / (FSTAT FN))
+FORCE_TOL = 1e-7
+
+
+def handles(case: InpCase) -> bool:
+    """Whether the case is solved here: module 3 with a grid-given potential contact
+    area (IPOTCN > 0) or a transient tangential problem (T = 1, 2)."""
+    return case.module == 3 and (case.digits["T"] in (1, 2)
+                                 or (case.values.get("IPOTCN") or -1) > 0)
+
+
+def _unsupported(case, what, expected):
+    return InpError(f"{case.where()}: {what} is not supported; {expected}")
+
+
+def _need(case, name):
+    v = case.values.get(name)
+    if v is None:
+        raise InpError(f"{case.where()}: {name} is not set (no earlier case gave it)")
+    return v
+
+
+def check(case: InpCase) -> None:
+    """The one-line InpError of an option this path does not support."""
+    d = case.digits
+    allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
+               "L": (0, 1), "M": (0,), "H": (0,), "M2": (0, 1), "E": (0, 1),
+               "C3": (0, 1, 2)}
+    names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
+             "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
+             "C3": "INFLCF"}
+    for k, vals in allowed.items():
+        if d[k] not in vals:
+            raise _unsupported(case, f"{names[k]} = {d[k]} with the grid-given or transient "
+                                     "module 3 problem", f"expected {names[k]} in {vals}")
+    if case.values.get("NVF", 0):
+        raise _unsupported(case, "friction variation (VARFRC)", "expected V = 0")
+    ipotcn = _need(case, "IPOTCN")
+    if ipotcn > 0 and case.values.get("B") is None:
+        raise InpError(f"{case.where()}: IPOTCN = {ipotcn} without an undeformed distance "
+                       "(IBASE, IPLAN and B1 .. B6)")
+    if ipotcn < 0 and ipotcn not in (-1, -3):
+        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1, -3 or 1 .. 4")
+    if (case.values.get("SPINXO") or 0.0) or (case.values.get("SPINYO") or 0.0):
+        raise _unsupported(case, "SPINXO, SPINYO (a spin centre off the origin)",
+                           "expected them left out")
+    if d["T"] in (2, 3):
+        chi = _need(case, "CHI")
+        if abs(math.sin(chi)) > 1e-9 or (d["T"] == 3 and math.cos(chi) < 0):
+            raise _unsupported(case, f"CHI = {chi:g} rad", "expected 0" + (
+                " or 180d (pi)" if d["T"] == 2 else ""))
+    g1, g2 = _need(case, "GG1"), _need(case, "GG2")
+    n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    if abs((1 - 2 * n1) / g1 - (1 - 2 * n2) / g2) > 1e-9 * (1 / g1 + 1 / g2) and d["T"] != 0:
+        raise _unsupported(case, "dissimilar materials (K != 0) with a tangential problem on "
+                                 "the grid-given or transient path", "expected quasi-identical "
+                                 "materials ((1 - 2 nu)/G equal for both bodies)")
+
+
+@dataclass
+class Grid:
+    """Element centres [m] of the potential contact area and element sizes [m]."""
+
+    x: np.ndarray
+    y: np.ndarray
+    dx: float
+    dy: float
+
+    @property
+    def origin(self):
+        return float(self.x[0]), float(self.y[0])
+
+
+@dataclass
+class Instance:
+    """Tangential tractions [Pa] on body 1 of a time instance and their grid."""
+
+    px: np.ndarray
+    py: np.ndarray
+    grid: Grid
+
+
+def _materials(case):
+    """(E* [Pa] of the normal problem, G [Pa] and nu of the tangential one):
+    Kalker's combined constants 1/G = (1/G1 + 1/G2)/2, nu/G = (nu1/G1 + nu2/G2)/2."""
+    g1, g2 = _need(case, "GG1") * 1e6, _need(case, "GG2") * 1e6
+    n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    es = 1.0 / ((1 - n1) / (2 * g1) + (1 - n2) / (2 * g2))
+    G = 2.0 / (1 / g1 + 1 / g2)
+    nu = 0.5 * G * (n1 / g1 + n2 / g2)
+    return es, G, nu
+
+
+def _grid_and_gap(case, es):
+    """The grid and the undeformed distance h [m] on it (before the approach)."""
+    v = case.values
+    ipotcn = v["IPOTCN"]
+    mx, my = int(v["MX"]), int(v["MY"])
+    if ipotcn < 0:                     # a Hertzian geometry on CONTACT's grid
+        fn = v.get("FN")
+        if ipotcn == -3:
+            a, b = v["AA"] * MM, v["BB"] * MM
+            A, B = hertz_curvatures(a, b, es, fn)
+        else:
+            A, B = v["A1"] / MM, v["B1"] / MM
+            h = hertz_ellipse(A, B, es, force=fn)
+            a, b = h.a, h.b
+        s = v["SCALE"]
+        dx, dy = 2 * s * a / mx, 2 * s * b / my
+        x = -s * a + (np.arange(mx) + 0.5) * dx
+        y = -s * b + (np.arange(my) + 0.5) * dy
+        return Grid(x, y, dx, dy), A * x[:, None] ** 2 + B * y[None, :] ** 2
+    if ipotcn == 1:
+        dx, dy = v["DX"], v["DY"]
+        x0, y0 = v["XL"] + 0.5 * dx, v["YL"] + 0.5 * dy
+    elif ipotcn == 2:
+        dx, dy = (v["XH"] - v["XL"]) / mx, (v["YH"] - v["YL"]) / my
+        x0, y0 = v["XL"] + 0.5 * dx, v["YL"] + 0.5 * dy
+    elif ipotcn == 3:
+        dx, dy = v["DX"], v["DY"]
+        x0, y0 = v["XC1"], v["YC1"]
+    else:
+        if mx < 2 or my < 2:
+            raise InpError(f"{case.where()}: IPOTCN = 4 with MX or MY = 1; expected both >= 2")
+        dx, dy = (v["XCM"] - v["XC1"]) / (mx - 1), (v["YCM"] - v["YC1"]) / (my - 1)
+        x0, y0 = v["XC1"], v["YC1"]
+    if not (dx > 0 and dy > 0 and mx >= 1 and my >= 1):
+        raise InpError(f"{case.where()}: potential contact MX, MY = {mx}, {my}, DX, DY = "
+                       f"{dx:g}, {dy:g} mm: expected positive sizes")
+    xm, ym = x0 + np.arange(mx) * dx, y0 + np.arange(my) * dy
+    b1, b2, b3, b4, b5, b6 = v["B"]
+    X, Y = xm[:, None], ym[None, :]
+    h = b1 * X ** 2 + b2 * X * Y + b3 * Y ** 2 + b4 * X + b5 * Y + b6      # mm
+    return Grid(xm * MM, ym * MM, dx * MM, dy * MM), h * MM
+
+
+@dataclass
+class CaseResult:
+    """One solved case: the normal and tangential solution on its grid (SI), the
+    creepages (or shift) met and CONTACT's table row."""
+
+    grid: Grid
+    pressure: np.ndarray
+    px: np.ndarray
+    py: np.ndarray
+    stick: np.ndarray
+    row: dict
+
+
+class Sequence:
+    """Module 3 cases solved in file order with CONTACT's state rules: the previous
+    time instance (tangential tractions) carried from case to case by the PVTIME
+    digit.  ``run(case)`` returns the case's table row."""
+
+    def __init__(self):
+        self.last: CaseResult | None = None       # the last case's solution
+        self.last_previous: Instance | None = None    # the instance it started from
+        self.last_transient = False
+
+    def reset(self):
+        """A case solved elsewhere (a Hertzian case file): no transient state."""
+        self.last, self.last_previous, self.last_transient = None, None, False
+
+    def _previous(self, case) -> Instance | None:
+        p, t = case.digits["P"], case.digits["T"]
+        if t not in (1, 2) or p in (1, 2):
+            return None
+        if p == 3:
+            return self.last_previous
+        if self.last is None:
+            return None
+        if not self.last_transient and np.any(self.last.px) and t in (1, 2):
+            raise _unsupported(case, "a transient case continuing (P = 0) from a steady "
+                                     "rolling case", "expected P = 2 (a new sequence) or a "
+                                     "previous transient or frictionless case")
+        return Instance(self.last.px, self.last.py, self.last.grid)
+
+    def run(self, case: InpCase) -> dict:
+        check(case)
+        prev = self._previous(case)
+        res = solve_case(case, prev)
+        self.last, self.last_previous = res, prev
+        self.last_transient = case.digits["T"] in (0, 1, 2)
+        return res.row
+
+
+def _normal(case, grid, h, es):
+    """Pressure [Pa], approach [m], converged."""
+    dA = grid.dx * grid.dy
+    op = normal_operator(grid.x.size, grid.y.size, grid.dx, grid.dy, es)
+    if case.digits["N"] == 1:
+        fn = _need(case, "FN")
+        p, app, _, ok = polonsky_keer(op, h, dA, force=fn, tol=NORMAL_TOL, maxiter=20000)
+    else:
+        app = _need(case, "PEN") * MM
+        p, _, _, ok = polonsky_keer(op, h - app, dA, None, tol=NORMAL_TOL, maxiter=20000)
+    return p, app, ok
+
+
+def _rigid_shift(case, grid, creep):
+    """W [m] per element from (CKSI, CETA) and CPHI: T = 1 shifts, T = 2 creepages
+    times DQ (spin taken DQ/6 along the rolling direction)."""
+    cphi = _need(case, "CPHI")
+    X, Y = grid.x[:, None], grid.y[None, :]
+    if case.digits["T"] == 1:
+        wx = creep[0] * MM - cphi * Y
+        wy = creep[1] * MM + cphi * X
+    else:
+        dq = _need(case, "DQ") * MM
+        cs = math.cos(_need(case, "CHI"))
+        wx = dq * (creep[0] - cphi / MM * Y)
+        wy = dq * (creep[1] + cphi / MM * (X + cs * dq / 6.0))
+    shape = (grid.x.size, grid.y.size)
+    return np.broadcast_to(wx, shape), np.broadcast_to(wy, shape)
+
+
+def solve_case(case: InpCase, prev: Instance | None) -> CaseResult:
+    """Solve one case (normal, then tangential) from the previous instance ``prev``
+    (None: zero previous tractions)."""
+    d, v = case.digits, case.values
+    es, G, nu = _materials(case)
+    grid, h = _grid_and_gap(case, es)
+    pressure, approach, ok_n = _normal(case, grid, h, es)
+    shape = pressure.shape
+    t = d["T"]
+    mu = _need(case, "FKIN") if t else 0.0
+    fstat = _need(case, "FSTAT") if t else 0.0
+    contact = np.ascontiguousarray(pressure > 0)
+    bound = np.ascontiguousarray(mu * pressure)
+    dA = grid.dx * grid.dy
+    fn = float(pressure.sum() * dA)
+    zero = np.zeros(shape)
+    px, py, stick, ok_t, creep = zero, zero, np.zeros(shape, bool), True, (0.0, 0.0)
+    message = "" if ok_n else "normal problem not converged"
+    if t:
+        u_prev, p_start = (zero, zero), None
+        if t in (1, 2) and prev is not None:
+            shift = (0.0, 0.0)
+            if t == 2:
+                shift = (math.cos(_need(case, "CHI")) * _need(case, "DQ") * MM, 0.0)
+            if abs(prev.grid.dx - grid.dx) > 1e-9 * grid.dx or \
+                    abs(prev.grid.dy - grid.dy) > 1e-9 * grid.dy:
+                raise InpError(f"{case.where()}: the element size changed from the previous "
+                               "time instance's; expected the same DX, DY in a sequence")
+            off = grid_offset(prev.grid.origin, grid.origin, (grid.dx, grid.dy), shift)
+            u_prev = previous_displacement(prev.px, prev.py, off, shape, grid.dx, grid.dy,
+                                           G, nu)
+            # the start of the iteration: the previous tractions where the material is
+            p_start = shifted_tractions(prev.px, prev.py, off, shape)
+
+        state = {"p0": p_start}
+
+        def tangential(cx, cy):
+            if t == 3:
+                out = steady_rolling(grid.x, grid.y, contact, bound,
+                                     (cx, cy, _need(case, "CPHI") / MM), G, nu,
+                                     TANGENTIAL_TOL, 200, p0=state["p0"])
+            else:
+                out = transient_step(grid.x, grid.y, contact, bound,
+                                     _rigid_shift(case, grid, (cx, cy)), u_prev, G, nu,
+                                     TANGENTIAL_TOL, 200, p0=state["p0"])
+            if out[-1]:
+                state["p0"] = (out[0], out[1])
+            return out
+
+        creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G)
+        px, py, _, _, stick, _, ok_t = out
+        if not ok_t:
+            message = (message + "; " if message else "") + "tangential problem not converged"
+    ncon = int(np.count_nonzero(contact))
+    nadh = int(np.count_nonzero(contact & stick)) if t else 0
+    X, Y = grid.x[:, None], grid.y[None, :]
+    row = {"case": case.number, "module": 3, "patch": 1, "npatch": 1,
+           "cksi": float(creep[0]), "ceta": float(creep[1]),
+           "cphi_per_mm": float(v.get("CPHI") or 0.0),
+           "veloc_mm_s": float(v.get("VELOC") or 1.0) if t in (2, 3) else 1.0,
+           "mu": float(mu) if t else None,
+           "fn_N": fn, "fx_N": float(px.sum() * dA), "fs_N": float(py.sum() * dA),
+           "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3,
+           "approach_mm": approach / MM, "pmax_MPa": float(pressure.max()) * 1e-6,
+           "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh,
+           "nslip": ncon - nadh if t else 0, "mx": shape[0], "my": shape[1],
+           "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM,
+           "converged": bool(ok_n and ok_t), "message": message}
+    return CaseResult(grid, pressure, px, py, stick, row)
+
+
+def _tangential_forces(case, tangential, fn, fstat, dA, contact, G):
+    """Solve the tangential problem with the creepages (F = 0) or relative forces
+    (F = 1: FX with CETA, F = 2: FX and FY) given; returns ((CKSI, CETA) met, the
+    solver's output)."""
+    d, v = case.digits, case.values
+    f = d["F"]
+    if f == 0:
+        c = (_need(case, "CKSI"), _need(case, "CETA"))
+        return c, tangential(*c)
+    if not fn > 0:
+        raise InpError(f"{case.where()}: a tangential force prescribed (F = {f}) without "
+                       "contact (FN = 0)")
+    scale = fstat * fn
+    targets = [_need(case, "FXREL")] + ([_need(case, "FYREL")] if f == 2 else [])
+    if any(abs(tg) >= 1.0 for tg in targets):
+        raise InpError(f"{case.where()}: relative force {max(targets, key=abs):g}: expected "
+                       "|FX/(FSTAT FN)| < 1 (full slip has no unique creepage)")
+    # the creepage scale: a hundredth of the rigid shift [m] at which a Hertzian
+    # contact of this area slides under FSTAT FN (Mindlin: about mu FN / (G a));
+    # the bracket grows from it
+    t = d["T"]
+    ac = max(np.count_nonzero(contact) * dA, dA)
+    shift = 0.01 * scale / (G * math.sqrt(ac))
+    c = [0.0, _need(case, "CETA") if f == 1 else 0.0]
+    step = shift / MM if t == 1 else shift / (_need(case, "DQ") * MM if t == 2 else
+                                             math.sqrt(ac))
+    cache = {}
+
+    def force(k, val):
+        cc = list(c)
+        cc[k] = val
+        out = tangential(*cc)
+        cache["out"] = out
+        comp = out[0] if k == 0 else out[1]
+        return float(comp.sum() * dA) / scale - targets[k]
+
+    out = None
+    for _sweep in range(20 if f == 2 else 1):
+        moved = 0.0
+        for k in range(len(targets)):
+            root = _root(lambda val: force(k, val), c[k], step)
+            moved = max(moved, abs(root - c[k]))
+            c[k] = root
+        out = tangential(*c)
+        if f == 1:
+            break
+        fy = float(out[1].sum() * dA) / scale - targets[1]
+        fx = float(out[0].sum() * dA) / scale - targets[0]
+        if max(abs(fx), abs(fy)) <= 10 * FORCE_TOL:
+            break
+    return tuple(c), out
+
+
+def _root(fun, start, step):
+    """The root of a decreasing function (the relative force against its creepage),
+    bracketed from ``start`` by steps growing by a factor 4, then Brent's method."""
+    f0 = fun(start)
+    if abs(f0) <= FORCE_TOL:
+        return start
+    direction = -1.0 if f0 < 0 else 1.0      # decreasing: a positive residual asks more
+    lo, flo = start, f0
+    s = step
+    for _ in range(80):
+        hi = start + direction * s
+        fhi = fun(hi)
+        if fhi * flo <= 0:
+            a, b = sorted((lo, hi))
+            return brentq(fun, a, b, xtol=1e-14, rtol=1e-12, maxiter=200)
+        lo, flo = hi, fhi
+        s *= 4.0
+    raise InpError("prescribed tangential force: no creepage found that carries it")
