@@ -237,7 +237,10 @@ class Sequence:
     def run(self, case: InpCase) -> dict:
         check(case)
         prev = self._previous(case)
-        res = solve_case(case, prev)
+        start = None
+        if self.last is not None and self.last.row.get("T") == case.digits["T"]:
+            start = (self.last.row["cksi"], self.last.row["ceta"])
+        res = solve_case(case, prev, start)
         self.last, self.last_previous = res, prev
         self.last_transient = case.digits["T"] in (0, 1, 2)
         return res.row
@@ -273,9 +276,10 @@ def _rigid_shift(case, grid, creep):
     return np.broadcast_to(wx, shape), np.broadcast_to(wy, shape)
 
 
-def solve_case(case: InpCase, prev: Instance | None) -> CaseResult:
+def solve_case(case: InpCase, prev: Instance | None, start=None) -> CaseResult:
     """Solve one case (normal, then tangential) from the previous instance ``prev``
-    (None: zero previous tractions)."""
+    (None: zero previous tractions); ``start``: the creepages (CKSI, CETA) where the
+    search for a prescribed force starts (the last case's)."""
     d, v = case.digits, case.values
     es, G, nu = _materials(case)
     grid, h = _grid_and_gap(case, es)
@@ -307,29 +311,42 @@ def solve_case(case: InpCase, prev: Instance | None) -> CaseResult:
             # the start of the iteration: the previous tractions where the material is
             p_start = shifted_tractions(prev.px, prev.py, off, shape)
 
-        state = {"p0": p_start}
+        if grid.x.size < 2:
+            raise InpError(f"{case.where()}: MX = 1 with a tangential problem; expected MX "
+                           ">= 2 (the rolling direction)")
+        # one strip (MY = 1, a 2-D problem): the solver's grid gets an empty second
+        # strip, outside the contact (no traction there, no effect)
+        pad = grid.y.size == 1
+        yt = np.array([grid.y[0], grid.y[0] + grid.dy]) if pad else grid.y
+        widen = (lambda a: np.ascontiguousarray(np.c_[a, np.zeros(a.shape[0], a.dtype)])
+                 ) if pad else (lambda a: a)
+        ct, bt = widen(contact), widen(bound)
+        u_t = (widen(u_prev[0]), widen(u_prev[1]))
+        state = {"p0": None if p_start is None else (widen(p_start[0]), widen(p_start[1]))}
 
         def tangential(cx, cy):
             if t == 3:
-                out = steady_rolling(grid.x, grid.y, contact, bound,
-                                     (cx, cy, _need(case, "CPHI") / MM), G, nu,
-                                     TANGENTIAL_TOL, 200, p0=state["p0"])
+                out = steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
+                                     G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
             else:
-                out = transient_step(grid.x, grid.y, contact, bound,
-                                     _rigid_shift(case, grid, (cx, cy)), u_prev, G, nu,
-                                     TANGENTIAL_TOL, 200, p0=state["p0"])
+                w = _rigid_shift(case, grid, (cx, cy))
+                out = transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),
+                                                          widen(np.array(w[1]))),
+                                     u_t, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
             if out[-1]:
                 state["p0"] = (out[0], out[1])
+            if pad:
+                out = tuple(o[:, :1] if isinstance(o, np.ndarray) else o for o in out)
             return out
 
-        creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G)
+        creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, _, _, stick, _, ok_t = out
         if not ok_t:
             message = (message + "; " if message else "") + "tangential problem not converged"
     ncon = int(np.count_nonzero(contact))
     nadh = int(np.count_nonzero(contact & stick)) if t else 0
     X, Y = grid.x[:, None], grid.y[None, :]
-    row = {"case": case.number, "module": 3, "patch": 1, "npatch": 1,
+    row = {"case": case.number, "module": 3, "patch": 1, "npatch": 1, "T": t,
            "cksi": float(creep[0]), "ceta": float(creep[1]),
            "cphi_per_mm": float(v.get("CPHI") or 0.0),
            "veloc_mm_s": float(v.get("VELOC") or 1.0) if t in (2, 3) else 1.0,
@@ -344,7 +361,7 @@ def solve_case(case: InpCase, prev: Instance | None) -> CaseResult:
     return CaseResult(grid, pressure, px, py, stick, row)
 
 
-def _tangential_forces(case, tangential, fn, fstat, dA, contact, G):
+def _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start=None):
     """Solve the tangential problem with the creepages (F = 0) or relative forces
     (F = 1: FX with CETA, F = 2: FX and FY) given; returns ((CKSI, CETA) met, the
     solver's output)."""
@@ -370,6 +387,12 @@ def _tangential_forces(case, tangential, fn, fstat, dA, contact, G):
     c = [0.0, _need(case, "CETA") if f == 1 else 0.0]
     step = shift / MM if t == 1 else shift / (_need(case, "DQ") * MM if t == 2 else
                                              math.sqrt(ac))
+    if start is not None:
+        # from the last case's creepage, first steps of a hundredth of it
+        c[0] = start[0]
+        if f == 2:
+            c[1] = start[1]
+        step = min(step, 0.01 * max(abs(start[0]), abs(start[1]))) or step
     cache = {}
 
     def force(k, val):
