@@ -49,6 +49,7 @@ from ..normal.influence import normal_operator
 from ..normal.polonsky_keer import polonsky_keer
 from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
                                 steady_rolling, transient_step)
+from .mapping import curvature_from_axis_ratio
 from .reader import InpCase, InpError
 
 log = logging.getLogger(__name__)
@@ -98,8 +99,8 @@ def check(case: InpCase) -> None:
     if ipotcn > 0 and case.values.get("B") is None:
         raise InpError(f"{case.where()}: IPOTCN = {ipotcn} without an undeformed distance "
                        "(IBASE, IPLAN and B1 .. B6)")
-    if ipotcn < 0 and ipotcn not in (-1, -3):
-        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1, -3 or 1 .. 4")
+    if ipotcn < 0 and ipotcn not in (-1, -2, -3):
+        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1, -2, -3 or 1 .. 4")
     if (case.values.get("SPINXO") or 0.0) or (case.values.get("SPINYO") or 0.0):
         raise _unsupported(case, "SPINXO, SPINYO (a spin centre off the origin)",
                            "expected them left out")
@@ -161,7 +162,8 @@ def _grid_and_gap(case, es):
             a, b = v["AA"] * MM, v["BB"] * MM
             A, B = hertz_curvatures(a, b, es, fn)
         else:
-            A, B = v["A1"] / MM, v["B1"] / MM
+            A = v["A1"] / MM
+            B = v["B1"] / MM if ipotcn == -1 else curvature_from_axis_ratio(A, v["AOB"])
             h = hertz_ellipse(A, B, es, force=fn)
             a, b = h.a, h.b
         s = v["SCALE"]

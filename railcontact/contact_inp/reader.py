@@ -124,7 +124,13 @@ _KIND_NAMES = {"i": "an integer", "d": "a real number", "s": "a quoted file name
 
 def _parse(kind, tok):
     if kind == "i":
-        return _int(tok)
+        v = _int(tok)
+        if v is None:
+            # an integer written as a real ("0.0"), as CONTACT's reader takes it
+            r = _real(tok)
+            if r is not None and r == int(r) and re.fullmatch(r"[-+]?\d+\.0*", tok):
+                v = int(r)
+        return v
     if kind == "d":
         return _real(tok)
     if kind == "s":
@@ -330,9 +336,11 @@ def _read_materials(lines, case, d):
         put("CDAMPN, CDAMPT, DFNMAX, DFTMAX", lines.group("dddd", "CDAMPN, CDAMPT, DFNMAX, "
                                                           "DFTMAX"))
     if d["H"] == 3:
-        put("BKTEMP1, HEATCP1, LAMBDA1, DENS1, BKTEMP2, HEATCP2, LAMBDA2, DENS2",
-            lines.group("dddddddd", "BKTEMP1, HEATCP1, LAMBDA1, DENS1, BKTEMP2, HEATCP2, "
-                                    "LAMBDA2, DENS2"))
+        # one line per body, as CONTACT reads them
+        put("BKTEMP1, HEATCP1, LAMBDA1, DENS1",
+            lines.group("dddd", "BKTEMP1, HEATCP1, LAMBDA1, DENS1"))
+        put("BKTEMP2, HEATCP2, LAMBDA2, DENS2",
+            lines.group("dddd", "BKTEMP2, HEATCP2, LAMBDA2, DENS2"))
         if m == 4:
             put("BETAPL", lines.group("d", "BETAPL"))
 
