@@ -47,6 +47,7 @@ from scipy.optimize import brentq
 from ..hertz_theory import hertz_curvatures, hertz_ellipse
 from ..normal.influence import normal_operator
 from ..normal.polonsky_keer import polonsky_keer
+from ..tangential.friction import SlipVelocityFriction
 from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
                                 steady_rolling, transient_step)
 from .mapping import curvature_from_axis_ratio
@@ -64,8 +65,12 @@ FORCE_TOL = 1e-7
 
 def handles(case: InpCase) -> bool:
     """Whether the case is solved here: module 3 with a grid-given potential contact
-    area (IPOTCN > 0) or a transient tangential problem (T = 1, 2)."""
-    return case.module == 3 and (case.digits["T"] in (1, 2)
+    area (IPOTCN > 0), a transient tangential problem (T = 1, 2), a prescribed
+    tangential force (F = 1, 2), the approach prescribed (N = 0) or a slip-velocity
+    dependent friction law (L = 2-6)."""
+    return case.module == 3 and (case.digits["T"] in (1, 2) or case.digits["F"] in (1, 2)
+                                 or case.digits["N"] == 0
+                                 or case.values.get("FRICTION_LAW", 0) not in (0, 1)
                                  or (case.values.get("IPOTCN") or -1) > 0)
 
 
@@ -84,7 +89,7 @@ def check(case: InpCase) -> None:
     """The one-line InpError of an option this path does not support."""
     d = case.digits
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
-               "L": (0, 1), "M": (0,), "H": (0,), "M2": (0, 1), "E": (0, 1),
+               "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0,), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
              "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
@@ -93,6 +98,8 @@ def check(case: InpCase) -> None:
         if d[k] not in vals:
             raise _unsupported(case, f"{names[k]} = {d[k]} with the grid-given or transient "
                                      "module 3 problem", f"expected {names[k]} in {vals}")
+    if d["T"]:
+        friction_law(case)
     if case.values.get("NVF", 0):
         raise _unsupported(case, "friction variation (VARFRC)", "expected V = 0")
     ipotcn = _need(case, "IPOTCN")
@@ -189,10 +196,34 @@ def _grid_and_gap(case, es):
         raise InpError(f"{case.where()}: potential contact MX, MY = {mx}, {my}, DX, DY = "
                        f"{dx:g}, {dy:g} mm: expected positive sizes")
     xm, ym = x0 + np.arange(mx) * dx, y0 + np.arange(my) * dy
-    b1, b2, b3, b4, b5, b6 = v["B"]
     X, Y = xm[:, None], ym[None, :]
-    h = b1 * X ** 2 + b2 * X * Y + b3 * Y ** 2 + b4 * X + b5 * Y + b6      # mm
+    h = undeformed_distance(v["IBASE"], v["B"], X, Y)
+    h = np.broadcast_to(h, (mx, my)).copy()
     return Grid(xm * MM, ym * MM, dx * MM, dy * MM), h * MM
+
+
+def undeformed_distance(ibase, b, X, Y):
+    """CONTACT's undeformed distance h(x, y) [mm] at (X, Y) [mm] (user guide,
+    "Non-Hertzian geometry specification"): IBASE = 1, b1 x^2 + b2 x y + b3 y^2 + b4
+    x + b5 y + b6; IBASE = 2, p(y) + (x - x_m)^2 / (2 R_m) with p linear between NN
+    heights from Y1 in steps DY1 (extrapolated linearly); IBASE = 3, b1 sin(b2 (x
+    - b3)) - b4 sin(b5 (x - b6)) + x^2/b7 + y^2/b8."""
+    if ibase == 1:
+        b1, b2, b3, b4, b5, b6 = b
+        return b1 * X ** 2 + b2 * X * Y + b3 * Y ** 2 + b4 * X + b5 * Y + b6
+    if ibase == 3:
+        b1, b2, b3, b4, b5, b6, b7, b8 = b
+        return (b1 * np.sin(b2 * (X - b3)) - b4 * np.sin(b5 * (X - b6)) + X ** 2 / b7
+                + Y ** 2 / b8)
+    nn, xm, rm, y1, dy1, heights = b
+    hk = np.asarray(heights, dtype=float)
+    if nn == 1:
+        p = np.full(np.shape(Y), hk[0])
+    else:
+        t = (np.asarray(Y, dtype=float) - y1) / dy1
+        k = np.clip(np.floor(t).astype(int), 0, nn - 2)
+        p = hk[k] + (t - k) * (hk[k + 1] - hk[k])
+    return p + (X - xm) ** 2 / (2.0 * rm)
 
 
 @dataclass
@@ -206,6 +237,7 @@ class CaseResult:
     py: np.ndarray
     stick: np.ndarray
     row: dict
+    mu: np.ndarray | None = None       # a slip-velocity dependent law's coefficients
 
 
 class Sequence:
@@ -216,11 +248,10 @@ class Sequence:
     def __init__(self):
         self.last: CaseResult | None = None       # the last case's solution
         self.last_previous: Instance | None = None    # the instance it started from
-        self.last_transient = False
 
     def reset(self):
         """A case solved elsewhere (a Hertzian case file): no transient state."""
-        self.last, self.last_previous, self.last_transient = None, None, False
+        self.last, self.last_previous = None, None
 
     def _previous(self, case) -> Instance | None:
         p, t = case.digits["P"], case.digits["T"]
@@ -230,10 +261,8 @@ class Sequence:
             return self.last_previous
         if self.last is None:
             return None
-        if not self.last_transient and np.any(self.last.px) and t in (1, 2):
-            raise _unsupported(case, "a transient case continuing (P = 0) from a steady "
-                                     "rolling case", "expected P = 2 (a new sequence) or a "
-                                     "previous transient or frictionless case")
+        # a steady rolling case's tractions are a time instance too (the steady
+        # state of transient rolling on its grid)
         return Instance(self.last.px, self.last.py, self.last.grid)
 
     def run(self, case: InpCase) -> dict:
@@ -242,9 +271,9 @@ class Sequence:
         start = None
         if self.last is not None and self.last.row.get("T") == case.digits["T"]:
             start = (self.last.row["cksi"], self.last.row["ceta"])
-        res = solve_case(case, prev, start)
+        mu_start = self.last.mu if self.last is not None else None
+        res = solve_case(case, prev, start, mu_start)
         self.last, self.last_previous = res, prev
-        self.last_transient = case.digits["T"] in (0, 1, 2)
         return res.row
 
 
@@ -278,24 +307,28 @@ def _rigid_shift(case, grid, creep):
     return np.broadcast_to(wx, shape), np.broadcast_to(wy, shape)
 
 
-def solve_case(case: InpCase, prev: Instance | None, start=None) -> CaseResult:
+def solve_case(case: InpCase, prev: Instance | None, start=None,
+               mu_start=None) -> CaseResult:
     """Solve one case (normal, then tangential) from the previous instance ``prev``
     (None: zero previous tractions); ``start``: the creepages (CKSI, CETA) where the
-    search for a prescribed force starts (the last case's)."""
+    search for a prescribed force starts (the last case's); ``mu_start``: the last
+    case's friction coefficients on its solver grid (INISLP = 0)."""
     d, v = case.digits, case.values
     es, G, nu = _materials(case)
     grid, h = _grid_and_gap(case, es)
     pressure, approach, ok_n = _normal(case, grid, h, es)
     shape = pressure.shape
     t = d["T"]
-    mu = _need(case, "FKIN") if t else 0.0
-    fstat = _need(case, "FSTAT") if t else 0.0
+    law = friction_law(case) if t else None
+    mu = (law.static if law is not None else _need(case, "FKIN")) if t else 0.0
+    fstat = (law.static if law is not None else _need(case, "FSTAT")) if t else 0.0
     contact = np.ascontiguousarray(pressure > 0)
     bound = np.ascontiguousarray(mu * pressure)
     dA = grid.dx * grid.dy
     fn = float(pressure.sum() * dA)
     zero = np.zeros(shape)
     px, py, stick, ok_t, creep = zero, zero, np.zeros(shape, bool), True, (0.0, 0.0)
+    state = {"mu": None}
     message = "" if ok_n else "normal problem not converged"
     if t:
         u_prev, p_start = (zero, zero), None
@@ -324,17 +357,40 @@ def solve_case(case: InpCase, prev: Instance | None, start=None) -> CaseResult:
                  ) if pad else (lambda a: a)
         ct, bt = widen(contact), widen(bound)
         u_t = (widen(u_prev[0]), widen(u_prev[1]))
-        state = {"p0": None if p_start is None else (widen(p_start[0]), widen(p_start[1]))}
+        state["p0"] = None if p_start is None else (widen(p_start[0]), widen(p_start[1]))
+
+        # the absolute slip velocity [m/s] of a slip of the solver: steady rolling,
+        # relative slip times V; transient, the slip distance over the step's time
+        # DQ / V (T = 2) or 1 s (T = 1, as CONTACT takes it)
+        veloc = _need(case, "VELOC") * MM
+        per_slip = veloc if t == 3 else (veloc / (_need(case, "DQ") * MM) if t == 2 else 1.0)
+        # the start of a slip-velocity dependent law's iteration picks the branch
+        # where the solutions are several (user guide, INISLP): INISLP > 0 from the
+        # static coefficient, < 0 from the kinetic one (which gives CONTACT's branches
+        # on veldep_fric.inp), 0 from the last case's coefficients on the same grid
+        inislp = case.values.get("INISLP") or 0
+        state["mu"] = np.full(ct.shape, mu)
+        if law is not None and inislp < 0:
+            state["mu"] = np.full(ct.shape, law.mu_kin)
+        elif law is not None and inislp == 0 and mu_start is not None \
+                and mu_start.shape == ct.shape:
+            state["mu"] = mu_start.copy()
+
+        def solve_once(cx, cy, bt):
+            if t == 3:
+                return steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
+                                      G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
+            w = _rigid_shift(case, grid, (cx, cy))
+            return transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),
+                                                       widen(np.array(w[1]))),
+                                  u_t, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
 
         def tangential(cx, cy):
-            if t == 3:
-                out = steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
-                                     G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
+            if law is None:
+                out = solve_once(cx, cy, bt)
             else:
-                w = _rigid_shift(case, grid, (cx, cy))
-                out = transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),
-                                                          widen(np.array(w[1]))),
-                                     u_t, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
+                out = _falling_friction(solve_once, cx, cy, law, widen(pressure), ct,
+                                        per_slip, state)
             if out[-1]:
                 state["p0"] = (out[0], out[1])
             if pad:
@@ -344,7 +400,11 @@ def solve_case(case: InpCase, prev: Instance | None, start=None) -> CaseResult:
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, _, _, stick, _, ok_t = out
         if not ok_t:
-            message = (message + "; " if message else "") + "tangential problem not converged"
+            what = "tangential problem not converged"
+            if state.get("friction", 0.0) > FRICTION_TOL:
+                what = (f"friction coefficients not settled (still changing by "
+                        f"{state['friction']:.1e})")
+            message = (message + "; " if message else "") + what
     ncon = int(np.count_nonzero(contact))
     nadh = int(np.count_nonzero(contact & stick)) if t else 0
     X, Y = grid.x[:, None], grid.y[None, :]
@@ -360,7 +420,64 @@ def solve_case(case: InpCase, prev: Instance | None, start=None) -> CaseResult:
            "nslip": ncon - nadh if t else 0, "mx": shape[0], "my": shape[1],
            "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM,
            "converged": bool(ok_n and ok_t), "message": message}
-    return CaseResult(grid, pressure, px, py, stick, row)
+    return CaseResult(grid, pressure, px, py, stick, row,
+                      state["mu"] if t and law is not None else None)
+
+
+#: the friction coefficient of a slip-velocity dependent law is iterated until no
+#: element's changes by more than this
+FRICTION_TOL = 1e-8
+FRICTION_ITERATIONS = 300
+
+
+def friction_law(case):
+    """The case's slip-velocity dependent friction law (FRCLAW 2-4), or None for
+    Coulomb friction (L = 0); InpError for friction memory (MEMDST > 0) and the
+    laws not supported here (L = 5, 6)."""
+    law = case.values.get("FRICTION_LAW", 0)
+    if law == 0:
+        return None
+    if law not in (2, 3, 4):
+        raise _unsupported(case, f"FRCLAW = {law}", "expected 0 (Coulomb) or 2-4 (slip-"
+                                                    "velocity dependent, without memory)")
+    if (case.values.get("MEMDST") or 0.0) > 0:
+        raise _unsupported(case, f"MEMDST = {case.values['MEMDST']:g} mm (friction memory)",
+                           "expected MEMDST = 0 (an instantaneous friction law)")
+    v = case.values
+    name = {2: "FLIN", 3: "FRAT", 4: "FEXP"}[law]
+    kind = {2: "linear", 3: "rational", 4: "exponential"}[law]
+    return SlipVelocityFriction(kind, _need(case, "FKIN"), (v[f"{name}1"], v[f"{name}2"]),
+                                (v["SABSH1"] * MM, v["SABSH2"] * MM))
+
+
+def _falling_friction(solve_once, cx, cy, law, pressure, contact, per_slip, state):
+    """The tangential solution under a slip-velocity dependent friction coefficient
+    mu(s_a): the bound mu p_n taken from the last solution's slip velocities and the
+    problem solved again until the coefficients stop changing (a fixed point of
+    mu = mu_s(s_a), CONTACT's instantaneous law).  The update is relaxed by omega,
+    halved where it turns against the last one (an oscillation) and grown by half
+    (up to 1) where it does not.  Returns the solver's output, its convergence
+    flag cleared where the coefficients did not settle (``state["friction"]`` then
+    says by how much they still changed)."""
+    mu = state["mu"]
+    omega, last = 1.0, None
+    out, change = None, math.inf
+    for _ in range(FRICTION_ITERATIONS):
+        out = solve_once(cx, cy, np.ascontiguousarray(mu * pressure))
+        sa = np.hypot(out[2], out[3]) * per_slip
+        step = np.where(contact, law(sa), law.static) - mu
+        change = float(np.max(np.abs(step)))
+        if change <= FRICTION_TOL:
+            break
+        if last is not None:
+            omega = 0.5 * omega if float(np.sum(step * last)) < 0 else min(1.0, 1.5 * omega)
+        last = step
+        mu = mu + omega * step
+    state["mu"] = mu
+    state["friction"] = change
+    if change > FRICTION_TOL:
+        out = (*out[:-1], False)
+    return out
 
 
 def _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start=None):

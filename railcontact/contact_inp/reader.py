@@ -287,14 +287,23 @@ def _read_undeformed_distance(lines, case):
     undeformed distance (IBASE = 1: B1 .. B6) on an unrestricted planform (IPLAN =
     1) is read; the other forms stop with the line naming them."""
     ibase, iplan = lines.group("ii", "IBASE, IPLAN")
-    if ibase != 1:
-        raise lines.error(f"IBASE = {ibase}: only the quadratic undeformed distance (IBASE = "
-                          "1) is supported")
+    if ibase not in (1, 2, 3):
+        raise lines.error(f"IBASE = {ibase}: expected 1 (quadratic), 2 (circular in x, a "
+                          "profile in y) or 3 (quadratic and two sines)")
     if iplan != 1:
         raise lines.error(f"IPLAN = {iplan}: only the unrestricted planform (IPLAN = 1) is "
                           "supported")
     _put(case, "IBASE, IPLAN", [ibase, iplan])
-    case.values["B"] = lines.group("dddddd", "B1, B2, B3, B4, B5, B6")
+    if ibase == 1:
+        case.values["B"] = lines.group("dddddd", "B1, B2, B3, B4, B5, B6")
+    elif ibase == 3:
+        case.values["B"] = lines.group("dddddddd", "B1, B2, B3, B4, B5, B6, B7, B8")
+    else:
+        nn, xm, rm, y1, dy1 = lines.group("idddd", "NN, XM, RM, Y1, DY1")
+        if nn < 1:
+            raise lines.error(f"NN = {nn}: expected at least one profile point")
+        heights = lines.group("d" * nn, ", ".join(f"B({k + 1})" for k in range(nn)))
+        case.values["B"] = [nn, xm, rm, y1, dy1, heights]
     case.read.add("B")
 
 
