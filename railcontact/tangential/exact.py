@@ -35,6 +35,7 @@ with the grid's kernels cut to the box.
 from __future__ import annotations
 
 import logging
+import math
 import time
 from functools import lru_cache
 
@@ -284,31 +285,76 @@ class ExactTangentialModel:
                      |p - Proj(p - rho s)| / largest bound (default 1e-5; what it
                      costs in accuracy: docs/tuning.md, section "Tangential: exact")
     maxiter : int    limit of Newton iterations
-    mode : {"rolling", "shift"}
+    mode : {"rolling", "shift", "transient"}
         ``"rolling"``: steady-state rolling with creepages (xi, eta, phi).
         ``"shift"``: transient shift from the unloaded state (Cattaneo-Mindlin); the
         "creepage" argument is then the rigid shift (dx [m], dy [m], rotation [rad])
         of the rail relative to the wheel, and the slip a displacement [m].
+        ``"transient"``: one time step of a transient problem from the previous
+        step's solution (``solve(..., previous=...)``; :func:`transient_step`):
+        with ``step = 0`` a shift (CONTACT's T = 1; "creepage" the rigid shift of
+        the step as in ``"shift"``), with ``step > 0`` rolling over that distance
+        [m] on a contact-fixed grid (T = 2; "creepage" the creepages, the rigid
+        shift step times them).  Without ``previous`` the step starts from the
+        unloaded state.
+    step : float
+        Rolling distance [m] per time step of the ``"transient"`` mode (0: a
+        shift); a whole number of elements.
     """
 
     capabilities = frozenset({"warm-start", "coupled", "lazy"})
 
-    def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling"):
+    def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
+                 step: float = 0.0):
         if not 0 < tol < 1e-2:
             raise InputError(f"exact tangential tol {tol!r}: expected a value in (0, 0.01)")
-        if mode not in ("rolling", "shift"):
+        if mode not in ("rolling", "shift", "transient"):
             raise InputError(f"exact tangential mode {mode!r}: expected 'rolling' (steady "
-                             "rolling) or 'shift' (transient shift, Cattaneo)")
-        self.tol, self.maxiter, self.mode = tol, int(maxiter), mode
+                             "rolling), 'shift' (transient shift, Cattaneo) or 'transient' "
+                             "(a time step from the previous one)")
+        if not (isinstance(step, (int, float)) and math.isfinite(step) and step >= 0):
+            raise InputError(f"exact tangential step {step!r} m: expected a rolling distance "
+                             ">= 0 (0: a shift)")
+        self.tol, self.maxiter, self.mode, self.step = tol, int(maxiter), mode, float(step)
+
+    def _transient(self, x, y, contact, bound, creepage, material, previous):
+        """One step of the ``"transient"`` mode: px, py, sx, sy, stick, it, ok."""
+        xi, eta, phi = creepage
+        dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+        X, Y = x[:, None], y[None, :]
+        h = self.step
+        if h > 0:
+            w = (h * (xi - phi * Y), h * (eta + phi * (X + h / 6.0)))
+        else:
+            w = (xi - phi * Y, eta + phi * X)
+        w = tuple(np.broadcast_to(c, contact.shape) for c in w)
+        G, nu = material.shear_modulus, material.nu
+        zero = np.zeros(contact.shape)
+        u, p0 = (zero, zero), None
+        if previous is not None:
+            if previous.x.size < 2 or previous.y.size < 2 or \
+                    abs(float(previous.x[1] - previous.x[0]) - dx) > 1e-9 * dx or \
+                    abs(float(previous.y[1] - previous.y[0]) - dy) > 1e-9 * dy:
+                raise InputError("transient step: the previous solution's element size "
+                                 "differs; expected the same grid spacing")
+            off = grid_offset((float(previous.x[0]), float(previous.y[0])),
+                              (float(x[0]), float(y[0])), (dx, dy), (h, 0.0))
+            qx, qy = -previous.traction_x, -previous.traction_y       # on the rail
+            u = previous_displacement(qx, qy, off, contact.shape, dx, dy, G, nu)
+            p0 = shifted_tractions(qx, qy, off, contact.shape)
+        return transient_step(x, y, contact, bound, w, u, G, nu, self.tol, self.maxiter, p0=p0)
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
               warm_start: TangentialSolution | None = None,
-              extra_slip=None) -> TangentialSolution:
+              extra_slip=None, previous: TangentialSolution | None = None
+              ) -> TangentialSolution:
         """Creep forces for creepages (xi [-], eta [-], phi [1/m]) on the normal
         solution's grid.  ``warm_start``: a previous solution (e.g. of a neighbouring
         case, on this grid or interpolated from its own) used as the initial
-        estimate; without it, FASTSIM's solution is."""
+        estimate; without it, FASTSIM's solution is.  ``previous``: the last time
+        step's solution (``"transient"`` mode), whose tractions enter the slip at
+        the same material points."""
         t0 = time.perf_counter()
         xi, eta, phi = check_inputs(creepage, friction)
         x, y = normal.x, normal.y
@@ -316,6 +362,17 @@ class ExactTangentialModel:
             raise InputError("exact tangential solver needs a grid of at least 2 x 2 elements")
         contact = np.ascontiguousarray(normal.contact & (normal.pressure > 0))
         bound = np.ascontiguousarray(friction * np.where(contact, normal.pressure, 0.0))
+        if previous is not None and self.mode != "transient":
+            raise InputError(f"a previous time step's solution is used by the 'transient' "
+                             f"mode; this model's mode is {self.mode!r}")
+        if self.mode == "transient":
+            if extra_slip is not None:
+                raise InputError("the 'transient' mode takes no extra slip (dissimilar "
+                                 "materials); expected identical materials")
+            px, py, sx, sy, stick, it, ok = self._transient(x, y, contact, bound,
+                                                            (xi, eta, phi), material, previous)
+            return self._solution(x, y, px, py, sx, sy, stick, contact, it, ok, False,
+                                  velocity, (xi, eta, phi), friction, t0)
         p0 = None
         if warm_start is None and self.mode == "rolling" and normal.strips is not None \
                 and normal.pressure_at is not None:
@@ -344,6 +401,12 @@ class ExactTangentialModel:
             fallback = True
             if q[-1] or not ok:
                 px, py, sx, sy, stick, it, ok = q
+        return self._solution(x, y, px, py, sx, sy, stick, contact, it, ok, fallback,
+                              velocity, (xi, eta, phi), friction, t0)
+
+    def _solution(self, x, y, px, py, sx, sy, stick, contact, it, ok, fallback, velocity,
+                  creepage, friction, t0) -> TangentialSolution:
+        """The TangentialSolution of tractions (px, py) on the rail."""
         if not ok:
             log.warning("exact tangential solver: not converged (flagged in the result)")
         status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
@@ -352,8 +415,9 @@ class ExactTangentialModel:
         dA = (x[1] - x[0]) * (y[1] - y[0])
         fx, fy = float(px.sum() * dA), float(py.sum() * dA)
         mz = float(((x[:, None] * py) - (y[None, :] * px)).sum() * dA)
+        options = {"iterations": it, "fallback": fallback, "mode": self.mode}
+        if self.mode == "transient":
+            options["step"] = self.step
         return TangentialSolution("exact", x, y, -px, -py, sx, sy, stick, contact, -fx, -fy,
-                                  -mz, velocity, (xi, eta, phi), friction,
-                                  time.perf_counter() - t0,
-                                  {"iterations": it, "fallback": fallback, "mode": self.mode},
-                                  status)
+                                  -mz, velocity, creepage, friction,
+                                  time.perf_counter() - t0, options, status)

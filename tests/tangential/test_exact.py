@@ -350,3 +350,43 @@ def test_previous_displacement_on_the_same_grid_is_the_operator():
     assert grid_offset((0.0, 0.0), (2.5e-4, -1e-4), (1e-4, 1e-4), (0.5e-4, 0.0)) == (3, -1)
     with pytest.raises(Exception, match="whole elements"):
         grid_offset((0.0, 0.0), (0.25e-4, 0.0), (1e-4, 1e-4))
+
+
+def test_transient_mode_of_the_model():
+    """``get_tangential_model("exact", mode="transient", step=...)`` with
+    ``solve(..., previous=...)``: Cattaneo's loading in two steps of shift (step 0)
+    lands on Mindlin's curve as the one-shot shift does; shifting back to the first
+    step's position gives the unloading curve's 0.272 mu P (Mindlin & Deresiewicz),
+    not the loading curve's 0.4; rolling steps (step = dx) from rest raise the
+    force towards the steady one.  Measured on 30 x 30 elements: 0.4 and 0.8 within
+    0.4 % of mu P, unloading 0.2724 against 0.2724."""
+    from railcontact.errors import InputError
+    mat = Material(2.1e11, 0.28)
+    a, P, mu, n = 5e-3, 5e4, 0.3, 30
+    d = 2.2 * a / n
+    ns = hertz_on_grid(a, a, n, n, d, d, P, mat)
+    G, nu = mat.shear_modulus, mat.poisson_ratio
+    shift = get_tangential_model("exact", mode="transient", tol=1e-8)
+    half, full = (_mindlin_shift(q, mu, P, nu, G, a) for q in (0.4, 0.8))
+    s1 = shift.solve(ns, None, mat, (half, 0, 0), mu)
+    s2 = shift.solve(ns, None, mat, (full - half, 0, 0), mu, previous=s1)
+    assert s1.fx / (mu * P) == pytest.approx(0.4, abs=4e-3)
+    assert s2.fx / (mu * P) == pytest.approx(0.8, abs=4e-3)
+    # the shift back to half the total: the unloading curve, 0.8 - 2 q((delta* - delta)/2)
+    s3 = shift.solve(ns, None, mat, (half - full, 0, 0), mu, previous=s2)
+    c = _mindlin_shift(1.0, mu, P, nu, G, a)            # the shift scale C
+    q_half = 1 - (1 - (full - half) / (2 * c)) ** 1.5    # delta_M(q_half) = (full - half)/2
+    q_back = 0.8 - 2 * q_half                             # 0.272
+    assert s3.fx / (mu * P) < s1.fx / (mu * P) - 0.05
+    assert s3.fx / (mu * P) == pytest.approx(q_back, abs=6e-3)
+    roll = get_tangential_model("exact", mode="transient", step=d, tol=1e-8)
+    r, forces = None, []
+    for _ in range(3):
+        r = roll.solve(ns, None, mat, (-1e-3, 0, 0), mu, previous=r)
+        forces.append(r.fx)
+    # on the wheel: xi < 0 pulls it back
+    assert 0 > forces[0] > forces[1] > forces[2] and r.options["step"] == d
+    with pytest.raises(InputError, match="'transient' mode"):
+        get_tangential_model("exact").solve(ns, None, mat, (1e-3, 0, 0), mu, previous=r)
+    with pytest.raises(InputError, match="step"):
+        get_tangential_model("exact", mode="transient", step=-1.0)
