@@ -28,7 +28,7 @@ HERE = Path(__file__).resolve().parent
 SHARED = HERE.parent.parent / "shared"
 REF = Path(os.environ.get("RAILCONTACT_REFERENCE", SHARED / "reference"))
 BANK = SHARED / "contact_testbank"
-TOL = {"fn": 0.01, "ft": 0.01, "pmax": 0.03, "area": 0.03}
+TOL = {"fn": 0.01, "ft": 0.01, "pmax": 0.03, "area": 0.03, "temp": 0.03}
 
 lines: list = []
 
@@ -58,6 +58,10 @@ def _module3_deviations(rows, ref):
             worst["pmax"] = max(worst["pmax"], abs(r["pmax_MPa"] / f["pmax_MPa"] - 1))
         if f.get("ncon"):
             worst["area"] = max(worst["area"], abs(r["ncon"] / f["ncon"] - 1))
+        if f.get("tmax_C") is not None and r.get("tmax_C") is not None:
+            # temperatures: the rise above 0 C in deg C, relative
+            worst["temp"] = max(worst.get("temp", 0.0),
+                                abs(r["tmax_C"] / f["tmax_C"] - 1) if f["tmax_C"] else 0.0)
     return n, worst
 
 
@@ -166,7 +170,7 @@ def main(argv=None):
         f"{os.cpu_count()} cores{', --quick' if quick else ''})\n")
     out("Largest deviation from CONTACT's `.ref_out` over each file's cases: F_n, F_x and "
         "F_y (`ft`: relative to CONTACT's force or mu F_n, the larger), p_max, elements in "
-        "contact (`area`); tolerances 1, 1, 3, 3 %.\n")
+        "contact (`area`), largest surface temperature (`temp`); tolerances 1, 1, 3, 3, 3 %.\n")
     out("| input | status | against CONTACT |")
     out("|---|---|---|")
     counts = {}

@@ -48,6 +48,7 @@ from ..hertz_theory import hertz_curvatures, hertz_ellipse
 from ..normal.influence import normal_operator
 from ..normal.polonsky_keer import polonsky_keer
 from ..tangential.friction import SlipVelocityFriction
+from ..tangential.temperature import ThermalProperties, flash_temperatures
 from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
                                 steady_rolling, transient_step)
 from .mapping import curvature_from_axis_ratio
@@ -89,7 +90,7 @@ def check(case: InpCase) -> None:
     """The one-line InpError of an option this path does not support."""
     d = case.digits
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
-               "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0,), "M2": (0, 1), "E": (0, 1),
+               "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
              "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
@@ -113,9 +114,15 @@ def check(case: InpCase) -> None:
                            "expected them left out")
     if d["T"] in (2, 3):
         chi = _need(case, "CHI")
-        if abs(math.sin(chi)) > 1e-9 or (d["T"] == 3 and math.cos(chi) < 0):
-            raise _unsupported(case, f"CHI = {chi:g} rad", "expected 0" + (
-                " or 180d (pi)" if d["T"] == 2 else ""))
+        if abs(math.sin(chi)) > 1e-9:
+            raise _unsupported(case, f"CHI = {chi:g} rad", "expected 0 or 180d (pi)")
+    if d["H"] in (1, 3) and d["T"] != 3:
+        raise _unsupported(case, f"HEAT = {d['H']} with TANG = {d['T']}", "expected surface "
+                                 "temperatures in steady rolling (T = 3)")
+    if d["H"] in (1, 3):
+        for k in ("BKTEMP1", "HEATCP1", "LAMBDA1", "DENS1", "BKTEMP2", "HEATCP2", "LAMBDA2",
+                  "DENS2"):
+            _need(case, k)
     g1, g2 = _need(case, "GG1"), _need(case, "GG2")
     n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
     if abs((1 - 2 * n1) / g1 - (1 - 2 * n2) / g2) > 1e-9 * (1 / g1 + 1 / g2) and d["T"] != 0:
@@ -376,7 +383,20 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 and mu_start.shape == ct.shape:
             state["mu"] = mu_start.copy()
 
+        backwards = t == 3 and math.cos(_need(case, "CHI")) < 0
+
         def solve_once(cx, cy, bt):
+            if t == 3 and backwards:
+                # rolling towards -x (CHI = 180 deg): the problem mirrored in x (x' = -x:
+                # CKSI and CPHI change sign), solved as rolling towards +x, mirrored back
+                f = lambda a: np.ascontiguousarray(a[::-1])                 # noqa: E731
+                p0 = state["p0"]
+                p0 = None if p0 is None else (-f(p0[0]), f(p0[1]))
+                out = steady_rolling(-grid.x[::-1], yt, f(ct), f(bt),
+                                     (-cx, cy, -_need(case, "CPHI") / MM), G, nu,
+                                     TANGENTIAL_TOL, 200, p0=p0)
+                px_, py_, sx_, sy_, st_, it_, ok_ = out
+                return -f(px_), f(py_), -f(sx_), f(sy_), f(st_), it_, ok_
             if t == 3:
                 return steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
                                       G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
@@ -405,6 +425,9 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 what = (f"friction coefficients not settled (still changing by "
                         f"{state['friction']:.1e})")
             message = (message + "; " if message else "") + what
+    tmax = None
+    if t == 3 and d["H"] in (1, 3):
+        tmax = _temperature(case, grid, px, py, out, contact)
     ncon = int(np.count_nonzero(contact))
     nadh = int(np.count_nonzero(contact & stick)) if t else 0
     X, Y = grid.x[:, None], grid.y[None, :]
@@ -418,10 +441,35 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
            "approach_mm": approach / MM, "pmax_MPa": float(pressure.max()) * 1e-6,
            "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh,
            "nslip": ncon - nadh if t else 0, "mx": shape[0], "my": shape[1],
-           "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM,
+           "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM, "tmax_C": tmax,
            "converged": bool(ok_n and ok_t), "message": message}
     return CaseResult(grid, pressure, px, py, stick, row,
                       state["mu"] if t and law is not None else None)
+
+
+def _thermal(case, body):
+    """A body's thermal constants from CONTACT's (W/mm C, kg/mm^3) in SI."""
+    v = case.values
+    return ThermalProperties(v[f"BKTEMP{body}"], v[f"HEATCP{body}"], v[f"LAMBDA{body}"] * 1e3,
+                             v[f"DENS{body}"] * 1e9)
+
+
+def _temperature(case, grid, px, py, out, contact):
+    """The largest surface temperature of both bodies [deg C] (CONTACT's
+    MAX(T1,T2)) in steady rolling: the frictional power density |p_t| |s| V
+    (:mod:`railcontact.tangential.temperature`), along the material's path (towards
+    -x, or +x for CHI = 180 deg)."""
+    v = _need(case, "VELOC") * MM
+    sx, sy = out[2], out[3]
+    q = np.hypot(px, py) * np.hypot(sx, sy) * v
+    # rolling towards +x (CHI = 0) the material enters at the leading edge, +x, and
+    # moves towards -x: the path runs along falling x index; for CHI = 180 deg along
+    # rising index (the user guide's "particles traverse the contact from left to right")
+    f = (lambda a: a[::-1]) if math.cos(_need(case, "CHI")) > 0 else (lambda a: a)
+    t1, t2, _ = flash_temperatures(f(q), f(contact), grid.dx, v, _thermal(case, 1),
+                                   _thermal(case, 2))
+    c = f(contact)
+    return float(max(t1[c].max(), t2[c].max())) if c.any() else None
 
 
 #: the friction coefficient of a slip-velocity dependent law is iterated until no

@@ -33,7 +33,8 @@ def read_out(path) -> dict:
     """CONTACT's totals per case number of a module 3 output file: ``fn_N``, ``fx_N``,
     ``fy_N``, ``mz_Nmm``, ``approach_mm``, ``pmax_MPa``, the second block's middle
     columns by their labels (``x_label``, ``x_value``, ``y_label``, ``y_value``),
-    and where printed ``npot``, ``ncon``, ``nadh``, ``nslip``.  Cases without
+    and where printed ``npot``, ``ncon``, ``nadh``, ``nslip`` and the largest
+    surface temperature ``tmax_C`` (MAX(T1,T2), deg C).  Cases without
     totals (a module 1 case) are left out."""
     path = Path(path)
     try:
@@ -57,6 +58,8 @@ def read_out(path) -> dict:
                 if len(v) >= 5 and len(labels) >= 5:
                     case.update(x_label=labels[1], x_value=v[1], y_label=labels[2],
                                 y_value=v[2], approach_mm=v[3], pmax_MPa=v[4])
+                if len(v) >= 6 and "MAX(T1,T2)" in labels:
+                    case["tmax_C"] = v[5]
             elif head[:4] == ["NPOT", "NCON", "NADH", "NSLIP"] and k + 1 < len(lines):
                 v = _nums(lines[k + 1])
                 if len(v) >= 4:
