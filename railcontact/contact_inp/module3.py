@@ -1,9 +1,12 @@
-"""CONTACT's module 3 on its own grid: non-Hertzian geometries (IPOTCN > 0) and the
-transient problems (TANG = 1, shift; TANG = 2, transient rolling), case after case.
+"""CONTACT's module 3 on its own grid: non-Hertzian geometries (IPOTCN > 0), the
+transient problems (TANG = 1, shift; TANG = 2, transient rolling), prescribed
+forces, slip-velocity dependent friction and surface temperatures, case after case.
 
 A case with a potential contact area given by its grid (IPOTCN = 1 .. 4, the
-quadratic undeformed distance IBASE = 1) or with a transient tangential problem is
-solved here, on CONTACT's grid, rather than through a railcontact case file:
+undeformed distance IBASE = 1, 2, 3), a transient tangential problem, the approach
+or a tangential force prescribed, friction laws L = 2-4 or temperatures (H = 1, 3)
+is solved here (:func:`handles`), on CONTACT's grid, rather than through a
+railcontact case file:
 
 * normal problem: Kalker's exact theory (:func:`railcontact.normal.polonsky_keer.polonsky_keer`
   with the influence coefficients of :mod:`railcontact.normal.influence`), the
@@ -13,7 +16,9 @@ solved here, on CONTACT's grid, rather than through a railcontact case file:
   or one time step of a transient problem (T = 1, 2,
   :func:`~railcontact.tangential.exact.transient_step`), with the creepages
   (F = 0) or the relative forces FX/(FSTAT FN) (F = 1, with CETA; F = 2, with
-  FY) given; a force is met by Brent's method on the creepage (or shift).
+  FY) given; a force is met by Brent's method on the creepage (or shift);
+  falling friction by a fixed point of the coefficients (:func:`friction_law`);
+* temperatures: :mod:`railcontact.tangential.temperature` (steady rolling).
 
 What carries over from case to case follows CONTACT's PVTIME digit (user guide,
 "P - PVTIME"): the tractions that a case leaves are the next case's previous time
@@ -67,10 +72,10 @@ FORCE_TOL = 1e-7
 def handles(case: InpCase) -> bool:
     """Whether the case is solved here: module 3 with a grid-given potential contact
     area (IPOTCN > 0), a transient tangential problem (T = 1, 2), a prescribed
-    tangential force (F = 1, 2), the approach prescribed (N = 0) or a slip-velocity
-    dependent friction law (L = 2-6)."""
+    tangential force (F = 1, 2), the approach prescribed (N = 0), surface
+    temperatures (H = 1, 3) or a slip-velocity dependent friction law (L = 2-6)."""
     return case.module == 3 and (case.digits["T"] in (1, 2) or case.digits["F"] in (1, 2)
-                                 or case.digits["N"] == 0
+                                 or case.digits["N"] == 0 or case.digits["H"] in (1, 3)
                                  or case.values.get("FRICTION_LAW", 0) not in (0, 1)
                                  or (case.values.get("IPOTCN") or -1) > 0)
 
