@@ -109,7 +109,7 @@ def _fmt(worst):
 def run_file(path: Path, root: Path, quick: bool):
     from railcontact.contact_inp import load_inp, solve_inp
     from railcontact.contact_inp.outfile import read_out
-    from railcontact.errors import RailContactError
+    from railcontact.core.errors import RailContactError
 
     name = str(path.relative_to(root.parent))
     dirs = [REF / "profiles", BANK / "profiles"]

@@ -118,7 +118,7 @@ def bench_exact_module3():
             if r["workload"] == "module3_hertz_40x40" and r["build"] == "mkl_fft"
             and r["omp_threads"] == "1" and r["eps"] == "1e-05"]
     mat = rc.Material.from_shear_modulus(82e9, 0.28)
-    from railcontact.hertz_theory import hertz_ellipse
+    from railcontact.core.hertz_theory import hertz_ellipse
     problems = {"circ_partial_slip": (5e-3, 5e-3, (-1e-3, 2e-4, 0.1)),
                 "circ_adhesion": (5e-3, 5e-3, (-1e-5, 0.0, 0.0)),
                 "ellip_partial_slip": (3.5355e-3, 7.0711e-3, (-1e-3, 2e-4, 0.1))}
@@ -314,7 +314,7 @@ def conv_time(m=40, n=40, repeat=7, number=400):
 
 #: the parts of a wheel-rail case whose time :func:`time_split` reports: (label,
 #: module, attribute); nested parts are reported inside their parent
-SPLIT = [("contact search", "railcontact.wheel_rail_balance", "contact_search"),
+SPLIT = [("contact search", "railcontact.cases.balance", "contact_search"),
          ("exact normal solves", "railcontact.normal.exact", "ExactNormalModel.solve"),
          ("  of which Polonsky-Keer iterations", "railcontact.normal.polonsky_keer", "_pk_kernel"),
          ("exact tangential solves", "railcontact.tangential.exact", "ExactTangentialModel.solve"),
@@ -376,8 +376,8 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
                                       "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
                                       "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
                          "solver": {"grid": [40, 40]}})
-    from railcontact.case import case_from_dict
-    from railcontact.bodies import contact_search
+    from railcontact.cases.case import case_from_dict
+    from railcontact.cases.bodies import contact_search
     cases = [case_from_dict(r) for r in raws]
     shifts = np.array([r["wheelset"]["lateral_shift"] for r in raws])
     loose = []
@@ -539,7 +539,7 @@ def _solves_alone(case, res, neighbour):
     ``res`` solved once on its geometry, warm-started from the nearest patch of
     ``neighbour`` (a result) or cold."""
     from railcontact.normal import get_normal_model
-    from railcontact.patches import nearest_patch as _nearest
+    from railcontact.cases.patches import nearest_patch as _nearest
     from railcontact.tangential import get_tangential_model
     nm, tm = get_normal_model("exact"), get_tangential_model("exact")
     for p in res.patches:
@@ -610,7 +610,7 @@ def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
             tm.solve(ns, g, mat, g.creepage, 0.3, g.velocity)
         times[(nname, tname)] = (time.perf_counter() - t0) / n
     ref = times[FAST_MODELS[0]]
-    from railcontact.batch import solve_patches
+    from railcontact.cases.batch import solve_patches
     batch = {}
     pairs = [("hertz", law) for law in ("fastsim", "polach", "fastrip")] + [
         (nname, law) for nname in ("kik-piotrowski", "kpec", "stripes", "analyn")
@@ -626,7 +626,7 @@ def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     out("|---|---|---|---|")
     for (nname, tname), t in times.items():
         out(f"| {nname} | {tname} | {t * 1e3:.2f} ms | {t / ref:.1f} |")
-    out("\nCompiled batch path `railcontact.batch.solve_patches` (all patches of the "
+    out("\nCompiled batch path `railcontact.cases.batch.solve_patches` (all patches of the "
         "sweep in one call, forces, area and p_max only): Hertz vectorised with FASTSIM "
         "20x20 per ellipse (FaStrip: the ellipse in 20 strips of 20 elements); the strip "
         "models on 40 strips per patch, FASTSIM (equivalent ellipse), FASTSIM with local "

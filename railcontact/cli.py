@@ -8,8 +8,8 @@ import logging
 import sys
 from pathlib import Path
 
-from .errors import InputError, RailContactError
-from .files import write_netcdf, write_text
+from .core.errors import InputError, RailContactError
+from .core.files import write_netcdf, write_text
 
 log = logging.getLogger("railcontact")
 
@@ -91,8 +91,8 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
 
 
 def cmd_solve(args):
-    from .case import load_case
-    from .case_solve import solve
+    from .cases.case import load_case
+    from .cases.solve import solve
     if _is_inp(args.case):
         return _run_inp(args, "sync")
     if args.cases or args.profiles:
@@ -109,9 +109,9 @@ def cmd_solve(args):
 
 
 def cmd_geometry(args):
-    from .case import load_case
-    from .bodies import contact_search
-    from .results import geometry_dict
+    from .cases.case import load_case
+    from .cases.bodies import contact_search
+    from .cases.results import geometry_dict
     case = load_case(args.case)
     if case.is_bodies:
         raise RailContactError("geometry needs a wheel-rail case ([wheel], [rail]); this case "
@@ -125,8 +125,8 @@ def cmd_geometry(args):
 
 
 def cmd_sweep(args):
-    from .case import load_case
-    from .case_sweep import parse_vary, sweep
+    from .cases.case import load_case
+    from .cases.sweep import parse_vary, sweep
     if _is_inp(args.case):
         return _run_inp(args, args.scheduler, warm=args.warm)
     if not args.vary:
@@ -156,8 +156,8 @@ def cmd_sweep(args):
 
 
 def cmd_compare(args):
-    from .case import load_case
-    from .compare import DEFAULT_MODELS, compare, format_table, write_outputs
+    from .cases.case import load_case
+    from .cases.compare import DEFAULT_MODELS, compare, format_table, write_outputs
     case = load_case(args.case)
     models = tuple(m.strip() for m in args.models.split(",")) if args.models else DEFAULT_MODELS
     rows, results = compare(case, models, args.tangential)
@@ -225,13 +225,16 @@ def cmd_wear_compare(args):
 
 
 def cmd_simulate(args):
+    from .inputs import load_dynamics_scenario
     if len(args.scenario) > 1:
         from .dynamics.scenario import simulate_batch
         outs = [Path(args.out) / Path(s).stem for s in args.scenario]
         if len(set(outs)) != len(outs):
             raise InputError("simulate: scenario files with the same name would share an "
                              "output folder; rename them")
-        res = simulate_batch(args.scenario, outs, scheduler=args.scheduler)
+        # every scenario is read and checked before any runs
+        scenarios = {str(s): load_dynamics_scenario(s) for s in args.scenario}
+        res = simulate_batch(scenarios, outs, scheduler=args.scheduler)
         for r in res:
             if "error" in r:
                 print(f"{r['scenario']}: FAILED: {r['error']}")
@@ -242,7 +245,7 @@ def cmd_simulate(args):
             raise SystemExit(1)
         return
     from .dynamics.scenario import run_scenario
-    ds = run_scenario(args.scenario[0], args.out)
+    ds = run_scenario(load_dynamics_scenario(args.scenario[0]), args.out)
     print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
           f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
           f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
@@ -252,7 +255,7 @@ def cmd_simulate(args):
 
 def cmd_profile(args):
     from .profiles import get_profile, write_profile
-    from .plotting import plot_profile
+    from .core.plotting import plot_profile
     kind = args.kind
     prof = get_profile(args.profile, kind, inclination=args.inclination)
     if args.action == "plot":
@@ -267,8 +270,8 @@ def cmd_profile(args):
 def cmd_track(args):
     """A quasi-static pass along the track of a case on rail surfaces."""
     import numpy as np
-    from .case import load_case
-    from .crossing import plot_track_sweep, sweep_along_track
+    from .cases.case import load_case
+    from .cases.crossing import plot_track_sweep, sweep_along_track
     if not (args.step > 0 and args.stop >= args.start):
         raise InputError(f"track: --from {args.start} --to {args.stop} --step {args.step}: "
                          "expected start <= stop and a step > 0 (m)")

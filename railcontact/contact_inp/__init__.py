@@ -17,10 +17,10 @@ from __future__ import annotations
 import functools
 from pathlib import Path
 
-from ..case import case_from_dict
-from ..case_solve import solve
-from ..case_sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
-from ..errors import RailContactError
+from ..cases.case import case_from_dict
+from ..cases.solve import solve
+from ..cases.sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
+from ..core.errors import RailContactError
 from . import module3
 from .mapping import MappedCase, map_case
 from .reader import InpCase, InpError, read_inp

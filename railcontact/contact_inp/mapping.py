@@ -15,10 +15,10 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..case import case_from_dict
+from ..cases.case import case_from_dict
 from ..geometry.turning import default_turn_distance
-from ..hertz_theory import hertz_curvatures, hertz_ellipse
-from ..materials import Material
+from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
+from ..core.materials import Material
 from ..profiles import get_profile
 from .reader import InpCase, InpError
 
@@ -28,7 +28,7 @@ MM = 1e-3
 @dataclass
 class MappedCase:
     """A CONTACT case as a railcontact case dictionary (``raw``, for
-    :func:`railcontact.case.case_from_dict`) with what the results table needs to
+    :func:`railcontact.cases.case.case_from_dict`) with what the results table needs to
     return to CONTACT's frames (``meta``)."""
 
     number: int
@@ -150,7 +150,7 @@ def curvature_from_axis_ratio(A: float, aob: float) -> float:
     (CONTACT's IPOTCN = -2): the smaller semi-axis lies along the larger curvature,
     their ratio A_large/A_small = ((E/(1-m)) - K)/(K - E), m = 1 - (small/large)^2
     (Johnson 1985, sec. 4.2)."""
-    from ..hertz_theory import _ratio
+    from ..core.hertz_theory import _ratio
     if not aob > 0:
         raise InpError(f"AOB = {aob!r}: expected a semi-axis ratio a/b > 0")
     small = min(aob, 1.0 / aob)

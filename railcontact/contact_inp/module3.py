@@ -49,7 +49,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy.optimize import brentq
 
-from ..hertz_theory import hertz_curvatures, hertz_ellipse
+from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
 from ..normal.influence import normal_operator
 from ..normal.polonsky_keer import polonsky_keer
 from ..tangential.friction import SlipVelocityFriction

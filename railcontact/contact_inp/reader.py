@@ -28,7 +28,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import CaseFileError
+from ..core.errors import CaseFileError
 
 #: control words: digit names from left to right (module 1; module 3 without C and V)
 WORDS = {1: ("CPBTNFS", "VLDCMZE", "XHGIAOWR"), 3: ("PBTNFS", "LDCMZE", "XHGIAOWR")}

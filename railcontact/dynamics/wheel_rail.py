@@ -26,12 +26,12 @@ import numpy as np
 from numba import njit
 from tqdm.auto import tqdm
 
-from ..errors import ContactNotFoundError, InputError
+from ..core.errors import ContactNotFoundError, InputError
 from ..geometry import find_contact
 from ..geometry.contact import ContactGeometry
 from ..geometry.validity import flange
-from ..hertz_theory import hertz_ellipse
-from ..materials import Material, STEEL
+from ..core.hertz_theory import hertz_ellipse
+from ..core.materials import Material, STEEL
 from ..normal import get_normal_model
 from ..tangential.kalker import kalker_coefficients
 from ..tangential.online import online_law, patch_forces

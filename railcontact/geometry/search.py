@@ -40,9 +40,9 @@ import numpy as np
 from scipy.optimize import brentq
 from scipy.signal import find_peaks
 
-from ..errors import ContactNotFoundError, InputError
-from ..hertz_theory import hertz_ellipse
-from ..materials import STEEL, Material
+from ..core.errors import ContactNotFoundError, InputError
+from ..core.hertz_theory import hertz_ellipse
+from ..core.materials import STEEL, Material
 from .contact import ContactGeometry, interaction_factor
 from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
@@ -80,7 +80,7 @@ class WheelsetContact:
         The vertical interpenetration [m] of each side the patches were cut at.
 
     How the solve layer's vertical-force iteration ended is not the search's: see
-    :class:`railcontact.equilibrium.VerticalBalance`.
+    :class:`railcontact.cases.equilibrium.VerticalBalance`.
     """
 
     pose: WheelsetPose

@@ -41,11 +41,11 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..errors import InputError
-from ..materials import Material, STEEL
+from ..core.errors import InputError
+from ..core.materials import Material, STEEL
 from ..normal.base import bilinear, same_grid
 from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
-from ..status import SolverStatus
+from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
 from .semi_smooth_newton import initial_march, ssn_solve

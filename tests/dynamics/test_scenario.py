@@ -2,7 +2,7 @@
 
 import pytest
 
-from railcontact.errors import CaseFileError
+from railcontact.core.errors import CaseFileError
 
 SHORT = """
 [wheel]
@@ -44,8 +44,9 @@ def test_vehicle_scenario_outputs(tmp_path):
     import xarray as xr
 
     from railcontact.dynamics.scenario import run_scenario
+    from railcontact.inputs import load_dynamics_scenario
     p = _write(tmp_path, SHORT.format(model="vehicle", duration=2.0, hw=3))
-    run_scenario(p, tmp_path / "out", progress=False)
+    run_scenario(load_dynamics_scenario(p), tmp_path / "out", progress=False)
     ds = xr.open_dataset(tmp_path / "out" / "simulation.nc", engine="h5netcdf")
     assert ds.sizes == {"time": 101, "wheelset": 4, "side": 2, "patch": 2, "body": 7}
     for var in ("lateral_displacement", "yaw", "normal_force", "longitudinal_force",
@@ -64,9 +65,10 @@ def test_vehicle_scenario_outputs(tmp_path):
 def test_simulation_history_feeds_wear(tmp_path):
     """A recorded bogie run drives the wear loop end to end (short track)."""
     from railcontact.dynamics.scenario import run_scenario
+    from railcontact.inputs import load_dynamics_scenario
     from railcontact.wear import WearSimulation, scenario_from_dict
     p = _write(tmp_path, SHORT.format(model="bogie", duration=1.0, hw=1))
-    run_scenario(p, tmp_path, progress=False)
+    run_scenario(load_dynamics_scenario(p), tmp_path, progress=False)
     raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
            "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [20, 20]},
            "wear": {"law": "frictional-power", "steps": 1, "history": "history.csv",
@@ -91,10 +93,11 @@ def test_simulation_history_feeds_wear(tmp_path):
 ])
 def test_bad_scenarios(tmp_path, edit, word):
     from railcontact.dynamics.scenario import run_scenario
+    from railcontact.inputs import load_dynamics_scenario
     text = SHORT.format(model="vehicle", duration=1.0, hw=1).replace(*edit)
     p = _write(tmp_path, text)
     with pytest.raises(CaseFileError, match=word):
-        run_scenario(p, tmp_path / "out", progress=False)
+        run_scenario(load_dynamics_scenario(p), tmp_path / "out", progress=False)
     assert not (tmp_path / "out").exists()
 
 

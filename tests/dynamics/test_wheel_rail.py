@@ -10,7 +10,7 @@ import pytest
 from railcontact.dynamics.wheel_rail import (F_DELTA, F_R, F_SHARE, FIELDS, WheelRailTable,
                                              lookup, python_patch_forces)
 from railcontact.geometry.contact import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import get_normal_model
 from railcontact.tangential import get_tangential_model, kalker_coefficients
 

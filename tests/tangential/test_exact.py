@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal.base import NormalSolution
 from railcontact.normal.polonsky_keer import polonsky_keer
 from railcontact.normal.influence import normal_operator
@@ -360,7 +360,7 @@ def test_transient_mode_of_the_model():
     not the loading curve's 0.4; rolling steps (step = dx) from rest raise the
     force towards the steady one.  Measured on 30 x 30 elements: 0.4 and 0.8 within
     0.4 % of mu P, unloading 0.2724 against 0.2724."""
-    from railcontact.errors import InputError
+    from railcontact.core.errors import InputError
     mat = Material(2.1e11, 0.28)
     a, P, mu, n = 5e-3, 5e4, 0.3, 30
     d = 2.2 * a / n

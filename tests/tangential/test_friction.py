@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.tangential.friction import FallingFriction, falling_friction
 
 

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.tangential.temperature import ThermalProperties, flash_temperatures
 
 STEEL = dict(heat_capacity=450.0, conductivity=50.0, density=7850.0)
