@@ -1141,6 +1141,8 @@ def main():
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
     contact_inputs.main()
+    import contact_testbank        # every testbank input: benchmarks/contact_testbank.md
+    contact_testbank.main([])
 
 
 if __name__ == "__main__":
