@@ -268,6 +268,7 @@ def cmd_wear_compare(args):
 
 
 def cmd_simulate(args):
+    from .inputs import load_dynamics_scenario
     check_output(args.out, folder=True)
     if len(args.scenario) > 1:
         check_scheduler(args.scheduler)
@@ -276,7 +277,9 @@ def cmd_simulate(args):
         if len(set(outs)) != len(outs):
             raise InputError("simulate: scenario files with the same name would share an "
                              "output folder; rename them")
-        res = simulate_batch(args.scenario, outs, scheduler=args.scheduler)
+        # every scenario is read and checked before any runs
+        scenarios = {str(s): load_dynamics_scenario(s) for s in args.scenario}
+        res = simulate_batch(scenarios, outs, scheduler=args.scheduler)
         for r in res:
             if "error" in r:
                 print(f"{r['scenario']}: FAILED: {r['error']}")
@@ -287,7 +290,7 @@ def cmd_simulate(args):
             raise SystemExit(1)
         return
     from .dynamics.scenario import run_scenario
-    ds = run_scenario(args.scenario[0], args.out)
+    ds = run_scenario(load_dynamics_scenario(args.scenario[0]), args.out)
     print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
           f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
           f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
@@ -337,6 +340,26 @@ def cmd_track(args):
           f"{out / 'track_sweep.nc'} and track_sweep.png")
     return 0 if bool(ds["converged"].all()) else _report_status(
         False, "the vertical load was not met at some positions (see 'converged')", [])
+
+
+def cmd_fmu(args):
+    """Write the contact element's FMI 3.0 co-simulation FMU."""
+    try:
+        from .fmu import build_fmu
+    except ImportError as exc:
+        raise InputError(f"fmu: {exc}; install the 'fmu' extra (pip install "
+                         "'railcontact[fmu]')") from None
+    out = Path(args.out)
+    if not out.is_dir():
+        check_output(out)
+    params = {"mode": args.mode}
+    for key, value in (("case_file", args.case), ("wheel_profile", args.wheel),
+                       ("rail_profile", args.rail), ("normal_model", args.normal),
+                       ("tangential_model", args.tangential), ("friction", args.friction)):
+        if value is not None:
+            params[key] = value
+    path = build_fmu(args.out, params)
+    print(f"wrote {path} (FMI 3.0 co-simulation; variables: docs/multibody.md)")
 
 
 def cmd_demo(args):
@@ -440,6 +463,21 @@ def build_parser():
     t.add_argument("--allow-large", action="store_true",
                    help=f"run more than {MAX_JOB_CASES} positions")
     t.set_defaults(func=cmd_track)
+    f = sub.add_parser("fmu", help="write the wheel-rail contact element as an FMI 3.0 "
+                       "co-simulation FMU for multibody tools (docs/multibody.md)")
+    f.add_argument("--out", default="RailContactElement.fmu",
+                   help="the .fmu file to write, or a folder")
+    f.add_argument("--case", help="wheel-rail case file (TOML) giving profiles, dimensions, "
+                   "material, friction and solver")
+    f.add_argument("--wheel", help="wheel profile: built-in name or file (default S1002)")
+    f.add_argument("--rail", help="rail profile: built-in name or file (default 60E1)")
+    f.add_argument("--normal", help="normal model (default hertz)")
+    f.add_argument("--tangential", help="tangential model (default fastsim)")
+    f.add_argument("--friction", type=float, help="friction coefficient (default 0.3)")
+    f.add_argument("--mode", choices=["position", "load"], default="position",
+                   help="position: vertical position and roll are inputs (elastic contact); "
+                        "load: the wheel loads are inputs")
+    f.set_defaults(func=cmd_fmu)
     d = sub.add_parser("demo", help="lateral-shift sweep S1002 on 60E1 1:40 (Hertz + FASTSIM)")
     d.add_argument("--out", default="demo_output")
     d.set_defaults(func=cmd_demo)

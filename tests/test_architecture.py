@@ -15,7 +15,7 @@ RANKS = {
     "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4,   # the pipeline's layers
     "cases": 5, "contact_inp": 5,  # cases above the layers, and CONTACT's input files
     "dynamics": 6, "wear": 7,      # systems that run cases
-    "demo": 8, "cli": 8, "__init__": 8,   # the face of the package and the front ends
+    "demo": 8, "cli": 8, "inputs": 8, "fmu": 8, "__init__": 8,   # the face and the front ends
 }
 
 

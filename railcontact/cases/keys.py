@@ -20,7 +20,7 @@ from ..profiles.processing import ProfileOptions
 PROFILE_OPTIONS = {"mirror_y", "mirror_z", "scale", "smoothing", "zigzag", "kinks"}
 
 
-@dataclass
+@dataclass(frozen=True)
 class CaseKeys:
     """The parsed TOML tables ``raw`` of a case, read by dotted key with validation;
     every error is a :class:`~railcontact.core.errors.CaseFileError` naming the key,

@@ -9,10 +9,9 @@ on rail surfaces by :mod:`railcontact.cases.surfaces`.  The results are
 from __future__ import annotations
 
 import logging
-import math
 import time
 
-from .case import Case, body_curvatures
+from .case import Case
 from .surface_setup import is_surface_case
 from .coupling import solve_coupled
 from ..geometry.contact import ContactGeometry
@@ -105,24 +104,20 @@ def _solve(case, normal, tangential, warm_start):
     nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
     results, pose, contact, balance = [], None, None, None
     if case.is_bodies:
-        A, B = body_curvatures(case)
-        r = case.get("bodies.radii").get("wheel_rolling", math.nan)
-        geom = ContactGeometry(curvatures=(A, B), rolling_radius=float(r))
+        bodies = case.bodies
+        geom = ContactGeometry(curvatures=bodies.curvatures, rolling_radius=bodies.rolling_radius)
         wkw = {}
         if warm_start is not None and warm_start.patches:
             if "warm-start" in nmodel.capabilities:
                 wkw["warm_start"] = warm_start.patches[0].normal
-        ns = nmodel.solve(geom, case.material, normal_force=case.number("bodies.normal_force"),
-                          **kw, **wkw)
+        ns = nmodel.solve(geom, case.material, normal_force=bodies.normal_force, **kw, **wkw)
         creep = case.creepage or (0.0, 0.0, 0.0)
-        V = case.number("bodies.velocity", 1.0, 1e-6, 1e3, "m/s")
-        if coupled_models(case, nmodel, tmodel) and "force" not in case.raw:
+        V = bodies.velocity
+        if coupled_models(case, nmodel, tmodel) and bodies.forces is None:
             ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep, case.friction,
-                                   V, normal_force=case.number("bodies.normal_force"), **kw)
-        elif "force" in case.raw and tmodel is not None:
-            ts = solve_for_forces(tmodel, ns, geom, case.material,
-                                  (case.number("force.longitudinal", 0.0),
-                                   case.number("force.lateral", 0.0)),
+                                   V, normal_force=bodies.normal_force, **kw)
+        elif bodies.forces is not None and tmodel is not None:
+            ts = solve_for_forces(tmodel, ns, geom, case.material, bodies.forces,
                                   spin=creep[2], friction=case.friction, velocity=V)
             creep = ts.creepage
         else:

@@ -34,7 +34,8 @@ from pathlib import Path
 import numpy as np
 
 from ..cases.bodies import build_wheelset_track
-from ..cases.case import case_from_dict, read_toml
+from ..cases.case import case_from_dict
+from ..core.files import read_toml
 from ..cases.solve import solve
 from ..core.errors import CaseFileError, InputError, RailContactError
 from ..core.files import write_netcdf, written_whole
