@@ -34,6 +34,27 @@ def _numba_cache_dir() -> None:
 
 _numba_cache_dir()
 
+
+def _quiet_interrupt_at_start() -> None:
+    """The ``railcontact`` command: Ctrl-C while Python still imports the package
+    ends it at once, exit status 130 and one line (no traceback);
+    :func:`railcontact.cli.console_main` takes the signal over once it runs."""
+    if not sys.argv or os.path.basename(sys.argv[0]) != "railcontact":
+        return
+    import signal
+
+    def stop(signum, frame):
+        sys.stderr.write("railcontact: interrupted\n")
+        sys.stderr.flush()
+        os._exit(130)
+    try:
+        signal.signal(signal.SIGINT, stop)
+    except ValueError:                      # not the main thread
+        pass
+
+
+_quiet_interrupt_at_start()
+
 from .cases.case import Case, case_from_dict, load_case
 from .core.errors import (CaseFileError, ContactNotFoundError, ConvergenceError, InputError,
                      ProfileError, RailContactError, UnknownModelError)

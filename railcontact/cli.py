@@ -120,7 +120,9 @@ def cmd_solve(args):
     if args.out:
         check_output(args.out)
     _check_models(args.normal, args.tangential)
-    res = solve(load_case(args.case), args.normal, args.tangential)
+    case = load_case(args.case)
+    log.info("solving %s", args.case)
+    res = solve(case, args.normal, args.tangential)
     d = res.to_dict()
     if args.json:
         _print_json(d)
@@ -531,6 +533,7 @@ def console_main() -> None:
     import os
     import signal
     import time
+    signal.signal(signal.SIGINT, signal.default_int_handler)     # KeyboardInterrupt again
     if not hasattr(os, "fork") or os.environ.get("RAILCONTACT_NO_FORK"):
         sys.exit(main())
     sys.stdout.flush()

@@ -134,7 +134,8 @@ def _parse(kind, tok):
         if v is None:
             # an integer written as a real ("0.0"), as CONTACT's reader takes it
             r = _real(tok)
-            if r is not None and r == int(r) and re.fullmatch(r"[-+]?\d+\.0*", tok):
+            if r is not None and re.fullmatch(r"[-+]?\d+\.0*", tok) and math.isfinite(r) \
+                    and r == int(r):
                 v = int(r)
         return v
     if kind == "d":

@@ -44,7 +44,8 @@ def shown(value, limit: int = SHOWN_CHARACTERS) -> str:
     text = " ".join(text.split())
     if len(text) > limit:
         n = len(value) if hasattr(value, "__len__") else None
-        text = text[:limit - 3] + "..." + (f" ({n} items)" if n is not None else "")
+        unit = "characters" if isinstance(value, (str, bytes)) else "items"
+        text = text[:limit - 3] + "..." + (f" ({n} {unit})" if n is not None else "")
     return text
 
 
