@@ -516,6 +516,9 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("railcontact: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:                   # the machine's: a full disk, a lost folder
+        print(f"railcontact: error: {exc}", file=sys.stderr)
+        return 2
     return int(status or 0)
 
 

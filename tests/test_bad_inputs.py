@@ -177,6 +177,10 @@ CASES = [
     # ---- command-line options ----
     ("out-missing-folder", "solve c.toml --out nodir/r.nc", {"c.toml": BODIES}, 2,
      "--out 'nodir/r.nc': the folder 'nodir' does not exist"),
+    ("out-read-only-place", "solve c.toml --out /proc/r.nc", {"c.toml": BODIES}, 2,
+     "--out '/proc/r.nc': not writable (folder '/proc')"),
+    ("out-folder-read-only-place", "wear w.toml --out /proc/w", {"w.toml": WEAR}, 2,
+     "--out '/proc/w': the folder '/proc' is not writable"),
     ("out-is-folder", "solve c.toml --out sub", {"c.toml": BODIES, "sub/x": ""}, 2,
      "--out 'sub': an existing folder; expected a file name"),
     ("solve-normal-option", "solve c.toml --normal hurtz", {"c.toml": BODIES}, 2,

@@ -80,7 +80,7 @@ def check_output(path, what: str = "--out", folder: bool = False) -> Path:
         if not probe.is_dir():
             raise InputError(f"{what} {shown(str(path))}: {str(probe)!r} is a file; expected "
                              "a folder")
-        if not os.access(probe, os.W_OK | os.X_OK):
+        if not _writable(probe):
             raise InputError(f"{what} {shown(str(path))}: the folder {str(probe)!r} is not "
                              "writable")
         return p
@@ -90,9 +90,23 @@ def check_output(path, what: str = "--out", folder: bool = False) -> Path:
     if not parent.is_dir():
         raise InputError(f"{what} {shown(str(path))}: the folder {str(parent)!r} does not "
                          "exist; expected a file in an existing folder")
-    if not os.access(parent, os.W_OK | os.X_OK) or (p.exists() and not os.access(p, os.W_OK)):
+    if not _writable(parent) or (p.exists() and not os.access(p, os.W_OK)):
         raise InputError(f"{what} {shown(str(path))}: not writable (folder {str(parent)!r})")
     return p
+
+
+def _writable(folder: Path) -> bool:
+    """Whether a file can be created in ``folder``: tried (a read-only file system
+    or a folder such as /proc refuses even root), the probe removed at once."""
+    if not os.access(folder, os.W_OK | os.X_OK):
+        return False
+    import tempfile
+    try:
+        with tempfile.NamedTemporaryFile(dir=folder, prefix=".railcontact-probe-"):
+            pass
+    except OSError:
+        return False
+    return True
 
 
 def check_job_size(count: int, what: str, limit: int = MAX_JOB_CASES,

@@ -55,3 +55,12 @@ def test_job_and_grid_limits():
     assert MAX_GRID_ELEMENTS == 250_000
     with pytest.raises(ResourceError, match=r"4000000 elements \(about 3.2 GB"):
         check_grid_size((2000, 2000))
+
+
+@pytest.mark.skipif(not os.path.isdir("/proc"), reason="needs /proc")
+def test_a_place_no_file_can_be_created_in():
+    """/proc refuses new files even to root: tried, not only asked of os.access."""
+    with pytest.raises(InputError, match="not writable"):
+        check_output("/proc/r.nc")
+    with pytest.raises(InputError, match="is not writable"):
+        check_output("/proc/out", folder=True)
