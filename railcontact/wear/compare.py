@@ -8,7 +8,6 @@ per model and a table of the worn area, maximum depth and CPU time per model.
 
 from __future__ import annotations
 
-import copy
 import csv
 import time
 from pathlib import Path
@@ -19,6 +18,7 @@ from ..core.errors import InputError
 from .closed_loop import ClosedLoopWear
 from .plots import _wheel_panels
 from .simulation import WearSimulation
+from .vehicle_scenario import VehicleWearScenario
 
 
 def parse_models(spec: str):
@@ -36,13 +36,11 @@ def parse_models(spec: str):
 def compare_wear(scenario, models, out=None, progress=True):
     """Run ``scenario`` for each (normal, tangential) pair; returns {label: dataset}
     (and writes ``wear_comparison.png`` and ``.csv`` into ``out``)."""
-    if hasattr(scenario, "routes"):
+    if isinstance(scenario, VehicleWearScenario):
         return _compare_closed_loop(scenario, models, out, progress)
     results = {}
-    for normal, tang in models:
-        sc = copy.deepcopy(scenario)
-        sc.base.setdefault("solver", {})
-        sc.base["solver"] = {**sc.base["solver"], "normal": normal, "tangential": tang}
+    scenarios = [scenario.with_models(normal, tang) for normal, tang in models]
+    for (normal, tang), sc in zip(models, scenarios):
         label = f"{normal}+{tang}"
         sub = Path(out) / label if out else None
         if sub:
@@ -84,8 +82,8 @@ def _compare_closed_loop(scenario, models, out, progress):
     the step distances (by its step control), the others run over the same."""
     results = {}
     distances = None
-    for normal, tang in models:
-        sc = scenario.with_models(normal, tang)
+    scenarios = [scenario.with_models(normal, tang) for normal, tang in models]
+    for (normal, tang), sc in zip(models, scenarios):
         sc.distances = distances
         label = f"{normal}+{tang}"
         sub = Path(out) / label if out else None
