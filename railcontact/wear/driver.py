@@ -369,7 +369,8 @@ class WearDriver:
             mine = self.identity()
             a, b = _flat(theirs), _flat(json.loads(_canonical(mine)))
             diff = [k for k in sorted(set(a) | set(b)) if a.get(k) != b.get(k)]
-            text = "; ".join(f"{k}: {_cut(a.get(k))} in the checkpoint, {_cut(b.get(k))} now"
+            text = "; ".join(f"{k}: {_cut(a[k]) if k in a else 'absent'} in the checkpoint, "
+                             f"{_cut(b[k]) if k in b else 'absent'} now"
                              for k in diff[:4]) or "its hash differs"
             more = f" (and {len(diff) - 4} more)" if len(diff) > 4 else ""
             raise InputError(f"{path}: the checkpoint belongs to another scenario: {text}"
