@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.errors import InputError
 from ..core.materials import Material
 from ..normal import get_normal_model
 from ..tangential import get_tangential_model
@@ -232,6 +233,9 @@ class PatchPostProcessor:
                  reuse_tolerance: float = 1e-3, warm: bool = True):
         self.nmodel = get_normal_model(normal, **(normal_options or {}))
         self.tmodel = get_tangential_model(tangential, **(tangential_options or {}))
+        if "force-control" not in self.nmodel.capabilities:
+            raise InputError(f"normal model {normal!r}: the wear post-processing solves for the "
+                             "dynamics' normal force; expected a model with 'force-control'")
         self.law, self.material = law, material
         self.kw = {"grid": grid, "element_size": element_size}
         self.tol = float(reuse_tolerance)
