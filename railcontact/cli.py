@@ -172,7 +172,6 @@ def cmd_compare(args):
 
 def cmd_wear(args):
     from .wear import load_scenario
-    from .wear.driver import wear_driver
     from .wear.vehicle_scenario import VehicleWearScenario
     sc = load_scenario(args.scenario)
     if args.scheduler:
@@ -180,7 +179,7 @@ def cmd_wear(args):
     sc = sc.with_models(args.normal, args.tangential)     # an unknown name fails here
     out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
-    driver = wear_driver(sc, out)
+    driver = sc.driver(out)
     ds = driver.run(resume=not args.restart)
     if isinstance(sc, VehicleWearScenario):               # closed loop: a vehicle on routes
         from .wear.plots import plot_closed_loop

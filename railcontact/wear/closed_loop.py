@@ -18,7 +18,7 @@ Each wear step of a :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenar
    ``max_depth_per_step``; the depth is smoothed (Gaussian, area conserved) and the
    profiles move along their inward normals; the next step runs on them.
 
-Results go to ``wear.nc`` after every step (see ``docs/wear.md``), with a checkpoint
+Results go to ``wear.nc`` as the steps run (see ``docs/wear.md``), with a checkpoint
 from which an interrupted run resumes; with ``wear.records = true``, ``records/``
 holds per step and route the post-processed samples (the dynamics' inputs and the
 local model's results per patch).

@@ -15,9 +15,7 @@ from pathlib import Path
 import numpy as np
 
 from ..core.errors import InputError
-from .closed_loop import ClosedLoopWear
 from .plots import _wheel_panels
-from .simulation import WearSimulation
 from .vehicle_scenario import VehicleWearScenario
 
 
@@ -45,7 +43,7 @@ def compare_wear(scenario, models, out=None, progress=True):
         sub = Path(out) / label if out else None
         if sub:
             sub.mkdir(parents=True, exist_ok=True)
-        results[label] = WearSimulation(sc, sub, progress=progress).run(resume=False)
+        results[label] = sc.driver(sub, progress=progress).run(resume=False)
     if out:
         _write(results, Path(out))
     return results
@@ -90,7 +88,7 @@ def _compare_closed_loop(scenario, models, out, progress):
         if sub:
             sub.mkdir(parents=True, exist_ok=True)
         c0 = time.process_time()
-        ds = ClosedLoopWear(sc, sub, progress=progress).run(resume=False)
+        ds = sc.driver(sub, progress=progress).run(resume=False)
         ds.attrs["process_cpu_time_s"] = time.process_time() - c0
         if distances is None:
             distances = [float(d) for d in ds["distance"].values]

@@ -1,5 +1,5 @@
 """The wear driver: one loop, one step, one output writer and one checkpoint for
-every wear scenario.
+every wear scenario (a scenario's ``driver()`` gives its own).
 
 A wear run is a sequence of steps.  In each step the loads on the current profiles
 give every worn profile its wear depth per metre run (:meth:`WearDriver.loads`,
@@ -16,9 +16,10 @@ The rest is one step function (:meth:`WearDriver.run_step`): the depth is smooth
 (Gaussian, area conserved), the step distance is imposed (``distances``), fixed
 (``step_distance``) or chosen so that the largest depth is ``max_depth_per_step``,
 and each worn profile moves along its inward normal.  After every step the driver
-writes the results (``wear.nc``, :meth:`WearDriver.to_xarray` from the kind's
-table of :class:`Variable`) and the checkpoint (``checkpoint.nc``: the same
-dataset, the current profiles and the scenario's hash); a run started again
+writes the checkpoint (``checkpoint.nc``: the results of
+:meth:`WearDriver.to_xarray` from the kind's table of :class:`Variable`, the
+current profiles and the scenario's hash) and, at most every
+:data:`RESULTS_INTERVAL` and at the end, the results (``wear.nc``); a run started again
 resumes from it, bit-identical to an uninterrupted run, and refuses a checkpoint of
 another scenario or one it cannot read, naming what differs.
 """
@@ -49,6 +50,10 @@ CHECKPOINT_MARK = "railcontact_wear_checkpoint"
 CHECKPOINT_VERSION = 1
 #: scenario settings that a run may change on resume: how far it runs and where
 RESUMABLE = ("steps", "scheduler", "base_dir", "records")
+#: wear.nc is rewritten after a step when this long [s] has passed since it was last
+#: written, and at the end of a run; the checkpoint after every step (a NetCDF
+#: write costs about 0.4 s, more than a step of a few fixed conditions)
+RESULTS_INTERVAL = 10.0
 
 
 @dataclass(frozen=True)
@@ -167,6 +172,7 @@ class WearDriver:
         self.step = 0
         self.distance = 0.0
         self.cpu_time = 0.0
+        self._written = time.perf_counter()       # when wear.nc was last written
 
     # ------------------------------------------------- what a kind provides
     def slots(self) -> list:
@@ -260,7 +266,7 @@ class WearDriver:
         self.distance += dist
         self.steps.append(rec)
         if self.out:
-            self.write()
+            self.write(results=time.perf_counter() - self._written >= RESULTS_INTERVAL)
         return rec
 
     def run(self, resume: bool = True):
@@ -300,12 +306,14 @@ class WearDriver:
             ds = ds.drop_vars("state")
         return ds
 
-    def write(self):
-        """Write the checkpoint and ``wear.nc`` into the output folder; returns the
-        results."""
+    def write(self, results: bool = True):
+        """Write the checkpoint and (``results``) ``wear.nc`` into the output folder;
+        returns the results."""
         ds = self.to_xarray()
         write_netcdf(self._checkpoint_dataset(ds), self.out / CHECKPOINT)
-        write_netcdf(ds, self.out / "wear.nc")
+        if results:
+            write_netcdf(ds, self.out / "wear.nc")
+            self._written = time.perf_counter()
         return ds
 
     # ------------------------------------------------------------ checkpoint
@@ -424,18 +432,3 @@ class WearDriver:
             rows.append(rec)
         return rows
 
-
-def wear_driver(scenario, out_dir=None, progress: bool = True) -> WearDriver:
-    """The driver of a wear scenario, by its type: a
-    :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenario` runs in the
-    closed loop, a :class:`~railcontact.wear.simulation.WearScenario` under its fixed
-    conditions."""
-    from .closed_loop import ClosedLoopWear
-    from .simulation import WearScenario, WearSimulation
-    from .vehicle_scenario import VehicleWearScenario
-    if isinstance(scenario, VehicleWearScenario):
-        return ClosedLoopWear(scenario, out_dir, progress)
-    if isinstance(scenario, WearScenario):
-        return WearSimulation(scenario, out_dir, progress)
-    raise InputError(f"wear scenario of type {type(scenario).__name__}: expected a "
-                     "WearScenario or a VehicleWearScenario")

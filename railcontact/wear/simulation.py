@@ -74,6 +74,10 @@ class WearScenario(WearSettings):
         return {**super().identity(), "base": self.base, "conditions": self.conditions,
                 "rail_passages_per_meter": self.rail_passages_per_meter}
 
+    def driver(self, out_dir=None, progress: bool = True) -> "WearSimulation":
+        """The wear run of this scenario (:class:`WearSimulation`)."""
+        return WearSimulation(self, out_dir, progress)
+
     def with_models(self, normal: str | None = None, tangential: str | None = None):
         """A copy with other local contact models (the ``[solver]`` keys); an unknown
         name is an error here, before any work."""

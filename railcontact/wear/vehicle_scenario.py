@@ -167,6 +167,12 @@ class VehicleWearScenario(WearSettings):
     def tangential(self) -> str:
         return self.case.tangential
 
+    def driver(self, out_dir=None, progress: bool = True):
+        """The closed-loop wear run of this scenario
+        (:class:`~railcontact.wear.closed_loop.ClosedLoopWear`)."""
+        from .closed_loop import ClosedLoopWear
+        return ClosedLoopWear(self, out_dir, progress)
+
     def with_models(self, normal: str | None = None, tangential: str | None = None):
         """A copy with other local contact models (the ``[solver]`` keys)."""
         raw = copy.deepcopy(self.case.raw)

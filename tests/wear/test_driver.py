@@ -9,7 +9,7 @@ import pytest
 import xarray as xr
 
 from railcontact.core.errors import InputError
-from railcontact.wear.driver import CHECKPOINT, wear_driver
+from railcontact.wear.driver import CHECKPOINT
 from railcontact.wear.simulation import WearSimulation
 from tests.wear.test_simulation import SYMMETRIC, scenario
 
@@ -123,6 +123,7 @@ def test_cli_reports_a_bad_checkpoint(one_step, tmp_path, capsys):
 
 
 def test_driver_by_scenario_type():
-    with pytest.raises(InputError, match="expected a WearScenario"):
-        wear_driver({"wear": {}})
-    assert isinstance(wear_driver(scenario(SYMMETRIC), progress=False), WearSimulation)
+    from railcontact.wear.closed_loop import ClosedLoopWear
+    from tests.wear.test_closed_loop import tiny
+    assert isinstance(scenario(SYMMETRIC).driver(progress=False), WearSimulation)
+    assert isinstance(tiny(steps=1).driver(progress=False), ClosedLoopWear)
