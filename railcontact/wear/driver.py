@@ -122,8 +122,22 @@ class StepLoads:
     record: dict = field(default_factory=dict)
 
 
+def _numbers(obj):
+    """``obj`` with its integers as floats (``k = 1`` and ``k = 1.0`` are one value)."""
+    if isinstance(obj, dict):
+        return {str(k): _numbers(v) for k, v in obj.items()}
+    if isinstance(obj, (list, tuple)):
+        return [_numbers(v) for v in obj]
+    if isinstance(obj, (int, np.integer)) and not isinstance(obj, bool):
+        return float(obj)
+    if isinstance(obj, np.floating):
+        return float(obj)
+    return obj
+
+
 def _canonical(obj) -> str:
-    return json.dumps(obj, sort_keys=True, default=str, separators=(",", ":"))
+    """Sorted, compact JSON of ``obj`` (numbers as floats, other objects as text)."""
+    return json.dumps(_numbers(obj), sort_keys=True, default=str, separators=(",", ":"))
 
 
 def _flat(obj, prefix="") -> dict:

@@ -37,6 +37,10 @@ def test_checkpoint_is_netcdf_with_the_scenario_hash(one_step):
     # more steps, another scheduler: the same scenario (it resumes)
     more = scenario(SYMMETRIC, steps=3, scheduler="sync")
     assert WearSimulation(more, None, progress=False).scenario_hash() == sim.scenario_hash()
+    # an integer written for a float is the same value
+    ints = [dict(c, weight=1) for c in SYMMETRIC]
+    assert WearSimulation(scenario(ints, steps=1), None,
+                          progress=False).scenario_hash() == sim.scenario_hash()
 
 
 def test_resume_is_bit_identical(one_step, tmp_path):
