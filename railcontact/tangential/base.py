@@ -43,8 +43,8 @@ TANGENTIAL_CAPABILITIES = {
     "strip-march": "marches the strips of many patches at once (class method "
                    "strip_forces): batches of the strip models",
     "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials; "
-               "attribute mode: 'rolling' or 'shift', the slip of the pressure's "
-               "displacements)",
+               "attribute mode: 'rolling', 'shift' or 'transient', how the pressure's "
+               "displacements enter the slip)",
     "lazy": "costly: the vertical balance lets FASTSIM stand in for it until its last "
             "passes (railcontact.cases.equilibrium)",
 }
