@@ -1122,6 +1122,56 @@ def bench_quasi_elastic(alphas=(1e-5, 2e-5, 3e-5, 5e-5)):
             f"{critical_speed(model, qe):.1f} m/s")
 
 
+def bench_wear_grid_reuse(repeat: int = 5):
+    """Issue 29: grid reuse in the wear post-processing (the exact normal solver's
+    declared "grid-reuse"): a bogie on a 40 m R300 curve, every sample post-processed
+    with exact + exact and no repeated states, with and without the kept grid,
+    interleaved ``repeat`` times (medians)."""
+    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.wear import get_wear_law, scenario_from_dict
+    from railcontact.wear.postprocess import PatchPostProcessor
+    from railcontact.wear.route_tasks import build_table
+    sc = scenario_from_dict({
+        "wheel": {"profile": "S1002"}, "rail": {"profile": "60E1", "inclination": 0.025},
+        "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [20, 20]},
+        "vehicle": {"model": "bogie"}, "dynamics": {"table_range": 0.010, "table_step": 5e-4},
+        "wear": {"law": "usfd", "steps": 1},
+        "route": [{"name": "R300", "radius": 300.0, "cant": 0.1, "speed": 20.0,
+                   "length": 40.0, "lead": 5.0}]})
+    sim = sc.driver(progress=False)
+    table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
+    item = sc.routes[0]
+    ds = simulate_vehicle(sc.model, item.route, table, item.speed, item.duration,
+                          friction=item.friction, sample_rate=100.0)
+    grid = np.arange(0.0, 0.2, 1e-4)
+    args = (ds, [table, table], [list(sim.wheels[0])] * 2, sim.rails[0], [[grid, grid]] * 2,
+            [grid, grid], item.friction, 1)
+    pps = {}
+    for keep in (False, True):
+        pp = PatchPostProcessor("exact", "exact", get_wear_law("usfd"), sc.case.material,
+                                (20, 20), reuse_tolerance=0.0)
+        pp.regrid = keep and pp.regrid
+        pp.run(*args)                                          # compiled, warm
+        pps[keep] = pp
+    wall, solve, res = {False: [], True: []}, {False: [], True: []}, {}
+    for _ in range(repeat):
+        for keep, pp in pps.items():
+            t0 = time.perf_counter()
+            res[keep] = pp.run(*args)
+            wall[keep].append(time.perf_counter() - t0)
+            solve[keep].append(res[keep]["stats"].solve_time)
+    same = all(np.array_equal(np.array(res[True][k]), np.array(res[False][k]))
+               for k in ("wheel", "rail")) and res[True]["energy"] == res[False]["energy"]
+    out("## Wear post-processing: grid reuse (exact + exact, bogie on R300, "
+        f"{res[True]['stats'].solved} solves, medians of {repeat} interleaved runs)\n")
+    out("| kept grid | post-processing [s] | solves [s] |")
+    out("|---|---|---|")
+    for keep in (False, True):
+        out(f"| {'yes' if keep else 'no'} | {statistics.median(wall[keep]):.3f} | "
+            f"{statistics.median(solve[keep]):.3f} |")
+    out(f"\n* wear depths and energy with and without it bit-identical: {same}\n")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -1138,6 +1188,7 @@ def main():
     bench_fmu()
     bench_quasi_elastic()
     bench_wear_closed_loop()
+    bench_wear_grid_reuse()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
     contact_inputs.main()

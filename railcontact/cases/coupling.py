@@ -85,7 +85,7 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
     kw = {"grid": grid, "element_size": element_size}
     load = {"normal_force": normal_force, "penetration": penetration}
     ns = nmodel.solve(geometry, material, **load, **kw)
-    mode = getattr(tmodel, "mode", "rolling")
+    mode = tmodel.mode                      # declared with "coupled"
     ts = tmodel.solve(ns, geometry, material, creepage, friction, velocity,
                       extra_slip=slip_from_pressure(ns.x, ns.y, ns.pressure, material, mode))
     converged = not material.is_dissimilar

@@ -23,16 +23,28 @@ def compute(tasks: list, scheduler: str, callback=None, what: str = "scheduler")
         ``"threads"``, ``"processes"`` (one worker per core), ``"sync"``, or the
         address of a dask.distributed scheduler (``tcp://host:port``: a client is
         opened for the run and closed after it).
-    callback : dask.callbacks.Callback, optional
-        Active during the run (a progress bar, :mod:`railcontact.core.progress`).
+    callback : railcontact.core.progress.TqdmCallback, optional
+        A progress bar: a Dask callback on the local schedulers; on a cluster it
+        follows the tasks' futures as they finish (a cluster calls no local
+        callbacks).
     what : str
         The input's name in the error for an unknown scheduler.
     """
     import dask
     if scheduler.startswith(ADDRESS):
-        from distributed import Client
-        with Client(scheduler) as client, callback or nullcontext():
-            return list(dask.compute(*tasks, scheduler=client.get))
+        try:
+            from distributed import Client
+        except ImportError:
+            raise InputError(f"{what} = {scheduler!r}: a Dask cluster needs the "
+                             "dask.distributed package (pip install 'railcontact[cluster]')"
+                             ) from None
+        with Client(scheduler) as client:
+            futures = client.compute(list(tasks))
+            if callback is None:
+                return list(client.gather(futures))
+            # a cluster runs no local Dask callbacks: the bar follows the futures
+            done = callback.follow(futures)
+            return [done[f.key] for f in futures]
     if scheduler not in LOCAL:
         raise InputError(f"{what} = {scheduler!r}: expected 'threads', 'processes', 'sync' "
                          "or a Dask scheduler address tcp://host:port")

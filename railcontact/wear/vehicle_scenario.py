@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
 from ..cases.case import Case, case_from_dict
@@ -67,6 +67,7 @@ class WearSettings:
     grid_step : float           arc-length resolution of the wear distributions [m]
     scheduler : str             Dask scheduler ("threads", "processes", "sync" or an address)
     base_dir : Path             folder that relative paths of the scenario start from
+    distances : list            imposed step distances [m] (None: by the step control)
     """
 
     law: str = "frictional-power"
@@ -80,6 +81,12 @@ class WearSettings:
     grid_step: float = 1e-4
     scheduler: str = "threads"
     base_dir: Path = field(default_factory=Path.cwd)
+    #: imposed step distances [m] (wear-compare runs every model over the first's)
+    distances: list | None = None
+
+    def identity(self) -> dict:
+        """The settings that decide the results (a checkpoint must match them)."""
+        return {f.name: getattr(self, f.name) for f in fields(WearSettings)}
 
 
 def apply_wear_settings(target, wear: dict) -> None:
@@ -138,9 +145,19 @@ class VehicleWearScenario(WearSettings):
     reuse_tolerance: float = 1e-3
     rail_traffic: float = 1.0
     records: bool = False
-    #: imposed step distances [m] (wear-compare runs every model over the first's)
-    distances: list | None = None
     title: str = ""
+    #: the [vehicle], [[route]] and [dynamics] sections as read
+    sections: dict = field(default_factory=dict)
+
+    def identity(self) -> dict:
+        """The settings a checkpoint must match (:meth:`WearSettings.identity`): the
+        case sections (but the title), the vehicle, the routes, the dynamics and the
+        closed loop's [wear] keys."""
+        case = {k: v for k, v in self.case.raw.items() if k != "title"}
+        return {**super().identity(), "case": case, **self.sections,
+                "dynamics_settings": self.dynamics, "wheels": self.wheels,
+                "sample_distance": self.sample_distance,
+                "reuse_tolerance": self.reuse_tolerance, "rail_traffic": self.rail_traffic}
 
     @property
     def normal(self) -> str:
@@ -149,6 +166,12 @@ class VehicleWearScenario(WearSettings):
     @property
     def tangential(self) -> str:
         return self.case.tangential
+
+    def driver(self, out_dir=None, progress: bool = True):
+        """The closed-loop wear run of this scenario
+        (:class:`~railcontact.wear.closed_loop.ClosedLoopWear`)."""
+        from .closed_loop import ClosedLoopWear
+        return ClosedLoopWear(self, out_dir, progress)
 
     def with_models(self, normal: str | None = None, tangential: str | None = None):
         """A copy with other local contact models (the ``[solver]`` keys)."""
@@ -216,7 +239,8 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
     if len(set(names)) != len(names):
         raise CaseFileError(f"route names {names}: expected distinct names")
     sc = VehicleWearScenario(case=case, model=model, routes=items, dynamics=dynamics,
-                             title=str(raw.get("title", "")), base_dir=base_dir)
+                             title=str(raw.get("title", "")), base_dir=base_dir,
+                             sections={"vehicle": veh, "route": routes, "dynamics": dyn})
     apply_wear_settings(sc, wear)
     if "wheels" in wear:
         sc.wheels = str(wear["wheels"])

@@ -26,3 +26,10 @@ def test_the_callback_runs_during_the_computation():
 def test_an_unknown_scheduler_names_the_input():
     with pytest.raises(InputError, match="wear.scheduler = 'gpu'"):
         compute([], "gpu", what="wear.scheduler")
+
+
+def test_a_cluster_without_distributed_names_the_extra(monkeypatch):
+    import sys
+    monkeypatch.setitem(sys.modules, "distributed", None)         # not installed
+    with pytest.raises(InputError, match="railcontact\\[cluster\\]"):
+        compute([], "tcp://127.0.0.1:8786", what="wear.scheduler")

@@ -200,7 +200,7 @@ def test_cli_wear_exact_exact(tmp_path, capsys):
     ds = xr.open_dataset(out / "wear.nc")
     assert ds.attrs["normal"] == "exact" and ds.attrs["tangential"] == "exact"
     assert float(ds["wear_depth_wheel"].max()) == pytest.approx(1e-4, rel=0.02)
-    for f in ("wear.png", "measures.png", "checkpoint.npz", "records/step001_R300.nc"):
+    for f in ("wear.png", "measures.png", "checkpoint.nc", "records/step001_R300.nc"):
         assert (out / f).is_file()
     assert main(["wear", str(path), "--normal", "nonsense", "--out", str(out)]) == 2
     assert "nonsense" in capsys.readouterr().err
