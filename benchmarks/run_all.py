@@ -792,11 +792,11 @@ def bench_wear_closed_loop(full: bool = True):
     """Issue 24: closed-loop wear of examples/wear_vehicle.toml (one core): (a) exact +
     exact against Hertz + FASTSIM, (b) the per-patch cost of every model and, unless
     ``full`` is False, (c) the sample stride, (d) repeated states, (e) the step size."""
-    from railcontact.wear import load_scenario
+    from railcontact.inputs import load_wear_scenario
     from railcontact.wear.closed_loop import ClosedLoopWear
     out("## Closed-loop wear: examples/wear_vehicle.toml (Manchester vehicle, tangent + "
         "R1200 + R300, 4 steps of 0.1 mm, USFD), one core (scheduler sync)\n")
-    sc = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
     sc.scheduler = "sync"
     # (a) the example with Hertz + FASTSIM and with exact + exact, interleaved by step
     models = {"hertz+fastsim": sc, "exact+exact": sc.with_models("exact", "exact")}
@@ -868,7 +868,7 @@ def bench_wear_closed_loop(full: bool = True):
     out("\nSample stride (step-1 runs, dynamics sampled at 400 Hz: one sample per 0.1, "
         "0.09, 0.05 m on the three routes): the route mix's wheel wear per metre "
         "(vehicle-averaged, smoothed) against every sample's, max |difference| / max:\n")
-    sc4 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc4 = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
     sc4.dynamics["sample_rate"] = 400.0
     sim4, tables4, runs4, grid4, rgrid4 = _wear_runs(sc4)
     out("| local model | 0.25 m | 0.5 m | 1 m (default) | 2 m | 4 m |")
@@ -919,7 +919,7 @@ def bench_wear_closed_loop(full: bool = True):
         for ds_ in (dists, [x / 2 for x in dists for _ in (0, 1)]):
             key = tuple(ds_)
             if key not in runs:
-                s2 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+                s2 = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
                 s2.scheduler, s2.steps, s2.distances = "sync", len(ds_), list(ds_)
                 sim2 = ClosedLoopWear(s2, None, progress=False)
                 runs[key] = (sim2.run(resume=False), sim2)
@@ -1128,10 +1128,11 @@ def bench_wear_grid_reuse(repeat: int = 5):
     with exact + exact and no repeated states, with and without the kept grid,
     interleaved ``repeat`` times (medians)."""
     from railcontact.dynamics.simulation import simulate_vehicle
-    from railcontact.wear import get_wear_law, scenario_from_dict
+    from railcontact.inputs import wear_scenario_from_dict
+    from railcontact.wear import get_wear_law
     from railcontact.wear.postprocess import PatchPostProcessor
     from railcontact.wear.route_tasks import build_table
-    sc = scenario_from_dict({
+    sc = wear_scenario_from_dict({
         "wheel": {"profile": "S1002"}, "rail": {"profile": "60E1", "inclination": 0.025},
         "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [20, 20]},
         "vehicle": {"model": "bogie"}, "dynamics": {"table_range": 0.010, "table_step": 5e-4},

@@ -171,9 +171,9 @@ def cmd_compare(args):
 
 
 def cmd_wear(args):
-    from .wear import load_scenario
+    from .inputs import load_wear_scenario
     from .wear.vehicle_scenario import VehicleWearScenario
-    sc = load_scenario(args.scenario)
+    sc = load_wear_scenario(args.scenario)
     if args.scheduler:
         sc.scheduler = args.scheduler
     sc = sc.with_models(args.normal, args.tangential)     # an unknown name fails here
@@ -197,10 +197,10 @@ def cmd_wear(args):
 
 
 def cmd_wear_compare(args):
-    from .wear import load_scenario
+    from .inputs import load_wear_scenario
     from .wear.compare import compare_wear, comparison_rows, format_rows, parse_models
     from .wear.vehicle_scenario import VehicleWearScenario
-    sc = load_scenario(args.scenario)
+    sc = load_wear_scenario(args.scenario)
     if args.scheduler:
         sc.scheduler = args.scheduler
     closed = isinstance(sc, VehicleWearScenario)

@@ -3,8 +3,7 @@
 from .driver import WearDriver
 from .laws import get_wear_law, wear_laws
 from .mapping import profile_depth, removed_area, strip_depth, wear_profile
-from .simulation import WearScenario, WearSimulation, load_scenario, scenario_from_dict
+from .simulation import WearScenario, WearSimulation
 
 __all__ = ["WearDriver", "get_wear_law", "wear_laws", "profile_depth", "removed_area",
-           "strip_depth", "wear_profile", "WearScenario", "WearSimulation", "load_scenario",
-           "scenario_from_dict"]
+           "strip_depth", "wear_profile", "WearScenario", "WearSimulation"]

@@ -32,8 +32,7 @@ from pathlib import Path
 import numpy as np
 
 from ..cases.bodies import build_wheelset_track
-from ..cases.case import case_from_dict
-from ..core.files import read_toml
+from ..cases.case import Case
 from ..cases.solve import solve
 from ..core.errors import CaseFileError, InputError
 from ..core.parallel import compute
@@ -41,8 +40,7 @@ from ..core.progress import TqdmCallback
 from .driver import StepLoads, Variable, WearDriver, WornBody
 from .laws import get_wear_law
 from .mapping import profile_depth, strip_depth
-from .vehicle_scenario import (WearSettings, apply_wear_settings, is_vehicle_scenario,
-                               number, vehicle_scenario_from_dict)
+from .vehicle_scenario import WearSettings, apply_wear_settings, number
 
 log = logging.getLogger(__name__)
 
@@ -61,12 +59,14 @@ _COND_KEYS = {"weight", "lateral_shift", "yaw", "vertical_force", "velocity", "p
 @dataclass
 class WearScenario(WearSettings):
     """A validated open-loop wear scenario: the base case (``base``, a case file's
-    dict), its operating conditions with their weights (``conditions``) and the
-    rail passages per metre of wheel travel."""
+    dict as read), its operating conditions with their weights (``conditions``, as
+    read), each condition's parsed case (``cases``) and the rail passages per metre
+    of wheel travel."""
 
     base: dict
     rail_passages_per_meter: float = 1.0
     conditions: list = field(default_factory=list)
+    cases: list = field(default_factory=list)
 
     def identity(self) -> dict:
         """The settings a checkpoint must match (:meth:`WearSettings.identity`), the
@@ -84,34 +84,26 @@ class WearScenario(WearSettings):
         if not (normal or tangential):
             return self
         out = copy.copy(self)
+        out.cases = [c.with_models(normal, tangential) for c in self.cases]
         out.base = copy.deepcopy(self.base)
-        solver = out.base.setdefault("solver", {})
-        if normal:
-            solver["normal"] = normal
-        if tangential:
-            solver["tangential"] = tangential
-        case = case_from_dict(_condition_raw(out, out.conditions[0], None), out.base_dir)
-        if case.tangential == "none":
+        out.base["solver"] = dict(out.cases[0].raw.get("solver", {}))
+        if out.cases[0].tangential == "none":
             raise CaseFileError("wear needs a tangential model (solver.tangential is 'none')")
         return out
 
 
-def load_scenario(path):
-    """Read and validate a wear scenario TOML file: a :class:`WearScenario`
-    (operating conditions or a time history) or, with ``[vehicle]`` and
-    ``[[route]]``, a closed-loop
-    :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenario`."""
-    path = Path(path)
-    return scenario_from_dict(read_toml(path, "wear scenario"), path.parent)
+#: the sections of an open-loop wear scenario that are not a case's
+WEAR_SCENARIO_SECTIONS = ("wear", "condition")
 
 
-def scenario_from_dict(raw: dict, base_dir=None):
-    """Validate a parsed wear scenario (see :func:`load_scenario`)."""
-    if is_vehicle_scenario(raw):
-        return vehicle_scenario_from_dict(raw, base_dir)
-    raw = copy.deepcopy(raw)
-    wear = raw.pop("wear", {})
-    conds = raw.pop("condition", None)
+def scenario_from_sections(sections: dict, base_dir, read_base) -> WearScenario:
+    """Validate an open-loop wear scenario (nothing is computed): its ``[wear]`` and
+    ``[[condition]]`` tables (``sections``) here, then its base case by
+    ``read_base()``, which returns it parsed (a :class:`~railcontact.cases.case.Case`:
+    the front end :func:`railcontact.inputs.wear_scenario_from_dict` reads it); every
+    condition's case is checked here, before any work."""
+    wear = copy.deepcopy(sections.get("wear", {}))
+    conds = copy.deepcopy(sections.get("condition"))
     if not isinstance(wear, dict):
         raise CaseFileError("[wear] must be a table")
     if "history" in wear:
@@ -126,6 +118,8 @@ def scenario_from_dict(raw: dict, base_dir=None):
         raise CaseFileError("missing [[condition]] tables; expected at least one operating "
                             "condition (lateral_shift, yaw, vertical_force, weight, ...)")
     for i, c in enumerate(conds):
+        if not isinstance(c, dict):
+            raise CaseFileError(f"condition {i + 1}: expected a table of wheelset keys")
         bad = set(c) - _COND_KEYS
         if bad:
             raise CaseFileError(f"condition {i + 1}: unknown key(s) {sorted(bad)}; expected "
@@ -133,11 +127,12 @@ def scenario_from_dict(raw: dict, base_dir=None):
         w = c.get("weight", 1.0)
         if not (isinstance(w, (int, float)) and w > 0):
             raise CaseFileError(f"condition {i + 1}: weight = {w!r}; expected a value > 0")
-    sc = WearScenario(base=raw, conditions=conds, base_dir=Path(base_dir or Path.cwd()))
+    base = read_base()
+    sc = WearScenario(base=copy.deepcopy(base.raw), conditions=conds,
+                      base_dir=Path(base_dir or Path.cwd()))
     apply_wear_settings(sc, wear)
     sc.rail_passages_per_meter = number(wear, "wear", "rail_passages_per_meter", 1.0, 1e-9, 1e3)
-    # validate the base case with the first condition
-    case_from_dict(_condition_raw(sc, conds[0], None), sc.base_dir)
+    sc.cases = [base.with_values(_condition_values(base, c)) for c in conds]
     return sc
 
 
@@ -193,38 +188,43 @@ def read_history(path: Path, stride: int = 1) -> list:
     return conds
 
 
-def _condition_raw(sc: WearScenario, cond: dict, profiles: dict | None) -> dict:
-    raw = copy.deepcopy(sc.base)
-    ws = raw.setdefault("wheelset", {})
+def _condition_values(base: Case, cond: dict) -> dict:
+    """The dotted case keys that an operating condition sets on the base case."""
+    out = {}
     for k, v in cond.items():
-        if k in ("weight",):
+        if k == "weight":
             continue
         if k == "curve_radius":
             # steady curving: the wheelset turns with the track at V / R (positive R:
             # curve to the right); cant enters through the per-wheel vertical loads
             if not (isinstance(v, (int, float)) and abs(v) >= 10.0):
                 raise CaseFileError(f"condition curve_radius = {v!r}: expected |R| >= 10 m")
-            vel = cond.get("velocity", raw.get("wheelset", {}).get("velocity", 30.0))
-            ws["yaw_rate"] = float(vel) / float(v)
+            vel = cond.get("velocity", base.raw.get("wheelset", {}).get("velocity", 30.0))
+            out["wheelset.yaw_rate"] = float(vel) / float(v)
         elif k == "creepage":
-            raw["creepage"] = dict(v)
+            out["creepage"] = dict(v)
         else:
-            ws[k] = v
-    if profiles is not None:
-        raw.setdefault("wheel", {})["profile"] = profiles["wheel_right"]
-        raw["wheel"]["profile_left"] = profiles["wheel_left"]
-        raw.setdefault("rail", {})["profile"] = profiles["rail_right"]
-        raw["rail"]["profile_left"] = profiles["rail_left"]
-        raw["rail"]["inclination"] = 0.0       # worn rails are kept as mounted
-    return raw
+            out[f"wheelset.{k}"] = v
+    return out
 
 
-def condition_wear(raw: dict, base_dir, law_name: str, law_params: dict, grids: dict,
+def _on_profiles(case: Case, profiles: dict) -> Case:
+    """A condition's case on the current (worn) profiles; worn rails are kept as
+    mounted (inclination 0)."""
+    return case.with_values({"wheel.profile": profiles["wheel_right"],
+                             "wheel.profile_left": profiles["wheel_left"],
+                             "rail.profile": profiles["rail_right"],
+                             "rail.profile_left": profiles["rail_left"],
+                             "rail.inclination": 0.0})
+
+
+def condition_wear(case: Case, law_name: str, law_params: dict, grids: dict,
                    profiles: dict) -> dict:
-    """Wear of one operating condition: depth per revolution (wheels) and per passage
-    (rails) on the s-grids, the rolling radii, and the frictional energy [J/m]."""
+    """Wear of one operating condition (its case on the current profiles): depth per
+    revolution (wheels) and per passage (rails) on the s-grids, the rolling radii, and
+    the frictional energy [J/m]."""
     law = get_wear_law(law_name, **law_params)
-    res = solve(case_from_dict(raw, base_dir))
+    res = solve(case)
     out = {b: np.zeros_like(grids[b]) for b in BODIES}
     radius = {"left": math.nan, "right": math.nan}
     energy = 0.0
@@ -258,8 +258,7 @@ class WearSimulation(WearDriver):
 
     def __init__(self, scenario: WearScenario, out_dir=None, progress: bool = True):
         super().__init__(scenario, out_dir, progress)
-        case = case_from_dict(_condition_raw(scenario, scenario.conditions[0], None),
-                              scenario.base_dir)
+        case = scenario.cases[0]
         ws, tr = build_wheelset_track(case)
         self.profiles = {"wheel_left": ws.wheel_left, "wheel_right": ws.wheel_right,
                          "rail_left": tr.rail_left, "rail_right": tr.rail_right}
@@ -288,10 +287,10 @@ class WearSimulation(WearDriver):
         grids = {b: grid_of[id(self.profiles[b])] for b in BODIES}
         w = np.array([c.get("weight", 1.0) for c in sc.conditions], dtype=float)
         w /= w.sum()
-        raws = [_condition_raw(sc, c, self.profiles) for c in sc.conditions]
-        tasks = [dask.delayed(condition_wear)(r, sc.base_dir, sc.law, sc.parameters, grids,
-                                              self.profiles) for r in raws]
-        bar = TqdmCallback(len(raws), f"wear step {self.step + 1}", prefix="condition_wear",
+        cases = [_on_profiles(c, self.profiles) for c in sc.cases]
+        tasks = [dask.delayed(condition_wear)(c, sc.law, sc.parameters, grids, self.profiles)
+                 for c in cases]
+        bar = TqdmCallback(len(cases), f"wear step {self.step + 1}", prefix="condition_wear",
                            leave=False, disable=not self.progress)
         results = compute(tasks, sc.scheduler, bar, "wear.scheduler")
         per_m = {b: np.zeros_like(grids[b]) for b in BODIES}

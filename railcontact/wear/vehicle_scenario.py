@@ -16,7 +16,7 @@ import math
 from dataclasses import dataclass, field, fields
 from pathlib import Path
 
-from ..cases.case import Case, case_from_dict
+from ..cases.case import Case
 from ..dynamics.scenario import (creep_law_settings, route_from_section, vehicle_from_section,
                                  vehicle_length)
 from ..core.errors import CaseFileError
@@ -175,16 +175,8 @@ class VehicleWearScenario(WearSettings):
 
     def with_models(self, normal: str | None = None, tangential: str | None = None):
         """A copy with other local contact models (the ``[solver]`` keys)."""
-        raw = copy.deepcopy(self.case.raw)
-        sol = raw.setdefault("solver", {})
-        if normal:
-            sol["normal"] = normal
-            sol.pop("normal_options", None)
-        if tangential:
-            sol["tangential"] = tangential
-            sol.pop("tangential_options", None)
         out = copy.copy(self)
-        out.case = case_from_dict(raw, self.base_dir)
+        out.case = self.case.with_models(normal, tangential)
         if out.case.tangential == "none":
             raise CaseFileError("wear needs a tangential model (solver.tangential is 'none')")
         return out
@@ -195,9 +187,17 @@ def is_vehicle_scenario(raw: dict) -> bool:
     return "vehicle" in raw or "route" in raw
 
 
-def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
-    """Validate a parsed closed-loop wear scenario (nothing is computed)."""
-    raw = copy.deepcopy(raw)
+#: the sections of a closed-loop wear scenario that are not a case's
+VEHICLE_SCENARIO_SECTIONS = ("vehicle", "route", "dynamics", "wear", "condition")
+
+
+def vehicle_scenario_from_sections(sections: dict, base_dir, read_case) -> VehicleWearScenario:
+    """Validate a closed-loop wear scenario (nothing is computed): its own sections
+    (:data:`VEHICLE_SCENARIO_SECTIONS`, with ``title``) here, then its case sections by
+    ``read_case()``,
+    which returns them parsed (a :class:`~railcontact.cases.case.Case`: the front end
+    :func:`railcontact.inputs.wear_scenario_from_dict` reads them)."""
+    raw = copy.deepcopy(sections)
     base_dir = Path(base_dir or Path.cwd())
     veh = raw.pop("vehicle", {})
     routes = raw.pop("route", None)
@@ -218,7 +218,7 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
         raise CaseFileError("missing [[route]] items; expected at least one route (segments "
                             "or radius, speed, length, weight)")
     model = vehicle_from_section(veh, base_dir)
-    case = case_from_dict(raw, base_dir)
+    case = read_case()
     if case.is_bodies:
         raise CaseFileError("a wear scenario needs [wheel] and [rail] profiles, not [bodies]")
     if case.tangential == "none":
