@@ -48,7 +48,7 @@ from ..normal.influence import TangentialOperator, block_size, bounding_box, tan
 from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
-from .semi_smooth_newton import initial_march, ssn_solve
+from .semi_smooth_newton import SlipOperator, initial_march, ssn_solve
 
 log = logging.getLogger(__name__)
 
@@ -146,8 +146,8 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     # the iteration returns the slip's linear part and the stick mask of its last
     # iterate (C p accumulated from its products, no product more)
     qx, qy, cx, cy, sb, it, nprod, converged = ssn_solve(
-        *q, op.kxx, op.kxy, op.kyy, op.shape, dx, shift, cb, gb, rho, dxx, dyy, float(tol),
-        int(maxiter))
+        *q, SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift), cb, gb, rho, (dxx, dyy),
+        float(tol), int(maxiter))
     log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
     sbx, sby = q[2] + cx, q[3] + cy
     px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
