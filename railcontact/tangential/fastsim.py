@@ -70,7 +70,7 @@ class StripArrays(NamedTuple):
         return cls(strips.y, strips.dy, strips.x_mid, strips.half, strips.p_strip)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _strip_to_grid(j, x_lead, x_trail, dx, xgrid, strip, grid):
     """Copy one strip's mid-point values ``strip`` (:class:`Traction`, element length
     dx from the leading edge) to column j of the regular grid ``grid``: tractions
