@@ -38,21 +38,45 @@ def mod(pkg, name):
     return importlib.import_module(f"{pkg}.{name}")
 
 
-def sim_call(pkg, sc, table, duration, integrator):
+class _Scenario:
+    """A dynamics scenario of either build: a dict (before issue 29's typed
+    configuration) or a DynamicsScenario, read by attribute."""
+
+    def __init__(self, pkg):
+        try:
+            sc = mod(pkg, "inputs").load_dynamics_scenario(DEMO)
+            self.sc, self.typed = sc, True
+            self.wheelset_track = (sc.wheelset, sc.track)
+        except ModuleNotFoundError:
+            sc = mod(pkg, "dynamics.scenario").load_simulation(DEMO)
+            self.sc, self.typed = sc, False
+            self.wheelset_track = mod(pkg, "cases.bodies").build_wheelset_track(sc["case"])
+        self.table = mod(pkg, "dynamics.scenario").build_table(sc)
+
+    def __getattr__(self, key):
+        sc = self.__dict__["sc"]
+        if self.__dict__["typed"]:
+            return getattr(sc, key)
+        if key in ("friction", "material"):
+            return getattr(sc["case"], key)
+        return sc[key]
+
+
+def sim_call(pkg, sc, table, duration, integrator, tangential=None):
     sim = mod(pkg, "dynamics.simulation")
-    case = sc["case"]
+    tangential = tangential or sc.tangential
     if hasattr(sim, "Integration"):
-        integ = sim.Integration(method=integrator, sample_rate=sc["sample_rate"], rtol=sc["rtol"],
-                                step=sc["step"])
-        return sim.simulate_vehicle(sc["model"], sc["route"], table, sc["velocity"], duration,
-                                    sc["tangential"], case.friction, case.material,
-                                    sc["initial_lateral_shift"], sc["tangential_options"],
-                                    sc["fastsim_grid"], integ)
-    return sim.simulate_vehicle(sc["model"], sc["route"], table, sc["velocity"], duration,
-                                sc["tangential"], case.friction, case.material,
-                                sc["initial_lateral_shift"], sc["sample_rate"], sc["rtol"], False,
-                                sc["tangential_options"], sc["fastsim_grid"],
-                                integrator=integrator, step=sc["step"])
+        integ = sim.Integration(method=integrator, sample_rate=sc.sample_rate, rtol=sc.rtol,
+                                step=sc.step)
+        return sim.simulate_vehicle(sc.model, sc.route, table, sc.velocity, duration,
+                                    tangential, sc.friction, sc.material,
+                                    sc.initial_lateral_shift, sc.tangential_options,
+                                    sc.fastsim_grid, integ)
+    return sim.simulate_vehicle(sc.model, sc.route, table, sc.velocity, duration,
+                                tangential, sc.friction, sc.material,
+                                sc.initial_lateral_shift, sc.sample_rate, sc.rtol, False,
+                                sc.tangential_options, sc.fastsim_grid,
+                                integrator=integrator, step=sc.step)
 
 
 def sphere(pkg, n):
@@ -80,12 +104,10 @@ def tangential_setup(pkg):
 
 state = {}
 for pkg in PKGS:
-    scen = mod(pkg, "dynamics.scenario")
-    sc = scen.load_simulation(DEMO)
-    table = scen.build_table(sc)
+    sc = _Scenario(pkg)
+    table = sc.table
     state[pkg] = dict(sc=sc, table=table, sph=sphere(pkg, 101), pk=mod(pkg, "normal.polonsky_keer"),
-                      tang=tangential_setup(pkg),
-                      wt=mod(pkg, "cases.bodies").build_wheelset_track(sc["case"]),
+                      tang=tangential_setup(pkg), wt=sc.wheelset_track,
                       search=mod(pkg, "geometry.search"))
     # warm-up: compile / load the caches
     sim_call(pkg, sc, table, 0.2, "rk4")
@@ -96,7 +118,7 @@ for pkg in PKGS:
 
 def job_rk4(pkg):
     s = state[pkg]
-    return sim_call(pkg, s["sc"], s["table"], s["sc"]["duration"], "rk4")
+    return sim_call(pkg, s["sc"], s["table"], s["sc"].duration, "rk4")
 
 
 def job_lsoda(pkg):
@@ -154,8 +176,7 @@ def job_find_contact(pkg):
 
 def job_rk4_polach(pkg):
     s = state[pkg]
-    sc = dict(s["sc"], tangential="polach")
-    return sim_call(pkg, sc, s["table"], 5.0, "rk4")
+    return sim_call(pkg, s["sc"], s["table"], 5.0, "rk4", "polach")
 
 
 JOBS = {"dynamics demo rk4 fastsim 15 s": job_rk4, "dynamics demo lsoda fastsim 0.5 s": job_lsoda,
@@ -170,7 +191,7 @@ for name, job in JOBS.items():
         for pkg in PKGS:
             job(pkg)
 for pkg in PKGS:
-    sim_call(pkg, dict(state[pkg]["sc"], tangential="polach"), state[pkg]["table"], 0.2, "rk4")
+    sim_call(pkg, state[pkg]["sc"], state[pkg]["table"], 0.2, "rk4", "polach")
 times = {(j, p): [] for j in JOBS for p in PKGS}
 results = {}
 for rep in range(REPS):
