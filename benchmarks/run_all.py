@@ -691,7 +691,8 @@ def bench_tangential_accuracy():
 
 def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
     """Issue 6: the benchmark vehicle on a curved, irregular track, against real time."""
-    from railcontact.dynamics import Route, VehicleModel, WheelRailTable, simulate_vehicle
+    from railcontact.dynamics import (Integration, Route, VehicleModel, WheelRailTable,
+                                      simulate_vehicle)
     from railcontact.dynamics.route import Irregularities
     from railcontact.dynamics.vehicle import G_ACC
     out("## Vehicle dynamics: Manchester vehicle, 50 m/s, curved irregular track\n")
@@ -709,12 +710,12 @@ def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
     phi = math.asin(0.12 / 1.5)
     au = velocity ** 2 / 2500.0 * math.cos(phi) - G_ACC * math.sin(phi)
     simulate_vehicle(model, route, table, velocity, 0.5)        # compile / load the cache
-    simulate_vehicle(model, route, table, velocity, 0.5, integrator="lsoda")
+    simulate_vehicle(model, route, table, velocity, 0.5, integration=Integration("lsoda"))
     rows = []
     ds = simulate_vehicle(model, route, table, velocity, duration, "fastsim")
     rows.append(("Hertz table + FASTSIM (compiled, 12x12), rk4", duration, ds))
     ds_l = simulate_vehicle(model, route, table, velocity, duration, "fastsim",
-                            integrator="lsoda")
+                            integration=Integration("lsoda"))
     rows.append(("Hertz table + FASTSIM (compiled, 12x12), LSODA rtol 1e-6", duration, ds_l))
     ds_p = simulate_vehicle(model, route, table, velocity, duration, "polach")
     rows.append(("Hertz table + Polach (compiled), rk4", duration, ds_p))
@@ -746,7 +747,7 @@ def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
 def _wear_runs(sc):
     """Step-1 tables and dynamics runs of a closed-loop scenario (the same for every
     local model): (simulation, tables per route, datasets per route, grids)."""
-    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.dynamics.simulation import Integration, simulate_vehicle
     from railcontact.wear.closed_loop import ClosedLoopWear
     from railcontact.wear.mapping import arc_length_grid
     from railcontact.wear.route_tasks import build_table
@@ -756,8 +757,9 @@ def _wear_runs(sc):
     d = sc.dynamics
     runs = [simulate_vehicle(sc.model, r.route, tables, r.speed, r.duration, d["tangential"],
                              r.friction, sc.case.material, d["initial_lateral_shift"],
-                             d["sample_rate"], d["rtol"], False, d["tangential_options"],
-                             d["fastsim_grid"], integrator=d["integrator"], step=d["step"])
+                             d["tangential_options"], d["fastsim_grid"],
+                             Integration(d["integrator"], d["sample_rate"], d["rtol"],
+                                         step=d["step"]))
             for r in sc.routes]
     grid = arc_length_grid(sim.wheels[0][0], sc.grid_step)
     rgrid = arc_length_grid(sim.rails[0][0], sc.grid_step)

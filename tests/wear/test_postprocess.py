@@ -4,7 +4,7 @@ reused, warm starts along the time history."""
 
 import numpy as np
 
-from railcontact.dynamics.simulation import simulate_vehicle
+from railcontact.dynamics.simulation import Integration, simulate_vehicle
 from railcontact.wear import get_wear_law
 from railcontact.wear.closed_loop import ClosedLoopWear
 from railcontact.wear.postprocess import PatchPostProcessor
@@ -22,7 +22,7 @@ def test_repeated_states_and_warm_starts():
     table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, s)
     item = sc.routes[0]
     ds = simulate_vehicle(sc.model, item.route, table, item.speed, item.duration,
-                          friction=item.friction, sample_rate=100.0)
+                          friction=item.friction, integration=Integration(sample_rate=100.0))
     grid = np.arange(0.0, 0.2, 1e-4)
     wheels = [[sim.wheels[0][0], sim.wheels[0][1]]] * 2
     args = (ds, [table, table], wheels, sim.rails[0], [[grid, grid]] * 2, [grid, grid], 0.3, 5)
