@@ -206,20 +206,21 @@ def cmd_compare(args):
 
 
 def cmd_wear(args):
-    from .wear import load_scenario
+    from .inputs import load_wear_scenario
+    from .wear.vehicle_scenario import VehicleWearScenario
     out = check_output(args.out, folder=True)
     if args.scheduler:
         check_scheduler(args.scheduler)
     _check_models(args.normal, args.tangential)
-    sc = load_scenario(args.scenario)
+    sc = load_wear_scenario(args.scenario)
     if args.scheduler:
         sc.scheduler = args.scheduler
-    if hasattr(sc, "routes"):                     # closed loop: a vehicle on routes
-        from .wear.closed_loop import ClosedLoopWear
+    sc = sc.with_models(args.normal, args.tangential)     # an unknown name fails here
+    out.mkdir(parents=True, exist_ok=True)
+    driver = sc.driver(out)
+    ds = driver.run(resume=not args.restart)
+    if isinstance(sc, VehicleWearScenario):               # closed loop: a vehicle on routes
         from .wear.plots import plot_closed_loop
-        sc = sc.with_models(args.normal, args.tangential)
-        out.mkdir(parents=True, exist_ok=True)
-        ds = ClosedLoopWear(sc, out).run(resume=not args.restart)
         plot_closed_loop(ds, out)
         bad = int(ds["not_converged"].sum()) if "not_converged" in ds else 0
         print(f"{ds.sizes['step']} steps, {ds.attrs['total_distance_m'] / 1e3:.1f} km, "
@@ -227,38 +228,25 @@ def cmd_wear(args):
               f"measures.png" + (" and records/" if sc.records else ""))
         return _report_status(bad == 0, f"{bad} local solves did not converge (see "
                               "'not_converged' in wear.nc)", [])
-    from .wear import WearSimulation
     from .wear.plots import plot_wear
-    if args.normal or args.tangential:
-        from .normal import normal_model_class
-        from .tangential import tangential_model_class
-        solver = sc.base.setdefault("solver", {})
-        if args.normal:
-            normal_model_class(args.normal)                 # a known name, or its error
-            solver["normal"] = args.normal
-        if args.tangential:
-            tangential_model_class(args.tangential)
-            solver["tangential"] = args.tangential
-    out.mkdir(parents=True, exist_ok=True)
-    sim = WearSimulation(sc, out)
-    ds = sim.run(resume=not args.restart)
-    plot_wear(ds, sim, out)
+    plot_wear(ds, driver, out)
     print(f"{ds.sizes['step']} steps, {ds.attrs['total_distance_m'] / 1e3:.1f} km; wrote "
           f"{out / 'wear.nc'} and plots")
 
 
 def cmd_wear_compare(args):
-    from .wear import load_scenario
+    from .inputs import load_wear_scenario
     from .wear.compare import compare_wear, comparison_rows, format_rows, parse_models
+    from .wear.vehicle_scenario import VehicleWearScenario
     check_output(args.out, folder=True)
     if args.scheduler:
         check_scheduler(args.scheduler)
     if args.models:
         _check_pairs(parse_models(args.models))
-    sc = load_scenario(args.scenario)
+    sc = load_wear_scenario(args.scenario)
     if args.scheduler:
         sc.scheduler = args.scheduler
-    closed = hasattr(sc, "routes")
+    closed = isinstance(sc, VehicleWearScenario)
     spec = args.models or ("hertz+fastsim,kik-piotrowski+fastsim,stripes+fastsim,"
                            "analyn+fastsim,exact+exact" if closed else
                            "hertz+fastsim,kpec+fastsim,analyn+fastsim")

@@ -27,7 +27,7 @@ def test_case_examples(path, tmp_path, request):
     if "[vehicle]" in text and "[wear]" in text:       # closed-loop wear (run once)
         out, ds = request.getfixturevalue("wear_vehicle_example")
         assert ds.sizes["step"] >= 1 and ds.sizes["route"] >= 3
-        for f in ("wear.nc", "wear.png", "measures.png", "checkpoint.npz"):
+        for f in ("wear.nc", "wear.png", "measures.png", "checkpoint.nc"):
             assert (out / f).is_file()
         return
     if "[vehicle]" in text:
@@ -42,8 +42,9 @@ def test_case_examples(path, tmp_path, request):
         assert float(abs(ds["Y_over_Q"]).max()) < 0.8
         return
     if "[wear]" in text:
-        from railcontact.wear import WearSimulation, load_scenario
-        ds = WearSimulation(load_scenario(path), tmp_path, progress=False).run()
+        from railcontact.inputs import load_wear_scenario
+        from railcontact.wear import WearSimulation
+        ds = WearSimulation(load_wear_scenario(path), tmp_path, progress=False).run()
         assert ds.sizes["step"] >= 1 and (tmp_path / "wear.nc").is_file()
         return
     res = rc.solve(rc.load_case(path))

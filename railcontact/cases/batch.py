@@ -167,8 +167,11 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
         raise InputError(f"fastsim_grid elements per strip {shown(nx)}: expected [2, 500]")
     if normal_supports(normal, "ellipse"):
         st = hertz_ellipse_strips(patches, material.contact_modulus, strips=int(strips))
-    else:
+    elif normal_supports(normal, "strips"):
         st = solve_strips(normal, patches, material.contact_modulus, strips=int(strips))
+    else:
+        raise InputError(f"normal model {normal!r} in batch: expected one that declares "
+                         "'ellipse' or 'strips'")
     F = st.normal_force
     a, b = st.equivalent_ellipses()
     ok = (F > 0) & (a > 0) & (b > 0)

@@ -93,14 +93,32 @@ class Case(CaseKeys):
 
     def with_value(self, dotted: str, value) -> "Case":
         """A copy of the case with one dotted key set (used by sweeps)."""
+        return self.with_values({dotted: value})
+
+    def with_values(self, values: dict) -> "Case":
+        """A copy of the case with the dotted keys of ``values`` set (``{"wheelset.yaw":
+        0.002, "creepage": {...}}``; a value may be a :class:`~railcontact.profiles.Profile`
+        for a profile key), parsed and checked as a case file is."""
         raw = copy.deepcopy(self.raw)
-        node = raw
-        parts = dotted.split(".")
-        for part in parts[:-1]:
-            node = node.setdefault(part, {})
-            if not isinstance(node, dict):
-                raise CaseFileError(f"{dotted}: {part} is not a table")
-        node[parts[-1]] = value
+        for dotted, value in values.items():
+            node = raw
+            parts = dotted.split(".")
+            for part in parts[:-1]:
+                node = node.setdefault(part, {})
+                if not isinstance(node, dict):
+                    raise CaseFileError(f"{dotted}: {part} is not a table")
+            node[parts[-1]] = value
+        return case_from_dict(raw, self.base_dir)
+
+    def with_models(self, normal: str | None = None, tangential: str | None = None) -> "Case":
+        """A copy with other models (``[solver]``'s normal and tangential; the options of
+        a replaced model are dropped), checked as a case file is."""
+        raw = copy.deepcopy(self.raw)
+        sol = raw.setdefault("solver", {})
+        for key, name in (("normal", normal), ("tangential", tangential)):
+            if name:
+                sol[key] = name
+                sol.pop(f"{key}_options", None)
         return case_from_dict(raw, self.base_dir)
 
 

@@ -34,33 +34,6 @@ def check_scheduler(scheduler, what: str = "--scheduler", auto: bool = False) ->
     return scheduler
 
 
-def _on_cluster(client, tasks: list, callback=None) -> list:
-    """The tasks computed on a dask.distributed ``client``, the progress bar of
-    ``callback`` (a :class:`~railcontact.core.progress.TqdmCallback`) advanced as
-    each of its counted tasks' result comes back, as the callback counts them
-    (Dask's local callbacks do not run there)."""
-    from distributed import as_completed
-    futures = client.compute(list(tasks))
-    index = {}
-    for i, f in enumerate(futures):                # equal tasks share one future
-        index.setdefault(f.key, []).append(i)
-    out = [None] * len(futures)
-    bar = callback.open_bar() if callback is not None and hasattr(callback, "open_bar") \
-        else None
-    try:
-        for fut, result in as_completed(futures, with_results=True):
-            name = fut.key[0] if isinstance(fut.key, tuple) else fut.key
-            counted = bar is not None and str(name).startswith(callback.prefix)
-            for i in index[fut.key]:
-                out[i] = result
-                if counted:
-                    bar.update(len(result) if isinstance(result, list) else 1)
-    finally:
-        if bar is not None:
-            bar.close()
-    return out
-
-
 def compute(tasks: list, scheduler: str, callback=None, what: str = "scheduler") -> list:
     """The results of the Dask ``tasks`` in their order.
 
@@ -71,8 +44,10 @@ def compute(tasks: list, scheduler: str, callback=None, what: str = "scheduler")
         ``"threads"``, ``"processes"`` (one worker per core), ``"sync"``, or the
         address of a dask.distributed scheduler (``tcp://host:port``: a client is
         opened for the run and closed after it).
-    callback : dask.callbacks.Callback, optional
-        Active during the run (a progress bar, :mod:`railcontact.core.progress`).
+    callback : railcontact.core.progress.TqdmCallback, optional
+        A progress bar: a Dask callback on the local schedulers; on a cluster it
+        follows the tasks' futures as they finish (a cluster calls no local
+        callbacks).
     what : str
         The input's name in the error for an unknown scheduler.
     """
@@ -81,6 +56,11 @@ def compute(tasks: list, scheduler: str, callback=None, what: str = "scheduler")
     if scheduler.startswith(ADDRESS):
         from distributed import Client
         with Client(scheduler) as client:
-            return _on_cluster(client, tasks, callback)
+            futures = client.compute(list(tasks))
+            if callback is None:
+                return list(client.gather(futures))
+            # a cluster runs no local Dask callbacks: the bar follows the futures
+            done = callback.follow(futures)
+            return [done[f.key] for f in futures]
     with callback or nullcontext():
         return list(dask.compute(*tasks, scheduler=scheduler))

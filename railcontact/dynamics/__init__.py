@@ -21,7 +21,8 @@
 
 from .route import Irregularities, Route, erri_psd
 from .scenario import simulate_batch
-from .simulation import amplitude_growth, critical_speed, simulate_vehicle, state_matrix
+from .simulation import (Integration, amplitude_growth, critical_speed, simulate_vehicle,
+                         state_matrix)
 from .vehicle import MANCHESTER, Body, Element, VehicleModel
 from .wheel_rail import WheelRailTable
 from .wheelset import WheelsetModel, linear_matrix, simulate, wavelength
@@ -29,5 +30,5 @@ from .wheelset import critical_speed as wheelset_critical_speed
 
 __all__ = ["WheelsetModel", "simulate", "wavelength", "linear_matrix",
            "wheelset_critical_speed", "VehicleModel", "Body", "Element", "MANCHESTER",
-           "Route", "Irregularities", "erri_psd", "WheelRailTable", "simulate_vehicle",
+           "Route", "Irregularities", "erri_psd", "WheelRailTable", "simulate_vehicle", "Integration",
            "simulate_batch", "state_matrix", "critical_speed", "amplitude_growth"]

@@ -54,7 +54,9 @@ TANGENTIAL_CAPABILITIES = {
               "railcontact.tangential.online): vehicle dynamics and batches",
     "strip-march": "marches the strips of many patches at once (class method "
                    "strip_forces): batches of the strip models",
-    "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials)",
+    "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials; "
+               "attribute mode: 'rolling', 'shift' or 'transient', how the pressure's "
+               "displacements enter the slip)",
     "lazy": "costly: the vertical balance lets FASTSIM stand in for it until its last "
             "passes (railcontact.cases.equilibrium)",
 }
@@ -69,7 +71,8 @@ class TangentialModel(Protocol):
     :class:`TangentialSolution` whose ``status`` says whether it converged.
     ``capabilities`` is a frozenset of keys of :data:`TANGENTIAL_CAPABILITIES`; a
     model with ``"online"`` names its compiled law in ``online_law``, one with
-    ``"strip-march"`` implements ``strip_forces``.
+    ``"strip-march"`` implements ``strip_forces``, one with ``"coupled"`` says in
+    ``mode`` whether it rolls or shifts.
     """
 
     name: ClassVar[str]

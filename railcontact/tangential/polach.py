@@ -41,7 +41,7 @@ from ..core.materials import Material, STEEL
 from .base import TangentialSolution, register
 from .fastsim import equivalent_ellipse
 from .friction import falling_friction
-from .kalker import kalker_coefficients
+from .kalker import Creepage, KalkerCoefficients, kalker_coefficients
 
 #: extended-model presets: (k_A, k_S, mu0, A, B [s/m]); source REFERENCES.md 6.4
 #: (Polach 2005 as transcribed there, unverified against the paper)
@@ -53,14 +53,20 @@ def polach_forces(Q, mu, a, b, G, nu, sx, sy, psi, kA=1.0, kS=1.0):
     part of the method."""
     if Q <= 0 or a <= 0 or b <= 0:
         return 0.0, 0.0
-    C11, C22, C23 = kalker_coefficients(a / b, nu)
-    return polach_kernel(Q, mu, a, b, G, C11, C22, C23, sx, sy, psi, kA, kS)
+    C = KalkerCoefficients(*kalker_coefficients(a / b, nu))
+    return polach_kernel(Q, mu, a, b, G, C, Creepage(sx, sy, psi), kA, kS)
 
 
 @njit(cache=True, nogil=True)
-def polach_kernel(Q, mu, a, b, G, C11, C22, C23, sx, sy, psi, kA, kS):
+def polach_kernel(Q, mu, a, b, G, C, creepage, kA, kS):
     """:func:`polach_forces` with the creep coefficients given (compiled, for online
-    use in the dynamics layer)."""
+    use in the dynamics layer): wheel load Q [N], friction mu, semi-axes a, b [m],
+    shear modulus G [Pa], Kalker's coefficients ``C``
+    (:class:`~railcontact.tangential.kalker.KalkerCoefficients`), the creepages
+    (:class:`~railcontact.tangential.kalker.Creepage`: sx, sy [-], psi [1/m]) and
+    Polach's reduction factors kA, kS."""
+    C11, C22, C23 = C.C11, C.C22, C.C23
+    sx, sy, psi = creepage.xi, creepage.eta, creepage.phi
     if Q <= 0.0 or a <= 0.0 or b <= 0.0:
         return 0.0, 0.0
     syc = sy + psi * a if abs(sy + psi * a) > abs(sy) else sy

@@ -30,6 +30,13 @@ def test_an_unknown_scheduler_names_the_input():
         compute([], "gpu", what="wear.scheduler")
 
 
+def test_a_cluster_without_distributed_names_the_extra(monkeypatch):
+    import sys
+    monkeypatch.setitem(sys.modules, "distributed", None)         # not installed
+    with pytest.raises(InputError, match="railcontact\\[cluster\\]"):
+        compute([], "tcp://127.0.0.1:8786", what="wear.scheduler")
+
+
 # ---- a real dask.distributed cluster (loopback, two workers in this process) ----
 
 distributed = pytest.importorskip("distributed")
