@@ -1,0 +1,524 @@
+"""A wheelset on a roller rig: its lateral dynamics, its forces under a prescribed
+(excited) hunting motion, and its linear stability against the same wheelset on
+tangent track.
+
+The rig of seed 002 (Heckmann, Keck, Kaiser and Kurzeck, "The Wheel-Rail-Contact",
+Modelica 2014; the DLR roller rig: a 1:5 running gear on rollers of 0.18 m radius,
+6 m/s, an excited hunting of 0.5 Hz and 8 mm) is a wheelset held by its primary
+suspension to a frame at rest, its two wheels on two rollers turning at the angular
+speed Ω_r.  Each roller carries the rail profile (as mounted) revolved about an axis
+along y at depth R_r below its crown (:class:`~railcontact.geometry.surfaces.
+RollerSurface`); the rollers lie at the track's rail positions (the gauge).
+
+Contact geometry (the cheaper exact-to-first-order geometry, checked against the
+3-D roller search in tests/dynamics/test_roller_rig.py).  The wheelset's contact
+table over the lateral shift (:class:`~railcontact.dynamics.wheel_rail.
+WheelRailTable`, the multi-Hertzian search of the profiles) gives each patch its
+contact angle δ, rolling radius r, lateral position y_p and rail-profile point
+y_rail.  On a roller:
+
+* the roller's radius at the patch is ρ = R_r − z_rail(y_rail);
+* both bodies are of revolution, so the contact normal passes through the wheel's
+  axle and the roller's axis.  The wheel's normal meets the axle at
+  y_n = y_p + r tan δ; yawed by ψ that point lies at x = −y_n sin ψ, and the
+  contact divides the normal between the axle and the roller's axis in the ratio of
+  the radii:
+
+      x_c = −y_n sin ψ · ρ / (r + ρ)        (on a rail, ρ → ∞: x_c = −y_n sin ψ)
+
+  "the two wheels leave the apexes of the associated rollers and slightly run
+  downhill" (seed 002, section 3.2);
+* there the normal leans along the track by x_c cos δ / ρ: the normal force has a
+  longitudinal part N x_c cos δ / ρ on the wheel, which with x_c ∝ −y_n ψ on both
+  wheels gives a yaw moment ≈ +2 N l² ψ / (r + ρ): a negative (destabilising) yaw
+  stiffness that track has not;
+* the roller's curvature along the track adds cos δ / (2ρ) to the gap's curvature
+  A: a shorter patch, other Hertz semi-axes and Kalker coefficients (recomputed at
+  the patch's reference normal force).
+
+Creepages (CONTACT's convention, the rig's surface speed V = Ω_r R_r as reference,
+the wheel turning at Ω = V_w / r0 with V_w its circumferential speed at r0):
+
+    ξ = (Ω r − Ω_r ρ) / V + ψ̇ y_p / V
+    η = (ψ Ω r / V − (ẏ + ψ̇ x_c) / V) cos δ
+    φ = −((Ω + Ω_r) sin δ + ψ̇ cos δ) / V
+
+the roller's own rotation adds Ω_r sin δ to the spin.  On tangent track (``radius``
+None: 1/R_r = 0) these are the equations of :mod:`railcontact.dynamics.
+equations_of_motion` for the same wheelset (Ω_r ρ → V, no lean, no roller spin).
+
+Forces on the wheel per patch: N (normal), the creep forces (F_x, F_y, M_z) of a
+compiled law (:mod:`railcontact.tangential.online`), N cos δ − F_y sin δ = share · Q
+for the normal force (two fixed-point passes, as on track); lateral Y = N sin δ +
+F_y cos δ, longitudinal X = F_x + N x_c cos δ / ρ, yaw moment −y_p X + x_c Y +
+M_z cos δ.  The wheelset (y, ψ) is tied by k_y, c_y, k_ψ, c_ψ to a frame that may
+move as y_f = A sin(2π f t), ψ_f = Ψ cos(2π f t) (an actuator through the
+suspension); :func:`prescribed_hunting` instead imposes that motion on the wheelset
+itself (the seed's controlled running gear) and evaluates the forces.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+from numba import njit
+from scipy.optimize import brentq
+
+from ..core.errors import InputError
+from ..core.hertz_theory import hertz_ellipse
+from ..core.materials import STEEL, Material
+from ..tangential.kalker import kalker_coefficients
+from ..tangential.online import online_law, patch_forces
+from .wheel_rail import (F_A, F_B, F_C11, F_C22, F_C23, F_CA, F_CB, F_DELTA, F_R, F_SHARE, F_YP,
+                         F_YRAIL, WheelRailTable, lookup)
+
+#: fixed-point passes for the normal force of steep patches (as on track)
+NORMAL_PASSES = 2
+#: per-patch outputs of :func:`rig_forces`
+POUT = ("normal_force", "Fx", "Fy", "Mz", "lateral", "longitudinal", "vertical", "x_contact",
+        "xi", "eta", "phi", "roller_radius")
+(O_N, O_FX, O_FY, O_MZ, O_Y, O_X, O_Q, O_XC, O_XI, O_ETA, O_PHI, O_RHO) = range(len(POUT))
+#: packed parameters of the compiled right-hand side
+PAR = ("mass", "yaw_inertia", "k_y", "k_yaw", "c_y", "c_yaw", "wheel_load", "V", "inv_radius",
+       "r0", "wheel_speed", "frame_amplitude", "frame_yaw_amplitude", "frame_frequency",
+       "reference_load")
+
+
+def _positive(name, v, lo=0.0, hi=math.inf):
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
+            or not lo < v <= hi:
+        raise InputError(f"{name} = {v!r}: expected a value in ({lo:g}, {hi:g}]")
+    return float(v)
+
+
+@dataclass(frozen=True)
+class RollerRig:
+    """The rig: rollers of crown radius ``radius`` [m] (None: a tangent track, for
+    comparison) turning with the surface speed ``surface_speed`` [m/s] at their
+    crown (angular velocity Ω_r = surface_speed / radius); the wheel's circumferential
+    speed at its nominal radius ``wheel_speed`` [m/s] (None: the rollers' surface
+    speed, rolling without longitudinal creepage when centred).  The rollers' lateral
+    spacing is the track's (its gauge and rail profiles)."""
+
+    radius: float | None = 0.18
+    surface_speed: float = 6.0
+    wheel_speed: float | None = None
+
+    def __post_init__(self):
+        if self.radius is not None:
+            _positive("roller_rig.radius", self.radius, 0.02, 10.0)
+        _positive("roller_rig.surface_speed", self.surface_speed, 0.0, 200.0)
+        if self.wheel_speed is not None:
+            _positive("roller_rig.wheel_speed", self.wheel_speed, 0.0, 200.0)
+
+    @property
+    def angular_velocity(self) -> float:
+        """Ω_r [rad/s] of the rollers (0 on track)."""
+        return 0.0 if self.radius is None else self.surface_speed / self.radius
+
+    def on_track(self) -> "RollerRig":
+        """The same wheelset speeds on tangent track."""
+        return RollerRig(None, self.surface_speed, self.wheel_speed)
+
+
+@dataclass(frozen=True)
+class RigWheelset:
+    """The wheelset on the rig: ``mass`` [kg], ``yaw_inertia`` [kg m²], its primary
+    suspension to the frame: ``k_y`` [N/m], ``k_yaw`` [N m/rad], ``c_y`` [N s/m],
+    ``c_yaw`` [N m s/rad], and the vertical ``wheel_load`` [N] per wheel.
+
+    The defaults are the Manchester benchmark wheelset (REFERENCES.md section 10)
+    scaled 1:5 with the same stresses (length 1/5, force 1/25, mass 1/125, time 1/5,
+    speed 1:1: Jaschinski's scaling of the DLR rig): 1813 kg → 14.5 kg, 1120 kg m²
+    → 0.358 kg m², k_y 7.768e6 → 1.55e6 N/m, k_ψ 62.78e6 → 5.02e5 N m/rad,
+    75 kN → 3 kN."""
+
+    mass: float = 14.5
+    yaw_inertia: float = 0.358
+    k_y: float = 1.55e6
+    k_yaw: float = 5.02e5
+    c_y: float = 0.0
+    c_yaw: float = 0.0
+    wheel_load: float = 3.0e3
+
+    def __post_init__(self):
+        _positive("wheelset.mass", self.mass, 0.0, 1e5)
+        _positive("wheelset.yaw_inertia", self.yaw_inertia, 0.0, 1e5)
+        _positive("wheelset.wheel_load", self.wheel_load, 0.0, 1e6)
+        for name in ("k_y", "k_yaw", "c_y", "c_yaw"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not \
+                    (math.isfinite(v) and v >= 0):
+                raise InputError(f"wheelset.{name} = {v!r}: expected a value >= 0")
+
+
+@dataclass
+class RigTable:
+    """The contact table of the wheelset on the rollers (or on track).
+
+    ``data`` (n, 2, 2, 14): the fields of :class:`WheelRailTable` (share, δ, r, y_p,
+    a, b, C11, C22, C23, A, B, y_rail, y_wheel) with A, a, b and C_ij those of the
+    wheel on the roller, and a 14th field z_rail [m], the rail profile's height at
+    the contact (the roller's radius there is R_r − z_rail)."""
+
+    shift: np.ndarray
+    data: np.ndarray
+    reference_load: float
+    nominal_radius: float
+    radius: float | None
+
+    @classmethod
+    def from_track_table(cls, table: WheelRailTable, track, radius: float | None,
+                         material: Material = STEEL) -> "RigTable":
+        """The rig's table from the track's (:meth:`WheelRailTable.build` at yaw 0):
+        each patch's curvature along the track gains the roller's, cos δ / (2ρ),
+        its Hertz semi-axes and Kalker coefficients follow at its reference normal
+        force; ``radius`` None keeps the track's."""
+        n = table.shift.size
+        data = np.zeros((n, 2, 2, table.data.shape[3] + 1))
+        data[..., :-1] = table.data
+        Es, nu = material.contact_modulus, material.nu
+        for j, side in enumerate(("left", "right")):
+            rail = track.rail(side)
+            for k in range(2):
+                yr = table.data[:, j, k, F_YRAIL]
+                z = np.asarray(rail.z_at(np.clip(yr, rail.y_min, rail.y_max)), float)
+                data[:, j, k, -1] = z
+                if radius is None:
+                    continue
+                for i in range(n):
+                    d = data[i, j, k]
+                    share, delta = d[F_SHARE], d[F_DELTA]
+                    rho = radius - z[i]
+                    d[F_CA] += math.cos(delta) / (2.0 * rho)
+                    if share <= 0.0:
+                        continue
+                    hz = hertz_ellipse(d[F_CA], d[F_CB], Es,
+                                       force=share * table.reference_load / math.cos(delta))
+                    C = kalker_coefficients(hz.a / hz.b, nu)
+                    d[F_A], d[F_B] = hz.a, hz.b
+                    d[F_C11], d[F_C22], d[F_C23] = C
+        return cls(table.shift, np.ascontiguousarray(data), table.reference_load,
+                   table.nominal_radius, radius)
+
+
+@njit(cache=True, nogil=True)
+def rig_forces(u, par, shift, tab, law, tp, pout):
+    """Contact forces on the wheelset at the state u = (y, ψ, ẏ, ψ̇); fills ``pout``
+    (2 sides, 2 slots, len(POUT)) and returns (F_y, M_z) [N, N m] of both rails."""
+    y, psi, yd, psid = u[0], u[1], u[2], u[3]
+    Q, V, kr, r0, vw = par[6], par[7], par[8], par[9], par[10]
+    vals = np.empty((2, 2, tab.shape[3]))
+    lookup(shift, tab, y, vals)
+    om = vw / r0
+    om_r = V * kr
+    fy_tot = 0.0
+    mz_tot = 0.0
+    for sd in range(2):
+        sc = (Q / par[14]) ** (1.0 / 3.0)
+        for sl in range(2):
+            v = vals[sd, sl]
+            delta, r, yp = v[F_DELTA], v[F_R], v[F_YP]
+            cd, sdl = math.cos(delta), math.sin(delta)
+            z = v[13]
+            # roller radius over its crown radius, and 1/rho (0 on track)
+            rho_ratio = 1.0 - z * kr
+            krho = kr / rho_ratio
+            yn = yp + r * math.tan(delta)
+            xc = -yn * math.sin(psi) / (1.0 + r * krho)
+            xi = (om * r - V * rho_ratio) / V + psid * yp / V
+            eta = (psi * om * r / V - (yd + psid * xc) / V) * cd
+            phi = -((om + om_r) * sdl + psid * cd) / V
+            n_tab = v[F_SHARE] * Q / cd
+            N = n_tab
+            a, b = v[F_A] * sc, v[F_B] * sc
+            fx, fy, mz = 0.0, 0.0, 0.0
+            if N > 0.0:
+                fx, fy, mz = patch_forces(law, tp, N, a, b, v[F_C11], v[F_C22], v[F_C23], xi,
+                                          eta, phi, V)
+                for _ in range(NORMAL_PASSES):
+                    if abs(sdl) < 0.05:
+                        break
+                    n_new = max(n_tab + fy * sdl / cd, 0.0)
+                    if n_new <= 0.0:
+                        N = 0.0
+                        break
+                    s3 = (n_new / N) ** (1.0 / 3.0)
+                    N = n_new
+                    a, b = a * s3, b * s3
+                    fx, fy, mz = patch_forces(law, tp, N, a, b, v[F_C11], v[F_C22], v[F_C23],
+                                              xi, eta, phi, V)
+            if N <= 0.0:
+                N, fx, fy, mz = 0.0, 0.0, 0.0, 0.0
+            lat = N * sdl + fy * cd
+            lon = fx + N * xc * cd * krho
+            o = pout[sd, sl]
+            o[0], o[1], o[2], o[3] = N, fx, fy, mz
+            o[4], o[5], o[6], o[7] = lat, lon, N * cd - fy * sdl, xc
+            o[8], o[9], o[10] = xi, eta, phi
+            o[11] = 1.0 / krho if krho > 0.0 else math.inf
+            fy_tot += lat
+            mz_tot += -yp * lon + xc * lat + mz * cd
+    return fy_tot, mz_tot
+
+
+@njit(cache=True, nogil=True)
+def rig_rhs(t, u, par, shift, tab, law, tp, pout):
+    """du/dt of the wheelset on the rig, u = (y, ψ, ẏ, ψ̇), its frame moving as
+    y_f = A sin(2π f t), ψ_f = Ψ cos(2π f t) (par[11:14])."""
+    fy, mz = rig_forces(u, par, shift, tab, law, tp, pout)
+    w = 2.0 * math.pi * par[13]
+    yf, yfd = par[11] * math.sin(w * t), par[11] * w * math.cos(w * t)
+    pf, pfd = par[12] * math.cos(w * t), -par[12] * w * math.sin(w * t)
+    du = np.empty(4)
+    du[0] = u[2]
+    du[1] = u[3]
+    du[2] = (fy - par[2] * (u[0] - yf) - par[4] * (u[2] - yfd)) / par[0]
+    du[3] = (mz - par[3] * (u[1] - pf) - par[5] * (u[3] - pfd)) / par[1]
+    return du
+
+
+@njit(cache=True, nogil=True)
+def rig_rk4(u, steps, par, shift, tab, law, tp, pout, samples):
+    """Fixed-step RK4: ``steps`` = (t0, dt, n_steps, every); every ``every`` steps
+    the state goes to the next row of ``samples``.  Returns the final state."""
+    t0, dt, n, every = steps[0], steps[1], int(steps[2]), int(steps[3])
+    k = 0
+    for i in range(n):
+        t = t0 + i * dt
+        k1 = rig_rhs(t, u, par, shift, tab, law, tp, pout)
+        k2 = rig_rhs(t + 0.5 * dt, u + 0.5 * dt * k1, par, shift, tab, law, tp, pout)
+        k3 = rig_rhs(t + 0.5 * dt, u + 0.5 * dt * k2, par, shift, tab, law, tp, pout)
+        k4 = rig_rhs(t + dt, u + dt * k3, par, shift, tab, law, tp, pout)
+        u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        if (i + 1) % every == 0 and k < samples.shape[0]:
+            samples[k] = u
+            k += 1
+    return u
+
+
+@njit(cache=True, nogil=True)
+def rig_history(states, par, shift, tab, law, tp, out):
+    """The per-patch outputs (``out``: (n, 2, 2, len(POUT))) along the states (n, 4)."""
+    for i in range(states.shape[0]):
+        rig_forces(states[i], par, shift, tab, law, tp, out[i])
+
+
+class RigSystem:
+    """A wheelset on the rig (or on track) with a compiled creep law: the packed
+    parameters and the right-hand side.
+
+    Parameters
+    ----------
+    wheelset : RigWheelset
+    rig : RollerRig
+    table : RigTable
+    tangential : {"linear", "fastsim", "polach"}
+        A compiled law (:mod:`railcontact.tangential.online`).
+    friction : float
+    material : Material
+    fastsim_grid : (nx, ny)
+    frame : (A [m], Ψ [rad], f [Hz])
+        The frame's motion (an actuator through the suspension); zeros: at rest.
+    """
+
+    def __init__(self, wheelset: RigWheelset, rig: RollerRig, table: RigTable,
+                 tangential: str = "fastsim", friction: float = 0.3,
+                 material: Material = STEEL, fastsim_grid=(12, 12), frame=(0.0, 0.0, 0.0)):
+        if (rig.radius is None) != (table.radius is None) or \
+                (rig.radius is not None and abs(rig.radius - table.radius) > 1e-12):
+            raise InputError(f"roller rig radius {rig.radius!r} m and its table's "
+                             f"{table.radius!r} m differ: build the table for the rig")
+        law = online_law(tangential)
+        if law is None:
+            raise InputError(f"roller rig: tangential = {tangential!r} has no compiled law; "
+                             "expected 'linear', 'fastsim' or 'polach'")
+        if not (math.isfinite(friction) and 0 < friction <= 2):
+            raise InputError(f"friction coefficient {friction!r}: expected a value in (0, 2]")
+        self.wheelset, self.rig, self.table = wheelset, rig, table
+        self.law = law
+        nx, ny = (int(v) for v in fastsim_grid)
+        self.tp = np.array([friction, material.shear_modulus, nx, ny, 1.0, 1.0, 1.0, 0.0])
+        w = wheelset
+        vw = rig.surface_speed if rig.wheel_speed is None else rig.wheel_speed
+        kr = 0.0 if rig.radius is None else 1.0 / rig.radius
+        self.par = np.array([w.mass, w.yaw_inertia, w.k_y, w.k_yaw, w.c_y, w.c_yaw,
+                             w.wheel_load, rig.surface_speed, kr, table.nominal_radius, vw,
+                             *(float(f) for f in frame), table.reference_load])
+        self.pout = np.zeros((2, 2, len(POUT)))
+
+    @property
+    def velocity(self) -> float:
+        return self.rig.surface_speed
+
+    def rhs(self, t, u):
+        return rig_rhs(t, np.asarray(u, float), self.par, self.table.shift, self.table.data,
+                       self.law, self.tp, self.pout)
+
+    def forces(self, states) -> np.ndarray:
+        """Per-patch outputs (n, 2, 2, len(POUT)) along the states (n, 4)."""
+        states = np.ascontiguousarray(np.atleast_2d(states), dtype=float)
+        out = np.zeros((states.shape[0], 2, 2, len(POUT)))
+        rig_history(states, self.par, self.table.shift, self.table.data, self.law, self.tp,
+                    out)
+        return out
+
+    def state_matrix(self, step: float = 1e-7) -> np.ndarray:
+        """The 4 x 4 state matrix about the centred position (central differences)."""
+        J = np.empty((4, 4))
+        for c in range(4):
+            du = np.zeros(4)
+            du[c] = step
+            J[:, c] = (self.rhs(0.0, du) - self.rhs(0.0, -du)) / (2 * step)
+        return J
+
+
+def critical_speed(wheelset: RigWheelset, rig: RollerRig, table: RigTable,
+                   material: Material = STEEL, v_min: float = 0.5,
+                   v_max: float = 200.0, points: int = 40) -> float:
+    """Linear critical speed [m/s] of the wheelset on the rig (or on track, with
+    ``rig.radius`` None): the lowest speed (the rollers' surface speed, the wheel
+    rolling with it) at which the largest real part of the eigenvalues of the state
+    matrix (linear creep law, Kalker's coefficients of the table) crosses zero, found
+    on ``points`` speeds spaced geometrically over [v_min, v_max] and refined by
+    Brent's method.  An :class:`~railcontact.core.errors.InputError` where the
+    wheelset is unstable at ``v_min`` or stable up to ``v_max``."""
+    def growth(v):
+        r = RollerRig(rig.radius, v, None)
+        J = RigSystem(wheelset, r, table, "linear", material=material).state_matrix()
+        return float(np.max(np.linalg.eigvals(J).real))
+    vs = np.geomspace(v_min, v_max, points)
+    g = np.array([growth(v) for v in vs])
+    if g[0] > 0:
+        raise InputError(f"critical_speed: already unstable at {v_min} m/s")
+    up = np.flatnonzero(g > 0)
+    if up.size == 0:
+        raise InputError(f"critical_speed: stable up to {v_max} m/s")
+    i = int(up[0])
+    return brentq(growth, vs[i - 1], vs[i], xtol=1e-6)
+
+
+def hunting_motion(t, amplitude: float, frequency: float, velocity: float,
+                   yaw_amplitude: float | None = None):
+    """The excited hunting of seed 002 as a kinematic motion: y = A sin(2π f t),
+    ψ = Ψ cos(2π f t) with Ψ = 2π f A / V (the wheelset following its own
+    sinusoid of wavelength V / f) unless given; returns (y, ψ, ẏ, ψ̇) (n, 4)."""
+    t = np.asarray(t, float)
+    w = 2 * math.pi * frequency
+    psi = w * amplitude / velocity if yaw_amplitude is None else float(yaw_amplitude)
+    return np.stack([amplitude * np.sin(w * t), psi * np.cos(w * t),
+                     amplitude * w * np.cos(w * t), -psi * w * np.sin(w * t)], axis=1)
+
+
+def _dataset(t, states, out, attrs):
+    import xarray as xr
+    side = ["left", "right"]
+    patch = ["tread", "flange"]
+    total = out.sum(axis=2)
+    data = {
+        "lateral_displacement": ("time", states[:, 0], {"units": "m"}),
+        "yaw": ("time", states[:, 1], {"units": "rad"}),
+        "lateral_velocity": ("time", states[:, 2], {"units": "m/s"}),
+        "yaw_rate": ("time", states[:, 3], {"units": "rad/s"}),
+        "normal_force": (("time", "side"), total[..., O_N],
+                         {"units": "N", "long_name": "normal force of the roller on the wheel "
+                                                     "(sum of its patches)"}),
+        "vertical_force": (("time", "side"), total[..., O_Q], {"units": "N"}),
+        "longitudinal_force": (("time", "side"), total[..., O_X],
+                               {"units": "N", "long_name": "longitudinal force on the wheel: "
+                                "creep force and the leaning normal force"}),
+        "lateral_force": (("time", "side"), total[..., O_Y],
+                          {"units": "N", "long_name": "lateral force on the wheel (track "
+                                                      "plane), Y"}),
+    }
+    for name, idx, unit in (("x_contact", O_XC, "m"), ("xi", O_XI, "1"), ("eta", O_ETA, "1"),
+                            ("phi", O_PHI, "1/m"), ("patch_normal_force", O_N, "N"),
+                            ("roller_radius", O_RHO, "m")):
+        data[name] = (("time", "side", "patch"), out[..., idx], {"units": unit})
+    return xr.Dataset(data, coords={"time": ("time", t, {"units": "s"}), "side": side,
+                                    "patch": patch}, attrs=attrs)
+
+
+def _attrs(system: RigSystem, tangential: str, what: str) -> dict:
+    rig = system.rig
+    return {"model": f"wheelset on {'rollers' if rig.radius else 'tangent track'}",
+            "run": what, "velocity_m_s": rig.surface_speed,
+            "roller_radius_m": math.nan if rig.radius is None else rig.radius,
+            "roller_angular_velocity_rad_s": rig.angular_velocity,
+            "tangential": tangential, "wheel_load_N": system.wheelset.wheel_load}
+
+
+def prescribed_hunting(system: RigSystem, amplitude: float = 1.6e-3, frequency: float = 0.5,
+                       duration: float = 4.0, sample_rate: float = 200.0,
+                       yaw_amplitude: float | None = None, tangential: str = "fastsim"):
+    """The forces of the wheelset moved through the excited hunting of seed 002
+    (:func:`hunting_motion`): an :class:`xarray.Dataset` over time with the
+    wheelset's motion and per wheel the normal, longitudinal and lateral forces of
+    the roller on the wheel, per patch the contact's x position and creepages."""
+    _positive("excitation.amplitude", amplitude, 0.0, 0.05)
+    _positive("excitation.frequency", frequency, 0.0, 100.0)
+    _positive("duration", duration, 0.0, 1e4)
+    t = np.arange(0.0, duration + 0.5 / sample_rate, 1.0 / sample_rate)
+    states = hunting_motion(t, amplitude, frequency, system.velocity, yaw_amplitude)
+    t0 = time.perf_counter()
+    out = system.forces(states)
+    attrs = _attrs(system, tangential, "prescribed hunting")
+    attrs.update(amplitude_m=amplitude, frequency_Hz=frequency,
+                 yaw_amplitude_rad=float(np.max(np.abs(states[:, 1]))),
+                 wall_time_s=time.perf_counter() - t0)
+    return _dataset(t, states, out, attrs)
+
+
+def simulate_rig(system: RigSystem, duration: float = 2.0, initial_lateral_shift: float = 1e-3,
+                 step: float = 1e-4, sample_rate: float = 500.0,
+                 tangential: str = "fastsim"):
+    """Time integration of the wheelset on the rig (fixed-step RK4, compiled) from a
+    lateral shift, its frame at rest or moving (``system``'s frame): the dataset of
+    :func:`prescribed_hunting`."""
+    _positive("duration", duration, 0.0, 1e4)
+    every = max(int(round(1.0 / (sample_rate * step))), 1)
+    n = int(round(duration / step))
+    samples = np.zeros((n // every, 4))
+    u0 = np.array([initial_lateral_shift, 0.0, 0.0, 0.0])
+    t0 = time.perf_counter()
+    rig_rk4(u0, np.array([0.0, step, n, every]), system.par, system.table.shift,
+            system.table.data, system.law, system.tp, system.pout, samples)
+    states = np.vstack([u0, samples])
+    t = np.arange(states.shape[0]) * every * step
+    out = system.forces(states)
+    attrs = _attrs(system, tangential, "free run")
+    attrs.update(initial_lateral_shift_m=initial_lateral_shift, step_s=step,
+                 wall_time_s=time.perf_counter() - t0)
+    return _dataset(t, states, out, attrs)
+
+
+def plot_rig_forces(ds, path, side: str = "right"):
+    """The seed's figures 11-13: the normal, longitudinal and lateral force of the
+    roller on one wheel over time, with the wheelset's motion."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    t = ds["time"].values
+    fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
+    axes[0].plot(t, ds["lateral_displacement"] * 1e3, color="C0")
+    axes[0].set_ylabel("y [mm]", color="C0")
+    ax = axes[0].twinx()
+    ax.plot(t, ds["yaw"] * 1e3, color="C1")
+    ax.set_ylabel("yaw [mrad]", color="C1")
+    w = ds.sel(side=side)
+    for axis, name, label in ((axes[1], "normal_force", "normal"),
+                              (axes[2], "longitudinal_force", "longitudinal"),
+                              (axes[3], "lateral_force", "lateral")):
+        axis.plot(t, w[name], color="k", lw=1)
+        axis.set_ylabel(f"{label} [N]")
+        axis.grid(alpha=0.3)
+    axes[3].set_xlabel("time [s]")
+    fig.suptitle(f"{ds.attrs['model']}, {ds.attrs['run']}: {side} wheel, "
+                 f"{ds.attrs['velocity_m_s']:g} m/s")
+    fig.tight_layout()
+    fig.savefig(path, dpi=110)
+    plt.close(fig)
+    return path
