@@ -522,3 +522,154 @@ def plot_rig_forces(ds, path, side: str = "right"):
     fig.savefig(path, dpi=110)
     plt.close(fig)
     return path
+
+
+# --------------------------------------------------------------- scenario files
+_RIG = {"radius", "surface_speed", "wheel_speed"}
+_WHEELSET = {"mass", "yaw_inertia", "k_y", "k_yaw", "c_y", "c_yaw", "wheel_load"}
+_EXC = {"amplitude", "frequency", "yaw_amplitude"}
+_SIM = {"duration", "sample_rate", "tangential", "fastsim_grid", "table_range", "table_step",
+        "initial_lateral_shift", "step"}
+#: the sections of a roller-rig scenario that are not a case's
+RIG_SECTIONS = ("title", "roller_rig", "vehicle", "excitation", "simulation")
+
+
+@dataclass(frozen=True)
+class RigScenario:
+    """A roller-rig scenario (``railcontact simulate`` of a file with ``[roller_rig]``),
+    validated, SI units: the wheelset and track of the case sections (the rollers
+    carry the track's rails at its gauge), ``rig``, ``vehicle`` (the wheelset on
+    it), ``excitation`` ((A [m], f [Hz], Ψ [rad] or None: kinematic) or None: a free
+    run from ``initial_lateral_shift``), the run's ``duration`` [s],
+    ``sample_rate`` [Hz], ``step`` [s] (free run), the compiled ``tangential`` law,
+    ``fastsim_grid`` and the contact table's ``table_range`` and ``table_step``
+    [m]."""
+
+    wheelset: object
+    track: object
+    material: Material
+    friction: float
+    rig: RollerRig
+    vehicle: RigWheelset
+    excitation: tuple | None = None
+    duration: float = 4.0
+    sample_rate: float = 200.0
+    step: float = 1e-4
+    initial_lateral_shift: float = 1e-3
+    tangential: str = "fastsim"
+    fastsim_grid: tuple = (12, 12)
+    table_range: float = 2.4e-3
+    table_step: float = 4e-5
+    title: str = ""
+
+
+def _table(sec: dict, name: str, allowed: set) -> dict:
+    from ..core.errors import CaseFileError
+    if not isinstance(sec, dict):
+        raise CaseFileError(f"[{name}]: expected a table")
+    bad = set(sec) - allowed
+    if bad:
+        raise CaseFileError(f"unknown key(s) {name}.{sorted(bad)}; expected {sorted(allowed)}")
+    return sec
+
+
+def _number(sec, name, key, default, lo, hi):
+    from ..core.errors import CaseFileError
+    v = sec.get(key, default)
+    if v is None:
+        return None
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not lo <= v <= hi:
+        raise CaseFileError(f"{name}.{key} = {v!r}: expected a value in [{lo:g}, {hi:g}]")
+    return float(v)
+
+
+def rig_scenario_from_sections(sections: dict, bodies) -> RigScenario:
+    """The :class:`RigScenario` of a scenario file's ``[roller_rig]``, ``[vehicle]``,
+    ``[excitation]`` and ``[simulation]`` tables; ``bodies()`` gives (Wheelset,
+    Track, Material, friction) from its case sections.  A
+    :class:`~railcontact.core.errors.CaseFileError` names the first wrong key."""
+    from ..core.errors import CaseFileError
+    rs = _table(sections.get("roller_rig", {}), "roller_rig", _RIG)
+    vs = _table(sections.get("vehicle", {}), "vehicle", _WHEELSET)
+    sim = _table(sections.get("simulation", {}), "simulation", _SIM)
+    try:
+        rig = RollerRig(_number(rs, "roller_rig", "radius", 0.18, 0.02, 10.0),
+                        _number(rs, "roller_rig", "surface_speed", 6.0, 0.01, 200.0),
+                        _number(rs, "roller_rig", "wheel_speed", None, 0.01, 200.0))
+        d = RigWheelset()
+        veh = RigWheelset(**{k: _number(vs, "vehicle", k, getattr(d, k), 0.0, 1e10)
+                             for k in _WHEELSET})
+    except InputError as exc:
+        if isinstance(exc, CaseFileError):
+            raise
+        raise CaseFileError(str(exc)) from None
+    exc_ = None
+    if "excitation" in sections:
+        ex = _table(sections["excitation"], "excitation", _EXC)
+        exc_ = (_number(ex, "excitation", "amplitude", 1.6e-3, 1e-6, 0.05),
+                _number(ex, "excitation", "frequency", 0.5, 1e-3, 100.0),
+                _number(ex, "excitation", "yaw_amplitude", None, 0.0, 0.1))
+    tang = sim.get("tangential", "fastsim")
+    if tang not in ("linear", "fastsim", "polach"):
+        raise CaseFileError(f"simulation.tangential = {tang!r}: expected 'linear', 'fastsim' "
+                            "or 'polach' (compiled laws) on the roller rig")
+    grid = sim.get("fastsim_grid", [12, 12])
+    if not (isinstance(grid, list) and len(grid) == 2 and all(isinstance(g, int) for g in grid)):
+        raise CaseFileError(f"simulation.fastsim_grid = {grid!r}: expected [nx, ny] integers")
+    rng = _number(sim, "simulation", "table_range", 2.4e-3, 1e-3, 0.03)
+    stp = _number(sim, "simulation", "table_step", 4e-5, 1e-5, 1e-3)
+    if stp > rng / 4:
+        raise CaseFileError(f"simulation.table_step = {stp!r}: expected at most table_range/4")
+    wheelset, track, material, friction = bodies()
+    return RigScenario(
+        wheelset=wheelset, track=track, material=material, friction=float(friction), rig=rig,
+        vehicle=veh, excitation=exc_,
+        duration=_number(sim, "simulation", "duration", 4.0, 1e-3, 1e4),
+        sample_rate=_number(sim, "simulation", "sample_rate", 200.0, 1.0, 1e5),
+        step=_number(sim, "simulation", "step", 1e-4, 1e-6, 1e-2),
+        initial_lateral_shift=_number(sim, "simulation", "initial_lateral_shift", 1e-3,
+                                      -0.015, 0.015),
+        tangential=tang, fastsim_grid=tuple(grid), table_range=rng, table_step=stp,
+        title=str(sections.get("title", "")))
+
+
+def rig_tables(sc: RigScenario, progress: bool = False):
+    """(rig table, track table) of a scenario, from one search of the profiles."""
+    tb = WheelRailTable.build(sc.wheelset, sc.track, sc.vehicle.wheel_load, sc.material,
+                              sc.table_range, sc.table_step, progress=progress)
+    return (RigTable.from_track_table(tb, sc.track, sc.rig.radius, sc.material),
+            RigTable.from_track_table(tb, sc.track, None, sc.material))
+
+
+def run_rig_scenario(sc: RigScenario, out=None, progress: bool = True):
+    """Run a roller-rig scenario: the prescribed hunting (``[excitation]``) or a free
+    run, and the linear critical speeds of the wheelset on the rig and on tangent
+    track (attributes ``critical_speed_m_s`` and ``track_critical_speed_m_s``; NaN
+    where none lies in 0.5-200 m/s).  With ``out``: ``simulation.nc`` and
+    ``rig_forces.png`` (the seed's figures 11-13, right wheel)."""
+    from ..core.files import write_netcdf
+    t0 = time.perf_counter()
+    rig_tab, track_tab = rig_tables(sc, progress)
+    system = RigSystem(sc.vehicle, sc.rig, rig_tab, sc.tangential, sc.friction, sc.material,
+                       sc.fastsim_grid)
+    if sc.excitation is not None:
+        a, f, psi = sc.excitation
+        ds = prescribed_hunting(system, a, f, sc.duration, sc.sample_rate, psi, sc.tangential)
+    else:
+        ds = simulate_rig(system, sc.duration, sc.initial_lateral_shift, sc.step,
+                          sc.sample_rate, sc.tangential)
+    speeds = {}
+    for key, rig, tab in (("critical_speed_m_s", sc.rig, rig_tab),
+                          ("track_critical_speed_m_s", sc.rig.on_track(), track_tab)):
+        try:
+            speeds[key] = critical_speed(sc.vehicle, rig, tab, sc.material)
+        except (InputError, ValueError):
+            speeds[key] = math.nan
+    ds.attrs.update(title=sc.title, **speeds, wall_time_s=time.perf_counter() - t0)
+    if out is not None:
+        from pathlib import Path
+        out = Path(out)
+        out.mkdir(parents=True, exist_ok=True)
+        write_netcdf(ds, out / "simulation.nc")
+        plot_rig_forces(ds, out / "rig_forces.png")
+    return ds
