@@ -3,7 +3,7 @@
 from __future__ import annotations
 
 import math
-from dataclasses import replace
+from dataclasses import is_dataclass, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -54,7 +54,7 @@ def get_profile(spec, kind: str, inclination: float | None = None,
         scale = 1.0
         if builtin and opts is not None:
             # a built-in profile may be scaled (a scaled model on a roller rig), no more
-            if replace(opts, scale=1.0) != type(opts)():
+            if not is_dataclass(opts) or replace(opts, scale=1.0) != type(opts)():
                 raise ProfileError(f"{kind} profile {name!r} is built in: the profile-file "
                                    "options (mirroring, smoothing, kinks) apply to files; "
                                    "only scale applies to it")
