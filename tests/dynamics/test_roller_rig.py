@@ -108,7 +108,8 @@ def test_on_track_the_equations_are_the_vehicle_dynamics(scenario, tables):
     _, track_tab = tables
     tb = WheelRailTable.build(scenario.wheelset, scenario.track, w.wheel_load,
                               scenario.material, 1.2e-3, 1e-4)
-    vm = VehicleModel.single_wheelset(w.mass, w.yaw_inertia, w.k_y, w.k_yaw, wheel_load=w.wheel_load)
+    vm = VehicleModel.single_wheelset(w.mass, w.yaw_inertia, w.k_y, w.k_yaw,
+                                      wheel_load=w.wheel_load)
     for v in (6.0, 60.0):
         J = RigSystem(w, RollerRig(None, v), track_tab, "linear").state_matrix()
         K = state_matrix(vm, tb, v)
