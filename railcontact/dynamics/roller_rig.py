@@ -155,6 +155,45 @@ class RigWheelset:
                 raise InputError(f"wheelset.{name} = {v!r}: expected a value >= 0")
 
 
+@dataclass(frozen=True)
+class RigBogie:
+    """A bogie on the rig: a frame (``frame_mass`` [kg], ``frame_yaw_inertia``
+    [kg m²]) carrying two wheelsets at x = ±``semi_wheelbase`` [m], each on its own
+    pair of rollers, through the wheelsets' primary suspension (:class:`RigWheelset`'s
+    k_y, k_yaw, c_y, c_yaw, now to the frame); the frame held by the secondary
+    suspension (``secondary_k_y`` [N/m], ``secondary_k_yaw`` [N m/rad],
+    ``secondary_c_y`` [N s/m], ``secondary_c_yaw`` [N m s/rad]) to the rig at rest.
+
+    The defaults are the Manchester bogie (REFERENCES.md section 10, as
+    :meth:`~railcontact.dynamics.vehicle.VehicleModel.from_parameters` assembles it)
+    scaled 1:5 as :class:`RigWheelset`: 2615 kg → 20.9 kg, 3067 kg m² → 0.981 kg m²,
+    1.28 m → 0.256 m, secondary 2 × 160 kN/m → 6.4e4 N/m, yaw 2 × 160 kN/m × (1 m)² +
+    10.5 kN m/rad → 2644 N m/rad, 2 × 32 kN s/m → 2560 N s/m."""
+
+    frame_mass: float = 20.92
+    frame_yaw_inertia: float = 0.9814
+    semi_wheelbase: float = 0.256
+    secondary_k_y: float = 6.4e4
+    secondary_k_yaw: float = 2644.0
+    secondary_c_y: float = 2560.0
+    secondary_c_yaw: float = 0.0
+
+    def __post_init__(self):
+        _positive("bogie.frame_mass", self.frame_mass, 0.0, 1e6)
+        _positive("bogie.frame_yaw_inertia", self.frame_yaw_inertia, 0.0, 1e6)
+        _positive("bogie.semi_wheelbase", self.semi_wheelbase, 0.0, 10.0)
+        for name in ("secondary_k_y", "secondary_k_yaw", "secondary_c_y", "secondary_c_yaw"):
+            v = getattr(self, name)
+            if isinstance(v, bool) or not isinstance(v, (int, float)) or not \
+                    (math.isfinite(v) and v >= 0):
+                raise InputError(f"bogie.{name} = {v!r}: expected a value >= 0")
+
+    def packed(self) -> np.ndarray:
+        return np.array([self.frame_mass, self.frame_yaw_inertia, self.semi_wheelbase,
+                         self.secondary_k_y, self.secondary_k_yaw, self.secondary_c_y,
+                         self.secondary_c_yaw])
+
+
 @dataclass
 class RigTable:
     """The contact table of the wheelset on the rollers (or on track).
@@ -282,17 +321,57 @@ def rig_rhs(t, u, par, shift, tab, law, tp, pout):
 
 
 @njit(cache=True, nogil=True)
-def rig_rk4(u, steps, par, shift, tab, law, tp, pout, samples):
+def bogie_rhs(t, u, par, bp, shift, tab, law, tp, pout):
+    """du/dt of a bogie on the rig, u = (q, q') with q = (y_f, ψ_f, y_1, ψ_1, y_2, ψ_2):
+    the frame and the leading (x = +a) and trailing (x = −a) wheelsets; ``bp``
+    :meth:`RigBogie.packed`; ``pout`` (2 wheelsets, 2, 2, len(POUT))."""
+    q = u[:6]
+    qd = u[6:]
+    F = np.zeros(6)
+    uw = np.empty(4)
+    for i in range(2):
+        x = bp[2] if i == 0 else -bp[2]
+        b = 2 + 2 * i
+        uw[0], uw[1], uw[2], uw[3] = q[b], q[b + 1], qd[b], qd[b + 1]
+        fy, mz = rig_forces(uw, par, shift, tab, law, tp, pout[i])
+        f = -(par[2] * (q[b] - q[0] - x * q[1]) + par[4] * (qd[b] - qd[0] - x * qd[1]))
+        m = -(par[3] * (q[b + 1] - q[1]) + par[5] * (qd[b + 1] - qd[1]))
+        F[b] += fy + f
+        F[b + 1] += mz + m
+        F[0] -= f
+        F[1] -= x * f + m
+    F[0] -= bp[3] * q[0] + bp[5] * qd[0]
+    F[1] -= bp[4] * q[1] + bp[6] * qd[1]
+    du = np.empty(12)
+    du[:6] = qd
+    du[6], du[7] = F[0] / bp[0], F[1] / bp[1]
+    for b in range(2, 6, 2):
+        du[6 + b] = F[b] / par[0]
+        du[7 + b] = F[b + 1] / par[1]
+    return du
+
+
+@njit(cache=True, nogil=True)
+def system_rhs(t, u, par, bp, shift, tab, law, tp, pout):
+    """The wheelset's (u of size 4, ``pout`` (1, 2, 2, ...)) or the bogie's (size 12)
+    right-hand side."""
+    if u.size == 4:
+        return rig_rhs(t, u, par, shift, tab, law, tp, pout[0])
+    return bogie_rhs(t, u, par, bp, shift, tab, law, tp, pout)
+
+
+@njit(cache=True, nogil=True)
+def rig_rk4(u, steps, par, bp, shift, tab, law, tp, pout, samples):
     """Fixed-step RK4: ``steps`` = (t0, dt, n_steps, every); every ``every`` steps
     the state goes to the next row of ``samples``.  Returns the final state."""
     t0, dt, n, every = steps[0], steps[1], int(steps[2]), int(steps[3])
     k = 0
     for i in range(n):
         t = t0 + i * dt
-        k1 = rig_rhs(t, u, par, shift, tab, law, tp, pout)
-        k2 = rig_rhs(t + 0.5 * dt, u + 0.5 * dt * k1, par, shift, tab, law, tp, pout)
-        k3 = rig_rhs(t + 0.5 * dt, u + 0.5 * dt * k2, par, shift, tab, law, tp, pout)
-        k4 = rig_rhs(t + dt, u + dt * k3, par, shift, tab, law, tp, pout)
+        k1 = system_rhs(t, u, par, bp, shift, tab, law, tp, pout)
+        k2 = system_rhs(t + 0.5 * dt, u + 0.5 * dt * k1, par, bp, shift, tab, law, tp, pout)
+        k3 = system_rhs(t + 0.5 * dt, u + 0.5 * dt * k2, par, bp, shift, tab, law, tp, pout)
+        k4 = system_rhs(t + dt, u + dt * k3, par, bp, shift, tab, law, tp, pout)
         u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
         if (i + 1) % every == 0 and k < samples.shape[0]:
             samples[k] = u
@@ -302,14 +381,14 @@ def rig_rk4(u, steps, par, shift, tab, law, tp, pout, samples):
 
 @njit(cache=True, nogil=True)
 def rig_history(states, par, shift, tab, law, tp, out):
-    """The per-patch outputs (``out``: (n, 2, 2, len(POUT))) along the states (n, 4)."""
+    """Per-patch outputs (``out``: (n, 2, 2, len(POUT))) along wheelset states (n, 4)."""
     for i in range(states.shape[0]):
         rig_forces(states[i], par, shift, tab, law, tp, out[i])
 
 
 class RigSystem:
-    """A wheelset on the rig (or on track) with a compiled creep law: the packed
-    parameters and the right-hand side.
+    """A wheelset or a bogie on the rig (or on track) with a compiled creep law: the
+    packed parameters and the right-hand side.
 
     Parameters
     ----------
@@ -322,12 +401,17 @@ class RigSystem:
     material : Material
     fastsim_grid : (nx, ny)
     frame : (A [m], Ψ [rad], f [Hz])
-        The frame's motion (an actuator through the suspension); zeros: at rest.
+        A single wheelset's frame motion (an actuator through the suspension);
+        zeros: at rest.
+    bogie : RigBogie or None
+        Two such wheelsets in a bogie frame (state (y_f, ψ_f, y_1, ψ_1, y_2, ψ_2) and
+        their rates).
     """
 
     def __init__(self, wheelset: RigWheelset, rig: RollerRig, table: RigTable,
                  tangential: str = "fastsim", friction: float = 0.3,
-                 material: Material = STEEL, fastsim_grid=(12, 12), frame=(0.0, 0.0, 0.0)):
+                 material: Material = STEEL, fastsim_grid=(12, 12), frame=(0.0, 0.0, 0.0),
+                 bogie: RigBogie | None = None):
         if (rig.radius is None) != (table.radius is None) or \
                 (rig.radius is not None and abs(rig.radius - table.radius) > 1e-12):
             raise InputError(f"roller rig radius {rig.radius!r} m and its table's "
@@ -338,7 +422,11 @@ class RigSystem:
                              "expected 'linear', 'fastsim' or 'polach'")
         if not (math.isfinite(friction) and 0 < friction <= 2):
             raise InputError(f"friction coefficient {friction!r}: expected a value in (0, 2]")
-        self.wheelset, self.rig, self.table = wheelset, rig, table
+        if bogie is not None and any(frame):
+            raise InputError("roller rig: a moving frame is a single wheelset's actuator; "
+                             "a bogie's frame is a body")
+        self.wheelset, self.rig, self.table, self.bogie = wheelset, rig, table, bogie
+        self.tangential = tangential
         self.law = law
         nx, ny = (int(v) for v in fastsim_grid)
         self.tp = np.array([friction, material.shear_modulus, nx, ny, 1.0, 1.0, 1.0, 0.0])
@@ -348,29 +436,48 @@ class RigSystem:
         self.par = np.array([w.mass, w.yaw_inertia, w.k_y, w.k_yaw, w.c_y, w.c_yaw,
                              w.wheel_load, rig.surface_speed, kr, table.nominal_radius, vw,
                              *(float(f) for f in frame), table.reference_load])
-        self.pout = np.zeros((2, 2, len(POUT)))
+        self.bp = np.zeros(7) if bogie is None else bogie.packed()
+        self.n_wheelsets = 1 if bogie is None else 2
+        self.size = 4 if bogie is None else 12
+        self.pout = np.zeros((self.n_wheelsets, 2, 2, len(POUT)))
 
     @property
     def velocity(self) -> float:
         return self.rig.surface_speed
 
+    @property
+    def positions(self) -> np.ndarray:
+        """Longitudinal positions [m] of the wheelsets in the frame."""
+        if self.bogie is None:
+            return np.zeros(1)
+        return np.array([self.bogie.semi_wheelbase, -self.bogie.semi_wheelbase])
+
     def rhs(self, t, u):
-        return rig_rhs(t, np.asarray(u, float), self.par, self.table.shift, self.table.data,
-                       self.law, self.tp, self.pout)
+        return system_rhs(t, np.asarray(u, float), self.par, self.bp, self.table.shift,
+                          self.table.data, self.law, self.tp, self.pout)
+
+    def wheelset_states(self, states) -> np.ndarray:
+        """(y, ψ, ẏ, ψ̇) of each wheelset (n, n_wheelsets, 4) from system states."""
+        states = np.atleast_2d(np.asarray(states, float))
+        if self.bogie is None:
+            return states[:, None, :4]
+        q, qd = states[:, :6], states[:, 6:]
+        return np.stack([np.stack([q[:, b], q[:, b + 1], qd[:, b], qd[:, b + 1]], axis=1)
+                         for b in (2, 4)], axis=1)
 
     def forces(self, states) -> np.ndarray:
-        """Per-patch outputs (n, 2, 2, len(POUT)) along the states (n, 4)."""
-        states = np.ascontiguousarray(np.atleast_2d(states), dtype=float)
-        out = np.zeros((states.shape[0], 2, 2, len(POUT)))
-        rig_history(states, self.par, self.table.shift, self.table.data, self.law, self.tp,
-                    out)
-        return out
+        """Per-patch outputs (n, n_wheelsets, 2, 2, len(POUT)) along system states."""
+        ws = np.ascontiguousarray(self.wheelset_states(states).reshape(-1, 4))
+        out = np.zeros((ws.shape[0], 2, 2, len(POUT)))
+        rig_history(ws, self.par, self.table.shift, self.table.data, self.law, self.tp, out)
+        return out.reshape(-1, self.n_wheelsets, 2, 2, len(POUT))
 
     def state_matrix(self, step: float = 1e-7) -> np.ndarray:
-        """The 4 x 4 state matrix about the centred position (central differences)."""
-        J = np.empty((4, 4))
-        for c in range(4):
-            du = np.zeros(4)
+        """The state matrix about the centred position (central differences)."""
+        n = self.size
+        J = np.empty((n, n))
+        for c in range(n):
+            du = np.zeros(n)
             du[c] = step
             J[:, c] = (self.rhs(0.0, du) - self.rhs(0.0, -du)) / (2 * step)
         return J
@@ -378,17 +485,20 @@ class RigSystem:
 
 def critical_speed(wheelset: RigWheelset, rig: RollerRig, table: RigTable,
                    material: Material = STEEL, v_min: float = 0.5,
-                   v_max: float = 200.0, points: int = 40) -> float:
-    """Linear critical speed [m/s] of the wheelset on the rig (or on track, with
-    ``rig.radius`` None): the lowest speed (the rollers' surface speed, the wheel
-    rolling with it) at which the largest real part of the eigenvalues of the state
-    matrix (linear creep law, Kalker's coefficients of the table) crosses zero, found
-    on ``points`` speeds spaced geometrically over [v_min, v_max] and refined by
-    Brent's method.  An :class:`~railcontact.core.errors.InputError` where the
-    wheelset is unstable at ``v_min`` or stable up to ``v_max``."""
+                   v_max: float = 200.0, points: int = 40,
+                   bogie: RigBogie | None = None) -> float:
+    """Linear critical speed [m/s] of the wheelset (or of the ``bogie``) on the rig
+    (or on track, with ``rig.radius`` None): the lowest speed (the rollers' surface
+    speed, the wheels rolling with it) at which the largest real part of the
+    eigenvalues of the state matrix (linear creep law, Kalker's coefficients of the
+    table) crosses zero, found on ``points`` speeds spaced geometrically over
+    [v_min, v_max] and refined by Brent's method.  An
+    :class:`~railcontact.core.errors.InputError` where the wheelset is unstable at
+    ``v_min`` or stable up to ``v_max``."""
     def growth(v):
         r = RollerRig(rig.radius, v, None)
-        J = RigSystem(wheelset, r, table, "linear", material=material).state_matrix()
+        J = RigSystem(wheelset, r, table, "linear", material=material,
+                      bogie=bogie).state_matrix()
         return float(np.max(np.linalg.eigvals(J).real))
     vs = np.geomspace(v_min, v_max, points)
     g = np.array([growth(v) for v in vs])
@@ -413,102 +523,132 @@ def hunting_motion(t, amplitude: float, frequency: float, velocity: float,
                      amplitude * w * np.cos(w * t), -psi * w * np.sin(w * t)], axis=1)
 
 
-def _dataset(t, states, out, attrs):
+def _dataset(system: RigSystem, t, states, out, attrs):
     import xarray as xr
-    side = ["left", "right"]
-    patch = ["tread", "flange"]
-    total = out.sum(axis=2)
+    ws = system.wheelset_states(states)
+    total = out.sum(axis=3)
+    tw = ("time", "wheelset")
+    tws = ("time", "wheelset", "side")
     data = {
-        "lateral_displacement": ("time", states[:, 0], {"units": "m"}),
-        "yaw": ("time", states[:, 1], {"units": "rad"}),
-        "lateral_velocity": ("time", states[:, 2], {"units": "m/s"}),
-        "yaw_rate": ("time", states[:, 3], {"units": "rad/s"}),
-        "normal_force": (("time", "side"), total[..., O_N],
+        "lateral_displacement": (tw, ws[..., 0], {"units": "m"}),
+        "yaw": (tw, ws[..., 1], {"units": "rad"}),
+        "lateral_velocity": (tw, ws[..., 2], {"units": "m/s"}),
+        "yaw_rate": (tw, ws[..., 3], {"units": "rad/s"}),
+        "normal_force": (tws, total[..., O_N],
                          {"units": "N", "long_name": "normal force of the roller on the wheel "
                                                      "(sum of its patches)"}),
-        "vertical_force": (("time", "side"), total[..., O_Q], {"units": "N"}),
-        "longitudinal_force": (("time", "side"), total[..., O_X],
+        "vertical_force": (tws, total[..., O_Q], {"units": "N"}),
+        "longitudinal_force": (tws, total[..., O_X],
                                {"units": "N", "long_name": "longitudinal force on the wheel: "
                                 "creep force and the leaning normal force"}),
-        "lateral_force": (("time", "side"), total[..., O_Y],
+        "lateral_force": (tws, total[..., O_Y],
                           {"units": "N", "long_name": "lateral force on the wheel (track "
                                                       "plane), Y"}),
     }
+    if system.bogie is not None:
+        st = np.atleast_2d(states)
+        data["frame_lateral_displacement"] = ("time", st[:, 0], {"units": "m"})
+        data["frame_yaw"] = ("time", st[:, 1], {"units": "rad"})
     for name, idx, unit in (("x_contact", O_XC, "m"), ("xi", O_XI, "1"), ("eta", O_ETA, "1"),
                             ("phi", O_PHI, "1/m"), ("patch_normal_force", O_N, "N"),
                             ("roller_radius", O_RHO, "m")):
-        data[name] = (("time", "side", "patch"), out[..., idx], {"units": unit})
-    return xr.Dataset(data, coords={"time": ("time", t, {"units": "s"}), "side": side,
-                                    "patch": patch}, attrs=attrs)
+        data[name] = (tws + ("patch",), out[..., idx], {"units": unit})
+    coords = {"time": ("time", t, {"units": "s"}),
+              "wheelset": np.arange(1, system.n_wheelsets + 1),
+              "wheelset_position": ("wheelset", system.positions, {"units": "m"}),
+              "side": ["left", "right"], "patch": ["tread", "flange"]}
+    return xr.Dataset(data, coords=coords, attrs=attrs)
 
 
-def _attrs(system: RigSystem, tangential: str, what: str) -> dict:
+def _attrs(system: RigSystem, what: str) -> dict:
     rig = system.rig
-    return {"model": f"wheelset on {'rollers' if rig.radius else 'tangent track'}",
+    body = "wheelset" if system.bogie is None else "bogie"
+    return {"model": f"{body} on {'rollers' if rig.radius else 'tangent track'}",
             "run": what, "velocity_m_s": rig.surface_speed,
             "roller_radius_m": math.nan if rig.radius is None else rig.radius,
             "roller_angular_velocity_rad_s": rig.angular_velocity,
-            "tangential": tangential, "wheel_load_N": system.wheelset.wheel_load}
+            "tangential": system.tangential, "wheel_load_N": system.wheelset.wheel_load}
 
 
 def prescribed_hunting(system: RigSystem, amplitude: float = 1.6e-3, frequency: float = 0.5,
                        duration: float = 4.0, sample_rate: float = 200.0,
-                       yaw_amplitude: float | None = None, tangential: str = "fastsim"):
-    """The forces of the wheelset moved through the excited hunting of seed 002
-    (:func:`hunting_motion`): an :class:`xarray.Dataset` over time with the
-    wheelset's motion and per wheel the normal, longitudinal and lateral forces of
+                       yaw_amplitude: float | None = None):
+    """The forces of the wheelset (or of the bogie, its frame moving and carrying its
+    wheelsets rigidly: y_i = y_f + x_i ψ_f, ψ_i = ψ_f) moved through the excited
+    hunting of seed 002 (:func:`hunting_motion`): an :class:`xarray.Dataset` over
+    time with the motion and per wheel the normal, longitudinal and lateral forces of
     the roller on the wheel, per patch the contact's x position and creepages."""
     _positive("excitation.amplitude", amplitude, 0.0, 0.05)
     _positive("excitation.frequency", frequency, 0.0, 100.0)
     _positive("duration", duration, 0.0, 1e4)
     t = np.arange(0.0, duration + 0.5 / sample_rate, 1.0 / sample_rate)
-    states = hunting_motion(t, amplitude, frequency, system.velocity, yaw_amplitude)
+    m = hunting_motion(t, amplitude, frequency, system.velocity, yaw_amplitude)
+    if system.bogie is None:
+        states = m
+    else:
+        states = np.zeros((t.size, 12))
+        states[:, 0], states[:, 1], states[:, 6], states[:, 7] = m.T
+        for b, x in zip((2, 4), system.positions):
+            states[:, b] = m[:, 0] + x * m[:, 1]
+            states[:, b + 1] = m[:, 1]
+            states[:, 6 + b] = m[:, 2] + x * m[:, 3]
+            states[:, 7 + b] = m[:, 3]
     t0 = time.perf_counter()
     out = system.forces(states)
-    attrs = _attrs(system, tangential, "prescribed hunting")
+    attrs = _attrs(system, "prescribed hunting")
     attrs.update(amplitude_m=amplitude, frequency_Hz=frequency,
-                 yaw_amplitude_rad=float(np.max(np.abs(states[:, 1]))),
+                 yaw_amplitude_rad=float(np.max(np.abs(m[:, 1]))),
                  wall_time_s=time.perf_counter() - t0)
-    return _dataset(t, states, out, attrs)
+    return _dataset(system, t, states, out, attrs)
 
 
 def simulate_rig(system: RigSystem, duration: float = 2.0, initial_lateral_shift: float = 1e-3,
-                 step: float = 1e-4, sample_rate: float = 500.0,
-                 tangential: str = "fastsim"):
-    """Time integration of the wheelset on the rig (fixed-step RK4, compiled) from a
-    lateral shift, its frame at rest or moving (``system``'s frame): the dataset of
+                 step: float = 1e-4, sample_rate: float = 500.0):
+    """Time integration of the wheelset (or bogie) on the rig (fixed-step RK4,
+    compiled) from a lateral shift of every wheelset: the dataset of
     :func:`prescribed_hunting`."""
     _positive("duration", duration, 0.0, 1e4)
     every = max(int(round(1.0 / (sample_rate * step))), 1)
     n = int(round(duration / step))
-    samples = np.zeros((n // every, 4))
-    u0 = np.array([initial_lateral_shift, 0.0, 0.0, 0.0])
+    samples = np.zeros((n // every, system.size))
+    u0 = np.zeros(system.size)
+    if system.bogie is None:
+        u0[0] = initial_lateral_shift
+    else:
+        u0[2] = u0[4] = initial_lateral_shift
     t0 = time.perf_counter()
-    rig_rk4(u0, np.array([0.0, step, n, every]), system.par, system.table.shift,
-            system.table.data, system.law, system.tp, system.pout, samples)
+    uf = rig_rk4(u0.copy(), np.array([0.0, step, n, every]), system.par, system.bp,
+                 system.table.shift, system.table.data, system.law, system.tp, system.pout,
+                 samples)
+    if not np.all(np.isfinite(uf)):
+        raise InputError(f"roller rig run diverged with step {step:g} s: give a smaller "
+                         "simulation.step")
     states = np.vstack([u0, samples])
     t = np.arange(states.shape[0]) * every * step
     out = system.forces(states)
-    attrs = _attrs(system, tangential, "free run")
+    attrs = _attrs(system, "free run")
     attrs.update(initial_lateral_shift_m=initial_lateral_shift, step_s=step,
                  wall_time_s=time.perf_counter() - t0)
-    return _dataset(t, states, out, attrs)
+    return _dataset(system, t, states, out, attrs)
 
 
-def plot_rig_forces(ds, path, side: str = "right"):
+def plot_rig_forces(ds, path, side: str = "right", wheelset: int | None = None):
     """The seed's figures 11-13: the normal, longitudinal and lateral force of the
-    roller on one wheel over time, with the wheelset's motion."""
+    roller on one wheel (default: the rear wheelset's right wheel, as the seed's)
+    over time, with the wheelset's motion."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
+    wheelset = int(ds["wheelset"].values[-1]) if wheelset is None else wheelset
     t = ds["time"].values
+    w = ds.sel(wheelset=wheelset)
     fig, axes = plt.subplots(4, 1, figsize=(8, 9), sharex=True)
-    axes[0].plot(t, ds["lateral_displacement"] * 1e3, color="C0")
+    axes[0].plot(t, w["lateral_displacement"] * 1e3, color="C0")
     axes[0].set_ylabel("y [mm]", color="C0")
     ax = axes[0].twinx()
-    ax.plot(t, ds["yaw"] * 1e3, color="C1")
+    ax.plot(t, w["yaw"] * 1e3, color="C1")
     ax.set_ylabel("yaw [mrad]", color="C1")
-    w = ds.sel(side=side)
+    w = w.sel(side=side)
     for axis, name, label in ((axes[1], "normal_force", "normal"),
                               (axes[2], "longitudinal_force", "longitudinal"),
                               (axes[3], "lateral_force", "lateral")):
@@ -516,8 +656,8 @@ def plot_rig_forces(ds, path, side: str = "right"):
         axis.set_ylabel(f"{label} [N]")
         axis.grid(alpha=0.3)
     axes[3].set_xlabel("time [s]")
-    fig.suptitle(f"{ds.attrs['model']}, {ds.attrs['run']}: {side} wheel, "
-                 f"{ds.attrs['velocity_m_s']:g} m/s")
+    fig.suptitle(f"{ds.attrs['model']}, {ds.attrs['run']}: wheelset {wheelset}, {side} "
+                 f"wheel, {ds.attrs['velocity_m_s']:g} m/s")
     fig.tight_layout()
     fig.savefig(path, dpi=110)
     plt.close(fig)
@@ -527,6 +667,8 @@ def plot_rig_forces(ds, path, side: str = "right"):
 # --------------------------------------------------------------- scenario files
 _RIG = {"radius", "surface_speed", "wheel_speed"}
 _WHEELSET = {"mass", "yaw_inertia", "k_y", "k_yaw", "c_y", "c_yaw", "wheel_load"}
+_BOGIE = {"frame_mass", "frame_yaw_inertia", "semi_wheelbase", "secondary_k_y",
+          "secondary_k_yaw", "secondary_c_y", "secondary_c_yaw"}
 _EXC = {"amplitude", "frequency", "yaw_amplitude"}
 _SIM = {"duration", "sample_rate", "tangential", "fastsim_grid", "table_range", "table_step",
         "initial_lateral_shift", "step"}
@@ -539,7 +681,8 @@ class RigScenario:
     """A roller-rig scenario (``railcontact simulate`` of a file with ``[roller_rig]``),
     validated, SI units: the wheelset and track of the case sections (the rollers
     carry the track's rails at its gauge), ``rig``, ``vehicle`` (the wheelset on
-    it), ``excitation`` ((A [m], f [Hz], Ψ [rad] or None: kinematic) or None: a free
+    it), ``bogie`` (None: a single wheelset; else two of them in this frame),
+    ``excitation`` ((A [m], f [Hz], Ψ [rad] or None: kinematic) or None: a free
     run from ``initial_lateral_shift``), the run's ``duration`` [s],
     ``sample_rate`` [Hz], ``step`` [s] (free run), the compiled ``tangential`` law,
     ``fastsim_grid`` and the contact table's ``table_range`` and ``table_step``
@@ -551,6 +694,7 @@ class RigScenario:
     friction: float
     rig: RollerRig
     vehicle: RigWheelset
+    bogie: RigBogie | None = None
     excitation: tuple | None = None
     duration: float = 4.0
     sample_rate: float = 200.0
@@ -590,7 +734,14 @@ def rig_scenario_from_sections(sections: dict, bodies) -> RigScenario:
     :class:`~railcontact.core.errors.CaseFileError` names the first wrong key."""
     from ..core.errors import CaseFileError
     rs = _table(sections.get("roller_rig", {}), "roller_rig", _RIG)
-    vs = _table(sections.get("vehicle", {}), "vehicle", _WHEELSET)
+    vs = dict(_table(sections.get("vehicle", {}), "vehicle", _WHEELSET | _BOGIE | {"model"}))
+    model = vs.pop("model", "wheelset")
+    if model not in ("wheelset", "bogie"):
+        raise CaseFileError(f"vehicle.model = {model!r}: expected 'wheelset' or 'bogie' on "
+                            "the roller rig")
+    if model == "wheelset" and set(vs) & _BOGIE:
+        raise CaseFileError(f"vehicle keys {sorted(set(vs) & _BOGIE)} belong to model = "
+                            "'bogie'")
     sim = _table(sections.get("simulation", {}), "simulation", _SIM)
     try:
         rig = RollerRig(_number(rs, "roller_rig", "radius", 0.18, 0.02, 10.0),
@@ -599,6 +750,11 @@ def rig_scenario_from_sections(sections: dict, bodies) -> RigScenario:
         d = RigWheelset()
         veh = RigWheelset(**{k: _number(vs, "vehicle", k, getattr(d, k), 0.0, 1e10)
                              for k in _WHEELSET})
+        bogie = None
+        if model == "bogie":
+            db = RigBogie()
+            bogie = RigBogie(**{k: _number(vs, "vehicle", k, getattr(db, k), 0.0, 1e10)
+                                for k in _BOGIE})
     except InputError as exc:
         if isinstance(exc, CaseFileError):
             raise
@@ -623,7 +779,7 @@ def rig_scenario_from_sections(sections: dict, bodies) -> RigScenario:
     wheelset, track, material, friction = bodies()
     return RigScenario(
         wheelset=wheelset, track=track, material=material, friction=float(friction), rig=rig,
-        vehicle=veh, excitation=exc_,
+        vehicle=veh, bogie=bogie, excitation=exc_,
         duration=_number(sim, "simulation", "duration", 4.0, 1e-3, 1e4),
         sample_rate=_number(sim, "simulation", "sample_rate", 200.0, 1.0, 1e5),
         step=_number(sim, "simulation", "step", 1e-4, 1e-6, 1e-2),
@@ -646,23 +802,23 @@ def run_rig_scenario(sc: RigScenario, out=None, progress: bool = True):
     run, and the linear critical speeds of the wheelset on the rig and on tangent
     track (attributes ``critical_speed_m_s`` and ``track_critical_speed_m_s``; NaN
     where none lies in 0.5-200 m/s).  With ``out``: ``simulation.nc`` and
-    ``rig_forces.png`` (the seed's figures 11-13, right wheel)."""
+    ``rig_forces.png`` (the seed's figures 11-13: the rear wheelset's right wheel)."""
     from ..core.files import write_netcdf
     t0 = time.perf_counter()
     rig_tab, track_tab = rig_tables(sc, progress)
     system = RigSystem(sc.vehicle, sc.rig, rig_tab, sc.tangential, sc.friction, sc.material,
-                       sc.fastsim_grid)
+                       sc.fastsim_grid, bogie=sc.bogie)
     if sc.excitation is not None:
         a, f, psi = sc.excitation
-        ds = prescribed_hunting(system, a, f, sc.duration, sc.sample_rate, psi, sc.tangential)
+        ds = prescribed_hunting(system, a, f, sc.duration, sc.sample_rate, psi)
     else:
         ds = simulate_rig(system, sc.duration, sc.initial_lateral_shift, sc.step,
-                          sc.sample_rate, sc.tangential)
+                          sc.sample_rate)
     speeds = {}
     for key, rig, tab in (("critical_speed_m_s", sc.rig, rig_tab),
                           ("track_critical_speed_m_s", sc.rig.on_track(), track_tab)):
         try:
-            speeds[key] = critical_speed(sc.vehicle, rig, tab, sc.material)
+            speeds[key] = critical_speed(sc.vehicle, rig, tab, sc.material, bogie=sc.bogie)
         except (InputError, ValueError):
             speeds[key] = math.nan
     ds.attrs.update(title=sc.title, **speeds, wall_time_s=time.perf_counter() - t0)
