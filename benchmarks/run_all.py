@@ -1216,17 +1216,19 @@ def bench_roller_rig(yaw_stiffness=(2e4, 5e4, 1e5, 2e5), lateral_stiffness=(1.55
     ex = runpy.run_path(str(HERE.parent / "examples" / "roller_rig_scaled.py"))
     system = RigSystem(sc.vehicle, sc.rig, rig_tab)
     for y, psi in ((0.0, 0.838e-3), (0.0, -2e-3), (4e-4, 1e-3), (-6e-4, -1.5e-3)):
-        xc = system.forces([[y, psi, 0.0, 0.0]])[0, 1, 0, O_XC]
+        xc = system.forces([[y, psi, 0.0, 0.0]])[0, 0, 1, 0, O_XC]
         (p,) = rc.solve(ex["case"](y, psi)).patches
         out(f"* y {y * 1e3:.1f} mm, yaw {psi * 1e3:.3f} mrad: contact x {xc * 1e3:.4f} mm, "
             f"3-D roller search {p.geometry.position[0] * 1e3:.4f} mm "
             f"({xc / p.geometry.position[0] - 1:+.2%})")
-    t0 = time.perf_counter()
-    ds = run_rig_scenario(sc, progress=False)
-    out(f"* examples/roller_rig_dynamics.toml: {time.perf_counter() - t0:.2f} s (4 s of "
-        f"hunting at 200 Hz, table and both critical speeds); rig "
-        f"{ds.attrs['critical_speed_m_s']:.1f} m/s, track "
-        f"{ds.attrs['track_critical_speed_m_s']:.1f} m/s")
+    for name in ("roller_rig_dynamics.toml", "roller_rig_bogie.toml"):
+        t0 = time.perf_counter()
+        ds = run_rig_scenario(load_dynamics_scenario(HERE.parent / "examples" / name),
+                              progress=False)
+        out(f"* examples/{name}: {time.perf_counter() - t0:.2f} s (4 s of hunting at "
+            f"200 Hz, table and both critical speeds); linear critical speed on the rig "
+            f"{ds.attrs['critical_speed_m_s']:.1f} m/s, on track "
+            f"{ds.attrs['track_critical_speed_m_s']:.1f} m/s")
 
 
 def main():
