@@ -131,10 +131,10 @@ class RigWheelset:
     ``c_yaw`` [N m s/rad], and the vertical ``wheel_load`` [N] per wheel.
 
     The defaults are the Manchester benchmark wheelset (REFERENCES.md section 10)
-    scaled 1:5 with the same stresses (length 1/5, force 1/25, mass 1/125, time 1/5,
-    speed 1:1: Jaschinski's scaling of the DLR rig): 1813 kg → 14.5 kg, 1120 kg m²
-    → 0.358 kg m², k_y 7.768e6 → 1.55e6 N/m, k_ψ 62.78e6 → 5.02e5 N m/rad,
-    75 kN → 3 kN."""
+    scaled 1:5 with the same stresses (our choice: length 1/5, force 1/25, mass
+    1/125, time 1/5, speed 1:1; the wheel load set apart from the masses, since
+    gravity does not scale): 1813 kg → 14.5 kg, 1120 kg m² → 0.358 kg m², k_y
+    7.768e6 → 1.55e6 N/m, k_ψ 62.78e6 → 5.02e5 N m/rad, 75 kN → 3 kN."""
 
     mass: float = 14.5
     yaw_inertia: float = 0.358
