@@ -61,6 +61,10 @@ def test_contact_leaves_the_apex_with_yaw_as_the_3d_roller_search(scenario, tabl
     for psi in (0.838e-3, -2e-3):
         out = _forces(scenario, rig_tab, rig, [[0.0, psi, 0.0, 0.0]])
         xc = out[1, 0, O_XC]
+        # the left wheel is the right one mirrored: the same x at (-y, -psi)
+        mirror = _forces(scenario, rig_tab, rig, [[-4e-4, -psi, 0.0, 0.0]])[0, 0, O_XC]
+        assert mirror == pytest.approx(
+            _forces(scenario, rig_tab, rig, [[4e-4, psi, 0.0, 0.0]])[1, 0, O_XC], rel=1e-9)
         (p,) = rc.solve(ex["case"](0.0, psi)).patches
         assert np.sign(xc) == -np.sign(psi)
         assert xc == pytest.approx(p.geometry.position[0], rel=3e-3)
