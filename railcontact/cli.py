@@ -379,7 +379,8 @@ def build_parser():
     wc.add_argument("--out", default="wear_comparison")
     wc.set_defaults(func=cmd_wear_compare)
     sm = sub.add_parser("simulate", help="vehicle dynamics: wheelset, bogie or vehicle on a "
-                        "track (several scenarios: one Dask batch)")
+                        "track, or a wheelset or bogie on a roller rig ([roller_rig]); "
+                        "several track scenarios: one Dask batch")
     sm.add_argument("scenario", nargs="+")
     sm.add_argument("--out", default="simulation_output",
                     help="output folder (one sub-folder per scenario for a batch)")
