@@ -227,12 +227,13 @@ def test_bogie_on_track_is_the_vehicle_dynamics_bogie_and_the_rig_lowers_it(scen
     # paths agree to 3e-7 m (measured 8e-8 m: the moment x_c Y)
     from railcontact.dynamics import Route
     from railcontact.dynamics.roller_rig import simulate_rig
-    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.dynamics.simulation import Integration, simulate_vehicle
     s = RigSystem(w, RollerRig(None, 30.0), track_tab, "fastsim", bogie=bogie)
     a = simulate_rig(s, 0.3, 3e-4, 2e-5, 1000)["lateral_displacement"].values
     b = simulate_vehicle(vm, Route.tangent(100), tb, 30.0, 0.3, "fastsim",
-                         initial_lateral_shift=3e-4, sample_rate=1000, integrator="rk4",
-                         step=2e-5)["lateral_displacement"].values
+                         initial_lateral_shift=3e-4,
+                         integration=Integration("rk4", sample_rate=1000, step=2e-5)
+                         )["lateral_displacement"].values
     assert a.shape == b.shape and np.abs(a - b).max() < 3e-7
 
 
