@@ -1175,6 +1175,62 @@ def bench_wear_grid_reuse(repeat: int = 5):
     out(f"\n* wear depths and energy with and without it bit-identical: {same}\n")
 
 
+def bench_roller_rig(yaw_stiffness=(2e4, 5e4, 1e5, 2e5), lateral_stiffness=(1.55e5, 1.55e6)):
+    """The 1:5 wheelset of examples/roller_rig_dynamics.toml on rollers of 0.18 m and
+    on tangent track: the linear critical speeds over the primary stiffnesses, and
+    which roller-rig terms move it (the roller's curvature in the Hertz patch alone;
+    the kinematics alone: the leaning normal, the roller's spin, its radius in xi);
+    the contact's x against the 3-D roller search; the cost of the example."""
+    import copy
+    import dataclasses
+    import runpy
+    out("\n## Roller rig (1:5 S1002/60E1, rollers of 0.18 m): rig against tangent track")
+    from railcontact.dynamics.roller_rig import (O_XC, RigSystem, RollerRig, critical_speed,
+                                                 rig_tables, run_rig_scenario)
+    from railcontact.inputs import load_dynamics_scenario
+    sc = load_dynamics_scenario(HERE.parent / "examples" / "roller_rig_dynamics.toml")
+    t0 = time.perf_counter()
+    rig_tab, track_tab = rig_tables(sc)
+    out(f"* contact table, {rig_tab.shift.size} shifts: {time.perf_counter() - t0:.2f} s")
+    out("| k_y [N/m] | k_psi [N m/rad] | track [m/s] | rig [m/s] | rig/track | Hertz only "
+        "| kinematics only |")
+    out("|---|---|---|---|---|---|---|")
+    for ky in lateral_stiffness:
+        for kp in yaw_stiffness:
+            w = dataclasses.replace(sc.vehicle, k_y=ky, k_yaw=kp)
+
+            def vc(rig, tab):
+                try:
+                    return critical_speed(w, rig, tab)
+                except (rc.InputError, ValueError) as exc:
+                    return str(exc).split(": ")[-1]
+            hertz = copy.copy(rig_tab)
+            hertz.radius = None
+            kin = copy.copy(track_tab)
+            kin.radius = sc.rig.radius
+            vt, vr = vc(sc.rig.on_track(), track_tab), vc(sc.rig, rig_tab)
+            vh, vk = vc(sc.rig.on_track(), hertz), vc(sc.rig, kin)
+            f = lambda v: f"{v:.1f}" if isinstance(v, float) else v
+            ratio = f"{vr / vt:.3f}" if isinstance(vr, float) and isinstance(vt, float) else "-"
+            out(f"| {ky:.3g} | {kp:.3g} | {f(vt)} | {f(vr)} | {ratio} | {f(vh)} | {f(vk)} |")
+    ex = runpy.run_path(str(HERE.parent / "examples" / "roller_rig_scaled.py"))
+    system = RigSystem(sc.vehicle, sc.rig, rig_tab)
+    for y, psi in ((0.0, 0.838e-3), (0.0, -2e-3), (4e-4, 1e-3), (-6e-4, -1.5e-3)):
+        xc = system.forces([[y, psi, 0.0, 0.0]])[0, 0, 1, 0, O_XC]
+        (p,) = rc.solve(ex["case"](y, psi)).patches
+        out(f"* y {y * 1e3:.1f} mm, yaw {psi * 1e3:.3f} mrad: contact x {xc * 1e3:.4f} mm, "
+            f"3-D roller search {p.geometry.position[0] * 1e3:.4f} mm "
+            f"({xc / p.geometry.position[0] - 1:+.2%})")
+    for name in ("roller_rig_dynamics.toml", "roller_rig_bogie.toml"):
+        t0 = time.perf_counter()
+        ds = run_rig_scenario(load_dynamics_scenario(HERE.parent / "examples" / name),
+                              progress=False)
+        out(f"* examples/{name}: {time.perf_counter() - t0:.2f} s (4 s of hunting at "
+            f"200 Hz, table and both critical speeds); linear critical speed on the rig "
+            f"{ds.attrs['critical_speed_m_s']:.1f} m/s, on track "
+            f"{ds.attrs['track_critical_speed_m_s']:.1f} m/s")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -1190,6 +1246,7 @@ def main():
     bench_dynamics()
     bench_fmu()
     bench_quasi_elastic()
+    bench_roller_rig()
     bench_wear_closed_loop()
     bench_wear_grid_reuse()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")

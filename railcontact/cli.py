@@ -269,6 +269,10 @@ def cmd_simulate(args):
                              "output folder; rename them")
         # every scenario is read and checked before any runs
         scenarios = {str(s): load_dynamics_scenario(s) for s in args.scenario}
+        from .dynamics.roller_rig import RigScenario
+        rigs = [n for n, sc in scenarios.items() if isinstance(sc, RigScenario)]
+        if rigs:
+            raise InputError(f"simulate: roller-rig scenarios {rigs} run one at a time")
         res = simulate_batch(scenarios, outs, scheduler=args.scheduler)
         for r in res:
             if "error" in r:
@@ -279,8 +283,18 @@ def cmd_simulate(args):
         if any("error" in r for r in res):
             raise SystemExit(1)
         return
+    from .dynamics.roller_rig import RigScenario, run_rig_scenario
     from .dynamics.scenario import run_scenario
-    ds = run_scenario(load_dynamics_scenario(args.scenario[0]), args.out)
+    sc = load_dynamics_scenario(args.scenario[0])
+    if isinstance(sc, RigScenario):
+        ds = run_rig_scenario(sc, args.out)
+        print(f"{ds.attrs['run']} of the {ds.attrs['model']}: {float(ds['time'][-1]):.2f} s in "
+              f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical "
+              f"speed {ds.attrs['critical_speed_m_s']:.1f} m/s on the rig, "
+              f"{ds.attrs['track_critical_speed_m_s']:.1f} m/s on tangent track; wrote "
+              f"{Path(args.out) / 'simulation.nc'} and rig_forces.png")
+        return 0
+    ds = run_scenario(sc, args.out)
     print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
           f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
           f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
@@ -426,7 +440,8 @@ def build_parser():
     wc.add_argument("--out", default="wear_comparison")
     wc.set_defaults(func=cmd_wear_compare)
     sm = sub.add_parser("simulate", help="vehicle dynamics: wheelset, bogie or vehicle on a "
-                        "track (several scenarios: one Dask batch)")
+                        "track, or a wheelset or bogie on a roller rig ([roller_rig]); "
+                        "several track scenarios: one Dask batch")
     sm.add_argument("scenario", nargs="+")
     sm.add_argument("--out", default="simulation_output",
                     help="output folder (one sub-folder per scenario for a batch)")

@@ -18,6 +18,7 @@ from .cases.case import case_from_dict
 from .core.errors import CaseFileError
 from .core.files import read_toml
 from .dynamics.contact_element import ContactElement
+from .dynamics.roller_rig import RIG_SECTIONS, RigScenario, rig_scenario_from_sections
 from .dynamics.scenario import DynamicsScenario, scenario_from_sections
 from .wear import simulation as open_loop
 from .wear import vehicle_scenario as closed_loop
@@ -26,19 +27,26 @@ from .wear import vehicle_scenario as closed_loop
 DYNAMICS_SECTIONS = ("title", "vehicle", "simulation", "route")
 
 
-def load_dynamics_scenario(path) -> DynamicsScenario:
+def load_dynamics_scenario(path) -> DynamicsScenario | RigScenario:
     """Read and validate a dynamics scenario file (``docs/dynamics.md``): its case
     sections give the wheelset and track, its ``[vehicle]``, ``[route]`` and
-    ``[simulation]`` the rest.  Nothing is computed; a bad key is a
+    ``[simulation]`` the rest; a file with ``[roller_rig]`` is a wheelset on a
+    roller rig (:class:`~railcontact.dynamics.roller_rig.RigScenario`: its
+    ``[roller_rig]``, ``[vehicle]``, ``[excitation]`` and ``[simulation]``).
+    Nothing is computed; a bad key is a
     :class:`~railcontact.core.errors.CaseFileError` naming it."""
     path = Path(path)
     raw = read_toml(path, "dynamics scenario")
-    sections = {k: raw.pop(k) for k in DYNAMICS_SECTIONS if k in raw}
+    rig = "roller_rig" in raw
+    sections = {k: raw.pop(k) for k in (RIG_SECTIONS if rig else DYNAMICS_SECTIONS)
+                if k in raw}
 
     def bodies():
         case = case_from_dict(raw, path.parent)
         return (*build_wheelset_track(case), case.material, case.friction)
 
+    if rig:
+        return rig_scenario_from_sections(sections, bodies)
     return scenario_from_sections(sections, path.parent, bodies)
 
 

@@ -161,3 +161,25 @@ def test_the_parameter_check_catches_long_signatures():
            "@njit(cache=True)\n"
            f"def kernel({', '.join(names[:10])}, *, b0, b1, b2=1):\n    pass\n")
     assert _long_signatures(src, "m") == {"m:thirteen": 13, "m:starred": 13, "m:kernel": 13}
+
+
+#: who may call the case-file parser (railcontact.cases.case: case_from_dict,
+#: load_case): the front ends, the parser's own module, the sweep (which varies a
+#: case file's dotted keys) and CONTACT's input files (read into case files); every
+#: other module takes parsed, typed objects (docs/architecture.md, "Data flow")
+CASE_PARSER_USERS = {"railcontact", "railcontact.cli", "railcontact.demo", "railcontact.inputs",
+                     "railcontact.fmu", "railcontact.cases.case", "railcontact.cases.sweep",
+                     "railcontact.contact_inp", "railcontact.contact_inp.mapping"}
+
+
+def test_only_front_ends_parse_case_files():
+    users = set()
+    for name, path in _modules().items():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module and (
+                    node.module.endswith("cases.case") or node.module == "railcontact"
+                    or (node.level == 1 and node.module == "case" and ".cases" in name)):
+                if {a.name for a in node.names} & {"case_from_dict", "load_case"}:
+                    users.add(name)
+    assert users - CASE_PARSER_USERS == set(), sorted(users - CASE_PARSER_USERS)
+    assert "railcontact.cli" in users and "railcontact.inputs" in users   # the scan sees them

@@ -30,6 +30,13 @@ def test_case_examples(path, tmp_path, request):
         for f in ("wear.nc", "wear.png", "measures.png", "checkpoint.nc"):
             assert (out / f).is_file()
         return
+    if "[roller_rig]" in text:           # a wheelset on a roller rig
+        from railcontact.dynamics.roller_rig import run_rig_scenario
+        from railcontact.inputs import load_dynamics_scenario
+        ds = run_rig_scenario(load_dynamics_scenario(path), tmp_path, progress=False)
+        assert ds.sizes["time"] > 10 and (tmp_path / "rig_forces.png").is_file()
+        assert ds.attrs["critical_speed_m_s"] < ds.attrs["track_critical_speed_m_s"]
+        return
     if "[vehicle]" in text:
         from railcontact.dynamics.scenario import run_scenario
         from railcontact.inputs import load_dynamics_scenario

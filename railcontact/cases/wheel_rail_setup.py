@@ -126,13 +126,13 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
             _optional(case, "rail.inclination", -0.1, 0.1, "rad") if body == "rail" else None)
     return WheelRailSetup(
         wheel=profiles["wheel"], rail=profiles["rail"],
-        nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.1, 1.5, "m"),
-        flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.5, 2.5, "m"),
+        nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.02, 1.5, "m"),
+        flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.1, 2.5, "m"),
         flange_back_position=case.number("wheelset.flange_back_position", -0.070, -0.2, 0.2,
                                          "m"),
-        gauge=case.number("track.gauge", 1.435, 0.5, 2.5, "m"),
+        gauge=case.number("track.gauge", 1.435, 0.1, 2.5, "m"),
         gauge_height=case.number("track.gauge_height", 0.014, 0.0, 0.05, "m"),
-        rail_offset=_optional(case, "track.rail_offset", 0.25, 1.0, "m"),
+        rail_offset=_optional(case, "track.rail_offset", 0.05, 1.0, "m"),
         lateral_shift=case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m"),
         yaw=case.number("wheelset.yaw", 0.0, -0.1, 0.1, "rad"),
         roll=roll, side=side, loads=case.wheel_loads(), vertical_position=z,

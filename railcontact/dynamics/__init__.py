@@ -13,6 +13,9 @@
   and Dask batches of them;
 - :mod:`~railcontact.dynamics.wheelset`: the classical two-degree-of-freedom
   wheelset with tabulated geometry (verification of Klingel's wavelength);
+- :mod:`~railcontact.dynamics.roller_rig`: a wheelset on a roller rig (the
+  contact off the rollers' apexes with yaw, the rollers' speed in the creepages),
+  its excited hunting and its critical speed against tangent track;
 - :mod:`~railcontact.dynamics.contact_element`: the contact element of a multibody
   model (forces and torques of both rails on a wheelset from its pose and motion);
 - :mod:`~railcontact.fmu`: that element as an FMI 3.0 co-simulation FMU
