@@ -1197,6 +1197,8 @@ def main():
     contact_inputs.main()
     import contact_testbank        # every testbank input: benchmarks/contact_testbank.md
     contact_testbank.main([])
+    import frictional_power        # issue 35: benchmarks/frictional_power.md
+    frictional_power.main()
 
 
 if __name__ == "__main__":
