@@ -153,26 +153,27 @@ def _sweep_row(y_mm):
 
 
 def _patch(y_mm, normal, tangential, cksi):
-    """One Manchester sweep patch solved with (normal, tangential) at the
-    longitudinal creepage cksi (VPITCH scaled from the sweep's -0.1 %)."""
+    """One Manchester sweep case (right wheel, CONTACT's roll 0) solved with
+    (normal, tangential) at the longitudinal creepage cksi (VPITCH scaled from the
+    sweep's -0.1 %)."""
     import railcontact as rc
     r = _sweep_row(y_mm)
     prof = REF / "profiles"
-    v = 2.0
-    r0 = float(r["r_wheel_mm"]) * 1e-3
-    vpitch = -(v * (1 + cksi)) / r0 if cksi != -0.001 else float(r["vpitch_rad_s"])
+    # VPITCH of the sweep (CKSI = -0.1 %) scaled to the creepage cksi
+    vpitch = float(r["vpitch_rad_s"]) * (1.0 + cksi) / (1.0 + float(r["cksi"]))
     raw = {"material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
            "friction": {"coefficient": 0.3},
            "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
            "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
-           "wheelset": {"lateral_shift": y_mm * 1e-3, "vertical_force": 1e4, "velocity": v,
-                        "pitch_velocity": vpitch, "side": "right"},
+           "wheelset": {"lateral_shift": y_mm * 1e-3, "vertical_force": 1e4, "velocity": 2.0,
+                        "pitch_velocity": vpitch, "side": "right", "roll": 0.0},
            "solver": {"element_size": [0.25e-3, 0.25e-3]}}
     return rc.solve(rc.case_from_dict(raw), normal, tangential)
 
 
 def bench_models():
     out("\n## 2. Every model's frictional power against the exact model's\n")
+    t0 = time.perf_counter()
     out("Manchester 10 kN sweep geometry (S1002/UIC60, right wheel, F_z = 10 kN, mu = 0.3, "
         "V = 2 m/s, 0.25 mm elements), one patch per case.  `P` is the model's frictional "
         "power (its local slip field: `TangentialSolution.frictional_power`), `P_macro` "
@@ -191,11 +192,11 @@ def bench_models():
                 out(f"* {label} y_ws = {y} mm, cksi {cksi}: exact failed ({exc})")
                 continue
             pe = sum(p.tangential.frictional_power for p in ex.patches)
-            p0 = ex.patches[0]
+            p0 = max(ex.patches, key=lambda p: p.normal.normal_force)
             xi, eta, phi = p0.creepage
             out(f"\n### {label}, y_ws = {y:g} mm, creepage ({xi:.2e}, {eta:.1e}, "
                 f"{phi:.3g} 1/m); exact: P = {pe:.3f} W, "
-                f"stick {100 * p0.tangential.stick_fraction:.0f} %, "
+                f"stick {100 * p0.tangential.stick_fraction:.0f} %, {len(ex.patches)} patch(es), "
                 f"delta = {p0.geometry.contact_angle:.3f} rad\n")
             out("| normal + tangential | P [W] | P / P_exact | P_macro / P_exact | "
                 "F_x / F_x,exact |")
@@ -214,6 +215,7 @@ def bench_models():
                 fx = sum(t.fx for t in ts)
                 out(f"| {nm} + {tg} | {pw:.3f} | {pw / pe:.3f} | {pm / pe:.3f} | "
                     f"{fx / fxe:.3f} |")
+    out(f"\n({time.perf_counter() - t0:.0f} s)")
 
 
 def main():
