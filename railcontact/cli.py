@@ -198,7 +198,8 @@ def cmd_wear(args):
 
 def cmd_wear_compare(args):
     from .inputs import load_wear_scenario
-    from .wear.compare import compare_wear, comparison_rows, format_rows, parse_models
+    from .wear.compare import (compare_wear, comparison_rows, format_rows, pairing_note,
+                               parse_models)
     from .wear.vehicle_scenario import VehicleWearScenario
     sc = load_wear_scenario(args.scenario)
     if args.scheduler:
@@ -207,7 +208,9 @@ def cmd_wear_compare(args):
     spec = args.models or ("hertz+fastsim,kik-piotrowski+fastsim,stripes+fastsim,"
                            "analyn+fastsim,exact+exact" if closed else
                            "hertz+fastsim,kpec+fastsim,analyn+fastsim")
-    res = compare_wear(sc, parse_models(spec), Path(args.out))
+    models = parse_models(spec)
+    res = compare_wear(sc, models, Path(args.out))
+    print(pairing_note(models))
     print(format_rows(comparison_rows(res)))
     print(f"wrote {Path(args.out) / 'wear_comparison.png'} and wear_comparison.csv")
 
