@@ -1199,6 +1199,8 @@ def main():
     contact_testbank.main([])
     import frictional_power        # issue 35: benchmarks/frictional_power.md
     frictional_power.main()
+    import seed001_tables          # seed 001's Tables 1-2: benchmarks/seed001_tables.md
+    seed001_tables.main()
 
 
 if __name__ == "__main__":
