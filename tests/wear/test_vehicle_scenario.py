@@ -50,8 +50,9 @@ def test_seed001_study_example_holds_the_papers_cases():
     import math
     from pathlib import Path
 
-    from railcontact.wear import load_scenario
-    sc = load_scenario(Path(__file__).resolve().parents[2] / "examples" / "seed001_study.toml")
+    from railcontact.inputs import load_wear_scenario
+    sc = load_wear_scenario(Path(__file__).resolve().parents[2] / "examples" /
+                            "seed001_study.toml")
     table3 = {"tangent": (math.inf, 0.0, 90.0), "R400": (400.0, 0.120, 60.0),
               "R600": (600.0, 0.120, 80.0), "R1000": (1000.0, 0.076, 80.0)}
     assert [r.name for r in sc.routes] == list(table3)
