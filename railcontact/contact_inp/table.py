@@ -31,7 +31,7 @@ COLUMNS = ("case", "module", "side", "patch", "npatch", "y_ws_mm", "z_ws_mm", "r
            "yaw_rad", "vpitch_rad_s", "xcp_tr_mm", "ycp_tr_mm", "zcp_tr_mm", "delta_tr_rad",
            "ycp_r_mm", "zcp_r_mm", "xcp_w_mm", "ycp_w_mm", "zcp_w_mm", "r_wheel_mm", "cksi",
            "ceta", "cphi_per_mm", "veloc_mm_s", "mu", "fn_N", "fx_N", "fs_N", "mn_Nmm",
-           "approach_mm", "pmax_MPa", "area_mm2", "ncon", "nadh", "nslip", "mx", "my", "dx_mm",
+           "fric_power_W", "approach_mm", "pmax_MPa", "area_mm2", "ncon", "nadh", "nslip", "mx", "my", "dx_mm",
            "ds_mm", "fx_tr_N", "fy_tr_N", "fz_tr_N", "tmax_C", "converged", "message")
 
 
