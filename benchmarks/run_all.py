@@ -1254,6 +1254,10 @@ def main():
     contact_inputs.main()
     import contact_testbank        # every testbank input: benchmarks/contact_testbank.md
     contact_testbank.main([])
+    import frictional_power        # issue 35: benchmarks/frictional_power.md
+    frictional_power.main()
+    import seed001_tables          # seed 001's Tables 1-2: benchmarks/seed001_tables.md
+    seed001_tables.main()
 
 
 if __name__ == "__main__":

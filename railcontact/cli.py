@@ -236,7 +236,8 @@ def cmd_wear(args):
 
 def cmd_wear_compare(args):
     from .inputs import load_wear_scenario
-    from .wear.compare import compare_wear, comparison_rows, format_rows, parse_models
+    from .wear.compare import (compare_wear, comparison_rows, format_rows, pairing_note,
+                               parse_models)
     from .wear.vehicle_scenario import VehicleWearScenario
     check_output(args.out, folder=True)
     if args.scheduler:
@@ -253,6 +254,7 @@ def cmd_wear_compare(args):
     pairs = parse_models(spec)
     _check_pairs(pairs)
     res = compare_wear(sc, pairs, Path(args.out))
+    print(pairing_note(pairs))
     print(format_rows(comparison_rows(res)))
     print(f"wrote {Path(args.out) / 'wear_comparison.png'} and wear_comparison.csv")
 

@@ -144,6 +144,9 @@ class SolveResult:
                  "y_rail": "m", "y_wheel": "m"}
         data = {k: ("patch", np.array([np.nan if r[k] is None else r[k] for r in rows], float),
                     {"units": u}) for k, u in units.items()}
+        data["frictional_power"] = (
+            "patch", np.array([r.get("frictional_power", 0.0) for r in rows], float),
+            {"units": "W", "long_name": "frictional power dissipated in the patch"})
         for c, u in (("longitudinal", "1"), ("lateral", "1"), ("spin", "m-1")):
             data[f"creepage_{c}"] = ("patch", np.array([r["creepage"][c] for r in rows]),
                                      {"units": u})

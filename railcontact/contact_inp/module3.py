@@ -423,7 +423,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             return out
 
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
-        px, py, _, _, stick, _, ok_t = out
+        px, py, sx, sy, stick, _, ok_t = out
         if not ok_t:
             what = "tangential problem not converged"
             if state.get("friction", 0.0) > FRICTION_TOL:
@@ -436,13 +436,18 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     ncon = int(np.count_nonzero(contact))
     nadh = int(np.count_nonzero(contact & stick)) if t else 0
     X, Y = grid.x[:, None], grid.y[None, :]
+    fric = None
+    if t == 3:
+        # CONTACT's FRIC.POWER [W]: V sum p . s dA of the tractions on body 1 and its
+        # relative slip (negative: the slip opposes them)
+        fric = float(v.get("VELOC") or 1.0) * MM * float((px * sx + py * sy).sum() * dA)
     row = {"case": case.number, "module": 3, "patch": 1, "npatch": 1, "T": t,
            "cksi": float(creep[0]), "ceta": float(creep[1]),
            "cphi_per_mm": float(v.get("CPHI") or 0.0),
            "veloc_mm_s": float(v.get("VELOC") or 1.0) if t in (2, 3) else 1.0,
            "mu": float(mu) if t else None,
            "fn_N": fn, "fx_N": float(px.sum() * dA), "fs_N": float(py.sum() * dA),
-           "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3,
+           "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3, "fric_power_W": fric,
            "approach_mm": approach / MM, "pmax_MPa": float(pressure.max()) * 1e-6,
            "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh,
            "nslip": ncon - nadh if t else 0, "mx": shape[0], "my": shape[1],

@@ -6,6 +6,9 @@ coordinates of CONTACT (for a left-side case y points to the track centre, so
 that y points to the right on both sides), the contact angle delta_tr, the
 creepages (cphi per mm), and the forces and moment on the rail (body 1) in N and
 N mm: F_n along the normal, F_x, F_s in the tangent plane, M_n about the normal;
+``fric_power_W``, the patch's frictional power in W as CONTACT's ``FRIC.POWER``
+(the power of the tractions on the rail on the rail's slip relative to the wheel:
+negative, minus the dissipated :attr:`~railcontact.tangential.TangentialSolution.frictional_power`);
 the approach and areas in mm and mm^2, p_max in MPa (N/mm^2); the element counts
 of the grid.  ``fx_tr_N``, ``fy_tr_N``, ``fz_tr_N`` are a case's total forces on
 the rail in the track frame: F_y = f_s cos(delta) - f_n sin(delta), F_z = f_s
@@ -28,7 +31,7 @@ COLUMNS = ("case", "module", "side", "patch", "npatch", "y_ws_mm", "z_ws_mm", "r
            "yaw_rad", "vpitch_rad_s", "xcp_tr_mm", "ycp_tr_mm", "zcp_tr_mm", "delta_tr_rad",
            "ycp_r_mm", "zcp_r_mm", "xcp_w_mm", "ycp_w_mm", "zcp_w_mm", "r_wheel_mm", "cksi",
            "ceta", "cphi_per_mm", "veloc_mm_s", "mu", "fn_N", "fx_N", "fs_N", "mn_Nmm",
-           "approach_mm", "pmax_MPa", "area_mm2", "ncon", "nadh", "nslip", "mx", "my", "dx_mm",
+           "fric_power_W", "approach_mm", "pmax_MPa", "area_mm2", "ncon", "nadh", "nslip", "mx", "my", "dx_mm",
            "ds_mm", "fx_tr_N", "fy_tr_N", "fz_tr_N", "tmax_C", "converged", "message")
 
 
@@ -47,6 +50,7 @@ def _patch_values(p) -> dict:
             "fn_N": float(n.normal_force), "fx_N": -t.fx if t is not None else 0.0,
             "fs_N": -t.fy if t is not None else 0.0,
             "mn_Nmm": -t.mz * 1e3 if t is not None else 0.0,
+            "fric_power_W": -t.frictional_power if t is not None else 0.0,
             "approach_mm": float(n.penetration) * 1e3, "pmax_MPa": float(n.pmax) * 1e-6,
             "area_mm2": float(n.area) * 1e6, "ncon": ncon, "nadh": nadh,
             "nslip": nslip, "mx": int(xs.size), "my": int(ys.size),

@@ -22,7 +22,7 @@
   (needs the ``fmu`` extra; not imported here).
 """
 
-from .route import Irregularities, Route, erri_psd
+from .route import Irregularities, Route, aar_psd, erri_psd, track_psd
 from .scenario import simulate_batch
 from .simulation import (Integration, amplitude_growth, critical_speed, simulate_vehicle,
                          state_matrix)
@@ -33,5 +33,6 @@ from .wheelset import critical_speed as wheelset_critical_speed
 
 __all__ = ["WheelsetModel", "simulate", "wavelength", "linear_matrix",
            "wheelset_critical_speed", "VehicleModel", "Body", "Element", "MANCHESTER",
-           "Route", "Irregularities", "erri_psd", "WheelRailTable", "simulate_vehicle", "Integration",
+           "Route", "Irregularities", "erri_psd", "aar_psd", "track_psd", "WheelRailTable",
+           "simulate_vehicle", "Integration",
            "simulate_batch", "state_matrix", "critical_speed", "amplitude_growth"]

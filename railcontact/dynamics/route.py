@@ -18,6 +18,20 @@ e.g. Claus & Schiehlen and the GENSYS program TRC_IPSD):
 
 with Ω_c = 0.8246, Ω_r = 0.0206, Ω_s = 0.4380 rad/m, b = 0.75 m, and A_a, A_v
 = 2.119e-7, 4.032e-7 m·rad (low level) or 6.125e-7, 1.080e-6 m·rad (high level).
+The US track classes 1-6 ("AAR-1" ... "AAR-6": the FRA/AAR spectra of Hamid &
+Yang, "Analytical description of track geometry variations", Transportation Research
+Record 838, 1981, as tabulated by Garg & Dukkipati, *Dynamics of Railway Vehicle
+Systems*, Academic Press 1984, and used by Tao et al. with class 6):
+
+    S_a(Ω) = k A_a Ω_c² / (Ω² (Ω² + Ω_c²))                   alignment [cm²/(rad/m)]
+    S_c(Ω) = 4 k A_v Ω_c² / ((Ω² + Ω_c²)(Ω² + Ω_s²))         cross-level [cm²/(rad/m)]
+
+with k = 0.25, Ω_c = 0.8245 rad/m and per class A_a, A_v [cm² rad/m] and Ω_s [rad/m]
+(:data:`AAR_CLASSES`).  The cross-level is the height difference of the two rails;
+it becomes the angle over the rail-centre distance ``CANT_BASE`` (S_c / CANT_BASE²),
+as a measured file's cross-level does.  ORE B176 took Ω_c and Ω_s = 0.4380 rad/m
+of class 6, hence the ERRI values above.
+
 A realisation is a sum of harmonics with random phases whose variance in each
 wavenumber band equals the spectrum's (inverse real FFT on a uniform grid).
 """
@@ -39,6 +53,12 @@ CANT_BASE = 1.5
 #: ORE B176 spectra: name -> (A_a [m rad], A_v [m rad])
 SPECTRA = {"ERRI-low": (2.119e-7, 4.032e-7), "ERRI-high": (6.125e-7, 1.080e-6)}
 _OMEGA_C, _OMEGA_R, _OMEGA_S, _B = 0.8246, 0.0206, 0.4380, 0.75
+#: FRA/AAR track classes: class -> (A_v [cm² rad/m], A_a [cm² rad/m], Ω_s [rad/m])
+#: (Hamid & Yang 1981; Garg & Dukkipati 1984); Ω_c = 0.8245 rad/m and k = 0.25 for all
+AAR_CLASSES = {1: (1.2107, 3.3634, 0.6046), 2: (1.0181, 1.2107, 0.9308),
+               3: (0.6816, 0.4128, 0.8520), 4: (0.5376, 0.3027, 1.1312),
+               5: (0.2095, 0.0762, 0.8209), 6: (0.0339, 0.0339, 0.4380)}
+_AAR_OMEGA_C, _AAR_K = 0.8245, 0.25
 _KINDS = ("tangent", "transition", "curve")
 
 
@@ -53,6 +73,41 @@ def erri_psd(omega, spectrum: str = "ERRI-low"):
     w2 = np.asarray(omega, dtype=float) ** 2
     base = _OMEGA_C ** 2 / ((w2 + _OMEGA_R ** 2) * (w2 + _OMEGA_C ** 2))
     return Aa * base, Av / _B ** 2 * base * w2 / (w2 + _OMEGA_S ** 2)
+
+
+def aar_psd(omega, track_class: int = 6):
+    """FRA/AAR one-sided PSDs of track class 1-6 at wavenumbers ``omega`` [rad/m]
+    (module notes; Hamid & Yang 1981).
+
+    Returns (alignment [m²/(rad/m)], cross-level angle [rad²/(rad/m)]): the
+    formulas' cm² turned into m², the cross-level height difference into the angle
+    over ``CANT_BASE``.
+    """
+    if track_class not in AAR_CLASSES:
+        raise InputError(f"AAR track class {track_class!r}: expected one of 1-6")
+    Av, Aa, ws = AAR_CLASSES[track_class]
+    w2 = np.asarray(omega, dtype=float) ** 2
+    wc2 = _AAR_OMEGA_C ** 2
+    with np.errstate(divide="ignore"):
+        sa = _AAR_K * Aa * wc2 / (w2 * (w2 + wc2))
+    sc = 4 * _AAR_K * Av * wc2 / ((w2 + wc2) * (w2 + ws ** 2))
+    return sa * 1e-4, sc * 1e-4 / CANT_BASE ** 2
+
+
+#: every spectrum by name: the ORE B176 ones and the AAR track classes
+SPECTRUM_NAMES = tuple(sorted(SPECTRA)) + tuple(f"AAR-{c}" for c in AAR_CLASSES)
+
+
+def track_psd(omega, spectrum: str = "ERRI-low"):
+    """One-sided PSDs (alignment [m²/(rad/m)], cross-level angle [rad²/(rad/m)]) of
+    the spectrum named ``spectrum``: "ERRI-low", "ERRI-high" (:func:`erri_psd`) or
+    "AAR-1" ... "AAR-6" (:func:`aar_psd`)."""
+    if spectrum not in SPECTRUM_NAMES:
+        raise InputError(f"irregularity spectrum {spectrum!r}: expected one of "
+                         f"{list(SPECTRUM_NAMES)}")
+    if spectrum.startswith("AAR-"):
+        return aar_psd(omega, int(spectrum[4:]))
+    return erri_psd(omega, spectrum)
 
 
 @dataclass
@@ -86,13 +141,13 @@ class Irregularities:
     @classmethod
     def from_psd(cls, length: float, spectrum: str = "ERRI-low", seed: int = 0,
                  wavelengths=(3.0, 120.0), step: float = 0.25) -> "Irregularities":
-        """Random realisation of the ORE B176 spectra over ``length`` [m].
+        """Random realisation of the ORE B176 or AAR spectra over ``length`` [m].
 
         Parameters
         ----------
         length : float
             Track length covered [m] (the realisation is periodic in it).
-        spectrum : {"ERRI-low", "ERRI-high"}
+        spectrum : {"ERRI-low", "ERRI-high", "AAR-1", ..., "AAR-6"}
         seed : int
             Seed of the random phases (same seed, same track).
         wavelengths : (float, float)
@@ -101,6 +156,7 @@ class Irregularities:
             Grid step [m].
         """
         lmin, lmax = (float(w) for w in wavelengths)
+        track_psd(1.0, spectrum)                 # the name checked before any work
         if not (length > 0 and step > 0 and 2 * step <= lmin < lmax):
             raise InputError(f"irregularities: length {length!r} m, step {step!r} m, wavelengths "
                              f"{wavelengths!r}: expected length, step > 0 and "
@@ -114,7 +170,8 @@ class Irregularities:
         band = (omega >= 2 * np.pi / lmax) & (omega <= 2 * np.pi / lmin)
         rng = np.random.default_rng(seed)
         out = []
-        for psd in erri_psd(omega, spectrum):
+        psds = track_psd(omega[1:], spectrum)        # (Ω = 0 is outside every band)
+        for psd in (np.concatenate(([0.0], q)) for q in psds):
             amp = np.where(band, np.sqrt(2 * psd * d_omega), 0.0)
             coef = 0.5 * n * amp * np.exp(1j * rng.uniform(0, 2 * np.pi, k.size))
             out.append(np.fft.irfft(coef, n))

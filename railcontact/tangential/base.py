@@ -117,9 +117,13 @@ class TangentialSolution:
     fx, fy : float            creep forces [N] on the wheel, contact-local frame
     mz : float                spin moment [N m] about the normal through the origin
     power_density : ndarray   frictional power per unit area [W/m^2]
+    frictional_power : float  frictional power of the patch [W] (see the property)
     velocity : float          rolling velocity [m/s]
     status : SolverStatus     whether the solver met its tolerance (``converged``)
     options : dict            model-specific details (iterations, flexibilities, ...)
+    power : float or None     frictional power [W] summed by the model on its own
+                              elements (the strip marches' mid-points), where it has
+                              them; None: from the grid fields
     """
 
     model: str
@@ -140,6 +144,7 @@ class TangentialSolution:
     cpu_time: float = 0.0
     options: dict = field(default_factory=dict)
     status: SolverStatus = field(default_factory=SolverStatus)
+    power: float | None = None
 
     @property
     def converged(self) -> bool:
@@ -152,7 +157,25 @@ class TangentialSolution:
 
     @property
     def frictional_power(self) -> float:
-        """Total frictional power [W] of the patch."""
+        """Frictional power [W] dissipated in the patch: the integral of traction
+        times local slip velocity, P = V * sum |t . s| dA (>= 0).
+
+        * Models with local fields (exact, FASTSIM, FaStrip): from their own
+          discretisation -- the exact model's grid (the same sum as CONTACT's
+          ``FRIC.POWER``, Vollebregt's CONTACT user guide, section "Overall output
+          quantities": FRIC = V dx dy sum p_I . s_I, in W, of the tractions on
+          body 1 and its slip, hence CONTACT's negative sign), the strip marches'
+          mid-points (``power``).
+        * Models without local fields (``options["local_fields"]`` False: linear,
+          Polach): the macroscopic power V (xi F_x + eta F_y + phi M_z), which the
+          local sum equals in the continuum limit of steady rolling of
+          quasi-identical bodies with constant creepages (the same section).
+        """
+        if self.power is not None:
+            return float(self.power)
+        if self.options.get("local_fields", True) is False:
+            xi, eta, phi = self.creepage
+            return float(abs(self.velocity * (xi * self.fx + eta * self.fy + phi * self.mz)))
         dA = (self.x[1] - self.x[0]) * (self.y[1] - self.y[0])
         return float(self.power_density.sum() * dA)
 

@@ -71,13 +71,15 @@ def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid, grid):
     the bound [Pa] it is scaled back, and the excess over the bound is the slip
     (times L3 / step, as in FASTSIM).  ``y`` (my,) the strips' positions [m], ``dy``
     their width [m], ``x_lead``, ``x_trail`` their edges [m], ``xgrid`` the grid's x
-    [m].  Returns the forces on the rail (mid-point rule) and fills the grid fields
-    ``grid`` (:class:`~railcontact.tangential.fastsim.Traction`)."""
+    [m].  Returns the forces on the rail (mid-point rule) and the frictional power
+    per unit velocity, sum |p| |s| dx dy over the slipping mid-points [N], and fills
+    the grid fields ``grid`` (:class:`~railcontact.tangential.fastsim.Traction`)."""
     my = y.size
     nx = bound.shape[1]
     fx = 0.0
     fy = 0.0
     mz = 0.0
+    pw = 0.0
     strip = Traction(np.empty(nx), np.empty(nx), np.empty(nx), np.empty(nx),
                      np.empty(nx, dtype=np.bool_))
     pxs, pys, sxs, sys_, sts = strip.px, strip.py, strip.sx, strip.sy, strip.stick
@@ -115,6 +117,7 @@ def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid, grid):
                 sxs[k] = -slip * px / pm          # along the traction on the wheel
                 sys_[k] = -slip * py / pm
                 sts[k] = False
+                pw += slip * pm * dx * dy
             else:
                 sxs[k] = 0.0
                 sys_[k] = 0.0
@@ -126,7 +129,7 @@ def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid, grid):
             mz += (xm * py - y[j] * px) * dx * dy
             prev = xm
         _strip_to_grid(j, x_lead[j], x_trail[j], dx, xgrid, strip, grid)
-    return fx, fy, mz
+    return fx, fy, mz, pw
 
 
 @njit(cache=True, nogil=True)
@@ -252,8 +255,8 @@ def fastrip_strip_patches(strips, mu, wn, ex, ey, K, L3, phi, nx, out):
             for i in range(nx):
                 dqx[j, i] = -ex[k] * dq[j, i]      # rail tractions: opposite to the wheel's
                 dqy[j, i] = -ey[k] * dq[j, i]
-        fx, fy, mz = _march(y[k], dy[k], xl, xt, bound, dqx, dqy, L3[k], phi[k], xgrid,
-                            nogrid)
+        fx, fy, mz, _ = _march(y[k], dy[k], xl, xt, bound, dqx, dqy, L3[k], phi[k], xgrid,
+                               nogrid)
         out[k, 0] = -fx
         out[k, 1] = -fy
         out[k, 2] = -mz
@@ -337,9 +340,9 @@ class FastripModel:
             px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
             stick = np.zeros((mx, my), dtype=bool)
             # rail tractions: opposite to the wheel's (direction e)
-            fxr, fyr, mzr = _march(np.ascontiguousarray(y), normal.dy, x_lead, x_trail, bound,
-                                   -ex * dq, -ey * dq, L3, phi, np.ascontiguousarray(x),
-                                   Traction(px, py, sx, sy, stick))
+            fxr, fyr, mzr, pw = _march(np.ascontiguousarray(y), normal.dy, x_lead, x_trail,
+                                       bound, -ex * dq, -ey * dq, L3, phi,
+                                       np.ascontiguousarray(x), Traction(px, py, sx, sy, stick))
             if self.falling is None:
                 break
             w = np.hypot(sx, sy) * velocity
@@ -357,4 +360,5 @@ class FastripModel:
                                   friction,
                                   time.perf_counter() - t0,
                                   {"friction_iterations": iters,
-                                   "creep_coefficients": (c11, c22), "L3": L3})
+                                   "creep_coefficients": (c11, c22), "L3": L3},
+                                  power=float(pw) * velocity)

@@ -104,7 +104,13 @@ def _strip_to_grid(j, x_lead, x_trail, dx, xgrid, strip, grid):
 @njit(cache=True, nogil=True)
 def _fastsim_strips(y, dy, x_lead, x_trail, bound, L, creepage, xgrid, grid):
     """March all strips; fill the grid fields ``grid`` (:class:`Traction`, traction
-    on body 1 = rail) and return the forces.
+    on body 1 = rail) and return the forces and the frictional power per unit
+    velocity [N]: the integral of p . s with FASTSIM's slip s = w_F + L dp/dx (w_F =
+    (xi - phi y L1/L3, eta + phi x L2/L3), its rigid slip scaled by the
+    flexibilities); as p vanishes at both ends of every strip, the integral of
+    p . L dp/dx is zero and the power is the sum of p . w_F dx dy over the
+    mid-points, the limit of the sum of p . s dx dy, which converges as slowly as
+    the slip's onset is resolved (docs/frictional_power.md).
 
     ``y`` (my,) the strips' positions [m], ``dy`` their width [m], ``x_lead``,
     ``x_trail`` (my,) their edges [m], ``bound`` (my, nx) the traction bound [Pa] at
@@ -119,6 +125,7 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L, creepage, xgrid, grid):
     fx = 0.0
     fy = 0.0
     mz = 0.0
+    pw = 0.0
     strip = Traction(np.empty(nx), np.empty(nx), np.empty(nx), np.empty(nx),
                      np.empty(nx, dtype=np.bool_))
     pxs, pys, sxs, sys_, sts = strip.px, strip.py, strip.sx, strip.sy, strip.stick
@@ -158,9 +165,10 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L, creepage, xgrid, grid):
             fx += px * dx * dy
             fy += py * dx * dy
             mz += (xm * py - y[j] * px) * dx * dy
+            pw += (px * L1[j] * ux + py * (eta + phi[j] * xm * L2[j] / L3[j])) * dx * dy
             prev = xm
         _strip_to_grid(j, x_lead[j], x_trail[j], dx, xgrid, strip, grid)
-    return fx, fy, mz
+    return fx, fy, mz, pw
 
 
 @njit(cache=True, nogil=True)
@@ -286,9 +294,9 @@ def fastsim_strip_patches(strips, L, mu, creepage, nx, out):
             out[k, 2] = 0.0
             continue
         strip_pressures(x_mid[k], half[k], p_strip[k], w, mu[k], xl, xt, bound)
-        fx, fy, mz = _fastsim_strips(y[k], dy[k], xl, xt, bound,
-                                     Flexibilities(L1[k], L2[k], L3[k]),
-                                     Creepage(xi[k], eta[k], phi[k]), xgrid, nogrid)
+        fx, fy, mz, _ = _fastsim_strips(y[k], dy[k], xl, xt, bound,
+                                        Flexibilities(L1[k], L2[k], L3[k]),
+                                        Creepage(xi[k], eta[k], phi[k]), xgrid, nogrid)
         # the march gives the tractions on the rail; the wheel gets the opposite
         out[k, 0] = -fx
         out[k, 1] = -fy
@@ -508,12 +516,13 @@ class FastsimModel:
             bound = np.ascontiguousarray(mu_mid * pn)
             px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
             stick = np.zeros((mx, my), dtype=bool)
-            fx1, fy1, mz1 = _fastsim_strips(np.ascontiguousarray(normal.y), normal.dy,
-                                            np.ascontiguousarray(x_lead, dtype=float),
-                                            np.ascontiguousarray(x_trail, dtype=float), bound,
-                                            Flexibilities(L1, L2, L3), Creepage(xi, eta, phis),
-                                            np.ascontiguousarray(normal.x),
-                                            Traction(px, py, sx, sy, stick))
+            fx1, fy1, mz1, pw = _fastsim_strips(np.ascontiguousarray(normal.y), normal.dy,
+                                                np.ascontiguousarray(x_lead, dtype=float),
+                                                np.ascontiguousarray(x_trail, dtype=float),
+                                                bound, Flexibilities(L1, L2, L3),
+                                                Creepage(xi, eta, phis),
+                                                np.ascontiguousarray(normal.x),
+                                                Traction(px, py, sx, sy, stick))
             if self.falling is None:
                 break
             w = np.hypot(sx, sy)[ix, iy] * velocity
@@ -530,4 +539,5 @@ class FastsimModel:
                                   contact, -fx1, -fy1, -mz1, velocity, (xi, eta, phi), friction,
                                   time.perf_counter() - t0,
                                   {"bound": self.bound, "flexibilities": flex,
-                                   "friction_iterations": iters})
+                                   "friction_iterations": iters},
+                                  power=abs(float(pw)) * velocity)

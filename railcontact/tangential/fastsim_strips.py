@@ -68,7 +68,10 @@ class FastsimStripsModel(FastsimModel):
                                                  material, friction)
         xi, eta, phi = creepage
         G, nu = material.shear_modulus, material.nu
-        act = ok[:, None] & (strips.half > 0)
+        # strips of a patch with an approach (a patch without one, e.g. a light
+        # secondary patch of a strip model, has no local ellipse: its strips keep the
+        # patch's flexibilities)
+        act = ok[:, None] & (strips.half > 0) & (np.asarray(strips.penetration) > 0)[:, None]
         rows = np.nonzero(act)[0]
         la, lb, _ = hertz_ellipses_table(strips.A[act], strips.B[act],
                                          material.contact_modulus, strips.penetration[rows])
@@ -100,6 +103,10 @@ class FastsimStripsModel(FastsimModel):
                                                 normal.normal_force))[:, None]
         la, lb, _ = hertz_ellipses(A[active], B[active], material.contact_modulus,
                                    normal.penetration)      # one local ellipse per strip
+        # no local ellipse where the approach is not positive (a light patch of a strip
+        # model): those strips keep the patch's flexibilities
+        good = np.isfinite(la) & np.isfinite(lb) & (la > 0) & (lb > 0)
+        active, la, lb = active[good], la[good], lb[good]
         if active.size:
             L[:, active] = np.asarray(self._flexibilities(la, lb, G, nu, creepage, friction,
                                                           normal.normal_force))

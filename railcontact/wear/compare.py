@@ -31,6 +31,29 @@ def parse_models(spec: str):
     return out
 
 
+#: the local contact models of seed 001 (Tao et al., CM2015, section 2 and Table 4),
+#: each with the tangential model the paper pairs it with: FASTSIM on the patch
+#: (Hertz, Kik-Piotrowski), FASTSIM per strip with each strip's local ellipse
+#: (STRIPES, ANALYN), and CONTACT's exact theory
+PAPER_PAIRING = (("hertz", "fastsim"), ("kik-piotrowski", "fastsim"),
+                 ("stripes", "fastsim-strips"), ("analyn", "fastsim-strips"),
+                 ("exact", "exact"))
+
+
+def pairing_note(models) -> str:
+    """One line stating which normal + tangential pairing a comparison used, and where
+    it departs from the paper's (:data:`PAPER_PAIRING`)."""
+    used = ", ".join(f"{n}+{t}" for n, t in models)
+    paper = dict(PAPER_PAIRING)
+    differ = [f"{n}+{t} (paper: {n}+{paper[n]})" for n, t in models
+              if n in paper and paper[n] != t]
+    if not differ:
+        return f"pairing: {used} (as Tao et al., CM2015, pair them)"
+    return (f"pairing: {used}; differs from Tao et al. (CM2015) in " + ", ".join(differ)
+            + "; --models " + ",".join(f"{n}+{t}" for n, t in PAPER_PAIRING)
+            + " is the paper's")
+
+
 def compare_wear(scenario, models, out=None, progress=True):
     """Run ``scenario`` for each (normal, tangential) pair; returns {label: dataset}
     (and writes ``wear_comparison.png`` and ``.csv`` into ``out``).  Every model name
@@ -52,6 +75,7 @@ def compare_wear(scenario, models, out=None, progress=True):
         results[label] = sc.driver(sub, progress=progress).run(resume=False)
     if out:
         _write(results, Path(out))
+        (Path(out) / "pairing.txt").write_text(pairing_note(models) + "\n")
     return results
 
 
@@ -101,6 +125,7 @@ def _compare_closed_loop(scenario, models, out, progress):
         results[label] = ds
     if out:
         _write_closed_loop(results, Path(out))
+        (Path(out) / "pairing.txt").write_text(pairing_note(models) + "\n")
     return results
 
 

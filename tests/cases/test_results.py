@@ -22,12 +22,13 @@ def bodies_result():
 def test_to_xarray_carries_units_and_the_patch_values(bodies_result):
     ds = bodies_result.to_xarray()
     (p,) = bodies_result.to_dict()["patches"]
-    units = {"area": "m2", "pmax": "Pa", "Fn": "N", "Fx": "N", "Mz": "N m",
+    units = {"area": "m2", "pmax": "Pa", "Fn": "N", "Fx": "N", "Mz": "N m", "frictional_power": "W",
              "contact_angle": "rad", "creepage_spin": "m-1", "creepage_longitudinal": "1"}
     for name, unit in units.items():
         assert ds[name].attrs["units"] == unit
     assert ds.sizes["patch"] == 1
     assert float(ds["Fn"][0]) == p["Fn"] and float(ds["area"][0]) == p["area"]
+    assert float(ds["frictional_power"][0]) == p["frictional_power"] > 0
     assert float(ds["creepage_longitudinal"][0]) == p["creepage"]["longitudinal"]
     assert np.isnan(ds["y_rail"][0]) == (p["y_rail"] is None)      # None becomes NaN
     assert ds.attrs["normal_model"] == "hertz" and ds.attrs["tangential_model"] == "fastsim"

@@ -251,3 +251,17 @@ def test_temperature_full_sliding(ertz):
     rows, ref = ertz
     for c in (1, 3):
         assert rows[c - 1]["tmax_C"] == pytest.approx(ref[c]["tmax_C"], rel=0.03)
+
+
+def test_frictional_power_on_contacts_grid(testbank):
+    """carter2d (Carter's 2-D rolling on CONTACT's own grid, module 3 path): the
+    frictional power of the steady rolling solution V sum p . s dA against CONTACT's
+    FRIC.POWER [W], measured within 0.01 %."""
+    import re
+    from pathlib import Path
+    path = testbank / "examples_basic" / "carter2d.inp"
+    (r,) = solve_inp(path)
+    text = Path(path.with_suffix(".ref_out")).read_text()
+    (line,) = re.findall(r"FRIC\.POWER\n(.*)\n", text)
+    c = float(line.split()[5])
+    assert c < 0 and r["fric_power_W"] == pytest.approx(c, rel=2e-3)

@@ -6,8 +6,9 @@ import numpy as np
 import pytest
 from scipy.integrate import quad
 
-from railcontact.dynamics.route import CANT_BASE, Irregularities, Route, erri_psd
 from railcontact.core.errors import CaseFileError, InputError
+from railcontact.dynamics.route import (AAR_CLASSES, CANT_BASE, Irregularities, Route, aar_psd,
+                                        erri_psd, track_psd)
 
 
 def test_segments_curvature_and_cant():
@@ -48,13 +49,36 @@ def test_psd_matches_gensys_table():
     assert 2 * np.pi * float(sa) == pytest.approx(6.1608e-6, rel=2e-3)
 
 
-@pytest.mark.parametrize("spectrum", ["ERRI-low", "ERRI-high"])
+def test_aar_psd_against_the_formulas():
+    """FRA/AAR classes (Hamid & Yang 1981; k = 0.25, Omega_c = 0.8245 rad/m) by hand
+    at Omega = 1 rad/m: class 6, S_a = 0.25 0.0339 0.67980 / 1.67980 = 3.4298e-3
+    cm^2/(rad/m); S_c = 0.0339 0.67980 / (1.67980 x 1.191844) = 1.15107e-2 cm^2/(rad/m)
+    of height difference, /1.5^2 m^2 as an angle; class 1, S_a = 0.25 3.3634 0.67980
+    / 1.67980 = 0.340284 cm^2/(rad/m)."""
+    sa, sc = aar_psd(1.0, 6)
+    assert float(sa) == pytest.approx(3.4298e-3 * 1e-4, rel=1e-4)
+    assert float(sc) == pytest.approx(1.15107e-2 * 1e-4 / CANT_BASE ** 2, rel=1e-4)
+    assert float(aar_psd(1.0, 1)[0]) == pytest.approx(0.340284e-4, rel=1e-4)
+    # the table of the source: class 6 is ORE B176's Omega_s, the classes get smoother
+    assert AAR_CLASSES[6][2] == 0.4380
+    w = np.array([0.1, 0.5, 2.0])
+    for c in range(1, 6):
+        assert np.all(aar_psd(w, c)[0] > aar_psd(w, c + 1)[0])
+    np.testing.assert_array_equal(track_psd(w, "AAR-3")[1], aar_psd(w, 3)[1])
+    np.testing.assert_array_equal(track_psd(w, "ERRI-low")[0], erri_psd(w, "ERRI-low")[0])
+    with pytest.raises(InputError, match="AAR-6"):
+        track_psd(w, "AAR-7")
+    with pytest.raises(InputError, match="1-6"):
+        aar_psd(w, 0)
+
+
+@pytest.mark.parametrize("spectrum", ["ERRI-low", "ERRI-high", "AAR-6", "AAR-1"])
 def test_realisation_has_the_spectrum_variance(spectrum):
     lmin, lmax = 3.0, 120.0
     irr = Irregularities.from_psd(20000.0, spectrum, seed=3, wavelengths=(lmin, lmax))
     w0, w1 = 2 * np.pi / lmax, 2 * np.pi / lmin
-    var_a = quad(lambda w: erri_psd(w, spectrum)[0], w0, w1, limit=200)[0]
-    var_c = quad(lambda w: erri_psd(w, spectrum)[1], w0, w1, limit=200)[0]
+    var_a = quad(lambda w: track_psd(w, spectrum)[0], w0, w1, limit=200)[0]
+    var_c = quad(lambda w: track_psd(w, spectrum)[1], w0, w1, limit=200)[0]
     assert np.var(irr.alignment) == pytest.approx(var_a, rel=0.01)
     assert np.var(irr.cross_level) == pytest.approx(var_c, rel=0.01)
     # the shape: the variance in the 10-30 m band follows the spectrum
@@ -62,7 +86,7 @@ def test_realisation_has_the_spectrum_variance(spectrum):
     om = 2 * np.pi * np.fft.rfftfreq(irr.s.size, irr.s[1] - irr.s[0])
     band = (om > 2 * np.pi / 30) & (om < 2 * np.pi / 10)
     frac = spec[band].sum() / spec.sum()
-    expect = quad(lambda w: erri_psd(w, spectrum)[0], 2 * np.pi / 30, 2 * np.pi / 10)[0] / var_a
+    expect = quad(lambda w: track_psd(w, spectrum)[0], 2 * np.pi / 30, 2 * np.pi / 10)[0] / var_a
     assert frac == pytest.approx(expect, rel=0.02)
     # same seed, same track
     again = Irregularities.from_psd(20000.0, spectrum, seed=3, wavelengths=(lmin, lmax))

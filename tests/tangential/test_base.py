@@ -54,3 +54,17 @@ def test_power_stick_fraction_and_dataset():
     ds = t.to_xarray()
     assert ds["traction_x"].attrs["units"] == "Pa" and ds.attrs["Fy_N"] == 20.0
     assert int(ds["stick"].sum()) == 3 and ds["x"].attrs["units"] == "m"
+
+
+def test_power_of_the_model_and_without_local_fields():
+    """``power`` (summed by the model on its own elements) takes precedence over the
+    grid fields; without local fields the power is V |xi F_x + eta F_y + phi M_z|."""
+    x, y = np.array([0.0, 1e-3]), np.array([0.0, 2e-3])
+    z = np.zeros((2, 2))
+    on = np.ones((2, 2), bool)
+    t = TangentialSolution("hand", x, y, z, z, z, z, ~on, on, 10.0, 20.0, 0.5, 30.0,
+                           (1e-3, -2e-3, 0.1), power=7.5)
+    assert t.frictional_power == 7.5
+    t = TangentialSolution("hand", x, y, z, z, z, z, ~on, on, 10.0, 20.0, 0.5, 30.0,
+                           (1e-3, -2e-3, 0.1), options={"local_fields": False})
+    assert t.frictional_power == pytest.approx(30.0 * abs(1e-2 - 4e-2 + 0.05), rel=1e-12)

@@ -150,3 +150,19 @@ def test_strip_spin_changes_the_spin_forces(refdir):
         spin = np.abs(g.spin_at(ps.normal.y, g.creepage[2])[inside])
         assert spin.max() > 3 * spin.min()
         assert abs(ps.tangential.fy / pp.tangential.fy - 1) > 0.1
+
+
+def test_a_patch_without_approach_keeps_the_patch_flexibilities():
+    """A strip-model patch whose approach is not positive (a light patch) has no local
+    ellipses (zero size, a/b undefined): its strips keep the patch's flexibilities,
+    so that fastsim-strips equals fastsim there (it raised on a/b before, in seed
+    001's closed loop with STRIPES)."""
+    import dataclasses
+    g = quartic_gap(4e5)
+    ns = get_normal_model("stripes").solve(g, MAT, normal_force=FN, grid=(40, 40))
+    flat = dataclasses.replace(ns, penetration=0.0)
+    creep = (1e-3, -5e-4, 0.0)
+    t1 = get_tangential_model("fastsim-strips").solve(flat, g, MAT, creep, 0.3)
+    t0 = get_tangential_model("fastsim").solve(flat, g, MAT, creep, 0.3)
+    assert np.isfinite(t1.fx) and t1.fx == pytest.approx(t0.fx, rel=1e-9)
+    assert t1.fy == pytest.approx(t0.fy, rel=1e-9)

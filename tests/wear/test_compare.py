@@ -14,5 +14,15 @@ def test_wear_compare(tmp_path):
     import csv
     rows = list(csv.DictReader(open(tmp_path / "wear_comparison.csv")))
     assert {r["models"] for r in rows} == {"hertz+fastsim", "kpec+fastsim"}
+    assert "differs" not in (tmp_path / "pairing.txt").read_text()
     with pytest.raises(InputError):
         parse_models("hertz")
+
+
+def test_pairing_note_names_the_papers_pairing():
+    from railcontact.wear.compare import PAPER_PAIRING, pairing_note, parse_models
+    note = pairing_note(parse_models("hertz+fastsim,stripes+fastsim,analyn+fastsim"))
+    assert "stripes+fastsim (paper: stripes+fastsim-strips)" in note
+    assert "analyn+fastsim (paper: analyn+fastsim-strips)" in note
+    assert note.endswith("exact+exact is the paper's")
+    assert "differs" not in pairing_note(PAPER_PAIRING)

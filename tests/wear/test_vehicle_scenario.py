@@ -41,3 +41,26 @@ def test_closed_loop_scenarios_are_recognised():
     assert is_vehicle_scenario({"vehicle": {}, "wear": {}})
     assert is_vehicle_scenario({"route": [{}]})
     assert not is_vehicle_scenario({"wheel": {}, "condition": [{}]})
+
+
+def test_seed001_study_example_holds_the_papers_cases():
+    """examples/seed001_study.toml: Table 3 of Tao et al. (CM2015) -- tangent at 90 km/h,
+    R400/R600/R1000 with 120/120/76 mm of cant at 60/80/80 km/h -- on AAR class 6
+    irregularities, friction 0.3, r0 = 420 mm, back-to-back 1353 mm, USFD wear."""
+    import math
+    from pathlib import Path
+
+    from railcontact.inputs import load_wear_scenario
+    sc = load_wear_scenario(Path(__file__).resolve().parents[2] / "examples" /
+                            "seed001_study.toml")
+    table3 = {"tangent": (math.inf, 0.0, 90.0), "R400": (400.0, 0.120, 60.0),
+              "R600": (600.0, 0.120, 80.0), "R1000": (1000.0, 0.076, 80.0)}
+    assert [r.name for r in sc.routes] == list(table3)
+    for r in sc.routes:
+        radius, cant, kmh = table3[r.name]
+        assert r.speed * 3.6 == pytest.approx(kmh, rel=1e-4)
+        assert float(r.route.curvature.max()) == pytest.approx(1 / radius, abs=1e-12)
+        assert float(r.route.cant.max()) == pytest.approx(math.asin(cant / 1.5), abs=1e-12)
+        assert r.route.irregularities.source.startswith("AAR-6")
+        assert r.friction == 0.3
+    assert sc.case.wheel_rail.flange_back_distance == pytest.approx(1.353)
