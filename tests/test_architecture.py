@@ -14,7 +14,7 @@ RANKS = {
     "errors": 0, "registry": 0, "status": 0, "materials": 0, "hertz_theory": 0,
     "progress": 0, "plotting": 0, "files": 0, "parallel": 0,
     # the pipeline's layers
-    "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4,
+    "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4, "subsurface": 4,
     # cases above the layers
     "case_surfaces": 5, "case_wheel_rail": 5, "case": 5, "coupling": 5, "equilibrium": 5, "results": 5,
     "bodies": 5, "patches": 5, "wheel_rail_balance": 5, "surface_contact": 5,

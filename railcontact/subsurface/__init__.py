@@ -1,0 +1,1 @@
+"""Subsurface stresses of the elastic half-space under solved contact patches."""
