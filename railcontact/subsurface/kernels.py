@@ -23,7 +23,7 @@ u-derivative of C.  The corner functions used here (rho^2 = u^2 + v^2 + z^2):
     C[I_z]  = -atan(u v / (z rho))
     C[I_xz] = -z v / ((u^2 + z^2) rho)     C[I_yz] = -z u / ((v^2 + z^2) rho)
     C[I_zz] = u v (rho^2 + z^2) / (rho (u^2 + z^2) (v^2 + z^2))
-    C[L_xx] = atan(u v (rho - z) / (u^2 rho + z v^2))  (C[L_yy]: u, v swapped)
+    C[L_xx] = atan(u v (rho - z) / (u^2 rho + z v^2)),  C[L_yy] = -C[I_z] - C[L_xx]
     C[L_xy] = ln(rho + z)     C[L_xxy] = u / (rho (rho + z))    C[L_xyy] = v / (rho (rho + z))
     C[Omega_xxy] = -u / (rho + z)       C[Omega_xyy] = -v / (rho + z)
 
@@ -103,7 +103,7 @@ def _corner(u, v, z, nu, out):
     rmz = (u2 + v2) / (rho + z) if rho + z > 0.0 else 0.0
     uv = u * v
     lxx = 0.0 if uv == 0.0 else math.atan(uv * rmz / (u2 * rho + z * v2))
-    lyy = 0.0 if uv == 0.0 else math.atan(uv * rmz / (v2 * rho + z * u2))
+    lyy = -iz - lxx                  # L_xx + L_yy = -L_zz = -I_z
     rpz = rho + z
     lxy = math.log(rpz) if rpz > 0.0 else 0.0
     lxxy = u / (rho * rpz) if rpz > 0.0 else 0.0
@@ -255,128 +255,142 @@ def stresses_at_points(points, rectangles, loads, poisson: float) -> np.ndarray:
 PARITY = np.array([[(1, 1), (1, 1), (1, 1), (-1, -1), (-1, 1), (1, -1)],      # p
                    [(-1, 1), (-1, 1), (-1, 1), (1, -1), (1, 1), (-1, -1)],    # q_x
                    [(1, -1), (1, -1), (1, -1), (-1, 1), (-1, -1), (1, 1)]])   # q_y
+#: the DFT of a kernel is FACTOR times its real spectrum: (-i)^(number of odd axes)
+FACTOR = (-1j) ** ((PARITY[..., 0] < 0).astype(int) + (PARITY[..., 1] < 0))
 
 
 @njit(cache=True, nogil=True)
-def _quadrant_kernel(mx, my, dx, dy, z, nu):
-    """The element kernels K[load, comp, a, b] at the non-negative offsets a < mx,
-    b < my only (the others follow from :data:`PARITY`): corners at
+def _quadrant_kernels(mx, my, dx, dy, zs, nu):
+    """The element kernels K[depth, load, comp, a, b] at the non-negative offsets
+    a < mx, b < my only (the others follow from :data:`PARITY`): corners at
     ((i - 1/2) dx, (j - 1/2) dy), i <= mx, j <= my, a quarter of the full set."""
     C = np.empty((mx + 1, my + 1, 3, 6))
-    tmp = np.empty((3, 6))
-    for i in range(mx + 1):
-        u = (i - 0.5) * dx
-        for j in range(my + 1):
-            _corner(u, (j - 0.5) * dy, z, nu, tmp)
-            C[i, j] = tmp
-    K = np.empty((3, 6, mx, my))
+    K = np.empty((zs.size, 3, 6, mx, my))
     s = 1.0 / (2.0 * math.pi)
-    for ld in range(3):
-        for c in range(6):
-            for a in range(mx):
-                for b in range(my):
-                    K[ld, c, a, b] = s * (C[a + 1, b + 1, ld, c] - C[a, b + 1, ld, c]
-                                          - C[a + 1, b, ld, c] + C[a, b, ld, c])
+    for k in range(zs.size):
+        for i in range(mx + 1):
+            u = (i - 0.5) * dx
+            for j in range(my + 1):
+                _corner(u, (j - 0.5) * dy, zs[k], nu, C[i, j])
+        for ld in range(3):
+            for c in range(6):
+                for a in range(mx):
+                    for b in range(my):
+                        K[k, ld, c, a, b] = s * (C[a + 1, b + 1, ld, c] - C[a, b + 1, ld, c]
+                                                 - C[a + 1, b, ld, c] + C[a, b, ld, c])
     return K
 
 
-def _mirrored_spectra(Kq, N1, N2):
-    """Real spectra T (18, N1, N2 // 2 + 1) of the kernels Kq (18, mx, my), given at
-    the non-negative offsets and mirrored with :data:`PARITY` on the N1 x N2
-    periodic grid (N1, N2 even; zero beyond the offsets given): per axis a DCT-I of
-    the offsets 0..N/2 (even) or a DST-I of 1..N/2 - 1 (odd, whose DFT is -i times
-    it; the factor is left to the caller), the rows past N1/2 mirrored."""
-    n, mx, my = Kq.shape
-    px, py = PARITY[..., 0].ravel(), PARITY[..., 1].ravel()
-    h1, h2 = N1 // 2, N2 // 2
-    # along y
-    Y = np.zeros((n, mx, h2 + 1))
-    ev, od = np.flatnonzero(py > 0), np.flatnonzero(py < 0)
-    A = np.zeros((ev.size, mx, h2 + 1))
-    A[:, :, :my] = Kq[ev]
-    Y[ev] = fft.dct(A, type=1, axis=2)
-    B = np.zeros((od.size, mx, h2 - 1))
-    B[:, :, :my - 1] = Kq[od, :, 1:]
-    Y[od, :, 1:h2] = fft.dst(B, type=1, axis=2)
-    # along x
-    T = np.empty((n, N1, h2 + 1))
-    ev, od = np.flatnonzero(px > 0), np.flatnonzero(px < 0)
-    A = np.zeros((ev.size, h1 + 1, h2 + 1))
-    A[:, :mx] = Y[ev]
-    X = fft.dct(A, type=1, axis=1)
-    T[ev, :h1 + 1] = X
-    T[ev, h1 + 1:] = X[:, h1 - 1:0:-1]
-    B = np.zeros((od.size, h1 - 1, h2 + 1))
-    B[:, :mx - 1] = Y[od, 1:]
-    X = fft.dst(B, type=1, axis=1)
-    T[od, 0] = 0.0
-    T[od, h1] = 0.0
-    T[od, 1:h1] = X
-    T[od, h1 + 1:] = -X[:, ::-1]
-    return T
-
-
-class DepthOperator:
-    """The stress tensor at one depth on an mx x my grid from (p, q_x, q_y), by
-    zero-padded real FFTs: the loads' spectra (computed once for all depths, see
-    :meth:`load_spectra`) times the 18 kernel spectra, summed per component in the
-    frequency domain, then one inverse transform per component (6 per depth).
-
-    The kernels are even or odd in each offset (:data:`PARITY`), so they are
-    evaluated at the non-negative offsets only and their spectra, real or imaginary,
-    are DCT-I / DST-I of that quarter (no full-size FFT of a kernel)."""
-
-    def __init__(self, mx, my, dx, dy, depth, poisson):
-        self.mx, self.my = mx, my
-        # even sizes (the cosine/sine transforms of the mirrored kernels need them)
-        N1 = 2 * fft.next_fast_len(mx, real=True)
-        N2 = 2 * fft.next_fast_len(my, real=True)
-        self.shape = (N1, N2)
-        Kq = _quadrant_kernel(int(mx), int(my), float(dx), float(dy), float(depth),
-                              float(poisson))
-        #: real spectra T (3, 6, N1, N2 // 2 + 1); the kernel's spectrum is factor * T
-        self.spectra = _mirrored_spectra(Kq.reshape(18, mx, my), N1, N2).reshape(
-            3, 6, N1, N2 // 2 + 1)
-        #: (-i)^(number of odd axes) per kernel: 1, -i or -1
-        self.factor = (-1j) ** ((PARITY[..., 0] < 0).astype(int) + (PARITY[..., 1] < 0))
-
-    @property
-    def nbytes(self) -> int:
-        return self.spectra.nbytes
-
-    def load_spectra(self, loads: np.ndarray) -> np.ndarray:
-        """Spectra (3, N1, N2 // 2 + 1) of the loads (3, mx, my) [Pa]."""
-        return fft.rfft2(loads, s=self.shape, axes=(-2, -1))
-
-    def __call__(self, spectra: np.ndarray, active=(True, True, True)) -> np.ndarray:
-        """Stresses (6, mx, my) [Pa] from the loads' spectra; ``active`` skips loads
-        that are zero everywhere."""
-        lds = [ld for ld in range(3) if active[ld]]
-        if not lds:
-            return np.zeros((6, self.mx, self.my))
-        acc = _combine(self.spectra, self.factor, spectra, np.array(active, dtype=np.bool_))
-        return fft.irfft2(acc, s=self.shape, axes=(-2, -1))[:, :self.mx, :self.my]
+#: (load, component) pairs whose kernels are those of others (the potentials'
+#: identities: sigma_zz of q_x is sigma_xz of p, sigma_zz of q_y sigma_yz of p,
+#: sigma_xz of q_y sigma_yz of q_x): their spectra are copied, not transformed
+DUPLICATES = (((1, 2), (0, 4)), ((2, 2), (0, 5)), ((2, 4), (1, 5)))
+_UNIQUE = np.array([ld * 6 + c for ld in range(3) for c in range(6)
+                    if (ld, c) not in {d for d, _ in DUPLICATES}])
 
 
 @njit(cache=True, nogil=True)
-def _combine(T, factor, L, active):
-    """acc[c] = sum over the active loads ld of factor[ld, c] T[ld, c] L[ld]."""
+def _spectra_depth(Kq, unique, px, py, slot, N1, N2, T):
+    """T[i] (N1, N2 // 2 + 1): the real spectrum of kernel i of one depth, from the
+    kernels Kq (18, mx, my) at the non-negative offsets.  Per distinct kernel u
+    (``unique``): its rows a >= 0 mirrored along y with the parity py[u] on N2 points
+    and transformed (real FFT; the rows a < 0 are px[u] times them), the real or
+    imaginary part ((-i)^odd_y R) mirrored along x on N1 points and transformed
+    again, whose real or imaginary part ((-i)^odd_x T) gives the wave numbers up to
+    N1 / 2 and, mirrored with px[u], the others.  Kernels that are copies of others
+    (``slot[i]``: the row of their original in ``unique``) are copied."""
+    n, mx, my = Kq.shape
+    m2 = N2 // 2 + 1
+    h = N1 // 2 + 1
+    rows = np.zeros((mx, N2))
+    cols = np.zeros((N1, m2))
+    spec = np.empty((unique.size, N1, m2))
+    for u in range(unique.size):
+        kk = unique[u]
+        rows[:, :] = 0.0
+        for a in range(mx):
+            for b in range(my):
+                v = Kq[kk, a, b]
+                rows[a, b] = v
+                if b > 0:
+                    rows[a, N2 - b] = py[u] * v
+        Y = np.fft.rfft(rows, axis=1)
+        cols[:, :] = 0.0
+        for a in range(mx):
+            for b in range(m2):
+                v = Y[a, b].real if py[u] > 0 else -Y[a, b].imag
+                cols[a, b] = v
+                if a > 0:
+                    cols[N1 - a, b] = px[u] * v
+        X = np.fft.rfft(cols, axis=0)
+        for r in range(N1):
+            src = r if r < h else N1 - r
+            sgn = 1.0 if r < h else px[u]
+            for b in range(m2):
+                d = X[src, b]
+                spec[u, r, b] = sgn * (d.real if px[u] > 0 else -d.imag)
+    for i in range(n):
+        T[i] = spec[slot[i]]
+
+
+def padded_shape(mx: int, my: int) -> tuple:
+    """The FFT sizes (N1, N2) >= (2 mx - 1, 2 my - 1) of the zero-padded convolution."""
+    return (fft.next_fast_len(2 * mx - 1, real=True), fft.next_fast_len(2 * my - 1, real=True))
+
+
+def kernel_spectra(mx, my, dx, dy, depths, poisson) -> np.ndarray:
+    """Real spectra (nz, 3, 6, N1, N2 // 2 + 1) of the stress kernels of a grid at the
+    depths (the DFT on the :func:`padded_shape` grid is :data:`FACTOR` times them),
+    the kernels evaluated at the non-negative offsets (a quarter of the element
+    corners), the 15 distinct ones (:data:`DUPLICATES`) transformed along y for the
+    rows of non-negative offsets only, mirrored by parity, then along x by real
+    transforms (half the work of a full real 2-D FFT per kernel)."""
+    zs = np.ascontiguousarray(np.atleast_1d(np.asarray(depths, float)))
+    for z in zs:
+        _check(z, poisson)
+    N1, N2 = padded_shape(mx, my)
+    nz = zs.size
+    Kq = _quadrant_kernels(int(mx), int(my), float(dx), float(dy), zs, float(poisson))
+    par = PARITY.reshape(18, 2)[_UNIQUE].astype(float)
+    px, py = par[:, 0].copy(), par[:, 1].copy()
+    src = np.arange(18)
+    for (ld, c), (ld0, c0) in DUPLICATES:
+        src[ld * 6 + c] = ld0 * 6 + c0
+    slot = np.full(18, -1)
+    slot[_UNIQUE] = np.arange(_UNIQUE.size)
+    slot = slot[src]
+    T = np.empty((nz, 18, N1, N2 // 2 + 1))
+    Kq = Kq.reshape(nz, 18, mx, my)
+    for k in range(nz):
+        _spectra_depth(Kq[k], _UNIQUE, px, py, slot, N1, N2, T[k])
+    return T.reshape(nz, 3, 6, N1, N2 // 2 + 1)
+
+
+@njit(cache=True, nogil=True)
+def _depth_stresses(T, factor, L, active, shape, out, k):
+    """out[c, :, :, k] = the inverse real FFT of the sum over the active loads ld of
+    factor[ld, c] T[ld, c] L[ld] (one depth; compiled, numpy.fft by rocket-fft)."""
     n1, n2 = L.shape[1], L.shape[2]
-    acc = np.zeros((6, n1, n2), dtype=np.complex128)
-    for ld in range(3):
-        if not active[ld]:
-            continue
-        for c in range(6):
+    mx, my = out.shape[1], out.shape[2]
+    acc = np.empty((n1, n2), dtype=np.complex128)
+    for c in range(6):
+        acc[:, :] = 0.0
+        for ld in range(3):
+            if not active[ld]:
+                continue
             f = factor[ld, c]
             for i in range(n1):
                 for j in range(n2):
-                    acc[c, i, j] += (f * T[ld, c, i, j]) * L[ld, i, j]
-    return acc
+                    acc[i, j] += (f * T[ld, c, i, j]) * L[ld, i, j]
+        r = np.fft.irfft2(acc, s=shape)
+        for i in range(mx):
+            for j in range(my):
+                out[c, i, j, k] = r[i, j]
 
 
 class _Cache:
-    """Depth operators by (grid, depth, Poisson's ratio), least recently used first
-    out, within a memory budget (a fine grid's operators are large)."""
+    """Kernel spectra by (grid, depth, Poisson's ratio), least recently used first
+    out, within a memory budget (a fine grid's spectra are large)."""
 
     def __init__(self, budget_bytes: int = 256 * 2 ** 20):
         from collections import OrderedDict
@@ -384,18 +398,24 @@ class _Cache:
         self.items = OrderedDict()
         self.size = 0
 
-    def get(self, key):
-        op = self.items.get(key)
-        if op is not None:
-            self.items.move_to_end(key)
-            return op
-        op = DepthOperator(*key)
-        self.items[key] = op
-        self.size += op.nbytes
-        while self.size > self.budget and len(self.items) > 1:
+    def spectra(self, mx, my, dx, dy, depths, poisson) -> list:
+        """The spectra (3, 6, N1, N2 // 2 + 1) of each depth; the missing ones built
+        in one batch."""
+        keys = [(mx, my, dx, dy, float(z), poisson) for z in depths]
+        missing = [k for k in dict.fromkeys(keys) if k not in self.items]
+        if missing:
+            new = kernel_spectra(mx, my, dx, dy, [k[4] for k in missing], poisson)
+            for k, T in zip(missing, new):
+                self.items[k] = T
+                self.size += T.nbytes
+        out = []
+        for k in keys:
+            self.items.move_to_end(k)
+            out.append(self.items[k])
+        while self.size > self.budget and len(self.items) > len(set(keys)):
             _, old = self.items.popitem(last=False)
             self.size -= old.nbytes
-        return op
+        return out
 
     def clear(self):
         self.items.clear()
@@ -405,15 +425,28 @@ class _Cache:
 _CACHE = _Cache()
 
 
-def depth_operator(mx: int, my: int, dx: float, dy: float, depth: float,
-                   poisson: float) -> DepthOperator:
-    """The :class:`DepthOperator` of a grid, depth and Poisson's ratio, cached (patches
-    on one grid, as a batch or a wear loop with a fixed element size has them, share
-    it; at most 256 MiB of operators are kept)."""
-    _check(depth, poisson)
-    return _CACHE.get((int(mx), int(my), float(dx), float(dy), float(depth), float(poisson)))
+def convolve_depths(loads, dx, dy, depths, poisson) -> np.ndarray:
+    """Stresses (6, mx, my, nz) [Pa] at the element centres of a uniform grid and the
+    depths from piecewise constant loads (3, mx, my) = (p, q_x, q_y) [Pa]: the loads'
+    3 spectra, per depth the sum of their products with the 18 kernel spectra (cached
+    per grid, depth and Poisson's ratio; at most 256 MiB kept) and the inverse
+    transforms of the 6 components."""
+    loads = np.asarray(loads, float)
+    _, mx, my = loads.shape
+    zs = np.atleast_1d(np.asarray(depths, float))
+    key = (int(mx), int(my), float(dx), float(dy))
+    spectra = _CACHE.spectra(*key, zs, float(poisson))
+    N1, N2 = padded_shape(mx, my)
+    active = np.array([bool(np.any(v)) for v in loads], dtype=np.bool_)
+    if not active.any():
+        return np.zeros((6, mx, my, zs.size))
+    L = fft.rfft2(loads, s=(N1, N2), axes=(-2, -1))
+    out = np.empty((6, mx, my, zs.size))
+    for k, T in enumerate(spectra):
+        _depth_stresses(T, FACTOR, L, active, (N1, N2), out, k)
+    return out
 
 
 def clear_cache() -> None:
-    """Forget the cached depth operators."""
+    """Forget the cached kernel spectra."""
     _CACHE.clear()

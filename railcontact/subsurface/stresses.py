@@ -34,7 +34,7 @@ from pathlib import Path
 import numpy as np
 
 from ..errors import InputError
-from .kernels import COMPONENTS, depth_operator
+from .kernels import COMPONENTS, convolve_depths
 
 log = logging.getLogger(__name__)
 
@@ -63,9 +63,7 @@ def stresses_on_grid(x, y, pressure, traction_x=None, traction_y=None, depths=(0
     -------
     ndarray (6, mx, my, nz)
         sigma_xx, yy, zz, xy, xz, yz [Pa] (tension positive) at the element centres
-        and depths.  Cost per depth: the 18 kernel spectra of the grid and depth
-        (cached, :func:`~railcontact.subsurface.kernels.depth_operator`) times the
-        loads' 3 spectra (computed once), 6 inverse transforms.
+        and depths (:func:`~railcontact.subsurface.kernels.convolve_depths`).
     """
     x, y = np.asarray(x, float), np.asarray(y, float)
     p = np.asarray(pressure, float)
@@ -85,21 +83,13 @@ def stresses_on_grid(x, y, pressure, traction_x=None, traction_y=None, depths=(0
     z = np.atleast_1d(np.asarray(depths, float))
     if z.ndim != 1 or z.size == 0 or np.any(~np.isfinite(z)) or np.any(z < 0):
         raise InputError(f"subsurface depths {depths!r}: expected one or more depths >= 0 m")
-    loads = np.stack([p, qx, qy])
-    active = tuple(bool(np.any(v)) for v in loads)
-    out = np.empty((6, mx, my, z.size))
-    spectra = None
-    # rounded keys: depths and sizes that differ by round-off share the cached operator
-    key = (mx, my, _round(dx), _round(dy))
-    for k, zk in enumerate(z):
-        op = depth_operator(*key, _round(zk), float(poisson))
-        if spectra is None:
-            spectra = op.load_spectra(loads)
-        out[..., k] = op(spectra, active)
-    return out
+    return convolve_depths(np.stack([p, qx, qy]), _round(dx), _round(dy),
+                           [_round(v) for v in z], float(poisson))
 
 
 def _round(v: float) -> float:
+    """v to 12 digits: element sizes and depths that differ by round-off share the
+    cached kernel spectra."""
     return float(f"{v:.12g}")
 
 

@@ -7,8 +7,8 @@ import pytest
 
 from railcontact.contact_inp.reader import read_inp
 from railcontact.errors import InputError
-from railcontact.subsurface.kernels import (COMPONENTS, DepthOperator, grid_kernels,
-                                            stresses_at_points)
+from railcontact.subsurface.kernels import (COMPONENTS, clear_cache, convolve_depths,
+                                            grid_kernels, stresses_at_points)
 
 NU = 0.28
 UNIT = [[-0.5, 0.5, -0.5, 0.5]]
@@ -73,12 +73,15 @@ def test_fft_operator_against_direct_summation():
     x, y = np.arange(mx) * dx, np.arange(my) * dy
     X, Y = np.meshgrid(x, y, indexing="ij")
     rects = np.c_[X.ravel() - dx / 2, X.ravel() + dx / 2, Y.ravel() - dy / 2, Y.ravel() + dy / 2]
-    for z in (0.0, 0.17):
-        op = DepthOperator(mx, my, dx, dy, z, NU)
-        got = op(op.load_spectra(loads))
+    clear_cache()
+    got = convolve_depths(loads, dx, dy, [0.0, 0.17], NU)
+    again = convolve_depths(loads, dx, dy, [0.17], NU)          # from the cache
+    np.testing.assert_array_equal(again[..., 0], got[..., 1])
+    for k, z in enumerate((0.0, 0.17)):
         pts = np.c_[X.ravel(), Y.ravel(), np.full(X.size, z)]
         ref = stresses_at_points(pts, rects, loads.reshape(3, -1).T, NU)
-        np.testing.assert_allclose(got.reshape(6, -1).T, ref, atol=1e-12 * np.abs(ref).max())
+        np.testing.assert_allclose(got[..., k].reshape(6, -1).T, ref,
+                                   atol=1e-12 * np.abs(ref).max())
     # the full kernels' parities
     K = grid_kernels(mx, my, dx, dy, 0.17, NU)
     np.testing.assert_allclose(K[0, 3], -K[0, 3][::-1], atol=1e-15)     # p, xy: odd in x
@@ -151,3 +154,11 @@ def test_contact_subsurf_reference(testbank):
         np.testing.assert_allclose(s[:, :3].sum(axis=1) / 3, ref[:, 6], rtol=0.01,
                                    atol=1e-4 * scale)
     assert worst < 1e-5
+
+
+def test_duplicate_kernels():
+    """The kernels copied rather than transformed are equal to their originals."""
+    from railcontact.subsurface.kernels import DUPLICATES
+    K = grid_kernels(6, 5, 0.2, 0.3, 0.25, NU)
+    for (ld, c), (ld0, c0) in DUPLICATES:
+        np.testing.assert_allclose(K[ld, c], K[ld0, c0], atol=1e-14)
