@@ -279,8 +279,10 @@ def subsurface_stresses(normal, tangential=None, depths=None, material=None,
 
     Parameters
     ----------
-    normal : NormalSolution
-        The patch's normal solution (its pressure on its grid).
+    normal : NormalSolution or PatchResult
+        The patch's normal solution (its pressure on its grid), or a patch of a
+        solved case (:class:`~railcontact.results.PatchResult`), whose normal and
+        tangential solutions are then used.
     tangential : TangentialSolution, optional
         Its tangential solution on the same grid (frictionless when omitted).
     depths : sequence of float, optional
@@ -295,6 +297,10 @@ def subsurface_stresses(normal, tangential=None, depths=None, material=None,
     SubsurfaceStresses
     """
     from ..materials import STEEL
+    if hasattr(normal, "normal") and hasattr(normal, "tangential"):      # a PatchResult
+        if tangential is None:
+            tangential = normal.tangential
+        normal = normal.normal
     if body not in ("rail", "wheel"):
         raise InputError(f"subsurface body {body!r}: expected 'rail' or 'wheel'")
     mat = STEEL if material is None else material

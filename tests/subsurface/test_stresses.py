@@ -203,9 +203,11 @@ def test_every_model_surface_pressure_and_wheel_body(tmp_path):
     # measures and their maxima
     mx = ss.maxima()
     assert set(mx) == set(MEASURES)
-    assert mx["tresca"]["value"] >= mx["von_mises"]["value"] / math.sqrt(3) * 2 * 0.999 / 2
-    assert np.all(ss.tresca >= ss.von_mises / math.sqrt(3) * (1 - 1e-12))
+    # von Mises <= Tresca <= 2/sqrt(3) von Mises (uniaxial, pure shear)
+    assert np.all(ss.tresca >= ss.von_mises * (1 - 1e-12))
     assert np.all(ss.tresca <= 2 / math.sqrt(3) * ss.von_mises * (1 + 1e-12))
+    ps = ss.principal
+    np.testing.assert_allclose(ps.sum(axis=0), 3 * ss.hydrostatic, atol=1e-9 * scale)
     ds = ss.to_xarray()
     path = tmp_path / "subsurface.nc"
     ds.to_netcdf(path, engine="h5netcdf")
@@ -233,3 +235,22 @@ def test_defaults_and_errors():
         ss.maximum("rainflow")
     with pytest.raises(InputError, match="uniform grid"):
         stresses_on_grid(np.array([0.0, 1.0, 3.0]), np.array([0.0, 1.0]), np.ones((3, 2)))
+
+
+def test_patch_of_a_solved_case():
+    """A patch of a solved case (its normal and tangential solutions): sigma_zz = -p
+    and (sigma_xz, sigma_yz) = minus the tractions on the wheel at the surface."""
+    case = rc.case_from_dict({
+        "bodies": {"radii": {"wheel_rolling": 0.46, "wheel_lateral": math.inf,
+                             "rail_rolling": math.inf, "rail_lateral": 0.3},
+                   "normal_force": 1e5, "velocity": 30.0},
+        "creepage": {"longitudinal": 1e-3, "lateral": -5e-4, "spin": 0.2},
+        "solver": {"normal": "exact", "tangential": "fastsim", "grid": [16, 16]}})
+    res = rc.solve(case)
+    patch = res.patches[0]
+    ss = subsurface_stresses(patch, depths=[0.0, 5e-4])
+    np.testing.assert_allclose(ss.sigma[2, :, :, 0], -patch.normal.pressure,
+                               atol=1e-9 * patch.normal.pmax)
+    np.testing.assert_allclose(ss.sigma[4, :, :, 0], patch.tangential.traction_x,
+                               atol=1e-9 * patch.normal.pmax)
+    assert patch.normal.model in ss.source and patch.tangential.model in ss.source
