@@ -46,6 +46,7 @@ from ..profiles.profile import Profile
 from ..parallel import compute
 from ..progress import TqdmCallback
 from .mapping import arc_length_grid, removed_area, smooth_depth, wear_profile
+from .rcf import accumulate
 from .route_tasks import build_table, run_route
 
 log = logging.getLogger(__name__)
@@ -148,7 +149,8 @@ class ClosedLoopWear:
                 "parameters": sc.parameters, "grid": case.grid,
                 "element_size": case.element_size, "normal_options": case.normal_options,
                 "tangential_options": case.tangential_options,
-                "reuse_tolerance": sc.reuse_tolerance, "sample_distance": sc.sample_distance}
+                "reuse_tolerance": sc.reuse_tolerance, "sample_distance": sc.sample_distance,
+                "rcf": sc.rcf}
         wheel_grids = [[grid_of[id(p)] for p in pair] for pair in self.wheels]
         runs = [dask.delayed(run_route, name=f"run_route-{self.step}-{r}")(
                     item, sc.model, [tasks[i] for i in rows[r]], sc.dynamics, case.material,
@@ -203,6 +205,43 @@ class ClosedLoopWear:
                 rec["equivalent_conicity"][r, w] = done[id(t)]
         return rec
 
+    def _rcf_step(self, rec, results, wheels0, rails0, grid_of, dist):
+        """The step's rolling contact fatigue (:mod:`railcontact.wear.rcf`): WLRM damage
+        accumulated per profile position like the wear depth (wheels: the routes'
+        weighted rate per metre run, the same for a group of wheels; rails: per
+        passage times the traffic), the damage before the step reduced by the step's
+        wear depth; the largest FI_surf per route and position; its CPU time."""
+        sc = self.sc
+        wt = self.weights
+        layer = sc.rcf.layer_depth
+        prev = self.steps[-1] if self.steps else {}
+        add_w = np.zeros((self.nw, 2, self.y_wheel.size))
+        for g in self.wheel_groups():
+            rate = sum(wt[r] * results[r]["rcf_wheel"][w][j] for r in range(self.nr)
+                       for w, j in g) / len(g)
+            for w, j in g:
+                old = wheels0[w][j]
+                add_w[w, j] = np.interp(old.arc_length(self.y_wheel), grid_of[id(old)],
+                                        rate * dist, left=0.0, right=0.0)
+        add_r = np.array([[np.interp(rails0[r][j].arc_length(self.y_rail),
+                                     grid_of[id(rails0[r][j])],
+                                     results[r]["rcf_rail"][j] * sc.rail_traffic * wt[r]
+                                     / sc.routes[r].length * dist, left=0.0, right=0.0)
+                           for j in range(2)] for r in range(self.nr)])
+        for kind, add in (("wheel", add_w), ("rail", add_r)):
+            before = prev.get(f"rcf_damage_{kind}", np.zeros_like(add))
+            rec[f"rcf_damage_{kind}"] = accumulate(before, add, rec[f"wear_depth_{kind}"], layer)
+            rec[f"rcf_added_{kind}"] = add
+        rec["fi_surf_wheel"] = np.array([[[np.interp(
+            wheels0[w][j].arc_length(self.y_wheel), grid_of[id(wheels0[w][j])],
+            results[r]["fi_surf_wheel"][w][j], left=np.nan, right=np.nan)
+            for j in range(2)] for w in range(self.nw)] for r in range(self.nr)])
+        rec["fi_surf_rail"] = np.array([[np.interp(
+            rails0[r][j].arc_length(self.y_rail), grid_of[id(rails0[r][j])],
+            results[r]["fi_surf_rail"][j], left=np.nan, right=np.nan)
+            for j in range(2)] for r in range(self.nr)])
+        rec["rcf_time"] = np.array([res["stats"].rcf_time for res in results])
+
     def run_step(self) -> dict:
         """One wear step (see the module docstring); returns its record."""
         sc = self.sc
@@ -212,6 +251,7 @@ class ClosedLoopWear:
             if id(p) not in grid_of:
                 grid_of[id(p)] = arc_length_grid(p, sc.grid_step)
         wheels0 = [list(pair) for pair in self.wheels]
+        rails0 = [list(pair) for pair in self.rails]
         tables, results = self._compute(grid_of)
         if len(self.states) == self.step:
             self.states.append(self._state(tables))
@@ -265,6 +305,7 @@ class ClosedLoopWear:
                 rec[f"wear_depth_{kind}"][a, j] = on_y
                 rec[f"law_area_{kind}"][a, j] = law_area
                 rec[f"removed_area_{kind}"][a, j] = area
+        self._rcf_step(rec, results, wheels0, rails0, grid_of, dist)
         # per route: each wheel's wear per metre run there (before smoothing)
         s_y = [[wheels0[w][j].arc_length(self.y_wheel) for j in range(2)]
                for w in range(self.nw)]
@@ -394,6 +435,22 @@ class ClosedLoopWear:
             "mean contact position on the rail profile on the full-curvature section")
         put("energy", ("route",), "energy", "J/m",
             "frictional energy per metre run (local contact model)")
+        put("rcf_damage_wheel", ("wheelset", "side", "y_wheel"), "rcf_damage_wheel", "1",
+            "accumulated WLRM RCF damage after the step (wear removal included)")
+        put("rcf_damage_rail", ("route", "side", "y_rail"), "rcf_damage_rail", "1",
+            "accumulated WLRM RCF damage after the step (wear removal included)")
+        put("rcf_added_wheel", ("wheelset", "side", "y_wheel"), "rcf_added_wheel", "1",
+            "WLRM RCF damage of the step")
+        put("rcf_added_rail", ("route", "side", "y_rail"), "rcf_added_rail", "1",
+            "WLRM RCF damage of the step")
+        put("fi_surf_wheel", ("route", "wheelset", "side", "y_wheel"), "fi_surf_wheel", "1",
+            "largest surface fatigue index FI_surf (Ekberg) at the position on the route "
+            "(NaN: no contact)")
+        put("fi_surf_rail", ("route", "side", "y_rail"), "fi_surf_rail", "1",
+            "largest surface fatigue index FI_surf (Ekberg) at the position on the route "
+            "(NaN: no contact)")
+        put("rcf_time", ("route",), "rcf_time", "s",
+            "CPU time of the RCF damage measures (part of postprocess_time)")
         for key, units, text in (("patches", "1", "loaded patches post-processed"),
                                  ("patches_solved", "1", "patches solved by the local model"),
                                  ("patches_reused", "1", "patches that reused a repeated "
@@ -432,7 +489,9 @@ class ClosedLoopWear:
                  "cpu_time_s": float(self.cpu_time), "title": sc.title,
                  "route_weights": [float(w) for w in self.weights],
                  "route_lengths_m": [float(r.length) for r in sc.routes],
-                 "route_speeds_m_s": [float(r.speed) for r in sc.routes]}
+                 "route_speeds_m_s": [float(r.speed) for r in sc.routes],
+                 "rcf_shear_yield_Pa": sc.rcf.shear_yield,
+                 "rcf_layer_depth_m": sc.rcf.layer_depth}
         return xr.Dataset(data, coords=coords, attrs=attrs)
 
     # ------------------------------------------------------------ checkpoints

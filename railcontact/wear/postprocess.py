@@ -47,6 +47,8 @@ from ..materials import Material
 from ..normal import get_normal_model
 from ..tangential import get_tangential_model
 from .mapping import profile_depth, strip_depth
+from .rcf import (RcfParameters, covered_strips, patch_measures, profile_values,
+                  subsurface_fatigue_index)
 
 
 @dataclass
@@ -65,6 +67,7 @@ class PostProcessStats:
     cpu_time : float     CPU time [s] of the whole post-processing
     not_converged : int  solves whose status is not converged
     warnings : dict      warning text -> count
+    rcf_time : float     CPU time [s] of the RCF damage measures (included in cpu_time)
     """
 
     samples: int = 0
@@ -76,6 +79,7 @@ class PostProcessStats:
     cpu_time: float = 0.0
     not_converged: int = 0
     warnings: dict = field(default_factory=dict)
+    rcf_time: float = 0.0
 
     @property
     def time_per_patch(self) -> float:
@@ -107,11 +111,14 @@ class PatchPostProcessor:
         Width of the bins of repeated states (0: every patch is solved).
     warm : bool
         Warm starts along the time history (for models that accept them).
+    rcf : RcfParameters, optional
+        Parameters of the rolling contact fatigue measures computed beside the wear
+        (:mod:`railcontact.wear.rcf`; defaults when omitted).
     """
 
     def __init__(self, normal: str, tangential: str, law, material: Material, grid=None,
                  element_size=None, normal_options=None, tangential_options=None,
-                 reuse_tolerance: float = 1e-3, warm: bool = True):
+                 reuse_tolerance: float = 1e-3, warm: bool = True, rcf=None):
         self.nmodel = get_normal_model(normal, **(normal_options or {}))
         self.tmodel = get_tangential_model(tangential, **(tangential_options or {}))
         self.law, self.material = law, material
@@ -120,6 +127,7 @@ class PatchPostProcessor:
         self.nwarm = warm and "warm-start" in self.nmodel.capabilities
         self.regrid = warm and getattr(self.nmodel, "reuses_grids", False)
         self.twarm = warm and "warm-start" in self.tmodel.capabilities
+        self.rcf = rcf if rcf is not None else RcfParameters()
 
     def _key(self, w, ti, j, k, N, creep, a, b, mu):
         """Bin of a patch state (None: no reuse)."""
@@ -158,8 +166,12 @@ class PatchPostProcessor:
         [m/m] on the wheel grids), ``rail`` ((left, right) depth per vehicle passage
         [m] on the rail grids), ``energy`` (frictional energy per metre run [J/m]),
         ``records`` (per post-processed sample, wheelset, side and slot: the local
-        model's F_n, F_x, F_y, area, p_max and frictional power), ``stats``
-        (:class:`PostProcessStats`).
+        model's F_n, F_x, F_y, area, p_max and frictional power, and the RCF
+        measures FI_surf, T gamma, WLRM damage and, with ``rcf.subsurface``, FI_sub),
+        ``rcf_wheel`` / ``rcf_rail`` (WLRM damage per metre run / per vehicle
+        passage on the grids, as the depths), ``fi_surf_wheel`` / ``fi_surf_rail``
+        (the largest FI_surf at each grid position, NaN where no patch came),
+        ``stats`` (:class:`PostProcessStats`).
         """
         t0 = time.thread_time()
         st = PostProcessStats()
@@ -183,6 +195,14 @@ class PatchPostProcessor:
         rail = [np.zeros_like(rail_grids[j]) for j in range(2)]
         rec = {k: np.full(N.shape, np.nan) for k in ("Fn", "Fx", "Fy", "area", "pmax",
                                                       "frictional_power")}
+        rcf_names = ("fi_surf", "tgamma", "rcf_damage") + (("fi_sub",) if self.rcf.subsurface
+                                                          else ())
+        rec.update({k: np.full(N.shape, np.nan) for k in rcf_names})
+        dmg_w = [[np.zeros_like(wheel_grids[w][j]) for j in range(2)] for w in range(nw)]
+        dmg_r = [np.zeros_like(rail_grids[j]) for j in range(2)]
+        fi_w = [[np.full(wheel_grids[w][j].shape, -np.inf) for j in range(2)] for w in range(nw)]
+        fi_r = [np.full(rail_grids[j].shape, -np.inf) for j in range(2)]
+        rcf_mapped: dict = {}
         energy = 0.0
         cache: dict = {}
         mapped: dict = {}                   # key -> (wheel, rail) depth on the grids
@@ -217,10 +237,26 @@ class PatchPostProcessor:
                                 cache[key] = hit
                         else:
                             st.reused += 1
-                        strips, depth_y, values = hit
-                        for name, v in zip(rec, values):
+                        strips, depth_y, values, rcfv = hit
+                        for name, v in zip(rec, values + rcfv[:3] + rcfv[4:]):
                             rec[name][i, w, j, k] = v
-                        energy += values[-1] / V
+                        energy += values[5] / V
+                        c0 = time.thread_time()
+                        on = rcf_mapped.get(key) if key is not None else None
+                        if on is None:              # coverage and damage on the profiles
+                            r_w = 2 * math.pi * geom.rolling_radius
+                            cw = profile_values(geom, strips.y, rcfv[3], wheels[w][j], "wheel",
+                                                wheel_grids[w][j])
+                            cr = profile_values(geom, strips.y, rcfv[3], rails[j], "rail",
+                                                rail_grids[j])
+                            on = (cw > 0.5, cr > 0.5, rcfv[2] * cw / r_w, rcfv[2] * cr)
+                            if key is not None:
+                                rcf_mapped[key] = on
+                        dmg_w[w][j] += on[2]
+                        dmg_r[j] += on[3]
+                        fi_w[w][j][on[0]] = np.maximum(fi_w[w][j][on[0]], rcfv[0])
+                        fi_r[j][on[1]] = np.maximum(fi_r[j][on[1]], rcfv[0])
+                        st.rcf_time += time.thread_time() - c0
                         if not depth_y.any():
                             continue
                         depths = mapped.get(key) if key is not None else None
@@ -237,8 +273,14 @@ class PatchPostProcessor:
         n_s = max(idx.size, 1)
         st.samples = int(idx.size)
         st.cpu_time = time.thread_time() - t0
+        def envelope(v):
+            return np.where(np.isfinite(v), v, np.nan)
         return {"wheel": [[d / n_s for d in pair] for pair in wheel],
                 "rail": [d / n_s for d in rail], "energy": energy / n_s,
+                "rcf_wheel": [[d / n_s for d in pair] for pair in dmg_w],
+                "rcf_rail": [d / n_s for d in dmg_r],
+                "fi_surf_wheel": [[envelope(v) for v in pair] for pair in fi_w],
+                "fi_surf_rail": [envelope(v) for v in fi_r],
                 "records": rec, "time": ds["time"].values[idx], "stats": st}
 
     def _solve(self, geom, n, creep, friction, V, previous, ti, st):
@@ -269,4 +311,10 @@ class PatchPostProcessor:
                 st.warnings[wtext] = st.warnings.get(wtext, 0) + 1
         depth_y = strip_depth(self.law.rate(ns, ts, V), ns)
         values = (ns.normal_force, ts.fx, ts.fy, ns.area, ns.pmax, ts.frictional_power)
-        return (_Strips(ns.y, ns.dy), depth_y, values), ns, ts
+        c0 = time.thread_time()
+        fi, tg, dmg = patch_measures(ns, ts, V, self.rcf, values[5])
+        fi_sub = (subsurface_fatigue_index(ns, ts, self.material, self.rcf)["fi_sub"]
+                  if self.rcf.subsurface else math.nan)
+        rcfv = (fi, tg, dmg, covered_strips(ns), fi_sub)
+        st.rcf_time += time.thread_time() - c0
+        return (_Strips(ns.y, ns.dy), depth_y, values, rcfv), ns, ts

@@ -21,11 +21,12 @@ from ..dynamics.scenario import (creep_law_settings, route_from_section, vehicle
                                  vehicle_length)
 from ..errors import CaseFileError
 from .laws import get_wear_law
+from .rcf import RcfParameters
 
 #: keys of [wear] in a vehicle scenario
 WEAR_KEYS = {"law", "parameters", "body", "steps", "max_depth_per_step", "step_distance",
              "smoothing", "profile_smoothing", "grid_step", "scheduler", "wheels",
-             "sample_distance", "reuse_tolerance", "rail_traffic", "records"}
+             "sample_distance", "reuse_tolerance", "rail_traffic", "records", "rcf"}
 #: keys of [dynamics]
 DYNAMICS_KEYS = {"tangential", "tangential_options", "fastsim_grid", "sample_rate",
                  "table_range", "table_step", "integrator", "step", "rtol",
@@ -138,6 +139,8 @@ class VehicleWearScenario(WearSettings):
     reuse_tolerance: float = 1e-3
     rail_traffic: float = 1.0
     records: bool = False
+    #: parameters of the rolling contact fatigue measures ([wear.rcf], railcontact.wear.rcf)
+    rcf: object = None
     #: imposed step distances [m] (wear-compare runs every model over the first's)
     distances: list | None = None
     title: str = ""
@@ -228,6 +231,7 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
     sc.records = wear.get("records", False)
     if not isinstance(sc.records, bool):
         raise CaseFileError(f"wear.records = {sc.records!r}: expected true or false")
+    sc.rcf = RcfParameters.from_dict(wear.get("rcf"))
     return sc
 
 
