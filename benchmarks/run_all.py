@@ -1017,6 +1017,30 @@ def bench_subsurface():
             f"sigma_z from Johnson {100 * e:.2f} %")
 
 
+def bench_rcf_cost():
+    """The RCF damage measures beside wear (railcontact.wear.rcf): their CPU time per
+    patch against the wear post-processing's, one closed-loop step of
+    examples/wear_vehicle.toml, without (FI_surf, WLRM) and with FI_sub (a
+    subsurface stress field per solved patch)."""
+    import dataclasses
+    from railcontact.wear.closed_loop import ClosedLoopWear
+    from railcontact.wear.simulation import load_scenario
+    out("\n## RCF damage measures beside wear (examples/wear_vehicle.toml, one step)")
+    for sub in (False, True):
+        sc = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+        sc.steps = 1
+        sc.scheduler = "sync"
+        sc.rcf = dataclasses.replace(sc.rcf, subsurface=sub)
+        ds = ClosedLoopWear(sc, None, progress=False).run(resume=False)
+        rcf = float(ds["rcf_time"].sum())
+        post = float(ds["postprocess_time"].sum())
+        solved = float(ds["patches_solved"].sum())
+        label = "with FI_sub" if sub else "FI_surf + WLRM (no subsurface field)"
+        out(f"* {label}: {rcf / solved * 1e3:.2f} ms per solved patch, "
+            f"{100 * rcf / (post - rcf):.1f} % of the rest of the post-processing "
+            f"({(post - rcf) / solved * 1e3:.2f} ms per solved patch; {solved:.0f} solved)")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -1032,6 +1056,7 @@ def main():
     bench_dynamics()
     bench_wear_closed_loop()
     bench_subsurface()
+    bench_rcf_cost()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
     contact_inputs.main()

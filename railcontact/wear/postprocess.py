@@ -47,7 +47,7 @@ from ..materials import Material
 from ..normal import get_normal_model
 from ..tangential import get_tangential_model
 from .mapping import profile_depth, strip_depth
-from .rcf import (RcfParameters, covered_strips, patch_measures, profile_values,
+from .rcf import (RcfParameters, covered_strips, patch_measures, profile_window,
                   subsurface_fatigue_index)
 
 
@@ -85,6 +85,14 @@ class PostProcessStats:
     def time_per_patch(self) -> float:
         """Solve time per solved patch [s]."""
         return self.solve_time / self.solved if self.solved else math.nan
+
+
+def _covered(window, damage):
+    """(slice of the positions a patch covers, their mask within it, the damage on
+    them): the RCF measures of a patch placed on a profile grid, from its coverage
+    there (:func:`~railcontact.wear.rcf.profile_window` of 1 on its strips)."""
+    sl, c = window
+    return sl, c > 0.5, damage * c
 
 
 @dataclass
@@ -245,17 +253,18 @@ class PatchPostProcessor:
                         on = rcf_mapped.get(key) if key is not None else None
                         if on is None:              # coverage and damage on the profiles
                             r_w = 2 * math.pi * geom.rolling_radius
-                            cw = profile_values(geom, strips.y, rcfv[3], wheels[w][j], "wheel",
-                                                wheel_grids[w][j])
-                            cr = profile_values(geom, strips.y, rcfv[3], rails[j], "rail",
-                                                rail_grids[j])
-                            on = (cw > 0.5, cr > 0.5, rcfv[2] * cw / r_w, rcfv[2] * cr)
+                            on = (_covered(profile_window(geom, strips.y, rcfv[3], wheels[w][j],
+                                                          "wheel", wheel_grids[w][j]),
+                                           rcfv[2] / r_w),
+                                  _covered(profile_window(geom, strips.y, rcfv[3], rails[j],
+                                                          "rail", rail_grids[j]), rcfv[2]))
                             if key is not None:
                                 rcf_mapped[key] = on
-                        dmg_w[w][j] += on[2]
-                        dmg_r[j] += on[3]
-                        fi_w[w][j][on[0]] = np.maximum(fi_w[w][j][on[0]], rcfv[0])
-                        fi_r[j][on[1]] = np.maximum(fi_r[j][on[1]], rcfv[0])
+                        for (sl, mask, d), dmg, fi in ((on[0], dmg_w[w][j], fi_w[w][j]),
+                                                       (on[1], dmg_r[j], fi_r[j])):
+                            dmg[sl] += d
+                            part = fi[sl]
+                            part[mask] = np.maximum(part[mask], rcfv[0])
                         st.rcf_time += time.thread_time() - c0
                         if not depth_y.any():
                             continue

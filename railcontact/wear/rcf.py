@@ -220,16 +220,30 @@ def covered_strips(normal) -> np.ndarray:
     return normal.contact.any(axis=0).astype(float)
 
 
-def profile_values(geometry, strip_y, values_y, profile, body: str, s_grid) -> np.ndarray:
-    """A value per strip placed on a profile's arc length (as the wear depth is,
-    :func:`railcontact.wear.mapping.profile_depth`, but not rescaled: a value, not a
-    depth): linear between the strips, 0 outside them."""
+def profile_window(geometry, strip_y, values_y, profile, body: str, s_grid) -> tuple:
+    """(slice of ``s_grid`` between the first and the last strip, the values there):
+    a value per strip placed on a profile's arc length as the wear depth is
+    (:func:`railcontact.wear.mapping.profile_depth`: s = s_ref + sgn y_c, sgn = -1 on
+    the left side), linear between the strips, not rescaled (a value, not a depth)."""
     y_ref = geometry.y_rail if body == "rail" else geometry.y_wheel
     s_ref = float(profile.arc_length(y_ref))
     sgn = 1.0 if geometry.side != "left" else -1.0
     s = s_ref + sgn * np.asarray(strip_y, float)
-    order = np.argsort(s)
-    return np.interp(s_grid, s[order], np.asarray(values_y, float)[order], left=0.0, right=0.0)
+    v = np.asarray(values_y, float)
+    if sgn < 0:
+        s, v = s[::-1], v[::-1]
+    i0 = int(np.searchsorted(s_grid, s[0], "left"))
+    i1 = int(np.searchsorted(s_grid, s[-1], "right"))
+    sl = slice(i0, max(i0, i1))
+    return sl, np.interp(s_grid[sl], s, v)
+
+
+def profile_values(geometry, strip_y, values_y, profile, body: str, s_grid) -> np.ndarray:
+    """:func:`profile_window` on the whole grid (0 outside the strips)."""
+    out = np.zeros(np.shape(s_grid))
+    sl, v = profile_window(geometry, strip_y, values_y, profile, body, s_grid)
+    out[sl] = v
+    return out
 
 
 def accumulate(damage, added, wear_depth, layer_depth: float):
