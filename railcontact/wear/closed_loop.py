@@ -210,7 +210,8 @@ class ClosedLoopWear:
         accumulated per profile position like the wear depth (wheels: the routes'
         weighted rate per metre run, the same for a group of wheels; rails: per
         passage times the traffic), the damage before the step reduced by the step's
-        wear depth; the largest FI_surf per route and position; its CPU time."""
+        wear depth; the largest FI_surf (and FI_sub) per route and position; its CPU
+        time."""
         sc = self.sc
         wt = self.weights
         layer = sc.rcf.layer_depth
@@ -232,14 +233,15 @@ class ClosedLoopWear:
             before = prev.get(f"rcf_damage_{kind}", np.zeros_like(add))
             rec[f"rcf_damage_{kind}"] = accumulate(before, add, rec[f"wear_depth_{kind}"], layer)
             rec[f"rcf_added_{kind}"] = add
-        rec["fi_surf_wheel"] = np.array([[[np.interp(
-            wheels0[w][j].arc_length(self.y_wheel), grid_of[id(wheels0[w][j])],
-            results[r]["fi_surf_wheel"][w][j], left=np.nan, right=np.nan)
-            for j in range(2)] for w in range(self.nw)] for r in range(self.nr)])
-        rec["fi_surf_rail"] = np.array([[np.interp(
-            rails0[r][j].arc_length(self.y_rail), grid_of[id(rails0[r][j])],
-            results[r]["fi_surf_rail"][j], left=np.nan, right=np.nan)
-            for j in range(2)] for r in range(self.nr)])
+        for name in ("fi_surf", "fi_sub") if sc.rcf.subsurface else ("fi_surf",):
+            rec[f"{name}_wheel"] = np.array([[[np.interp(
+                wheels0[w][j].arc_length(self.y_wheel), grid_of[id(wheels0[w][j])],
+                results[r][f"{name}_wheel"][w][j], left=np.nan, right=np.nan)
+                for j in range(2)] for w in range(self.nw)] for r in range(self.nr)])
+            rec[f"{name}_rail"] = np.array([[np.interp(
+                rails0[r][j].arc_length(self.y_rail), grid_of[id(rails0[r][j])],
+                results[r][f"{name}_rail"][j], left=np.nan, right=np.nan)
+                for j in range(2)] for r in range(self.nr)])
         rec["rcf_time"] = np.array([res["stats"].rcf_time for res in results])
 
     def run_step(self) -> dict:
@@ -449,6 +451,13 @@ class ClosedLoopWear:
         put("fi_surf_rail", ("route", "side", "y_rail"), "fi_surf_rail", "1",
             "largest surface fatigue index FI_surf (Ekberg) at the position on the route "
             "(NaN: no contact)")
+        if self.steps and "fi_sub_wheel" in self.steps[0]:
+            put("fi_sub_wheel", ("route", "wheelset", "side", "y_wheel"), "fi_sub_wheel", "Pa",
+                "largest subsurface fatigue index FI_sub (Ekberg) below the position on the "
+                "route (NaN: no contact)")
+            put("fi_sub_rail", ("route", "side", "y_rail"), "fi_sub_rail", "Pa",
+                "largest subsurface fatigue index FI_sub (Ekberg) below the position on the "
+                "route (NaN: no contact)")
         put("rcf_time", ("route",), "rcf_time", "s",
             "CPU time of the RCF damage measures (part of postprocess_time)")
         for key, units, text in (("patches", "1", "loaded patches post-processed"),

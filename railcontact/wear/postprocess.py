@@ -179,6 +179,8 @@ class PatchPostProcessor:
         ``rcf_wheel`` / ``rcf_rail`` (WLRM damage per metre run / per vehicle
         passage on the grids, as the depths), ``fi_surf_wheel`` / ``fi_surf_rail``
         (the largest FI_surf at each grid position, NaN where no patch came),
+        ``fi_sub_wheel`` / ``fi_sub_rail`` (likewise FI_sub [Pa], with
+        ``rcf.subsurface``; NaN otherwise),
         ``stats`` (:class:`PostProcessStats`).
         """
         t0 = time.thread_time()
@@ -210,6 +212,8 @@ class PatchPostProcessor:
         dmg_r = [np.zeros_like(rail_grids[j]) for j in range(2)]
         fi_w = [[np.full(wheel_grids[w][j].shape, -np.inf) for j in range(2)] for w in range(nw)]
         fi_r = [np.full(rail_grids[j].shape, -np.inf) for j in range(2)]
+        sub_w = [[np.full(wheel_grids[w][j].shape, -np.inf) for j in range(2)] for w in range(nw)]
+        sub_r = [np.full(rail_grids[j].shape, -np.inf) for j in range(2)]
         rcf_mapped: dict = {}
         energy = 0.0
         cache: dict = {}
@@ -260,11 +264,15 @@ class PatchPostProcessor:
                                                           "rail", rail_grids[j]), rcfv[2]))
                             if key is not None:
                                 rcf_mapped[key] = on
-                        for (sl, mask, d), dmg, fi in ((on[0], dmg_w[w][j], fi_w[w][j]),
-                                                       (on[1], dmg_r[j], fi_r[j])):
+                        for (sl, mask, d), dmg, fi, sub in (
+                                (on[0], dmg_w[w][j], fi_w[w][j], sub_w[w][j]),
+                                (on[1], dmg_r[j], fi_r[j], sub_r[j])):
                             dmg[sl] += d
                             part = fi[sl]
                             part[mask] = np.maximum(part[mask], rcfv[0])
+                            if self.rcf.subsurface:
+                                part = sub[sl]
+                                part[mask] = np.maximum(part[mask], rcfv[4])
                         st.rcf_time += time.thread_time() - c0
                         if not depth_y.any():
                             continue
@@ -290,6 +298,8 @@ class PatchPostProcessor:
                 "rcf_rail": [d / n_s for d in dmg_r],
                 "fi_surf_wheel": [[envelope(v) for v in pair] for pair in fi_w],
                 "fi_surf_rail": [envelope(v) for v in fi_r],
+                "fi_sub_wheel": [[envelope(v) for v in pair] for pair in sub_w],
+                "fi_sub_rail": [envelope(v) for v in sub_r],
                 "records": rec, "time": ds["time"].values[idx], "stats": st}
 
     def _solve(self, geom, n, creep, friction, V, previous, ti, st):

@@ -162,3 +162,27 @@ def test_example_reports_rcf(wear_vehicle_example):
     assert float(ds["rcf_damage_wheel"].isel(step=-1).max()) > 0
     assert np.all(ds["rcf_damage_wheel"].values >= 0)
     assert np.all(ds["rcf_time"].values < ds["postprocess_time"].values)
+
+
+def test_tiny_loop_with_fi_sub():
+    """The tiny closed loop of tests/wear/test_closed_loop.py with FI_sub: wear.nc
+    holds FI_sub per route and position where FI_surf is (the same patches), and in
+    the tight curve the outer (left) wheel's largest FI_sub is above the inner's."""
+    import copy
+
+    from railcontact.wear import scenario_from_dict
+    from railcontact.wear.closed_loop import ClosedLoopWear
+    from tests.wear.test_closed_loop import TINY
+    raw = copy.deepcopy(TINY)
+    raw["wear"].update(steps=1, rcf={"subsurface": True, "depths": 6})
+    raw["route"] = raw["route"][:1]
+    raw["solver"]["grid"] = [12, 12]
+    sc = scenario_from_dict(raw)
+    sc.scheduler = "sync"
+    ds = ClosedLoopWear(sc, None, progress=False).run(resume=False)
+    sub, surf = ds["fi_sub_wheel"].isel(step=0), ds["fi_surf_wheel"].isel(step=0)
+    assert sub.attrs["units"] == "Pa"
+    np.testing.assert_array_equal(np.isfinite(sub.values), np.isfinite(surf.values))
+    curve = sub.sel(route="R300", wheelset=1)
+    assert float(curve.sel(side="left").max()) > float(curve.sel(side="right").max()) > 0
+    assert float(ds["rcf_time"].sum()) > 0
