@@ -118,7 +118,7 @@ def bench_exact_module3():
             if r["workload"] == "module3_hertz_40x40" and r["build"] == "mkl_fft"
             and r["omp_threads"] == "1" and r["eps"] == "1e-05"]
     mat = rc.Material.from_shear_modulus(82e9, 0.28)
-    from railcontact.hertz_theory import hertz_ellipse
+    from railcontact.core.hertz_theory import hertz_ellipse
     problems = {"circ_partial_slip": (5e-3, 5e-3, (-1e-3, 2e-4, 0.1)),
                 "circ_adhesion": (5e-3, 5e-3, (-1e-5, 0.0, 0.0)),
                 "ellip_partial_slip": (3.5355e-3, 7.0711e-3, (-1e-3, 2e-4, 0.1))}
@@ -314,7 +314,7 @@ def conv_time(m=40, n=40, repeat=7, number=400):
 
 #: the parts of a wheel-rail case whose time :func:`time_split` reports: (label,
 #: module, attribute); nested parts are reported inside their parent
-SPLIT = [("contact search", "railcontact.wheel_rail_balance", "contact_search"),
+SPLIT = [("contact search", "railcontact.cases.balance", "contact_search"),
          ("exact normal solves", "railcontact.normal.exact", "ExactNormalModel.solve"),
          ("  of which Polonsky-Keer iterations", "railcontact.normal.polonsky_keer", "_pk_kernel"),
          ("exact tangential solves", "railcontact.tangential.exact", "ExactTangentialModel.solve"),
@@ -376,8 +376,8 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
                                       "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
                                       "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
                          "solver": {"grid": [40, 40]}})
-    from railcontact.case import case_from_dict
-    from railcontact.bodies import contact_search
+    from railcontact.cases.case import case_from_dict
+    from railcontact.cases.bodies import contact_search
     cases = [case_from_dict(r) for r in raws]
     shifts = np.array([r["wheelset"]["lateral_shift"] for r in raws])
     loose = []
@@ -539,7 +539,7 @@ def _solves_alone(case, res, neighbour):
     ``res`` solved once on its geometry, warm-started from the nearest patch of
     ``neighbour`` (a result) or cold."""
     from railcontact.normal import get_normal_model
-    from railcontact.patches import nearest_patch as _nearest
+    from railcontact.cases.patches import nearest_patch as _nearest
     from railcontact.tangential import get_tangential_model
     nm, tm = get_normal_model("exact"), get_tangential_model("exact")
     for p in res.patches:
@@ -610,7 +610,7 @@ def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
             tm.solve(ns, g, mat, g.creepage, 0.3, g.velocity)
         times[(nname, tname)] = (time.perf_counter() - t0) / n
     ref = times[FAST_MODELS[0]]
-    from railcontact.batch import solve_patches
+    from railcontact.cases.batch import solve_patches
     batch = {}
     pairs = [("hertz", law) for law in ("fastsim", "polach", "fastrip")] + [
         (nname, law) for nname in ("kik-piotrowski", "kpec", "stripes", "analyn")
@@ -626,7 +626,7 @@ def bench_fast_models(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     out("|---|---|---|---|")
     for (nname, tname), t in times.items():
         out(f"| {nname} | {tname} | {t * 1e3:.2f} ms | {t / ref:.1f} |")
-    out("\nCompiled batch path `railcontact.batch.solve_patches` (all patches of the "
+    out("\nCompiled batch path `railcontact.cases.batch.solve_patches` (all patches of the "
         "sweep in one call, forces, area and p_max only): Hertz vectorised with FASTSIM "
         "20x20 per ellipse (FaStrip: the ellipse in 20 strips of 20 elements); the strip "
         "models on 40 strips per patch, FASTSIM (equivalent ellipse), FASTSIM with local "
@@ -1041,6 +1041,177 @@ def bench_rcf_cost():
             f"({(post - rcf) / solved * 1e3:.2f} ms per solved patch; {solved:.0f} solved)")
 
 
+def bench_fmu(n_steps=400, dt=1e-3):
+    """The contact element's FMU (railcontact fmu) stepped by FMPy's FMI 3.0 API
+    through a hunting-like history, against the Python API's evaluation alone."""
+    out("\n## Contact element FMU (FMI 3.0 co-simulation, FMPy), cost per step")
+    try:
+        from fmpy import extract, read_model_description
+        from fmpy.fmi3 import FMU3Slave
+        from railcontact.fmu import build_fmu
+    except ImportError as exc:
+        out(f"fmpy/pythonfmu3 not installed ({exc}); skipped")
+        return
+    import tempfile
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.inputs import contact_element
+    with tempfile.TemporaryDirectory() as tmp:
+        path = build_fmu(Path(tmp) / "element.fmu")
+        md = read_model_description(str(path))
+        vr = {v.name: v.valueReference for v in md.modelVariables}
+        unzipdir = extract(str(path))
+        t = np.arange(n_steps) * dt
+        w = 2 * np.pi * 5.0
+        y, yaw = 3e-3 * np.sin(w * t), 1e-3 * np.cos(w * t)
+        ins = [vr[k] for k in ("lateral_shift", "yaw", "vertical_position")]
+        outs = [vr[f"force_{c}"] for c in "xyz"] + [vr[f"torque_{c}"] for c in "xyz"]
+        fmu = FMU3Slave(guid=md.guid, unzipDirectory=unzipdir,
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bench")
+        fmu.instantiate()
+        fmu.enterInitializationMode()
+        fmu.setFloat64(ins, [y[0], yaw[0], 3e-4])
+        fmu.exitInitializationMode()
+        got = np.empty((n_steps, 6))
+        ts = np.empty(n_steps)
+        for k in range(n_steps):
+            t0 = time.perf_counter()
+            fmu.setFloat64(ins, [y[k], yaw[k], 3e-4])
+            fmu.doStep(currentCommunicationPoint=t[k], communicationStepSize=dt)
+            got[k] = fmu.getFloat64(outs)
+            ts[k] = time.perf_counter() - t0
+        t_fmu = float(np.median(ts))
+        fmu.terminate()
+        fmu.freeInstance()
+    el = contact_element()
+    want = np.empty((n_steps, 6))
+    for k in range(n_steps):
+        t0 = time.perf_counter()
+        r = el.evaluate(WheelsetState(lateral_shift=y[k], yaw=yaw[k], vertical_position=3e-4))
+        want[k, :3], want[k, 3:] = r.force, r.torque
+        ts[k] = time.perf_counter() - t0
+    t_api = float(np.median(ts))
+    dev = np.abs(got - want).max() / np.abs(want).max()
+    out(f"* {n_steps} steps of {dt * 1e3:g} ms (y = 3 mm sin, yaw = 1 mrad cos at 5 Hz; S1002 on "
+        f"60E1, Hertz + FASTSIM, position mode), medians: {t_fmu * 1e3:.2f} ms per FMU step "
+        f"(set inputs, doStep, get 6 outputs), {t_api * 1e3:.2f} ms per API evaluation: "
+        f"FMI overhead {(t_fmu - t_api) * 1e3:.3f} ms per step")
+    out(f"* largest deviation of the FMU's forces and torques from the API's: {dev:.1e} "
+        "(relative to the largest)")
+    _fmu_c_host(el)
+
+
+def _fmu_c_host(element):
+    """The FMU run by a host in C (benchmarks/fmu_c_host.c) in a process of its own,
+    with the environment of docs/multibody.md; its forces against the API's."""
+    import shutil
+    import subprocess
+    import sysconfig
+    import tempfile
+    import zipfile
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.inputs import contact_element
+    from railcontact.fmu import build_fmu
+    import pythonfmu3
+    if shutil.which("gcc") is None:
+        out("* C host: no gcc; skipped")
+        return
+    fmi = Path(pythonfmu3.__file__).parent / "pythonfmu-export" / "src" / "fmi"
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        subprocess.run(["gcc", "-O1", "-o", str(tmp / "host"), str(HERE / "fmu_c_host.c"),
+                        f"-I{fmi}", "-ldl"], check=True)
+        with zipfile.ZipFile(build_fmu(tmp / "e.fmu")) as z:
+            z.extractall(tmp / "fmu")
+        xml = (tmp / "fmu" / "modelDescription.xml").read_text()
+        token = xml.split('instantiationToken="')[1].split('"')[0]
+        import site
+        env = dict(os.environ,
+                   LD_PRELOAD=os.path.join(sysconfig.get_config_var("LIBDIR"),
+                                           sysconfig.get_config_var("LDLIBRARY")),
+                   PYTHONHOME=sys.base_prefix,
+                   PYTHONPATH=os.pathsep.join(site.getsitepackages() + [str(HERE.parent)]))
+        t0 = time.perf_counter()
+        run = subprocess.run([str(tmp / "host"),
+                              str(tmp / "fmu" / "binaries" / "x86_64-linux" /
+                                  "RailContactElement.so"), str(tmp / "fmu" / "resources"),
+                              token, "0.003", "1.8e-4"], env=env, capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+    if run.returncode != 0:
+        out(f"* C host: FAILED (exit status {run.returncode}): {run.stderr.strip()[-300:]}")
+        return
+    got = np.array([float(v) for v in run.stdout.split()])
+    r = element.evaluate(WheelsetState(lateral_shift=0.003, vertical_position=1.8e-4))
+    want = np.r_[r.force, r.torque]
+    out(f"* a host in C (benchmarks/fmu_c_host.c, libpython preloaded): one step in a fresh "
+        f"process in {wall:.1f} s (start of Python, imports, Numba cache); forces and torques "
+        f"against the API's: largest relative deviation "
+        f"{np.abs(got - want).max() / np.abs(want).max():.1e}")
+
+
+def bench_quasi_elastic(alphas=(1e-5, 2e-5, 3e-5, 5e-5)):
+    """Arnold's quasi-elastic contact against the multi-Hertzian elastic one on
+    S1002/60E1 1:40 at 70 kN: the normal force across the rigid contact jumps, the
+    penetration, the equivalent conicity, the linear critical speed."""
+    out("\n## Arnold's quasi-elastic contact vs multi-Hertzian, S1002/60E1 1:40, 70 kN")
+    from railcontact.dynamics import VehicleModel, WheelRailTable, critical_speed
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.inputs import contact_element
+    from railcontact.geometry import contact_table, equivalent_conicity
+    from railcontact.geometry.quasi_elastic import quasi_elastic_contact, quasi_elastic_table
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", inclination=math.atan(1 / 40)))
+    element = contact_element(tangential="none", mode="load")
+
+    def jump_at(lo, hi, size):
+        a = lambda y: quasi_elastic_contact(ws, tr, y, alpha=1e-8).points["right"].contact_angle
+        alo = a(lo)
+        while hi - lo > 1e-7:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if abs(a(mid) - alo) < size else (lo, mid)
+        return 0.5 * (lo + hi)
+
+    for lo, hi, size in ((4.9e-3, 5.1e-3, 0.05), (6.2e-3, 6.3e-3, 0.3)):
+        yj = jump_at(lo, hi, size)
+        row = []
+        for h in (4e-6, 1e-6):
+            ys = np.arange(yj - 2e-5, yj + 2e-5 + h / 2, h)
+            steps = {}
+            for a in (1e-8, 3e-5):
+                d = np.array([quasi_elastic_contact(ws, tr, y, alpha=a).points["right"]
+                              .contact_angle for y in ys])
+                steps[a] = np.abs(np.diff(70e3 / np.cos(d))).max()
+            fn = np.array([element.evaluate(WheelsetState(lateral_shift=y, loads=(70e3, 70e3)))
+                           .normal_force["right"] for y in ys])
+            steps["mh"] = np.abs(np.diff(fn)).max()
+            row.append(f"h = {h * 1e6:g} um: rigid {steps[1e-8] / 1e3:.2f} kN, quasi-elastic "
+                       f"(alpha 3e-5) {steps[3e-5] / 1e3:.3f} kN, multi-Hertzian {steps['mh'] / 1e3:.2f} kN")
+        out(f"* jump of the rigid contact point at y = {yj * 1e3:.3f} mm, largest step of the "
+            f"right wheel's normal force within +-20 um: " + "; ".join(row))
+    ys = np.arange(-4e-3, 4.01e-3, 1e-3)
+    el = [find_contact(ws, tr, y, 0.0, vertical_force=70e3).interpenetration for y in ys]
+    for a in alphas:
+        r = np.array([[quasi_elastic_contact(ws, tr, y, alpha=a).points[s].penetration / e[s]
+                       for s in ("left", "right")] for y, e in zip(ys, el)])
+        out(f"* alpha = {a:g} m: quasi-elastic / multi-Hertzian vertical penetration over shifts "
+            f"-4..4 mm: {r.min():.2f} .. {r.max():.2f} (mean {r.mean():.3f})")
+    ysc = np.arange(-8e-3, 8.01e-3, 2.5e-4)
+    amps = (1e-3, 2e-3, 3e-3, 4e-3, 6e-3)
+    tabs = {"multi-Hertzian (70 kN)": contact_table(ws, tr, ysc, vertical_force=70e3),
+            "rigid": quasi_elastic_table(ws, tr, ysc, alpha=1e-8)}
+    for a in alphas:
+        tabs[f"quasi-elastic alpha {a:g}"] = quasi_elastic_table(ws, tr, ysc, alpha=a)
+    out("* equivalent conicity (EN 15302 wavelength method) at amplitudes "
+        + ", ".join(f"{x * 1e3:g}" for x in amps) + " mm:")
+    for name, tb in tabs.items():
+        out(f"  * {name}: " + ", ".join(f"{equivalent_conicity(tb, x):.3f}" for x in amps))
+    mh = WheelRailTable.build(ws, tr, 60e3, shift_range=0.01, step=2.5e-4)
+    qe = WheelRailTable.quasi_elastic(ws, tr, 60e3, 3e-5, shift_range=0.01, step=2.5e-4)
+    for m in ("bogie", "vehicle"):
+        model = VehicleModel.from_parameters(m, {})
+        out(f"* Manchester {m}, linear critical speed: multi-Hertzian table "
+            f"{critical_speed(model, mh):.1f} m/s, quasi-elastic (alpha 3e-5) "
+            f"{critical_speed(model, qe):.1f} m/s")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -1054,12 +1225,16 @@ def main():
     bench_fast_models()
     bench_strips_accuracy()
     bench_dynamics()
+    bench_fmu()
+    bench_quasi_elastic()
     bench_wear_closed_loop()
     bench_subsurface()
     bench_rcf_cost()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
     contact_inputs.main()
+    import contact_testbank        # every testbank input: benchmarks/contact_testbank.md
+    contact_testbank.main([])
 
 
 if __name__ == "__main__":

@@ -45,7 +45,7 @@ case = rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60
 print(rc.solve(case).to_json(indent=None)[:120], "...")
 
 # 6. many patches at once: every strip model with FASTSIM on a lateral sweep, compiled
-from railcontact.batch import solve_patches
+from railcontact.cases.batch import solve_patches
 
 contacts = [find_contact(ws, track, lateral_shift=y, vertical_force=75e3)
             for y in np.linspace(0.0, 8e-3, 40)]

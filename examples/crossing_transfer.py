@@ -5,7 +5,7 @@ a 60E1 wing rail diverging at 1:9, a nose rising at 1:60 from 6 mm below the
 running level) is written as CONTACT slices files with a case file that names the
 wing rail and the nose as two rails, each with its own placement; an S1002 wheel
 under 80 kN is then solved at wheelset positions s through the transfer
-(``railcontact.crossing.sweep_along_track``): vertical force on each rail, where
+(``railcontact.cases.crossing.sweep_along_track``): vertical force on each rail, where
 along the track each contact lies (the nose's ahead of the axle), p_max and area.
 
 Run:  python examples/crossing_transfer.py [OUTPUT_DIR]
@@ -19,8 +19,8 @@ from pathlib import Path
 import numpy as np
 
 import railcontact as rc
-from railcontact.crossing import plot_track_sweep, sweep_along_track, transfer_range
-from railcontact.files import write_netcdf
+from railcontact.cases.crossing import plot_track_sweep, sweep_along_track, transfer_range
+from railcontact.core.files import write_netcdf
 from railcontact.profiles.slices import artificial_crossing, write_slices
 
 CASE = """title = "S1002 through an artificial 1:9 crossing, 80 kN"

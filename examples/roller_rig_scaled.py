@@ -19,7 +19,7 @@ import math
 import numpy as np
 
 import railcontact as rc
-from railcontact.case import case_from_dict
+from railcontact.cases.case import case_from_dict
 from railcontact.geometry.track import Track
 from railcontact.profiles.library import get_profile
 from railcontact.profiles.profile import Profile

@@ -8,14 +8,14 @@ All quantities are in SI units; conventions in ``docs/conventions.md``.
 
 import logging
 
-from .case import Case, case_from_dict, load_case
-from .errors import (CaseFileError, ContactNotFoundError, ConvergenceError, InputError,
+from .cases.case import Case, case_from_dict, load_case
+from .core.errors import (CaseFileError, ContactNotFoundError, ConvergenceError, InputError,
                      ProfileError, RailContactError, UnknownModelError)
-from .materials import Material
-from .case_solve import solve
-from .equilibrium import VerticalBalance
-from .results import PatchResult, SolveResult
-from .case_sweep import sweep
+from .core.materials import Material
+from .cases.solve import solve
+from .cases.equilibrium import VerticalBalance
+from .cases.results import PatchResult, SolveResult
+from .cases.sweep import sweep
 
 __version__ = "0.1.0"
 logging.getLogger(__name__).addHandler(logging.NullHandler())

@@ -8,8 +8,8 @@ import logging
 import sys
 from pathlib import Path
 
-from .errors import InputError, RailContactError
-from .files import write_netcdf, write_text
+from .core.errors import InputError, RailContactError
+from .core.files import write_netcdf, write_text
 
 log = logging.getLogger("railcontact")
 
@@ -91,8 +91,8 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
 
 
 def cmd_solve(args):
-    from .case import load_case
-    from .case_solve import solve
+    from .cases.case import load_case
+    from .cases.solve import solve
     if _is_inp(args.case):
         return _run_inp(args, "sync")
     if args.cases or args.profiles:
@@ -109,9 +109,9 @@ def cmd_solve(args):
 
 
 def cmd_geometry(args):
-    from .case import load_case
-    from .bodies import contact_search
-    from .results import geometry_dict
+    from .cases.case import load_case
+    from .cases.bodies import contact_search
+    from .cases.results import geometry_dict
     case = load_case(args.case)
     if case.is_bodies:
         raise RailContactError("geometry needs a wheel-rail case ([wheel], [rail]); this case "
@@ -125,8 +125,8 @@ def cmd_geometry(args):
 
 
 def cmd_sweep(args):
-    from .case import load_case
-    from .case_sweep import parse_vary, sweep
+    from .cases.case import load_case
+    from .cases.sweep import parse_vary, sweep
     if _is_inp(args.case):
         return _run_inp(args, args.scheduler, warm=args.warm)
     if not args.vary:
@@ -156,8 +156,8 @@ def cmd_sweep(args):
 
 
 def cmd_compare(args):
-    from .case import load_case
-    from .compare import DEFAULT_MODELS, compare, format_table, write_outputs
+    from .cases.case import load_case
+    from .cases.compare import DEFAULT_MODELS, compare, format_table, write_outputs
     case = load_case(args.case)
     models = tuple(m.strip() for m in args.models.split(",")) if args.models else DEFAULT_MODELS
     rows, results = compare(case, models, args.tangential)
@@ -225,13 +225,16 @@ def cmd_wear_compare(args):
 
 
 def cmd_simulate(args):
+    from .inputs import load_dynamics_scenario
     if len(args.scenario) > 1:
         from .dynamics.scenario import simulate_batch
         outs = [Path(args.out) / Path(s).stem for s in args.scenario]
         if len(set(outs)) != len(outs):
             raise InputError("simulate: scenario files with the same name would share an "
                              "output folder; rename them")
-        res = simulate_batch(args.scenario, outs, scheduler=args.scheduler)
+        # every scenario is read and checked before any runs
+        scenarios = {str(s): load_dynamics_scenario(s) for s in args.scenario}
+        res = simulate_batch(scenarios, outs, scheduler=args.scheduler)
         for r in res:
             if "error" in r:
                 print(f"{r['scenario']}: FAILED: {r['error']}")
@@ -242,7 +245,7 @@ def cmd_simulate(args):
             raise SystemExit(1)
         return
     from .dynamics.scenario import run_scenario
-    ds = run_scenario(args.scenario[0], args.out)
+    ds = run_scenario(load_dynamics_scenario(args.scenario[0]), args.out)
     print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
           f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
           f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
@@ -252,7 +255,7 @@ def cmd_simulate(args):
 
 def cmd_profile(args):
     from .profiles import get_profile, write_profile
-    from .plotting import plot_profile
+    from .core.plotting import plot_profile
     kind = args.kind
     prof = get_profile(args.profile, kind, inclination=args.inclination)
     if args.action == "plot":
@@ -267,8 +270,8 @@ def cmd_profile(args):
 def cmd_track(args):
     """A quasi-static pass along the track of a case on rail surfaces."""
     import numpy as np
-    from .case import load_case
-    from .crossing import plot_track_sweep, sweep_along_track
+    from .cases.case import load_case
+    from .cases.crossing import plot_track_sweep, sweep_along_track
     if not (args.step > 0 and args.stop >= args.start):
         raise InputError(f"track: --from {args.start} --to {args.stop} --step {args.step}: "
                          "expected start <= stop and a step > 0 (m)")
@@ -283,6 +286,23 @@ def cmd_track(args):
           f"{out / 'track_sweep.nc'} and track_sweep.png")
     return 0 if bool(ds["converged"].all()) else _report_status(
         False, "the vertical load was not met at some positions (see 'converged')", [])
+
+
+def cmd_fmu(args):
+    """Write the contact element's FMI 3.0 co-simulation FMU."""
+    try:
+        from .fmu import build_fmu
+    except ImportError as exc:
+        raise InputError(f"fmu: {exc}; install the 'fmu' extra (pip install "
+                         "'railcontact[fmu]')") from None
+    params = {"mode": args.mode}
+    for key, value in (("case_file", args.case), ("wheel_profile", args.wheel),
+                       ("rail_profile", args.rail), ("normal_model", args.normal),
+                       ("tangential_model", args.tangential), ("friction", args.friction)):
+        if value is not None:
+            params[key] = value
+    path = build_fmu(args.out, params)
+    print(f"wrote {path} (FMI 3.0 co-simulation; variables: docs/multibody.md)")
 
 
 def cmd_demo(args):
@@ -382,6 +402,21 @@ def build_parser():
     t.add_argument("--tangential")
     t.add_argument("--out", default="track_output")
     t.set_defaults(func=cmd_track)
+    f = sub.add_parser("fmu", help="write the wheel-rail contact element as an FMI 3.0 "
+                       "co-simulation FMU for multibody tools (docs/multibody.md)")
+    f.add_argument("--out", default="RailContactElement.fmu",
+                   help="the .fmu file to write, or a folder")
+    f.add_argument("--case", help="wheel-rail case file (TOML) giving profiles, dimensions, "
+                   "material, friction and solver")
+    f.add_argument("--wheel", help="wheel profile: built-in name or file (default S1002)")
+    f.add_argument("--rail", help="rail profile: built-in name or file (default 60E1)")
+    f.add_argument("--normal", help="normal model (default hertz)")
+    f.add_argument("--tangential", help="tangential model (default fastsim)")
+    f.add_argument("--friction", type=float, help="friction coefficient (default 0.3)")
+    f.add_argument("--mode", choices=["position", "load"], default="position",
+                   help="position: vertical position and roll are inputs (elastic contact); "
+                        "load: the wheel loads are inputs")
+    f.set_defaults(func=cmd_fmu)
     d = sub.add_parser("demo", help="lateral-shift sweep S1002 on 60E1 1:40 (Hertz + FASTSIM)")
     d.add_argument("--out", default="demo_output")
     d.set_defaults(func=cmd_demo)

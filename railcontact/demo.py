@@ -10,13 +10,13 @@ from pathlib import Path
 import numpy as np
 from tqdm.auto import tqdm
 
-from .files import write_netcdf
+from .core.files import write_netcdf
 from .geometry import Track, Wheelset, contact_table, equivalent_conicity, find_contact
-from .materials import Material
+from .core.materials import Material
 from .normal import get_normal_model
-from .plotting import plot_contact_positions, plot_patches
+from .core.plotting import plot_contact_positions, plot_patches
 from .profiles import rail_profile, s1002
-from .results import PatchResult
+from .cases.results import PatchResult
 from .tangential import get_tangential_model
 from .wear import WearSimulation, scenario_from_dict
 from .wear.plots import plot_wear

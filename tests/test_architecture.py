@@ -1,4 +1,4 @@
-"""The package's layering (DESIGN.md, "The pipeline"): imports only run downhill,
+"""The package's layering (docs/architecture.md, "Layers"): imports only run downhill,
 and no two modules import each other, directly or around a circle, counting the
 imports inside functions too."""
 
@@ -8,22 +8,15 @@ from pathlib import Path
 
 PACKAGE = Path(__file__).resolve().parents[1] / "railcontact"
 
-#: rank of each part of the package; a module may import from its own rank or below
+#: rank of each part of the package (docs/architecture.md, "Layers"); a module may
+#: import from its own rank or below
 RANKS = {
-    # base: no model, no case
-    "errors": 0, "registry": 0, "status": 0, "materials": 0, "hertz_theory": 0,
-    "progress": 0, "plotting": 0, "files": 0, "parallel": 0,
-    # the pipeline's layers
-    "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4, "subsurface": 4,
-    # cases above the layers
-    "case_surfaces": 5, "case_wheel_rail": 5, "case": 5, "coupling": 5, "equilibrium": 5, "results": 5,
-    "bodies": 5, "patches": 5, "wheel_rail_balance": 5, "surface_contact": 5,
-    "case_solve": 5, "case_sweep": 5, "crossing": 5, "compare": 5, "batch": 5,
-    "contact_inp": 5,
-    # systems that run cases
-    "dynamics": 6, "wear": 7,
-    # front ends
-    "demo": 8, "cli": 8, "__init__": 8,
+    "core": 0,                     # base: no model, no case
+    "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4,   # the pipeline's layers
+    "subsurface": 4,               # stresses below a solved patch (its solutions only)
+    "cases": 5, "contact_inp": 5,  # cases above the layers, and CONTACT's input files
+    "dynamics": 6, "wear": 7,      # systems that run cases
+    "demo": 8, "cli": 8, "inputs": 8, "fmu": 8, "__init__": 8,   # the face and the front ends
 }
 
 
@@ -39,18 +32,13 @@ def _modules():
 
 
 def _imports(mods):
-    """Module -> the package's modules it imports (TYPE_CHECKING blocks excepted)."""
+    """Module -> the package's modules it imports, anywhere in it: inside functions
+    and under ``if TYPE_CHECKING:`` too (a type a lower layer needs belongs there)."""
     edges = defaultdict(set)
     for name, path in mods.items():
         tree = ast.parse(path.read_text())
-        typing_only = set()
-        for node in tree.body:
-            if isinstance(node, ast.If) and getattr(node.test, "id", "") == "TYPE_CHECKING":
-                typing_only |= {id(n) for n in ast.walk(node)}
         package = name.split(".") if path.name == "__init__.py" else name.split(".")[:-1]
         for node in ast.walk(tree):
-            if id(node) in typing_only:
-                continue
             if isinstance(node, ast.ImportFrom):
                 base = package[:len(package) - node.level + 1] if node.level else []
                 target = ".".join(base + ([node.module] if node.module else []))

@@ -32,7 +32,8 @@ def test_case_examples(path, tmp_path, request):
         return
     if "[vehicle]" in text:
         from railcontact.dynamics.scenario import run_scenario
-        ds = run_scenario(path, tmp_path, progress=False)
+        from railcontact.inputs import load_dynamics_scenario
+        ds = run_scenario(load_dynamics_scenario(path), tmp_path, progress=False)
         assert ds.sizes["time"] > 10 and (tmp_path / "simulation.nc").is_file()
         in_curve = ds.where(ds["curvature"] > 0.99 * float(ds["curvature"].max()), drop=True)
         assert in_curve.sizes["time"] > 10

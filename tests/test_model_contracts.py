@@ -8,9 +8,9 @@ from functools import lru_cache
 import numpy as np
 import pytest
 
-from railcontact.batch import solve_patches
+from railcontact.cases.batch import solve_patches
 from railcontact.geometry import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import (NormalModel, get_normal_model, hertz_ellipse, normal_model_class,
                                 normal_models)
 from railcontact.normal.base import NORMAL_CAPABILITIES

@@ -8,8 +8,8 @@ import numpy as np
 import pytest
 
 import railcontact as rc
-from railcontact.case import case_from_dict
-from railcontact.materials import Material
+from railcontact.cases.case import case_from_dict
+from railcontact.core.materials import Material
 from tests.conftest import read_ref_out
 
 E = 2 * 82e9 * 1.28
@@ -209,7 +209,7 @@ def test_rigid_slip_of_a_yawed_sphere_is_the_rotated_one(testbank):
     one turn by psi more than the bodies' motion gives; its lateral force of
     745 N (ours 321 N) follows from that, which we do not reproduce."""
     from railcontact.geometry.surface_search import surface_slip
-    from railcontact.surface_contact import build_surface_case
+    from railcontact.cases.surfaces import build_surface_case
     mean = []
     for k in (1, 3):
         c = _case(testbank, **CASES[k])

@@ -1,15 +1,15 @@
 """Warm starts across cases and the vertical-force iteration with stand-in lateral
-forces (railcontact.case_solve, railcontact.case_sweep)."""
+forces (railcontact.cases.solve, railcontact.cases.sweep)."""
 
 import numpy as np
 import pytest
 
 import railcontact as rc
-from railcontact.case import case_from_dict
+from railcontact.cases.case import case_from_dict
 from railcontact.geometry.contact import ContactGeometry
-from railcontact.materials import STEEL
+from railcontact.core.materials import STEEL
 from railcontact.normal import get_normal_model
-from railcontact.results import vertical_force_on_rail
+from railcontact.cases.results import vertical_force_on_rail
 from railcontact.tangential import get_tangential_model
 
 
@@ -73,7 +73,7 @@ def test_result_patches_come_from_the_final_search():
     """Every patch of a result is one of its final contact search's (the pose it
     reports), and a fresh search at the final interpenetrations gives the same
     patches: the balance's last, final evaluation searched afresh."""
-    from railcontact.bodies import build_wheelset_track, contact_search
+    from railcontact.cases.bodies import build_wheelset_track, contact_search
     case = case_from_dict(_raw(2e-3))
     res = rc.solve(case)
     ids = {id(g) for g in res.contact.patches}
@@ -92,7 +92,7 @@ def test_force_tolerance_option():
     """solver.force_tolerance sets the vertical balance's tolerance: 1e-3 meets the
     load to 1e-3, and the forces agree with the 1e-4 result within that; values
     outside [1e-8, 0.05] are rejected, naming the key."""
-    from railcontact.errors import CaseFileError
+    from railcontact.core.errors import CaseFileError
     tight = rc.solve(case_from_dict(_raw(2e-3)))
     raw = _raw(2e-3)
     raw["solver"]["force_tolerance"] = 1e-3
@@ -148,7 +148,7 @@ def test_warm_start_searches_first_at_the_neighbours_interpenetrations(monkeypat
     iteration's tolerance.  A start without interpenetrations falls back to the
     estimate."""
     from types import SimpleNamespace
-    import railcontact.wheel_rail_balance as S
+    import railcontact.cases.balance as S
     prev = rc.solve(case_from_dict(_raw(2.0e-3, element=7e-4)))
     case = case_from_dict(_raw(2.5e-3, load=5e4, element=7e-4))
     calls = []
@@ -191,10 +191,10 @@ def test_warm_start_corrects_the_stand_in_lateral_forces():
     four passes."""
     import math
     from types import SimpleNamespace as NS
-    from railcontact.patches import add_tangential
-    from railcontact.results import PatchResult
+    from railcontact.cases.patches import add_tangential
+    from railcontact.cases.results import PatchResult
     from railcontact.tangential import get_tangential_model
-    from railcontact.wheel_rail_balance import _standin_lateral
+    from railcontact.cases.balance import _standin_lateral
 
     def patch(side, y, fn, fy):
         return PatchResult(NS(side=side, y_rail=y), NS(normal_force=fn), NS(fy=fy), ())
@@ -285,7 +285,7 @@ def test_exact_solvers_accept_a_solution_on_another_grid():
 def test_unconverged_warm_start_falls_back_to_a_cold_solve(monkeypatch):
     """A warm-started case that does not converge is solved again cold (deep flange
     contact can take a warm start into a state where the exact solver fails)."""
-    import railcontact.case_solve as S
+    import railcontact.cases.solve as S
     calls = []
     real = S._solve
 
@@ -308,7 +308,7 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     contact (S1002 on 60E1 at -5.82 mm, yaw -1.1 mrad, 86.9 kN; the case moved
     from -6.00 mm when KPEC's per-patch strips became the batch path's, which
     shrank the jump there to 0.013 % of the load): the balance stops once its bracket
-    shows the jump (railcontact.equilibrium.JUMP_SLOPE), warns, the result's
+    shows the jump (railcontact.cases.equilibrium.JUMP_SLOPE), warns, the result's
     vertical_residual shows the miss and the result is flagged unconverged
     (balance.force_jump tells why).  A warm-started result that stops so is not
     solved again cold (the jump is the model's)."""
@@ -316,7 +316,7 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     raw = _random_case(-0.005818754733893278, -0.001077907347123405, 86929.72985745202,
                        (-0.0001983961034347759, 0.0010905774279293635, -0.18215570996119113),
                        "kpec", "fastsim")
-    with caplog.at_level(logging.WARNING, logger="railcontact.equilibrium"):
+    with caplog.at_level(logging.WARNING, logger="railcontact.cases.equilibrium"):
         res = rc.solve(case_from_dict(raw))
     worst = max(abs(v) for v in res.vertical_residual.values())
     assert worst > 1e-3                            # 0.38 %
@@ -324,7 +324,7 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     assert not res.converged and res.balance.force_jump
     assert res.to_dict()["converged"] is False
     assert "jumps across the load" in res.status.message
-    import railcontact.case_solve as S
+    import railcontact.cases.solve as S
     calls, real = [], S._solve
 
     def jumping(case, normal, tangential, warm_start):
@@ -345,7 +345,7 @@ def test_a_jump_returns_the_evaluation_nearest_the_load(monkeypatch):
     falls from 3.95 to 0.28 1/m, so that Hertz's force at one approach jumps by half
     of the load.  The balance stops at that jump; its result is the evaluation
     nearest the load (0.02 % off)."""
-    import railcontact.equilibrium as E
+    import railcontact.cases.equilibrium as E
     seen = []
     real = E._Track.__call__
 
@@ -402,7 +402,7 @@ def test_warm_start_carries_the_jacobian(monkeypatch):
     (``balance.jacobian``, d ln F / d ln d): on the tread its diagonal is about
     Hertz's 1.5, on a flange knee (case 199) the flange side's is over 5 and the
     coupling term from the tread side negative."""
-    import railcontact.wheel_rail_balance as S
+    import railcontact.cases.balance as S
     tread = rc.solve(case_from_dict(_sweep_raw(100, grid=[40, 40])))
     J = tread.balance.jacobian
     assert J.shape == (2, 2) and np.all(np.abs(np.diag(J) - 1.65) < 0.35)

@@ -15,10 +15,10 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..case import case_from_dict
+from ..cases.case import case_from_dict
 from ..geometry.turning import default_turn_distance
-from ..hertz_theory import hertz_curvatures, hertz_ellipse
-from ..materials import Material
+from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
+from ..core.materials import Material
 from ..profiles import get_profile
 from .reader import InpCase, InpError
 
@@ -28,7 +28,7 @@ MM = 1e-3
 @dataclass
 class MappedCase:
     """A CONTACT case as a railcontact case dictionary (``raw``, for
-    :func:`railcontact.case.case_from_dict`) with what the results table needs to
+    :func:`railcontact.cases.case.case_from_dict`) with what the results table needs to
     return to CONTACT's frames (``meta``)."""
 
     number: int
@@ -144,6 +144,20 @@ def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
 
 
 # ------------------------------------------------------------------ module 3
+def curvature_from_axis_ratio(A: float, aob: float) -> float:
+    """The lateral curvature B [1/m] of a Hertzian contact with curvature A [1/m] in
+    the rolling direction whose ellipse has semi-axis ratio a/b = ``aob``
+    (CONTACT's IPOTCN = -2): the smaller semi-axis lies along the larger curvature,
+    their ratio A_large/A_small = ((E/(1-m)) - K)/(K - E), m = 1 - (small/large)^2
+    (Johnson 1985, sec. 4.2)."""
+    from ..core.hertz_theory import _ratio
+    if not aob > 0:
+        raise InpError(f"AOB = {aob!r}: expected a semi-axis ratio a/b > 0")
+    small = min(aob, 1.0 / aob)
+    r = _ratio(1.0 - small * small)
+    return A / r if aob < 1.0 else A * r
+
+
 def _map_module3(case: InpCase) -> MappedCase:
     d, v = case.digits, case.values
     normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
@@ -163,13 +177,15 @@ def _map_module3(case: InpCase) -> MappedCase:
     if ipotcn == -3:
         a, b = v["AA"] * MM, v["BB"] * MM
         A, B = hertz_curvatures(a, b, es, fn)
-    elif ipotcn == -1:
-        A, B = v["A1"] / MM, v["B1"] / MM        # 1/mm -> 1/m
+    elif ipotcn in (-1, -2):
+        A = v["A1"] / MM                         # 1/mm -> 1/m
+        B = v["B1"] / MM if ipotcn == -1 else curvature_from_axis_ratio(A, v["AOB"])
         h = hertz_ellipse(A, B, es, force=fn)
         a, b = h.a, h.b
     else:
-        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1 (curvatures A1, B1) or -3 "
-                                                      "(semi-axes AA, BB) of a Hertzian contact")
+        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1 (curvatures A1, B1), -2 "
+                                                      "(A1 and a/b) or -3 (semi-axes AA, BB) of "
+                                                      "a Hertzian contact")
     scale = _need(case, "SCALE")
     raw = {"title": f"{case.path.name} case {case.number}", "material": mat,
            "friction": _friction(case),

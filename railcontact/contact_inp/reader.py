@@ -28,7 +28,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..errors import CaseFileError
+from ..core.errors import CaseFileError
 
 #: control words: digit names from left to right (module 1; module 3 without C and V)
 WORDS = {1: ("CPBTNFS", "VLDCMZE", "XHGIAOWR"), 3: ("PBTNFS", "LDCMZE", "XHGIAOWR")}
@@ -124,7 +124,13 @@ _KIND_NAMES = {"i": "an integer", "d": "a real number", "s": "a quoted file name
 
 def _parse(kind, tok):
     if kind == "i":
-        return _int(tok)
+        v = _int(tok)
+        if v is None:
+            # an integer written as a real ("0.0"), as CONTACT's reader takes it
+            r = _real(tok)
+            if r is not None and r == int(r) and re.fullmatch(r"[-+]?\d+\.0*", tok):
+                v = int(r)
+        return v
     if kind == "d":
         return _real(tok)
     if kind == "s":
@@ -239,8 +245,9 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
         put("FDECAY, BETATH, KDOWFB, D_IFC, D_LIN, D_CNS, D_SLP, POW_S",
             lines.group("dddddddd", "FDECAY, BETATH, KDOWFB, D_IFC, D_LIN, D_CNS, D_SLP, POW_S"))
     if not m1:
-        put("FN, CKSI, CETA, CPHI, SPINXO, SPINYO" if d["N"] == 1 else
-            "PEN, CKSI, CETA, CPHI, SPINXO, SPINYO",
+        # the F digit says which of creepages and relative forces are given
+        tang = {0: "CKSI, CETA", 1: "FXREL, CETA", 2: "FXREL, FYREL"}.get(d["F"], "CKSI, CETA")
+        put(f"{'FN' if d['N'] == 1 else 'PEN'}, {tang}, CPHI, SPINXO, SPINYO",
             lines.group("dddd", "PEN/FN, CKSI/FXREL, CETA/FYREL, CPHI", "dd"))
     _read_friction(lines, case, d)
     if m1:
@@ -264,23 +271,14 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
                 raise lines.error(f"IPOTCN = {ipotcn}: expected -6 .. -1 or 1 .. 4")
             kinds = "ii" + "d" * (spec.count(",") - 1)
             put(spec, lines.group(kinds, spec))
-            if d["Z"] > 1 and ipotcn > 0:
-                _read_quadratic_gap(lines, case)
+        if d["Z"] > 1 and case.values.get("IPOTCN", -1) > 0:
+            _read_undeformed_distance(lines, case)
+    if not m1 and d["T"] <= 1:
+        # no rolling: CONTACT sets CHI = 0, DQ = 1 mm, VELOC = 1 mm/s (user guide,
+        # "Tangential quantities in case of a shift")
+        case.values.update(CHI=0.0, DQ=1.0, VELOC=1.0)
     if d["S"] in (2, 3):
         _read_subsurface(lines, case, d["S"])
-
-
-def _read_quadratic_gap(lines, case):
-    """IBASE, IPLAN and, for IBASE = 1 (quadratic undeformed distance) with IPLAN = 1
-    (the whole grid), B(1:6); other forms raise."""
-    ibase, iplan = lines.group("ii", "IBASE, IPLAN")
-    if ibase != 1 or iplan != 1:
-        raise lines.error(f"IBASE = {ibase}, IPLAN = {iplan}: a non-Hertzian undeformed "
-                          "distance other than quadratic (IBASE = 1, IPLAN = 1) is not "
-                          "supported; expected IPOTCN = -1 or -3, or IBASE = IPLAN = 1")
-    _put(case, "IBASE, IPLAN", [ibase, iplan])
-    case.values["B_QUADRATIC"] = lines.group("dddddd", "B1, B2, B3, B4, B5, B6")
-    case.read.add("B_QUADRATIC")
 
 
 def _read_subsurface(lines, case, s_digit):
@@ -330,6 +328,31 @@ def _read_subsurface(lines, case, s_digit):
     case.read.add("SUBSURFACE_BLOCKS")
 
 
+def _read_undeformed_distance(lines, case):
+    """``IBASE IPLAN`` and their parameters (module 3 with IPOTCN > 0): the quadratic
+    undeformed distance (IBASE = 1: B1 .. B6) on an unrestricted planform (IPLAN =
+    1) is read; the other forms stop with the line naming them."""
+    ibase, iplan = lines.group("ii", "IBASE, IPLAN")
+    if ibase not in (1, 2, 3):
+        raise lines.error(f"IBASE = {ibase}: expected 1 (quadratic), 2 (circular in x, a "
+                          "profile in y) or 3 (quadratic and two sines)")
+    if iplan != 1:
+        raise lines.error(f"IPLAN = {iplan}: only the unrestricted planform (IPLAN = 1) is "
+                          "supported")
+    _put(case, "IBASE, IPLAN", [ibase, iplan])
+    if ibase == 1:
+        case.values["B"] = lines.group("dddddd", "B1, B2, B3, B4, B5, B6")
+    elif ibase == 3:
+        case.values["B"] = lines.group("dddddddd", "B1, B2, B3, B4, B5, B6, B7, B8")
+    else:
+        nn, xm, rm, y1, dy1 = lines.group("idddd", "NN, XM, RM, Y1, DY1")
+        if nn < 1:
+            raise lines.error(f"NN = {nn}: expected at least one profile point")
+        heights = lines.group("d" * nn, ", ".join(f"B({k + 1})" for k in range(nn)))
+        case.values["B"] = [nn, xm, rm, y1, dy1, heights]
+    case.read.add("B")
+
+
 def _read_friction(lines, case, d):
     put = lambda names, vals: _put(case, names, vals)   # noqa: E731
     law = d["L"]
@@ -368,9 +391,11 @@ def _read_materials(lines, case, d):
         put("CDAMPN, CDAMPT, DFNMAX, DFTMAX", lines.group("dddd", "CDAMPN, CDAMPT, DFNMAX, "
                                                           "DFTMAX"))
     if d["H"] == 3:
-        put("BKTEMP1, HEATCP1, LAMBDA1, DENS1, BKTEMP2, HEATCP2, LAMBDA2, DENS2",
-            lines.group("dddddddd", "BKTEMP1, HEATCP1, LAMBDA1, DENS1, BKTEMP2, HEATCP2, "
-                                    "LAMBDA2, DENS2"))
+        # one line per body, as CONTACT reads them
+        put("BKTEMP1, HEATCP1, LAMBDA1, DENS1",
+            lines.group("dddd", "BKTEMP1, HEATCP1, LAMBDA1, DENS1"))
+        put("BKTEMP2, HEATCP2, LAMBDA2, DENS2",
+            lines.group("dddd", "BKTEMP2, HEATCP2, LAMBDA2, DENS2"))
         if m == 4:
             put("BETAPL", lines.group("d", "BETAPL"))
 

@@ -12,7 +12,11 @@
 - :mod:`~railcontact.dynamics.scenario`: scenario files (vehicle, route, simulation)
   and Dask batches of them;
 - :mod:`~railcontact.dynamics.wheelset`: the classical two-degree-of-freedom
-  wheelset with tabulated geometry (verification of Klingel's wavelength).
+  wheelset with tabulated geometry (verification of Klingel's wavelength);
+- :mod:`~railcontact.dynamics.contact_element`: the contact element of a multibody
+  model (forces and torques of both rails on a wheelset from its pose and motion);
+- :mod:`~railcontact.fmu`: that element as an FMI 3.0 co-simulation FMU
+  (needs the ``fmu`` extra; not imported here).
 """
 
 from .route import Irregularities, Route, erri_psd

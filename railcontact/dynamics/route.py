@@ -30,7 +30,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import CaseFileError, InputError
+from ..core.errors import CaseFileError, InputError
 
 #: length [m] over which a curvature step without a transition is spread
 STEP_RAMP = 1.0

@@ -12,9 +12,9 @@ from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 from tqdm.auto import tqdm
 
-from ..errors import InputError, RailContactError
+from ..core.errors import InputError, RailContactError
 from ..geometry.validity import nadal_limit
-from ..materials import Material, STEEL
+from ..core.materials import Material, STEEL
 from ..tangential import get_tangential_model
 from ..tangential.polach import PRESETS
 from .equations_of_motion import NORMAL_PASSES, PIN, POUT, rhs_core, rk4_run

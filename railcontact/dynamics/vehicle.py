@@ -16,7 +16,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 #: acceleration of gravity [m/s^2]
 G_ACC = 9.81

@@ -26,12 +26,12 @@ import numpy as np
 from numba import njit
 from tqdm.auto import tqdm
 
-from ..errors import ContactNotFoundError, InputError
+from ..core.errors import ContactNotFoundError, InputError
 from ..geometry import find_contact
 from ..geometry.contact import ContactGeometry
 from ..geometry.validity import flange
-from ..hertz_theory import hertz_ellipse
-from ..materials import Material, STEEL
+from ..core.hertz_theory import hertz_ellipse
+from ..core.materials import Material, STEEL
 from ..normal import get_normal_model
 from ..tangential.kalker import kalker_coefficients
 from ..tangential.online import online_law, patch_forces
@@ -164,6 +164,48 @@ class WheelRailTable:
         angle = min((f.max_angle for f in flanges if f is not None), default=math.nan)
         return cls(shifts, np.ascontiguousarray(data), float(reference_load),
                    float(wheelset.nominal_radius), angle, delta_r, kept)
+
+    @classmethod
+    def quasi_elastic(cls, wheelset, track, reference_load: float, alpha: float = 3e-5,
+                      material: Material = STEEL, shift_range: float = 0.012,
+                      step: float = 2e-4):
+        """The table of Arnold's quasi-elastic contact
+        (:func:`railcontact.geometry.quasi_elastic.quasi_elastic_contact`, regularisation
+        ``alpha`` [m]) instead of the multi-Hertzian search: one smoothed contact point
+        per wheel in the tread slot (the flange slot unloaded), carrying the whole
+        wheel load, N = Q / cos δ, with the Hertz semi-axes of its weighted curvatures
+        at the reference load.  Its contact angle, rolling radius and position pass
+        smoothly through the jumps of the rigid contact point (docs/dynamics.md,
+        "Arnold's quasi-elastic contact")."""
+        from ..geometry.quasi_elastic import quasi_elastic_contact
+        if not (math.isfinite(reference_load) and reference_load > 0):
+            raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")
+        if not (1e-3 <= shift_range <= 0.03 and 1e-5 <= step <= shift_range / 4):
+            raise InputError(f"contact table range {shift_range!r} m, step {step!r} m: expected "
+                             "a range in [0.001, 0.03] m and a step of at most range/4")
+        n = int(round(shift_range / step))
+        shifts = np.linspace(-n * step, n * step, 2 * n + 1)
+        data = np.zeros((shifts.size, 2, 2, len(FIELDS)))
+        delta_r = np.empty(shifts.size)
+        Es, nu = material.contact_modulus, material.nu
+        roll = 0.0
+        for i, y in enumerate(shifts):
+            c = quasi_elastic_contact(wheelset, track, float(y), 0.0, alpha, roll_start=roll)
+            roll = c.pose.roll
+            for j, side in enumerate(("left", "right")):
+                p = c.points[side]
+                A, B = p.curvatures
+                hz = hertz_ellipse(A, B, Es, force=reference_load / math.cos(p.contact_angle))
+                C = kalker_coefficients(hz.a / hz.b, nu)
+                data[i, j, 0] = (1.0, p.contact_angle, p.rolling_radius, p.position[1] - y,
+                                 hz.a, hz.b, C[0], C[1], C[2], A, B, p.y_rail, p.y_wheel)
+                data[i, j, 1] = data[i, j, 0]
+                data[i, j, 1, F_SHARE] = 0.0
+            delta_r[i] = c.points["right"].rolling_radius - c.points["left"].rolling_radius
+        flanges = [flange(wheelset.wheel(s)) for s in ("left", "right")]
+        angle = min((f.max_angle for f in flanges if f is not None), default=math.nan)
+        return cls(shifts, data, float(reference_load), float(wheelset.nominal_radius), angle,
+                   delta_r)
 
     def to_xarray(self):
         import xarray as xr

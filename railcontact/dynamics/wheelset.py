@@ -29,9 +29,9 @@ from numba import njit
 from scipy.integrate import solve_ivp
 from scipy.optimize import brentq
 
-from ..errors import InputError
-from ..hertz_theory import hertz_ellipse
-from ..materials import STEEL
+from ..core.errors import InputError
+from ..core.hertz_theory import hertz_ellipse
+from ..core.materials import STEEL
 from ..tangential.kalker import kalker_coefficients
 
 

@@ -10,7 +10,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy.optimize import brentq
 
-from ..errors import ContactNotFoundError
+from ..core.errors import ContactNotFoundError
 from .locus import LOCUS_WINDOW, compute_locus, min_gap
 from .track import SIDES, Track
 

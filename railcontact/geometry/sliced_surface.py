@@ -24,7 +24,7 @@ import numpy as np
 from numba import njit
 from scipy.interpolate import CubicSpline, make_interp_spline
 
-from ..errors import InputError, ProfileError
+from ..core.errors import InputError, ProfileError
 from ..profiles.profile import Profile
 from ..profiles.slices import RailSlices
 

@@ -44,7 +44,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from scipy import ndimage
 
-from ..errors import ContactNotFoundError, InputError
+from ..core.errors import ContactNotFoundError, InputError
 from ..profiles.profile import Profile
 from .contact import ContactGeometry
 from .track import rotation

@@ -23,7 +23,7 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError, ProfileError
+from ..core.errors import InputError, ProfileError
 from ..profiles.profile import Profile
 
 

@@ -8,8 +8,8 @@ import numpy as np
 from scipy.integrate import solve_ivp
 from tqdm.auto import tqdm
 
-from ..errors import InputError
-from ..materials import STEEL
+from ..core.errors import InputError
+from ..core.materials import STEEL
 from .search import find_contact
 from .track import SIDES
 

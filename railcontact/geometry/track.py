@@ -19,7 +19,7 @@ from functools import lru_cache
 import numpy as np
 from scipy.optimize import brentq
 
-from ..errors import InputError, ProfileError
+from ..core.errors import InputError, ProfileError
 from ..profiles.profile import Profile
 
 SIDES = ("left", "right")

@@ -8,7 +8,7 @@ declared in its ``capabilities`` (:class:`~railcontact.normal.base.NormalModel`)
 from . import exact, hertz, semi_hertzian  # noqa: F401  (register the models)
 from .base import (NormalModel, NormalSolution, get_normal_model, make_grid,
                    normal_model_class, normal_models, normal_supports)
-from ..hertz_theory import HertzEllipse, hertz_ellipse
+from ..core.hertz_theory import HertzEllipse, hertz_ellipse
 
 __all__ = ["NormalModel", "NormalSolution", "get_normal_model", "normal_models", "make_grid",
            "normal_model_class", "normal_supports",

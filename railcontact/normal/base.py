@@ -9,9 +9,9 @@ from typing import Callable, ClassVar, Protocol, runtime_checkable
 import numpy as np
 from numba import njit
 
-from ..errors import InputError
-from ..registry import Registry
-from ..status import SolverStatus
+from ..core.errors import InputError
+from ..core.registry import Registry
+from ..core.status import SolverStatus
 
 _REGISTRY = Registry("normal")
 register = _REGISTRY.register
@@ -43,7 +43,7 @@ NORMAL_CAPABILITIES = {
     "warm-start": "solve(..., warm_start=previous solution) starts from it",
     "grid-reuse": "solve(..., reuse_grid=previous solution) keeps its grid and kernels",
     "ellipse": "the patch is Hertz's ellipse of the geometry's curvatures (semi_axes)",
-    "batch": "solves many patches at once, forces only (railcontact.batch)",
+    "batch": "solves many patches at once, forces only (railcontact.cases.batch)",
     "strips": "a strip model: semi-elliptic pressure per strip (strip_theory)",
     "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials)",
 }

@@ -24,10 +24,10 @@ import time
 
 import numpy as np
 
-from ..errors import InputError
-from ..hertz_theory import hertz_ellipse
-from ..materials import STEEL, Material
-from ..status import SolverStatus
+from ..core.errors import InputError
+from ..core.hertz_theory import hertz_ellipse
+from ..core.materials import STEEL, Material
+from ..core.status import SolverStatus
 from .base import NormalSolution, bilinear, make_grid, register, same_grid
 from .influence import bounding_box, normal_operator, normal_operator_block
 from .polonsky_keer import polonsky_keer
@@ -312,7 +312,7 @@ class ExactNormalModel:
 
         ``extra_gap``: a displacement difference [m] added to the undeformed distance
         on the solution grid (the tangential tractions' share for dissimilar
-        materials, :mod:`railcontact.coupling`).
+        materials, :mod:`railcontact.cases.coupling`).
 
         ``warm_start``: a previous solution whose pressure is the initial estimate: on
         the same grid (e.g. in the vertical-force iteration) as it is, on another grid

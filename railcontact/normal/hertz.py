@@ -1,7 +1,7 @@
 """Hertz normal contact model (``normal="hertz"``).
 
 Hertz (1882); formulas as in Johnson, *Contact Mechanics* (1985), ch. 4, with
-complete elliptic integrals (:mod:`railcontact.hertz_theory`).  The patch is
+complete elliptic integrals (:mod:`railcontact.core.hertz_theory`).  The patch is
 the ellipse of the relative curvatures at the first point of contact.
 """
 
@@ -11,10 +11,10 @@ import time
 
 import numpy as np
 
-from ..errors import InputError
-from ..materials import STEEL, Material
+from ..core.errors import InputError
+from ..core.materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
-from ..hertz_theory import hertz_ellipse
+from ..core.hertz_theory import hertz_ellipse
 
 
 @register("hertz")

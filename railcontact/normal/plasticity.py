@@ -36,7 +36,7 @@ from __future__ import annotations
 
 import math
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 #: Tabor's hardness factor: the fully plastic mean pressure over the yield stress
 HARDNESS_FACTOR = 3.0

@@ -18,7 +18,7 @@ import math
 import numpy as np
 from numba import njit
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 
 def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=None,

@@ -20,12 +20,12 @@ import numpy as np
 from scipy.interpolate import RegularGridInterpolator
 from scipy.optimize import brentq, root_scalar
 
-from ..errors import InputError
-from ..materials import STEEL, Material
+from ..core.errors import InputError
+from ..core.materials import STEEL, Material
 from .base import NormalSolution, make_grid, register
 from .exact import ExactNormalModel
 from .potential_area import own_gap
-from ..hertz_theory import hertz_ellipse
+from ..core.hertz_theory import hertz_ellipse
 from .strip_theory import MIN_CURVATURE, parabolic_minima, strip_pressures
 
 __all__ = ["strip_minima", "KikPiotrowskiModel", "KPECModel", "AnalynModel",

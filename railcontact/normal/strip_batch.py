@@ -28,9 +28,9 @@ from dataclasses import dataclass
 
 import numpy as np
 
-from ..errors import InputError
+from ..core.errors import InputError
 from ..geometry.gap import sample_gap_lines
-from ..hertz_theory import hertz_ellipses
+from ..core.hertz_theory import hertz_ellipses
 from .strip_theory import MIN_CURVATURE, STRIP_MODELS, parabolic_minima, strip_pressures
 
 

@@ -45,8 +45,8 @@ import math
 import numpy as np
 from numba import njit
 
-from ..errors import InputError
-from ..hertz_theory import hertz_ellipses_table
+from ..core.errors import InputError
+from ..core.hertz_theory import hertz_ellipses_table
 
 #: smallest curvature used where the fitted one is not positive [1/m] (CONTACT: 1e-4/mm)
 MIN_CURVATURE = 0.1

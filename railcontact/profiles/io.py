@@ -29,8 +29,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ProfileError
-from ..files import write_text
+from ..core.errors import ProfileError
+from ..core.files import write_text
 from .processing import (ProfileOptions, find_kinks, remove_close_points, remove_zigzags,
                          smooth_points, z_points_down)
 from .profile import MAX_WIDTH, MIN_WIDTH, Profile

@@ -6,7 +6,7 @@ import math
 from functools import lru_cache
 from pathlib import Path
 
-from ..errors import ProfileError
+from ..core.errors import ProfileError
 from .io import read_profile
 from .profile import Profile
 from .rails import ALIASES, HEADS, rail_profile

@@ -5,7 +5,7 @@ from __future__ import annotations
 import numpy as np
 from scipy.optimize import brentq
 
-from ..errors import ProfileError
+from ..core.errors import ProfileError
 from .profile import Profile
 
 

@@ -40,7 +40,7 @@ from dataclasses import dataclass
 import numpy as np
 from scipy import interpolate
 
-from ..errors import ProfileError
+from ..core.errors import ProfileError
 
 log = logging.getLogger(__name__)
 

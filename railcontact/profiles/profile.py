@@ -27,7 +27,7 @@ import numpy as np
 from numba import njit
 from scipy import interpolate
 
-from ..errors import ProfileError
+from ..core.errors import ProfileError
 from .processing import Smoothing, find_kinks, smooth_points, visible_surface
 
 log = logging.getLogger(__name__)

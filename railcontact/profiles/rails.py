@@ -19,7 +19,7 @@ from functools import lru_cache
 
 import numpy as np
 
-from ..errors import ProfileError
+from ..core.errors import ProfileError
 from .profile import Profile
 
 

@@ -44,8 +44,8 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import ProfileError
-from ..files import write_text
+from ..core.errors import ProfileError
+from ..core.files import write_text
 from .io import read_profile, write_profile
 from .library import get_profile
 from .profile import Profile

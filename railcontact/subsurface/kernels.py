@@ -52,7 +52,7 @@ import numpy as np
 from numba import njit
 from scipy import fft
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 #: order of the six stress components in every array of this package
 COMPONENTS = ("xx", "yy", "zz", "xy", "xz", "yz")

@@ -33,7 +33,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..core.errors import InputError
 from .kernels import COMPONENTS, convolve_depths
 
 log = logging.getLogger(__name__)
@@ -229,7 +229,7 @@ class SubsurfaceStresses:
         """Sections of a measure (or a component "sigma_xx" ...) in MPa: the x-z plane
         and the y-z plane through its maximum, and the x-y plane at the depth of the
         maximum; written to ``path`` (PNG)."""
-        from ..plotting import _plt
+        from ..core.plotting import _plt
         if measure.startswith("sigma_"):
             f = self.component(measure[6:])
         elif measure in MEASURES:
@@ -281,7 +281,7 @@ def subsurface_stresses(normal, tangential=None, depths=None, material=None,
     ----------
     normal : NormalSolution or PatchResult
         The patch's normal solution (its pressure on its grid), or a patch of a
-        solved case (:class:`~railcontact.results.PatchResult`), whose normal and
+        solved case (:class:`~railcontact.cases.results.PatchResult`), whose normal and
         tangential solutions are then used.
     tangential : TangentialSolution, optional
         Its tangential solution on the same grid (frictionless when omitted).
@@ -296,7 +296,7 @@ def subsurface_stresses(normal, tangential=None, depths=None, material=None,
     -------
     SubsurfaceStresses
     """
-    from ..materials import STEEL
+    from ..core.materials import STEEL
     if hasattr(normal, "normal") and hasattr(normal, "tangential"):      # a PatchResult
         if tangential is None:
             tangential = normal.tangential

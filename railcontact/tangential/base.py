@@ -7,9 +7,9 @@ from typing import ClassVar, Protocol, runtime_checkable
 
 import numpy as np
 
-from ..errors import InputError
-from ..registry import Registry
-from ..status import SolverStatus
+from ..core.errors import InputError
+from ..core.registry import Registry
+from ..core.status import SolverStatus
 
 _REGISTRY = Registry("tangential")
 register = _REGISTRY.register
@@ -44,7 +44,7 @@ TANGENTIAL_CAPABILITIES = {
                    "strip_forces): batches of the strip models",
     "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials)",
     "lazy": "costly: the vertical balance lets FASTSIM stand in for it until its last "
-            "passes (railcontact.equilibrium)",
+            "passes (railcontact.cases.equilibrium)",
 }
 
 

@@ -53,8 +53,8 @@ import time
 import numpy as np
 from numba import njit
 
-from ..errors import InputError
-from ..materials import Material, STEEL
+from ..core.errors import InputError
+from ..core.materials import Material, STEEL
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import (_strip_to_grid, blend_weight, equivalent_ellipse,
                       semi_ellipse_weights, strip_pressures)
@@ -281,7 +281,7 @@ class FastripModel:
 
     @staticmethod
     def strip_forces(strips, patches, a, b, ok, creepage, material, friction, elements, out):
-        """Forces of many strip-model patches at once (:mod:`railcontact.batch`;
+        """Forces of many strip-model patches at once (:mod:`railcontact.cases.batch`;
         arguments as :meth:`railcontact.tangential.fastsim.FastsimModel.strip_forces`):
         FaStrip's strip theory on each patch's equivalent ellipse and its spin march
         over the strips."""

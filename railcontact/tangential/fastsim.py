@@ -26,8 +26,8 @@ import time
 import numpy as np
 from numba import njit
 
-from ..errors import InputError
-from ..materials import Material, STEEL
+from ..core.errors import InputError
+from ..core.materials import Material, STEEL
 from .base import TangentialSolution, check_inputs, register
 from .friction import falling_friction
 from .kalker import flexibilities, flexibilities_array, kalker_coefficients, kalker_coefficients_array
@@ -349,7 +349,7 @@ class FastsimModel:
     @classmethod
     def strip_forces(cls, strips, patches, a, b, ok, creepage, material, friction,
                      elements, out):
-        """Forces of many strip-model patches at once (:mod:`railcontact.batch`).
+        """Forces of many strip-model patches at once (:mod:`railcontact.cases.batch`).
 
         ``strips`` is a :class:`~railcontact.normal.strip_batch.StripSolution`,
         (a, b) [m] the patches' equivalent ellipses (``ok`` where they carry load),

@@ -10,9 +10,9 @@ from __future__ import annotations
 
 import numpy as np
 
-from ..errors import InputError
+from ..core.errors import InputError
 from ..geometry.gap import sample_strip_spin
-from ..hertz_theory import hertz_ellipses, hertz_ellipses_table
+from ..core.hertz_theory import hertz_ellipses, hertz_ellipses_table
 from ..normal.semi_hertzian import strip_minima
 from .base import register
 from .fastsim import FastsimModel, blended_flexibilities

@@ -13,7 +13,7 @@ import math
 
 import numpy as np
 
-from ..errors import ConvergenceError, InputError
+from ..core.errors import ConvergenceError, InputError
 from .fastsim import equivalent_ellipse
 from .kalker import kalker_coefficients
 

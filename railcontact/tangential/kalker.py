@@ -16,7 +16,7 @@ from functools import lru_cache
 import numpy as np
 from numba import njit
 
-from ..errors import InputError
+from ..core.errors import InputError
 
 # rows: g = 0.1 ... 1.0; columns: nu = 0, 0.25, 0.5
 _C11_AB = np.array([[2.51, 3.31, 4.85], [2.59, 3.37, 4.81], [2.68, 3.44, 4.80],

@@ -19,7 +19,7 @@ import time
 
 import numpy as np
 
-from ..materials import STEEL, Material
+from ..core.materials import STEEL, Material
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import equivalent_ellipse
 from .kalker import kalker_coefficients, linear_forces

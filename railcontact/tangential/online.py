@@ -1,5 +1,5 @@
 """Compiled creep-force laws for one elliptic patch, for use inside loops: vehicle
-dynamics (evaluated at every step) and batches of patches (:mod:`railcontact.batch`).
+dynamics (evaluated at every step) and batches of patches (:mod:`railcontact.cases.batch`).
 
 The laws are the registered tangential models that declare the ``"online"``
 capability; their class attribute ``online_law`` is the code below
@@ -30,7 +30,7 @@ def online_law(name: str) -> int | None:
     """Code of the compiled law of the tangential model ``name`` for
     :func:`patch_forces`, or None where the model has none (it then runs through
     its Python ``solve``).  Unknown names raise
-    :class:`~railcontact.errors.UnknownModelError`."""
+    :class:`~railcontact.core.errors.UnknownModelError`."""
     cls = tangential_model_class(name)
     return cls.online_law if tangential_supports(name, "online") else None
 

@@ -35,8 +35,8 @@ import time
 import numpy as np
 from numba import njit
 
-from ..errors import InputError
-from ..materials import Material, STEEL
+from ..core.errors import InputError
+from ..core.materials import Material, STEEL
 from .base import TangentialSolution, register
 from .fastsim import equivalent_ellipse
 from .friction import falling_friction

@@ -36,15 +36,15 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bodies import build_wheelset_track
+from ..cases.bodies import build_wheelset_track
 from ..dynamics.vehicle import G_ACC
-from ..errors import InputError, RailContactError
-from ..files import write_netcdf, written_whole
+from ..core.errors import InputError, RailContactError
+from ..core.files import write_netcdf, written_whole
 from ..geometry.tables import equivalent_conicity
 from ..profiles.measures import wheel_measures
 from ..profiles.profile import Profile
-from ..parallel import compute
-from ..progress import TqdmCallback
+from ..core.parallel import compute
+from ..core.progress import TqdmCallback
 from .mapping import arc_length_grid, removed_area, smooth_depth, wear_profile
 from .rcf import accumulate
 from .route_tasks import build_table, run_route

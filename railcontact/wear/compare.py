@@ -15,7 +15,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..errors import InputError
+from ..core.errors import InputError
 from .closed_loop import ClosedLoopWear
 from .plots import _wheel_panels
 from .simulation import WearSimulation

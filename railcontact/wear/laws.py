@@ -28,8 +28,8 @@ import math
 
 import numpy as np
 
-from ..errors import InputError
-from ..registry import Registry
+from ..core.errors import InputError
+from ..core.registry import Registry
 
 _LAWS = Registry("wear law")
 register = _LAWS.register

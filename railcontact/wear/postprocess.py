@@ -43,7 +43,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
-from ..materials import Material
+from ..core.materials import Material
 from ..normal import get_normal_model
 from ..tangential import get_tangential_model
 from .mapping import profile_depth, strip_depth

@@ -37,7 +37,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numba import njit
 
-from ..errors import CaseFileError
+from ..core.errors import CaseFileError
 
 
 @dataclass(frozen=True)

@@ -33,13 +33,14 @@ from pathlib import Path
 
 import numpy as np
 
-from ..bodies import build_wheelset_track
-from ..case import case_from_dict, read_toml
-from ..case_solve import solve
-from ..errors import CaseFileError, InputError, RailContactError
-from ..files import write_netcdf, written_whole
-from ..parallel import compute
-from ..progress import TqdmCallback
+from ..cases.bodies import build_wheelset_track
+from ..cases.case import case_from_dict
+from ..core.files import read_toml
+from ..cases.solve import solve
+from ..core.errors import CaseFileError, InputError, RailContactError
+from ..core.files import write_netcdf, written_whole
+from ..core.parallel import compute
+from ..core.progress import TqdmCallback
 from ..profiles.profile import Profile
 from .laws import get_wear_law
 from .mapping import arc_length_grid, profile_depth, smooth_depth, strip_depth, wear_profile

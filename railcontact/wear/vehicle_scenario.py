@@ -16,10 +16,10 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
-from ..case import Case, case_from_dict
+from ..cases.case import Case, case_from_dict
 from ..dynamics.scenario import (creep_law_settings, route_from_section, vehicle_from_section,
                                  vehicle_length)
-from ..errors import CaseFileError
+from ..core.errors import CaseFileError
 from .laws import get_wear_law
 from .rcf import RcfParameters
 

@@ -81,7 +81,7 @@ def test_module3_hertzian_case(refdir):
     assert r["creepage"] == {"longitudinal": 1e-5, "lateral": 0.0, "spin": 0.0}
     # the curvatures of the 5 mm circle at that load
     from railcontact import Material
-    from railcontact.hertz_theory import hertz_ellipse
+    from railcontact.core.hertz_theory import hertz_ellipse
     rad = r["bodies"]["radii"]
     h = hertz_ellipse(0.5 / rad["wheel_rolling"], 0.5 / rad["wheel_lateral"],
                       Material(**r["material"]).contact_modulus, force=52359.8776)

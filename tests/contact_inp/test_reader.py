@@ -122,11 +122,11 @@ def test_subsurface_blocks(tmp_path):
     """The subsurface points of a case with S = 3: ISUBS 1 (all elements, NZ layers
     from ZL by DZ), 6 (a regular selection, listed depths), 3 (listed columns and
     rows, layers from ZL by DZ) and 9 (explicit
-    coordinates); the quadratic undeformed distance IBASE = 1 read with it."""
+    coordinates)."""
     path = tmp_path / "subs.inp"
     path.write_text(SUBS_CASE)
     case, = read_inp(path)
-    assert case.values["B_QUADRATIC"] == [0.5, 0.0, 0.5, 0.0, 0.0, 0.0]
+    assert case.values["B"] == [0.5, 0.0, 0.5, 0.0, 0.0, 0.0]
     b = case.values["SUBSURFACE_BLOCKS"]
     assert [x["isubs"] for x in b] == [1, 6, 3, 9]
     assert b[0]["ix"] is None and b[0]["z"] == [0.0, 0.5, 1.0]
@@ -137,8 +137,3 @@ def test_subsurface_blocks(tmp_path):
     bad.write_text(SUBS_CASE.replace("   6            ISUBS", "   4            ISUBS"))
     with pytest.raises(InpError, match=r"ISUBS = 4: expected"):
         read_inp(bad)
-    other = tmp_path / "ibase.inp"
-    other.write_text(SUBS_CASE.replace("    1    1                                       IBASE",
-                                       "    2    1                                       IBASE"))
-    with pytest.raises(InpError, match=r"IBASE = 2, IPLAN = 1"):
-        read_inp(other)

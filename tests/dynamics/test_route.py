@@ -7,7 +7,7 @@ import pytest
 from scipy.integrate import quad
 
 from railcontact.dynamics.route import CANT_BASE, Irregularities, Route, erri_psd
-from railcontact.errors import CaseFileError, InputError
+from railcontact.core.errors import CaseFileError, InputError
 
 
 def test_segments_curvature_and_cant():

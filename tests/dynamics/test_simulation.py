@@ -11,9 +11,9 @@ from railcontact.dynamics import (Route, VehicleModel, WheelRailTable, amplitude
                                   critical_speed, simulate_vehicle, state_matrix)
 from railcontact.dynamics.vehicle import G_ACC
 from railcontact.dynamics.wheel_rail import patch_forces, python_patch_forces
-from railcontact.errors import InputError
-from railcontact.materials import STEEL
-from railcontact.hertz_theory import hertz_ellipse
+from railcontact.core.errors import InputError
+from railcontact.core.materials import STEEL
+from railcontact.core.hertz_theory import hertz_ellipse
 from railcontact.tangential import get_tangential_model
 from railcontact.tangential.kalker import kalker_coefficients
 from railcontact.tangential.polach import polach_forces, polach_kernel

@@ -5,7 +5,7 @@ import pytest
 
 from railcontact.dynamics import VehicleModel
 from railcontact.dynamics.vehicle import G_ACC, MANCHESTER
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 
 
 def test_manchester_vehicle_bodies_and_load_paths():

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from railcontact.dynamics.wheelset import WheelsetModel, critical_speed, simulate, wavelength
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 
 
 @pytest.mark.parametrize("gamma", [0.05, 0.15, 0.3])

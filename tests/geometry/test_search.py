@@ -16,7 +16,7 @@ def test_patch_from_flange_root_to_flange_has_usable_curvatures():
     The patch still gets positive curvatures and a potential contact area of a few
     centimetres (it got A = 0 and an extent of +-464 m, and the exact solver a zero
     force there), and the exact normal solver carries load on it."""
-    from railcontact.materials import STEEL
+    from railcontact.core.materials import STEEL
     from railcontact.normal import get_normal_model
     ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
     y = -4e-3 + 200 * 13e-3 / 249
@@ -37,7 +37,7 @@ def test_load_iterations_and_roll_start():
     """One load iteration is a first estimate of the ten-iteration search; the start
     of the roll search changes the work, not the pose; bad values are refused."""
     import pytest
-    from railcontact.errors import InputError
+    from railcontact.core.errors import InputError
     ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
     full = find_contact(ws, tr, lateral_shift=2e-3, vertical_force=6e4)
     one = find_contact(ws, tr, lateral_shift=2e-3, vertical_force=6e4, load_iterations=1)
@@ -63,8 +63,8 @@ def test_multi_hertzian_approach_carries_the_load(shift, candidates):
     each other (4.75 mm: the second loaded, 5 mm: both)."""
     from railcontact.geometry.locus import compute_locus
     from railcontact.geometry.search import _approach_for_load, _candidates, _locus_curvatures
-    from railcontact.materials import STEEL
-    from railcontact.hertz_theory import hertz_ellipse
+    from railcontact.core.materials import STEEL
+    from railcontact.core.hertz_theory import hertz_ellipse
     ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
     rigid = find_contact(ws, tr, lateral_shift=shift)
     loc = compute_locus(ws, tr, "right", shift, rigid.pose.vertical, rigid.pose.roll, 0.0)

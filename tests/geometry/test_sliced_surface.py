@@ -4,7 +4,7 @@ the slices and between them, interrupted slices, against CONTACT's testbank slic
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError, ProfileError
+from railcontact.core.errors import InputError, ProfileError
 from railcontact.geometry.sliced_surface import SlicedSurface
 from railcontact.profiles.slices import RailSlices, read_slices, slices_from_list
 

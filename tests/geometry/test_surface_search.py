@@ -7,7 +7,7 @@ import pytest
 
 import railcontact as rc
 from tests.conftest import read_ref_out
-from tests.test_surface_contact import _case
+from tests.cases.test_surfaces import _case
 
 
 def test_wheel_just_before_the_nose_begins(testbank):

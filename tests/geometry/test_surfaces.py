@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface
 from railcontact.profiles.io import read_profile
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError, ProfileError
+from railcontact.core.errors import InputError, ProfileError
 from railcontact.geometry import Track, Wheelset
 from railcontact.geometry.track import rotation
 from railcontact.profiles import rail_profile, s1002

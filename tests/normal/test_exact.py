@@ -7,7 +7,7 @@ import pytest
 
 import railcontact as rc
 from railcontact.geometry import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
 from tests.conftest import read_csv
 
@@ -67,7 +67,7 @@ def test_manchester_sweep_tread_cases(refdir):
 
 
 def test_bad_input():
-    from railcontact.errors import InputError
+    from railcontact.core.errors import InputError
     g = ContactGeometry(curvatures=(1.0, 1.0))
     with pytest.raises(InputError):
         get_normal_model("exact").solve(g, MAT)
@@ -302,9 +302,9 @@ def test_potential_area_grows_to_hold_the_contact(caplog):
     import logging
 
     from railcontact.geometry import ContactGeometry
-    from railcontact.materials import Material
+    from railcontact.core.materials import Material
     from railcontact.normal import get_normal_model
-    from railcontact.hertz_theory import hertz_ellipse
+    from railcontact.core.hertz_theory import hertz_ellipse
     mat = Material(2.1e11, 0.28)
     A, B = 1.0, 4.0
     hz = hertz_ellipse(A, B, mat.contact_modulus, force=1e5)

@@ -7,9 +7,9 @@ import numpy as np
 import pytest
 from scipy import integrate
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.geometry import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
 
 MAT = Material(2.1e11, 0.28)
@@ -82,13 +82,13 @@ def test_model_grid_and_errors():
         get_normal_model("hertz").solve(g, MAT, normal_force=-1.0)
     with pytest.raises(InputError, match="exactly one"):
         get_normal_model("hertz").solve(g, MAT)
-    from railcontact.errors import UnknownModelError
+    from railcontact.core.errors import UnknownModelError
     with pytest.raises(UnknownModelError, match="unknown normal model 'hurtz'"):
         get_normal_model("hurtz")
 
 
 def test_vectorised_hertz_equals_scalar():
-    from railcontact.hertz_theory import hertz_ellipses
+    from railcontact.core.hertz_theory import hertz_ellipses
     rng = np.random.default_rng(7)
     A = 10 ** rng.uniform(-1, 3, 300)
     B = 10 ** rng.uniform(-1, 3, 300)
@@ -109,7 +109,7 @@ def test_table_hertz_equals_scalar():
     """The tabulated Hertz solution for the strip models: within 1e-7 of the exact
     one, also for circles, nearly circles and slender ellipses (a/b up to 1e-2),
     zero at zero or negative approach, and bad curvatures rejected."""
-    from railcontact.hertz_theory import hertz_ellipses_table
+    from railcontact.core.hertz_theory import hertz_ellipses_table
     rng = np.random.default_rng(8)
     A = 10 ** rng.uniform(-1, 3, 300)
     B = 10 ** rng.uniform(-1, 3, 300)
@@ -131,7 +131,7 @@ def test_table_hertz_equals_scalar():
 
 
 def test_ratio_is_continuous_where_the_series_takes_over():
-    from railcontact.hertz_theory import SERIES_M, _ratio
+    from railcontact.core.hertz_theory import SERIES_M, _ratio
     # series below SERIES_M, elliptic integrals above: both must agree there
     lo, hi = _ratio(SERIES_M * (1 - 1e-9)) - 1, _ratio(SERIES_M * (1 + 1e-9)) - 1
     assert lo == pytest.approx(hi, rel=1e-8)

@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal.influence import (Convolution, normal_displacement_at, normal_kernel,
                                           normal_operator)
 

@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 
 import railcontact as rc
-from railcontact.errors import CaseFileError, InputError
+from railcontact.core.errors import CaseFileError, InputError
 from railcontact.geometry import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
 from railcontact.normal.polonsky_keer import polonsky_keer
 from railcontact.normal.influence import normal_operator
@@ -138,7 +138,7 @@ def test_tangential_solution_on_the_bounded_pressure():
 
 def test_case_file_plasticity_section(tmp_path):
     base = rc.load_case(f"{EX}/crossing_nose_plastic.toml").raw
-    from railcontact.case import case_from_dict
+    from railcontact.cases.case import case_from_dict
     raw = dict(base, plasticity={"pressure_limit": 9e8})
     assert case_from_dict(raw).normal_options["pressure_limit"] == 9e8
     raw = dict(base, plasticity={"yield_stress": 3e8, "pressure_factor": 1.6})
@@ -156,7 +156,7 @@ def test_case_file_plasticity_section(tmp_path):
 
 def test_wheel_rail_case_with_a_pressure_limit():
     case = rc.load_case(f"{EX}/wheel_rail.toml")
-    from railcontact.case import case_from_dict
+    from railcontact.cases.case import case_from_dict
     raw = dict(case.raw, plasticity={"pressure_limit": 1e9},
                solver=dict(case.raw["solver"], normal="exact", tangential="fastsim"))
     res = rc.solve(case_from_dict(raw, case.base_dir))

@@ -7,8 +7,8 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError
-from railcontact.materials import Material
+from railcontact.core.errors import InputError
+from railcontact.core.materials import Material
 from railcontact.normal.influence import normal_operator
 from railcontact.normal.polonsky_keer import polonsky_keer
 

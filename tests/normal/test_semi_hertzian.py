@@ -4,7 +4,7 @@ import numpy as np
 import pytest
 
 from railcontact.geometry import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
 from tests.conftest import read_csv
 

@@ -1,5 +1,5 @@
 """The strip models for many patches at once (railcontact.normal.strip_batch and the
-compiled strip path of railcontact.batch.solve_patches) against Hertz and against
+compiled strip path of railcontact.cases.batch.solve_patches) against Hertz and against
 the per-patch models."""
 
 import math
@@ -7,14 +7,14 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.batch import solve_patches
-from railcontact.errors import InputError
+from railcontact.cases.batch import solve_patches
+from railcontact.core.errors import InputError
 from railcontact.geometry import Track, Wheelset, find_contact
 from railcontact.geometry.contact import ContactGeometry
 from railcontact.geometry.gap import sample_gap_lines, sample_strip_spin
-from railcontact.materials import STEEL
+from railcontact.core.materials import STEEL
 from railcontact.normal import get_normal_model
-from railcontact.hertz_theory import hertz_ellipse
+from railcontact.core.hertz_theory import hertz_ellipse
 from railcontact.normal import normal_models
 from railcontact.normal.strip_batch import solve_strips
 from railcontact.profiles import rail_profile, s1002

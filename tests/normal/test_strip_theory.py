@@ -7,9 +7,9 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError
-from railcontact.hertz_theory import hertz_ellipse
-from railcontact.materials import STEEL
+from railcontact.core.errors import InputError
+from railcontact.core.hertz_theory import hertz_ellipse
+from railcontact.core.materials import STEEL
 from railcontact.normal.strip_theory import corrected_gap, parabolic_minima, strip_pressures
 
 Es = STEEL.contact_modulus

@@ -1,7 +1,7 @@
 import numpy as np
 import pytest
 
-from railcontact.errors import ProfileError
+from railcontact.core.errors import ProfileError
 from railcontact.profiles import Profile, get_profile, read_profile, s1002, write_profile
 
 

@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import ProfileError
+from railcontact.core.errors import ProfileError
 from railcontact.profiles import rail_profile, s1002
 from railcontact.profiles.library import builtin_names, get_profile
 

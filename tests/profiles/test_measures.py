@@ -5,7 +5,7 @@ thickness and qR of S1002 against the nominal values (REFERENCES.md: 28 mm,
 import numpy as np
 import pytest
 
-from railcontact.errors import ProfileError
+from railcontact.core.errors import ProfileError
 from railcontact.profiles import rail_profile, s1002, wheel_measures
 from railcontact.profiles.profile import Profile
 

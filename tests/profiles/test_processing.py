@@ -5,7 +5,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import ProfileError
+from railcontact.core.errors import ProfileError
 from railcontact.profiles import Profile, ProfileOptions, Smoothing, process_points
 from railcontact.profiles.processing import (find_kinks, remove_zigzags, smooth_points,
                                              visible_surface, z_points_down)

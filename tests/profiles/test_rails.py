@@ -3,7 +3,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import ProfileError
+from railcontact.core.errors import ProfileError
 from railcontact.profiles import rail_profile, read_profile
 from railcontact.profiles.rails import HEADS, head_points
 

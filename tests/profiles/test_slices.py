@@ -4,7 +4,7 @@ writing them back, and the artificial crossing."""
 import numpy as np
 import pytest
 
-from railcontact.errors import ProfileError
+from railcontact.core.errors import ProfileError
 from railcontact.profiles.io import read_profile
 from railcontact.profiles.slices import (RailSlices, artificial_crossing, read_slices,
                                          slices_from_list, write_slices)

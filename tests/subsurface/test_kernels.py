@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from railcontact.contact_inp.reader import read_inp
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.subsurface.kernels import (COMPONENTS, clear_cache, convolve_depths,
                                             grid_kernels, stresses_at_points)
 
@@ -130,8 +130,9 @@ def test_contact_subsurf_reference(testbank):
     area = v["DX"] * v["DY"] * v["MX"] * v["MY"]
     assert v["MX"] == v["MY"] == 1
     # one element carries the whole force: FN; FX given relative to FSTAT FN (F = 1)
+    assert case.digits["F"] == 1
     p = v["FN"] / area
-    qx = v["CKSI"] * v["FSTAT"] * v["FN"] / area
+    qx = v["FXREL"] * v["FSTAT"] * v["FN"] / area
     rect = [[v["XL"], v["XL"] + v["DX"], v["YL"], v["YL"] + v["DY"]]]
     ref_blocks = _ref_subs(folder / "subsurf.ref_subs")
     assert len(ref_blocks) == 2

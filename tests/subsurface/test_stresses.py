@@ -10,7 +10,7 @@ import numpy as np
 import pytest
 
 import railcontact as rc
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.geometry import ContactGeometry
 from railcontact.normal import get_normal_model
 from railcontact.subsurface.kernels import stresses_at_points

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError, UnknownModelError
+from railcontact.core.errors import InputError, UnknownModelError
 from railcontact.tangential.base import (TANGENTIAL_CAPABILITIES, TangentialSolution,
                                          check_inputs, get_tangential_model,
                                          tangential_model_class, tangential_models,

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from railcontact.geometry import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import get_normal_model
 from railcontact.tangential import get_tangential_model, kalker_coefficients
 

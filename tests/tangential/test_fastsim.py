@@ -6,9 +6,9 @@ import numpy as np
 import pytest
 from scipy.optimize import brentq
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.geometry import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
 from railcontact.tangential import get_tangential_model, kalker_coefficients
 

@@ -5,9 +5,9 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.geometry import ContactGeometry
-from railcontact.materials import Material
+from railcontact.core.materials import Material
 from railcontact.normal import get_normal_model, hertz_ellipse
 from railcontact.tangential import flexibilities, get_tangential_model, kalker_coefficients
 from railcontact.tangential.fastsim_strips import local_curvatures

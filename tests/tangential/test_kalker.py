@@ -1,6 +1,6 @@
 import pytest
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.tangential import kalker_coefficients
 from tests.conftest import read_csv
 

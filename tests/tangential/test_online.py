@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import UnknownModelError
+from railcontact.core.errors import UnknownModelError
 from railcontact.tangential import kalker_coefficients
 from railcontact.tangential.online import online_law, patch_forces
 

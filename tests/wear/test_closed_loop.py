@@ -6,7 +6,7 @@ import copy
 import numpy as np
 import pytest
 
-from railcontact.errors import CaseFileError, InputError
+from railcontact.core.errors import CaseFileError, InputError
 from railcontact.wear import scenario_from_dict
 from railcontact.wear.closed_loop import ClosedLoopWear
 

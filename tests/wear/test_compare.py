@@ -2,7 +2,7 @@
 
 import pytest
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from tests.wear.test_simulation import SYMMETRIC, scenario
 
 def test_wear_compare(tmp_path):

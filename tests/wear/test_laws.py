@@ -6,7 +6,7 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from railcontact.errors import InputError
+from railcontact.core.errors import InputError
 from railcontact.wear import get_wear_law
 from railcontact.wear.laws import USFD, wear_laws
 

@@ -8,7 +8,7 @@ import numpy as np
 import pytest
 
 import railcontact as rc
-from railcontact.errors import CaseFileError
+from railcontact.core.errors import CaseFileError
 from railcontact.geometry import ContactGeometry
 from railcontact.normal import get_normal_model
 from railcontact.tangential import get_tangential_model

@@ -6,7 +6,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.errors import CaseFileError, InputError
+from railcontact.core.errors import CaseFileError, InputError
 from railcontact.wear import (WearSimulation, get_wear_law, load_scenario, removed_area,
                               scenario_from_dict)
 

@@ -6,7 +6,7 @@ from types import SimpleNamespace
 
 import pytest
 
-from railcontact.errors import CaseFileError, InputError
+from railcontact.core.errors import CaseFileError, InputError
 from railcontact.wear.vehicle_scenario import apply_wear_settings, is_vehicle_scenario, number
 
 

@@ -1,0 +1,222 @@
+"""A wheel-rail case with its wheel loads met: the contact evaluation that
+:func:`railcontact.cases.equilibrium.balance` drives (:class:`WheelRailContact`), and a
+wheel at a prescribed vertical position (CONTACT's NORM = 0)."""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+from .bodies import build_wheelset_track, contact_search
+from .equilibrium import balance as solve_balance
+from ..core.errors import ContactNotFoundError
+from ..geometry.locus import min_gap
+from ..geometry.search import WheelsetContact
+from ..geometry.track import WheelsetPose
+from .patches import (add_tangential, coupled_models, lateral_ratio, nearest_patch,
+                      patch_creepage, patch_friction, solve_case_patches, wheel_rail_validity)
+from .results import vertical_force_on_rail
+from ..tangential import get_tangential_model
+
+log = logging.getLogger(__name__)
+
+
+def solve_at_position(case, nmodel, tmodel, kw):
+    """Patches of one wheel (``wheelset.side``) at a prescribed vertical position and
+    roll of the wheelset (CONTACT's NORM = 0): the interpenetration follows from
+    the position, and no vertical-force iteration runs.  Returns the patch results
+    (none where the wheel does not reach the rail) and the contact search."""
+    bodies = build_wheelset_track(case)
+    ws, tr = bodies
+    s = case.wheel_rail
+    side, y, yaw, roll, z = s.side, s.lateral_shift, s.yaw, s.roll, s.vertical_position
+    # the deepest interpenetration: the wheel lowered from where it touches (gap g0
+    # at z = 0) to z
+    g0 = min_gap(ws, tr, side, y, 0.0, roll, yaw)
+    if not math.isfinite(g0):
+        raise ContactNotFoundError(f"no wheel-rail overlap found on the {side} side at lateral "
+                                   f"shift {y * 1e3:.3f} mm")
+    depth = z - g0
+    if not depth > 0:
+        log.info("the %s wheel at z = %.4f mm does not reach the rail (gap %.4f mm)", side,
+                 z * 1e3, -depth * 1e3)
+        return [], WheelsetContact(WheelsetPose(y, z, roll, yaw), [], {}, None, {side: 0.0})
+    contact = contact_search(case, interpenetration={side: depth}, bodies=bodies)
+    results = solve_case_patches(case, contact, nmodel, tmodel, kw,
+                             coupled=coupled_models(case, nmodel, tmodel))
+    results = [r for r in results if r.geometry.side == side]
+    wheel_rail_validity(results, bodies)
+    return results, contact
+
+
+
+def _first_search(case, bodies, loads, sides, start):
+    """The contact search the vertical balance starts from.
+
+    With ``start`` (the contact of a neighbouring case's result, e.g. the previous
+    case of a sweep): at its interpenetrations, scaled to this case's loads as
+    Hertz's approach (Q^(2/3)), from its roll.  Else (or where ``start`` has no
+    interpenetration on a side): the geometry layer's multi-Hertzian estimate, one
+    load iteration (why these starts: docs/tuning.md, section "Equilibrium")."""
+    if start is not None and start.interpenetration and start.loads:
+        d0 = {}
+        for s in sides:
+            d, q = start.interpenetration.get(s, 0.0), start.loads.get(s, math.nan)
+            d0[s] = d * (loads[s] / q) ** (2.0 / 3.0) if q > 0 else math.nan
+        if all(math.isfinite(v) and v > 0 for v in d0.values()):
+            return contact_search(case, interpenetration=d0, bodies=bodies,
+                                  roll_start=start.pose.roll)
+    return contact_search(case, bodies=bodies, load_iterations=1)
+
+
+
+#: the uncertainty of a stand-in lateral force: FASTSIM's F_y on the exact normal
+#: solution is taken to be within this fraction of the exact F_y (docs/tuning.md,
+#: section "Equilibrium")
+STANDIN_UNCERTAINTY = 0.1
+
+
+
+@dataclass
+class ContactEvaluation:
+    """The contact of a wheel-rail case evaluated at given interpenetrations.
+
+    ``interpenetration`` [m] per side, the contact search's result ``contact``, the
+    loaded patches' ``results``, the vertical force each wheel exerts on its rail
+    (``forces`` [N], :func:`vertical_force_on_rail`) and whether those are the
+    forces of a result (``final``: the tangential problems solved); where not, the
+    lateral forces are stand-ins and ``uncertainty`` says how far off the load that
+    may put each side's force (relative to the load)."""
+
+    interpenetration: dict
+    contact: WheelsetContact
+    results: list
+    forces: dict
+    final: bool
+    uncertainty: dict | None = None
+
+
+
+class WheelRailContact:
+    """The contact evaluation that :func:`railcontact.cases.equilibrium.balance` drives for
+    a wheel-rail case.
+
+    ``evaluate(d, final)`` searches the contact at the interpenetrations ``d`` (from
+    the last search's roll) and solves the loaded patches' normal problems,
+    warm-started from the last evaluation's solutions (on its grids where they
+    fit); at the interpenetrations of the last call its normal solutions are
+    reused.  With the exact tangential model the tangential problems are solved
+    where ``final`` is asked (warm-started from the last tangential solutions), and
+    else FASTSIM on the normal solutions stands in for the lateral forces (the
+    exact solver's own first estimate), each side's uncertainty
+    ``STANDIN_UNCERTAINTY`` times its lateral forces' share of the balance,
+    sum |F_y sin(d)| / Q; the other tangential models solve every time.
+
+    ``start``: the :class:`SolveResult` of a neighbouring case (warm start: the
+    first search at its interpenetrations, the solvers from its solutions)."""
+
+    def __init__(self, case, nmodel, tmodel, kw, start=None):
+        self.case, self.nmodel, self.tmodel, self.kw = case, nmodel, tmodel, kw
+        self.bodies = build_wheelset_track(case)
+        self.loads = case.wheel_rail.loads
+        self.sides = case.wheel_rail.balanced_sides
+        self.first = _first_search(case, self.bodies, self.loads, self.sides,
+                                   start.contact if start is not None else None)
+        self.coupled = coupled_models(case, nmodel, tmodel)
+        self.lazy = (tmodel is not None and "lazy" in tmodel.capabilities
+                     and not self.coupled)
+        self.previous = start.patches if start is not None else None
+        # the results whose tangential solutions start the next tangential solves
+        self.tangential_start = self.previous
+        # the neighbour's solved patches and FASTSIM's on them: the stand-in's correction
+        self.neighbour = None
+        if start is not None and start.balance is not None and start.balance.standin:
+            self.neighbour = (start.patches, start.balance.standin)
+        self.standin = None         # FASTSIM on the last provisional evaluation's patches
+        self.last = None
+
+    def start(self) -> dict:
+        """The interpenetrations [m] of the first search."""
+        return {s: self.first.interpenetration[s] for s in self.sides}
+
+    def __call__(self, d: dict, final: bool = False) -> ContactEvaluation:
+        last, case = self.last, self.case
+        if last is not None and last.interpenetration == d:
+            contact, results = last.contact, last.results
+        else:
+            if last is None and d == self.start():
+                contact = self.first
+            else:
+                roll = (last.contact if last is not None else self.first).pose.roll
+                contact = contact_search(case, interpenetration=d, bodies=self.bodies,
+                                         roll_start=roll)
+            results = solve_case_patches(case, contact, self.nmodel, self.tmodel, self.kw,
+                                     previous=last.results if last else self.previous,
+                                     normal_only=self.lazy, coupled=self.coupled,
+                                     same_case=last is not None)
+        if final and self.lazy and any(r.tangential is None for r in results):
+            results = add_tangential(case, results, self.tmodel,
+                                      previous=self.tangential_start or self.standin)
+            self.tangential_start = results
+        done = all(r.tangential is not None for r in results) or self.tmodel is None
+        lateral = uncertainty = None
+        if not done:
+            if last is None or last.results is not results or self.standin is None:
+                self.standin = add_tangential(case, results, get_tangential_model("fastsim"))
+            fy = _standin_lateral(self.standin, self.neighbour)
+            lateral = lambda r: fy[id(r.geometry)]                      # noqa: E731
+            uncertainty = {s: STANDIN_UNCERTAINTY * sum(
+                abs(fy[id(r.geometry)] * math.sin(r.geometry.contact_angle))
+                for r in results if r.geometry.side == s) / self.loads[s] for s in self.sides}
+        forces = {s: vertical_force_on_rail(results, s, lateral) for s in self.sides}
+        self.last = ContactEvaluation(dict(d), contact, results, forces, done, uncertainty)
+        return self.last
+
+
+
+def _standin_lateral(standin, neighbour) -> dict:
+    """F_y [N] standing in for each patch's tangential solution (by the id of its
+    geometry): FASTSIM's on the patch's normal solution (``standin``), where a
+    neighbouring case (``neighbour``: its solved patch results and FASTSIM's on
+    them) has a patch of the same side within ``WARM_DISTANCE`` plus the neighbour's
+    difference of the solved F_y/F_n from FASTSIM's, times F_n: FASTSIM's own error
+    largely cancels between neighbours (docs/tuning.md, section "Equilibrium")."""
+    out = {}
+    for r in standin:
+        fy = r.tangential.fy
+        if neighbour is not None:
+            a, b = nearest_patch(neighbour[0], r.geometry), nearest_patch(neighbour[1], r.geometry)
+            if a is not None and b is not None and a.tangential is not None:
+                fy += (lateral_ratio(a) - lateral_ratio(b)) * r.normal.normal_force
+        out[id(r.geometry)] = fy
+    return out
+
+
+
+def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
+                      start=None):
+    """Patches of a wheel-rail case with the vertical wheel load met per side.
+
+    The balance of each wheel's vertical force, normal plus tangential contact
+    forces of the case's models, with its load is solved by
+    :func:`railcontact.cases.equilibrium.balance` on the evaluations of
+    :class:`WheelRailContact` (the sides' interpenetrations the unknowns), from the
+    geometry layer's multi-Hertzian estimate or, where ``start`` (the
+    :class:`SolveResult` of a neighbouring case) is given, from its
+    interpenetrations and its Jacobian.  Returns the patch results, the final
+    contact search and the :class:`VerticalBalance`.
+    """
+    evaluate = WheelRailContact(case, nmodel, tmodel, kw, start)
+    jac = start.balance.jacobian if start is not None and start.balance is not None else None
+    ev, balance = solve_balance(evaluate, evaluate.start(), evaluate.loads, rtol, max_iter,
+                                jacobian=jac)
+    balance.standin = evaluate.standin
+    results = ev.results
+    side = case.wheel_rail.side
+    if side != "both":
+        results = [r for r in results if r.geometry.side == side]
+    if not results:
+        raise ContactNotFoundError("no loaded contact patch found")
+    wheel_rail_validity(results, evaluate.bodies)
+    return results, ev.contact, balance

@@ -1,0 +1,272 @@
+"""Case files (TOML, contract v1 of ``docs/architecture.md``) and the :class:`Case` type."""
+
+from __future__ import annotations
+
+import copy
+import math
+from dataclasses import dataclass, field
+from pathlib import Path
+
+from .bodies_setup import RADII, BodiesSetup, parse_bodies
+from .keys import PROFILE_OPTIONS, CaseKeys
+from .surface_setup import SurfaceCaseSetup, is_surface_case, parse_surface_case
+from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
+from ..core.errors import CaseFileError, InputError, RailContactError
+from ..core.files import read_toml
+from ..core.materials import Material
+from ..normal import get_normal_model
+from ..normal.plasticity import HARDNESS_FACTOR, pressure_limit
+from ..tangential import get_tangential_model
+
+_ALLOWED = {
+    "title": None,
+    "material": {"young_modulus", "poisson_ratio", "wheel_young_modulus",
+                 "wheel_poisson_ratio"},
+    "friction": {"coefficient", "variation"},
+    "wheel": {"profile", "nominal_radius", "profile_left", "units"} | PROFILE_OPTIONS,
+    "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
+             "lateral_position", "vertical_position", "slice_spacing"} | PROFILE_OPTIONS,
+    "rails": None,
+    "roller": {"radius", "angular_velocity", "position"},
+    "track": {"gauge", "gauge_height", "rail_offset"},
+    "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
+                 "side",
+                 "vertical_force", "vertical_position", "velocity", "pitch_velocity",
+                 "lateral_velocity", "yaw_rate",
+                 "combine_distance", "full_interaction_distance", "turn_distance",
+                 "separation_angle", "position"},
+    "creepage": {"longitudinal", "lateral", "spin"},
+    "force": {"longitudinal", "lateral"},
+    "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
+               "tangential_options", "force_tolerance", "search_length",
+               "contact_angle", "rigid_slip"},
+    "bodies": {"radii", "normal_force", "velocity"},
+    "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
+}
+
+
+@dataclass(frozen=True)
+class Case(CaseKeys):
+    """One contact case, validated, in SI units (frozen: built once by
+    :func:`case_from_dict`).
+
+    ``raw`` keeps the parsed TOML so that a sweep can vary any dotted key; the
+    validated reading of its keys is :class:`~railcontact.cases.keys.CaseKeys`'s.
+    """
+
+    title: str = ""
+    material: Material = field(default_factory=Material)
+    friction: float = 0.3
+    normal: str = "hertz"
+    tangential: str = "fastsim"
+    normal_options: dict = field(default_factory=dict)
+    tangential_options: dict = field(default_factory=dict)
+    grid: tuple | None = None
+    element_size: tuple | None = None
+    force_tolerance: float = 1e-4
+    #: ``friction.variation``: (angles [rad], coefficients) or None
+    friction_variation: tuple | None = None
+    creepage: tuple | None = None
+    base_dir: Path = field(default_factory=Path.cwd)
+    #: the wheel-rail keys parsed (None for bodies cases and cases on rail surfaces)
+    wheel_rail: WheelRailSetup | None = None
+    #: the keys of a case on rail surfaces parsed (None for other cases)
+    surfaces: SurfaceCaseSetup | None = None
+    #: the ``[bodies]`` (and ``[force]``) keys of a case given by curvatures parsed
+    bodies: BodiesSetup | None = None
+
+    @property
+    def is_bodies(self) -> bool:
+        return "bodies" in self.raw
+
+    def friction_at(self, angle: float) -> float:
+        """Friction coefficient of a patch whose rail surface has the inclination
+        ``angle`` [rad] (rail-profile coordinates: negative on the gauge face):
+        ``friction.variation`` interpolated linearly, constant beyond its ends
+        (CONTACT's VARFRC = 1), else ``friction.coefficient``."""
+        if self.friction_variation is None:
+            return self.friction
+        import numpy as np
+        angles, coefficients = self.friction_variation
+        return float(np.interp(angle, angles, coefficients))
+
+    def with_value(self, dotted: str, value) -> "Case":
+        """A copy of the case with one dotted key set (used by sweeps)."""
+        raw = copy.deepcopy(self.raw)
+        node = raw
+        parts = dotted.split(".")
+        for part in parts[:-1]:
+            node = node.setdefault(part, {})
+            if not isinstance(node, dict):
+                raise CaseFileError(f"{dotted}: {part} is not a table")
+        node[parts[-1]] = value
+        return case_from_dict(raw, self.base_dir)
+
+
+def _check_keys(raw: dict) -> None:
+    for key, value in raw.items():
+        if key not in _ALLOWED:
+            raise CaseFileError(f"unknown section or key [{key}]; expected one of "
+                                f"{sorted(_ALLOWED)}")
+        allowed = _ALLOWED[key]
+        if allowed is None:
+            continue
+        if not isinstance(value, dict):
+            raise CaseFileError(f"[{key}] must be a table")
+        for sub in value:
+            if sub not in allowed:
+                raise CaseFileError(f"unknown key {key}.{sub}; expected one of {sorted(allowed)}")
+    if "bodies" in raw and any(k in raw for k in ("wheel", "rail", "rails", "roller", "track",
+                                                   "wheelset")):
+        raise CaseFileError("a case has either [bodies] or [wheel]/[rail]/[track]/[wheelset], "
+                            "not both")
+    if "bodies" not in raw and not ("wheel" in raw and ("rail" in raw or "rails" in raw)):
+        raise CaseFileError("missing [wheel] and [rail] (or [bodies]); expected a wheel-rail "
+                            "case or a case given by curvatures")
+    if "bodies" in raw:
+        radii = raw["bodies"].get("radii")
+        if not isinstance(radii, dict) or set(radii) - set(RADII) or not radii:
+            raise CaseFileError(f"bodies.radii = {radii!r}: expected a table with keys "
+                                f"{sorted(RADII)} (m; negative = concave, inf = flat)")
+
+
+def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
+    """Validate a parsed case and build its frozen :class:`Case`: every key is
+    checked here, once; a :class:`~railcontact.core.errors.CaseFileError` names the
+    first that is wrong."""
+    if not isinstance(raw, dict):
+        raise CaseFileError("case: expected a TOML table")
+    _check_keys(raw)
+    keys = CaseKeys(raw)
+    sol = raw.get("solver", {})
+    normal = str(sol.get("normal", "hertz")).lower()
+    tangential = str(sol.get("tangential", "fastsim")).lower()
+    grid, element_size = _grid(sol)
+    normal_options = dict(sol.get("normal_options", {}))
+    if "plasticity" in raw:
+        if "pressure_limit" in normal_options:
+            raise CaseFileError("pressure limit given both in [plasticity] and in "
+                                "solver.normal_options; give it once")
+        normal_options["pressure_limit"] = _pressure_limit(keys, normal)
+    values = dict(
+        title=str(raw.get("title", "")), material=_material(keys),
+        friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
+        friction_variation=_friction_variation(keys), normal=normal, tangential=tangential,
+        normal_options=normal_options,
+        tangential_options=dict(sol.get("tangential_options", {})), grid=grid,
+        element_size=element_size,
+        force_tolerance=keys.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)"),
+        creepage=None if "creepage" not in raw else (
+            keys.number("creepage.longitudinal", 0.0, -1.0, 1.0),
+            keys.number("creepage.lateral", 0.0, -1.0, 1.0),
+            keys.number("creepage.spin", 0.0, -100.0, 100.0, "1/m")))
+    # resolve models early so that a bad name fails before any work
+    try:
+        get_normal_model(normal, **normal_options)
+        if tangential != "none":
+            get_tangential_model(tangential, **values["tangential_options"])
+    except TypeError as exc:
+        raise CaseFileError(f"solver options: {exc}") from None
+    if "force" in raw and "bodies" not in raw:
+        raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "
+                            "for wheel-rail cases give [creepage]")
+    if "bodies" in raw:
+        values["bodies"] = parse_bodies(keys)
+    elif is_surface_case(keys):
+        # rails along the track, several rails, a roller: railcontact.cases.surfaces
+        values["surfaces"] = parse_surface_case(keys, tangential)
+    else:
+        values["wheel_rail"] = parse_wheel_rail(keys)
+    return Case(raw=raw, base_dir=Path(base_dir or Path.cwd()), **values)
+
+
+def _material(keys: CaseKeys) -> Material:
+    """``[material]``: one material, or the wheel's own beside the rail's."""
+    try:
+        wE, wnu = keys.get("material.wheel_young_modulus"), keys.get("material.wheel_poisson_ratio")
+        return Material(keys.number("material.young_modulus", 2.1e11, unit="Pa"),
+                        keys.number("material.poisson_ratio", 0.28),
+                        None if wE is None else keys.number("material.wheel_young_modulus",
+                                                            unit="Pa"),
+                        None if wnu is None else keys.number("material.wheel_poisson_ratio"))
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
+
+
+def _grid(sol: dict) -> tuple:
+    """``solver.grid`` (two integers) and ``solver.element_size`` (two lengths [m]),
+    at most one of them given."""
+    out = {}
+    for key in ("grid", "element_size"):
+        v = sol.get(key)
+        if v is not None:
+            if not (isinstance(v, list) and len(v) == 2
+                    and all(isinstance(t, (int, float)) and t > 0 for t in v)):
+                raise CaseFileError(f"solver.{key} = {v!r}: expected two positive numbers "
+                                    "(rolling, lateral)")
+            if key == "grid" and not all(float(t).is_integer() for t in v):
+                raise CaseFileError(f"solver.grid = {v!r}: expected two integers")
+            out[key] = tuple(int(t) if key == "grid" else float(t) for t in v)
+    if len(out) == 2:
+        raise CaseFileError("solver: give either grid or element_size, not both")
+    return out.get("grid"), out.get("element_size")
+
+
+def _pressure_limit(keys: CaseKeys, normal: str) -> float:
+    """``[plasticity]``: the pressure limit [Pa] of elastic-perfectly-plastic contact
+    (:mod:`railcontact.normal.plasticity`), passed to the exact normal model as its
+    ``pressure_limit`` option: ``pressure_limit`` [Pa] as given, else
+    ``pressure_factor`` (default 3, Tabor's hardness) x ``yield_stress`` [Pa]."""
+    pl = keys.raw["plasticity"]
+    if normal != "exact":
+        raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "
+                            f"solver.normal is {normal!r} (expected 'exact')")
+    if "pressure_limit" in pl:
+        if "yield_stress" in pl or "pressure_factor" in pl:
+            raise CaseFileError("[plasticity]: give pressure_limit, or yield_stress (with "
+                                "pressure_factor), not both")
+        return keys.number("plasticity.pressure_limit", None, 1e6, 1e12, "Pa")
+    if "yield_stress" not in pl:
+        raise CaseFileError("[plasticity]: missing yield_stress (Pa) or pressure_limit (Pa)")
+    try:
+        return pressure_limit(keys.number("plasticity.yield_stress", unit="Pa"),
+                              keys.number("plasticity.pressure_factor", HARDNESS_FACTOR))
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
+
+
+def _friction_variation(case: CaseKeys) -> tuple | None:
+    """``friction.variation = {angle = [...], coefficient = [...]}``: friction
+    coefficients at rail surface inclinations [rad], increasing; returned as
+    (angles, coefficients) tuples of floats, None where not given."""
+    var = case.get("friction.variation")
+    if var is None:
+        return None
+    ok = isinstance(var, dict) and set(var) == {"angle", "coefficient"}
+    if ok:
+        a, c = var["angle"], var["coefficient"]
+        ok = (isinstance(a, list) and isinstance(c, list) and len(a) == len(c) >= 1
+              and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+                      for v in a + c))
+    if not ok:
+        raise CaseFileError(f"friction.variation = {var!r}: expected a table with lists angle "
+                            "[rad] and coefficient of equal length")
+    if any(b <= a for a, b in zip(var["angle"], var["angle"][1:])):
+        raise CaseFileError(f"friction.variation.angle = {var['angle']!r}: expected increasing "
+                            "angles [rad]")
+    if any(not 0.0 <= c <= 5.0 for c in var["coefficient"]):
+        raise CaseFileError(f"friction.variation.coefficient = {var['coefficient']!r}: expected "
+                            "values in [0, 5]")
+    return (tuple(float(a) for a in var["angle"]), tuple(float(c) for c in var["coefficient"]))
+
+
+def load_case(path) -> Case:
+    """Read and validate a TOML case file."""
+    path = Path(path)
+    raw = read_toml(path, "case file")
+    try:
+        return case_from_dict(raw, path.parent)
+    except CaseFileError as exc:
+        raise CaseFileError(f"{path.name}: {exc}") from None
+    except RailContactError:
+        raise

@@ -1,0 +1,106 @@
+"""One contact case from end to end: :func:`solve`.
+
+A bodies case is solved on its given curvatures; a wheel-rail case with its wheel
+loads met (:mod:`railcontact.cases.balance`) or at a prescribed position; a case
+on rail surfaces by :mod:`railcontact.cases.surfaces`.  The results are
+:mod:`railcontact.cases.results`'s.
+"""
+
+from __future__ import annotations
+
+import logging
+import time
+
+from .case import Case
+from .surface_setup import is_surface_case
+from .coupling import solve_coupled
+from ..geometry.contact import ContactGeometry
+from .patches import bodies_validity, case_models, coupled_models
+from .results import PatchResult, SolveResult
+from .surfaces import solve_on_surfaces
+from ..tangential.inverse import solve_for_forces
+from .balance import solve_at_position, solve_wheel_rail
+
+log = logging.getLogger(__name__)
+
+
+def solve(case: Case, normal: str | None = None, tangential: str | None = None,
+          warm_start: "SolveResult | None" = None) -> SolveResult:
+    """Solve one contact case.
+
+    Parameters
+    ----------
+    case : Case
+        From :func:`railcontact.load_case` or :func:`railcontact.cases.case.case_from_dict`.
+    normal, tangential : str, optional
+        Model names overriding the case's ``[solver]``.
+    warm_start : SolveResult, optional
+        The result of a similar case (the previous case of a sweep or time history):
+        models that accept warm starts (the exact solvers) start from its patches'
+        solutions (same side, within 3 mm on the rail) instead of cold.
+
+    For wheel-rail cases the geometry layer finds the wheelset position under the
+    vertical load and the patches; each patch is solved with its own penetration.
+    A warm-started case that does not converge is solved again cold (except where
+    the model's vertical force jumps across the load: ``balance.force_jump``).
+
+    A case on rail surfaces (rails given by slices, several rails, a roller:
+    :mod:`railcontact.cases.surfaces`) is solved by
+    :func:`railcontact.cases.surfaces.solve_on_surfaces`.
+    """
+    if not case.is_bodies and is_surface_case(case):
+        return solve_on_surfaces(case, normal, tangential, warm_start=warm_start)
+    if warm_start is not None:
+        res = _solve(case, normal, tangential, warm_start)
+        # a force that jumps across the load is the model's: a cold start meets it too
+        if res.converged or (res.balance is not None and res.balance.force_jump):
+            return res
+        log.info("warm-started case did not converge; solving it again cold")
+        cold = _solve(case, normal, tangential, None)
+        cold.cpu_time += res.cpu_time                 # the failed attempt counts
+        return cold
+    return _solve(case, normal, tangential, None)
+
+
+
+def _solve(case, normal, tangential, warm_start):
+    """:func:`solve` with or without a warm start."""
+    t0 = time.perf_counter()
+    nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
+    results, pose, contact, balance = [], None, None, None
+    if case.is_bodies:
+        bodies = case.bodies
+        geom = ContactGeometry(curvatures=bodies.curvatures, rolling_radius=bodies.rolling_radius)
+        wkw = {}
+        if warm_start is not None and warm_start.patches:
+            if "warm-start" in nmodel.capabilities:
+                wkw["warm_start"] = warm_start.patches[0].normal
+        ns = nmodel.solve(geom, case.material, normal_force=bodies.normal_force, **kw, **wkw)
+        creep = case.creepage or (0.0, 0.0, 0.0)
+        V = bodies.velocity
+        if coupled_models(case, nmodel, tmodel) and bodies.forces is None:
+            ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep, case.friction,
+                                   V, normal_force=bodies.normal_force, **kw)
+        elif bodies.forces is not None and tmodel is not None:
+            ts = solve_for_forces(tmodel, ns, geom, case.material, bodies.forces,
+                                  spin=creep[2], friction=case.friction, velocity=V)
+            creep = ts.creepage
+        else:
+            tkw = {}
+            if (warm_start is not None and warm_start.patches and tmodel is not None
+                    and "warm-start" in tmodel.capabilities
+                    and warm_start.patches[0].tangential is not None):
+                tkw["warm_start"] = warm_start.patches[0].tangential
+            ts = (tmodel.solve(ns, geom, case.material, creep, case.friction, V, **tkw)
+                  if tmodel else None)
+        results.append(bodies_validity(case, PatchResult(geom, ns, ts, tuple(creep))))
+    elif case.wheel_rail.vertical_position is not None:
+        results, contact = solve_at_position(case, nmodel, tmodel, kw)
+        pose = contact.pose
+    else:
+        results, contact, balance = solve_wheel_rail(case, nmodel, tmodel, kw,
+                                                      rtol=case.force_tolerance,
+                                                      start=warm_start)
+        pose = contact.pose
+    return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact,
+                       balance)

@@ -1,0 +1,87 @@
+"""railcontact.cases.case: case files parsed into a Case, their options and errors."""
+
+import math
+from pathlib import Path
+
+import pytest
+
+import railcontact as rc
+from railcontact.core.errors import CaseFileError, UnknownModelError
+
+EX = Path(__file__).resolve().parents[2] / "examples"
+
+
+def test_api_errors():
+    with pytest.raises(CaseFileError):
+        rc.case_from_dict({"wheel": {"profile": "S1002"}})
+    with pytest.raises(UnknownModelError):
+        rc.solve(rc.load_case(EX / "bodies.toml"), normal="nope")
+
+
+def test_per_wheel_loads():
+    res = rc.solve(rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+                                      "wheelset": {"lateral_shift": 0.002,
+                                                   "vertical_force": [50e3, 90e3]}}))
+    for side, load in (("left", 50e3), ("right", 90e3)):
+        fz = sum(p.normal.normal_force * math.cos(p.geometry.contact_angle)
+                 - p.tangential.fy * math.sin(p.geometry.contact_angle)
+                 for p in res.patches if p.geometry.side == side)
+        assert fz == pytest.approx(load, rel=2e-4)
+    with pytest.raises(CaseFileError, match="vertical_force"):
+        rc.case_from_dict({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+                           "wheelset": {"vertical_force": [1.0, 2.0, 3.0]}})
+
+
+# ------------------------------------------------- CONTACT's options in case files
+def _mbench_raw(refdir, **wheelset):
+    prof = refdir / "profiles"
+    return {"material": {"young_modulus": 2 * 82e9 * 1.28, "poisson_ratio": 0.28},
+            "friction": {"coefficient": 0.3},
+            "wheel": {"profile": str(prof / "MBench_S1002_v3.prw")},
+            "rail": {"profile": str(prof / "MBench_UIC60_v3.prr"), "inclination": 0.0},
+            "wheelset": {"vertical_force": 1e4, "velocity": 2.0, "side": "right", "roll": 0.0,
+                         **wheelset},
+            "solver": {"normal": "exact", "tangential": "exact",
+                       "element_size": [2.5e-4, 2.5e-4]}}
+
+
+def test_friction_varying_with_the_rail_inclination(refdir):
+    """friction.variation (CONTACT's VARFRC = 1): each patch takes the coefficient
+    at its rail surface's inclination, interpolated linearly, constant beyond."""
+    from railcontact import case_from_dict, solve
+    var = {"angle": [-0.5236, -0.3491], "coefficient": [0.2, 0.35]}
+    for y, mu in ((2e-3, 0.35), (9e-3, 0.2)):       # tread, flange flank
+        raw = _mbench_raw(refdir, lateral_shift=y)
+        raw["friction"]["variation"] = var
+        res = solve(case_from_dict(raw))
+        (p,) = res.patches
+        assert p.tangential.friction == mu
+        assert abs(complex(p.tangential.fx, p.tangential.fy)) <= mu * p.normal.normal_force * 1.0001
+    case = case_from_dict({**_mbench_raw(refdir), "friction": {"variation": var}})
+    assert case.friction_at(-0.4363) == pytest.approx(0.275, abs=1e-3)
+    for bad in ({"angle": [0.1, 0.0], "coefficient": [0.2, 0.3]},
+                {"angle": [0.0], "coefficient": [0.2, 0.3]}, {"angles": [0.0]}):
+        with pytest.raises(CaseFileError, match="friction.variation"):
+            case_from_dict({**_mbench_raw(refdir), "friction": {"variation": bad}})
+
+
+def test_vertical_position_prescribed(refdir):
+    """wheelset.vertical_position (CONTACT's NORM = 0): at the height the force
+    control found, the same patch and force (to the force tolerance)."""
+    from railcontact import case_from_dict, solve
+    force = solve(case_from_dict(_mbench_raw(refdir, lateral_shift=3e-3)))
+    raw = _mbench_raw(refdir, lateral_shift=3e-3, vertical_position=force.pose.vertical)
+    del raw["wheelset"]["vertical_force"]
+    pos = solve(case_from_dict(raw))
+    assert pos.balance is None and pos.pose.vertical == force.pose.vertical
+    assert pos.patches[0].normal.normal_force == pytest.approx(
+        force.patches[0].normal.normal_force, rel=2e-4)
+    # raised by 1 mm the wheel does not reach the rail: no patch, no error
+    raw["wheelset"]["vertical_position"] = force.pose.vertical - 1e-3
+    assert solve(case_from_dict(raw)).patches == []
+    raw["wheelset"]["vertical_force"] = 1e4
+    with pytest.raises(CaseFileError, match="either vertical_force or vertical_position"):
+        case_from_dict(raw)
+    del raw["wheelset"]["roll"], raw["wheelset"]["vertical_force"]
+    with pytest.raises(CaseFileError, match="give wheelset.roll"):
+        case_from_dict(raw)

@@ -1,0 +1,73 @@
+"""railcontact.cases.patches: models of a case, warm-start neighbours, per-patch friction,
+creepage and validity."""
+
+from pathlib import Path
+from types import SimpleNamespace as NS
+
+import pytest
+
+import railcontact as rc
+import railcontact.cases.patches as patches
+from railcontact.geometry.validity import contact_size
+
+EX = Path(__file__).resolve().parents[2] / "examples"
+
+
+@pytest.fixture(scope="module")
+def case():
+    return rc.load_case(EX / "bodies.toml")
+
+
+def test_case_models_and_overrides(case):
+    nname, tname, nmodel, tmodel, kw = patches.case_models(case)
+    assert (nname, tname, nmodel.name, tmodel.name) == ("hertz", "fastsim", "hertz", "fastsim")
+    assert kw == {"grid": case.grid, "element_size": case.element_size}
+    nname, tname, nmodel, tmodel, _ = patches.case_models(case, "KPEC", "none")
+    assert (nname, tname, nmodel.name, tmodel) == ("kpec", "none", "kpec", None)
+
+
+def test_coupling_only_for_dissimilar_bodies_with_coupled_models(case):
+    exact_n, exact_t = patches.case_models(case, "exact", "exact")[2:4]
+    hertz_n, fastsim_t = patches.case_models(case)[2:4]
+    steel_alu = NS(material=rc.Material(2.1e11, 0.28, wheel_young_modulus=7e10))
+    assert not patches.coupled_models(case, exact_n, exact_t)              # identical steel
+    assert patches.coupled_models(steel_alu, exact_n, exact_t)
+    assert not patches.coupled_models(steel_alu, hertz_n, fastsim_t)
+    assert not patches.coupled_models(steel_alu, exact_n, None)
+
+
+def _patch(side, y_rail, fy=0.0, fn=1e4):
+    return NS(geometry=NS(side=side, y_rail=y_rail), normal=NS(normal_force=fn),
+              tangential=NS(fy=fy))
+
+
+def test_nearest_patch_same_side_within_the_warm_distance():
+    prev = [_patch("right", 0.000), _patch("right", 0.002), _patch("left", 0.0021)]
+    assert patches.nearest_patch(prev, NS(side="right", y_rail=0.0015)) is prev[1]
+    assert patches.nearest_patch(prev, NS(side="left", y_rail=0.0)) is prev[2]
+    far = 0.002 + patches.WARM_DISTANCE * 1.01
+    assert patches.nearest_patch(prev, NS(side="right", y_rail=far)) is None
+    assert patches.nearest_patch(None, NS(side="right", y_rail=0.0)) is None
+
+
+def test_lateral_ratio():
+    assert patches.lateral_ratio(_patch("right", 0.0, fy=-2e3)) == -0.2
+    assert patches.lateral_ratio(_patch("right", 0.0, fy=5.0, fn=0.0)) == 0.0
+    assert patches.lateral_ratio(None) == 0.0
+
+
+def test_friction_and_creepage_of_a_bodies_patch(case):
+    geom = NS(side=None, contact_angle=0.0, creepage=(9.0, 9.0, 9.0))
+    assert patches.patch_friction(case, geom) == 0.3
+    assert patches.patch_creepage(case, geom) == (1e-3, -5e-4, 0.2)        # the case's
+
+
+def test_half_space_validity_of_a_bodies_patch(case, monkeypatch):
+    res = rc.solve(case)
+    (p,) = res.patches
+    a, b = contact_size(p.normal)
+    assert p.halfspace_ratio == pytest.approx(max(b / 0.3, a / 0.46), rel=1e-12)
+    assert p.validity.warnings == ()
+    monkeypatch.setattr(patches, "HALF_SPACE_LIMIT", p.halfspace_ratio / 2)
+    p = patches.bodies_validity(case, p)
+    assert res.converged and len(res.warnings) == 1 and "half-space" in res.warnings[0]
