@@ -119,7 +119,7 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
         log.debug("coupling iteration %d: change p %.2e, t %.2e", it, dp, dt)
         converged = dp <= tol and dt <= tol
     if not converged:
-        log.warning("dissimilar materials: the normal-tangential alternation did not converge "
+        log.info("dissimilar materials: the normal-tangential alternation did not converge "
                     "in %d iterations (flagged in the result)", maxiter)
     ts.options.update(coupling_iterations=it,
                       difference_parameter=material.difference_parameter)

@@ -87,6 +87,12 @@ PAR = ("mass", "yaw_inertia", "k_y", "k_yaw", "c_y", "c_yaw", "wheel_load", "V",
        "reference_load")
 
 
+def _non_negative(name: str, v) -> None:
+    """``v`` a finite number >= 0, else an InputError naming ``name``."""
+    if isinstance(v, bool) or not isinstance(v, (int, float)) or not (math.isfinite(v) and v >= 0):
+        raise InputError(f"{name} = {v!r}: expected a value >= 0")
+
+
 def _positive(name, v, lo=0.0, hi=math.inf):
     if isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v) \
             or not lo < v <= hi:
@@ -149,10 +155,7 @@ class RigWheelset:
         _positive("wheelset.yaw_inertia", self.yaw_inertia, 0.0, 1e5)
         _positive("wheelset.wheel_load", self.wheel_load, 0.0, 1e6)
         for name in ("k_y", "k_yaw", "c_y", "c_yaw"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not \
-                    (math.isfinite(v) and v >= 0):
-                raise InputError(f"wheelset.{name} = {v!r}: expected a value >= 0")
+            _non_negative(f"wheelset.{name}", getattr(self, name))
 
 
 @dataclass(frozen=True)
@@ -183,10 +186,7 @@ class RigBogie:
         _positive("bogie.frame_yaw_inertia", self.frame_yaw_inertia, 0.0, 1e6)
         _positive("bogie.semi_wheelbase", self.semi_wheelbase, 0.0, 10.0)
         for name in ("secondary_k_y", "secondary_k_yaw", "secondary_c_y", "secondary_c_yaw"):
-            v = getattr(self, name)
-            if isinstance(v, bool) or not isinstance(v, (int, float)) or not \
-                    (math.isfinite(v) and v >= 0):
-                raise InputError(f"bogie.{name} = {v!r}: expected a value >= 0")
+            _non_negative(f"bogie.{name}", getattr(self, name))
 
     def packed(self) -> np.ndarray:
         return np.array([self.frame_mass, self.frame_yaw_inertia, self.semi_wheelbase,

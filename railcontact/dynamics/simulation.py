@@ -286,7 +286,7 @@ def _run_rk4(sysm: _System, u0, duration, sample_rate, step, progress, bar):
             if not np.all(np.isfinite(u)):
                 raise RailContactError(f"simulation diverged before t = {t[k1]:.4g} s (rk4, "
                                        f"step {dt:.3g} s); try integrator = 'lsoda'")
-            bar.update(round(t[k1] - t[k0], 3))
+            bar.update(max(min(round(float(t[k1]), 3), bar.total) - bar.n, 0))  # not past it
     finally:
         bar.close()
     wall = time.perf_counter() - wall
@@ -376,8 +376,8 @@ def _dataset(sysm: _System, t, Y, wall):
     if ds.attrs["outside_table"]:
         warnings.insert(0, "a wheelset left the contact table's range: the contact was "
                            "clamped to the table's edge; build the table with a larger range")
-    for w in warnings:
-        log.warning("%s", w)
+    for w in warnings:                 # in the result; the CLI prints them
+        log.info("%s", w)
     ds.attrs["warnings"] = "; ".join(warnings)
     return ds
 

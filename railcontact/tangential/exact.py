@@ -426,7 +426,7 @@ class ExactTangentialModel:
         px, py, sx, sy, stick = fields
         it, ok, fallback = iteration.iterations, iteration.converged, iteration.fallback
         if not ok:
-            log.warning("exact tangential solver: not converged (flagged in the result)")
+            log.info("exact tangential solver: not converged (flagged in the result)")
         status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
             f"exact tangential solver: no convergence in {it} Newton iterations"
             + (" (also restarted from zero traction)" if fallback else ""), it)

@@ -35,6 +35,7 @@ import time
 import numpy as np
 from numba import njit
 
+from ..core.checks import shown
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from .base import TangentialSolution, register
@@ -107,11 +108,13 @@ class PolachModel:
         self.mu0 = None
         if preset is not None:
             if preset not in PRESETS:
-                raise InputError(f"polach preset {preset!r}: expected one of {sorted(PRESETS)}")
+                raise InputError(f"polach preset {shown(preset)}"
+                                 f": expected one of {sorted(PRESETS)}")
             kA, kS, self.mu0, A, B = PRESETS[preset]
             falling = {"A": A, "B": B}
         if not (0 < kS <= kA <= 1):
-            raise InputError(f"polach kA = {kA!r}, kS = {kS!r}: expected 0 < kS <= kA <= 1")
+            raise InputError(f"polach kA = {shown(kA)}, kS = {shown(kS)}"
+                             f": expected 0 < kS <= kA <= 1")
         self.kA, self.kS, self.falling, self.preset = kA, kS, falling_friction(falling), preset
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
@@ -120,10 +123,10 @@ class PolachModel:
         t0 = time.perf_counter()
         xi, eta, phi = (float(c) for c in creepage)
         if not all(math.isfinite(c) for c in (xi, eta, phi)):
-            raise InputError(f"creepage = {creepage!r}: expected finite values")
+            raise InputError(f"creepage = {shown(creepage)}: expected finite values")
         mu0 = self.mu0 if self.mu0 is not None else friction
         if not (math.isfinite(mu0) and 0 < mu0 <= 5):
-            raise InputError(f"friction.coefficient = {mu0!r}: expected a value in (0, 5]")
+            raise InputError(f"friction.coefficient = {shown(mu0)}: expected a value in (0, 5]")
         a, b = equivalent_ellipse(normal)
         syc = eta + phi * a if abs(eta + phi * a) > abs(eta) else eta
         mu = mu0

@@ -33,7 +33,13 @@ def parse_models(spec: str):
 
 def compare_wear(scenario, models, out=None, progress=True):
     """Run ``scenario`` for each (normal, tangential) pair; returns {label: dataset}
-    (and writes ``wear_comparison.png`` and ``.csv`` into ``out``)."""
+    (and writes ``wear_comparison.png`` and ``.csv`` into ``out``).  Every model name
+    is checked before the first pair runs."""
+    from ..normal import normal_model_class
+    from ..tangential import tangential_model_class
+    for normal, tang in models:
+        normal_model_class(normal)
+        tangential_model_class(tang)
     if isinstance(scenario, VehicleWearScenario):
         return _compare_closed_loop(scenario, models, out, progress)
     results = {}

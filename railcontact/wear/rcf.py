@@ -37,6 +37,7 @@ from dataclasses import dataclass, fields
 import numpy as np
 from numba import njit
 
+from ..core.checks import shown
 from ..core.errors import CaseFileError
 
 
@@ -100,21 +101,23 @@ class RcfParameters:
         if raw is None:
             return cls()
         if not isinstance(raw, dict):
-            raise CaseFileError(f"wear.rcf = {raw!r}: expected a table")
+            raise CaseFileError(f"wear.rcf = {shown(raw)}: expected a table")
         known = {f.name: f.type for f in fields(cls)}
         bad = sorted(set(raw) - set(known))
         if bad:
-            raise CaseFileError(f"unknown key wear.rcf.{bad[0]}; expected one of {sorted(known)}")
+            name = shown(str(bad[0])).strip("'")
+            raise CaseFileError(f"unknown key wear.rcf.{name}; expected one of {sorted(known)}")
         out = {}
         for k, v in raw.items():
             if k == "subsurface":
                 if not isinstance(v, bool):
-                    raise CaseFileError(f"wear.rcf.subsurface = {v!r}: expected true or false")
+                    raise CaseFileError(f"wear.rcf.subsurface = {shown(v)}: expected true or "
+                                        "false")
             elif k == "depths":
                 if isinstance(v, bool) or not isinstance(v, int):
-                    raise CaseFileError(f"wear.rcf.depths = {v!r}: expected an integer >= 2")
+                    raise CaseFileError(f"wear.rcf.depths = {shown(v)}: expected an integer >= 2")
             elif isinstance(v, bool) or not isinstance(v, (int, float)) or not math.isfinite(v):
-                raise CaseFileError(f"wear.rcf.{k} = {v!r}: expected a number")
+                raise CaseFileError(f"wear.rcf.{k} = {shown(v)}: expected a number")
             out[k] = v
         return cls(**out)
 

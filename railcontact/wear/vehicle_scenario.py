@@ -20,6 +20,7 @@ from ..cases.case import Case
 from ..dynamics.scenario import (creep_law_settings, route_from_section, vehicle_from_section,
                                  vehicle_length)
 from ..core.errors import CaseFileError
+from ..core.parallel import check_scheduler
 from .laws import get_wear_law
 from .rcf import RcfParameters
 
@@ -93,9 +94,14 @@ class WearSettings:
 def apply_wear_settings(target, wear: dict) -> None:
     """The [wear] settings common to both scenario kinds, validated, set on ``target``
     (law, parameters, body, scheduler and the numbers of ``WEAR_RANGES``)."""
+    if "max_depth_per_step" in wear and "step_distance" in wear:
+        raise CaseFileError("wear: give max_depth_per_step (the step chosen by the depth) or "
+                            "step_distance (a fixed step), not both")
     for key in ("law", "body", "scheduler"):
         if key in wear:
             setattr(target, key, str(wear[key]))
+    if "scheduler" in wear:
+        check_scheduler(target.scheduler, "wear.scheduler")
     target.parameters = dict(wear.get("parameters", {}))
     for key, lo, hi in WEAR_RANGES:
         if key in wear:

@@ -19,6 +19,8 @@ def scenario(conditions, **wear):
     raw = copy.deepcopy(BASE)
     raw["wear"] = {"law": "frictional-power", "parameters": {"k": 1e-13}, "steps": 2,
                    "max_depth_per_step": 1e-4, "smoothing": 2e-3, **wear}
+    if "step_distance" in wear:                 # one of the two step rules, not both
+        del raw["wear"]["max_depth_per_step"]
     raw["condition"] = conditions
     return wear_scenario_from_dict(raw)
 
