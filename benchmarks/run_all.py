@@ -953,6 +953,96 @@ def _halving_row(coarse, _, fine, sim):
             f"{g[0]:.4f}, {g[1]:.4f}")
 
 
+def bench_subsurface():
+    """Subsurface stresses of a 40 x 40 patch (Hertz + FASTSIM, 1e5 N): the cost per
+    depth in FFT convolutions of the padded grid (issue 31 asks for at most 10), with
+    the kernel spectra of the grid and depth cached (patches on one grid, repeated
+    calls) and built afresh (a new grid); and the accuracy against Johnson's Hertz
+    axis and CONTACT's subsurf.ref_subs."""
+    from railcontact.subsurface import kernels
+    from railcontact.subsurface.stresses import subsurface_stresses
+    from railcontact.normal.influence import normal_operator
+    out("\n## Subsurface stresses (40 x 40 patch)")
+    mat = rc.Material()
+    geom = ContactGeometry(curvatures=(1 / 0.92, 1 / 0.6))
+    ns = get_normal_model("hertz").solve(geom, mat, normal_force=1e5, grid=(40, 40))
+    ts = get_tangential_model("fastsim").solve(ns, geom, mat, (1e-3, -5e-4, 0.2), 0.3, 30.0)
+    depths = np.linspace(0.0, 2.0 * ns.semi_axes[1], 21)
+    from railcontact.normal.polonsky_keer import _convolve
+    op = normal_operator(40, 40, ns.dx, ns.dy, mat.contact_modulus)
+    shape = op.shape
+    buf = np.zeros(shape)
+
+    def cold():
+        kernels.clear_cache()
+        subsurface_stresses(ns, ts, depths=depths, material=mat)
+    # CPU time, the four timed in turn (best of 9 rounds): the ratios hold on a
+    # loaded machine, where wall-clock timings taken minutes apart do not
+    jobs = {"conv": (lambda: _convolve(ns.pressure, op.khat, shape, buf), 400),
+            "scipy": (lambda: op(ns.pressure), 400),
+            "warm": (lambda: subsurface_stresses(ns, ts, depths=depths, material=mat), 20),
+            "cold": (cold, 5)}
+    for f, _ in jobs.values():
+        f()
+    t = {k: math.inf for k in jobs}
+    for _ in range(9):
+        for k, (f, n) in jobs.items():
+            t0 = time.process_time()
+            for _ in range(n):
+                f()
+            t[k] = min(t[k], (time.process_time() - t0) / n)
+    tc, t_scipy, warm, t_cold = t["conv"], t["scipy"], t["warm"], t["cold"]
+    nz = depths.size
+    out(f"* unit: one FFT convolution of the padded {shape[0]}x{shape[1]} grid, {tc * 1e6:.1f} µs "
+        f"compiled (the exact solvers' unit), {t_scipy * 1e6:.1f} µs through scipy.fft")
+    out(f"* kernel spectra cached (same grid and depths): {warm / nz * 1e6:.0f} µs per depth = "
+        f"{warm / nz / tc:.1f} compiled convolutions ({warm / nz / t_scipy:.1f} scipy ones)")
+    out(f"* kernel spectra built (a new grid): {t_cold / nz * 1e6:.0f} µs per depth = "
+        f"{t_cold / nz / tc:.1f} compiled convolutions ({t_cold / nz / t_scipy:.1f} scipy ones)")
+    ss = subsurface_stresses(ns, ts, depths=depths, material=mat)
+    m = ss.maximum("von_mises")
+    out(f"* this patch: max von Mises {m['value'] * 1e-6:.0f} MPa at depth {m['depth'] * 1e3:.2f} mm "
+        f"(p0 {ns.pmax * 1e-6:.0f} MPa)")
+    # Hertz's circular contact on the axis (Johnson 1985, eq. 3.45)
+    sph = ContactGeometry(curvatures=(2.0, 2.0))
+    nu = mat.poisson_ratio
+    for grid in ((41, 41), (81, 81)):
+        h = get_normal_model("hertz").solve(sph, mat, normal_force=1e5, grid=grid)
+        a, p0 = h.semi_axes[0], h.pmax
+        zr = np.array([0.1, 0.25, 0.5, 0.75, 1.0, 2.0])
+        s = subsurface_stresses(h, depths=zr * a, material=mat)
+        i, j = int(np.argmin(abs(h.x))), int(np.argmin(abs(h.y)))
+        sz = -p0 / (1 + zr ** 2)
+        sr = p0 * (-(1 + nu) * (1 - zr * np.arctan(1 / zr)) + 0.5 / (1 + zr ** 2))
+        e = max(np.abs(s.sigma[0, i, j] / sr - 1).max(), np.abs(s.sigma[2, i, j] / sz - 1).max())
+        out(f"* Hertz axis, {grid[0]}x{grid[1]} grid, z/a 0.1..2: largest deviation of sigma_r, "
+            f"sigma_z from Johnson {100 * e:.2f} %")
+
+
+def bench_rcf_cost():
+    """The RCF damage measures beside wear (railcontact.wear.rcf): their CPU time per
+    patch against the wear post-processing's, one closed-loop step of
+    examples/wear_vehicle.toml, without (FI_surf, WLRM) and with FI_sub (a
+    subsurface stress field per solved patch)."""
+    import dataclasses
+    from railcontact.inputs import load_wear_scenario
+    from railcontact.wear.closed_loop import ClosedLoopWear
+    out("\n## RCF damage measures beside wear (examples/wear_vehicle.toml, one step)")
+    for sub in (False, True):
+        sc = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+        sc.steps = 1
+        sc.scheduler = "sync"
+        sc.rcf = dataclasses.replace(sc.rcf, subsurface=sub)
+        ds = ClosedLoopWear(sc, None, progress=False).run(resume=False)
+        rcf = float(ds["rcf_time"].sum())
+        post = float(ds["postprocess_time"].sum())
+        solved = float(ds["patches_solved"].sum())
+        label = "with FI_sub" if sub else "FI_surf + WLRM (no subsurface field)"
+        out(f"* {label}: {rcf / solved * 1e3:.2f} ms per solved patch, "
+            f"{100 * rcf / (post - rcf):.1f} % of the rest of the post-processing "
+            f"({(post - rcf) / solved * 1e3:.2f} ms per solved patch; {solved:.0f} solved)")
+
+
 def bench_fmu(n_steps=400, dt=1e-3):
     """The contact element's FMU (railcontact fmu) stepped by FMPy's FMI 3.0 API
     through a hunting-like history, against the Python API's evaluation alone."""
@@ -1249,6 +1339,8 @@ def main():
     bench_roller_rig()
     bench_wear_closed_loop()
     bench_wear_grid_reuse()
+    bench_subsurface()
+    bench_rcf_cost()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
     contact_inputs.main()

@@ -225,7 +225,8 @@ def cmd_wear(args):
         bad = int(ds["not_converged"].sum()) if "not_converged" in ds else 0
         print(f"{ds.sizes['step']} steps, {ds.attrs['total_distance_m'] / 1e3:.1f} km, "
               f"{sc.normal} + {sc.tangential}; wrote {out / 'wear.nc'}, wear.png, "
-              f"measures.png" + (" and records/" if sc.records else ""))
+              f"measures.png" + (", rcf.png" if "rcf_damage_wheel" in ds else "")
+              + (" and records/" if sc.records else ""))
         return _report_status(bad == 0, f"{bad} local solves did not converge (see "
                               "'not_converged' in wear.nc)", [])
     from .wear.plots import plot_wear

@@ -13,6 +13,7 @@ PACKAGE = Path(__file__).resolve().parents[1] / "railcontact"
 RANKS = {
     "core": 0,                     # base: no model, no case
     "profiles": 1, "geometry": 2, "normal": 3, "tangential": 4,   # the pipeline's layers
+    "subsurface": 4,               # stresses below a solved patch (its solutions only)
     "cases": 5, "contact_inp": 5,  # cases above the layers, and CONTACT's input files
     "dynamics": 6, "wear": 7,      # systems that run cases
     "demo": 8, "cli": 8, "inputs": 8, "fmu": 8, "__init__": 8,   # the face and the front ends

@@ -27,7 +27,7 @@ def test_case_examples(path, tmp_path, request):
     if "[vehicle]" in text and "[wear]" in text:       # closed-loop wear (run once)
         out, ds = request.getfixturevalue("wear_vehicle_example")
         assert ds.sizes["step"] >= 1 and ds.sizes["route"] >= 3
-        for f in ("wear.nc", "wear.png", "measures.png", "checkpoint.nc"):
+        for f in ("wear.nc", "wear.png", "measures.png", "rcf.png", "checkpoint.nc"):
             assert (out / f).is_file()
         return
     if "[roller_rig]" in text:           # a wheelset on a roller rig

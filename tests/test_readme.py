@@ -8,11 +8,14 @@ import numpy as np
 ROOT = Path(__file__).resolve().parents[1]
 
 
-def test_readme_python_blocks(monkeypatch, capsys):
+def test_readme_python_blocks(monkeypatch, capsys, tmp_path):
     text = (ROOT / "README.md").read_text()
     blocks = re.findall(r"```python\n(.*?)```", text, flags=re.S)
     assert blocks, "README.md has no python blocks"
-    monkeypatch.chdir(ROOT)                     # the blocks name examples/ relative to it
+    # the blocks name examples/ relative to the repository and write files (e.g.
+    # subsurface.png) into the working folder: a temporary one that sees examples/
+    (tmp_path / "examples").symlink_to(ROOT / "examples")
+    monkeypatch.chdir(tmp_path)
     ns: dict = {}
     for block in blocks:
         exec(compile(block, "README.md", "exec"), ns)

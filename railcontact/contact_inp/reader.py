@@ -301,8 +301,54 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
         # "Tangential quantities in case of a shift")
         case.values.update(CHI=0.0, DQ=1.0, VELOC=1.0)
     if d["S"] in (2, 3):
-        raise lines.error(f"subsurface stresses (STRESS = {d['S']}) are not supported; "
-                          "expected S = 0", case.value_lines.get(w1))
+        _read_subsurface(lines, case, d["S"])
+
+
+def _read_subsurface(lines, case, s_digit):
+    """The subsurface stress input (user guide, section 'Input for the subsurface
+    stress calculation'): MATFIL, OUTPUT and, for S = 3, blocks of points until
+    ISUBS = 0, kept in ``values["SUBSURFACE_BLOCKS"]`` as dicts with ``isubs`` and
+    either explicit coordinates ``x``, ``y``, ``z`` [mm] (ISUBS = 9), or element
+    columns/rows ``ix``, ``iy`` (1-based; None: all, ISUBS 1, 5) and depths ``z``
+    [mm] (ISUBS 1-3 from NZ, ZL, DZ; 5-7 listed)."""
+    _put(case, "MATFIL_SUBS, OUTPUT_SUBS", lines.group("ii", "MATFIL, OUTPUT"))
+    if s_digit != 3:
+        return
+    blocks = []
+    while True:
+        isubs, = lines.group("i", "ISUBS")
+        if isubs == 0:
+            break
+        if isubs not in (1, 2, 3, 5, 6, 7, 9):
+            raise lines.error(f"ISUBS = {isubs}: expected 1, 2, 3, 5, 6, 7, 9 or 0 (end)")
+        b = {"isubs": isubs, "ix": None, "iy": None}
+        if isubs == 9:
+            nx, ny, nz = lines.group("iii", "NX, NY, NZ")
+            if min(nx, ny, nz) < 1:
+                raise lines.error(f"NX, NY, NZ = {nx}, {ny}, {nz}: expected at least 1 each")
+            b["x"] = lines.group("d" * nx, ", ".join(["X"] * nx))
+            b["y"] = lines.group("d" * ny, ", ".join(["Y"] * ny))
+            b["z"] = lines.group("d" * nz, ", ".join(["Z"] * nz))
+        else:
+            if isubs in (2, 6):
+                xl, xinc, xh, yl, yinc, yh = lines.group("iiiiii", "IXL, IXINC, IXH, IYL, "
+                                                         "IYINC, IYH")
+                if xinc < 1 or yinc < 1:
+                    raise lines.error(f"IXINC, IYINC = {xinc}, {yinc}: expected >= 1")
+                b["ix"], b["iy"] = list(range(xl, xh + 1, xinc)), list(range(yl, yh + 1, yinc))
+            elif isubs in (3, 7):
+                nx, ny = lines.group("ii", "NX, NY")
+                b["ix"] = lines.group("i" * nx, ", ".join(["IX"] * nx))
+                b["iy"] = lines.group("i" * ny, ", ".join(["IY"] * ny))
+            if isubs in (1, 2, 3):
+                nz, zl, dz = lines.group("idd", "NZ, ZL, DZ")
+                b["z"] = [zl + k * dz for k in range(nz)]
+            else:
+                nz, = lines.group("i", "NZ")
+                b["z"] = lines.group("d" * nz, ", ".join(["Z"] * nz))
+        blocks.append(b)
+    case.values["SUBSURFACE_BLOCKS"] = blocks
+    case.read.add("SUBSURFACE_BLOCKS")
 
 
 def _read_undeformed_distance(lines, case):

@@ -16,7 +16,11 @@ Each wear step of a :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenar
    each route's rails wear by the vehicle's passages over them;
 5. the step distance is fixed or chosen so that the largest depth is
    ``max_depth_per_step``; the depth is smoothed (Gaussian, area conserved) and the
-   profiles move along their inward normals; the next step runs on them.
+   profiles move along their inward normals; the next step runs on them;
+6. beside the wear, the rolling contact fatigue (:mod:`railcontact.wear.rcf`): the
+   WLRM damage accumulates per profile position like the wear depth, the step's
+   wear depth removing part of the damage before it; the largest FI_surf (and
+   FI_sub) per route and position.
 
 Results go to ``wear.nc`` as the steps run (see ``docs/wear.md``), with a checkpoint
 from which an interrupted run resumes; with ``wear.records = true``, ``records/``
@@ -29,6 +33,7 @@ from __future__ import annotations
 import logging
 import math
 import re
+from dataclasses import dataclass
 
 import numpy as np
 
@@ -41,6 +46,7 @@ from ..dynamics.vehicle import G_ACC
 from ..geometry.tables import equivalent_conicity
 from ..profiles.measures import wheel_measures
 from .driver import StepLoads, Variable, WearDriver, WornBody
+from .rcf import accumulate
 from .route_tasks import build_table, run_route
 
 log = logging.getLogger(__name__)
@@ -81,6 +87,26 @@ VARIABLES = (
              "mean contact position on the rail profile on the full-curvature section"),
     Variable("energy", ("route",), "J/m", "frictional energy per metre run (local contact "
              "model)"),
+    Variable("rcf_damage_wheel", _WS + ("y_wheel",), "1",
+             "accumulated WLRM RCF damage after the step (wear removal included)"),
+    Variable("rcf_damage_rail", _RS + ("y_rail",), "1",
+             "accumulated WLRM RCF damage after the step (wear removal included)"),
+    Variable("rcf_added_wheel", _WS + ("y_wheel",), "1", "WLRM RCF damage of the step"),
+    Variable("rcf_added_rail", _RS + ("y_rail",), "1", "WLRM RCF damage of the step"),
+    Variable("fi_surf_wheel", _RWS + ("y_wheel",), "1",
+             "largest surface fatigue index FI_surf (Ekberg) at the position on the route "
+             "(NaN: no contact)"),
+    Variable("fi_surf_rail", _RS + ("y_rail",), "1",
+             "largest surface fatigue index FI_surf (Ekberg) at the position on the route "
+             "(NaN: no contact)"),
+    Variable("fi_sub_wheel", _RWS + ("y_wheel",), "Pa",
+             "largest subsurface fatigue index FI_sub (Ekberg) below the position on the "
+             "route (NaN: no contact); with wear.rcf.subsurface"),
+    Variable("fi_sub_rail", _RS + ("y_rail",), "Pa",
+             "largest subsurface fatigue index FI_sub (Ekberg) below the position on the "
+             "route (NaN: no contact); with wear.rcf.subsurface"),
+    Variable("rcf_time", ("route",), "s",
+             "CPU time of the RCF damage measures (part of postprocess_time)"),
     Variable("patches", ("route",), "1", "loaded patches post-processed"),
     Variable("patches_solved", ("route",), "1", "patches solved by the local model"),
     Variable("patches_reused", ("route",), "1", "patches that reused a repeated state"),
@@ -107,6 +133,25 @@ VARIABLES = (
              f"equivalent conicity at {CONICITY_AMPLITUDE * 1e3:g} mm (EN 15302, integration "
              "of the kinematic oscillation)", "state"),
 )
+
+
+@dataclass
+class _DamageRate:
+    """The WLRM damage of one wheel or rail slot in a step before its distance is
+    known: the slot, the arc lengths of the recorded positions on its profile before
+    the step [m], its arc-length grid [m] and the damage per metre run on it (wheels:
+    the group's weighted mean over the routes; rails: per passage times the
+    passages per metre run)."""
+
+    kind: str
+    slot: tuple
+    s_y: np.ndarray
+    grid: np.ndarray
+    rate: np.ndarray
+
+    def added(self, dist: float) -> np.ndarray:
+        """The damage added over ``dist`` [m] at the recorded positions."""
+        return np.interp(self.s_y, self.grid, self.rate * dist, left=0.0, right=0.0)
 
 
 class ClosedLoopWear(WearDriver):
@@ -149,6 +194,7 @@ class ClosedLoopWear(WearDriver):
                                 max(p.y_max for p in self.initial_rails) + step / 2, step)
         w = np.array([r.weight for r in scenario.routes], dtype=float)
         self.weights = w / w.sum()
+        self._damage: list = []          # the step's _DamageRate, from loads to record
 
     # ------------------------------------------------------------ profiles
     def slots(self) -> list:
@@ -211,7 +257,8 @@ class ClosedLoopWear(WearDriver):
                 "parameters": sc.parameters, "grid": case.grid,
                 "element_size": case.element_size, "normal_options": case.normal_options,
                 "tangential_options": case.tangential_options,
-                "reuse_tolerance": sc.reuse_tolerance, "sample_distance": sc.sample_distance}
+                "reuse_tolerance": sc.reuse_tolerance, "sample_distance": sc.sample_distance,
+                "rcf": sc.rcf}
         wheel_grids = [[grid_of[id(p)] for p in pair] for pair in self.wheels]
         runs = [dask.delayed(run_route, name=f"run_route-{self.step}-{r}")(
                     item, sc.model, [tasks[i] for i in rows[r]], sc.dynamics, case.material,
@@ -273,6 +320,7 @@ class ClosedLoopWear(WearDriver):
         route's rails (per vehicle passage x passages per metre run)."""
         sc = self.sc
         wheels0 = [list(pair) for pair in self.wheels]
+        rails0 = [list(pair) for pair in self.rails]
         tables, results = self._compute(grid_of)
         if len(self.states) == self.step:
             self.states.append(self._state(tables))
@@ -297,7 +345,49 @@ class ClosedLoopWear(WearDriver):
         self._log(results)
         if self.out and sc.records:
             self._write_records(results)
-        return StepLoads(bodies, self._route_record(wheels0, grid_of, tables, results))
+        rec = self._route_record(wheels0, grid_of, tables, results)
+        rec.update(self._fatigue_record(wheels0, rails0, grid_of, results))
+        self._damage = self._damage_rates(wheels0, rails0, grid_of, results)
+        return StepLoads(bodies, rec)
+
+    def _damage_rates(self, wheels0, rails0, grid_of, results) -> list:
+        """The step's WLRM damage per metre run of every wheel and rail slot
+        (:class:`_DamageRate`), accumulated like the wear depth: wheels the routes'
+        weighted rate per metre run, the same for a group of wheels; rails per
+        passage times the traffic."""
+        sc, wt = self.sc, self.weights
+        out = []
+        for g in self.wheel_groups():
+            rate = sum(wt[r] * results[r]["rcf_wheel"][w][j] for r in range(self.nr)
+                       for w, j in g) / len(g)
+            for w, j in g:
+                old = wheels0[w][j]
+                out.append(_DamageRate("wheel", (w, j), old.arc_length(self.y_wheel),
+                                       grid_of[id(old)], rate))
+        for r in range(self.nr):
+            for j in range(2):
+                old = rails0[r][j]
+                rate = results[r]["rcf_rail"][j] * sc.rail_traffic * wt[r] / sc.routes[r].length
+                out.append(_DamageRate("rail", (r, j), old.arc_length(self.y_rail),
+                                       grid_of[id(old)], rate))
+        return out
+
+    def _fatigue_record(self, wheels0, rails0, grid_of, results) -> dict:
+        """The step's fatigue indices per route: the largest FI_surf (and, with
+        ``wear.rcf.subsurface``, FI_sub) at each recorded position of the profiles
+        before the step (NaN where no patch came), and the RCF measures' CPU time."""
+        rec = {}
+        for name in ("fi_surf", "fi_sub") if self.sc.rcf.subsurface else ("fi_surf",):
+            rec[f"{name}_wheel"] = np.array([[[np.interp(
+                wheels0[w][j].arc_length(self.y_wheel), grid_of[id(wheels0[w][j])],
+                results[r][f"{name}_wheel"][w][j], left=np.nan, right=np.nan)
+                for j in range(2)] for w in range(self.nw)] for r in range(self.nr)])
+            rec[f"{name}_rail"] = np.array([[np.interp(
+                rails0[r][j].arc_length(self.y_rail), grid_of[id(rails0[r][j])],
+                results[r][f"{name}_rail"][j], left=np.nan, right=np.nan)
+                for j in range(2)] for r in range(self.nr)])
+        rec["rcf_time"] = np.array([res["stats"].rcf_time for res in results])
+        return rec
 
     def _route_record(self, wheels0, grid_of, tables, results) -> dict:
         """The step's entries per route: each wheel's wear per metre run there (before
@@ -328,7 +418,8 @@ class ClosedLoopWear(WearDriver):
                 log.warning("step %d, route %s: %s", self.step + 1, item.name, res["warnings"])
 
     def record(self, rec: dict, worn: list) -> None:
-        """Depths and areas per wheelset (route) and side."""
+        """Depths and areas per wheelset (route) and side; the WLRM damage after the
+        step (:meth:`_record_damage`)."""
         for kind, n, y in (("wheel", self.nw, self.y_wheel), ("rail", self.nr, self.y_rail)):
             rec[f"wear_depth_{kind}"] = np.zeros((n, 2, y.size))
             rec[f"law_area_{kind}"] = np.zeros((n, 2))
@@ -338,6 +429,24 @@ class ClosedLoopWear(WearDriver):
                 rec[f"wear_depth_{kind}"][a, j] = w.depth_on_y
                 rec[f"law_area_{kind}"][a, j] = w.law_area
                 rec[f"removed_area_{kind}"][a, j] = w.removed_area
+        self._record_damage(rec)
+
+    def _record_damage(self, rec: dict) -> None:
+        """The step's WLRM damage over its distance, and the accumulated damage: the
+        damage before the step less the fraction of the surface layer its wear depth
+        removed (:func:`~railcontact.wear.rcf.accumulate`), plus the step's."""
+        dist = rec["distance"]
+        added = {"wheel": np.zeros((self.nw, 2, self.y_wheel.size)),
+                 "rail": np.zeros((self.nr, 2, self.y_rail.size))}
+        for d in self._damage:
+            added[d.kind][d.slot] = d.added(dist)
+        prev = self.steps[-1] if self.steps else {}
+        for kind, add in added.items():
+            before = prev.get(f"rcf_damage_{kind}", np.zeros_like(add))
+            rec[f"rcf_damage_{kind}"] = accumulate(before, add, rec[f"wear_depth_{kind}"],
+                                                   self.sc.rcf.layer_depth)
+            rec[f"rcf_added_{kind}"] = add
+        self._damage = []
 
     def finish(self) -> None:
         """The measures of the final profiles (their tables, without a run)."""
@@ -383,5 +492,7 @@ class ClosedLoopWear(WearDriver):
                 "reuse_tolerance": sc.reuse_tolerance, "title": sc.title,
                 "route_weights": [float(w) for w in self.weights],
                 "route_lengths_m": [float(r.length) for r in sc.routes],
-                "route_speeds_m_s": [float(r.speed) for r in sc.routes]}
+                "route_speeds_m_s": [float(r.speed) for r in sc.routes],
+                "rcf_shear_yield_Pa": sc.rcf.shear_yield,
+                "rcf_layer_depth_m": sc.rcf.layer_depth}
 

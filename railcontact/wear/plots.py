@@ -55,7 +55,8 @@ def plot_closed_loop(ds, out: Path):
       every state) of each worn wheel profile and rail;
     * ``measures.png``: flange height, flange thickness, qR, equivalent conicity and
       per route the leading wheelset's mean lateral position, max Y/Q and Tγ against
-      the distance run.
+      the distance run;
+    * ``rcf.png``: rolling contact fatigue (:func:`plot_rcf`).
     """
     import matplotlib
     matplotlib.use("Agg")
@@ -136,4 +137,45 @@ def plot_closed_loop(ds, out: Path):
         a.legend(fontsize=7)
     fig.tight_layout()
     fig.savefig(out / "measures.png", dpi=110)
+    plt.close(fig)
+    if "rcf_damage_wheel" in ds:
+        plot_rcf(ds, out)
+
+
+def plot_rcf(ds, out: Path):
+    """``rcf.png`` of a closed-loop run: per route the largest surface fatigue index
+    FI_surf (Ekberg) along the leading wheelset's left and right wheel profiles in
+    the first and last step, and the accumulated WLRM damage along the wheel profiles
+    after every step (wear removal included)."""
+    import matplotlib
+    matplotlib.use("Agg")
+    import matplotlib.pyplot as plt
+    out = Path(out)
+    y = ds["y_wheel"].values * 1e3
+    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
+    for ax, side in zip(axes[:2], ("left", "right")):
+        for r in ds["route"].values:
+            fi = ds["fi_surf_wheel"].sel(route=r, wheelset=1, side=side)
+            line, = ax.plot(y, fi.isel(step=0).values, lw=1, label=f"{r}, step 1")
+            ax.plot(y, fi.isel(step=-1).values, lw=1, ls="--", color=line.get_color(),
+                    label=f"{r}, step {ds.sizes['step']}")
+        ax.axhline(0.0, color="k", lw=0.6)
+        ax.set_xlabel(f"y on the wheel [mm], wheelset 1 {side}")
+        ax.set_ylabel("largest FI_surf (> 0: surface RCF)")
+        ax.legend(fontsize=7)
+    cmap = plt.get_cmap("viridis")
+    n = ds.sizes["step"]
+    for side, ls in (("left", "-"), ("right", "--")):
+        d = ds["rcf_damage_wheel"].sel(wheelset=1, side=side).values
+        for k in range(n):
+            axes[2].plot(y, d[k], color=cmap((k + 1) / n), ls=ls, lw=1,
+                         label=f"{side}, step {k + 1}" if k in (0, n - 1) else None)
+    axes[2].set_xlabel("y on the wheel [mm], wheelset 1")
+    axes[2].set_ylabel("accumulated WLRM damage")
+    axes[2].legend(fontsize=7)
+    for a in axes:
+        a.grid(alpha=0.3)
+    fig.suptitle("rolling contact fatigue beside wear")
+    fig.tight_layout()
+    fig.savefig(out / "rcf.png", dpi=110)
     plt.close(fig)

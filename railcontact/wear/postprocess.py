@@ -48,6 +48,8 @@ from ..core.materials import Material
 from ..normal import get_normal_model
 from ..tangential import get_tangential_model
 from .mapping import profile_depth, strip_depth
+from .rcf import (RcfParameters, covered_strips, patch_measures, profile_window,
+                  subsurface_fatigue_index)
 
 
 @dataclass
@@ -66,6 +68,7 @@ class PostProcessStats:
     cpu_time : float     CPU time [s] of the whole post-processing
     not_converged : int  solves whose status is not converged
     warnings : dict      warning text -> count
+    rcf_time : float     CPU time [s] of the RCF damage measures (included in cpu_time)
     """
 
     samples: int = 0
@@ -77,6 +80,7 @@ class PostProcessStats:
     cpu_time: float = 0.0
     not_converged: int = 0
     warnings: dict = field(default_factory=dict)
+    rcf_time: float = 0.0
 
     @property
     def time_per_patch(self) -> float:
@@ -95,16 +99,44 @@ class _Strips:
 
 @dataclass
 class _Solved:
-    """A solved patch state: its strips, the wear depth per passage on them [m] and
-    the values recorded per patch (:data:`RECORDS`)."""
+    """A solved patch state: its strips, the wear depth per passage on them [m],
+    the values recorded per patch (:data:`RECORDS`) and its rolling contact fatigue
+    measures (:mod:`railcontact.wear.rcf`): FI_surf [-], T gamma [N], the WLRM damage
+    per passage [-], the strips with contact (1.0, else 0.0) and FI_sub [Pa] (NaN
+    without ``rcf.subsurface``)."""
 
     strips: _Strips
     depth_y: np.ndarray
     values: tuple
+    fi_surf: float
+    tgamma: float
+    damage: float
+    covered: np.ndarray
+    fi_sub: float
+
+    def rcf_values(self, subsurface: bool) -> tuple:
+        """The RCF values recorded per patch (:data:`RCF_RECORDS`)."""
+        return (self.fi_surf, self.tgamma, self.damage) + ((self.fi_sub,) if subsurface
+                                                           else ())
 
 
 #: the local model's values recorded per sample, wheelset, side and patch slot
 RECORDS = ("Fn", "Fx", "Fy", "area", "pmax", "frictional_power")
+#: the RCF measures recorded likewise (FI_sub with ``rcf.subsurface`` only)
+RCF_RECORDS = ("fi_surf", "tgamma", "rcf_damage", "fi_sub")
+
+
+def _covered(window, damage):
+    """(slice of the positions a patch covers, their mask within it, the damage on
+    them): the RCF measures of a patch placed on a profile grid, from its coverage
+    there (:func:`~railcontact.wear.rcf.profile_window` of 1 on its strips)."""
+    sl, c = window
+    return sl, c > 0.5, damage * c
+
+
+def _envelope(v):
+    """A running maximum with NaN where no patch came."""
+    return np.where(np.isfinite(v), v, np.nan)
 
 
 @dataclass
@@ -146,9 +178,10 @@ class _Samples:
 @dataclass
 class _Run:
     """The bookkeeping of one run's post-processing: its inputs (tables, profiles,
-    grids, friction), the sums of the wear depths, the records and the caches
-    (solved states and their mapped depths by reuse key; each wheel slot's last
-    solution for warm starts)."""
+    grids, friction, whether FI_sub is computed), the sums of the wear depths and of
+    the WLRM damage, the envelopes of FI_surf and FI_sub on the grids, the records and
+    the caches (solved states and their mapped depths and RCF placements by reuse
+    key; each wheel slot's last solution for warm starts)."""
 
     samples: _Samples
     tables: list
@@ -157,19 +190,34 @@ class _Run:
     wheel_grids: list
     rail_grids: list
     friction: float
+    subsurface: bool = False
     wheel: list = field(default_factory=list)
     rail: list = field(default_factory=list)
+    damage_wheel: list = field(default_factory=list)
+    damage_rail: list = field(default_factory=list)
+    fi_surf_wheel: list = field(default_factory=list)
+    fi_surf_rail: list = field(default_factory=list)
+    fi_sub_wheel: list = field(default_factory=list)
+    fi_sub_rail: list = field(default_factory=list)
     records: dict = field(default_factory=dict)
     energy: float = 0.0
     solved: dict = field(default_factory=dict)
     mapped: dict = field(default_factory=dict)
+    rcf_mapped: dict = field(default_factory=dict)
     last: dict = field(default_factory=dict)
     stats: PostProcessStats = field(default_factory=PostProcessStats)
 
     def __post_init__(self):
         self.wheel = [[np.zeros_like(g) for g in pair] for pair in self.wheel_grids]
         self.rail = [np.zeros_like(g) for g in self.rail_grids]
-        self.records = {k: np.full(self.samples.N.shape, np.nan) for k in RECORDS}
+        self.damage_wheel = [[np.zeros_like(g) for g in pair] for pair in self.wheel_grids]
+        self.damage_rail = [np.zeros_like(g) for g in self.rail_grids]
+        for name in ("fi_surf", "fi_sub"):
+            setattr(self, f"{name}_wheel", [[np.full(g.shape, -np.inf) for g in pair]
+                                            for pair in self.wheel_grids])
+            setattr(self, f"{name}_rail", [np.full(g.shape, -np.inf) for g in self.rail_grids])
+        names = RECORDS + (RCF_RECORDS if self.subsurface else RCF_RECORDS[:3])
+        self.records = {k: np.full(self.samples.N.shape, np.nan) for k in names}
 
     def geometry(self, i: int, w: int, j: int, k: int):
         """(table index, patch geometry) of a loaded patch; None where it enters
@@ -184,9 +232,10 @@ class _Run:
         """A patch's records, energy and wear depth on the wheel and rail grids (the
         depths of a reuse key map onto the same profiles: computed once)."""
         i, w, j, k = at
-        for name, v in zip(RECORDS, hit.values):
+        for name, v in zip(self.records, hit.values + hit.rcf_values(self.subsurface)):
             self.records[name][i, w, j, k] = v
         self.energy += hit.values[-1] / self.samples.velocity
+        self.add_rcf(at, key, geom, hit)
         if not hit.depth_y.any():
             return
         depths = self.mapped.get(key) if key is not None else None
@@ -200,13 +249,48 @@ class _Run:
         self.wheel[w][j] += depths[0]
         self.rail[j] += depths[1]
 
+    def add_rcf(self, at: tuple, key, geom, hit: _Solved) -> None:
+        """A patch's RCF measures on the wheel and rail grids: the positions its
+        strips with contact cover take its WLRM damage (the wheel's per metre run) and
+        raise the FI_surf (and FI_sub) envelopes (the placement of a reuse key is
+        computed once)."""
+        c0 = time.thread_time()
+        i, w, j, k = at
+        on = self.rcf_mapped.get(key) if key is not None else None
+        if on is None:
+            r_w = 2 * math.pi * geom.rolling_radius
+            on = (_covered(profile_window(geom, hit.strips.y, hit.covered, self.wheels[w][j],
+                                          "wheel", self.wheel_grids[w][j]), hit.damage / r_w),
+                  _covered(profile_window(geom, hit.strips.y, hit.covered, self.rails[j],
+                                          "rail", self.rail_grids[j]), hit.damage))
+            if key is not None:
+                self.rcf_mapped[key] = on
+        for (sl, mask, d), dmg, fi, sub in (
+                (on[0], self.damage_wheel[w][j], self.fi_surf_wheel[w][j],
+                 self.fi_sub_wheel[w][j]),
+                (on[1], self.damage_rail[j], self.fi_surf_rail[j], self.fi_sub_rail[j])):
+            dmg[sl] += d
+            part = fi[sl]
+            part[mask] = np.maximum(part[mask], hit.fi_surf)
+            if self.subsurface:
+                part = sub[sl]
+                part[mask] = np.maximum(part[mask], hit.fi_sub)
+        self.stats.rcf_time += time.thread_time() - c0
+
     def result(self, cpu_time: float) -> dict:
-        """The means over the samples (per metre of track) and the records."""
+        """The means over the samples (per metre of track), the FI envelopes and the
+        records."""
         n = max(self.samples.time.size, 1)
         self.stats.samples = int(self.samples.time.size)
         self.stats.cpu_time = cpu_time
         return {"wheel": [[d / n for d in pair] for pair in self.wheel],
                 "rail": [d / n for d in self.rail], "energy": self.energy / n,
+                "rcf_wheel": [[d / n for d in pair] for pair in self.damage_wheel],
+                "rcf_rail": [d / n for d in self.damage_rail],
+                "fi_surf_wheel": [[_envelope(v) for v in pair] for pair in self.fi_surf_wheel],
+                "fi_surf_rail": [_envelope(v) for v in self.fi_surf_rail],
+                "fi_sub_wheel": [[_envelope(v) for v in pair] for pair in self.fi_sub_wheel],
+                "fi_sub_rail": [_envelope(v) for v in self.fi_sub_rail],
                 "records": self.records, "time": self.samples.time, "stats": self.stats}
 
 
@@ -226,11 +310,14 @@ class PatchPostProcessor:
     warm : bool
         Warm starts along the time history (models with the ``"warm-start"``
         capability) and grid reuse at the same table shift (``"grid-reuse"``).
+    rcf : RcfParameters, optional
+        Parameters of the rolling contact fatigue measures computed beside the wear
+        (:mod:`railcontact.wear.rcf`; defaults when omitted).
     """
 
     def __init__(self, normal: str, tangential: str, law, material: Material, grid=None,
                  element_size=None, normal_options=None, tangential_options=None,
-                 reuse_tolerance: float = 1e-3, warm: bool = True):
+                 reuse_tolerance: float = 1e-3, warm: bool = True, rcf=None):
         self.nmodel = get_normal_model(normal, **(normal_options or {}))
         self.tmodel = get_tangential_model(tangential, **(tangential_options or {}))
         if "force-control" not in self.nmodel.capabilities:
@@ -242,6 +329,7 @@ class PatchPostProcessor:
         self.nwarm = warm and "warm-start" in self.nmodel.capabilities
         self.regrid = warm and "grid-reuse" in self.nmodel.capabilities
         self.twarm = warm and "warm-start" in self.tmodel.capabilities
+        self.rcf = rcf if rcf is not None else RcfParameters()
 
     def _key(self, w, ti, j, k, N, creep, a, b, mu):
         """Bin of a patch state (None: no reuse)."""
@@ -280,12 +368,17 @@ class PatchPostProcessor:
         [m/m] on the wheel grids), ``rail`` ((left, right) depth per vehicle passage
         [m] on the rail grids), ``energy`` (frictional energy per metre run [J/m]),
         ``records`` (per post-processed sample, wheelset, side and slot: the local
-        model's F_n, F_x, F_y, area, p_max and frictional power), ``stats``
-        (:class:`PostProcessStats`).
+        model's F_n, F_x, F_y, area, p_max and frictional power, and the RCF
+        measures FI_surf, T gamma, WLRM damage and, with ``rcf.subsurface``, FI_sub),
+        ``rcf_wheel`` / ``rcf_rail`` (WLRM damage per metre run / per vehicle
+        passage on the grids, as the depths), ``fi_surf_wheel`` / ``fi_surf_rail``
+        (the largest FI_surf at each grid position, NaN where no patch came),
+        ``fi_sub_wheel`` / ``fi_sub_rail`` (likewise FI_sub [Pa], with
+        ``rcf.subsurface``; NaN otherwise), ``stats`` (:class:`PostProcessStats`).
         """
         t0 = time.thread_time()
         run = _Run(_Samples.read(ds, tables[0].shift, stride), tables, wheels, rails,
-                   wheel_grids, rail_grids, friction)
+                   wheel_grids, rail_grids, friction, self.rcf.subsurface)
         for at in run.samples.loaded():
             self._patch(run, tuple(int(x) for x in at))
         return run.result(time.thread_time() - t0)
@@ -320,8 +413,8 @@ class PatchPostProcessor:
         """Normal (force-controlled) and tangential solution of one patch and its wear
         per passage on the strips; ``previous`` = (table index, normal, tangential)
         of the same wheel's slot at the previous sample (warm starts).  Returns the
-        cache entry (strips, depth per passage on them, the record values) and the
-        solutions."""
+        cache entry (strips, depth per passage on them, the record values, the RCF
+        measures) and the solutions."""
         nkw = dict(self.kw)
         tkw = {}
         if previous is not None:
@@ -344,4 +437,11 @@ class PatchPostProcessor:
                 st.warnings[wtext] = st.warnings.get(wtext, 0) + 1
         depth_y = strip_depth(self.law.rate(ns, ts, V), ns)
         values = (ns.normal_force, ts.fx, ts.fy, ns.area, ns.pmax, ts.frictional_power)
-        return _Solved(_Strips(ns.y, ns.dy), depth_y, values), ns, ts
+        c0 = time.thread_time()
+        fi, tg, dmg = patch_measures(ns, ts, V, self.rcf, values[5])
+        fi_sub = (subsurface_fatigue_index(ns, ts, self.material, self.rcf)["fi_sub"]
+                  if self.rcf.subsurface else math.nan)
+        covered = covered_strips(ns)
+        st.rcf_time += time.thread_time() - c0
+        return (_Solved(_Strips(ns.y, ns.dy), depth_y, values, fi, tg, dmg, covered, fi_sub),
+                ns, ts)

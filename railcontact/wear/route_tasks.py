@@ -79,7 +79,8 @@ def run_route(item, model, tables, dyn, material, wheels, rails, wheel_grids, ra
     pp = PatchPostProcessor(post["normal"], post["tangential"],
                             get_wear_law(post["law"], **post["parameters"]), material,
                             post["grid"], post["element_size"], post["normal_options"],
-                            post["tangential_options"], post["reuse_tolerance"])
+                            post["tangential_options"], post["reuse_tolerance"],
+                            rcf=post.get("rcf"))
     stride = max(1, int(round(post["sample_distance"] * dyn["sample_rate"] / item.speed)))
     res = pp.run(ds, tables, wheels, rails, wheel_grids, rail_grids, item.friction, stride)
     res["measures"] = route_measures(ds, item, model)
@@ -130,7 +131,8 @@ def _records(ds, res, stride):
             "distance", "curvature"]
     out = sub[keep]
     units = {"Fn": "N", "Fx": "N", "Fy": "N", "area": "m2", "pmax": "Pa",
-             "frictional_power": "W"}
+             "frictional_power": "W", "fi_surf": "1", "tgamma": "N", "rcf_damage": "1",
+             "fi_sub": "Pa"}
     for name, arr in res["records"].items():
         out[f"local_{name}"] = (("time", "wheelset", "side", "patch"), arr,
                                 {"units": units[name],

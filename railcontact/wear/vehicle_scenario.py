@@ -13,7 +13,7 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import dataclass, field, fields
+from dataclasses import asdict, dataclass, field, fields
 from pathlib import Path
 
 from ..cases.case import Case
@@ -22,11 +22,12 @@ from ..dynamics.scenario import (creep_law_settings, route_from_section, vehicle
 from ..core.errors import CaseFileError
 from ..core.parallel import check_scheduler
 from .laws import get_wear_law
+from .rcf import RcfParameters
 
 #: keys of [wear] in a vehicle scenario
 WEAR_KEYS = {"law", "parameters", "body", "steps", "max_depth_per_step", "step_distance",
              "smoothing", "profile_smoothing", "grid_step", "scheduler", "wheels",
-             "sample_distance", "reuse_tolerance", "rail_traffic", "records"}
+             "sample_distance", "reuse_tolerance", "rail_traffic", "records", "rcf"}
 #: keys of [dynamics]
 DYNAMICS_KEYS = {"tangential", "tangential_options", "fastsim_grid", "sample_rate",
                  "table_range", "table_step", "integrator", "step", "rtol",
@@ -151,6 +152,8 @@ class VehicleWearScenario(WearSettings):
     reuse_tolerance: float = 1e-3
     rail_traffic: float = 1.0
     records: bool = False
+    #: parameters of the rolling contact fatigue measures ([wear.rcf], railcontact.wear.rcf)
+    rcf: RcfParameters = field(default_factory=RcfParameters)
     title: str = ""
     #: the [vehicle], [[route]] and [dynamics] sections as read
     sections: dict = field(default_factory=dict)
@@ -158,12 +161,13 @@ class VehicleWearScenario(WearSettings):
     def identity(self) -> dict:
         """The settings a checkpoint must match (:meth:`WearSettings.identity`): the
         case sections (but the title), the vehicle, the routes, the dynamics and the
-        closed loop's [wear] keys."""
+        closed loop's [wear] keys (the RCF parameters included)."""
         case = {k: v for k, v in self.case.raw.items() if k != "title"}
         return {**super().identity(), "case": case, **self.sections,
                 "dynamics_settings": self.dynamics, "wheels": self.wheels,
                 "sample_distance": self.sample_distance,
-                "reuse_tolerance": self.reuse_tolerance, "rail_traffic": self.rail_traffic}
+                "reuse_tolerance": self.reuse_tolerance, "rail_traffic": self.rail_traffic,
+                "rcf": asdict(self.rcf)}
 
     @property
     def normal(self) -> str:
@@ -258,6 +262,7 @@ def vehicle_scenario_from_sections(sections: dict, base_dir, read_case) -> Vehic
     sc.records = wear.get("records", False)
     if not isinstance(sc.records, bool):
         raise CaseFileError(f"wear.records = {sc.records!r}: expected true or false")
+    sc.rcf = RcfParameters.from_dict(wear.get("rcf"))
     return sc
 
 

@@ -81,3 +81,59 @@ def test_format_errors_name_the_line(tmp_path):
         read_inp(_write(tmp_path, " 2 MODULE\n"))
     with pytest.raises(InpError, match="does not exist"):
         read_inp(tmp_path / "missing.inp")
+
+
+SUBS_CASE = """
+ 3  MODULE
+  200103     P-B-T-N-F-S
+  022020     L-D-C-M-Z-E
+ 0001541   H-G-I-A-O-W-R
+      80         100      30       1  1e-6       MAX_GS,_IN,_NR,_OUT, EPS
+   1.000       0.000       0.000      0.000      FN, CKSI, CETA, CPHI
+   1.000       1.000                             FSTAT, FKIN
+   0.280       0.280       1.000      1.000      POISS 1,2, GG 1,2
+    1                                            IPOTCN
+    4    3   -2.0  -1.5   1.000    1.000   MX,MY,XL,YL,DX,DY
+    1    1                                       IBASE, IPLAN
+  0.5   0.    0.5    0.     0.     0.       B(I), I=1, 6
+   2   1        MATFIL, OUTPUT
+   1            ISUBS
+   3  0.0  0.5      NZ, ZL, DZ
+   6            ISUBS
+   1 2 4   1 1 3     IXL, IXINC, IXH, IYL, IYINC, IYH
+   2                 NZ
+   0.25  1.0
+   3            ISUBS
+   2  1              NX, NY
+   1 3
+   2
+   2  0.1 0.2   NZ, ZL, DZ
+   9            ISUBS
+   2  1  1    NX, NY, NZ
+   0.5 -0.5
+   0.0
+   0.3
+   0            ISUBS
+ 0  MODULE
+"""
+
+
+def test_subsurface_blocks(tmp_path):
+    """The subsurface points of a case with S = 3: ISUBS 1 (all elements, NZ layers
+    from ZL by DZ), 6 (a regular selection, listed depths), 3 (listed columns and
+    rows, layers from ZL by DZ) and 9 (explicit
+    coordinates)."""
+    path = tmp_path / "subs.inp"
+    path.write_text(SUBS_CASE)
+    case, = read_inp(path)
+    assert case.values["B"] == [0.5, 0.0, 0.5, 0.0, 0.0, 0.0]
+    b = case.values["SUBSURFACE_BLOCKS"]
+    assert [x["isubs"] for x in b] == [1, 6, 3, 9]
+    assert b[0]["ix"] is None and b[0]["z"] == [0.0, 0.5, 1.0]
+    assert b[1]["ix"] == [1, 3] and b[1]["iy"] == [1, 2, 3] and b[1]["z"] == [0.25, 1.0]
+    assert b[2]["ix"] == [1, 3] and b[2]["iy"] == [2] and b[2]["z"] == pytest.approx([0.1, 0.3])
+    assert b[3]["x"] == [0.5, -0.5] and b[3]["y"] == [0.0] and b[3]["z"] == [0.3]
+    bad = tmp_path / "bad.inp"
+    bad.write_text(SUBS_CASE.replace("   6            ISUBS", "   4            ISUBS"))
+    with pytest.raises(InpError, match=r"ISUBS = 4: expected"):
+        read_inp(bad)

@@ -137,8 +137,12 @@ def test_resume_gives_the_same_result(tmp_path):
     assert ds.sizes["step"] == 2
     np.testing.assert_array_equal(ds["profile_z_wheel"].values, full["profile_z_wheel"].values)
     np.testing.assert_array_equal(ds["distance"].values, full["distance"].values)
+    # the RCF damage accumulates across the checkpoint as in one run
+    np.testing.assert_array_equal(ds["rcf_damage_wheel"].values, full["rcf_damage_wheel"].values)
     with pytest.raises(InputError, match="another scenario"):
         ClosedLoopWear(tiny(steps=2, wheels="vehicle"), tmp_path, progress=False).run()
+    with pytest.raises(InputError, match="another scenario: rcf.layer_depth"):
+        ClosedLoopWear(tiny(steps=2, rcf={"layer_depth": 2e-4}), tmp_path, progress=False).run()
 
 
 def test_threads_equal_sync():

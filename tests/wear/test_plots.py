@@ -29,7 +29,7 @@ def test_closed_loop_figures(wear_vehicle_example):
     whose curves are drawn (coloured pixels: measured 2.0 % and 1.4 % of the images;
     the axes and labels alone are grey, 0 %)."""
     out, ds = wear_vehicle_example
-    for name in ("wear.png", "measures.png"):
+    for name in ("wear.png", "measures.png", "rcf.png"):
         rgb = mpimg.imread(out / name)[..., :3]
         coloured = (rgb.max(axis=-1) - rgb.min(axis=-1)) > 0.2
         assert coloured.mean() > 0.005, name
