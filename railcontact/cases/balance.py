@@ -9,8 +9,9 @@ import math
 from dataclasses import dataclass
 
 from .bodies import build_wheelset_track, contact_search
+from .compiled_case import compiled_unsupported, solve_case_forces
 from .equilibrium import balance as solve_balance
-from ..core.errors import ContactNotFoundError
+from ..core.errors import ContactNotFoundError, RailContactError
 from ..geometry.locus import min_gap
 from ..geometry.search import WheelsetContact
 from ..geometry.track import WheelsetPose
@@ -114,15 +115,22 @@ class WheelRailContact:
     sum |F_y sin(d)| / Q; the other tangential models solve every time.
 
     ``start``: the :class:`SolveResult` of a neighbouring case (warm start: the
-    first search at its interpenetrations, the solvers from its solutions)."""
+    first search at its interpenetrations, the solvers from its solutions).
+    ``compiled``: the case's balance in the compiled pass
+    (:class:`~railcontact.cases.compiled_case.CaseForces`): the first search at its
+    interpenetrations and roll instead."""
 
-    def __init__(self, case, nmodel, tmodel, kw, start=None):
+    def __init__(self, case, nmodel, tmodel, kw, start=None, compiled=None):
         self.case, self.nmodel, self.tmodel, self.kw = case, nmodel, tmodel, kw
         self.bodies = build_wheelset_track(case)
         self.loads = case.wheel_rail.loads
         self.sides = case.wheel_rail.balanced_sides
-        self.first = _first_search(case, self.bodies, self.loads, self.sides,
-                                   start.contact if start is not None else None)
+        if compiled is not None:
+            self.first = contact_search(case, interpenetration=dict(compiled.interpenetration),
+                                        bodies=self.bodies, roll_start=compiled.roll)
+        else:
+            self.first = _first_search(case, self.bodies, self.loads, self.sides,
+                                       start.contact if start is not None else None)
         self.coupled = coupled_models(case, nmodel, tmodel)
         self.lazy = (tmodel is not None and "lazy" in tmodel.capabilities
                      and not self.coupled)
@@ -194,6 +202,25 @@ def _standin_lateral(standin, neighbour) -> dict:
 
 
 
+def compiled_start(case, nmodel, tmodel):
+    """The case's vertical balance in the compiled pass
+    (:func:`railcontact.cases.compiled_case.solve_case_forces`), where it runs the
+    case's models or, as a start, their nearest compiled forms (an ellipse normal
+    model, an online creep law): its interpenetrations, roll and Jacobian start the
+    balance of the case's own models, which then usually meets the loads in its
+    first pass.  None where the pass does not run the case or does not meet the
+    loads (the balance then starts from the geometry layer's estimate)."""
+    if tmodel is None or compiled_unsupported(case, nmodel.name, tmodel.name):
+        return None
+    try:
+        res = solve_case_forces(case, nmodel.name, tmodel.name)
+    except RailContactError as exc:          # the Python path says it properly
+        log.debug("compiled pass: %s", exc)
+        return None
+    return res if res.converged else None
+
+
+
 def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
                       start=None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
@@ -207,8 +234,11 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     interpenetrations and its Jacobian.  Returns the patch results, the final
     contact search and the :class:`VerticalBalance`.
     """
-    evaluate = WheelRailContact(case, nmodel, tmodel, kw, start)
+    compiled = compiled_start(case, nmodel, tmodel) if start is None else None
+    evaluate = WheelRailContact(case, nmodel, tmodel, kw, start, compiled)
     jac = start.balance.jacobian if start is not None and start.balance is not None else None
+    if compiled is not None:
+        jac = compiled.jacobian
     ev, balance = solve_balance(evaluate, evaluate.start(), evaluate.loads, rtol, max_iter,
                                 jacobian=jac)
     balance.standin = evaluate.standin

@@ -218,18 +218,23 @@ def first_estimate(prof, pose, model, loads, memo, d):
     rigid pose (both wheels touching, roll to 1e-8 rad) and one load iteration.
     Returns whether it was found."""
     rigid = np.zeros(2)
-    roll, z = solve_roll(prof, pose, rigid, 1e-8, memo)
-    if not math.isfinite(roll):
-        return False
-    memo[0] = roll
-    for s in range(2):
-        loc = side_locus(prof, pose, s, z, roll, max(ESTIMATE_WINDOW, 2e-4), memo)
-        if loc[5].size == 0:
+    for attempt in range(2):
+        roll, z = solve_roll(prof, pose, rigid, 1e-8, memo)
+        if not math.isfinite(roll):
             return False
-        d[s] = approach_for_load(loc, loads[s], pose, prof, model)
-        if not (d[s] > 0.0):
+        memo[0] = roll
+        loc0 = side_locus(prof, pose, 0, z, roll, max(ESTIMATE_WINDOW, 2e-4), memo)
+        loc1 = side_locus(prof, pose, 1, z, roll, max(ESTIMATE_WINDOW, 2e-4), memo)
+        if loc0[5].size == 0 or loc1[5].size == 0:
             return False
-    return True
+        # (the roll to 1e-8 rad puts the sides' gaps within ~15 nm)
+        if np.min(loc0[5]) > -3e-8 and np.min(loc1[5]) > -3e-8:
+            break
+        memo[6] = np.nan
+        memo[12] = np.nan
+    d[0] = approach_for_load(loc0, loads[0], pose, prof, model)
+    d[1] = approach_for_load(loc1, loads[1], pose, prof, model)
+    return d[0] > 0.0 and d[1] > 0.0
 
 
 @njit(cache=True, nogil=True)

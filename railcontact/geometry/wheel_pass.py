@@ -60,9 +60,32 @@ PassPose = namedtuple("PassPose", "shift yaw y_off_left y_off_right e r0 velocit
                       "pitch_velocity lateral_velocity yaw_rate combine")
 
 #: the memo of successive searches of one case: [0] the last roll, [1] the last
-#: secant slope, per side s (0 left, 1 right) at 2 + 4 s: the roll of the last locus,
-#: its first and end wheel samples and the roll it serves within
-MEMO_SIZE = 10
+#: secant slope, per side s (0 left, 1 right) at 2 + 6 s: the roll of the last locus,
+#: its first and end wheel samples, the roll it serves within, and the first and end
+#: samples of its minimum's neighbourhood (``MIN_WINDOW``)
+MEMO_SIZE = 14
+
+#: the roll search of a case's later searches looks for each side's minimum gap
+#: among the wheel samples whose gap was within this [m] of the last locus's minimum
+#: (and ``MIN_MARGIN`` samples on either side), widened where the minimum falls on
+#: its edge; the loci at the pose found then show whether a deeper point was missed
+#: (then the search is made again over the locus windows)
+MIN_WINDOW = 1.5e-5
+MIN_MARGIN = 16
+
+#: a locus deeper than its side's target by more than this [m] shows a missed
+#: minimum (the roll search's tolerance puts the sides' gaps within ~1e-12 m)
+MISSED_DEPTH = 1e-10
+
+#: the loci of a search hold the wheel samples within the side's interpenetration
+#: plus this [m] of the closest approach: the regions (negative gap) and a margin
+#: (the geometry layer's loci take ``REGION_MARGIN``, for the reuse of their
+#: windows; the regions are the same)
+LOCUS_MARGIN = 3e-5
+
+#: a locus's wheel samples for the next search: those within its window and this
+#: many on either side
+TRIM_MARGIN = 48
 
 #: fields of a patch row of :func:`search_patches` (and of the case kernels)
 PATCH_FIELDS = ("side", "approach", "A", "B", "contact_angle", "y_rail", "y_wheel",
@@ -141,16 +164,53 @@ def side_frame(pose, s, z, roll):
 
 
 @njit(cache=True, nogil=True)
-def side_min_gap(prof, pose, s, roll, memo):
-    """Minimum vertical gap [m] of side s at roll (vertical position 0), within the
-    last locus's wheel samples where the roll is close to its own."""
-    R, O, y_off = side_frame(pose, s, 0.0, roll)
-    k = 2 + 4 * s
-    i0, i1 = 0, prof.eta.size
-    if memo[k] == memo[k] and abs(roll - memo[k]) <= memo[k + 3]:
-        i0, i1 = int(memo[k + 1]), int(memo[k + 2])
-    return _min_gap_kernel(prof.eta[i0:i1], prof.rho[i0:i1], R, O, y_off, prof.rb, prof.rc,
+def _narrow_min_gap(prof, R, O, y_off, c0, c1):
+    """Minimum vertical gap over the wheel samples [c0, c1), the range widened
+    (doubled) while the coarse minimum lies at one of its ends (not the wheel's)."""
+    n = prof.eta.size
+    while True:
+        _, _, _, gc, _ = _locus_kernel(prof.eta[c0:c1:8], prof.rho[c0:c1:8], R, O, y_off,
+                                       prof.rb, prof.rc)
+        if gc.size == 0:
+            return np.inf
+        j = np.argmin(gc)
+        grow_lo = j == 0 and c0 > 0
+        grow_hi = j == gc.size - 1 and c1 < n
+        if not (grow_lo or grow_hi):
+            break
+        w = c1 - c0
+        if grow_lo:
+            c0 = max(c0 - w, 0)
+        if grow_hi:
+            c1 = min(c1 + w, n)
+    return _min_gap_kernel(prof.eta[c0:c1], prof.rho[c0:c1], R, O, y_off, prof.rb, prof.rc,
                            8, 2e-6)
+
+
+@njit(cache=True, nogil=True)
+def side_min_gap(prof, pose, s, roll, memo):
+    """Minimum vertical gap [m] of side s at roll (vertical position 0), around the
+    last locus's minimum (``MIN_WINDOW``); without one in the memo, around the
+    minimum of a coarse pass over the wheel (every 8th sample), which the memo
+    takes."""
+    R, O, y_off = side_frame(pose, s, 0.0, roll)
+    k = 2 + 6 * s
+    if not memo[k + 4] == memo[k + 4]:
+        n = prof.eta.size
+        _, _, _, gc, _ = _locus_kernel(prof.eta[::8], prof.rho[::8], R, O, y_off, prof.rb,
+                                       prof.rc)
+        g = np.min(gc)
+        if not math.isfinite(g):
+            return np.inf
+        first, last = -1, -1
+        for j in range(gc.size):
+            if gc[j] <= g + MIN_WINDOW:
+                if first < 0:
+                    first = j
+                last = j
+        memo[k + 4] = max(8 * first - 8 - MIN_MARGIN, 0)
+        memo[k + 5] = min(8 * last + 9 + MIN_MARGIN, n)
+    return _narrow_min_gap(prof, R, O, y_off, int(memo[k + 4]), int(memo[k + 5]))
 
 
 @njit(cache=True, nogil=True)
@@ -174,12 +234,16 @@ def solve_roll(prof, pose, targets, tol, memo):
         return x0, g0 + targets[1]
     slope = memo[1]
     x1 = x0 - f0 / slope
+    if abs(x1 - x0) <= 0.01 * tol:
+        return x0, g0 + targets[1]
     # secant steps (as _secant_roll)
     for _ in range(8):
         f1, g1 = _roll_residual(prof, pose, targets, x1, memo)
         if not math.isfinite(f1):
             break
         if f1 == 0.0:
+            return x1, g1 + targets[1]
+        if f1 == f0 and abs(x1 - x0) <= tol:
             return x1, g1 + targets[1]
         if f1 == f0 or abs(x1 - roll0) > 0.05:
             break
@@ -239,7 +303,7 @@ def side_locus(prof, pose, s, z, roll, window, memo):
     with ``window``): (i0, i1, theta, point, y_rail, gap, slope, R, O, y_off); the
     memo takes its wheel samples."""
     R, O, y_off = side_frame(pose, s, z, roll)
-    k = 2 + 4 * s
+    k = 2 + 6 * s
     n = prof.eta.size
     if memo[k] == memo[k] and abs(roll - memo[k]) <= memo[k + 3]:
         i0, i1 = int(memo[k + 1]), int(memo[k + 2])
@@ -249,6 +313,17 @@ def side_locus(prof, pose, s, z, roll, window, memo):
             edge = np.min(gap) + window
             if (i0 == 0 or gap[0] > edge) and (i1 == n or gap[-1] > edge):
                 memo[k], memo[k + 3] = roll, WINDOW_ROLL * window / REGION_MARGIN
+                _note_minimum(gap, i0, n, memo, k)
+                # the next locus: the samples within the window and a margin
+                first, last = -1, -1
+                for j in range(gap.size):
+                    if gap[j] <= edge:
+                        if first < 0:
+                            first = j
+                        last = j
+                if first >= 0:
+                    memo[k + 1] = max(i0 + first - TRIM_MARGIN, 0)
+                    memo[k + 2] = min(i0 + last + TRIM_MARGIN + 1, n)
                 return i0, i1, th, P, yr, gap, sl, R, O, y_off
     stride = 8
     _, _, _, gc, _ = _locus_kernel(prof.eta[::stride], prof.rho[::stride], R, O, y_off,
@@ -268,7 +343,25 @@ def side_locus(prof, pose, s, z, roll, window, memo):
                                        prof.rb, prof.rc)
     memo[k], memo[k + 1], memo[k + 2] = roll, i0, i1
     memo[k + 3] = WINDOW_ROLL * window / REGION_MARGIN
+    _note_minimum(gap, i0, n, memo, k)
     return i0, i1, th, P, yr, gap, sl, R, O, y_off
+
+
+@njit(cache=True, nogil=True)
+def _note_minimum(gap, i0, n, memo, k):
+    """The memo takes the wheel samples within ``MIN_WINDOW`` of the locus's minimum."""
+    g = np.min(gap)
+    first, last = -1, -1
+    for j in range(gap.size):
+        if gap[j] <= g + MIN_WINDOW:
+            if first < 0:
+                first = j
+            last = j
+    if first < 0:
+        memo[k + 4] = np.nan
+        return
+    memo[k + 4] = max(i0 + first - MIN_MARGIN, 0)
+    memo[k + 5] = min(i0 + last + MIN_MARGIN + 1, n)
 
 
 @njit(cache=True, nogil=True)
@@ -448,16 +541,27 @@ def search_patches(prof, pose, targets, memo, out):
     memo's roll, and the memo keeps what the next search of the case reuses.
     Returns (patches, vertical position [m], roll [rad]); no patches (-1) where the
     pose is not found."""
-    roll, z = solve_roll(prof, pose, targets, 1e-12, memo)
-    if not math.isfinite(roll):
-        return -1, math.nan, math.nan
-    memo[0] = roll
+    for attempt in range(2):
+        roll, z = solve_roll(prof, pose, targets, 1e-12, memo)
+        if not math.isfinite(roll):
+            return -1, math.nan, math.nan
+        memo[0] = roll
+        loc0 = side_locus(prof, pose, 0, z, roll, targets[0] + LOCUS_MARGIN, memo)
+        loc1 = side_locus(prof, pose, 1, z, roll, targets[1] + LOCUS_MARGIN, memo)
+        if loc0[5].size == 0 or loc1[5].size == 0:
+            return -1, z, roll
+        # a point deeper than the roll search's minimum: searched again over the
+        # locus windows
+        missed = (np.min(loc0[5]) + targets[0] < -MISSED_DEPTH
+                  or np.min(loc1[5]) + targets[1] < -MISSED_DEPTH)
+        if not missed:
+            break
+        memo[6] = np.nan
+        memo[12] = np.nan
     m = 0
     for s in range(2):
-        loc = side_locus(prof, pose, s, z, roll, targets[s] + REGION_MARGIN, memo)
+        loc = loc0 if s == 0 else loc1
         gap, P, yr = loc[5], loc[3], loc[4]
-        if gap.size == 0:
-            return -1, z, roll
         regions = locus_regions(gap, P, yr, pose.combine)
         for r in range(min(regions.shape[0], MAX_PATCHES)):
             make_patch(prof, pose, s, loc, regions[r, 0], regions[r, 1], z, roll, out[m])
