@@ -9,7 +9,7 @@ import math
 from dataclasses import dataclass
 
 from .bodies import build_wheelset_track, contact_search
-from .compiled_case import compiled_unsupported, solve_case_forces
+from .compiled_case import case_contact, compiled_unsupported, solve_case_forces
 from .equilibrium import balance as solve_balance
 from ..core.errors import ContactNotFoundError, RailContactError
 from ..geometry.locus import min_gap
@@ -126,8 +126,11 @@ class WheelRailContact:
         self.loads = case.wheel_rail.loads
         self.sides = case.wheel_rail.balanced_sides
         if compiled is not None:
-            self.first = contact_search(case, interpenetration=dict(compiled.interpenetration),
-                                        bodies=self.bodies, roll_start=compiled.roll)
+            # the compiled pass's patches (no second search), or a search at its
+            # interpenetrations where it combined regions
+            self.first = case_contact(compiled, case) or contact_search(
+                case, interpenetration=dict(compiled.interpenetration), bodies=self.bodies,
+                roll_start=compiled.roll)
         else:
             self.first = _first_search(case, self.bodies, self.loads, self.sides,
                                        start.contact if start is not None else None)
@@ -202,22 +205,48 @@ def _standin_lateral(standin, neighbour) -> dict:
 
 
 
-def compiled_start(case, nmodel, tmodel):
+#: whether the balance of a case the compiled pass runs starts from that pass's
+#: result (:func:`compiled_start`); False gives the geometry layer's estimate or a
+#: neighbour's interpenetrations, as before the pass (for comparisons)
+COMPILED_START = True
+
+
+
+def compiled_start(case, nmodel, tmodel, neighbour=None):
     """The case's vertical balance in the compiled pass
     (:func:`railcontact.cases.compiled_case.solve_case_forces`), where it runs the
     case's models or, as a start, their nearest compiled forms (an ellipse normal
-    model, an online creep law): its interpenetrations, roll and Jacobian start the
-    balance of the case's own models, which then usually meets the loads in its
-    first pass.  None where the pass does not run the case or does not meet the
-    loads (the balance then starts from the geometry layer's estimate)."""
-    if tmodel is None or compiled_unsupported(case, nmodel.name, tmodel.name):
+    model, an online creep law), started from ``neighbour`` (a neighbouring case's
+    :class:`SolveResult`) where given: its interpenetrations, roll and Jacobian
+    start the balance of the case's own models, which then usually meets the loads
+    in its first pass.  None where the pass does not run the case or does not meet
+    the loads (the balance then starts as it would without it)."""
+    if not COMPILED_START or tmodel is None or compiled_unsupported(case, nmodel.name,
+                                                                    tmodel.name):
         return None
+    start = None
+    if (neighbour is not None and neighbour.contact is not None
+            and neighbour.contact.interpenetration and neighbour.balance is not None
+            and set(neighbour.contact.interpenetration) >= {"left", "right"}):
+        start = NeighbourStart(dict(neighbour.contact.interpenetration),
+                               neighbour.contact.pose.roll, neighbour.balance.jacobian)
     try:
-        res = solve_case_forces(case, nmodel.name, tmodel.name)
+        res = solve_case_forces(case, nmodel.name, tmodel.name, start=start)
     except RailContactError as exc:          # the Python path says it properly
         log.debug("compiled pass: %s", exc)
         return None
     return res if res.converged else None
+
+
+
+@dataclass
+class NeighbourStart:
+    """A neighbouring case's interpenetrations [m], roll [rad] and balance
+    Jacobian, where the compiled pass starts (:func:`compiled_start`)."""
+
+    interpenetration: dict
+    roll: float
+    jacobian: object = None
 
 
 
@@ -234,7 +263,7 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     interpenetrations and its Jacobian.  Returns the patch results, the final
     contact search and the :class:`VerticalBalance`.
     """
-    compiled = compiled_start(case, nmodel, tmodel) if start is None else None
+    compiled = compiled_start(case, nmodel, tmodel, start)
     evaluate = WheelRailContact(case, nmodel, tmodel, kw, start, compiled)
     jac = start.balance.jacobian if start is not None and start.balance is not None else None
     if compiled is not None:

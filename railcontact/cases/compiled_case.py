@@ -60,6 +60,8 @@ from ..geometry.wheel_pass import (MAX_PATCHES, NPF, P_A, P_APPROACH, P_B, P_CON
 from ..normal import normal_supports
 from ..tangential.kalker import _TAB_AB, _TAB_BA, _coefficients_kernel
 from ..tangential.online import online_law, patch_forces
+from ..geometry.track import WheelsetPose
+from ..geometry.wheel_pass import rows_contact
 from .bodies import build_wheelset_track
 from .equilibrium import COUPLING_SLOPE, FORCE_FLOOR, HERTZ_SLOPE, JUMP_SLOPE, STEP_FACTOR
 
@@ -422,6 +424,8 @@ class CaseForces:
     cpu_time: float = 0.0
     normal: str = "hertz"
     tangential: str = "fastsim"
+    #: the patch rows of the last evaluation (:data:`ROW_FIELDS`)
+    rows: np.ndarray = field(repr=False, default=None)
 
     @property
     def converged(self) -> bool:
@@ -587,4 +591,18 @@ def _case_forces(out, info, code, loads, nname, tname, cpu) -> CaseForces:
                       {"left": float(loads[0]), "right": float(loads[1])},
                       float(info[I_VERTICAL]), float(info[I_ROLL]), OUTCOMES[int(code)],
                       int(info[I_PASSES]),
-                      info[I_J00:I_J11 + 1].reshape(2, 2).copy(), cpu, nname, tname)
+                      info[I_J00:I_J11 + 1].reshape(2, 2).copy(), cpu, nname, tname,
+                      rows.copy())
+
+
+def case_contact(res: CaseForces, case):
+    """The geometry layer's :class:`~railcontact.geometry.search.WheelsetContact` of a
+    compiled case's last evaluation (its patches as
+    :class:`~railcontact.geometry.contact.ContactGeometry`, no search), or None
+    where the case combines regions into patches (their joins are not kept)."""
+    s = case.wheel_rail
+    if s.combine_distance > 0 or res.rows is None or not res.rows.size:
+        return None
+    _, ws, tr = _bodies(case)
+    pose = WheelsetPose(s.lateral_shift, res.vertical, res.roll, s.yaw)
+    return rows_contact(res.rows, ws, tr, pose, s.loads, res.interpenetration)

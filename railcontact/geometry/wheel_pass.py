@@ -90,7 +90,8 @@ TRIM_MARGIN = 48
 #: fields of a patch row of :func:`search_patches` (and of the case kernels)
 PATCH_FIELDS = ("side", "approach", "A", "B", "contact_angle", "y_rail", "y_wheel",
                 "z_rail", "z_wheel", "rolling_radius", "x", "y", "z", "weight", "xi",
-                "eta", "phi", "velocity", "spin_derivative", "i0", "i1")
+                "eta", "phi", "velocity", "spin_derivative", "i0", "i1", "x_m", "ys_min",
+                "ys_max", "yr_first", "yr_last")
 NPF = len(PATCH_FIELDS)
 #: the column of each field (compiled code reads these constants)
 P_SIDE = 0
@@ -114,6 +115,11 @@ P_VELOCITY = 17
 P_SPIN_DERIVATIVE = 18
 P_I0 = 19
 P_I1 = 20
+P_X_M = 21
+P_YS_MIN = 22
+P_YS_MAX = 23
+P_YR_FIRST = 24
+P_YR_LAST = 25
 
 #: at most this many patches per side
 MAX_PATCHES = 8
@@ -531,6 +537,14 @@ def make_patch(prof, pose, s, loc, i0, i1, z, roll, row):
     row[P_SPIN_DERIVATIVE] = (w1 * c + w2 * sd) / V
     row[P_I0] = j0 + i0
     row[P_I1] = j0 + i1
+    ylo, yhi = yr[i0], yr[i0]
+    for i in range(i0, i1 + 1):
+        ylo, yhi = min(ylo, yr[i]), max(yhi, yr[i])
+    row[P_X_M] = x_m
+    row[P_YS_MIN] = ylo
+    row[P_YS_MAX] = yhi
+    row[P_YR_FIRST] = yr[i0]
+    row[P_YR_LAST] = yr[i1]
 
 
 @njit(cache=True, nogil=True)
@@ -638,3 +652,76 @@ def gap_candidates(gap):
         out[m] = imin
         m += 1
     return out[:m]
+
+
+# ---------------------------------------------------------------------------------
+# the patches of a compiled search as the geometry layer's objects
+
+
+def patch_geometry(row, wheelset, track, pose, territory=(-math.inf, math.inf)):
+    """The :class:`~railcontact.geometry.contact.ContactGeometry` of a patch row of
+    :func:`search_patches` at the wheelset pose ``pose``
+    (:class:`~railcontact.geometry.track.WheelsetPose`), as
+    :func:`railcontact.geometry.search._make_patch` makes it (a patch of one
+    region; ``territory``: its lateral bounds on the rail profile [m])."""
+    from .contact import ContactGeometry
+    from .gap import GapEvaluator
+    from .locus import side_pose
+    from .track import rotation
+    side = "right" if row[P_SIDE] == 1 else "left"
+    sgn = 1.0 if side == "right" else -1.0
+    y_ws, z_ws, roll_s, yaw_s = side_pose(side, pose.lateral_shift, pose.vertical, pose.roll,
+                                          pose.yaw)
+    frame = _Frame(np.array([0.0, y_ws, z_ws - wheelset.nominal_radius]),
+                   rotation(yaw_s, roll_s))
+    a_ref = sgn * float(row[P_CONTACT_ANGLE])
+    y_ref = float(row[P_Y_RAIL])
+    C = np.array([float(row[P_X]), sgn * float(row[P_Y]), float(row[P_Z])])
+    gapf = GapEvaluator(wheelset, track, side, frame, C, a_ref)
+    ca = math.cos(a_ref)
+    approach, A = float(row[P_APPROACH]), float(row[P_A])
+    ext_y = (sgn * (float(row[P_YS_MIN]) - y_ref), sgn * (float(row[P_YS_MAX]) - y_ref))
+    half_x = math.sqrt(max(approach, 0.0) / max(A, 1e-9))
+    x_m = float(row[P_X_M])
+    extent = (x_m - half_x, x_m + half_x, min(ext_y) / ca, max(ext_y) / ca)
+    lim = sorted(sgn * (v - y_ref) / ca for v in territory)
+    return ContactGeometry(curvatures=(A, float(row[P_B])), side=side,
+                           contact_angle=float(row[P_CONTACT_ANGLE]),
+                           rolling_radius=float(row[P_ROLLING_RADIUS]), y_rail=y_ref,
+                           y_wheel=float(row[P_Y_WHEEL]), z_rail=float(row[P_Z_RAIL]),
+                           z_wheel=float(row[P_Z_WHEEL]),
+                           position=np.array([C[0], sgn * C[1], C[2]]), approach=approach,
+                           weight=float(row[P_WEIGHT]),
+                           creepage=(float(row[P_XI]), float(row[P_ETA]), float(row[P_PHI])),
+                           velocity=float(row[P_VELOCITY]), extent=extent,
+                           gap_function=gapf, spin_derivative=float(row[P_SPIN_DERIVATIVE]),
+                           bounds=tuple(lim), interaction=(),
+                           local_contact_angle=gapf.contact_angle_at)
+
+
+class _Frame:
+    """The wheelset's centre and axes in a side frame, as a locus holds them (what
+    :class:`~railcontact.geometry.gap.GapEvaluator` reads)."""
+
+    def __init__(self, origin, axes):
+        self.origin, self.axes = origin, axes
+
+
+def rows_contact(rows, wheelset, track, pose, loads, interpenetration):
+    """The :class:`~railcontact.geometry.search.WheelsetContact` of the patch rows of
+    one :func:`search_patches` (combine distance 0: a patch per region), with each
+    patch's territory halfway to its side's neighbours
+    (:func:`railcontact.geometry.regions.territories`)."""
+    from .search import WheelsetContact
+    patches = []
+    for s in (0, 1):
+        side_rows = [r for r in rows if r[P_SIDE] == s]
+        spans = [(min(r[P_YR_FIRST], r[P_YR_LAST]), max(r[P_YR_FIRST], r[P_YR_LAST]))
+                 for r in side_rows]
+        for r, (lo, hi) in zip(side_rows, spans):
+            below = [h for l, h in spans if h < lo]
+            above = [l for l, h in spans if l > hi]
+            territory = (0.5 * (lo + max(below)) if below else -math.inf,
+                         0.5 * (hi + min(above)) if above else math.inf)
+            patches.append(patch_geometry(r, wheelset, track, pose, territory))
+    return WheelsetContact(pose, patches, {}, dict(loads), dict(interpenetration))
