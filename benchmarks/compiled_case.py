@@ -231,8 +231,9 @@ def bench_cli_overhead(out, n=131):
         subprocess.run([exe, "--help"], check=True, capture_output=True, env=env)
         t_start = time.perf_counter() - t0
         t0 = time.perf_counter()
+        # (exit status 1 where a case does not meet its load: a force that jumps)
         proc = subprocess.run([exe, "sweep", str(case), "--vary", vary, "--json", "--scheduler",
-                               "sync"], check=True, capture_output=True, env=env, text=True)
+                               "sync"], capture_output=True, env=env, text=True)
         t_cli = time.perf_counter() - t0
         data = json.loads(proc.stdout[proc.stdout.index("{"):])
         base = rc.load_case(case)
@@ -269,4 +270,9 @@ def main(n_shift=250):
 
 
 if __name__ == "__main__":
-    main(int(sys.argv[1]) if len(sys.argv) > 1 else 250)
+    report = main(int(sys.argv[1]) if len(sys.argv) > 1 else 250)
+    if len(sys.argv) <= 1:
+        (HERE / "compiled_case.md").write_text(
+            f"# Whole cases in one compiled pass ({time.strftime('%Y-%m-%d')}, "
+            f"{os.cpu_count()} cores, Python {sys.version.split()[0]})\n"
+            + "\n".join(report) + "\n")

@@ -324,19 +324,21 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                                    combine_distance, turn_distance, separation_angle)
         for (i0, i1, joins), lim, angle in zip(regions, territories(loc, regions), angles):
             factors = [(y, interaction_factor(d, full, combine_distance)) for y, d in joins]
-            patches.append(_make_patch(wheelset, track, sd, loc, i0, i1, pose, loads is None,
-                                       velocity, pitch_velocity, lateral_velocity, yaw_rate,
+            patches.append(_make_patch(wheelset, track, sd, loc, (i0, i1), pose, loads is None,
+                                       (velocity, pitch_velocity, lateral_velocity, yaw_rate),
                                        lim, factors, angle))
     return WheelsetContact(pose, patches, loci, loads, targets)
 
 
 
-def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch_velocity,
-                lateral_velocity, yaw_rate, territory=(-math.inf, math.inf),
-                joins=(), angle=None) -> ContactGeometry:
-    """The geometry of the patch of locus region [i0, i1]; ``angle``: its contact
-    angle [rad] in the side frame instead of the weighted one (a turned angle,
-    :mod:`railcontact.geometry.turning`)."""
+def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
+                territory=(-math.inf, math.inf), joins=(), angle=None) -> ContactGeometry:
+    """The geometry of the patch of locus region ``region`` = (i0, i1); ``motion``:
+    (velocity [m/s], pitch velocity [rad/s], lateral velocity [m/s], yaw rate
+    [rad/s]) for the creepages; ``angle``: its contact angle [rad] in the side frame
+    instead of the weighted one (a turned angle, :mod:`railcontact.geometry.turning`)."""
+    i0, i1 = region
+    velocity, pitch_velocity, lateral_velocity, yaw_rate = motion
     sl = slice(i0, i1 + 1)
     g = loc.gap[sl]
     im = i0 + int(np.argmin(g))
