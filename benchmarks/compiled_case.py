@@ -70,7 +70,8 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
     for law in laws:
         solve_case_forces(cases[0], "hertz", law)                  # compile / load
     rc.solve(cases[0], "hertz", "fastsim")
-    keys = [f"cold_{law}" for law in laws] + ["warm_fastsim", "solve_after", "solve_before"]
+    keys = [f"cold_{law}" for law in laws] + ["best3_fastsim", "warm_fastsim", "solve_after",
+                                              "solve_before"]
     t = {k: np.zeros(n) for k in keys}
     ok = {k: np.zeros(n, bool) for k in keys}
     passes = {k: np.zeros(n) for k in keys}
@@ -89,6 +90,14 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
                 ok[f"cold_{law}"][i], passes[f"cold_{law}"][i] = r.converged, r.passes
                 if law == "fastsim":
                     cold[i] = r
+        for i in block:                 # the same, best of 3: the machine's hiccups out
+            best = math.inf
+            for _ in range(3):
+                t0 = time.perf_counter()
+                r = solve_case_forces(cases[i])
+                best = min(best, time.perf_counter() - t0)
+            t["best3_fastsim"][i], ok["best3_fastsim"][i] = best, r.converged
+            passes["best3_fastsim"][i] = r.passes
         for i in block:
             t0 = time.perf_counter()
             r = solve_case_forces(cases[i], start=prev)
@@ -126,6 +135,7 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
         "load met | balance passes (mean) |")
     out("|---|---|---|---|---|---|---|")
     labels = {"cold_fastsim": "compiled Hertz + FASTSIM, cold (multi-Hertzian start)",
+              "best3_fastsim": "the same, each case's best of 3 runs",
               "warm_fastsim": "compiled Hertz + FASTSIM, warm (from the previous case)",
               "cold_polach": "compiled Hertz + Polach, cold",
               "cold_linear": "compiled Hertz + linear, cold",
@@ -134,7 +144,7 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
               "solve_before": "`rc.solve` Hertz + FASTSIM (full results), before: the "
                               "geometry layer's estimate"}
     figures = {}
-    for k in ("cold_fastsim", "warm_fastsim", "cold_polach", "cold_linear", "solve_after",
+    for k in ("cold_fastsim", "best3_fastsim", "warm_fastsim", "cold_polach", "cold_linear", "solve_after",
               "solve_before"):
         med, ratio, met, mean = _stats(t[k], ok[k])
         figures[k] = (med, ratio, met)
@@ -215,44 +225,47 @@ def bench_manchester(out, unit):
         "pass: see the exact-solver sections")
 
 
-def bench_cli_overhead(out, n=131):
-    """``railcontact sweep case --vary ... --json`` against ``rc.sweep`` on the same
-    cases in one process (sync scheduler both)."""
+def bench_cli_overhead(out, n=131, small=3):
+    """``railcontact sweep case --vary ... --json`` against the library's sweep on the
+    same cases in one process (sync scheduler both): the command's time per case is
+    the difference between a run of ``n`` and one of ``small`` cases (the start-up,
+    imports and Numba's cache once per command, cancel)."""
+    from railcontact.cases.sweep import parse_vary, sweep
     with tempfile.TemporaryDirectory() as tmp:
         case = Path(tmp) / "case.toml"
         case.write_text('[wheel]\nprofile = "S1002"\n[rail]\nprofile = "60E1"\n'
                         '[wheelset]\nvertical_force = 70000.0\nvelocity = 30.0\n'
                         '[solver]\ngrid = [40, 40]\n')
-        stop = -0.004 + (n - 1) * 1e-4
-        vary = f"wheelset.lateral_shift=-0.004:{stop:.4f}:0.0001"
-        exe = str(Path(sys.executable).with_name("railcontact"))
-        env = dict(os.environ)
-        t0 = time.perf_counter()
-        subprocess.run([exe, "--help"], check=True, capture_output=True, env=env)
-        t_start = time.perf_counter() - t0
-        t0 = time.perf_counter()
-        # (exit status 1 where a case does not meet its load: a force that jumps)
-        proc = subprocess.run([exe, "sweep", str(case), "--vary", vary, "--json", "--scheduler",
-                               "sync"], capture_output=True, env=env, text=True)
-        t_cli = time.perf_counter() - t0
-        data = json.loads(proc.stdout[proc.stdout.index("{"):])
+
+        def vary_of(m):
+            return f"wheelset.lateral_shift=-0.004:{-0.004 + (m - 1) * 1e-4:.4f}:0.0001"
+
+        def cli(m):
+            # (exit status 1 where a case does not meet its load: a force that jumps)
+            t0 = time.perf_counter()
+            proc = subprocess.run([sys.executable, "-m", "railcontact.cli", "sweep", str(case),
+                                   "--vary", vary_of(m), "--json", "--scheduler", "sync"],
+                                  capture_output=True, text=True)
+            dt = time.perf_counter() - t0
+            return dt, len(json.loads(proc.stdout[proc.stdout.index("{"):])["cases"])
+        t_small, m_small = cli(small)
+        t_full, m_full = cli(n)
         base = rc.load_case(case)
-        from railcontact.cases.sweep import parse_vary, sweep
-        key, values = parse_vary(vary)
+        key, values = parse_vary(vary_of(n))
         sweep(base, {key: values[:2]}, scheduler="sync", progress=False)     # warm caches
         t0 = time.perf_counter()
         lib = sweep(base, {key: values}, scheduler="sync", progress=False)
         t_lib = time.perf_counter() - t0
     m = len(lib["cases"])
-    per_cli = (t_cli - t_start) / m
+    per_cli = (t_full - t_small) / (m_full - m_small)
     per_lib = t_lib / m
     out(f"\n## The command-line sweep's own overhead ({m} cases, Hertz + FASTSIM, sync)")
-    out(f"* `railcontact sweep ... --json`: {t_cli:.2f} s wall, of which the interpreter, "
-        f"imports and Numba's cache {t_start:.2f} s (`railcontact --help`); "
-        f"{per_cli * 1e3:.2f} ms per case after them; {len(data.get('cases', []))} cases")
+    out(f"* `railcontact sweep ... --json`: {t_full:.2f} s for {m_full} cases, {t_small:.2f} s "
+        f"for {m_small} (start-up, imports, Numba's cache): {per_cli * 1e3:.2f} ms per "
+        "further case")
     out(f"* `railcontact.cases.sweep.sweep` in this process: {per_lib * 1e3:.2f} ms per case")
     out(f"* the CLI's own overhead per case: {100 * (per_cli / per_lib - 1):+.1f} % (target "
-        "< 10 %); the start-up is once per command")
+        "< 10 %)")
 
 
 def main(n_shift=250):

@@ -53,7 +53,7 @@ from numba import njit
 from ..core.hertz_theory import _axes_table
 from ..geometry.locus import LOCUS_WINDOW  # noqa: F401  (documented neighbour)
 from ..geometry.search import ESTIMATE_WINDOW
-from ..geometry.wheel_pass import (MAX_PATCHES, NPF, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
+from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
                                    P_ETA, P_PHI, P_SIDE, P_VELOCITY, P_XI, PATCH_FIELDS, PassPose, gap_candidates,
                                    locus_curvatures, new_memo, pass_profiles, search_patches,
                                    side_locus, solve_roll)
@@ -236,6 +236,22 @@ def first_estimate(prof, pose, model, loads, memo, d):
         memo[12] = np.nan
     d[0] = approach_for_load(loc0, loads[0], pose, prof, model)
     d[1] = approach_for_load(loc1, loads[1], pose, prof, model)
+    # the first search's loci: the samples that the estimate puts within the
+    # interpenetration plus the locus margin (not the estimate's wider window)
+    for s in range(2):
+        loc = loc0 if s == 0 else loc1
+        gap = loc[5]
+        edge = np.min(gap) + d[s] + LOCUS_MARGIN
+        first, last = -1, -1
+        for j in range(gap.size):
+            if gap[j] <= edge:
+                if first < 0:
+                    first = j
+                last = j
+        k = 2 + 6 * s
+        if first >= 0:
+            memo[k + 1] = max(loc[0] + first - TRIM_MARGIN, 0)
+            memo[k + 2] = min(loc[0] + last + TRIM_MARGIN + 1, prof.eta.size)
     return d[0] > 0.0 and d[1] > 0.0
 
 
