@@ -442,6 +442,14 @@ class CaseForces:
     tangential: str = "fastsim"
     #: the patch rows of the last evaluation (:data:`ROW_FIELDS`)
     rows: np.ndarray = field(repr=False, default=None)
+    #: the interpenetrations [m] and roll [rad] of the neighbour this case started
+    #: from (None: cold), from which the next case extrapolates its start
+    neighbour: tuple | None = field(repr=False, default=None)
+    #: the search's memo at the end (:data:`railcontact.geometry.wheel_pass.MEMO_SIZE`):
+    #: the wheel samples of its loci and minima, where the next case's search starts
+    memo: np.ndarray | None = field(repr=False, default=None)
+    #: the case's lateral shift [m] and yaw [rad]
+    pose_keys: tuple = (math.nan, math.nan)
 
     @property
     def converged(self) -> bool:
@@ -551,13 +559,37 @@ def case_pass_inputs(case, normal=None, tangential=None):
     return prof, pose, model, loads
 
 
-def _start_array(start) -> np.ndarray:
+#: a case's search starts from its neighbour's wheel samples where their lateral
+#: shifts differ by at most this [m] and their yaws by at most ``MEMO_YAW`` [rad]
+MEMO_SHIFT = 5e-4
+MEMO_YAW = 1e-3
+
+#: a chain of cases extrapolates its start from the last two where their
+#: interpenetrations differ by less than this factor (smooth neighbours; else the
+#: last case's alone)
+EXTRAPOLATE_RATIO = 1.2
+
+
+def _start_array(start):
+    """(start array of :func:`balance_wheelset`, roll to start from) for a
+    neighbour's result: its interpenetrations, or where it started from its own
+    neighbour and both are close, their extrapolation in ln d (and the roll's)."""
     st = np.full(6, np.nan)
-    if start is not None:
-        st[0], st[1] = start.interpenetration["left"], start.interpenetration["right"]
-        if start.jacobian is not None:
-            st[2:] = np.ravel(start.jacobian)
-    return st
+    if start is None:
+        return st, 0.0
+    d1 = np.array([start.interpenetration["left"], start.interpenetration["right"]])
+    st[0], st[1] = d1
+    roll = start.roll if math.isfinite(start.roll) else 0.0
+    before = getattr(start, "neighbour", None)
+    if before is not None:
+        d0 = np.array([before[0]["left"], before[0]["right"]])
+        if np.all(d0 > 0) and np.all(np.abs(np.log(d1 / d0)) < math.log(EXTRAPOLATE_RATIO)):
+            st[0], st[1] = d1 * d1 / d0
+            if math.isfinite(before[1]) and abs(roll - before[1]) < 1e-3:
+                roll = 2.0 * roll - before[1]
+    if start.jacobian is not None:
+        st[2:] = np.ravel(start.jacobian)
+    return st, roll
 
 
 def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | None = None,
@@ -587,13 +619,33 @@ def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | No
     """
     t0 = time.perf_counter()
     prof, pose, model, loads = case_pass_inputs(case, normal, tangential)
-    memo = new_memo(start.roll if start is not None and math.isfinite(start.roll) else 0.0)
+    st, roll0 = _start_array(start)
+    memo = new_memo(roll0)
+    s = case.wheel_rail
+    near = start is not None and abs(getattr(start, "pose_keys", (math.nan,))[0]
+                                      - s.lateral_shift) <= MEMO_SHIFT and \
+        abs(start.pose_keys[1] - s.yaw) <= MEMO_YAW
+    if near and getattr(start, "memo", None) is not None:
+        # the neighbour's wheel samples (each use checks that they hold what it
+        # needs, else searches afresh), from the extrapolated roll
+        memo[:] = start.memo
+        memo[0] = roll0
     out = np.zeros((2 * MAX_PATCHES, NRF))
     info = np.empty(len(INFO_FIELDS))
     code = balance_wheelset(prof, pose, model, loads, float(case.force_tolerance),
-                            int(max_passes), _start_array(start), memo, out, info)
-    return _case_forces(out, info, code, loads, (normal or case.normal).lower(),
-                        (tangential or case.tangential).lower(), time.perf_counter() - t0)
+                            int(max_passes), st, memo, out, info)
+    res = _case_forces(out, info, code, loads, (normal or case.normal).lower(),
+                       (tangential or case.tangential).lower(), time.perf_counter() - t0)
+    if start is not None and getattr(start, "converged", True):
+        res.neighbour = (dict(start.interpenetration), float(start.roll))
+    res.memo = memo
+    res.pose_keys = (float(s.lateral_shift), float(s.yaw))
+    if code != CONVERGED and start is not None:
+        # a start that did not serve: the case again, cold (its time counts)
+        cold = solve_case_forces(case, normal, tangential, None, max_passes)
+        cold.cpu_time += res.cpu_time
+        return cold
+    return res
 
 
 def _case_forces(out, info, code, loads, nname, tname, cpu) -> CaseForces:

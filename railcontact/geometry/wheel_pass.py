@@ -41,7 +41,7 @@ from numba import njit
 
 from ..profiles.profile import ppoly_at
 from .gap import DEEPEST_GAP, FD_STEP, _gap_kernel
-from .locus import LOCUS_STEP, LOCUS_WINDOW, _locus_kernel, _min_gap_kernel, _wheel_samples
+from .locus import LOCUS_STEP, _wheel_samples
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
 from .regions import GAP_WEIGHT
 
@@ -86,6 +86,13 @@ LOCUS_MARGIN = 3e-5
 #: a locus's wheel samples for the next search: those within its window and this
 #: many on either side
 TRIM_MARGIN = 48
+
+#: the searches' loci compute the samples within this many of a sample of every
+#: 8th (the coarse pass) whose gap lies within the window plus ``SPARSE_SLACK`` [m]
+#: of the coarse minimum (the minimum-gap search takes 2 um between coarse points
+#: 8 samples apart, :func:`railcontact.geometry.locus.min_gap`; five times that here)
+SPARSE_BLOCK = 10
+SPARSE_SLACK = 1e-5
 
 #: fields of a patch row of :func:`search_patches` (and of the case kernels)
 PATCH_FIELDS = ("side", "approach", "A", "B", "contact_angle", "y_rail", "y_wheel",
@@ -170,13 +177,89 @@ def side_frame(pose, s, z, roll):
 
 
 @njit(cache=True, nogil=True)
+def locus_points(eta, rho, R, O, y_off, rb, rc):
+    """:func:`railcontact.geometry.locus._locus_kernel` (angle, wheel point, rail
+    coordinate, vertical gap, rail slope per wheel sample), except that the
+    iteration on the rail slope ends without another profile evaluation once the
+    point moves by under 1e-12 m: the rail height there is that of the point
+    1e-12 m away (a difference below 1e-11 m on slopes up to 10), and a sample
+    costs one evaluation of the rail profile less."""
+    n = eta.size
+    theta = np.empty(n)
+    P = np.empty((3, n))
+    yr = np.empty(n)
+    gap = np.empty(n)
+    slope = np.empty(n)
+    k = -1
+    fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
+    s = 0.0
+    s1 = 0.0
+    s2 = 0.0
+    for i in range(n):
+        s = 2.0 * s1 - s2 if i >= 2 else s1
+        tn = 0.0
+        py = 0.0
+        pz = 0.0
+        px = 0.0
+        zr = np.nan
+        for it in range(4):
+            tn_new = (s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2])
+            ct = 1.0 / math.sqrt(1.0 + tn_new * tn_new)
+            st = tn_new * ct
+            py_new = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
+            if it >= 1 and abs(py_new - py) <= 1e-12:
+                break
+            tn = tn_new
+            px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
+            py = py_new
+            pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
+            zr, s, k = ppoly_at(py - y_off, rb, rc, k)
+            if s != s:
+                s = 0.0
+            if fixed:
+                break
+        theta[i] = math.atan(tn)
+        P[0, i] = px
+        P[1, i] = py
+        P[2, i] = pz
+        yr[i] = py - y_off
+        gap[i] = zr - pz if zr == zr else np.inf
+        slope[i] = s
+        s2, s1 = s1, s
+    return theta, P, yr, gap, slope
+
+
+@njit(cache=True, nogil=True)
+def min_gap_points(eta, rho, R, O, y_off, rb, rc):
+    """Minimum vertical gap over the samples: every 8th, then every sample around
+    the coarse points within 2 um of the coarse minimum
+    (:func:`railcontact.geometry.locus._min_gap_kernel` on :func:`locus_points`)."""
+    n = eta.size
+    _, _, _, gc, _ = locus_points(eta[::8], rho[::8], R, O, y_off, rb, rc)
+    gmin = np.inf
+    for g in gc:
+        if g < gmin:
+            gmin = g
+    best = np.inf
+    for c in range(gc.size):
+        if gc[c] <= gmin + 2e-6:
+            lo = max(8 * c - 8, 0)
+            hi = min(8 * c + 9, n)
+            _, _, _, gf, _ = locus_points(eta[lo:hi], rho[lo:hi], R, O, y_off, rb, rc)
+            for g in gf:
+                if g < best:
+                    best = g
+    return best
+
+
+@njit(cache=True, nogil=True)
 def _narrow_min_gap(prof, R, O, y_off, c0, c1):
     """Minimum vertical gap over the wheel samples [c0, c1), the range widened
     (doubled) while the coarse minimum lies at one of its ends (not the wheel's)."""
     n = prof.eta.size
     while True:
-        _, _, _, gc, _ = _locus_kernel(prof.eta[c0:c1:8], prof.rho[c0:c1:8], R, O, y_off,
-                                       prof.rb, prof.rc)
+        _, _, _, gc, _ = locus_points(prof.eta[c0:c1:8], prof.rho[c0:c1:8], R, O, y_off,
+                                      prof.rb, prof.rc)
         if gc.size == 0:
             return np.inf
         j = np.argmin(gc)
@@ -189,8 +272,7 @@ def _narrow_min_gap(prof, R, O, y_off, c0, c1):
             c0 = max(c0 - w, 0)
         if grow_hi:
             c1 = min(c1 + w, n)
-    return _min_gap_kernel(prof.eta[c0:c1], prof.rho[c0:c1], R, O, y_off, prof.rb, prof.rc,
-                           8, 2e-6)
+    return min_gap_points(prof.eta[c0:c1], prof.rho[c0:c1], R, O, y_off, prof.rb, prof.rc)
 
 
 @njit(cache=True, nogil=True)
@@ -203,7 +285,7 @@ def side_min_gap(prof, pose, s, roll, memo):
     k = 2 + 6 * s
     if not memo[k + 4] == memo[k + 4]:
         n = prof.eta.size
-        _, _, _, gc, _ = _locus_kernel(prof.eta[::8], prof.rho[::8], R, O, y_off, prof.rb,
+        _, _, _, gc, _ = locus_points(prof.eta[::8], prof.rho[::8], R, O, y_off, prof.rb,
                                        prof.rc)
         g = np.min(gc)
         if not math.isfinite(g):
@@ -304,20 +386,80 @@ def solve_roll(prof, pose, targets, tol, memo):
 
 
 @njit(cache=True, nogil=True)
-def side_locus(prof, pose, s, z, roll, window, memo):
+def _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc, limit):
+    """The locus over the wheel samples [i0, i1) at the samples within
+    ``SPARSE_BLOCK`` of the coarse points ``idx`` whose gaps ``gc`` are at most
+    ``limit``; elsewhere the gap is +inf (beyond every window) and the rest NaN.
+    Returns (theta, point, y_rail, gap, slope)."""
+    m = i1 - i0
+    th = np.full(m, np.nan)
+    P = np.full((3, m), np.nan)
+    yr = np.full(m, np.nan)
+    gap = np.full(m, np.inf)
+    sl = np.full(m, np.nan)
+    need = np.zeros(m, dtype=np.bool_)
+    for c in range(idx.size):
+        if gc[c] <= limit:
+            lo = max(idx[c] - SPARSE_BLOCK, i0)
+            hi = min(idx[c] + SPARSE_BLOCK + 1, i1)
+            need[lo - i0:hi - i0] = True
+    a = 0
+    while a < m:
+        if not need[a]:
+            a += 1
+            continue
+        b = a
+        while b < m and need[b]:
+            b += 1
+        t, Pb, y, g, q = locus_points(prof.eta[i0 + a:i0 + b], prof.rho[i0 + a:i0 + b], R,
+                                      O, y_off, prof.rb, prof.rc)
+        th[a:b] = t
+        P[:, a:b] = Pb
+        yr[a:b] = y
+        gap[a:b] = g
+        sl[a:b] = q
+        a = b
+    return th, P, yr, gap, sl
+
+
+@njit(cache=True, nogil=True)
+def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
     """The locus of side s at the pose (:func:`railcontact.geometry.locus.compute_locus`
     with ``window``): (i0, i1, theta, point, y_rail, gap, slope, R, O, y_off); the
-    memo takes its wheel samples."""
+    memo takes its wheel samples.  Not ``dense``: the samples away from every
+    part within the window (by a pass over every 8th sample, ``SPARSE_SLACK``) are
+    not computed (gap +inf, the rest NaN): the regions and the patches are the
+    same."""
     R, O, y_off = side_frame(pose, s, z, roll)
     k = 2 + 6 * s
     n = prof.eta.size
     if memo[k] == memo[k] and abs(roll - memo[k]) <= memo[k + 3]:
         i0, i1 = int(memo[k + 1]), int(memo[k + 2])
-        th, P, yr, gap, sl = _locus_kernel(prof.eta[i0:i1], prof.rho[i0:i1], R, O, y_off,
+        if dense:
+            th, P, yr, gap, sl = locus_points(prof.eta[i0:i1], prof.rho[i0:i1], R, O, y_off,
+                                               prof.rb, prof.rc)
+            ends = (gap[0], gap[-1]) if gap.size else (np.inf, np.inf)
+            gmin = np.min(gap) if gap.size else np.inf
+        else:
+            idx = np.empty((i1 - i0 + 7) // 8 + 1, dtype=np.int64)
+            c = 0
+            for j in range(i0, i1, 8):
+                idx[c] = j
+                c += 1
+            if i1 - 1 > idx[c - 1]:
+                idx[c] = i1 - 1
+                c += 1
+            idx = idx[:c]
+            _, _, _, gc, _ = locus_points(prof.eta[idx], prof.rho[idx], R, O, y_off,
                                            prof.rb, prof.rc)
+            cmin = np.min(gc)
+            th, P, yr, gap, sl = _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc,
+                                              cmin + window + SPARSE_SLACK)
+            ends = (gc[0], gc[-1])
+            gmin = min(np.min(gap), cmin)
         if gap.size:
-            edge = np.min(gap) + window
-            if (i0 == 0 or gap[0] > edge) and (i1 == n or gap[-1] > edge):
+            edge = gmin + window
+            if (i0 == 0 or ends[0] > edge) and (i1 == n or ends[1] > edge):
                 memo[k], memo[k + 3] = roll, WINDOW_ROLL * window / REGION_MARGIN
                 _note_minimum(gap, i0, n, memo, k)
                 # the next locus: the samples within the window and a margin
@@ -332,7 +474,8 @@ def side_locus(prof, pose, s, z, roll, window, memo):
                     memo[k + 2] = min(i0 + last + TRIM_MARGIN + 1, n)
                 return i0, i1, th, P, yr, gap, sl, R, O, y_off
     stride = 8
-    _, _, _, gc, _ = _locus_kernel(prof.eta[::stride], prof.rho[::stride], R, O, y_off,
+    idx = np.arange(0, n, stride)
+    _, _, _, gc, _ = locus_points(prof.eta[::stride], prof.rho[::stride], R, O, y_off,
                                    prof.rb, prof.rc)
     gmin = np.min(gc)
     first, last = -1, -1
@@ -345,8 +488,12 @@ def side_locus(prof, pose, s, z, roll, window, memo):
     if first >= 0:
         i0 = max(first * stride - 2 * stride, 0)
         i1 = min(last * stride + 2 * stride + 1, n)
-    th, P, yr, gap, sl = _locus_kernel(prof.eta[i0:i1], prof.rho[i0:i1], R, O, y_off,
-                                       prof.rb, prof.rc)
+    if dense:
+        th, P, yr, gap, sl = locus_points(prof.eta[i0:i1], prof.rho[i0:i1], R, O, y_off,
+                                           prof.rb, prof.rc)
+    else:
+        th, P, yr, gap, sl = _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc,
+                                          gmin + window + SPARSE_SLACK)
     memo[k], memo[k + 1], memo[k + 2] = roll, i0, i1
     memo[k + 3] = WINDOW_ROLL * window / REGION_MARGIN
     _note_minimum(gap, i0, n, memo, k)
@@ -560,8 +707,8 @@ def search_patches(prof, pose, targets, memo, out):
         if not math.isfinite(roll):
             return -1, math.nan, math.nan
         memo[0] = roll
-        loc0 = side_locus(prof, pose, 0, z, roll, targets[0] + LOCUS_MARGIN, memo)
-        loc1 = side_locus(prof, pose, 1, z, roll, targets[1] + LOCUS_MARGIN, memo)
+        loc0 = side_locus(prof, pose, 0, z, roll, targets[0] + LOCUS_MARGIN, memo, False)
+        loc1 = side_locus(prof, pose, 1, z, roll, targets[1] + LOCUS_MARGIN, memo, False)
         if loc0[5].size == 0 or loc1[5].size == 0:
             return -1, z, roll
         # a point deeper than the roll search's minimum: searched again over the
