@@ -94,3 +94,14 @@ def test_to_xarray_has_the_patches():
     assert ds.sizes["patch"] == len(res.side) >= 2
     assert ds["normal_force"].attrs["units"] == "N"
     assert np.all(ds["pmax"].values > 0)
+
+
+def test_a_far_neighbour_still_gives_the_case():
+    # a chain's jump (the next block of a sweep): the neighbour's start and wheel
+    # samples do not serve; the case is solved again cold where they fail
+    far = solve_case_forces(_case(9e-3, 2e-3))
+    res = solve_case_forces(_case(-4e-3, 4e-3), start=far)
+    cold = solve_case_forces(_case(-4e-3, 4e-3))
+    assert res.converged and cold.converged
+    for s in ("left", "right"):
+        assert res.interpenetration[s] == pytest.approx(cold.interpenetration[s], rel=2e-4)
