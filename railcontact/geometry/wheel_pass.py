@@ -260,8 +260,11 @@ def _narrow_min_gap(prof, R, O, y_off, c0, c1):
     while True:
         _, _, _, gc, _ = locus_points(prof.eta[c0:c1:8], prof.rho[c0:c1:8], R, O, y_off,
                                       prof.rb, prof.rc)
-        if gc.size == 0:
-            return np.inf
+        if gc.size == 0 or not math.isfinite(np.min(gc)):
+            if c0 == 0 and c1 == n:
+                return np.inf
+            c0, c1 = 0, n               # the window is off the rail here: every sample
+            continue
         j = np.argmin(gc)
         grow_lo = j == 0 and c0 > 0
         grow_hi = j == gc.size - 1 and c1 < n
@@ -360,14 +363,23 @@ def solve_roll(prof, pose, targets, tol, memo):
     if not (math.isfinite(flo) and math.isfinite(fhi)):
         return math.nan, math.nan
     side = 0
-    for _ in range(200):
-        # Illinois' regula falsi: superlinear, and it never leaves the bracket
-        x = (lo * fhi - hi * flo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
-        if not lo < x < hi:
+    x_prev = math.nan
+    for it in range(200):
+        # Illinois' regula falsi (superlinear), every third step a bisection (the
+        # bracket halves at least that often), until the bracket or the step is
+        # within the tolerance
+        if it % 3 == 2:
             x = 0.5 * (lo + hi)
+        else:
+            x = (lo * fhi - hi * flo) / (fhi - flo) if fhi != flo else 0.5 * (lo + hi)
+            if not lo < x < hi:
+                x = 0.5 * (lo + hi)
         f, g = _roll_residual(prof, pose, targets, x, memo)
-        if f == 0.0 or hi - lo <= tol:
+        if not math.isfinite(f):
+            return math.nan, math.nan
+        if f == 0.0 or hi - lo <= tol or abs(x - x_prev) <= 0.5 * tol:
             return x, g + targets[1]
+        x_prev = x
         if f < 0:
             lo, flo = x, f
             if side == -1:
@@ -378,10 +390,6 @@ def solve_roll(prof, pose, targets, tol, memo):
             if side == 1:
                 flo *= 0.5
             side = 1
-        if hi - lo <= tol:
-            x = 0.5 * (lo + hi)
-            f, g = _roll_residual(prof, pose, targets, x, memo)
-            return x, g + targets[1]
     return math.nan, math.nan
 
 
@@ -704,6 +712,13 @@ def search_patches(prof, pose, targets, memo, out):
     pose is not found."""
     for attempt in range(2):
         roll, z = solve_roll(prof, pose, targets, 1e-12, memo)
+        if not math.isfinite(roll) and attempt == 0:
+            # the memo's windows and secant slope may not serve this pose (a
+            # far step): the roll searched again over the wheel, from the memo's roll
+            memo[1] = ROLL_SLOPE
+            memo[6] = np.nan
+            memo[12] = np.nan
+            roll, z = solve_roll(prof, pose, targets, 1e-12, memo)
         if not math.isfinite(roll):
             return -1, math.nan, math.nan
         memo[0] = roll
