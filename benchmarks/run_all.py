@@ -691,7 +691,8 @@ def bench_tangential_accuracy():
 
 def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
     """Issue 6: the benchmark vehicle on a curved, irregular track, against real time."""
-    from railcontact.dynamics import Route, VehicleModel, WheelRailTable, simulate_vehicle
+    from railcontact.dynamics import (Integration, Route, VehicleModel, WheelRailTable,
+                                      simulate_vehicle)
     from railcontact.dynamics.route import Irregularities
     from railcontact.dynamics.vehicle import G_ACC
     out("## Vehicle dynamics: Manchester vehicle, 50 m/s, curved irregular track\n")
@@ -709,12 +710,12 @@ def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
     phi = math.asin(0.12 / 1.5)
     au = velocity ** 2 / 2500.0 * math.cos(phi) - G_ACC * math.sin(phi)
     simulate_vehicle(model, route, table, velocity, 0.5)        # compile / load the cache
-    simulate_vehicle(model, route, table, velocity, 0.5, integrator="lsoda")
+    simulate_vehicle(model, route, table, velocity, 0.5, integration=Integration("lsoda"))
     rows = []
     ds = simulate_vehicle(model, route, table, velocity, duration, "fastsim")
     rows.append(("Hertz table + FASTSIM (compiled, 12x12), rk4", duration, ds))
     ds_l = simulate_vehicle(model, route, table, velocity, duration, "fastsim",
-                            integrator="lsoda")
+                            integration=Integration("lsoda"))
     rows.append(("Hertz table + FASTSIM (compiled, 12x12), LSODA rtol 1e-6", duration, ds_l))
     ds_p = simulate_vehicle(model, route, table, velocity, duration, "polach")
     rows.append(("Hertz table + Polach (compiled), rk4", duration, ds_p))
@@ -746,7 +747,7 @@ def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
 def _wear_runs(sc):
     """Step-1 tables and dynamics runs of a closed-loop scenario (the same for every
     local model): (simulation, tables per route, datasets per route, grids)."""
-    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.dynamics.simulation import Integration, simulate_vehicle
     from railcontact.wear.closed_loop import ClosedLoopWear
     from railcontact.wear.mapping import arc_length_grid
     from railcontact.wear.route_tasks import build_table
@@ -756,8 +757,9 @@ def _wear_runs(sc):
     d = sc.dynamics
     runs = [simulate_vehicle(sc.model, r.route, tables, r.speed, r.duration, d["tangential"],
                              r.friction, sc.case.material, d["initial_lateral_shift"],
-                             d["sample_rate"], d["rtol"], False, d["tangential_options"],
-                             d["fastsim_grid"], integrator=d["integrator"], step=d["step"])
+                             d["tangential_options"], d["fastsim_grid"],
+                             Integration(d["integrator"], d["sample_rate"], d["rtol"],
+                                         step=d["step"]))
             for r in sc.routes]
     grid = arc_length_grid(sim.wheels[0][0], sc.grid_step)
     rgrid = arc_length_grid(sim.rails[0][0], sc.grid_step)
@@ -792,11 +794,11 @@ def bench_wear_closed_loop(full: bool = True):
     """Issue 24: closed-loop wear of examples/wear_vehicle.toml (one core): (a) exact +
     exact against Hertz + FASTSIM, (b) the per-patch cost of every model and, unless
     ``full`` is False, (c) the sample stride, (d) repeated states, (e) the step size."""
-    from railcontact.wear import load_scenario
+    from railcontact.inputs import load_wear_scenario
     from railcontact.wear.closed_loop import ClosedLoopWear
     out("## Closed-loop wear: examples/wear_vehicle.toml (Manchester vehicle, tangent + "
         "R1200 + R300, 4 steps of 0.1 mm, USFD), one core (scheduler sync)\n")
-    sc = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
     sc.scheduler = "sync"
     # (a) the example with Hertz + FASTSIM and with exact + exact, interleaved by step
     models = {"hertz+fastsim": sc, "exact+exact": sc.with_models("exact", "exact")}
@@ -868,7 +870,7 @@ def bench_wear_closed_loop(full: bool = True):
     out("\nSample stride (step-1 runs, dynamics sampled at 400 Hz: one sample per 0.1, "
         "0.09, 0.05 m on the three routes): the route mix's wheel wear per metre "
         "(vehicle-averaged, smoothed) against every sample's, max |difference| / max:\n")
-    sc4 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc4 = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
     sc4.dynamics["sample_rate"] = 400.0
     sim4, tables4, runs4, grid4, rgrid4 = _wear_runs(sc4)
     out("| local model | 0.25 m | 0.5 m | 1 m (default) | 2 m | 4 m |")
@@ -919,7 +921,7 @@ def bench_wear_closed_loop(full: bool = True):
         for ds_ in (dists, [x / 2 for x in dists for _ in (0, 1)]):
             key = tuple(ds_)
             if key not in runs:
-                s2 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+                s2 = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
                 s2.scheduler, s2.steps, s2.distances = "sync", len(ds_), list(ds_)
                 sim2 = ClosedLoopWear(s2, None, progress=False)
                 runs[key] = (sim2.run(resume=False), sim2)
@@ -951,6 +953,284 @@ def _halving_row(coarse, _, fine, sim):
             f"{g[0]:.4f}, {g[1]:.4f}")
 
 
+def bench_fmu(n_steps=400, dt=1e-3):
+    """The contact element's FMU (railcontact fmu) stepped by FMPy's FMI 3.0 API
+    through a hunting-like history, against the Python API's evaluation alone."""
+    out("\n## Contact element FMU (FMI 3.0 co-simulation, FMPy), cost per step")
+    try:
+        from fmpy import extract, read_model_description
+        from fmpy.fmi3 import FMU3Slave
+        from railcontact.fmu import build_fmu
+    except ImportError as exc:
+        out(f"fmpy/pythonfmu3 not installed ({exc}); skipped")
+        return
+    import tempfile
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.inputs import contact_element
+    with tempfile.TemporaryDirectory() as tmp:
+        path = build_fmu(Path(tmp) / "element.fmu")
+        md = read_model_description(str(path))
+        vr = {v.name: v.valueReference for v in md.modelVariables}
+        unzipdir = extract(str(path))
+        t = np.arange(n_steps) * dt
+        w = 2 * np.pi * 5.0
+        y, yaw = 3e-3 * np.sin(w * t), 1e-3 * np.cos(w * t)
+        ins = [vr[k] for k in ("lateral_shift", "yaw", "vertical_position")]
+        outs = [vr[f"force_{c}"] for c in "xyz"] + [vr[f"torque_{c}"] for c in "xyz"]
+        fmu = FMU3Slave(guid=md.guid, unzipDirectory=unzipdir,
+                        modelIdentifier=md.coSimulation.modelIdentifier, instanceName="bench")
+        fmu.instantiate()
+        fmu.enterInitializationMode()
+        fmu.setFloat64(ins, [y[0], yaw[0], 3e-4])
+        fmu.exitInitializationMode()
+        got = np.empty((n_steps, 6))
+        ts = np.empty(n_steps)
+        for k in range(n_steps):
+            t0 = time.perf_counter()
+            fmu.setFloat64(ins, [y[k], yaw[k], 3e-4])
+            fmu.doStep(currentCommunicationPoint=t[k], communicationStepSize=dt)
+            got[k] = fmu.getFloat64(outs)
+            ts[k] = time.perf_counter() - t0
+        t_fmu = float(np.median(ts))
+        fmu.terminate()
+        fmu.freeInstance()
+    el = contact_element()
+    want = np.empty((n_steps, 6))
+    for k in range(n_steps):
+        t0 = time.perf_counter()
+        r = el.evaluate(WheelsetState(lateral_shift=y[k], yaw=yaw[k], vertical_position=3e-4))
+        want[k, :3], want[k, 3:] = r.force, r.torque
+        ts[k] = time.perf_counter() - t0
+    t_api = float(np.median(ts))
+    dev = np.abs(got - want).max() / np.abs(want).max()
+    out(f"* {n_steps} steps of {dt * 1e3:g} ms (y = 3 mm sin, yaw = 1 mrad cos at 5 Hz; S1002 on "
+        f"60E1, Hertz + FASTSIM, position mode), medians: {t_fmu * 1e3:.2f} ms per FMU step "
+        f"(set inputs, doStep, get 6 outputs), {t_api * 1e3:.2f} ms per API evaluation: "
+        f"FMI overhead {(t_fmu - t_api) * 1e3:.3f} ms per step")
+    out(f"* largest deviation of the FMU's forces and torques from the API's: {dev:.1e} "
+        "(relative to the largest)")
+    _fmu_c_host(el)
+
+
+def _fmu_c_host(element):
+    """The FMU run by a host in C (benchmarks/fmu_c_host.c) in a process of its own,
+    with the environment of docs/multibody.md; its forces against the API's."""
+    import shutil
+    import subprocess
+    import sysconfig
+    import tempfile
+    import zipfile
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.inputs import contact_element
+    from railcontact.fmu import build_fmu
+    import pythonfmu3
+    if shutil.which("gcc") is None:
+        out("* C host: no gcc; skipped")
+        return
+    fmi = Path(pythonfmu3.__file__).parent / "pythonfmu-export" / "src" / "fmi"
+    with tempfile.TemporaryDirectory() as tmp:
+        tmp = Path(tmp)
+        subprocess.run(["gcc", "-O1", "-o", str(tmp / "host"), str(HERE / "fmu_c_host.c"),
+                        f"-I{fmi}", "-ldl"], check=True)
+        with zipfile.ZipFile(build_fmu(tmp / "e.fmu")) as z:
+            z.extractall(tmp / "fmu")
+        xml = (tmp / "fmu" / "modelDescription.xml").read_text()
+        token = xml.split('instantiationToken="')[1].split('"')[0]
+        import site
+        env = dict(os.environ,
+                   LD_PRELOAD=os.path.join(sysconfig.get_config_var("LIBDIR"),
+                                           sysconfig.get_config_var("LDLIBRARY")),
+                   PYTHONHOME=sys.base_prefix,
+                   PYTHONPATH=os.pathsep.join(site.getsitepackages() + [str(HERE.parent)]))
+        t0 = time.perf_counter()
+        run = subprocess.run([str(tmp / "host"),
+                              str(tmp / "fmu" / "binaries" / "x86_64-linux" /
+                                  "RailContactElement.so"), str(tmp / "fmu" / "resources"),
+                              token, "0.003", "1.8e-4"], env=env, capture_output=True, text=True)
+        wall = time.perf_counter() - t0
+    if run.returncode != 0:
+        out(f"* C host: FAILED (exit status {run.returncode}): {run.stderr.strip()[-300:]}")
+        return
+    got = np.array([float(v) for v in run.stdout.split()])
+    r = element.evaluate(WheelsetState(lateral_shift=0.003, vertical_position=1.8e-4))
+    want = np.r_[r.force, r.torque]
+    out(f"* a host in C (benchmarks/fmu_c_host.c, libpython preloaded): one step in a fresh "
+        f"process in {wall:.1f} s (start of Python, imports, Numba cache); forces and torques "
+        f"against the API's: largest relative deviation "
+        f"{np.abs(got - want).max() / np.abs(want).max():.1e}")
+
+
+def bench_quasi_elastic(alphas=(1e-5, 2e-5, 3e-5, 5e-5)):
+    """Arnold's quasi-elastic contact against the multi-Hertzian elastic one on
+    S1002/60E1 1:40 at 70 kN: the normal force across the rigid contact jumps, the
+    penetration, the equivalent conicity, the linear critical speed."""
+    out("\n## Arnold's quasi-elastic contact vs multi-Hertzian, S1002/60E1 1:40, 70 kN")
+    from railcontact.dynamics import VehicleModel, WheelRailTable, critical_speed
+    from railcontact.dynamics.contact_element import WheelsetState
+    from railcontact.inputs import contact_element
+    from railcontact.geometry import contact_table, equivalent_conicity
+    from railcontact.geometry.quasi_elastic import quasi_elastic_contact, quasi_elastic_table
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", inclination=math.atan(1 / 40)))
+    element = contact_element(tangential="none", mode="load")
+
+    def jump_at(lo, hi, size):
+        a = lambda y: quasi_elastic_contact(ws, tr, y, alpha=1e-8).points["right"].contact_angle
+        alo = a(lo)
+        while hi - lo > 1e-7:
+            mid = 0.5 * (lo + hi)
+            lo, hi = (mid, hi) if abs(a(mid) - alo) < size else (lo, mid)
+        return 0.5 * (lo + hi)
+
+    for lo, hi, size in ((4.9e-3, 5.1e-3, 0.05), (6.2e-3, 6.3e-3, 0.3)):
+        yj = jump_at(lo, hi, size)
+        row = []
+        for h in (4e-6, 1e-6):
+            ys = np.arange(yj - 2e-5, yj + 2e-5 + h / 2, h)
+            steps = {}
+            for a in (1e-8, 3e-5):
+                d = np.array([quasi_elastic_contact(ws, tr, y, alpha=a).points["right"]
+                              .contact_angle for y in ys])
+                steps[a] = np.abs(np.diff(70e3 / np.cos(d))).max()
+            fn = np.array([element.evaluate(WheelsetState(lateral_shift=y, loads=(70e3, 70e3)))
+                           .normal_force["right"] for y in ys])
+            steps["mh"] = np.abs(np.diff(fn)).max()
+            row.append(f"h = {h * 1e6:g} um: rigid {steps[1e-8] / 1e3:.2f} kN, quasi-elastic "
+                       f"(alpha 3e-5) {steps[3e-5] / 1e3:.3f} kN, multi-Hertzian {steps['mh'] / 1e3:.2f} kN")
+        out(f"* jump of the rigid contact point at y = {yj * 1e3:.3f} mm, largest step of the "
+            f"right wheel's normal force within +-20 um: " + "; ".join(row))
+    ys = np.arange(-4e-3, 4.01e-3, 1e-3)
+    el = [find_contact(ws, tr, y, 0.0, vertical_force=70e3).interpenetration for y in ys]
+    for a in alphas:
+        r = np.array([[quasi_elastic_contact(ws, tr, y, alpha=a).points[s].penetration / e[s]
+                       for s in ("left", "right")] for y, e in zip(ys, el)])
+        out(f"* alpha = {a:g} m: quasi-elastic / multi-Hertzian vertical penetration over shifts "
+            f"-4..4 mm: {r.min():.2f} .. {r.max():.2f} (mean {r.mean():.3f})")
+    ysc = np.arange(-8e-3, 8.01e-3, 2.5e-4)
+    amps = (1e-3, 2e-3, 3e-3, 4e-3, 6e-3)
+    tabs = {"multi-Hertzian (70 kN)": contact_table(ws, tr, ysc, vertical_force=70e3),
+            "rigid": quasi_elastic_table(ws, tr, ysc, alpha=1e-8)}
+    for a in alphas:
+        tabs[f"quasi-elastic alpha {a:g}"] = quasi_elastic_table(ws, tr, ysc, alpha=a)
+    out("* equivalent conicity (EN 15302 wavelength method) at amplitudes "
+        + ", ".join(f"{x * 1e3:g}" for x in amps) + " mm:")
+    for name, tb in tabs.items():
+        out(f"  * {name}: " + ", ".join(f"{equivalent_conicity(tb, x):.3f}" for x in amps))
+    mh = WheelRailTable.build(ws, tr, 60e3, shift_range=0.01, step=2.5e-4)
+    qe = WheelRailTable.quasi_elastic(ws, tr, 60e3, 3e-5, shift_range=0.01, step=2.5e-4)
+    for m in ("bogie", "vehicle"):
+        model = VehicleModel.from_parameters(m, {})
+        out(f"* Manchester {m}, linear critical speed: multi-Hertzian table "
+            f"{critical_speed(model, mh):.1f} m/s, quasi-elastic (alpha 3e-5) "
+            f"{critical_speed(model, qe):.1f} m/s")
+
+
+def bench_wear_grid_reuse(repeat: int = 5):
+    """Issue 29: grid reuse in the wear post-processing (the exact normal solver's
+    declared "grid-reuse"): a bogie on a 40 m R300 curve, every sample post-processed
+    with exact + exact and no repeated states, with and without the kept grid,
+    interleaved ``repeat`` times (medians)."""
+    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.inputs import wear_scenario_from_dict
+    from railcontact.wear import get_wear_law
+    from railcontact.wear.postprocess import PatchPostProcessor
+    from railcontact.wear.route_tasks import build_table
+    sc = wear_scenario_from_dict({
+        "wheel": {"profile": "S1002"}, "rail": {"profile": "60E1", "inclination": 0.025},
+        "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [20, 20]},
+        "vehicle": {"model": "bogie"}, "dynamics": {"table_range": 0.010, "table_step": 5e-4},
+        "wear": {"law": "usfd", "steps": 1},
+        "route": [{"name": "R300", "radius": 300.0, "cant": 0.1, "speed": 20.0,
+                   "length": 40.0, "lead": 5.0}]})
+    sim = sc.driver(progress=False)
+    table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
+    item = sc.routes[0]
+    ds = simulate_vehicle(sc.model, item.route, table, item.speed, item.duration,
+                          friction=item.friction, sample_rate=100.0)
+    grid = np.arange(0.0, 0.2, 1e-4)
+    args = (ds, [table, table], [list(sim.wheels[0])] * 2, sim.rails[0], [[grid, grid]] * 2,
+            [grid, grid], item.friction, 1)
+    pps = {}
+    for keep in (False, True):
+        pp = PatchPostProcessor("exact", "exact", get_wear_law("usfd"), sc.case.material,
+                                (20, 20), reuse_tolerance=0.0)
+        pp.regrid = keep and pp.regrid
+        pp.run(*args)                                          # compiled, warm
+        pps[keep] = pp
+    wall, solve, res = {False: [], True: []}, {False: [], True: []}, {}
+    for _ in range(repeat):
+        for keep, pp in pps.items():
+            t0 = time.perf_counter()
+            res[keep] = pp.run(*args)
+            wall[keep].append(time.perf_counter() - t0)
+            solve[keep].append(res[keep]["stats"].solve_time)
+    same = all(np.array_equal(np.array(res[True][k]), np.array(res[False][k]))
+               for k in ("wheel", "rail")) and res[True]["energy"] == res[False]["energy"]
+    out("## Wear post-processing: grid reuse (exact + exact, bogie on R300, "
+        f"{res[True]['stats'].solved} solves, medians of {repeat} interleaved runs)\n")
+    out("| kept grid | post-processing [s] | solves [s] |")
+    out("|---|---|---|")
+    for keep in (False, True):
+        out(f"| {'yes' if keep else 'no'} | {statistics.median(wall[keep]):.3f} | "
+            f"{statistics.median(solve[keep]):.3f} |")
+    out(f"\n* wear depths and energy with and without it bit-identical: {same}\n")
+
+
+def bench_roller_rig(yaw_stiffness=(2e4, 5e4, 1e5, 2e5), lateral_stiffness=(1.55e5, 1.55e6)):
+    """The 1:5 wheelset of examples/roller_rig_dynamics.toml on rollers of 0.18 m and
+    on tangent track: the linear critical speeds over the primary stiffnesses, and
+    which roller-rig terms move it (the roller's curvature in the Hertz patch alone;
+    the kinematics alone: the leaning normal, the roller's spin, its radius in xi);
+    the contact's x against the 3-D roller search; the cost of the example."""
+    import copy
+    import dataclasses
+    import runpy
+    out("\n## Roller rig (1:5 S1002/60E1, rollers of 0.18 m): rig against tangent track")
+    from railcontact.dynamics.roller_rig import (O_XC, RigSystem, RollerRig, critical_speed,
+                                                 rig_tables, run_rig_scenario)
+    from railcontact.inputs import load_dynamics_scenario
+    sc = load_dynamics_scenario(HERE.parent / "examples" / "roller_rig_dynamics.toml")
+    t0 = time.perf_counter()
+    rig_tab, track_tab = rig_tables(sc)
+    out(f"* contact table, {rig_tab.shift.size} shifts: {time.perf_counter() - t0:.2f} s")
+    out("| k_y [N/m] | k_psi [N m/rad] | track [m/s] | rig [m/s] | rig/track | Hertz only "
+        "| kinematics only |")
+    out("|---|---|---|---|---|---|---|")
+    for ky in lateral_stiffness:
+        for kp in yaw_stiffness:
+            w = dataclasses.replace(sc.vehicle, k_y=ky, k_yaw=kp)
+
+            def vc(rig, tab):
+                try:
+                    return critical_speed(w, rig, tab)
+                except (rc.InputError, ValueError) as exc:
+                    return str(exc).split(": ")[-1]
+            hertz = copy.copy(rig_tab)
+            hertz.radius = None
+            kin = copy.copy(track_tab)
+            kin.radius = sc.rig.radius
+            vt, vr = vc(sc.rig.on_track(), track_tab), vc(sc.rig, rig_tab)
+            vh, vk = vc(sc.rig.on_track(), hertz), vc(sc.rig, kin)
+            f = lambda v: f"{v:.1f}" if isinstance(v, float) else v
+            ratio = f"{vr / vt:.3f}" if isinstance(vr, float) and isinstance(vt, float) else "-"
+            out(f"| {ky:.3g} | {kp:.3g} | {f(vt)} | {f(vr)} | {ratio} | {f(vh)} | {f(vk)} |")
+    ex = runpy.run_path(str(HERE.parent / "examples" / "roller_rig_scaled.py"))
+    system = RigSystem(sc.vehicle, sc.rig, rig_tab)
+    for y, psi in ((0.0, 0.838e-3), (0.0, -2e-3), (4e-4, 1e-3), (-6e-4, -1.5e-3)):
+        xc = system.forces([[y, psi, 0.0, 0.0]])[0, 0, 1, 0, O_XC]
+        (p,) = rc.solve(ex["case"](y, psi)).patches
+        out(f"* y {y * 1e3:.1f} mm, yaw {psi * 1e3:.3f} mrad: contact x {xc * 1e3:.4f} mm, "
+            f"3-D roller search {p.geometry.position[0] * 1e3:.4f} mm "
+            f"({xc / p.geometry.position[0] - 1:+.2%})")
+    for name in ("roller_rig_dynamics.toml", "roller_rig_bogie.toml"):
+        t0 = time.perf_counter()
+        ds = run_rig_scenario(load_dynamics_scenario(HERE.parent / "examples" / name),
+                              progress=False)
+        out(f"* examples/{name}: {time.perf_counter() - t0:.2f} s (4 s of hunting at "
+            f"200 Hz, table and both critical speeds); linear critical speed on the rig "
+            f"{ds.attrs['critical_speed_m_s']:.1f} m/s, on track "
+            f"{ds.attrs['track_critical_speed_m_s']:.1f} m/s")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -966,10 +1246,16 @@ def main():
     (HERE / "compiled_case.md").write_text("\n".join(compiled_case.main()) + "\n")
     bench_strips_accuracy()
     bench_dynamics()
+    bench_fmu()
+    bench_quasi_elastic()
+    bench_roller_rig()
     bench_wear_closed_loop()
+    bench_wear_grid_reuse()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
     contact_inputs.main()
+    import contact_testbank        # every testbank input: benchmarks/contact_testbank.md
+    contact_testbank.main([])
 
 
 if __name__ == "__main__":

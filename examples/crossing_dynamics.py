@@ -16,6 +16,7 @@ import sys
 import numpy as np
 
 from railcontact.cases.case import case_from_dict
+from railcontact.cases.surfaces import build_surface_case
 from railcontact.dynamics.crossing import (CrossingTrack, contact_table, jenkins_p2,
                                            simulate_crossing)
 from railcontact.profiles.slices import artificial_crossing
@@ -32,7 +33,8 @@ def main(png=None):
                            "rails": rails,
                            "wheelset": {"side": "right", "vertical_force": Q, "position": 0.0},
                            "solver": {"normal": "hertz", "tangential": "none"}})
-    table = contact_table(case, np.arange(0.0, 0.2001, 0.002))
+    table = contact_table(build_surface_case(case), np.arange(0.0, 0.2001, 0.002),
+                          case.material)
     k = int(np.argmax(table.z_touch))
     slope = lambda a, b: np.polyfit(table.s[a:b], table.z_touch[a:b], 1)[0]   # noqa: E731
     dip = slope(k - 15, k - 2) - slope(k + 2, k + 15)

@@ -4,14 +4,16 @@ from __future__ import annotations
 
 import copy
 import math
-import tomllib
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from .bodies_setup import RADII, BodiesSetup, parse_bodies
 from .keys import PROFILE_OPTIONS, CaseKeys
-from .surface_setup import check_surface_case, is_surface_case
+from .surface_setup import SurfaceCaseSetup, is_surface_case, parse_surface_case
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
+from ..core.checks import check_grid_size, shown
 from ..core.errors import CaseFileError, InputError, RailContactError
+from ..core.files import read_toml
 from ..core.materials import Material
 from ..normal import get_normal_model
 from ..normal.plasticity import HARDNESS_FACTOR, pressure_limit
@@ -20,7 +22,7 @@ from ..tangential import get_tangential_model
 _ALLOWED = {
     "title": None,
     "material": {"young_modulus", "poisson_ratio", "wheel_young_modulus",
-                 "wheel_poisson_ratio"},
+                 "wheel_poisson_ratio", "yield_stress"},
     "friction": {"coefficient", "variation"},
     "wheel": {"profile", "nominal_radius", "profile_left", "units"} | PROFILE_OPTIONS,
     "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
@@ -38,16 +40,16 @@ _ALLOWED = {
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options", "force_tolerance", "search_length",
-               "contact_angle", "rigid_slip"},
+               "contact_angle", "rigid_slip", "allow_large"},
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
 }
-_RADII = {"wheel_rolling", "wheel_lateral", "rail_rolling", "rail_lateral"}
 
 
-@dataclass
+@dataclass(frozen=True)
 class Case(CaseKeys):
-    """One contact case, validated, in SI units.
+    """One contact case, validated, in SI units (frozen: built once by
+    :func:`case_from_dict`).
 
     ``raw`` keeps the parsed TOML so that a sweep can vary any dotted key; the
     validated reading of its keys is :class:`~railcontact.cases.keys.CaseKeys`'s.
@@ -63,10 +65,16 @@ class Case(CaseKeys):
     grid: tuple | None = None
     element_size: tuple | None = None
     force_tolerance: float = 1e-4
+    #: ``friction.variation``: (angles [rad], coefficients) or None
+    friction_variation: tuple | None = None
     creepage: tuple | None = None
     base_dir: Path = field(default_factory=Path.cwd)
     #: the wheel-rail keys parsed (None for bodies cases and cases on rail surfaces)
     wheel_rail: WheelRailSetup | None = None
+    #: the keys of a case on rail surfaces parsed (None for other cases)
+    surfaces: SurfaceCaseSetup | None = None
+    #: the ``[bodies]`` (and ``[force]``) keys of a case given by curvatures parsed
+    bodies: BodiesSetup | None = None
 
     @property
     def is_bodies(self) -> bool:
@@ -77,22 +85,40 @@ class Case(CaseKeys):
         ``angle`` [rad] (rail-profile coordinates: negative on the gauge face):
         ``friction.variation`` interpolated linearly, constant beyond its ends
         (CONTACT's VARFRC = 1), else ``friction.coefficient``."""
-        var = self.get("friction.variation")
-        if var is None:
+        if self.friction_variation is None:
             return self.friction
         import numpy as np
-        return float(np.interp(angle, var["angle"], var["coefficient"]))
+        angles, coefficients = self.friction_variation
+        return float(np.interp(angle, angles, coefficients))
 
     def with_value(self, dotted: str, value) -> "Case":
         """A copy of the case with one dotted key set (used by sweeps)."""
+        return self.with_values({dotted: value})
+
+    def with_values(self, values: dict) -> "Case":
+        """A copy of the case with the dotted keys of ``values`` set (``{"wheelset.yaw":
+        0.002, "creepage": {...}}``; a value may be a :class:`~railcontact.profiles.Profile`
+        for a profile key), parsed and checked as a case file is."""
         raw = copy.deepcopy(self.raw)
-        node = raw
-        parts = dotted.split(".")
-        for part in parts[:-1]:
-            node = node.setdefault(part, {})
-            if not isinstance(node, dict):
-                raise CaseFileError(f"{dotted}: {part} is not a table")
-        node[parts[-1]] = value
+        for dotted, value in values.items():
+            node = raw
+            parts = dotted.split(".")
+            for part in parts[:-1]:
+                node = node.setdefault(part, {})
+                if not isinstance(node, dict):
+                    raise CaseFileError(f"{dotted}: {part} is not a table")
+            node[parts[-1]] = value
+        return case_from_dict(raw, self.base_dir)
+
+    def with_models(self, normal: str | None = None, tangential: str | None = None) -> "Case":
+        """A copy with other models (``[solver]``'s normal and tangential; the options of
+        a replaced model are dropped), checked as a case file is."""
+        raw = copy.deepcopy(self.raw)
+        sol = raw.setdefault("solver", {})
+        for key, name in (("normal", normal), ("tangential", tangential)):
+            if name:
+                sol[key] = name
+                sol.pop(f"{key}_options", None)
         return case_from_dict(raw, self.base_dir)
 
 
@@ -118,114 +144,132 @@ def _check_keys(raw: dict) -> None:
                             "case or a case given by curvatures")
     if "bodies" in raw:
         radii = raw["bodies"].get("radii")
-        if not isinstance(radii, dict) or set(radii) - _RADII or not radii:
-            raise CaseFileError(f"bodies.radii = {radii!r}: expected a table with keys "
-                                f"{sorted(_RADII)} (m; negative = concave, inf = flat)")
+        if not isinstance(radii, dict) or set(radii) - set(RADII) or not radii:
+            raise CaseFileError(f"bodies.radii = {shown(radii)}: expected a table with keys "
+                                f"{sorted(RADII)} (m; negative = concave, inf = flat)")
 
 
 def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
-    """Validate a parsed case and build a :class:`Case`."""
+    """Validate a parsed case and build its frozen :class:`Case`: every key is
+    checked here, once; a :class:`~railcontact.core.errors.CaseFileError` names the
+    first that is wrong."""
     if not isinstance(raw, dict):
         raise CaseFileError("case: expected a TOML table")
     _check_keys(raw)
-    case = Case(raw=raw, base_dir=Path(base_dir or Path.cwd()))
-    case.title = str(raw.get("title", ""))
+    keys = CaseKeys(raw)
+    sol = raw.get("solver", {})
+    normal = str(sol.get("normal", "hertz")).lower()
+    tangential = str(sol.get("tangential", "fastsim")).lower()
+    grid, element_size = _grid(sol)
+    allow_large = sol.get("allow_large", False)
+    if not isinstance(allow_large, bool):
+        raise CaseFileError(f"solver.allow_large = {shown(allow_large)}: expected true or false")
+    if grid:
+        check_grid_size(grid, "solver.grid", allow_large)
+    if keys.get("material.yield_stress") is not None:
+        keys.number("material.yield_stress", None, 1e6, 1e11, "Pa")
+    normal_options = dict(sol.get("normal_options", {}))
+    if "plasticity" in raw:
+        if "pressure_limit" in normal_options:
+            raise CaseFileError("pressure limit given both in [plasticity] and in "
+                                "solver.normal_options; give it once")
+        normal_options["pressure_limit"] = _pressure_limit(keys, normal)
+    values = dict(
+        title=str(raw.get("title", "")), material=_material(keys),
+        friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
+        friction_variation=_friction_variation(keys), normal=normal, tangential=tangential,
+        normal_options=normal_options,
+        tangential_options=dict(sol.get("tangential_options", {})), grid=grid,
+        element_size=element_size,
+        force_tolerance=keys.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)"),
+        creepage=None if "creepage" not in raw else (
+            keys.number("creepage.longitudinal", 0.0, -1.0, 1.0),
+            keys.number("creepage.lateral", 0.0, -1.0, 1.0),
+            keys.number("creepage.spin", 0.0, -100.0, 100.0, "1/m")))
+    # resolve models early so that a bad name fails before any work
     try:
-        wE, wnu = case.get("material.wheel_young_modulus"), case.get("material.wheel_poisson_ratio")
-        case.material = Material(case.number("material.young_modulus", 2.1e11, unit="Pa"),
-                                 case.number("material.poisson_ratio", 0.28),
-                                 None if wE is None else case.number("material.wheel_young_modulus",
-                                                                     unit="Pa"),
-                                 None if wnu is None else case.number("material.wheel_poisson_ratio"))
+        get_normal_model(normal, **normal_options)
+        if tangential != "none":
+            get_tangential_model(tangential, **values["tangential_options"])
+    except TypeError as exc:
+        raise CaseFileError(f"solver options: {exc}") from None
+    if "force" in raw and "bodies" not in raw:
+        raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "
+                            "for wheel-rail cases give [creepage]")
+    if "bodies" in raw:
+        values["bodies"] = parse_bodies(keys)
+    elif is_surface_case(keys):
+        # rails along the track, several rails, a roller: railcontact.cases.surfaces
+        values["surfaces"] = parse_surface_case(keys, tangential)
+    else:
+        values["wheel_rail"] = parse_wheel_rail(keys)
+    return Case(raw=raw, base_dir=Path(base_dir or Path.cwd()), **values)
+
+
+def _material(keys: CaseKeys) -> Material:
+    """``[material]``: one material, or the wheel's own beside the rail's."""
+    try:
+        wE, wnu = keys.get("material.wheel_young_modulus"), keys.get("material.wheel_poisson_ratio")
+        return Material(keys.number("material.young_modulus", 2.1e11, unit="Pa"),
+                        keys.number("material.poisson_ratio", 0.28),
+                        None if wE is None else keys.number("material.wheel_young_modulus",
+                                                            unit="Pa"),
+                        None if wnu is None else keys.number("material.wheel_poisson_ratio"))
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
-    case.friction = case.number("friction.coefficient", 0.3, 0.0, 5.0)
-    _check_friction_variation(case)
-    sol = raw.get("solver", {})
-    case.normal = str(sol.get("normal", "hertz")).lower()
-    case.tangential = str(sol.get("tangential", "fastsim")).lower()
-    case.normal_options = dict(sol.get("normal_options", {}))
-    case.tangential_options = dict(sol.get("tangential_options", {}))
+
+
+def _grid(sol: dict) -> tuple:
+    """``solver.grid`` (two integers) and ``solver.element_size`` (two lengths [m]),
+    at most one of them given."""
+    out = {}
     for key in ("grid", "element_size"):
         v = sol.get(key)
         if v is not None:
             if not (isinstance(v, list) and len(v) == 2
-                    and all(isinstance(t, (int, float)) and t > 0 for t in v)):
-                raise CaseFileError(f"solver.{key} = {v!r}: expected two positive numbers "
-                                    "(rolling, lateral)")
-            if key == "grid" and not all(float(t).is_integer() for t in v):
-                raise CaseFileError(f"solver.grid = {v!r}: expected two integers")
-            setattr(case, key, tuple(int(t) if key == "grid" else float(t) for t in v))
-    if case.grid and case.element_size:
+                    and all(isinstance(t, (int, float)) and not isinstance(t, bool)
+                            and math.isfinite(t) and t > 0 for t in v)):
+                raise CaseFileError(f"solver.{key} = {shown(v)}: expected two positive "
+                                    "finite numbers (rolling, lateral)")
+            if key == "grid" and not all(float(t).is_integer() and 2 <= t <= 2000 for t in v):
+                raise CaseFileError(f"solver.grid = {shown(v)}: expected two integers in "
+                                    "[2, 2000]")
+            out[key] = tuple(int(t) if key == "grid" else float(t) for t in v)
+    if len(out) == 2:
         raise CaseFileError("solver: give either grid or element_size, not both")
-    case.force_tolerance = case.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)")
-    if "creepage" in raw:
-        case.creepage = (case.number("creepage.longitudinal", 0.0, -1.0, 1.0),
-                         case.number("creepage.lateral", 0.0, -1.0, 1.0),
-                         case.number("creepage.spin", 0.0, -100.0, 100.0, "1/m"))
-    if "plasticity" in raw:
-        _plasticity(case)
-    # resolve models early so that a bad name fails before any work
-    try:
-        get_normal_model(case.normal, **case.normal_options)
-        if case.tangential != "none":
-            get_tangential_model(case.tangential, **case.tangential_options)
-    except TypeError as exc:
-        raise CaseFileError(f"solver options: {exc}") from None
-    if "force" in raw:
-        if "bodies" not in raw:
-            raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "
-                                "for wheel-rail cases give [creepage]")
-        case.number("force.longitudinal", 0.0, -1e8, 1e8, "N")
-        case.number("force.lateral", 0.0, -1e8, 1e8, "N")
-    if case.is_bodies:
-        case.number("bodies.normal_force", None, 0.0, 1e8, "N")
-        _body_curvatures(case)
-    elif is_surface_case(case):
-        # rails along the track, several rails, a roller: railcontact.cases.surfaces
-        check_surface_case(case)
-        case.wheel_loads()
-        case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s")
-        case.number("wheel.nominal_radius", 0.46, 0.01, 1.5, "m")
-    else:
-        case.wheel_rail = parse_wheel_rail(case)
-    return case
+    return out.get("grid"), out.get("element_size")
 
 
-def _plasticity(case: Case) -> None:
-    """``[plasticity]``: the pressure limit of elastic-perfectly-plastic contact
+def _pressure_limit(keys: CaseKeys, normal: str) -> float:
+    """``[plasticity]``: the pressure limit [Pa] of elastic-perfectly-plastic contact
     (:mod:`railcontact.normal.plasticity`), passed to the exact normal model as its
     ``pressure_limit`` option: ``pressure_limit`` [Pa] as given, else
     ``pressure_factor`` (default 3, Tabor's hardness) x ``yield_stress`` [Pa]."""
-    pl = case.raw["plasticity"]
-    if case.normal != "exact":
+    pl = keys.raw["plasticity"]
+    if normal != "exact":
         raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "
-                            f"solver.normal is {case.normal!r} (expected 'exact')")
+                            f"solver.normal is {shown(normal)} (expected 'exact')")
     if "pressure_limit" in pl:
         if "yield_stress" in pl or "pressure_factor" in pl:
             raise CaseFileError("[plasticity]: give pressure_limit, or yield_stress (with "
                                 "pressure_factor), not both")
-        limit = case.number("plasticity.pressure_limit", None, 1e6, 1e12, "Pa")
-    else:
-        if "yield_stress" not in pl:
-            raise CaseFileError("[plasticity]: missing yield_stress (Pa) or pressure_limit (Pa)")
-        try:
-            limit = pressure_limit(case.number("plasticity.yield_stress", unit="Pa"),
-                                   case.number("plasticity.pressure_factor", HARDNESS_FACTOR))
-        except InputError as exc:
-            raise CaseFileError(str(exc)) from None
-    if "pressure_limit" in case.normal_options:
-        raise CaseFileError("pressure limit given both in [plasticity] and in "
-                            "solver.normal_options; give it once")
-    case.normal_options["pressure_limit"] = limit
+        return keys.number("plasticity.pressure_limit", None, 1e6, 1e12, "Pa")
+    if "yield_stress" not in pl:
+        raise CaseFileError("[plasticity]: missing yield_stress (Pa) or pressure_limit (Pa)")
+    try:
+        return pressure_limit(keys.number("plasticity.yield_stress", unit="Pa"),
+                              keys.number("plasticity.pressure_factor", HARDNESS_FACTOR))
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
 
 
-def _check_friction_variation(case: Case) -> None:
+def _friction_variation(case: CaseKeys) -> tuple | None:
     """``friction.variation = {angle = [...], coefficient = [...]}``: friction
-    coefficients at rail surface inclinations [rad], increasing."""
+    coefficients at rail surface inclinations [rad], increasing; returned as
+    (angles, coefficients) tuples of floats, None where not given."""
     var = case.get("friction.variation")
     if var is None:
-        return
+        return None
     ok = isinstance(var, dict) and set(var) == {"angle", "coefficient"}
     if ok:
         a, c = var["angle"], var["coefficient"]
@@ -233,45 +277,15 @@ def _check_friction_variation(case: Case) -> None:
               and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
                       for v in a + c))
     if not ok:
-        raise CaseFileError(f"friction.variation = {var!r}: expected a table with lists angle "
+        raise CaseFileError(f"friction.variation = {shown(var)}: expected a table with lists angle "
                             "[rad] and coefficient of equal length")
     if any(b <= a for a, b in zip(var["angle"], var["angle"][1:])):
-        raise CaseFileError(f"friction.variation.angle = {var['angle']!r}: expected increasing "
+        raise CaseFileError(f"friction.variation.angle = {shown(var['angle'])}: expected increasing "
                             "angles [rad]")
     if any(not 0.0 <= c <= 5.0 for c in var["coefficient"]):
-        raise CaseFileError(f"friction.variation.coefficient = {var['coefficient']!r}: expected "
+        raise CaseFileError(f"friction.variation.coefficient = {shown(var['coefficient'])}: expected "
                             "values in [0, 5]")
-
-
-def _body_curvatures(case: Case):
-    radii = case.get("bodies.radii")
-    curv = {}
-    for k in _RADII:
-        r = radii.get(k, math.inf)
-        if isinstance(r, bool) or not isinstance(r, (int, float)) or r == 0 or math.isnan(r):
-            raise CaseFileError(f"bodies.radii.{k} = {r!r}: expected a radius in m (non-zero; "
-                                "negative = concave, inf = flat)")
-        curv[k] = 0.0 if math.isinf(r) else 1.0 / r
-    A = 0.5 * (curv["wheel_rolling"] + curv["rail_rolling"])
-    B = 0.5 * (curv["wheel_lateral"] + curv["rail_lateral"])
-    if A <= 0 or B <= 0:
-        raise CaseFileError(f"bodies.radii give relative curvatures A = {A:.4g}, B = {B:.4g} 1/m; "
-                            "expected both > 0 (a concave body must have the larger radius)")
-    return A, B
-
-
-def read_toml(path, what: str = "case file") -> dict:
-    """Parse a TOML input file; a missing or unreadable file is a CaseFileError
-    naming ``what`` the file was meant to be."""
-    path = Path(path)
-    if not path.is_file():
-        raise CaseFileError(f"{what} {str(path)!r} does not exist")
-    try:
-        return tomllib.loads(path.read_text())
-    except tomllib.TOMLDecodeError as exc:
-        raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
-    except UnicodeError as exc:
-        raise CaseFileError(f"{path}: cannot decode: {exc}") from None
+    return (tuple(float(a) for a in var["angle"]), tuple(float(c) for c in var["coefficient"]))
 
 
 def load_case(path) -> Case:
@@ -284,8 +298,3 @@ def load_case(path) -> Case:
         raise CaseFileError(f"{path.name}: {exc}") from None
     except RailContactError:
         raise
-
-
-def body_curvatures(case: Case):
-    """Relative curvatures (A, B) [1/m] of a ``[bodies]`` case."""
-    return _body_curvatures(case)

@@ -5,7 +5,6 @@ each patch, and each result's validity (:mod:`railcontact.geometry.validity`).""
 from __future__ import annotations
 
 import logging
-import math
 
 from .coupling import solve_coupled
 from ..geometry.validity import HALF_SPACE_LIMIT, contact_size, patch_validity
@@ -127,7 +126,7 @@ def patch_friction(case, geom) -> float:
     ``friction.variation`` at the inclination of its rail surface in rail-profile
     coordinates (the contact angle in the side frame plus the rail's inclination;
     CONTACT's VARFRC = 1)."""
-    if case.get("friction.variation") is None:
+    if case.friction_variation is None:
         return case.friction
     sgn = 1.0 if geom.side == "right" else -1.0
     rail = case.wheel_rail.rail
@@ -148,14 +147,9 @@ def bodies_validity(case, result: PatchResult) -> PatchResult:
     """A bodies case's patch with its size against the given radii (the larger of
     half-width / smallest lateral radius and half-length / smallest rolling radius;
     :mod:`railcontact.geometry.validity`)."""
-    radii = case.get("bodies.radii")
     a, b = contact_size(result.normal)
-
-    def smallest(*keys):
-        return min(abs(float(radii.get(k, math.inf))) for k in keys)
-
-    ratio = max(b / smallest("wheel_lateral", "rail_lateral"),
-                a / smallest("wheel_rolling", "rail_rolling"))
+    ratio = max(b / case.bodies.smallest_radius("wheel_lateral", "rail_lateral"),
+                a / case.bodies.smallest_radius("wheel_rolling", "rail_rolling"))
     status = SolverStatus()
     if ratio > HALF_SPACE_LIMIT:
         status = status.with_warnings(f"half-space: the patch is large against the radii of "

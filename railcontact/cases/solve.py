@@ -9,10 +9,9 @@ on rail surfaces by :mod:`railcontact.cases.surfaces`.  The results are
 from __future__ import annotations
 
 import logging
-import math
 import time
 
-from .case import Case, body_curvatures
+from .case import Case
 from .surface_setup import is_surface_case
 from .coupling import solve_coupled
 from ..geometry.contact import ContactGeometry
@@ -21,6 +20,8 @@ from .results import PatchResult, SolveResult
 from .surfaces import solve_on_surfaces
 from ..tangential.inverse import solve_for_forces
 from .balance import solve_at_position, solve_wheel_rail
+from ..core.checks import shown
+from ..core.errors import InputError
 
 log = logging.getLogger(__name__)
 
@@ -49,18 +50,51 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     :mod:`railcontact.cases.surfaces`) is solved by
     :func:`railcontact.cases.surfaces.solve_on_surfaces`.
     """
+    if not isinstance(case, Case):
+        raise InputError(f"case = {shown(case)}: expected a Case (railcontact.load_case(path) "
+                         "or railcontact.case_from_dict(dict))")
+    for name, value in (("normal", normal), ("tangential", tangential)):
+        if value is not None and not isinstance(value, str):
+            raise InputError(f"{name} = {shown(value)}: expected a model name (str) or None")
+    if warm_start is not None and not isinstance(warm_start, SolveResult):
+        raise InputError(f"warm_start = {shown(warm_start)}: expected a SolveResult or None")
     if not case.is_bodies and is_surface_case(case):
-        return solve_on_surfaces(case, normal, tangential, warm_start=warm_start)
+        return _check_pressure(solve_on_surfaces(case, normal, tangential,
+                                                 warm_start=warm_start), case)
     if warm_start is not None:
         res = _solve(case, normal, tangential, warm_start)
         # a force that jumps across the load is the model's: a cold start meets it too
         if res.converged or (res.balance is not None and res.balance.force_jump):
-            return res
+            return _check_pressure(res, case)
         log.info("warm-started case did not converge; solving it again cold")
         cold = _solve(case, normal, tangential, None)
         cold.cpu_time += res.cpu_time                 # the failed attempt counts
-        return cold
-    return _solve(case, normal, tangential, None)
+        return _check_pressure(cold, case)
+    return _check_pressure(_solve(case, normal, tangential, None), case)
+
+
+#: p_max [Pa] beyond which a result is flagged where the case gives no yield stress:
+#: Tabor's hardness, 3 x the yield stress, of a rail steel of 1 GPa yield stress
+#: (head-hardened grades): no elastic-perfectly-plastic contact carries more
+#: (docs/case_files.md, "Convergence and validity")
+DEFAULT_PRESSURE_LIMIT = 3.0e9
+
+
+def _check_pressure(res: SolveResult, case: Case) -> SolveResult:
+    """A warning on each patch whose p_max exceeds the material's pressure limit:
+    ``material.yield_stress`` x 3 (Tabor's hardness) where given, else
+    :data:`DEFAULT_PRESSURE_LIMIT`; none where ``[plasticity]`` bounds the pressure."""
+    if "pressure_limit" in case.normal_options:
+        return res
+    ys = case.get("material.yield_stress")
+    limit = 3.0 * float(ys) if ys is not None else DEFAULT_PRESSURE_LIMIT
+    for p in res.patches:
+        if p.normal is not None and p.normal.pmax > limit * (1 + 1e-9):
+            p.validity = p.validity.with_warnings(
+                f"plasticity: p_max {p.normal.pmax / 1e9:.2f} GPa exceeds the elastic "
+                f"material's limit {limit / 1e9:.2f} GPa (3 x yield stress); the elastic "
+                "result overstates the pressure: give [plasticity] with the exact model")
+    return res
 
 
 
@@ -70,24 +104,20 @@ def _solve(case, normal, tangential, warm_start):
     nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
     results, pose, contact, balance = [], None, None, None
     if case.is_bodies:
-        A, B = body_curvatures(case)
-        r = case.get("bodies.radii").get("wheel_rolling", math.nan)
-        geom = ContactGeometry(curvatures=(A, B), rolling_radius=float(r))
+        bodies = case.bodies
+        geom = ContactGeometry(curvatures=bodies.curvatures, rolling_radius=bodies.rolling_radius)
         wkw = {}
         if warm_start is not None and warm_start.patches:
             if "warm-start" in nmodel.capabilities:
                 wkw["warm_start"] = warm_start.patches[0].normal
-        ns = nmodel.solve(geom, case.material, normal_force=case.number("bodies.normal_force"),
-                          **kw, **wkw)
+        ns = nmodel.solve(geom, case.material, normal_force=bodies.normal_force, **kw, **wkw)
         creep = case.creepage or (0.0, 0.0, 0.0)
-        V = case.number("bodies.velocity", 1.0, 1e-6, 1e3, "m/s")
-        if coupled_models(case, nmodel, tmodel) and "force" not in case.raw:
+        V = bodies.velocity
+        if coupled_models(case, nmodel, tmodel) and bodies.forces is None:
             ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep, case.friction,
-                                   V, normal_force=case.number("bodies.normal_force"), **kw)
-        elif "force" in case.raw and tmodel is not None:
-            ts = solve_for_forces(tmodel, ns, geom, case.material,
-                                  (case.number("force.longitudinal", 0.0),
-                                   case.number("force.lateral", 0.0)),
+                                   V, normal_force=bodies.normal_force, **kw)
+        elif bodies.forces is not None and tmodel is not None:
+            ts = solve_for_forces(tmodel, ns, geom, case.material, bodies.forces,
                                   spin=creep[2], friction=case.friction, velocity=V)
             creep = ts.creepage
         else:

@@ -2,15 +2,21 @@
 rails each placed on its own, a roller (``docs/case_files.md``, "Rails along the
 track, several rails, rollers").
 
-Which cases need the 3-D surfaces, and the validation of their keys; the solving
-is :mod:`railcontact.cases.surfaces`'s.
+Which cases need the 3-D surfaces (:func:`is_surface_case`), and their keys
+validated and parsed once into a typed :class:`SurfaceCaseSetup`
+(:func:`parse_surface_case`); building the surfaces from it and solving is
+:mod:`railcontact.cases.surfaces`'s.
 """
 
 from __future__ import annotations
 
 
+from dataclasses import dataclass
+
+from ..core.checks import shown
 from ..core.errors import CaseFileError
 from .keys import CaseKeys
+from .wheel_rail_setup import ProfileSource
 
 #: keys of one rail (``[rail]`` or an entry of ``[[rails]]``) in a surface case
 RAIL_KEYS = {"profile", "slices", "inclination", "units", "name", "lateral_position",
@@ -29,9 +35,85 @@ def is_surface_case(case: CaseKeys) -> bool:
             or "position" in raw.get("wheelset", {}))
 
 
-def check_surface_case(case: CaseKeys) -> None:
-    """Validate the surface keys of a case (no files read): a clear
-    :class:`CaseFileError` for what is wrong."""
+@dataclass(frozen=True)
+class RailSpec:
+    """One rail of a surface case, parsed (SI units): a ``profile``
+    (:class:`ProfileSource`) or ``slices`` (a ``.slcs`` file name or a list of
+    ``{s, profile}``), its ``name`` (None: the surface's), ``lateral_position`` [m]
+    of its profile origin in the track frame (None: placed by the track's gauge),
+    ``vertical_position`` [m], ``slice_spacing`` [m] (None: the slices' default),
+    ``lateral_range`` (y_min, y_max) [m] in rail-profile coordinates (None: all)
+    and the file's length ``units``; ``where`` names it in messages."""
+
+    where: str
+    profile: ProfileSource | None = None
+    slices: object = None
+    name: str | None = None
+    lateral_position: float | None = None
+    vertical_position: float = 0.0
+    slice_spacing: float | None = None
+    lateral_range: tuple | None = None
+    units: str = "auto"
+
+
+@dataclass(frozen=True)
+class RollerSpec:
+    """A roller in place of the rail: ``radius`` [m], ``angular_velocity`` [rad/s]
+    (None: rolling with the wheel) and ``position`` [m] along the track of its
+    crown."""
+
+    radius: float
+    angular_velocity: float | None = None
+    position: float = 0.0
+
+
+@dataclass(frozen=True)
+class SurfaceCaseSetup:
+    """The keys of a case on rail surfaces, parsed once (SI units: m, rad, N, m/s).
+
+    Bodies: ``wheel`` (:class:`ProfileSource`), ``nominal_radius``,
+    ``flange_back_distance`` and ``flange_back_position``; ``rails`` (one
+    :class:`RailSpec` each), ``roller`` (:class:`RollerSpec` or None), ``gauge`` and
+    ``gauge_height`` (placing a rail without ``lateral_position``).
+
+    State: ``side`` (one wheel), ``position`` s along the track, ``lateral_shift``,
+    ``roll``, ``yaw``; ``vertical_position`` (None: the ``load`` [N] is met);
+    ``velocity``, ``pitch_velocity`` (None: rolling), ``lateral_velocity``,
+    ``yaw_rate``.
+
+    Search: ``search_length`` [m] (None: the default), ``contact_angle`` ("local" or
+    "wheelset") and ``rigid_slip`` ("planar" or "surfaces").
+    """
+
+    wheel: ProfileSource
+    rails: tuple
+    roller: RollerSpec | None
+    side: str
+    load: float | None
+    vertical_position: float | None
+    nominal_radius: float = 0.46
+    flange_back_distance: float = 1.360
+    flange_back_position: float = -0.070
+    gauge: float = 1.435
+    gauge_height: float = 0.014
+    position: float = 0.0
+    lateral_shift: float = 0.0
+    roll: float = 0.0
+    yaw: float = 0.0
+    velocity: float = 30.0
+    pitch_velocity: float | None = None
+    lateral_velocity: float = 0.0
+    yaw_rate: float = 0.0
+    search_length: float | None = None
+    contact_angle: str = "local"
+    rigid_slip: str = "planar"
+
+
+def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
+    """Validate and parse the keys of a case on rail surfaces (no file read); a
+    :class:`~railcontact.core.errors.CaseFileError` names the first key that is
+    wrong.  ``tangential`` is the case's tangential model (``rigid_slip =
+    "surfaces"`` needs the exact one)."""
     raw = case.raw
     if "rails" in raw and "slices" in raw.get("rail", {}):
         raise CaseFileError("give the rails either as [[rails]] or as [rail], not both")
@@ -40,41 +122,67 @@ def check_surface_case(case: CaseKeys) -> None:
         if not isinstance(rails, list) or not rails or not all(isinstance(r, dict) for r in rails):
             raise CaseFileError("[[rails]]: expected one or more tables, each a rail with "
                                 "profile or slices and its placement")
-        for k, r in enumerate(rails):
-            _check_rail(r, f"rails[{k}]")
-    elif "rail" in raw:
-        _check_rail(raw["rail"], "rail")
+        specs = tuple(_rail_spec(r, f"rails[{k}]") for k, r in enumerate(rails))
+    else:
+        specs = (_rail_spec(raw.get("rail", {"profile": "60E1"}), "rail"),)
     roller = raw.get("roller")
     if roller is not None:
         if not isinstance(roller, dict) or set(roller) - ROLLER_KEYS or "radius" not in roller:
-            raise CaseFileError(f"[roller] = {roller!r}: expected radius [m] and optionally "
+            raise CaseFileError(f"[roller] = {shown(roller)}: expected radius [m] and optionally "
                                 f"{sorted(ROLLER_KEYS - {'radius'})}")
-        case.number("roller.radius", None, 0.02, 10.0, "m")
-        if rails is not None and len(rails) > 1:
+        roller = RollerSpec(case.number("roller.radius", None, 0.02, 10.0, "m"),
+                            _optional(case, "roller.angular_velocity", -1e5, 1e5, "rad/s"),
+                            case.number("roller.position", 0.0, -1.0, 1.0, "m"))
+        if len(specs) > 1:
             raise CaseFileError("[roller] replaces one rail; give one rail")
+        if specs[0].slices is not None:
+            raise CaseFileError("[roller]: the roller's profile is a rail profile, not slices")
     side = case.get("wheelset.side", "right")
     if side not in ("left", "right"):
-        raise CaseFileError(f"wheelset.side = {side!r}: a case on rail surfaces solves one "
+        raise CaseFileError(f"wheelset.side = {shown(side)}: a case on rail surfaces solves one "
                             "wheel; expected 'left' or 'right'")
-    has_z = case.get("wheelset.vertical_position") is not None
-    if has_z:
-        case.number("wheelset.vertical_position", None, -0.05, 0.05, "m")
-    case.number("wheelset.position", 0.0, -1e5, 1e5, "m")
-    case.number("wheelset.roll", 0.0, -0.1, 0.1, "rad")
+    z = _optional(case, "wheelset.vertical_position", -0.05, 0.05, "m")
+    loads = case.wheel_loads()
     inc = case.get("solver.contact_angle", "local")
     if inc not in ("local", "wheelset"):
-        raise CaseFileError(f"solver.contact_angle = {inc!r}: expected 'local' (the rail's "
+        raise CaseFileError(f"solver.contact_angle = {shown(inc)}: expected 'local' (the rail's "
                             "inclination at each point of the patch) or 'wheelset' (on its "
                             "cross-section at the wheelset's position, as CONTACT)")
     slip = case.get("solver.rigid_slip", "planar")
     if slip not in ("planar", "surfaces"):
-        raise CaseFileError(f"solver.rigid_slip = {slip!r}: expected 'planar' (the creepages of "
+        raise CaseFileError(f"solver.rigid_slip = {shown(slip)}: expected 'planar' (the creepages of "
                             "the reference point) or 'surfaces' (on the actual surfaces)")
-    if slip == "surfaces" and case.tangential != "exact":
+    if slip == "surfaces" and tangential != "exact":
         raise CaseFileError("solver.rigid_slip = 'surfaces' needs solver.tangential = 'exact'")
+    options, units = case.profile_options("wheel")
+    return SurfaceCaseSetup(
+        wheel=ProfileSource(case.get("wheel.profile", "S1002"), options=options, units=units),
+        rails=specs, roller=roller, side=side, load=None if z is not None else loads[side],
+        vertical_position=z,
+        nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.01, 1.5, "m"),
+        flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, -2.0, 2.0, "m"),
+        flange_back_position=case.number("wheelset.flange_back_position", -0.070, -0.2, 0.2,
+                                         "m"),
+        gauge=case.number("track.gauge", 1.435, 0.5, 2.5, "m"),
+        gauge_height=case.number("track.gauge_height", 0.014, 0.0, 0.05, "m"),
+        position=case.number("wheelset.position", 0.0, -1e5, 1e5, "m"),
+        lateral_shift=case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m"),
+        roll=case.number("wheelset.roll", 0.0, -0.1, 0.1, "rad"),
+        yaw=case.number("wheelset.yaw", 0.0, -0.5, 0.5, "rad"),
+        velocity=case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s"),
+        pitch_velocity=_optional(case, "wheelset.pitch_velocity", -1e4, 1e4, "rad/s"),
+        lateral_velocity=case.number("wheelset.lateral_velocity", 0.0, -10.0, 10.0, "m/s"),
+        yaw_rate=case.number("wheelset.yaw_rate", 0.0, -10.0, 10.0, "rad/s"),
+        search_length=_optional(case, "solver.search_length", 1e-3, 1.0, "m"),
+        contact_angle=inc, rigid_slip=slip)
 
 
-def _check_rail(r: dict, where: str) -> None:
+def _optional(case: CaseKeys, key: str, lo: float, hi: float, unit: str):
+    return None if case.get(key) is None else case.number(key, None, lo, hi, unit)
+
+
+def _rail_spec(r: dict, where: str) -> RailSpec:
+    """One rail's keys checked and parsed."""
     if not isinstance(r, dict):
         raise CaseFileError(f"[{where}] must be a table")
     bad = set(r) - RAIL_KEYS - {"profile_left"}
@@ -90,11 +198,24 @@ def _check_rail(r: dict, where: str) -> None:
     if lr is not None and not (isinstance(lr, list) and len(lr) == 2 and all(
             isinstance(v, (int, float)) and not isinstance(v, bool) and abs(v) < 1 for v in lr)
             and lr[0] < lr[1]):
-        raise CaseFileError(f"{where}.lateral_range = {lr!r}: expected [y_min, y_max] in m "
+        raise CaseFileError(f"{where}.lateral_range = {shown(lr)}: expected [y_min, y_max] in m "
                             "(rail-profile coordinates), y_min < y_max")
-    for key, lim in (("lateral_position", 2.0), ("vertical_position", 0.5)):
-        v = r.get(key)
-        if v is not None and (isinstance(v, bool) or not isinstance(v, (int, float))
-                              or not abs(v) <= lim):
-            raise CaseFileError(f"{where}.{key} = {v!r}: expected a position in m, |value| <= "
-                                f"{lim}")
+    units = r.get("units", "auto")
+    if units not in ("auto", "mm", "m"):
+        raise CaseFileError(f"{where}.units = {shown(units)}: expected 'auto', 'mm' or 'm'")
+    sl = r.get("slices")
+    if sl is not None and not isinstance(sl, (str, list)):
+        raise CaseFileError(f"{where}.slices = {shown(sl)}: expected a .slcs file or a list of "
+                            "{s, profile}")
+    keys = CaseKeys({where: r})
+    inc = _optional(keys, f"{where}.inclination", -0.1, 0.1, "rad")
+    spacing = _optional(keys, f"{where}.slice_spacing", 1e-5, 10.0, "m")
+    return RailSpec(
+        where=where,
+        profile=None if sl is not None else ProfileSource(r["profile"], units=units,
+                                                          inclination=inc),
+        slices=sl, name=None if r.get("name") is None else str(r["name"]),
+        lateral_position=_optional(keys, f"{where}.lateral_position", -2.0, 2.0, "m"),
+        vertical_position=keys.number(f"{where}.vertical_position", 0.0, -0.5, 0.5, "m"),
+        slice_spacing=spacing, lateral_range=None if lr is None else (float(lr[0]), float(lr[1])),
+        units=units)

@@ -21,6 +21,7 @@ from ..cases.case import case_from_dict
 from ..cases.solve import solve
 from ..cases.sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
 from ..core.errors import RailContactError
+from . import module3
 from .mapping import MappedCase, map_case
 from .reader import InpCase, InpError, read_inp
 from .table import COLUMNS, rows, to_csv, to_json, to_text
@@ -55,21 +56,67 @@ def load_inp(path, cases=None, profile_dirs=()) -> list:
             raise InpError(f"{Path(path).name}: no case {missing[0]} (the file holds cases "
                            f"1-{max(have)})")
         read = [c for c in read if c.number in want]
-    return [map_case(c, tuple(profile_dirs)) for c in read]
+    mapped = [_map(c, tuple(profile_dirs)) for c in read]
+    for c, m in zip(read, mapped):            # every case valid before any is solved
+        if m.raw is not None:
+            check_mapped(c, m)
+    return mapped
+
+
+#: the CONTACT inputs behind the keys of a mapped case, for the line of an error
+INP_NAMES = {"wheelset.vertical_force": "FZ_WS", "wheelset.vertical_position": "Z_WS",
+             "wheelset.lateral_shift": "Y_WS", "wheelset.yaw": "YAW", "wheelset.roll": "ROLL",
+             "wheelset.velocity": "VS_WS", "wheelset.pitch_velocity": "VPITCH",
+             "wheelset.lateral_velocity": "VY_WS", "wheelset.yaw_rate": "VYAW",
+             "wheelset.flange_back_distance": "FBDIST",
+             "wheelset.flange_back_position": "FBPOS", "wheel.nominal_radius": "NOMRADW",
+             "rail.inclination": "CANT", "track.gauge": "GAUGWD", "friction": "FSTAT",
+             "material": "GG1", "solver.element_size": "DX", "bodies.normal_force": "FN",
+             "bodies.velocity": "VELOC", "bodies.radii": "A1", "creepage": "CKSI",
+             "wheel.": "W_FNAME", "rail.": "R_FNAME"}
+
+
+def check_mapped(case: InpCase, mapped: MappedCase):
+    """The railcontact case of a mapped CONTACT case, validated; an invalid value is
+    an :class:`InpError` naming the file, the case and the line of the CONTACT input
+    behind it."""
+    try:
+        return case_from_dict(mapped.raw, case.path.parent)
+    except RailContactError as exc:
+        text = str(exc)
+        name = next((n for key, n in INP_NAMES.items() if text.startswith(key)), None)
+        raise InpError(f"{case.where(name)}: {text}") from None
+
+
+def _map(case, profile_dirs):
+    """A module 3 case on CONTACT's own grid or a transient one is solved by
+    :mod:`.module3` (its ``raw`` is None, ``meta["inp"]`` the case, checked here);
+    every other one through a railcontact case file (:func:`map_case`)."""
+    if module3.handles(case):
+        module3.check(case)
+        return MappedCase(case.number, 3, None, {"module": 3, "inp": case})
+    return map_case(case, profile_dirs)
 
 
 def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
     """Solve mapped cases in order (each warm-started from the previous one where
     ``warm``); returns each case's rows, or its one-line error."""
     out, prev = [], None
+    seq = module3.Sequence()        # the transient state of module 3 cases
     for m in items:
         try:
+            if m.raw is None:
+                out.append([seq.run(m.meta["inp"])])
+                continue
+            if m.module == 3:
+                seq.reset()
             res = solve(case_from_dict(m.raw), normal, tangential,
                         warm_start=prev if warm else None)
             prev = res
             out.append(rows(res, m))
         except RailContactError as exc:
             prev = None
+            seq.reset()
             out.append([{"case": m.number, "module": m.module, "patch": 0, "npatch": 0,
                          "converged": False, "message": f"error: {exc}"}])
     return out
@@ -89,10 +136,15 @@ def solve_inp(path, cases=None, profile_dirs=(), scheduler: str = "sync",
     ``tangential``: models overriding the file's.
     """
     mapped = load_inp(path, cases, profile_dirs)
-    names = {m.raw["solver"]["normal"] for m in mapped} | {m.raw["solver"]["tangential"]
-                                                          for m in mapped}
+    case_files = [m for m in mapped if m.raw is not None]
+    names = {m.raw["solver"]["normal"] for m in case_files} | \
+        {m.raw["solver"]["tangential"] for m in case_files} | {"exact"}
     expected = len(mapped) * max(CASE_SECONDS.get(n, OTHER_CASE_SECONDS) for n in names)
     chain = functools.partial(_solve_inp_chain, normal=normal, tangential=tangential)
+    # module 3 cases on their own grid carry state from case to case (transient
+    # problems): the file is then solved as one chain, in order
+    sequential = len(case_files) < len(mapped)
     out = run_chains(chain, mapped, scheduler=scheduler, progress=progress, warm=warm,
+                     chains=1 if sequential else None,
                      expected_seconds=expected, desc=Path(path).name)
     return [r for case_rows in out for r in case_rows]

@@ -20,7 +20,7 @@ from ..geometry.turning import default_turn_distance
 from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
 from ..core.materials import Material
 from ..profiles import get_profile
-from .reader import InpCase, InpError
+from .reader import WORDS, InpCase, InpError
 
 MM = 1e-3
 
@@ -37,8 +37,10 @@ class MappedCase:
     meta: dict = field(default_factory=dict)
 
 
-def _unsupported(case: InpCase, what: str, supported: str) -> InpError:
-    return InpError(f"{case.where()}: {what} is not supported; {supported}")
+def _unsupported(case: InpCase, what: str, supported: str, name: str | None = None
+                 ) -> InpError:
+    """The error for an unsupported option, at the line of the input ``name``."""
+    return InpError(f"{case.where(name)}: {what} is not supported; {supported}")
 
 
 def _need(case, name):
@@ -77,8 +79,11 @@ def _digit(case, letter, allowed: dict, label: str):
     if v not in allowed:
         supported = ", ".join(f"{k} ({m})" for k, m in allowed.items())
         what = MEANINGS.get(letter, {}).get(v)
+        word = next((w for w in WORDS[case.module] if letter[0] in w), None)
+        if letter in ("C3", "M2"):
+            word = WORDS[case.module][1]
         raise _unsupported(case, f"{label} = {v}" + (f" ({what})" if what else ""),
-                           f"expected {supported}")
+                           f"expected {supported}", word)
     return allowed[v]
 
 
@@ -144,6 +149,20 @@ def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
 
 
 # ------------------------------------------------------------------ module 3
+def curvature_from_axis_ratio(A: float, aob: float) -> float:
+    """The lateral curvature B [1/m] of a Hertzian contact with curvature A [1/m] in
+    the rolling direction whose ellipse has semi-axis ratio a/b = ``aob``
+    (CONTACT's IPOTCN = -2): the smaller semi-axis lies along the larger curvature,
+    their ratio A_large/A_small = ((E/(1-m)) - K)/(K - E), m = 1 - (small/large)^2
+    (Johnson 1985, sec. 4.2)."""
+    from ..core.hertz_theory import _ratio
+    if not aob > 0:
+        raise InpError(f"AOB = {aob!r}: expected a semi-axis ratio a/b > 0")
+    small = min(aob, 1.0 / aob)
+    r = _ratio(1.0 - small * small)
+    return A / r if aob < 1.0 else A * r
+
+
 def _map_module3(case: InpCase) -> MappedCase:
     d, v = case.digits, case.values
     normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
@@ -163,13 +182,15 @@ def _map_module3(case: InpCase) -> MappedCase:
     if ipotcn == -3:
         a, b = v["AA"] * MM, v["BB"] * MM
         A, B = hertz_curvatures(a, b, es, fn)
-    elif ipotcn == -1:
-        A, B = v["A1"] / MM, v["B1"] / MM        # 1/mm -> 1/m
+    elif ipotcn in (-1, -2):
+        A = v["A1"] / MM                         # 1/mm -> 1/m
+        B = v["B1"] / MM if ipotcn == -1 else curvature_from_axis_ratio(A, v["AOB"])
         h = hertz_ellipse(A, B, es, force=fn)
         a, b = h.a, h.b
     else:
-        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1 (curvatures A1, B1) or -3 "
-                                                      "(semi-axes AA, BB) of a Hertzian contact")
+        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1 (curvatures A1, B1), -2 "
+                                                      "(A1 and a/b) or -3 (semi-axes AA, BB) of "
+                                                      "a Hertzian contact")
     scale = _need(case, "SCALE")
     raw = {"title": f"{case.path.name} case {case.number}", "material": mat,
            "friction": _friction(case),
@@ -198,7 +219,9 @@ def _profile_path(case: InpCase, name: str, dirs) -> str:
         if c.is_file():
             return str(c.resolve())
     where = ", ".join(str(c.parent) for c in cands[:3])
-    raise InpError(f"{case.where()}: profile file {name!r} not found (looked in {where}); "
+    line = next((case.where(k) for k in ("R_FNAME", "W_FNAME") if case.values.get(k) == name),
+                case.where())
+    raise InpError(f"{line}: profile file {name!r} not found (looked in {where}); "
                    "give its folder with --profiles DIR")
 
 

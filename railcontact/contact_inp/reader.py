@@ -28,6 +28,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..core.checks import shown
 from ..core.errors import CaseFileError
 
 #: control words: digit names from left to right (module 1; module 3 without C and V)
@@ -70,14 +71,18 @@ class _Lines:
             if s:
                 self.lines.append((ln, s))
         self.i = 0
+        self.last_line = 0              # the line of the last value read
 
     @property
     def line_number(self) -> int:
         return self.lines[self.i][0] if self.i < len(self.lines) else (
             self.lines[-1][0] if self.lines else 0)
 
-    def error(self, what: str) -> InpError:
-        return InpError(f"{self.path.name}, line {self.line_number}: {what}")
+    def error(self, what: str, line: int | None = None) -> InpError:
+        """The error at ``line``, else at the line of the value last read (or the next
+        line, before any)."""
+        return InpError(f"{self.path.name}, line {line or self.last_line or self.line_number}: "
+                        f"{what}")
 
     @staticmethod
     def _tokens(s: str):
@@ -100,9 +105,10 @@ class _Lines:
                 self.i += 1
             kind, tok = kinds[len(out)], toks[j]
             val = _parse(kind, tok)
+            self.last_line = self.lines[self.i - 1][0]
             if val is None:
                 self.i -= 1
-                raise self.error(f"{names_l[min(len(out), len(names_l) - 1)]} = {tok!r}: "
+                raise self.error(f"{names_l[min(len(out), len(names_l) - 1)]} = {shown(tok)}: "
                                  f"expected {_KIND_NAMES[kind]}")
             out.append(val)
             j += 1
@@ -124,7 +130,14 @@ _KIND_NAMES = {"i": "an integer", "d": "a real number", "s": "a quoted file name
 
 def _parse(kind, tok):
     if kind == "i":
-        return _int(tok)
+        v = _int(tok)
+        if v is None:
+            # an integer written as a real ("0.0"), as CONTACT's reader takes it
+            r = _real(tok)
+            if r is not None and re.fullmatch(r"[-+]?\d+\.0*", tok) and math.isfinite(r) \
+                    and r == int(r):
+                v = int(r)
+        return v
     if kind == "d":
         return _real(tok)
     if kind == "s":
@@ -162,8 +175,14 @@ class InpCase:
     values: dict = field(default_factory=dict)
     read: set = field(default_factory=set)
 
-    def where(self) -> str:
-        return f"{self.path.name}, case {self.number} (line {self.line})"
+    #: the line each value was read from (kept values: the line of an earlier case)
+    value_lines: dict = field(default_factory=dict)
+
+    def where(self, name: str | None = None) -> str:
+        """File, case and line: the line of the value ``name`` where given and read,
+        else the case's first line."""
+        line = self.value_lines.get(name, self.line) if name else self.line
+        return f"{self.path.name}, case {self.number} (line {line})"
 
 
 def read_inp(path) -> list:
@@ -176,6 +195,7 @@ def read_inp(path) -> list:
         raise InpError(f"CONTACT input file {str(path)!r} does not exist")
     lines = _Lines(path)
     state = {1: {}, 3: {}}                      # per module: the values kept
+    lines_of = {1: {}, 3: {}}                   # and the lines they were read from
     cases, number = [], 0
     while not lines.done():
         first = lines.line_number
@@ -186,9 +206,13 @@ def read_inp(path) -> list:
             raise lines.error(f"MODULE = {module}: expected 1 (wheel-rail), 3 (basic contact) "
                               "or 0 (stop)")
         number += 1
-        case = InpCase(path, number, module, first, {}, copy.deepcopy(state[module]))
+        case = InpCase(path, number, module, first, {}, copy.deepcopy(state[module]),
+                       value_lines=dict(lines_of[module]))
+        case._source = lines
         _read_case(lines, case)
+        del case._source
         state[module] = copy.deepcopy(case.values)
+        lines_of[module] = dict(case.value_lines)
         if case.digits["R"] in (0, 1):
             cases.append(case)
     if not cases:
@@ -202,6 +226,9 @@ def _put(case, names: str, vals):
         if v is not None or n not in case.values:
             case.values[n] = v
         case.read.add(n)
+        source = getattr(case, "_source", None)
+        if source is not None:
+            case.value_lines[n] = source.last_line
 
 
 def _read_case(lines: _Lines, case: InpCase) -> None:
@@ -211,7 +238,9 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
     w1, w2, w3 = WORDS[case.module]
     d = {}
     d.update(_digits(w1, lines.group("i", w1)[0], lines))
+    case.value_lines[w1] = lines.last_line
     word2, m2 = lines.group("i", w2, "i")
+    case.value_lines[w2] = lines.last_line
     dd = _digits(w2, word2, lines)
     dd["C3"] = dd.pop("C")
     d.update(dd)
@@ -239,8 +268,9 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
         put("FDECAY, BETATH, KDOWFB, D_IFC, D_LIN, D_CNS, D_SLP, POW_S",
             lines.group("dddddddd", "FDECAY, BETATH, KDOWFB, D_IFC, D_LIN, D_CNS, D_SLP, POW_S"))
     if not m1:
-        put("FN, CKSI, CETA, CPHI, SPINXO, SPINYO" if d["N"] == 1 else
-            "PEN, CKSI, CETA, CPHI, SPINXO, SPINYO",
+        # the F digit says which of creepages and relative forces are given
+        tang = {0: "CKSI, CETA", 1: "FXREL, CETA", 2: "FXREL, FYREL"}.get(d["F"], "CKSI, CETA")
+        put(f"{'FN' if d['N'] == 1 else 'PEN'}, {tang}, CPHI, SPINXO, SPINYO",
             lines.group("dddd", "PEN/FN, CKSI/FXREL, CETA/FYREL, CPHI", "dd"))
     _read_friction(lines, case, d)
     if m1:
@@ -264,12 +294,40 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
                 raise lines.error(f"IPOTCN = {ipotcn}: expected -6 .. -1 or 1 .. 4")
             kinds = "ii" + "d" * (spec.count(",") - 1)
             put(spec, lines.group(kinds, spec))
-            if d["Z"] > 1 and ipotcn > 0:
-                raise lines.error("a non-Hertzian undeformed distance (IPOTCN > 0: IBASE, "
-                                  "IPLAN) is not supported; expected IPOTCN = -1 or -3")
+        if d["Z"] > 1 and case.values.get("IPOTCN", -1) > 0:
+            _read_undeformed_distance(lines, case)
+    if not m1 and d["T"] <= 1:
+        # no rolling: CONTACT sets CHI = 0, DQ = 1 mm, VELOC = 1 mm/s (user guide,
+        # "Tangential quantities in case of a shift")
+        case.values.update(CHI=0.0, DQ=1.0, VELOC=1.0)
     if d["S"] in (2, 3):
         raise lines.error(f"subsurface stresses (STRESS = {d['S']}) are not supported; "
-                          "expected S = 0")
+                          "expected S = 0", case.value_lines.get(w1))
+
+
+def _read_undeformed_distance(lines, case):
+    """``IBASE IPLAN`` and their parameters (module 3 with IPOTCN > 0): the quadratic
+    undeformed distance (IBASE = 1: B1 .. B6) on an unrestricted planform (IPLAN =
+    1) is read; the other forms stop with the line naming them."""
+    ibase, iplan = lines.group("ii", "IBASE, IPLAN")
+    if ibase not in (1, 2, 3):
+        raise lines.error(f"IBASE = {ibase}: expected 1 (quadratic), 2 (circular in x, a "
+                          "profile in y) or 3 (quadratic and two sines)")
+    if iplan != 1:
+        raise lines.error(f"IPLAN = {iplan}: only the unrestricted planform (IPLAN = 1) is "
+                          "supported")
+    _put(case, "IBASE, IPLAN", [ibase, iplan])
+    if ibase == 1:
+        case.values["B"] = lines.group("dddddd", "B1, B2, B3, B4, B5, B6")
+    elif ibase == 3:
+        case.values["B"] = lines.group("dddddddd", "B1, B2, B3, B4, B5, B6, B7, B8")
+    else:
+        nn, xm, rm, y1, dy1 = lines.group("idddd", "NN, XM, RM, Y1, DY1")
+        if nn < 1:
+            raise lines.error(f"NN = {nn}: expected at least one profile point")
+        heights = lines.group("d" * nn, ", ".join(f"B({k + 1})" for k in range(nn)))
+        case.values["B"] = [nn, xm, rm, y1, dy1, heights]
+    case.read.add("B")
 
 
 def _read_friction(lines, case, d):
@@ -283,7 +341,8 @@ def _read_friction(lines, case, d):
               5: ("FKIN, FEXP1, SABSH1, FEXP2, SABSH2", "ddddd"),
               6: ("FREF, TREF, DFHEAT, DTHEAT", "dddd")}.get(law)
     if params is None:
-        raise lines.error(f"FRCLAW = {law}: expected 0 .. 6")
+        raise lines.error(f"FRCLAW = {law}: expected 0 .. 6", case.value_lines.get(WORDS[
+            case.module][1]))
     names, kinds = params
     case.values["FRICTION_LAW"] = law
     if d["V"] == 0:
@@ -310,9 +369,11 @@ def _read_materials(lines, case, d):
         put("CDAMPN, CDAMPT, DFNMAX, DFTMAX", lines.group("dddd", "CDAMPN, CDAMPT, DFNMAX, "
                                                           "DFTMAX"))
     if d["H"] == 3:
-        put("BKTEMP1, HEATCP1, LAMBDA1, DENS1, BKTEMP2, HEATCP2, LAMBDA2, DENS2",
-            lines.group("dddddddd", "BKTEMP1, HEATCP1, LAMBDA1, DENS1, BKTEMP2, HEATCP2, "
-                                    "LAMBDA2, DENS2"))
+        # one line per body, as CONTACT reads them
+        put("BKTEMP1, HEATCP1, LAMBDA1, DENS1",
+            lines.group("dddd", "BKTEMP1, HEATCP1, LAMBDA1, DENS1"))
+        put("BKTEMP2, HEATCP2, LAMBDA2, DENS2",
+            lines.group("dddd", "BKTEMP2, HEATCP2, LAMBDA2, DENS2"))
         if m == 4:
             put("BETAPL", lines.group("d", "BETAPL"))
 
@@ -361,6 +422,7 @@ def _read_profile_line(lines, case, prefix: str):
     for k, v in vals.items():
         case.values[prefix + k] = v
         case.read.add(prefix + k)
+        case.value_lines[prefix + k] = lines.last_line
 
 
 def _read_track(lines, case, d):

@@ -29,7 +29,7 @@ COLUMNS = ("case", "module", "side", "patch", "npatch", "y_ws_mm", "z_ws_mm", "r
            "ycp_r_mm", "zcp_r_mm", "xcp_w_mm", "ycp_w_mm", "zcp_w_mm", "r_wheel_mm", "cksi",
            "ceta", "cphi_per_mm", "veloc_mm_s", "mu", "fn_N", "fx_N", "fs_N", "mn_Nmm",
            "approach_mm", "pmax_MPa", "area_mm2", "ncon", "nadh", "nslip", "mx", "my", "dx_mm",
-           "ds_mm", "fx_tr_N", "fy_tr_N", "fz_tr_N", "converged", "message")
+           "ds_mm", "fx_tr_N", "fy_tr_N", "fz_tr_N", "tmax_C", "converged", "message")
 
 
 def _patch_values(p) -> dict:

@@ -1,4 +1,8 @@
-"""Result files written whole or not at all.
+"""Input files read with a clear error, and result files written whole or not at all.
+
+:func:`read_toml` reads a TOML input (a case, a scenario, a parameter file); a
+missing, undecodable or invalid file is a :class:`~railcontact.core.errors.CaseFileError`
+naming what the file was meant to be.
 
 Every file railcontact writes (results, tables, profiles, checkpoints) is first
 written under a temporary name beside its destination (``NAME.tmp``) and then
@@ -8,8 +12,26 @@ half-written file under the real name; on an error the temporary file is removed
 
 from __future__ import annotations
 
+import tomllib
 from contextlib import contextmanager
 from pathlib import Path
+
+from .errors import CaseFileError
+
+
+def read_toml(path, what: str = "case file") -> dict:
+    """Parse a TOML input file; a missing or unreadable file is a
+    :class:`~railcontact.core.errors.CaseFileError` naming ``what`` the file was
+    meant to be."""
+    path = Path(path)
+    if not path.is_file():
+        raise CaseFileError(f"{what} {str(path)!r} does not exist")
+    try:
+        return tomllib.loads(path.read_text())
+    except tomllib.TOMLDecodeError as exc:
+        raise CaseFileError(f"{path}: not valid TOML: {exc}") from None
+    except UnicodeError as exc:
+        raise CaseFileError(f"{path}: cannot decode: {exc}") from None
 
 
 @contextmanager

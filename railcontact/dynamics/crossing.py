@@ -46,7 +46,7 @@ from ..core.errors import ContactNotFoundError, InputError
 from ..geometry.surface_search import search
 from ..core.hertz_theory import hertz_ellipse
 from ..core.materials import Material
-from ..cases.surfaces import build_surface_case
+from ..cases.surfaces import SurfaceScene
 
 log = logging.getLogger(__name__)
 
@@ -132,17 +132,18 @@ class VerticalContactTable:
         return brentq(f, -0.01, hi, xtol=1e-13)
 
 
-def contact_table(case, positions, depth: float = 4e-4, material: Material | None = None,
+def contact_table(scene: SurfaceScene, positions, material: Material, depth: float = 4e-4,
                   progress: bool = False) -> VerticalContactTable:
-    """The vertical contact of a case on rail surfaces
-    (:mod:`railcontact.cases.surfaces`) at the wheelset positions ``positions``:
+    """The vertical contact of a wheel on rail surfaces (``scene``:
+    :func:`railcontact.cases.surfaces.build_surface_case` of a case) of ``material``
+    at the wheelset positions ``positions`` [m]:
     per position a search with the wheel about ``depth`` [m] below its touching
     height (the patches found there, each with Hertz's stiffness from its
     curvatures and its vertical offset, see the module notes; the touching height
     from the search's smallest vertical gap); per rail the deepest patch."""
     from tqdm.auto import tqdm
-    setup = build_surface_case(case)
-    mat = material or case.material
+    setup = scene
+    mat = material
     s = np.asarray(positions, dtype=float)
     if s.ndim != 1 or s.size < 2 or np.any(np.diff(s) <= 0):
         raise InputError("contact_table: expected increasing positions along the track [m]")

@@ -1,18 +1,28 @@
-"""``railcontact simulate``: scenario files for the dynamics layer (see docs/dynamics.md)."""
+"""A dynamics scenario as a typed configuration (:class:`DynamicsScenario`) and its
+run (``railcontact simulate``, see docs/dynamics.md).
+
+The scenario's own sections, ``[vehicle]``, ``[route]`` and ``[simulation]``, are
+parsed here, once, into typed values (:func:`scenario_from_sections`); the wheel
+and rail sections are a case's, parsed by the case layer where the file enters
+(:func:`railcontact.inputs.load_dynamics_scenario`), and arrive as the built
+wheelset and track.  :func:`run_scenario` and :func:`simulate_batch` take parsed
+scenarios, never a path.
+"""
 
 from __future__ import annotations
 
 import math
+from dataclasses import dataclass, field
 from pathlib import Path
 
-
-from ..cases.bodies import build_wheelset_track
-from ..cases.case import case_from_dict, read_toml
 from ..core.errors import CaseFileError, InputError, RailContactError
-from ..core.files import write_netcdf, write_text
+from ..core.files import read_toml, write_netcdf, write_text
+from ..core.materials import Material
+from ..core.parallel import compute
+from ..geometry.track import Track, Wheelset
 from ..tangential import tangential_models
 from .route import Irregularities, Route
-from .simulation import critical_speed, simulate_vehicle
+from .simulation import Integration, critical_speed, simulate_vehicle
 from .vehicle import G_ACC, MANCHESTER, VehicleModel
 from .wheel_rail import WheelRailTable
 
@@ -20,7 +30,7 @@ _VEHICLE = {"model", "preset", "parameters", "parameter_file", "mass", "yaw_iner
             "wheel_load"}
 _SIM = {"velocity", "duration", "initial_lateral_shift", "sample_rate", "table_range",
         "table_step", "tangential", "tangential_options", "fastsim_grid", "rtol",
-        "history_wheelset", "integrator", "step"}
+        "history_wheelset", "integrator", "step", "contact", "alpha"}
 _IRR = {"spectrum", "seed", "wavelengths", "step", "file"}
 
 
@@ -152,72 +162,133 @@ def route_from_section(route: dict, base_dir: Path, length: float) -> Route:
         raise CaseFileError(str(exc)) from None
 
 
-def load_simulation(path):
-    """Parse and validate a scenario file; returns a dict with the model, route,
-    profiles and settings (nothing is computed yet)."""
-    path = Path(path)
-    raw = read_toml(path, "dynamics scenario")
-    veh = raw.pop("vehicle", {})
-    sim = raw.pop("simulation", {})
-    route = raw.pop("route", {})
+@dataclass(frozen=True)
+class DynamicsScenario:
+    """A dynamics scenario, validated, in SI units.
+
+    Bodies: ``model`` (the vehicle), ``route``, ``wheelset`` and ``track`` (the
+    profiles as placed), ``material`` and ``friction``.  Run: ``velocity`` [m/s],
+    ``duration`` [s], ``initial_lateral_shift`` [m], ``sample_rate`` [Hz]; the creep
+    law: ``tangential`` (a registered model), ``tangential_options``,
+    ``fastsim_grid`` [nx, ny], ``integrator`` ("auto", "rk4", "lsoda"), ``step`` [s]
+    of the fixed-step integrator and ``rtol`` of LSODA; the contact table:
+    ``table_range`` and ``table_step`` [m] of lateral shift, ``contact``
+    ("multi-hertz" or "quasi-elastic": Arnold's, regularisation ``alpha`` [m]).  Output:
+    ``history_wheelset``, the wheelset (1-based) whose time history is written.
+    """
+
+    model: VehicleModel
+    route: Route
+    wheelset: Wheelset
+    track: Track
+    material: Material
+    friction: float
+    velocity: float = 30.0
+    duration: float = 5.0
+    tangential: str = "fastsim"
+    tangential_options: dict = field(default_factory=dict)
+    fastsim_grid: tuple = (12, 12)
+    integrator: str = "auto"
+    step: float = 1e-3
+    rtol: float = 1e-6
+    initial_lateral_shift: float = 0.0
+    sample_rate: float = 100.0
+    table_range: float = 0.012
+    table_step: float = 2e-4
+    history_wheelset: int = 1
+    title: str = ""
+    contact: str = "multi-hertz"
+    alpha: float = 3e-5
+
+
+def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsScenario:
+    """The :class:`DynamicsScenario` of a scenario file's ``[vehicle]``, ``[route]``
+    and ``[simulation]`` tables (``sections``, with ``title``), its parameter and
+    irregularity files relative to ``base_dir``.
+
+    ``bodies()`` gives (Wheelset, Track, Material, friction coefficient) from the
+    file's case sections; it is called once these sections are valid.  A
+    :class:`~railcontact.core.errors.CaseFileError` names the first key that is
+    wrong; nothing is computed."""
+    sim = sections.get("simulation", {})
     bad = set(sim) - _SIM
     if bad:
         raise CaseFileError(f"unknown key(s) simulation.{sorted(bad)}; expected {sorted(_SIM)}")
-    model = vehicle_from_section(veh, path.parent)
+    model = vehicle_from_section(sections.get("vehicle", {}), base_dir)
     v = _num(sim, "simulation", "velocity", 30.0, 0.1, 200.0)
     duration = _num(sim, "simulation", "duration", 5.0, 1e-3, 1e5)
-    rt = route_from_section(route, path.parent, v * duration + vehicle_length(model) + 10.0)
+    rt = route_from_section(sections.get("route", {}), base_dir,
+                            v * duration + vehicle_length(model) + 10.0)
     tang, grid, integ = creep_law_settings(sim, "simulation")
     hw = sim.get("history_wheelset", 1)
     if isinstance(hw, bool) or not isinstance(hw, int) or not 1 <= hw <= len(model.wheelsets):
         raise CaseFileError(f"simulation.history_wheelset = {hw!r}: expected 1 to "
                             f"{len(model.wheelsets)}")
-    case = case_from_dict(raw, path.parent)
-    return {"path": path, "title": str(raw.get("title", "")), "case": case, "model": model,
-            "route": rt, "velocity": v, "duration": duration, "tangential": tang,
-            "tangential_options": sim.get("tangential_options", {}), "fastsim_grid": grid,
-            "initial_lateral_shift": _num(sim, "simulation", "initial_lateral_shift", 0.0,
-                                          -0.015, 0.015),
-            "sample_rate": _num(sim, "simulation", "sample_rate", 100.0, 1.0, 1e5),
-            "table_range": _num(sim, "simulation", "table_range", 0.012, 1e-3, 0.03),
-            "table_step": _num(sim, "simulation", "table_step", 2e-4, 1e-5, 1e-3),
-            "rtol": _num(sim, "simulation", "rtol", 1e-6, 1e-12, 1e-2),
-            "history_wheelset": hw, "integrator": integ,
-            "step": _num(sim, "simulation", "step", 1e-3, 1e-6, 1e-2)}
+    options = sim.get("tangential_options", {})
+    if not isinstance(options, dict):
+        raise CaseFileError(f"simulation.tangential_options = {options!r}: expected a table")
+    wheelset, track, material, friction = bodies()
+    return DynamicsScenario(
+        model=model, route=rt, wheelset=wheelset, track=track, material=material,
+        friction=float(friction), velocity=v, duration=duration, tangential=tang,
+        tangential_options=dict(options), fastsim_grid=tuple(grid), integrator=integ,
+        step=_num(sim, "simulation", "step", 1e-3, 1e-6, 1e-2),
+        rtol=_num(sim, "simulation", "rtol", 1e-6, 1e-12, 1e-2),
+        initial_lateral_shift=_num(sim, "simulation", "initial_lateral_shift", 0.0,
+                                   -0.015, 0.015),
+        sample_rate=_num(sim, "simulation", "sample_rate", 100.0, 1.0, 1e5),
+        table_range=_num(sim, "simulation", "table_range", 0.012, 1e-3, 0.03),
+        table_step=_num(sim, "simulation", "table_step", 2e-4, 1e-5, 1e-3),
+        history_wheelset=hw, title=str(sections.get("title", "")),
+        contact=_contact_model(sim),
+        alpha=_num(sim, "simulation", "alpha", 3e-5, 1e-7, 1e-3))
 
 
-def build_table(sc, progress: bool = False):
-    """Contact table of a parsed scenario at the static wheel load of its first
-    wheelset."""
-    ws, tr = build_wheelset_track(sc["case"])
-    load = sc["model"].wheelsets[0][1] * G_ACC / 2
-    return WheelRailTable.build(ws, tr, load, sc["case"].material, sc["table_range"],
-                                sc["table_step"], progress=progress)
+#: the contact of the dynamics' tables (``simulation.contact``)
+CONTACT_MODELS = ("multi-hertz", "quasi-elastic")
 
 
-def run_scenario(path, out=None, progress: bool = True):
+def _contact_model(sim: dict) -> str:
+    v = sim.get("contact", "multi-hertz")
+    if v not in CONTACT_MODELS:
+        raise CaseFileError(f"simulation.contact = {v!r}: expected one of {CONTACT_MODELS}")
+    return v
+
+
+def build_table(sc: DynamicsScenario, progress: bool = False) -> WheelRailTable:
+    """Contact table of a scenario at the static wheel load of its first wheelset: the
+    multi-Hertzian search, or Arnold's quasi-elastic contact (``simulation.contact``,
+    ``simulation.alpha``)."""
+    load = sc.model.wheelsets[0][1] * G_ACC / 2
+    if sc.contact == "quasi-elastic":
+        return WheelRailTable.quasi_elastic(sc.wheelset, sc.track, load, sc.alpha, sc.material,
+                                            sc.table_range, sc.table_step)
+    return WheelRailTable.build(sc.wheelset, sc.track, load, sc.material, sc.table_range,
+                                sc.table_step, progress=progress)
+
+
+def run_scenario(sc: DynamicsScenario, out=None, progress: bool = True):
     """Run a dynamics scenario; returns the dataset (written to ``out/simulation.nc``
     with ``simulation.png`` and ``history.csv`` when ``out`` is given)."""
-    sc = load_simulation(path)
     table = build_table(sc, progress)
-    case = sc["case"]
-    ds = simulate_vehicle(sc["model"], sc["route"], table, sc["velocity"], sc["duration"],
-                          sc["tangential"], case.friction, case.material,
-                          sc["initial_lateral_shift"], sc["sample_rate"], sc["rtol"], progress,
-                          sc["tangential_options"], sc["fastsim_grid"],
-                          integrator=sc["integrator"], step=sc["step"])
+    ds = simulate_vehicle(sc.model, sc.route, table, sc.velocity, sc.duration,
+                          sc.tangential, sc.friction, sc.material,
+                          sc.initial_lateral_shift, sc.tangential_options, sc.fastsim_grid,
+                          Integration(sc.integrator, sc.sample_rate, sc.rtol, step=sc.step,
+                                      progress=progress))
     try:
-        vc = critical_speed(sc["model"], table, material=case.material)
+        vc = critical_speed(sc.model, table, material=sc.material)
     except (InputError, ValueError):           # no crossing in the bracket
         vc = math.nan
-    ds.attrs.update(title=sc["title"], critical_speed_m_s=vc,
-                    route_segments=str(sc["route"].segments),
-                    irregularities=sc["route"].irregularities.source)
+    ds.attrs.update(title=sc.title, critical_speed_m_s=vc, contact=sc.contact,
+                    alpha_m=sc.alpha if sc.contact == "quasi-elastic" else math.nan,
+                    route_segments=str(sc.route.segments),
+                    irregularities=sc.route.irregularities.source)
     if out is not None:
         out = Path(out)
         out.mkdir(parents=True, exist_ok=True)
         write_netcdf(ds, out / "simulation.nc")
-        write_history(ds, out / "history.csv", sc["history_wheelset"])
+        write_history(ds, out / "history.csv", sc.history_wheelset)
         plot_simulation(ds, out / "simulation.png")
     return ds
 
@@ -262,34 +333,30 @@ def plot_simulation(ds, path):
 
 
 # --------------------------------------------------------------- batches
-def _run_one(path, out):
+def _run_one(sc: DynamicsScenario, name: str, out):
     try:
-        ds = run_scenario(path, out, progress=False)
-        return {"scenario": str(path), "out": str(out), "wall_time_s": ds.attrs["wall_time_s"],
+        ds = run_scenario(sc, out, progress=False)
+        return {"scenario": name, "out": str(out), "wall_time_s": ds.attrs["wall_time_s"],
                 "duration_s": float(ds["time"][-1])}
     except RailContactError as exc:
-        return {"scenario": str(path), "out": str(out), "error": str(exc)}
+        return {"scenario": name, "out": str(out), "error": str(exc)}
 
 
-def simulate_batch(scenarios, out_dirs, scheduler: str = "processes", progress: bool = True):
-    """Run several scenario files as one Dask batch (``scheduler``: "processes",
-    "threads", "synchronous", or the address of a ``dask.distributed`` scheduler).
+def simulate_batch(scenarios: dict, out_dirs, scheduler: str = "processes",
+                   progress: bool = True) -> list:
+    """Run several parsed scenarios (``scenarios``: name -> :class:`DynamicsScenario`,
+    in order) as one Dask batch through :func:`railcontact.core.parallel.compute`
+    (``scheduler``: "processes", "threads", "sync", or the address of a
+    ``dask.distributed`` scheduler).
 
     Returns one summary dict per run (with ``error`` for runs that failed)."""
     import dask
-    scenarios, out_dirs = list(scenarios), list(out_dirs)
-    if len(scenarios) != len(out_dirs) or not scenarios:
+    names, out_dirs = list(scenarios), list(out_dirs)
+    if len(names) != len(out_dirs) or not names:
         raise InputError("simulate_batch: give one output folder per scenario (at least one)")
-    tasks = [dask.delayed(_run_one)(str(s), str(o)) for s, o in zip(scenarios, out_dirs)]
-    if scheduler.startswith("tcp://"):
-        from dask.distributed import Client
-        with Client(scheduler) as client:
-            return list(client.gather(client.compute(tasks)))
-    if scheduler not in ("processes", "threads", "synchronous"):
-        raise InputError(f"scheduler {scheduler!r}: expected 'processes', 'threads', "
-                         "'synchronous' or tcp://host:port")
+    tasks = [dask.delayed(_run_one)(scenarios[n], n, str(o)) for n, o in zip(names, out_dirs)]
+    callback = None
     if progress:
         from dask.diagnostics import ProgressBar
-        with ProgressBar():
-            return list(dask.compute(*tasks, scheduler=scheduler))
-    return list(dask.compute(*tasks, scheduler=scheduler))
+        callback = ProgressBar()
+    return compute(tasks, scheduler, callback, what="simulate --scheduler")

@@ -47,6 +47,19 @@ FIELDS = ("load_share", "contact_angle", "rolling_radius", "y_contact", "a", "b"
  F_YWHEEL) = range(13)
 
 
+def _shift_grid(reference_load: float, shift_range: float, step: float) -> np.ndarray:
+    """The lateral shifts [m] of a contact table: -range to range by ``step``, its
+    inputs checked (a reference load > 0 N, a range in [1, 30] mm, a step of at most a
+    quarter of it)."""
+    if not (math.isfinite(reference_load) and reference_load > 0):
+        raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")
+    if not (1e-3 <= shift_range <= 0.03 and 1e-5 <= step <= shift_range / 4):
+        raise InputError(f"contact table range {shift_range!r} m, step {step!r} m: expected "
+                         "a range in [0.001, 0.03] m and a step of at most range/4")
+    n = int(round(shift_range / step))
+    return np.linspace(-n * step, n * step, 2 * n + 1)
+
+
 @dataclass
 class WheelRailTable:
     """Per-patch contact table over the wheelset's lateral shift relative to the rails.
@@ -99,13 +112,7 @@ class WheelRailTable:
               keep_geometry: bool = False):
         """Contact search at every shift in [-shift_range, shift_range] (yaw 0);
         ``keep_geometry`` keeps the patches' geometry (:attr:`geometry`)."""
-        if not (math.isfinite(reference_load) and reference_load > 0):
-            raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")
-        if not (1e-3 <= shift_range <= 0.03 and 1e-5 <= step <= shift_range / 4):
-            raise InputError(f"contact table range {shift_range!r} m, step {step!r} m: expected "
-                             "a range in [0.001, 0.03] m and a step of at most range/4")
-        n = int(round(shift_range / step))
-        shifts = np.linspace(-n * step, n * step, 2 * n + 1)
+        shifts = _shift_grid(reference_load, shift_range, step)
         data = np.full((shifts.size, 2, 2, len(FIELDS)), np.nan)
         data[..., F_SHARE] = 0.0
         delta_r = np.full(shifts.size, np.nan)
@@ -164,6 +171,42 @@ class WheelRailTable:
         angle = min((f.max_angle for f in flanges if f is not None), default=math.nan)
         return cls(shifts, np.ascontiguousarray(data), float(reference_load),
                    float(wheelset.nominal_radius), angle, delta_r, kept)
+
+    @classmethod
+    def quasi_elastic(cls, wheelset, track, reference_load: float, alpha: float = 3e-5,
+                      material: Material = STEEL, shift_range: float = 0.012,
+                      step: float = 2e-4):
+        """The table of Arnold's quasi-elastic contact
+        (:func:`railcontact.geometry.quasi_elastic.quasi_elastic_contact`, regularisation
+        ``alpha`` [m]) instead of the multi-Hertzian search: one smoothed contact point
+        per wheel in the tread slot (the flange slot unloaded), carrying the whole
+        wheel load, N = Q / cos δ, with the Hertz semi-axes of its weighted curvatures
+        at the reference load.  Its contact angle, rolling radius and position pass
+        smoothly through the jumps of the rigid contact point (docs/dynamics.md,
+        "Arnold's quasi-elastic contact")."""
+        from ..geometry.quasi_elastic import quasi_elastic_contact
+        shifts = _shift_grid(reference_load, shift_range, step)
+        data = np.zeros((shifts.size, 2, 2, len(FIELDS)))
+        delta_r = np.empty(shifts.size)
+        Es, nu = material.contact_modulus, material.nu
+        roll = 0.0
+        for i, y in enumerate(shifts):
+            c = quasi_elastic_contact(wheelset, track, float(y), 0.0, alpha, roll_start=roll)
+            roll = c.pose.roll
+            for j, side in enumerate(("left", "right")):
+                p = c.points[side]
+                A, B = p.curvatures
+                hz = hertz_ellipse(A, B, Es, force=reference_load / math.cos(p.contact_angle))
+                C = kalker_coefficients(hz.a / hz.b, nu)
+                data[i, j, 0] = (1.0, p.contact_angle, p.rolling_radius, p.position[1] - y,
+                                 hz.a, hz.b, C[0], C[1], C[2], A, B, p.y_rail, p.y_wheel)
+                data[i, j, 1] = data[i, j, 0]
+                data[i, j, 1, F_SHARE] = 0.0
+            delta_r[i] = c.points["right"].rolling_radius - c.points["left"].rolling_radius
+        flanges = [flange(wheelset.wheel(s)) for s in ("left", "right")]
+        angle = min((f.max_angle for f in flanges if f is not None), default=math.nan)
+        return cls(shifts, data, float(reference_load), float(wheelset.nominal_radius), angle,
+                   delta_r)
 
     def to_xarray(self):
         import xarray as xr

@@ -351,11 +351,16 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                                    [end_distance(loc, p[1], q[0])
                                     for p, q in zip(regions[:-1], regions[1:])],
                                    combine_distance, turn_distance, separation_angle)
+        side_patches = []
         for (i0, i1, joins), lim, angle in zip(regions, territories(loc, regions), angles):
             factors = [(y, interaction_factor(d, full, combine_distance)) for y, d in joins]
-            patches.append(_make_patch(wheelset, track, sd, loc, (i0, i1), pose, loads is None,
-                                       (velocity, pitch_velocity, lateral_velocity, yaw_rate),
-                                       lim, factors, angle))
+            side_patches.append(_make_patch(wheelset, track, sd, loc, (i0, i1), pose,
+                                            loads is None,
+                                            (velocity, pitch_velocity, lateral_velocity,
+                                             yaw_rate), lim, factors, angle))
+        # the regions run along the locus from the gauge side (its y points to the
+        # field side); CONTACT numbers a wheel's patches from the field side
+        patches.extend(reversed(side_patches))
     return WheelsetContact(pose, patches, loci, loads, targets)
 
 

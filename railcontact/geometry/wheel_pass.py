@@ -40,7 +40,7 @@ import numpy as np
 from numba import njit
 
 from ..profiles.profile import ppoly_at
-from .gap import DEEPEST_GAP, FD_STEP, _gap_kernel
+from .gap import DEEPEST_GAP, FD_STEP, PatchFrame, Spline, _gap_kernel
 from .locus import LOCUS_STEP, _wheel_samples
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
 from .regions import GAP_WEIGHT
@@ -578,8 +578,8 @@ def _curvatures(x0, y0, C, t, nv, y_off, R, O, pose, prof):
     xs = np.array([x0, x0 + hx, x0 - hx, x0, x0])
     ys = np.array([y0, y0, y0, y0 + hy, y0 - hy])
     Rt = np.ascontiguousarray(R.T)
-    h = _gap_kernel(xs, ys, C, t, nv, y_off, prof.rb, prof.rc, Rt, O, pose.e, pose.r0,
-                    prof.wb, prof.wc)
+    h = _gap_kernel(xs, ys, PatchFrame(C, t, nv, y_off, Rt, O, pose.e, pose.r0),
+                    Spline(prof.rb, prof.rc), Spline(prof.wb, prof.wc))
     for i in range(5):
         if h[i] < DEEPEST_GAP:
             h[i] = 1.0
@@ -873,11 +873,14 @@ def rows_contact(rows, wheelset, track, pose, loads, interpenetration):
     """The :class:`~railcontact.geometry.search.WheelsetContact` of the patch rows of
     one :func:`search_patches` (combine distance 0: a patch per region), with each
     patch's territory halfway to its side's neighbours
-    (:func:`railcontact.geometry.regions.territories`)."""
+    (:func:`railcontact.geometry.regions.territories`); each wheel's patches from
+    the field side, as the geometry layer numbers them (the rows run along the locus
+    from the gauge side)."""
     from .search import WheelsetContact
     patches = []
     for s in (0, 1):
         side_rows = [r for r in rows if r[P_SIDE] == s]
+        side = []
         spans = [(min(r[P_YR_FIRST], r[P_YR_LAST]), max(r[P_YR_FIRST], r[P_YR_LAST]))
                  for r in side_rows]
         for r, (lo, hi) in zip(side_rows, spans):
@@ -885,5 +888,6 @@ def rows_contact(rows, wheelset, track, pose, loads, interpenetration):
             above = [l for l, h in spans if l > hi]
             territory = (0.5 * (lo + max(below)) if below else -math.inf,
                          0.5 * (hi + min(above)) if above else math.inf)
-            patches.append(patch_geometry(r, wheelset, track, pose, territory))
+            side.append(patch_geometry(r, wheelset, track, pose, territory))
+        patches.extend(reversed(side))
     return WheelsetContact(pose, patches, {}, dict(loads), dict(interpenetration))

@@ -35,7 +35,9 @@ with the grid's kernels cut to the box.
 from __future__ import annotations
 
 import logging
+import math
 import time
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -47,7 +49,7 @@ from ..normal.influence import TangentialOperator, block_size, bounding_box, tan
 from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
-from .semi_smooth_newton import initial_march, ssn_solve
+from .semi_smooth_newton import SlipOperator, initial_march, ssn_solve
 
 log = logging.getLogger(__name__)
 
@@ -145,8 +147,8 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     # the iteration returns the slip's linear part and the stick mask of its last
     # iterate (C p accumulated from its products, no product more)
     qx, qy, cx, cy, sb, it, nprod, converged = ssn_solve(
-        *q, op.kxx, op.kxy, op.kyy, op.shape, dx, shift, cb, gb, rho, dxx, dyy, float(tol),
-        int(maxiter))
+        *q, SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift), cb, gb, rho, (dxx, dyy),
+        float(tol), int(maxiter))
     log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
     sbx, sby = q[2] + cx, q[3] + cy
     px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
@@ -161,6 +163,100 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     sx = np.where(slip, sx, 0.0)
     sy = np.where(slip, sy, 0.0)
     return px, py, sx, sy, stick & contact, it, converged
+
+
+def grid_offset(origin_from, origin_to, element_size, shift=(0.0, 0.0)):
+    """Index offset (di, dj) of a grid whose first element centre is ``origin_to``
+    (moved by ``shift`` [m]) in a grid of the same element size whose first centre is
+    ``origin_from``: element (i, j) of the first lies at element (i + di, j + dj) of
+    the second.  The offset must be whole elements (CONTACT's transient cases: a
+    grid moved by whole elements, a rolling step DQ of whole elements); InputError
+    otherwise."""
+    dx, dy = element_size
+    fx = (origin_to[0] + shift[0] - origin_from[0]) / dx
+    fy = (origin_to[1] + shift[1] - origin_from[1]) / dy
+    di, dj = round(fx), round(fy)
+    if abs(fx - di) > 1e-6 or abs(fy - dj) > 1e-6:
+        raise InputError(f"transient step: the grid moved by {fx:.4f} x {fy:.4f} elements "
+                         "relative to the previous step's material points; expected whole "
+                         "elements")
+    return int(di), int(dj)
+
+
+def previous_displacement(px, py, offset, shape, dx, dy, G, nu):
+    """Displacement difference u' = B p' [m] that the previous time step's tractions
+    (px, py) [Pa] (body 1, on their own mx' x my' grid) cause at the elements of
+    the current grid (``shape`` (mx, my)), whose element (i, j) lies at element
+    (i + di, j + dj) of the previous grid (``offset``, :func:`grid_offset`).
+
+    The influence coefficients are those of the steady solver (Cerruti, uniform
+    tractions on rectangles); evaluated once per time step by FFT convolution on the
+    union of both grids."""
+    from scipy.signal import fftconvolve
+
+    di, dj = offset
+    m0, n0 = px.shape
+    mx, my = shape
+    lo_i, lo_j = min(0, di), min(0, dj)
+    Mu, Nu = max(m0, di + mx) - lo_i, max(n0, dj + my) - lo_j
+    kxx, kxy, kyy = tangential_kernels(Mu, Nu, dx, dy, G, nu)
+    qx, qy = np.zeros((Mu, Nu)), np.zeros((Mu, Nu))
+    qx[-lo_i:m0 - lo_i, -lo_j:n0 - lo_j] = px
+    qy[-lo_i:m0 - lo_i, -lo_j:n0 - lo_j] = py
+    # u[i] = sum_k K[i - k] q[k]: the full convolution's rows Mu-1 .. 2Mu-2
+    conv = lambda k, q: fftconvolve(q, k, mode="full")[Mu - 1:2 * Mu - 1, Nu - 1:2 * Nu - 1]  # noqa: E731
+    ux = conv(kxx, qx) + conv(kxy, qy)
+    uy = conv(kxy, qx) + conv(kyy, qy)
+    cut = (slice(di - lo_i, di - lo_i + mx), slice(dj - lo_j, dj - lo_j + my))
+    return np.ascontiguousarray(ux[cut]), np.ascontiguousarray(uy[cut])
+
+
+def shifted_tractions(px, py, offset, shape):
+    """The previous tractions on the current grid (element (i, j) from element
+    (i + di, j + dj) of the previous grid; zero where it has none)."""
+    di, dj = offset
+    m0, n0 = px.shape
+    mx, my = shape
+    qx, qy = np.zeros(shape), np.zeros(shape)
+    i0, i1 = max(0, -di), min(mx, m0 - di)
+    j0, j1 = max(0, -dj), min(my, n0 - dj)
+    if i0 < i1 and j0 < j1:
+        qx[i0:i1, j0:j1] = px[i0 + di:i1 + di, j0 + dj:j1 + dj]
+        qy[i0:i1, j0:j1] = py[i0 + di:i1 + di, j0 + dj:j1 + dj]
+    return qx, qy
+
+
+def transient_step(x, y, contact, bound, rigid_shift, u_prev, G, nu, tol=1e-7, maxiter=60,
+                   p0=None):
+    """One time step of a transient problem (CONTACT's T = 1, shift or rolling with
+    material-fixed coordinates, and T = 2, rolling with contact-fixed coordinates):
+    the slip over the step of element I,
+
+        s_I = W_I + u_I - u'_I,        u = B p,
+
+    with W the rigid shift [m] of body 1 over the step (per element: (W_x, W_y)),
+    u the displacement difference of the current tractions and u' that of the
+    previous step's tractions at the same material points (:func:`previous_displacement`;
+    for rolling, at the position the material had one step DQ before).  Kalker
+    (1990), sec. 2.2 and 5.2; Cattaneo's shift from the unloaded state is u' = 0.
+    It is the shift mode of :func:`steady_rolling` (the same semi-smooth Newton
+    iteration and influence coefficients), with the rigid shift and -u' as its
+    extra slip.
+
+    Returns px, py [Pa] (body 1), slip sx, sy [m] per step, stick mask, Newton
+    iterations, converged.
+    """
+    wx = np.asarray(rigid_shift[0], dtype=float) - u_prev[0]
+    wy = np.asarray(rigid_shift[1], dtype=float) - u_prev[1]
+    if p0 is not None:
+        mag = np.hypot(p0[0], p0[1])
+        with np.errstate(invalid="ignore", divide="ignore"):
+            scale = np.where(mag > bound, bound / np.where(mag > 0, mag, 1.0), 1.0)
+        p0 = (np.ascontiguousarray(np.where(contact, p0[0] * scale, 0.0)),
+              np.ascontiguousarray(np.where(contact, p0[1] * scale, 0.0)))
+    return steady_rolling(x, y, contact, bound, (0.0, 0.0, 0.0), G, nu, tol, maxiter, p0=p0,
+                          mode="shift", w_extra=(np.broadcast_to(wx, contact.shape),
+                                                 np.broadcast_to(wy, contact.shape)))
 
 
 def _initial_tractions(warm, x, y, contact, bound):
@@ -180,6 +276,17 @@ def _initial_tractions(warm, x, y, contact, bound):
             np.ascontiguousarray(np.where(contact, ty * scale, 0.0)))
 
 
+@dataclass(frozen=True)
+class _Iteration:
+    """How the exact tangential solver ended."""
+
+    #: Newton iterations (or time steps' iterations, transient)
+    iterations: int
+    converged: bool
+    #: whether it restarted from zero traction
+    fallback: bool
+
+
 @register("exact")
 class ExactTangentialModel:
     """Kalker's exact theory of steady-state rolling (identical materials).
@@ -190,31 +297,76 @@ class ExactTangentialModel:
                      |p - Proj(p - rho s)| / largest bound (default 1e-5; what it
                      costs in accuracy: docs/tuning.md, section "Tangential: exact")
     maxiter : int    limit of Newton iterations
-    mode : {"rolling", "shift"}
+    mode : {"rolling", "shift", "transient"}
         ``"rolling"``: steady-state rolling with creepages (xi, eta, phi).
         ``"shift"``: transient shift from the unloaded state (Cattaneo-Mindlin); the
         "creepage" argument is then the rigid shift (dx [m], dy [m], rotation [rad])
         of the rail relative to the wheel, and the slip a displacement [m].
+        ``"transient"``: one time step of a transient problem from the previous
+        step's solution (``solve(..., previous=...)``; :func:`transient_step`):
+        with ``step = 0`` a shift (CONTACT's T = 1; "creepage" the rigid shift of
+        the step as in ``"shift"``), with ``step > 0`` rolling over that distance
+        [m] on a contact-fixed grid (T = 2; "creepage" the creepages, the rigid
+        shift step times them).  Without ``previous`` the step starts from the
+        unloaded state.
+    step : float
+        Rolling distance [m] per time step of the ``"transient"`` mode (0: a
+        shift); a whole number of elements.
     """
 
     capabilities = frozenset({"warm-start", "coupled", "lazy"})
 
-    def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling"):
+    def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
+                 step: float = 0.0):
         if not 0 < tol < 1e-2:
             raise InputError(f"exact tangential tol {tol!r}: expected a value in (0, 0.01)")
-        if mode not in ("rolling", "shift"):
+        if mode not in ("rolling", "shift", "transient"):
             raise InputError(f"exact tangential mode {mode!r}: expected 'rolling' (steady "
-                             "rolling) or 'shift' (transient shift, Cattaneo)")
-        self.tol, self.maxiter, self.mode = tol, int(maxiter), mode
+                             "rolling), 'shift' (transient shift, Cattaneo) or 'transient' "
+                             "(a time step from the previous one)")
+        if not (isinstance(step, (int, float)) and math.isfinite(step) and step >= 0):
+            raise InputError(f"exact tangential step {step!r} m: expected a rolling distance "
+                             ">= 0 (0: a shift)")
+        self.tol, self.maxiter, self.mode, self.step = tol, int(maxiter), mode, float(step)
+
+    def _transient(self, x, y, contact, bound, creepage, material, previous):
+        """One step of the ``"transient"`` mode: px, py, sx, sy, stick, it, ok."""
+        xi, eta, phi = creepage
+        dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+        X, Y = x[:, None], y[None, :]
+        h = self.step
+        if h > 0:
+            w = (h * (xi - phi * Y), h * (eta + phi * (X + h / 6.0)))
+        else:
+            w = (xi - phi * Y, eta + phi * X)
+        w = tuple(np.broadcast_to(c, contact.shape) for c in w)
+        G, nu = material.shear_modulus, material.nu
+        zero = np.zeros(contact.shape)
+        u, p0 = (zero, zero), None
+        if previous is not None:
+            if previous.x.size < 2 or previous.y.size < 2 or \
+                    abs(float(previous.x[1] - previous.x[0]) - dx) > 1e-9 * dx or \
+                    abs(float(previous.y[1] - previous.y[0]) - dy) > 1e-9 * dy:
+                raise InputError("transient step: the previous solution's element size "
+                                 "differs; expected the same grid spacing")
+            off = grid_offset((float(previous.x[0]), float(previous.y[0])),
+                              (float(x[0]), float(y[0])), (dx, dy), (h, 0.0))
+            qx, qy = -previous.traction_x, -previous.traction_y       # on the rail
+            u = previous_displacement(qx, qy, off, contact.shape, dx, dy, G, nu)
+            p0 = shifted_tractions(qx, qy, off, contact.shape)
+        return transient_step(x, y, contact, bound, w, u, G, nu, self.tol, self.maxiter, p0=p0)
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
               warm_start: TangentialSolution | None = None,
-              extra_slip=None) -> TangentialSolution:
+              extra_slip=None, previous: TangentialSolution | None = None
+              ) -> TangentialSolution:
         """Creep forces for creepages (xi [-], eta [-], phi [1/m]) on the normal
         solution's grid.  ``warm_start``: a previous solution (e.g. of a neighbouring
         case, on this grid or interpolated from its own) used as the initial
-        estimate; without it, FASTSIM's solution is."""
+        estimate; without it, FASTSIM's solution is.  ``previous``: the last time
+        step's solution (``"transient"`` mode), whose tractions enter the slip at
+        the same material points."""
         t0 = time.perf_counter()
         xi, eta, phi = check_inputs(creepage, friction)
         x, y = normal.x, normal.y
@@ -222,6 +374,18 @@ class ExactTangentialModel:
             raise InputError("exact tangential solver needs a grid of at least 2 x 2 elements")
         contact = np.ascontiguousarray(normal.contact & (normal.pressure > 0))
         bound = np.ascontiguousarray(friction * np.where(contact, normal.pressure, 0.0))
+        if previous is not None and self.mode != "transient":
+            raise InputError(f"a previous time step's solution is used by the 'transient' "
+                             f"mode; this model's mode is {self.mode!r}")
+        if self.mode == "transient":
+            if extra_slip is not None:
+                raise InputError("the 'transient' mode takes no extra slip (dissimilar "
+                                 "materials); expected identical materials")
+            px, py, sx, sy, stick, it, ok = self._transient(x, y, contact, bound,
+                                                            (xi, eta, phi), material, previous)
+            return self._solution(x, y, (px, py, sx, sy, stick), contact,
+                                  _Iteration(it, ok, False), velocity, (xi, eta, phi),
+                                  friction, t0)
         p0 = None
         if warm_start is None and self.mode == "rolling" and normal.strips is not None \
                 and normal.pressure_at is not None:
@@ -250,16 +414,28 @@ class ExactTangentialModel:
             fallback = True
             if q[-1] or not ok:
                 px, py, sx, sy, stick, it, ok = q
+        return self._solution(x, y, (px, py, sx, sy, stick), contact,
+                              _Iteration(it, ok, fallback), velocity, (xi, eta, phi), friction,
+                              t0)
+
+    def _solution(self, x, y, fields, contact, iteration, velocity, creepage, friction,
+                  t0) -> TangentialSolution:
+        """The TangentialSolution of tractions (px, py) on the rail: ``fields`` (px,
+        py [Pa], sx, sy [-], stick) on the grid (x, y) [m], ``iteration`` how the
+        solver ended (:class:`_Iteration`), ``t0`` its start (``time.perf_counter``)."""
+        px, py, sx, sy, stick = fields
+        it, ok, fallback = iteration.iterations, iteration.converged, iteration.fallback
         if not ok:
-            log.warning("exact tangential solver: not converged (flagged in the result)")
+            log.info("exact tangential solver: not converged (flagged in the result)")
         status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
             f"exact tangential solver: no convergence in {it} Newton iterations"
             + (" (also restarted from zero traction)" if fallback else ""), it)
         dA = (x[1] - x[0]) * (y[1] - y[0])
         fx, fy = float(px.sum() * dA), float(py.sum() * dA)
         mz = float(((x[:, None] * py) - (y[None, :] * px)).sum() * dA)
+        options = {"iterations": it, "fallback": fallback, "mode": self.mode}
+        if self.mode == "transient":
+            options["step"] = self.step
         return TangentialSolution("exact", x, y, -px, -py, sx, sy, stick, contact, -fx, -fy,
-                                  -mz, velocity, (xi, eta, phi), friction,
-                                  time.perf_counter() - t0,
-                                  {"iterations": it, "fallback": fallback, "mode": self.mode},
-                                  status)
+                                  -mz, velocity, creepage, friction,
+                                  time.perf_counter() - t0, options, status)

@@ -46,3 +46,56 @@ def falling_friction(spec) -> FallingFriction | None:
             raise InputError(f"falling friction: unknown keys {sorted(unknown)}; expected A, B")
         return FallingFriction(**{k: float(v) for k, v in spec.items()})
     raise InputError(f"falling friction {spec!r}: expected a table with A and B [s/m]")
+
+
+@dataclass(frozen=True)
+class SlipVelocityFriction:
+    """CONTACT's slip-velocity dependent friction laws (user guide, "Slip velocity
+    dependent friction"; FRCLAW L = 2, 3, 4), at the magnitude s_a [m/s] of the
+    absolute slip velocity, without friction memory:
+
+    * ``"linear"`` (L = 2): mu_kin + c1 max(0, 1 - s_a/(2 s_h1)) + c2 max(0, 1 - s_a/(2 s_h2));
+    * ``"rational"`` (L = 3): mu_kin + c1/(1 + s_a/s_h1) + c2/(1 + (s_a/s_h2)^2);
+    * ``"exponential"`` (L = 4): mu_kin + c1 exp(-ln2 s_a/s_h1) + c2 exp(-ln2 s_a/s_h2)
+      (Polach's law with c2 = 0: mu_kin = A mu_stat, c1 = (1 - A) mu_stat,
+      s_h1 = ln 2 / B).
+
+    ``c`` = (c1, c2), ``sh`` = (s_h1, s_h2) [m/s] (a term with c = 0 is off).
+    """
+
+    kind: str
+    mu_kin: float
+    c: tuple = (0.0, 0.0)
+    sh: tuple = (1.0, 1.0)
+
+    def __post_init__(self):
+        if self.kind not in ("linear", "rational", "exponential"):
+            raise InputError(f"friction law {self.kind!r}: expected 'linear', 'rational' or "
+                             "'exponential'")
+        if not self.mu_kin > 0:
+            raise InputError(f"friction law mu_kin = {self.mu_kin!r}: expected a value > 0")
+        for c, sh in zip(self.c, self.sh):
+            if c and not sh > 0:
+                raise InputError(f"friction law s_h = {sh!r} m/s for a term of size {c!r}: "
+                                 "expected s_h > 0")
+
+    @property
+    def static(self) -> float:
+        """The coefficient at zero slip velocity."""
+        return float(self(0.0))
+
+    def __call__(self, sa):
+        """Friction coefficient at absolute slip velocity ``sa`` [m/s]."""
+        sa = np.abs(np.asarray(sa, dtype=float))
+        out = np.full(sa.shape, float(self.mu_kin))
+        for k, (c, sh) in enumerate(zip(self.c, self.sh)):
+            if not c:
+                continue
+            r = sa / sh
+            if self.kind == "linear":
+                out += c * np.maximum(0.0, 1.0 - 0.5 * r)
+            elif self.kind == "rational":
+                out += c / (1.0 + (r if k == 0 else r * r))
+            else:
+                out += c * np.exp(-math.log(2.0) * r)
+        return out

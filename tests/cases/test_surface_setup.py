@@ -1,10 +1,10 @@
 """railcontact.cases.surface_setup: which cases need rail surfaces, and their keys checked
-before any file is read."""
+and parsed once, before any file is read."""
 
 import pytest
 
 from railcontact.cases.case import case_from_dict
-from railcontact.cases.surface_setup import check_surface_case, is_surface_case
+from railcontact.cases.surface_setup import RailSpec, SurfaceCaseSetup, is_surface_case
 from railcontact.core.errors import CaseFileError
 
 WHEEL = {"profile": "S1002"}
@@ -12,8 +12,8 @@ SLICED = {"slices": "x.slcs", "lateral_position": 0.75}
 
 
 def _check(raw):
-    """The case checked: where case_from_dict checks it already, its error comes first."""
-    check_surface_case(case_from_dict(raw))
+    """The case read: its surface keys are parsed where it is read."""
+    return case_from_dict(raw).surfaces
 
 
 @pytest.mark.parametrize("raw, surface", [
@@ -50,3 +50,36 @@ def test_a_good_surface_case_passes():
     _check({"wheel": WHEEL, "rails": [dict(SLICED, lateral_range=[-0.02, 0.02])],
             "solver": {"rigid_slip": "surfaces", "tangential": "exact", "normal": "exact"},
             "wheelset": {"side": "left", "vertical_position": 1e-3}})
+
+
+def test_parsed_once_into_typed_values():
+    s = _check({"wheel": WHEEL, "rails": [dict(SLICED, name="nose", vertical_position=-1e-3),
+                                          {"profile": "60E1", "inclination": 0.0}],
+                "wheelset": {"side": "left", "vertical_force": [5e4, 6e4], "yaw": 0.01,
+                             "position": 0.2}, "solver": {"search_length": 0.05}})
+    assert isinstance(s, SurfaceCaseSetup) and s.side == "left" and s.load == 5e4
+    assert (s.position, s.yaw, s.search_length, s.vertical_position) == (0.2, 0.01, 0.05, None)
+    nose, plain = s.rails
+    assert isinstance(nose, RailSpec) and nose.slices == "x.slcs" and nose.name == "nose"
+    assert (nose.lateral_position, nose.vertical_position) == (0.75, -1e-3)
+    assert plain.lateral_position is None and plain.profile.inclination == 0.0
+    assert s.roller is None and s.pitch_velocity is None and s.contact_angle == "local"
+    # a prescribed height replaces the load; a roller's speed defaults to rolling
+    r = _check({"wheel": WHEEL, "rail": {"profile": "60E1"}, "roller": {"radius": 0.5},
+                "wheelset": {"vertical_position": 1e-3}})
+    assert r.load is None and r.vertical_position == 1e-3
+    assert (r.roller.radius, r.roller.angular_velocity, r.roller.position) == (0.5, None, 0.0)
+
+
+@pytest.mark.parametrize("change, match", [
+    ({"rail": dict(SLICED, lateral_position=3.0)},
+     "rail.lateral_position = 3.0: expected a value in \\[-2, 2\\] m"),
+    ({"rail": dict(SLICED, slice_spacing=-1.0)}, "rail.slice_spacing = -1.0"),
+    ({"rail": dict(SLICED, units="inch")}, "rail.units = 'inch'"),
+    ({"rail": dict(SLICED, slices=3)}, "rail.slices = 3: expected a .slcs file"),
+    ({"rail": SLICED, "roller": {"radius": 0.5}}, "roller's profile is a rail profile"),
+    ({"rail": SLICED, "wheelset": {"yaw": 0.7}}, "wheelset.yaw = 0.7"),
+])
+def test_values_checked_once_where_read(change, match):
+    with pytest.raises(CaseFileError, match=match):
+        _check({"wheel": WHEEL, **change})

@@ -119,7 +119,7 @@ def test_steady_then_transient(t3_t1_force):
     F_n of the tread and gauge-corner patches +0.2 and -0.7 %."""
     rows, ref, path = t3_t1_force
     _compare(rows, ref, [1], keys=("fn_N", "pmax_MPa"))
-    with pytest.raises(InpError, match=r"case 2 \(line 26\): TANG = 1 \(transient"):
+    with pytest.raises(InpError, match=r"case 2 \(line 27\): TANG = 1 \(transient"):
         load_inp(path)
 
 
@@ -159,3 +159,37 @@ def test_unsupported_inputs(testbank, name, match):
     with pytest.raises(InpError, match=match) as err:
         load_inp(testbank / "examples_trans" / f"{name}.inp")
     assert "\n" not in str(err.value)
+
+
+def test_patch_numbering(testbank):
+    """CONTACT numbers a wheel's patches from the field side towards the gauge side:
+    iestim_site_b cases 8 (three patches: flange flank at y_tr = 714 mm, gauge
+    corner 723 mm, field-side tread 755 mm of the right rail) and 11 (two: 714 and
+    746 mm).  The rows of the CSV and JSON outputs, and the patch dimension of a case
+    file's NetCDF (``SolveResult.to_xarray``), come in CONTACT's order, each patch
+    within 0.05 mm of CONTACT's patch of its number."""
+    import json
+
+    import numpy as np
+
+    from railcontact import case_from_dict, solve
+    from railcontact.contact_inp import to_csv, to_json
+
+    path = testbank / "examples_trans" / "iestim_site_b.inp"
+    rows = solve_inp(path, cases=[8, 11])
+    ref = ref_out(path.with_suffix(".ref_out"))
+    for case in (8, 11):
+        mine = [r for r in rows if r["case"] == case]
+        assert [r["patch"] for r in mine] == list(range(1, len(ref[case]["patches"]) + 1))
+        for r, p in zip(mine, ref[case]["patches"]):
+            assert abs(r["ycp_tr_mm"] - p["ycp_tr_mm"]) < 0.05, (case, r["patch"])
+    table = json.loads(to_json(rows))["rows"]
+    assert [(r["case"], r["patch"]) for r in table] == [(8, 1), (8, 2), (8, 3), (11, 1),
+                                                        (11, 2)]
+    csv_rows = to_csv(rows).splitlines()[1:]
+    assert [float(line.split(",")[11]) for line in csv_rows] == pytest.approx(
+        [r["ycp_tr_mm"] for r in rows])
+    (m,) = load_inp(path, cases=[11])
+    ds = solve(case_from_dict(m.raw)).to_xarray()
+    # y_rail points to the field side: falling along the patch dimension
+    assert ds.sizes["patch"] == 2 and np.all(np.diff(ds["y_rail"].values) < 0)

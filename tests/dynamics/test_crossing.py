@@ -8,6 +8,7 @@ from scipy.signal import butter, sosfiltfilt
 
 import railcontact as rc
 from railcontact.cases.case import case_from_dict
+from railcontact.cases.surfaces import build_surface_case
 from railcontact.dynamics.crossing import (CrossingTrack, contact_table, jenkins_p2,
                                            simulate_crossing)
 from railcontact.core.errors import InputError
@@ -28,9 +29,14 @@ def _case(normal="hertz"):
     return case_from_dict(raw)
 
 
+def _table(case, positions):
+    """The case's contact table: its surfaces built, then tabulated."""
+    return contact_table(build_surface_case(case), positions, case.material)
+
+
 @pytest.fixture(scope="module")
 def table():
-    return contact_table(_case(), np.arange(0.0, 0.2001, 0.002))
+    return _table(_case(), np.arange(0.0, 0.2001, 0.002))
 
 
 def _dip(tab):
@@ -132,4 +138,4 @@ def test_bad_input(table):
     with pytest.raises(InputError, match="track.mass"):
         CrossingTrack(mass=-1.0)
     with pytest.raises(InputError, match="increasing"):
-        contact_table(_case(), [0.1, 0.05])
+        _table(_case(), [0.1, 0.05])

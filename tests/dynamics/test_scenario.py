@@ -44,8 +44,9 @@ def test_vehicle_scenario_outputs(tmp_path):
     import xarray as xr
 
     from railcontact.dynamics.scenario import run_scenario
+    from railcontact.inputs import load_dynamics_scenario
     p = _write(tmp_path, SHORT.format(model="vehicle", duration=2.0, hw=3))
-    run_scenario(p, tmp_path / "out", progress=False)
+    run_scenario(load_dynamics_scenario(p), tmp_path / "out", progress=False)
     ds = xr.open_dataset(tmp_path / "out" / "simulation.nc", engine="h5netcdf")
     assert ds.sizes == {"time": 101, "wheelset": 4, "side": 2, "patch": 2, "body": 7}
     for var in ("lateral_displacement", "yaw", "normal_force", "longitudinal_force",
@@ -64,14 +65,16 @@ def test_vehicle_scenario_outputs(tmp_path):
 def test_simulation_history_feeds_wear(tmp_path):
     """A recorded bogie run drives the wear loop end to end (short track)."""
     from railcontact.dynamics.scenario import run_scenario
-    from railcontact.wear import WearSimulation, scenario_from_dict
+    from railcontact.inputs import load_dynamics_scenario
+    from railcontact.inputs import wear_scenario_from_dict
+    from railcontact.wear import WearSimulation
     p = _write(tmp_path, SHORT.format(model="bogie", duration=1.0, hw=1))
-    run_scenario(p, tmp_path, progress=False)
+    run_scenario(load_dynamics_scenario(p), tmp_path, progress=False)
     raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
            "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [20, 20]},
            "wear": {"law": "frictional-power", "steps": 1, "history": "history.csv",
                     "history_stride": 10}}
-    sc = scenario_from_dict(raw, tmp_path)
+    sc = wear_scenario_from_dict(raw, tmp_path)
     assert len(sc.conditions) == 6
     (tmp_path / "wear").mkdir()
     ds = WearSimulation(sc, tmp_path / "wear", progress=False).run(resume=False)
@@ -91,10 +94,11 @@ def test_simulation_history_feeds_wear(tmp_path):
 ])
 def test_bad_scenarios(tmp_path, edit, word):
     from railcontact.dynamics.scenario import run_scenario
+    from railcontact.inputs import load_dynamics_scenario
     text = SHORT.format(model="vehicle", duration=1.0, hw=1).replace(*edit)
     p = _write(tmp_path, text)
     with pytest.raises(CaseFileError, match=word):
-        run_scenario(p, tmp_path / "out", progress=False)
+        run_scenario(load_dynamics_scenario(p), tmp_path / "out", progress=False)
     assert not (tmp_path / "out").exists()
 
 
@@ -122,3 +126,20 @@ def test_parameter_file(tmp_path):
         vehicle_from_section({"parameter_file": "bad.toml"}, tmp_path)
     with pytest.raises(CaseFileError, match="does not exist"):
         vehicle_from_section({"parameter_file": "none.toml"}, tmp_path)
+
+
+def test_quasi_elastic_scenario(tmp_path):
+    """``simulation.contact = "quasi-elastic"``: the wheelset runs on Arnold's contact
+    (one point per wheel: the flange slot carries nothing)."""
+    from railcontact.dynamics.scenario import run_scenario
+    from railcontact.inputs import load_dynamics_scenario
+    text = SHORT.format(model="wheelset", duration=0.5, hw=1).replace(
+        "table_step = 5e-4", "table_step = 5e-4\ncontact = \"quasi-elastic\"\nalpha = 3e-5")
+    ds = run_scenario(load_dynamics_scenario(_write(tmp_path, text)), progress=False)
+    assert ds.attrs["contact"] == "quasi-elastic" and ds.attrs["alpha_m"] == 3e-5
+    assert float(abs(ds["patch_normal_force"].sel(patch="flange")).max()) == 0.0
+    assert float(ds["patch_normal_force"].sel(patch="tread").min()) > 0.5 * 9.81 * 1000
+    bad = SHORT.format(model="wheelset", duration=0.5, hw=1).replace(
+        "table_step = 5e-4", "table_step = 5e-4\ncontact = \"rigid\"")
+    with pytest.raises(CaseFileError, match="simulation.contact"):
+        load_dynamics_scenario(_write(tmp_path, bad, "b.toml"))

@@ -48,3 +48,24 @@ def test_python_patch_forces_of_the_linear_model():
     assert fy == pytest.approx(G * c * c * C22 * -2e-4 + G * c ** 3 * C23 * 0.05, rel=1e-9)
     assert python_patch_forces(get_tangential_model("linear"), mat, 0.3, 0.0, A, B,
                                1e-4, 0.0, 0.0, 30.0, (20, 20)) == (0.0, 0.0, 0.0)
+
+
+def test_quasi_elastic_table():
+    """Arnold's quasi-elastic table: one point per wheel carrying the whole load, its
+    geometry that of the geometry layer's quasi-elastic contact (continuous across the
+    rigid contact's jumps: tests/geometry/test_quasi_elastic.py); the Manchester bogie's
+    linear critical
+    speed on it near the conical (gamma = 0.15) bogie's 77.7 m/s (docs/dynamics.md)."""
+    from railcontact.dynamics import VehicleModel, critical_speed
+    from railcontact.geometry import Track, Wheelset
+    from railcontact.geometry.quasi_elastic import quasi_elastic_table
+    from railcontact.profiles import rail_profile, s1002
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", inclination=math.atan(1 / 40)))
+    t = WheelRailTable.quasi_elastic(ws, tr, 60e3, 3e-5, shift_range=0.008, step=2.5e-4)
+    assert np.all(t.data[:, :, 0, F_SHARE] == 1.0) and np.all(t.data[:, :, 1, F_SHARE] == 0.0)
+    q = quasi_elastic_table(ws, tr, t.shift[::8], alpha=3e-5)
+    np.testing.assert_allclose(t.delta_r[::8], q["delta_r"].values, rtol=0, atol=1e-12)
+    np.testing.assert_allclose(t.data[::8, 1, 0, F_DELTA],
+                               q["contact_angle"].sel(side="right").values, atol=1e-12)
+    vc = critical_speed(VehicleModel.from_parameters("bogie", {}), t)
+    assert 70.0 < vc < 90.0

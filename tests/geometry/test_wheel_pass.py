@@ -40,7 +40,10 @@ def test_patches_are_the_geometry_layers(bodies, shift, yaw, d):
     # the pose: roll to the searches' tolerance (1e-12 rad), z to 1e-12 m
     assert abs(roll - ref.pose.roll) < 1e-10 and abs(z - ref.pose.vertical) < 1e-11
     assert m == len(ref.patches)
-    for row, p in zip(out[:m], ref.patches):
+    # the rows run along each side's locus from the gauge side; the geometry layer
+    # numbers a wheel's patches from the field side
+    rows = [r for s in (0, 1) for r in reversed([r for r in out[:m] if r[P_SIDE] == s])]
+    for row, p in zip(rows, ref.patches):
         assert ("left", "right")[int(row[P_SIDE])] == p.side
         assert row[P_Y_RAIL] == pytest.approx(p.y_rail, abs=1e-10)
         assert row[P_CONTACT_ANGLE] == pytest.approx(p.contact_angle, abs=1e-9)

@@ -35,3 +35,25 @@ def test_falling_friction_from_spec():
         FallingFriction(B=-1.0)
     with pytest.raises(InputError, match="s/m"):
         FallingFriction(B=math.inf)
+
+
+def test_slip_velocity_friction_laws():
+    """CONTACT's laws L = 2, 3, 4 (user guide, "Slip velocity dependent friction"):
+    static value mu_kin + c1 + c2; at s_a = s_h1 the exponential term is halved, the
+    rational one halved, the linear one halved; large s_a gives mu_kin."""
+    from railcontact.tangential.friction import SlipVelocityFriction
+    for kind in ("linear", "rational", "exponential"):
+        law = SlipVelocityFriction(kind, 0.18, (0.12, 0.0), (0.1, 1.0))
+        assert law.static == pytest.approx(0.30)
+        assert float(law(0.1)) == pytest.approx(0.18 + 0.06)
+        assert float(law(1e3)) == pytest.approx(0.18, abs=2e-5)
+    two = SlipVelocityFriction("rational", 0.1, (0.1, 0.2), (1.0, 2.0))
+    assert float(two(2.0)) == pytest.approx(0.1 + 0.1 / 3 + 0.2 / 2)
+    # Polach's law as CONTACT writes it: mu_kin = A mu0, c1 = (1 - A) mu0, s_h = ln2 / B
+    mu0, A, B = 0.4, 0.4, 0.6
+    law = SlipVelocityFriction("exponential", A * mu0, ((1 - A) * mu0, 0.0),
+                               (math.log(2) / B, 1.0))
+    w = np.array([0.0, 0.5, 3.0])
+    assert law(w) == pytest.approx(FallingFriction(A, B)(mu0, w))
+    with pytest.raises(InputError, match="expected 'linear'"):
+        SlipVelocityFriction("cubic", 0.2)

@@ -1,0 +1,189 @@
+"""Every CONTACT input of ``../shared/contact_testbank`` and ``../shared/reference``
+through ``railcontact solve``: which run, which stop (and with what line), and how
+close the ones that run come to CONTACT's printed output (``.ref_out``).
+
+Per file the largest deviation over its cases and patches, against the issue's
+tolerances: F_n, F_x, F_y within 1 % (tangential forces also relative to mu F_n,
+which decides where the force is small), p_max and the contact area (elements in
+contact) within 3 %; patches are matched by number (CONTACT's: field side to gauge
+side).  The files of ``../shared/reference`` have CSV references instead, compared
+case by case in ``benchmarks/contact_inputs.py``; here they are run and counted.
+
+    python benchmarks/contact_testbank.py            # every file (long: module 1 files)
+    python benchmarks/contact_testbank.py --quick    # read and map only; module 3 solved
+    python benchmarks/contact_testbank.py FILTER     # files whose path contains FILTER
+
+Writes ``benchmarks/contact_testbank.md``.
+"""
+
+from __future__ import annotations
+
+import math
+import os
+import sys
+import time
+from pathlib import Path
+
+HERE = Path(__file__).resolve().parent
+SHARED = HERE.parent.parent / "shared"
+REF = Path(os.environ.get("RAILCONTACT_REFERENCE", SHARED / "reference"))
+BANK = SHARED / "contact_testbank"
+TOL = {"fn": 0.01, "ft": 0.01, "pmax": 0.03, "area": 0.03, "temp": 0.03}
+
+lines: list = []
+
+
+def out(s=""):
+    print(s, flush=True)
+    lines.append(s)
+
+
+def _module3_deviations(rows, ref):
+    """Largest deviations of module 3 rows against read_out's cases."""
+    worst = {"fn": 0.0, "ft": 0.0, "pmax": 0.0, "area": 0.0}
+    n = 0
+    for r in rows:
+        f = ref.get(r["case"])
+        if f is None or not r.get("npatch"):
+            continue
+        n += 1
+        mu = float(r.get("mu") or 0.0)
+        scale = max(mu * f["fn_N"], 1e-12)
+        worst["fn"] = max(worst["fn"], abs(r["fn_N"] / f["fn_N"] - 1) if f["fn_N"] else 0.0)
+        if mu:
+            # tangential: relative to CONTACT's force, or to mu F_n where that is larger
+            for a, b in ((r["fx_N"], f["fx_N"]), (r["fs_N"], f["fy_N"])):
+                worst["ft"] = max(worst["ft"], abs(a - b) / max(abs(b), scale))
+        if f.get("pmax_MPa"):
+            worst["pmax"] = max(worst["pmax"], abs(r["pmax_MPa"] / f["pmax_MPa"] - 1))
+        if f.get("ncon"):
+            worst["area"] = max(worst["area"], abs(r["ncon"] / f["ncon"] - 1))
+        if f.get("tmax_C") is not None and r.get("tmax_C") is not None:
+            # temperatures: the rise above 0 C in deg C, relative
+            worst["temp"] = max(worst.get("temp", 0.0),
+                                abs(r["tmax_C"] / f["tmax_C"] - 1) if f["tmax_C"] else 0.0)
+    return n, worst
+
+
+def _module1_deviations(rows, ref, cases=None):
+    """Largest deviations per patch (matched by number) of module 1 rows against
+    the parsed ``.ref_out`` (patches carrying at least a tenth of the case's load,
+    as in tests/contact_inp/test_testbank.py; the smaller ones' largest F_n
+    deviation apart), over ``cases`` (default all); also the cases whose patch
+    count differs."""
+    worst = {"fn": 0.0, "ft": 0.0, "pmax": 0.0}
+    n, npatch_diff, small = 0, [], 0.0
+    for case in sorted({r["case"] for r in rows}):
+        if cases is not None and case not in cases:
+            continue
+        mine = [r for r in rows if r["case"] == case and r.get("npatch")]
+        theirs = ref.get(case, {}).get("patches", [])
+        if not theirs:
+            continue
+        n += 1
+        if len(mine) != len(theirs):
+            npatch_diff.append(case)
+            continue
+        load = sum(p.get("fn_N", 0.0) for p in theirs)
+        for r, p in zip(mine, theirs):
+            if "fn_N" not in p:
+                continue
+            if p["fn_N"] < 0.1 * load:
+                small = max(small, abs(r["fn_N"] / p["fn_N"] - 1))
+                continue
+            mu = float(p.get("mu") or r.get("mu") or 0.3)
+            scale = mu * p["fn_N"]
+            worst["fn"] = max(worst["fn"], abs(r["fn_N"] / p["fn_N"] - 1))
+            for k in ("fx_N", "fs_N"):
+                worst["ft"] = max(worst["ft"], abs(r[k] - p[k]) / max(abs(p[k]), scale))
+            if p.get("pmax_MPa"):
+                worst["pmax"] = max(worst["pmax"], abs(r["pmax_MPa"] / p["pmax_MPa"] - 1))
+    return n, worst, npatch_diff, small
+
+
+def _fmt(worst):
+    return ", ".join(f"{k} {100 * v:.2f} %" + ("" if v <= TOL[k] else " (over)")
+                     for k, v in worst.items())
+
+
+def run_file(path: Path, root: Path, quick: bool):
+    from railcontact.contact_inp import load_inp, solve_inp
+    from railcontact.contact_inp.outfile import read_out
+    from railcontact.core.errors import RailContactError
+
+    name = str(path.relative_to(root.parent))
+    dirs = [REF / "profiles", BANK / "profiles"]
+    try:
+        mapped = load_inp(path, profile_dirs=dirs)
+    except RailContactError as exc:
+        out(f"| `{name}` | stops | {str(exc).split(': ', 1)[-1][:160]} |")
+        return "stops"
+    modules = {m.module for m in mapped}
+    if quick and modules != {3}:
+        out(f"| `{name}` | reads ({len(mapped)} cases, module {sorted(modules)}) | not solved "
+            "(--quick) |")
+        return "reads"
+    t = time.perf_counter()
+    try:
+        rows = solve_inp(path, profile_dirs=dirs)
+    except RailContactError as exc:
+        out(f"| `{name}` | fails | {exc} |")
+        return "fails"
+    t = time.perf_counter() - t
+    bad = sum(1 for r in rows if not r.get("converged", True))
+    status = f"runs ({len(mapped)} cases, {t:.1f} s" + (f", {bad} rows not converged" if bad
+                                                         else "") + ")"
+    ref_path = path.with_suffix(".ref_out")
+    if not ref_path.is_file():
+        out(f"| `{name}` | {status} | CSV reference: benchmarks/contact_inputs.py |")
+        return "runs"
+    if modules == {3}:
+        n, worst = _module3_deviations(rows, read_out(ref_path))
+        out(f"| `{name}` | {status} | {n} cases: {_fmt(worst)} |")
+    else:
+        sys.path.insert(0, str(HERE))
+        from contact_inputs import parse_ref_out
+        ref = parse_ref_out(ref_path)
+        approx = {m.number for m in mapped if m.raw is not None
+                  and m.raw["solver"]["normal"] != "exact"}
+        parts = []
+        for label, sel in (("exact", {m.number for m in mapped} - approx),
+                           ("KPEC/ANALYN", approx)):
+            if not sel:
+                continue
+            n, worst, diff, small = _module1_deviations(rows, ref, sel)
+            txt = f"{n} cases ({label}): {_fmt(worst)}"
+            if small:
+                txt += f"; patches under a tenth of the load: F_n {100 * small:.1f} %"
+            if diff:
+                txt += f"; patch count differs in cases {diff}"
+            parts.append(txt)
+        out(f"| `{name}` | {status} | {'; '.join(parts)} |")
+    return "runs"
+
+
+def main(argv=None):
+    argv = list(sys.argv[1:] if argv is None else argv)
+    quick = "--quick" in argv
+    filters = [a for a in argv if not a.startswith("--")]
+    out(f"# Every CONTACT input through railcontact ({time.strftime('%Y-%m-%d')}, "
+        f"{os.cpu_count()} cores{', --quick' if quick else ''})\n")
+    out("Largest deviation from CONTACT's `.ref_out` over each file's cases: F_n, F_x and "
+        "F_y (`ft`: relative to CONTACT's force or mu F_n, the larger), p_max, elements in "
+        "contact (`area`), largest surface temperature (`temp`); tolerances 1, 1, 3, 3, 3 %.\n")
+    out("| input | status | against CONTACT |")
+    out("|---|---|---|")
+    counts = {}
+    for root in (BANK, REF):
+        for path in sorted(root.rglob("*.inp")):
+            if filters and not any(f in str(path) for f in filters):
+                continue
+            s = run_file(path, root, quick)
+            counts[s] = counts.get(s, 0) + 1
+    out("\n" + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())))
+    if not filters:
+        (HERE / "contact_testbank.md").write_text("\n".join(lines) + "\n")
+
+
+if __name__ == "__main__":
+    main()

@@ -1,0 +1,612 @@
+"""CONTACT's module 3 on its own grid: non-Hertzian geometries (IPOTCN > 0), the
+transient problems (TANG = 1, shift; TANG = 2, transient rolling), prescribed
+forces, slip-velocity dependent friction and surface temperatures, case after case.
+
+A case with a potential contact area given by its grid (IPOTCN = 1 .. 4, the
+undeformed distance IBASE = 1, 2, 3), a transient tangential problem, the approach
+or a tangential force prescribed, friction laws L = 2-4 or temperatures (H = 1, 3)
+is solved here (:func:`handles`), on CONTACT's grid, rather than through a
+railcontact case file:
+
+* normal problem: Kalker's exact theory (:func:`railcontact.normal.polonsky_keer.polonsky_keer`
+  with the influence coefficients of :mod:`railcontact.normal.influence`), the
+  normal force FN (N = 1) or the approach PEN (N = 0) given;
+* tangential problem: the exact solver of :mod:`railcontact.tangential.exact`,
+  steady rolling (T = 3, :func:`~railcontact.tangential.exact.steady_rolling`)
+  or one time step of a transient problem (T = 1, 2,
+  :func:`~railcontact.tangential.exact.transient_step`), with the creepages
+  (F = 0) or the relative forces FX/(FSTAT FN) (F = 1, with CETA; F = 2, with
+  FY) given; a force is met by Brent's method on the creepage (or shift);
+  falling friction by a fixed point of the coefficients (:func:`friction_law`);
+* temperatures: :mod:`railcontact.tangential.temperature` (steady rolling).
+
+What carries over from case to case follows CONTACT's PVTIME digit (user guide,
+"P - PVTIME"): the tractions that a case leaves are the next case's previous time
+instance where it has P = 0; P = 1 and P = 2 start from zero tangential tractions
+(P = 2: a new sequence); P = 3 repeats the last case's time step (its previous
+instance is kept).  The inputs kept or re-read between cases are the reader's
+(:mod:`.reader`, the D, Z, C digits).
+
+Rigid shift per step of element I (user guide, "Tangential quantities in case of
+a shift" and "... of rolling"), in mm:
+
+* T = 1: W = (CKSI - CPHI y, CETA + CPHI x), CKSI, CETA the shift [mm], CPHI [rad];
+  the coordinates are material-fixed, so the previous tractions act where they
+  were (a grid that moves between cases does so by whole elements);
+* T = 2: W = DQ (CKSI - CPHI y, CETA + CPHI (x + DQ/6)), creepages; the grid moves
+  with the contact by DQ per step (rolling direction CHI = 0 or 180 degrees), so
+  the previous displacements are taken DQ upstream.
+
+Units: CONTACT's (mm, N, N/mm^2) at this boundary, SI inside.
+"""
+
+from __future__ import annotations
+
+import logging
+import math
+from dataclasses import dataclass
+
+import numpy as np
+from scipy.optimize import brentq
+
+from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
+from ..normal.influence import normal_operator
+from ..normal.polonsky_keer import polonsky_keer
+from ..tangential.friction import SlipVelocityFriction
+from ..tangential.temperature import ThermalProperties, flash_temperatures
+from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
+                                steady_rolling, transient_step)
+from .mapping import curvature_from_axis_ratio
+from .reader import InpCase, InpError
+
+log = logging.getLogger(__name__)
+
+MM = 1e-3
+#: relative tolerance of the normal iteration and of the tangential residual
+NORMAL_TOL = 1e-9
+TANGENTIAL_TOL = 1e-9
+#: a prescribed relative force is met to this absolute tolerance (of FX / (FSTAT FN))
+FORCE_TOL = 1e-7
+
+
+def handles(case: InpCase) -> bool:
+    """Whether the case is solved here: module 3 with a grid-given potential contact
+    area (IPOTCN > 0), a transient tangential problem (T = 1, 2), a prescribed
+    tangential force (F = 1, 2), the approach prescribed (N = 0), surface
+    temperatures (H = 1, 3) or a slip-velocity dependent friction law (L = 2-6)."""
+    return case.module == 3 and (case.digits["T"] in (1, 2) or case.digits["F"] in (1, 2)
+                                 or case.digits["N"] == 0 or case.digits["H"] in (1, 3)
+                                 or case.values.get("FRICTION_LAW", 0) not in (0, 1)
+                                 or (case.values.get("IPOTCN") or -1) > 0)
+
+
+def _unsupported(case, what, expected):
+    return InpError(f"{case.where()}: {what} is not supported; {expected}")
+
+
+def _need(case, name):
+    v = case.values.get(name)
+    if v is None:
+        raise InpError(f"{case.where()}: {name} is not set (no earlier case gave it)")
+    return v
+
+
+def check(case: InpCase) -> None:
+    """The one-line InpError of an option this path does not support."""
+    d = case.digits
+    allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
+               "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
+               "C3": (0, 1, 2)}
+    names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
+             "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
+             "C3": "INFLCF"}
+    for k, vals in allowed.items():
+        if d[k] not in vals:
+            raise _unsupported(case, f"{names[k]} = {d[k]} with the grid-given or transient "
+                                     "module 3 problem", f"expected {names[k]} in {vals}")
+    if d["T"]:
+        friction_law(case)
+    if case.values.get("NVF", 0):
+        raise _unsupported(case, "friction variation (VARFRC)", "expected V = 0")
+    ipotcn = _need(case, "IPOTCN")
+    if ipotcn > 0 and case.values.get("B") is None:
+        raise InpError(f"{case.where()}: IPOTCN = {ipotcn} without an undeformed distance "
+                       "(IBASE, IPLAN and B1 .. B6)")
+    if ipotcn < 0 and ipotcn not in (-1, -2, -3):
+        raise _unsupported(case, f"IPOTCN = {ipotcn}", "expected -1, -2, -3 or 1 .. 4")
+    if (case.values.get("SPINXO") or 0.0) or (case.values.get("SPINYO") or 0.0):
+        raise _unsupported(case, "SPINXO, SPINYO (a spin centre off the origin)",
+                           "expected them left out")
+    if d["T"] in (2, 3):
+        chi = _need(case, "CHI")
+        if abs(math.sin(chi)) > 1e-9:
+            raise _unsupported(case, f"CHI = {chi:g} rad", "expected 0 or 180d (pi)")
+    if d["H"] in (1, 3) and d["T"] != 3:
+        raise _unsupported(case, f"HEAT = {d['H']} with TANG = {d['T']}", "expected surface "
+                                 "temperatures in steady rolling (T = 3)")
+    if d["H"] in (1, 3):
+        for k in ("BKTEMP1", "HEATCP1", "LAMBDA1", "DENS1", "BKTEMP2", "HEATCP2", "LAMBDA2",
+                  "DENS2"):
+            _need(case, k)
+    g1, g2 = _need(case, "GG1"), _need(case, "GG2")
+    n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    if abs((1 - 2 * n1) / g1 - (1 - 2 * n2) / g2) > 1e-9 * (1 / g1 + 1 / g2) and d["T"] != 0:
+        raise _unsupported(case, "dissimilar materials (K != 0) with a tangential problem on "
+                                 "the grid-given or transient path", "expected quasi-identical "
+                                 "materials ((1 - 2 nu)/G equal for both bodies)")
+
+
+@dataclass
+class Grid:
+    """Element centres [m] of the potential contact area and element sizes [m]."""
+
+    x: np.ndarray
+    y: np.ndarray
+    dx: float
+    dy: float
+
+    @property
+    def origin(self):
+        return float(self.x[0]), float(self.y[0])
+
+
+@dataclass
+class Instance:
+    """Tangential tractions [Pa] on body 1 of a time instance and their grid."""
+
+    px: np.ndarray
+    py: np.ndarray
+    grid: Grid
+
+
+def _materials(case):
+    """(E* [Pa] of the normal problem, G [Pa] and nu of the tangential one):
+    Kalker's combined constants 1/G = (1/G1 + 1/G2)/2, nu/G = (nu1/G1 + nu2/G2)/2."""
+    g1, g2 = _need(case, "GG1") * 1e6, _need(case, "GG2") * 1e6
+    n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    es = 1.0 / ((1 - n1) / (2 * g1) + (1 - n2) / (2 * g2))
+    G = 2.0 / (1 / g1 + 1 / g2)
+    nu = 0.5 * G * (n1 / g1 + n2 / g2)
+    return es, G, nu
+
+
+def _grid_and_gap(case, es):
+    """The grid and the undeformed distance h [m] on it (before the approach)."""
+    v = case.values
+    ipotcn = v["IPOTCN"]
+    mx, my = int(v["MX"]), int(v["MY"])
+    if ipotcn < 0:                     # a Hertzian geometry on CONTACT's grid
+        fn = v.get("FN")
+        if ipotcn == -3:
+            a, b = v["AA"] * MM, v["BB"] * MM
+            A, B = hertz_curvatures(a, b, es, fn)
+        else:
+            A = v["A1"] / MM
+            B = v["B1"] / MM if ipotcn == -1 else curvature_from_axis_ratio(A, v["AOB"])
+            h = hertz_ellipse(A, B, es, force=fn)
+            a, b = h.a, h.b
+        s = v["SCALE"]
+        dx, dy = 2 * s * a / mx, 2 * s * b / my
+        x = -s * a + (np.arange(mx) + 0.5) * dx
+        y = -s * b + (np.arange(my) + 0.5) * dy
+        return Grid(x, y, dx, dy), A * x[:, None] ** 2 + B * y[None, :] ** 2
+    if ipotcn == 1:
+        dx, dy = v["DX"], v["DY"]
+        x0, y0 = v["XL"] + 0.5 * dx, v["YL"] + 0.5 * dy
+    elif ipotcn == 2:
+        dx, dy = (v["XH"] - v["XL"]) / mx, (v["YH"] - v["YL"]) / my
+        x0, y0 = v["XL"] + 0.5 * dx, v["YL"] + 0.5 * dy
+    elif ipotcn == 3:
+        dx, dy = v["DX"], v["DY"]
+        x0, y0 = v["XC1"], v["YC1"]
+    else:
+        if mx < 2 or my < 2:
+            raise InpError(f"{case.where()}: IPOTCN = 4 with MX or MY = 1; expected both >= 2")
+        dx, dy = (v["XCM"] - v["XC1"]) / (mx - 1), (v["YCM"] - v["YC1"]) / (my - 1)
+        x0, y0 = v["XC1"], v["YC1"]
+    if not (dx > 0 and dy > 0 and mx >= 1 and my >= 1):
+        raise InpError(f"{case.where()}: potential contact MX, MY = {mx}, {my}, DX, DY = "
+                       f"{dx:g}, {dy:g} mm: expected positive sizes")
+    xm, ym = x0 + np.arange(mx) * dx, y0 + np.arange(my) * dy
+    X, Y = xm[:, None], ym[None, :]
+    h = undeformed_distance(v["IBASE"], v["B"], X, Y)
+    h = np.broadcast_to(h, (mx, my)).copy()
+    return Grid(xm * MM, ym * MM, dx * MM, dy * MM), h * MM
+
+
+def undeformed_distance(ibase, b, X, Y):
+    """CONTACT's undeformed distance h(x, y) [mm] at (X, Y) [mm] (user guide,
+    "Non-Hertzian geometry specification"): IBASE = 1, b1 x^2 + b2 x y + b3 y^2 + b4
+    x + b5 y + b6; IBASE = 2, p(y) + (x - x_m)^2 / (2 R_m) with p linear between NN
+    heights from Y1 in steps DY1 (extrapolated linearly); IBASE = 3, b1 sin(b2 (x
+    - b3)) - b4 sin(b5 (x - b6)) + x^2/b7 + y^2/b8."""
+    if ibase == 1:
+        b1, b2, b3, b4, b5, b6 = b
+        return b1 * X ** 2 + b2 * X * Y + b3 * Y ** 2 + b4 * X + b5 * Y + b6
+    if ibase == 3:
+        b1, b2, b3, b4, b5, b6, b7, b8 = b
+        return (b1 * np.sin(b2 * (X - b3)) - b4 * np.sin(b5 * (X - b6)) + X ** 2 / b7
+                + Y ** 2 / b8)
+    nn, xm, rm, y1, dy1, heights = b
+    hk = np.asarray(heights, dtype=float)
+    if nn == 1:
+        p = np.full(np.shape(Y), hk[0])
+    else:
+        t = (np.asarray(Y, dtype=float) - y1) / dy1
+        k = np.clip(np.floor(t).astype(int), 0, nn - 2)
+        p = hk[k] + (t - k) * (hk[k + 1] - hk[k])
+    return p + (X - xm) ** 2 / (2.0 * rm)
+
+
+@dataclass
+class CaseResult:
+    """One solved case: the normal and tangential solution on its grid (SI), the
+    creepages (or shift) met and CONTACT's table row."""
+
+    grid: Grid
+    pressure: np.ndarray
+    px: np.ndarray
+    py: np.ndarray
+    stick: np.ndarray
+    row: dict
+    mu: np.ndarray | None = None       # a slip-velocity dependent law's coefficients
+
+
+class Sequence:
+    """Module 3 cases solved in file order with CONTACT's state rules: the previous
+    time instance (tangential tractions) carried from case to case by the PVTIME
+    digit.  ``run(case)`` returns the case's table row."""
+
+    def __init__(self):
+        self.last: CaseResult | None = None       # the last case's solution
+        self.last_previous: Instance | None = None    # the instance it started from
+
+    def reset(self):
+        """A case solved elsewhere (a Hertzian case file): no transient state."""
+        self.last, self.last_previous = None, None
+
+    def _previous(self, case) -> Instance | None:
+        p, t = case.digits["P"], case.digits["T"]
+        if t not in (1, 2) or p in (1, 2):
+            return None
+        if p == 3:
+            return self.last_previous
+        if self.last is None:
+            return None
+        # a steady rolling case's tractions are a time instance too (the steady
+        # state of transient rolling on its grid)
+        return Instance(self.last.px, self.last.py, self.last.grid)
+
+    def run(self, case: InpCase) -> dict:
+        check(case)
+        prev = self._previous(case)
+        start = None
+        if self.last is not None and self.last.row.get("T") == case.digits["T"]:
+            start = (self.last.row["cksi"], self.last.row["ceta"])
+        mu_start = self.last.mu if self.last is not None else None
+        res = solve_case(case, prev, start, mu_start)
+        self.last, self.last_previous = res, prev
+        return res.row
+
+
+def _normal(case, grid, h, es):
+    """Pressure [Pa], approach [m], converged."""
+    dA = grid.dx * grid.dy
+    op = normal_operator(grid.x.size, grid.y.size, grid.dx, grid.dy, es)
+    if case.digits["N"] == 1:
+        fn = _need(case, "FN")
+        p, app, _, ok = polonsky_keer(op, h, dA, force=fn, tol=NORMAL_TOL, maxiter=20000)
+    else:
+        app = _need(case, "PEN") * MM
+        p, _, _, ok = polonsky_keer(op, h - app, dA, None, tol=NORMAL_TOL, maxiter=20000)
+    return p, app, ok
+
+
+def _rigid_shift(case, grid, creep):
+    """W [m] per element from (CKSI, CETA) and CPHI: T = 1 shifts, T = 2 creepages
+    times DQ (spin taken DQ/6 along the rolling direction)."""
+    cphi = _need(case, "CPHI")
+    X, Y = grid.x[:, None], grid.y[None, :]
+    if case.digits["T"] == 1:
+        wx = creep[0] * MM - cphi * Y
+        wy = creep[1] * MM + cphi * X
+    else:
+        dq = _need(case, "DQ") * MM
+        cs = math.cos(_need(case, "CHI"))
+        wx = dq * (creep[0] - cphi / MM * Y)
+        wy = dq * (creep[1] + cphi / MM * (X + cs * dq / 6.0))
+    shape = (grid.x.size, grid.y.size)
+    return np.broadcast_to(wx, shape), np.broadcast_to(wy, shape)
+
+
+def solve_case(case: InpCase, prev: Instance | None, start=None,
+               mu_start=None) -> CaseResult:
+    """Solve one case (normal, then tangential) from the previous instance ``prev``
+    (None: zero previous tractions); ``start``: the creepages (CKSI, CETA) where the
+    search for a prescribed force starts (the last case's); ``mu_start``: the last
+    case's friction coefficients on its solver grid (INISLP = 0)."""
+    d, v = case.digits, case.values
+    es, G, nu = _materials(case)
+    grid, h = _grid_and_gap(case, es)
+    pressure, approach, ok_n = _normal(case, grid, h, es)
+    shape = pressure.shape
+    t = d["T"]
+    law = friction_law(case) if t else None
+    mu = (law.static if law is not None else _need(case, "FKIN")) if t else 0.0
+    fstat = (law.static if law is not None else _need(case, "FSTAT")) if t else 0.0
+    contact = np.ascontiguousarray(pressure > 0)
+    bound = np.ascontiguousarray(mu * pressure)
+    dA = grid.dx * grid.dy
+    fn = float(pressure.sum() * dA)
+    zero = np.zeros(shape)
+    px, py, stick, ok_t, creep = zero, zero, np.zeros(shape, bool), True, (0.0, 0.0)
+    state = {"mu": None}
+    message = "" if ok_n else "normal problem not converged"
+    if t:
+        u_prev, p_start = (zero, zero), None
+        if t in (1, 2) and prev is not None:
+            shift = (0.0, 0.0)
+            if t == 2:
+                shift = (math.cos(_need(case, "CHI")) * _need(case, "DQ") * MM, 0.0)
+            if abs(prev.grid.dx - grid.dx) > 1e-9 * grid.dx or \
+                    abs(prev.grid.dy - grid.dy) > 1e-9 * grid.dy:
+                raise InpError(f"{case.where()}: the element size changed from the previous "
+                               "time instance's; expected the same DX, DY in a sequence")
+            off = grid_offset(prev.grid.origin, grid.origin, (grid.dx, grid.dy), shift)
+            u_prev = previous_displacement(prev.px, prev.py, off, shape, grid.dx, grid.dy,
+                                           G, nu)
+            # the start of the iteration: the previous tractions where the material is
+            p_start = shifted_tractions(prev.px, prev.py, off, shape)
+
+        if grid.x.size < 2:
+            raise InpError(f"{case.where()}: MX = 1 with a tangential problem; expected MX "
+                           ">= 2 (the rolling direction)")
+        # one strip (MY = 1, a 2-D problem): the solver's grid gets an empty second
+        # strip, outside the contact (no traction there, no effect)
+        pad = grid.y.size == 1
+        yt = np.array([grid.y[0], grid.y[0] + grid.dy]) if pad else grid.y
+        widen = (lambda a: np.ascontiguousarray(np.c_[a, np.zeros(a.shape[0], a.dtype)])
+                 ) if pad else (lambda a: a)
+        ct, bt = widen(contact), widen(bound)
+        u_t = (widen(u_prev[0]), widen(u_prev[1]))
+        state["p0"] = None if p_start is None else (widen(p_start[0]), widen(p_start[1]))
+
+        # the absolute slip velocity [m/s] of a slip of the solver: steady rolling,
+        # relative slip times V; transient, the slip distance over the step's time
+        # DQ / V (T = 2) or 1 s (T = 1, as CONTACT takes it)
+        veloc = _need(case, "VELOC") * MM
+        per_slip = veloc if t == 3 else (veloc / (_need(case, "DQ") * MM) if t == 2 else 1.0)
+        # the start of a slip-velocity dependent law's iteration picks the branch
+        # where the solutions are several (user guide, INISLP): INISLP > 0 from the
+        # static coefficient, < 0 from the kinetic one (which gives CONTACT's branches
+        # on veldep_fric.inp), 0 from the last case's coefficients on the same grid
+        inislp = case.values.get("INISLP") or 0
+        state["mu"] = np.full(ct.shape, mu)
+        if law is not None and inislp < 0:
+            state["mu"] = np.full(ct.shape, law.mu_kin)
+        elif law is not None and inislp == 0 and mu_start is not None \
+                and mu_start.shape == ct.shape:
+            state["mu"] = mu_start.copy()
+
+        backwards = t == 3 and math.cos(_need(case, "CHI")) < 0
+
+        def solve_once(cx, cy, bt):
+            if t == 3 and backwards:
+                # rolling towards -x (CHI = 180 deg): the problem mirrored in x (x' = -x:
+                # CKSI and CPHI change sign), solved as rolling towards +x, mirrored back
+                f = lambda a: np.ascontiguousarray(a[::-1])                 # noqa: E731
+                p0 = state["p0"]
+                p0 = None if p0 is None else (-f(p0[0]), f(p0[1]))
+                out = steady_rolling(-grid.x[::-1], yt, f(ct), f(bt),
+                                     (-cx, cy, -_need(case, "CPHI") / MM), G, nu,
+                                     TANGENTIAL_TOL, 200, p0=p0)
+                px_, py_, sx_, sy_, st_, it_, ok_ = out
+                return -f(px_), f(py_), -f(sx_), f(sy_), f(st_), it_, ok_
+            if t == 3:
+                return steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
+                                      G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
+            w = _rigid_shift(case, grid, (cx, cy))
+            return transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),
+                                                       widen(np.array(w[1]))),
+                                  u_t, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
+
+        def tangential(cx, cy):
+            if law is None:
+                out = solve_once(cx, cy, bt)
+            else:
+                out = _falling_friction(solve_once, cx, cy, law, widen(pressure), ct,
+                                        per_slip, state)
+            if out[-1]:
+                state["p0"] = (out[0], out[1])
+            if pad:
+                out = tuple(o[:, :1] if isinstance(o, np.ndarray) else o for o in out)
+            return out
+
+        creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
+        px, py, _, _, stick, _, ok_t = out
+        if not ok_t:
+            what = "tangential problem not converged"
+            if state.get("friction", 0.0) > FRICTION_TOL:
+                what = (f"friction coefficients not settled (still changing by "
+                        f"{state['friction']:.1e})")
+            message = (message + "; " if message else "") + what
+    tmax = None
+    if t == 3 and d["H"] in (1, 3):
+        tmax = _temperature(case, grid, px, py, out, contact)
+    ncon = int(np.count_nonzero(contact))
+    nadh = int(np.count_nonzero(contact & stick)) if t else 0
+    X, Y = grid.x[:, None], grid.y[None, :]
+    row = {"case": case.number, "module": 3, "patch": 1, "npatch": 1, "T": t,
+           "cksi": float(creep[0]), "ceta": float(creep[1]),
+           "cphi_per_mm": float(v.get("CPHI") or 0.0),
+           "veloc_mm_s": float(v.get("VELOC") or 1.0) if t in (2, 3) else 1.0,
+           "mu": float(mu) if t else None,
+           "fn_N": fn, "fx_N": float(px.sum() * dA), "fs_N": float(py.sum() * dA),
+           "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3,
+           "approach_mm": approach / MM, "pmax_MPa": float(pressure.max()) * 1e-6,
+           "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh,
+           "nslip": ncon - nadh if t else 0, "mx": shape[0], "my": shape[1],
+           "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM, "tmax_C": tmax,
+           "converged": bool(ok_n and ok_t), "message": message}
+    return CaseResult(grid, pressure, px, py, stick, row,
+                      state["mu"] if t and law is not None else None)
+
+
+def _thermal(case, body):
+    """A body's thermal constants from CONTACT's (W/mm C, kg/mm^3) in SI."""
+    v = case.values
+    return ThermalProperties(v[f"BKTEMP{body}"], v[f"HEATCP{body}"], v[f"LAMBDA{body}"] * 1e3,
+                             v[f"DENS{body}"] * 1e9)
+
+
+def _temperature(case, grid, px, py, out, contact):
+    """The largest surface temperature of both bodies [deg C] (CONTACT's
+    MAX(T1,T2)) in steady rolling: the frictional power density |p_t| |s| V
+    (:mod:`railcontact.tangential.temperature`), along the material's path (towards
+    -x, or +x for CHI = 180 deg)."""
+    v = _need(case, "VELOC") * MM
+    sx, sy = out[2], out[3]
+    q = np.hypot(px, py) * np.hypot(sx, sy) * v
+    # rolling towards +x (CHI = 0) the material enters at the leading edge, +x, and
+    # moves towards -x: the path runs along falling x index; for CHI = 180 deg along
+    # rising index (the user guide's "particles traverse the contact from left to right")
+    f = (lambda a: a[::-1]) if math.cos(_need(case, "CHI")) > 0 else (lambda a: a)
+    t1, t2, _ = flash_temperatures(f(q), f(contact), grid.dx, v, _thermal(case, 1),
+                                   _thermal(case, 2))
+    c = f(contact)
+    return float(max(t1[c].max(), t2[c].max())) if c.any() else None
+
+
+#: the friction coefficient of a slip-velocity dependent law is iterated until no
+#: element's changes by more than this
+FRICTION_TOL = 1e-8
+FRICTION_ITERATIONS = 300
+
+
+def friction_law(case):
+    """The case's slip-velocity dependent friction law (FRCLAW 2-4), or None for
+    Coulomb friction (L = 0); InpError for friction memory (MEMDST > 0) and the
+    laws not supported here (L = 5, 6)."""
+    law = case.values.get("FRICTION_LAW", 0)
+    if law == 0:
+        return None
+    if law not in (2, 3, 4):
+        raise _unsupported(case, f"FRCLAW = {law}", "expected 0 (Coulomb) or 2-4 (slip-"
+                                                    "velocity dependent, without memory)")
+    if (case.values.get("MEMDST") or 0.0) > 0:
+        raise _unsupported(case, f"MEMDST = {case.values['MEMDST']:g} mm (friction memory)",
+                           "expected MEMDST = 0 (an instantaneous friction law)")
+    v = case.values
+    name = {2: "FLIN", 3: "FRAT", 4: "FEXP"}[law]
+    kind = {2: "linear", 3: "rational", 4: "exponential"}[law]
+    return SlipVelocityFriction(kind, _need(case, "FKIN"), (v[f"{name}1"], v[f"{name}2"]),
+                                (v["SABSH1"] * MM, v["SABSH2"] * MM))
+
+
+def _falling_friction(solve_once, cx, cy, law, pressure, contact, per_slip, state):
+    """The tangential solution under a slip-velocity dependent friction coefficient
+    mu(s_a): the bound mu p_n taken from the last solution's slip velocities and the
+    problem solved again until the coefficients stop changing (a fixed point of
+    mu = mu_s(s_a), CONTACT's instantaneous law).  The update is relaxed by omega,
+    halved where it turns against the last one (an oscillation) and grown by half
+    (up to 1) where it does not.  Returns the solver's output, its convergence
+    flag cleared where the coefficients did not settle (``state["friction"]`` then
+    says by how much they still changed)."""
+    mu = state["mu"]
+    omega, last = 1.0, None
+    out, change = None, math.inf
+    for _ in range(FRICTION_ITERATIONS):
+        out = solve_once(cx, cy, np.ascontiguousarray(mu * pressure))
+        sa = np.hypot(out[2], out[3]) * per_slip
+        step = np.where(contact, law(sa), law.static) - mu
+        change = float(np.max(np.abs(step)))
+        if change <= FRICTION_TOL:
+            break
+        if last is not None:
+            omega = 0.5 * omega if float(np.sum(step * last)) < 0 else min(1.0, 1.5 * omega)
+        last = step
+        mu = mu + omega * step
+    state["mu"] = mu
+    state["friction"] = change
+    if change > FRICTION_TOL:
+        out = (*out[:-1], False)
+    return out
+
+
+def _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start=None):
+    """Solve the tangential problem with the creepages (F = 0) or relative forces
+    (F = 1: FX with CETA, F = 2: FX and FY) given; returns ((CKSI, CETA) met, the
+    solver's output)."""
+    d, v = case.digits, case.values
+    f = d["F"]
+    if f == 0:
+        c = (_need(case, "CKSI"), _need(case, "CETA"))
+        return c, tangential(*c)
+    if not fn > 0:
+        raise InpError(f"{case.where()}: a tangential force prescribed (F = {f}) without "
+                       "contact (FN = 0)")
+    scale = fstat * fn
+    targets = [_need(case, "FXREL")] + ([_need(case, "FYREL")] if f == 2 else [])
+    if any(abs(tg) >= 1.0 for tg in targets):
+        raise InpError(f"{case.where()}: relative force {max(targets, key=abs):g}: expected "
+                       "|FX/(FSTAT FN)| < 1 (full slip has no unique creepage)")
+    # the creepage scale: a hundredth of the rigid shift [m] at which a Hertzian
+    # contact of this area slides under FSTAT FN (Mindlin: about mu FN / (G a));
+    # the bracket grows from it
+    t = d["T"]
+    ac = max(np.count_nonzero(contact) * dA, dA)
+    shift = 0.01 * scale / (G * math.sqrt(ac))
+    c = [0.0, _need(case, "CETA") if f == 1 else 0.0]
+    step = shift / MM if t == 1 else shift / (_need(case, "DQ") * MM if t == 2 else
+                                             math.sqrt(ac))
+    if start is not None:
+        # from the last case's creepage, first steps of a hundredth of it
+        c[0] = start[0]
+        if f == 2:
+            c[1] = start[1]
+        step = min(step, 0.01 * max(abs(start[0]), abs(start[1]))) or step
+    cache = {}
+
+    def force(k, val):
+        cc = list(c)
+        cc[k] = val
+        out = tangential(*cc)
+        cache["out"] = out
+        comp = out[0] if k == 0 else out[1]
+        return float(comp.sum() * dA) / scale - targets[k]
+
+    out = None
+    for _sweep in range(20 if f == 2 else 1):
+        moved = 0.0
+        for k in range(len(targets)):
+            root = _root(lambda val: force(k, val), c[k], step)
+            moved = max(moved, abs(root - c[k]))
+            c[k] = root
+        out = tangential(*c)
+        if f == 1:
+            break
+        fy = float(out[1].sum() * dA) / scale - targets[1]
+        fx = float(out[0].sum() * dA) / scale - targets[0]
+        if max(abs(fx), abs(fy)) <= 10 * FORCE_TOL:
+            break
+    return tuple(c), out
+
+
+def _root(fun, start, step):
+    """The root of a decreasing function (the relative force against its creepage),
+    bracketed from ``start`` by steps growing by a factor 4, then Brent's method."""
+    f0 = fun(start)
+    if abs(f0) <= FORCE_TOL:
+        return start
+    direction = -1.0 if f0 < 0 else 1.0      # decreasing: a positive residual asks more
+    lo, flo = start, f0
+    s = step
+    for _ in range(80):
+        hi = start + direction * s
+        fhi = fun(hi)
+        if fhi * flo <= 0:
+            a, b = sorted((lo, hi))
+            return brentq(fun, a, b, xtol=1e-14, rtol=1e-12, maxiter=200)
+        lo, flo = hi, fhi
+        s *= 4.0
+    raise InpError("prescribed tangential force: no creepage found that carries it")
