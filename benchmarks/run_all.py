@@ -1332,6 +1332,8 @@ def main():
     bench_tangential_accuracy()
     bench_sweep_parallel()
     bench_fast_models()
+    import compiled_case                # whole cases in one compiled pass
+    (HERE / "compiled_case.md").write_text("\n".join(compiled_case.main()) + "\n")
     bench_strips_accuracy()
     bench_dynamics()
     bench_fmu()

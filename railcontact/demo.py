@@ -12,6 +12,7 @@ from tqdm.auto import tqdm
 
 from .core.files import write_netcdf
 from .geometry import Track, Wheelset, contact_table, equivalent_conicity, find_contact
+from .geometry.search import WheelsetMotion
 from .core.materials import Material
 from .normal import get_normal_model
 from .core.plotting import plot_contact_positions, plot_patches
@@ -38,7 +39,7 @@ def run_demo(out: Path, load: float = 75e3, velocity: float = 30.0, friction: fl
     rows, shown = [], []
     for y in tqdm(shifts, desc="Hertz+FASTSIM sweep", unit="case"):
         c = find_contact(ws, tr, float(y), 0.0, vertical_force=load, material=mat,
-                         velocity=velocity)
+                         motion=WheelsetMotion(velocity))
         for g in c.side_patches("right"):
             ns = normal.solve(g, mat, penetration=g.approach)
             ts = tang.solve(ns, g, mat, g.creepage, friction, g.velocity)

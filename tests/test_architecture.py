@@ -112,13 +112,10 @@ def test_every_module_has_its_test_file():
 MAX_PARAMETERS = 12
 
 #: functions over the limit that issue 30 rewrites ("module:function", as
-#: reported below).  PENDING: empty this list when that work is merged; the test
-#: fails on an entry that no longer exceeds the limit, so it cannot go stale.
-PENDING_ISSUE_30 = {
-    "railcontact.geometry.search:find_contact",    # 19: case keys re-validated
-    "railcontact.geometry.search:_make_patch",     # 15
-    "railcontact.cases.batch:_forces",             # 13
-}
+#: reported below): empty since find_contact (19), search._make_patch (15) and
+#: batch._forces (13) take parameter objects; the test fails on an entry that no
+#: longer exceeds the limit, so it cannot go stale.
+PENDING_ISSUE_30: set = set()
 
 
 def _parameter_count(node) -> int:

@@ -64,11 +64,13 @@ class PatchForces:
 
 
 @njit(cache=True, nogil=True)
-def _forces(law, tp, N, a, b, C11, C22, C23, xi, eta, phi, V, out):
+def _forces(law, tp, N, a, b, C, creep, V, out):
+    """The online law per patch: Kalker's coefficients ``C`` (3, n) (C11, C22, C23),
+    creepages ``creep`` (3, n) (xi, eta, phi) into ``out`` (n, 3)."""
     for i in range(N.size):
-        out[i, 0], out[i, 1], out[i, 2] = patch_forces(law, tp, N[i], a[i], b[i], C11[i],
-                                                        C22[i], C23[i], xi[i], eta[i],
-                                                        phi[i], V[i])
+        out[i, 0], out[i, 1], out[i, 2] = patch_forces(law, tp, N[i], a[i], b[i], C[0, i],
+                                                        C[1, i], C[2, i], creep[0, i],
+                                                        creep[1, i], creep[2, i], V[i])
 
 
 def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
@@ -126,9 +128,8 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
             C11[ok], C22[ok], C23[ok] = c
         tp = np.array([friction, material.shear_modulus, nx, ny, 1.0, 1.0, 1.0, 0.0])
         out = np.zeros((n, 3))
-        _forces(law, tp, F, a, b, C11, C22, C23,
-                np.ascontiguousarray(cr[:, 0]), np.ascontiguousarray(cr[:, 1]),
-                np.ascontiguousarray(cr[:, 2]), V, out)
+        _forces(law, tp, F, a, b, np.array([C11, C22, C23]), np.ascontiguousarray(cr.T), V,
+                out)
         area = math.pi * a * b
         with np.errstate(divide="ignore", invalid="ignore"):
             pmax = np.where(ok, 1.5 * F / area, 0.0)
@@ -186,8 +187,8 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
         if ok.any():
             C11[ok], C22[ok], C23[ok] = kalker_coefficients_array(a[ok] / b[ok], material.nu)
         tp = np.array([friction, material.shear_modulus, nx, nx, 1.0, 1.0, 1.0, 0.0])
-        _forces(online_law(tangential), tp, np.where(ok, F, 0.0), a, b, C11, C22, C23,
-                *creepage, V, out)
+        _forces(online_law(tangential), tp, np.where(ok, F, 0.0), a, b,
+                np.array([C11, C22, C23]), np.array(creepage), V, out)
     return PatchForces(F, st.area, st.pmax, st.penetration, a, b, out[:, 0], out[:, 1],
                        out[:, 2], normal, tangential, time.perf_counter() - t0,
                        {"compiled": True, "strips": int(strips), "fastsim_elements": nx})

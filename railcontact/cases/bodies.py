@@ -7,7 +7,8 @@ from __future__ import annotations
 from .case import Case
 from .wheel_rail_setup import ProfileSource, WheelRailSetup
 from ..core.errors import CaseFileError
-from ..geometry.search import WheelsetContact, find_contact
+from ..geometry.search import (PatchRules, SearchStart, WheelsetContact, WheelsetMotion,
+                               find_contact)
 from ..geometry.track import SIDES, Track, Wheelset
 from ..profiles.library import get_profile
 
@@ -61,13 +62,12 @@ def contact_search(case: Case, interpenetration: dict | None = None,
     ws, tr = bodies or build_wheelset_track(case)
     return find_contact(ws, tr, s.lateral_shift, s.yaw,
                         vertical_force=(s.loads["left"], s.loads["right"]),
-                        material=case.material, velocity=s.velocity,
-                        pitch_velocity=s.pitch_velocity,
-                        lateral_velocity=s.lateral_velocity, yaw_rate=s.yaw_rate,
-                        combine_distance=s.combine_distance,
-                        full_interaction_distance=s.full_interaction_distance,
+                        material=case.material,
+                        motion=WheelsetMotion(s.velocity, s.pitch_velocity, s.lateral_velocity,
+                                              s.yaw_rate),
+                        rules=PatchRules(s.combine_distance, s.full_interaction_distance,
+                                         s.turn_distance, s.separation_angle),
                         interpenetration=interpenetration, roll=s.roll,
                         side=s.side if s.roll is not None else "both",
-                        roll_start=roll_start if s.roll is None else 0.0,
-                        load_iterations=load_iterations, turn_distance=s.turn_distance,
-                        separation_angle=s.separation_angle)
+                        start=SearchStart(roll_start if s.roll is None else 0.0,
+                                          load_iterations))

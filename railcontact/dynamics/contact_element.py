@@ -54,7 +54,7 @@ from ..cases.case import Case
 from ..cases.patches import case_models, coupled_models, solve_case_patches
 from ..core.errors import ContactNotFoundError, InputError
 from ..geometry.locus import min_gap
-from ..geometry.search import find_contact
+from ..geometry.search import PatchRules, WheelsetMotion, find_contact
 from ..geometry.track import SIDES, WheelsetPose
 
 log = logging.getLogger(__name__)
@@ -261,13 +261,12 @@ class ContactElement:
             if not depth > 0:
                 continue                  # the wheel is off its rail
             contact = find_contact(ws, tr, y, yaw, material=self.case.material,
-                                   velocity=st.velocity, pitch_velocity=st.pitch_velocity,
-                                   lateral_velocity=st.lateral_velocity, yaw_rate=st.yaw_rate,
-                                   combine_distance=s.combine_distance,
-                                   full_interaction_distance=s.full_interaction_distance,
-                                   interpenetration={side: depth}, roll=roll, side=side,
-                                   turn_distance=s.turn_distance,
-                                   separation_angle=s.separation_angle)
+                                   motion=WheelsetMotion(st.velocity, st.pitch_velocity,
+                                                         st.lateral_velocity, st.yaw_rate),
+                                   rules=PatchRules(s.combine_distance,
+                                                    s.full_interaction_distance,
+                                                    s.turn_distance, s.separation_angle),
+                                   interpenetration={side: depth}, roll=roll, side=side)
             contact.patches = [_rates_creepage(p, centre, st.roll_rate, st.vertical_velocity)
                                for p in contact.patches]
             results += solve_case_patches(self.case, contact, self.nmodel, self.tmodel,

@@ -180,16 +180,63 @@ ESTIMATE_WINDOW = CANDIDATE_DEPTH + 2e-4
 
 
 
+@dataclass(frozen=True)
+class WheelsetMotion:
+    """The wheelset's motion for the kinematic creepages: forward speed ``velocity``
+    V [m/s]; ``pitch_velocity`` [rad/s] about the axle (None: pure rolling at the
+    nominal radius, -V / r0); ``lateral_velocity`` [m/s]; ``yaw_rate`` [rad/s]."""
+
+    velocity: float = 30.0
+    pitch_velocity: float | None = None
+    lateral_velocity: float = 0.0
+    yaw_rate: float = 0.0
+
+
+
+@dataclass(frozen=True)
+class PatchRules:
+    """How interpenetration regions become patches (CONTACT's rules).
+
+    ``combine_distance`` [m]: regions whose facing ends are closer form one patch
+    (0: every region its own; CONTACT combines within 8 mm).
+    ``full_interaction_distance`` [m]: within a combined patch, sub-regions closer
+    than this interact fully in the normal problem, between it and
+    ``combine_distance`` reduced (:func:`railcontact.geometry.contact.interaction_factor`;
+    CONTACT: 4 mm); None: ``combine_distance`` (full interaction).
+    ``turn_distance`` [m]: separate patches of a wheel whose facing ends lie between
+    ``combine_distance`` and this apart have their contact angles turned towards
+    their weighted mean (CONTACT's D_TURN,
+    :func:`railcontact.geometry.turning.turned_angles`; 0: no turning) ...
+    ``separation_angle`` [rad]: ... except where their angles differ by more (A_SEP).
+    """
+
+    combine_distance: float = 0.0
+    full_interaction_distance: float | None = None
+    turn_distance: float = 0.0
+    separation_angle: float = math.pi / 2
+
+
+
+@dataclass(frozen=True)
+class SearchStart:
+    """Where a search starts and how long its load iteration runs: ``roll`` [rad],
+    the estimate of the roll angle where the search for it starts (e.g. an earlier
+    search's of the same case; it changes the work, not the result);
+    ``load_iterations``, the limit of the fixed-point iterations between the
+    multi-Hertzian interpenetrations and the wheelset position under a vertical
+    force (they stop earlier when the interpenetrations change by less than 1 nm;
+    one gives a first estimate, what :func:`railcontact.solve` needs)."""
+
+    roll: float = 0.0
+    load_iterations: int = 10
+
+
+
 def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                  yaw: float = 0.0, vertical_force=None, material: Material = STEEL,
-                 velocity: float = 30.0, pitch_velocity: float | None = None,
-                 lateral_velocity: float = 0.0, yaw_rate: float = 0.0,
-                 combine_distance: float = 0.0,
-                 full_interaction_distance: float | None = None,
+                 motion: WheelsetMotion | None = None, rules: PatchRules | None = None,
                  interpenetration: dict | None = None, roll: float | None = None,
-                 side: str = "both", roll_start: float = 0.0,
-                 load_iterations: int = 10, turn_distance: float = 0.0,
-                 separation_angle: float = math.pi / 2) -> WheelsetContact:
+                 side: str = "both", start: SearchStart | None = None) -> WheelsetContact:
     """Find the wheelset position and all contact patches.
 
     Parameters
@@ -204,22 +251,10 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         given, the elastic approach is included (multi-Hertzian); otherwise the
         wheelset rests rigidly on both rails.
     material : Material
-    velocity : float
-        Forward speed V [m/s].
-    pitch_velocity : float, optional
-        Wheelset angular velocity about its axle [rad/s]; default pure rolling at the
-        nominal radius, -V / r0.
-    lateral_velocity, yaw_rate : float
-        [m/s], [rad/s] for the kinematic creepages.
-    combine_distance : float
-        Interpenetration regions whose facing ends are closer than this [m] form one
-        patch (default 0: every region is its own patch; CONTACT combines within
-        8 mm).
-    full_interaction_distance : float, optional
-        Within a combined patch, sub-regions closer than this [m] interact fully in
-        the normal problem, and between it and ``combine_distance`` reduced
-        (:func:`railcontact.geometry.contact.interaction_factor`; CONTACT: 4 mm);
-        default ``combine_distance`` (full interaction).
+    motion : WheelsetMotion, optional
+        The wheelset's motion for the creepages (default: 30 m/s, pure rolling).
+    rules : PatchRules, optional
+        How regions become patches (default: one patch per region, no turning).
     interpenetration : dict, optional
         Prescribed vertical interpenetration [m] of the deepest point per side
         (``{"left": d, "right": d}``) instead of one derived from ``vertical_force``;
@@ -230,25 +265,19 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         its vertical position alone is solved (CONTACT's single-wheel mode).
     side : {"both", "left", "right"}
         Wheels to consider; a prescribed roll needs "left" or "right".
-    roll_start : float
-        Estimate of the roll angle [rad] where the search for it starts (e.g. the
-        roll of an earlier search of the same case); it changes the work, not the
-        result.
-    load_iterations : int
-        Limit of the fixed-point iterations between the multi-Hertzian
-        interpenetrations and the wheelset position under ``vertical_force`` (they
-        stop earlier when the interpenetrations change by less than 1 nm).  One
-        gives a first estimate (what :func:`railcontact.solve` needs: its own
-        vertical-force iteration follows with the chosen models).
-    turn_distance : float
-        Separate patches of a wheel whose facing ends lie between
-        ``combine_distance`` and this [m] apart have their contact angles turned
-        towards their weighted mean (CONTACT's D_TURN,
-        :func:`railcontact.geometry.turning.turned_angles`); 0 (default): no turning.
-    separation_angle : float
-        ... except where their angles differ by more than this [rad] (CONTACT's
-        A_SEP).
+    start : SearchStart, optional
+        The roll where the search starts and the limit of the load iterations
+        (default: roll 0, 10 iterations).
     """
+    motion = motion or WheelsetMotion()
+    rules = rules or PatchRules()
+    start = start or SearchStart()
+    velocity, pitch_velocity = motion.velocity, motion.pitch_velocity
+    lateral_velocity, yaw_rate = motion.lateral_velocity, motion.yaw_rate
+    combine_distance, full_interaction_distance = (rules.combine_distance,
+                                                   rules.full_interaction_distance)
+    turn_distance, separation_angle = rules.turn_distance, rules.separation_angle
+    roll_start, load_iterations = start.roll, start.load_iterations
     for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
                          ("wheelset.yaw", yaw, 0.1)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and abs(v) <= lim):
@@ -325,9 +354,10 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         side_patches = []
         for (i0, i1, joins), lim, angle in zip(regions, territories(loc, regions), angles):
             factors = [(y, interaction_factor(d, full, combine_distance)) for y, d in joins]
-            side_patches.append(_make_patch(wheelset, track, sd, loc, i0, i1, pose,
-                                            loads is None, velocity, pitch_velocity,
-                                            lateral_velocity, yaw_rate, lim, factors, angle))
+            side_patches.append(_make_patch(wheelset, track, sd, loc, (i0, i1), pose,
+                                            loads is None,
+                                            (velocity, pitch_velocity, lateral_velocity,
+                                             yaw_rate), lim, factors, angle))
         # the regions run along the locus from the gauge side (its y points to the
         # field side); CONTACT numbers a wheel's patches from the field side
         patches.extend(reversed(side_patches))
@@ -335,12 +365,14 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
 
 
 
-def _make_patch(wheelset, track, side, loc, i0, i1, pose, rigid, velocity, pitch_velocity,
-                lateral_velocity, yaw_rate, territory=(-math.inf, math.inf),
-                joins=(), angle=None) -> ContactGeometry:
-    """The geometry of the patch of locus region [i0, i1]; ``angle``: its contact
-    angle [rad] in the side frame instead of the weighted one (a turned angle,
-    :mod:`railcontact.geometry.turning`)."""
+def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
+                territory=(-math.inf, math.inf), joins=(), angle=None) -> ContactGeometry:
+    """The geometry of the patch of locus region ``region`` = (i0, i1); ``motion``:
+    (velocity [m/s], pitch velocity [rad/s], lateral velocity [m/s], yaw rate
+    [rad/s]) for the creepages; ``angle``: its contact angle [rad] in the side frame
+    instead of the weighted one (a turned angle, :mod:`railcontact.geometry.turning`)."""
+    i0, i1 = region
+    velocity, pitch_velocity, lateral_velocity, yaw_rate = motion
     sl = slice(i0, i1 + 1)
     g = loc.gap[sl]
     im = i0 + int(np.argmin(g))

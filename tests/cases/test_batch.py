@@ -19,7 +19,7 @@ def patches():
     ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
     out = []
     for y, yaw in ((0.0, 0.0), (3e-3, 2e-3), (6e-3, 4e-3), (-2e-3, -3e-3)):
-        c = find_contact(ws, tr, lateral_shift=y, yaw=yaw, vertical_force=6e4, velocity=30.0)
+        c = find_contact(ws, tr, lateral_shift=y, yaw=yaw, vertical_force=6e4)
         out.extend(p for p in c.patches if p.approach > 0)
     return out
 

@@ -13,6 +13,7 @@ import pytest
 
 from railcontact import case_from_dict, solve
 from railcontact.geometry import Track, Wheelset, find_contact
+from railcontact.geometry.search import WheelsetMotion
 from railcontact.profiles import read_profile
 from tests.conftest import read_csv
 
@@ -136,8 +137,8 @@ def test_kinematic_creepages(refdir):
     tr = Track(read_profile(prof / "MBench_UIC60_v3.prr"))
     for y in (2.0, 3.0, 4.0, 8.0, 10.0):
         r = ref[("right", y)]
-        c = find_contact(ws, tr, y * 1e-3, 2.4e-3 * y, vertical_force=1e4, velocity=2.0,
-                         pitch_velocity=float(r["vpitch_rad_s"]))
+        c = find_contact(ws, tr, y * 1e-3, 2.4e-3 * y, vertical_force=1e4,
+                         motion=WheelsetMotion(2.0, float(r["vpitch_rad_s"])))
         xi, eta, phi = c.side_patches("right")[0].creepage
         assert xi == pytest.approx(float(r["cksi"]), rel=0.02), y
         assert eta == pytest.approx(float(r["ceta"]), rel=0.02), y

@@ -6,6 +6,7 @@ import numpy as np
 import pytest
 
 from railcontact.geometry import Track, Wheelset, find_contact
+from railcontact.geometry.search import SearchStart
 from railcontact.profiles import rail_profile, s1002
 
 
@@ -40,19 +41,20 @@ def test_load_iterations_and_roll_start():
     from railcontact.core.errors import InputError
     ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
     full = find_contact(ws, tr, lateral_shift=2e-3, vertical_force=6e4)
-    one = find_contact(ws, tr, lateral_shift=2e-3, vertical_force=6e4, load_iterations=1)
+    one = find_contact(ws, tr, lateral_shift=2e-3, vertical_force=6e4,
+                       start=SearchStart(load_iterations=1))
     for s in ("left", "right"):
         assert one.interpenetration[s] == pytest.approx(full.interpenetration[s], rel=0.05)
     d = dict(full.interpenetration)
     a = find_contact(ws, tr, lateral_shift=2e-3, interpenetration=d)
     b = find_contact(ws, tr, lateral_shift=2e-3, interpenetration=d,
-                     roll_start=full.pose.roll + 1e-4)
+                     start=SearchStart(full.pose.roll + 1e-4))
     assert b.pose.roll == pytest.approx(a.pose.roll, abs=1e-11)
     assert b.pose.vertical == pytest.approx(a.pose.vertical, abs=1e-11)
     with pytest.raises(InputError, match="load_iterations"):
-        find_contact(ws, tr, vertical_force=6e4, load_iterations=0)
+        find_contact(ws, tr, vertical_force=6e4, start=SearchStart(load_iterations=0))
     with pytest.raises(InputError, match="roll_start"):
-        find_contact(ws, tr, vertical_force=6e4, roll_start=0.5)
+        find_contact(ws, tr, vertical_force=6e4, start=SearchStart(0.5))
 
 
 @pytest.mark.parametrize("shift, candidates", [(1e-3, 1), (4.75e-3, 2), (5e-3, 2)])

@@ -35,15 +35,18 @@ def test_turning_in_the_search(refdir):
     turned up to 8 mm, their contact angles move towards each other (towards
     their weighted mean), never past it."""
     from railcontact.geometry import Track, Wheelset, find_contact
+    from railcontact.geometry.search import PatchRules
     from railcontact.profiles import read_profile
     ws = Wheelset(read_profile(refdir / "profiles" / "MBench_S1002_v3.prw"))
     tr = Track(read_profile(refdir / "profiles" / "MBench_UIC60_v3.prr"))
     turned_pairs = 0
     for y in (4.9, 5.0, 5.1):
-        kw = dict(vertical_force=1e4, roll=0.0, side="right", combine_distance=4e-3,
-                  full_interaction_distance=2e-3)
-        plain = find_contact(ws, tr, y * 1e-3, 0.0, **kw).side_patches("right")
-        turned = find_contact(ws, tr, y * 1e-3, 0.0, turn_distance=8e-3,
+        kw = dict(vertical_force=1e4, roll=0.0, side="right")
+        rules = dict(combine_distance=4e-3, full_interaction_distance=2e-3)
+        plain = find_contact(ws, tr, y * 1e-3, 0.0, rules=PatchRules(**rules),
+                             **kw).side_patches("right")
+        turned = find_contact(ws, tr, y * 1e-3, 0.0,
+                              rules=PatchRules(turn_distance=8e-3, **rules),
                               **kw).side_patches("right")
         assert len(plain) == len(turned) == 2
         (a0, b0), (a1, b1) = ([p.contact_angle for p in ps] for ps in (plain, turned))

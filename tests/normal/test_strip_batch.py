@@ -35,8 +35,7 @@ def patches():
     # from the patch (a spurious region the strip window must not take in)
     for yaw, load in ((0.0, 6e4), (4e-3, 6e4), (0.0, 7.5e4)):
         for y in np.linspace(-4e-3, 9e-3, 14):
-            c = find_contact(ws, tr, lateral_shift=float(y), yaw=yaw, vertical_force=load,
-                             velocity=30.0)
+            c = find_contact(ws, tr, lateral_shift=float(y), yaw=yaw, vertical_force=load)
             out.extend(p for p in c.patches if p.approach > 0)
     return out
 
@@ -131,7 +130,7 @@ def test_contact_jump_converges_to_the_per_patch_model():
     converge to the same force (measured: strips 40/80/160 give 28.88/28.07/27.82 kN,
     grids 60/120/200 give 27.58/28.25/27.87 kN)."""
     ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
-    c = find_contact(ws, tr, lateral_shift=5e-3, vertical_force=7.5e4, velocity=30.0)
+    c = find_contact(ws, tr, lateral_shift=5e-3, vertical_force=7.5e4)
     p = [q for q in c.patches if q.side == "right" and q.approach > 0][0]
     fine = solve_strips("stripes", [p], Es, strips=160).normal_force[0]
     ref = get_normal_model("stripes").solve(p, STEEL, penetration=p.approach,

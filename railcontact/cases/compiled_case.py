@@ -1,0 +1,676 @@
+"""A whole wheel-rail case in one compiled pass: contact search, Hertz and an
+online creep law, and the vertical balance, with Python only where the case enters
+and leaves (:func:`solve_case_forces`, :func:`solve_cases_forces`).
+
+Per evaluation of the balance, one compiled function
+(:func:`evaluate_wheelset`) searches the pose and the patches of both wheels under
+the interpenetrations (:func:`railcontact.geometry.wheel_pass.search_patches`,
+the geometry layer's search in compiled form), solves Hertz's problem of every
+patch (Hertz 1882; the semi-axes interpolated in the table of
+:func:`railcontact.core.hertz_theory.hertz_ellipses_table`, relative error below
+1e-7), Kalker's coefficients (:func:`railcontact.tangential.kalker.kalker_coefficients`)
+and the creep forces of the case's online law
+(:func:`railcontact.tangential.online.patch_forces`: FASTSIM, Polach or Kalker's
+linear theory), and sums each wheel's vertical force on its rail,
+F_n cos(d) - F_y sin(d) (:func:`railcontact.cases.results.patch_vertical_force`).
+
+The vertical balance (:func:`balance_wheelset`) is the method of
+:func:`railcontact.cases.equilibrium.balance` for both wheels in compiled form:
+in v = ln d the residuals r = ln(F/Q), Newton steps of the linear model with
+Broyden's update (Broyden 1965) from 1.5 I or a neighbouring case's Jacobian, each
+component clipped to a factor ``STEP_FACTOR``, safeguarded by each side's bracket
+of the load (bisection where a step leaves it or two steps did not halve the
+residual).  It starts from the geometry layer's multi-Hertzian estimate (one load
+iteration, :func:`railcontact.geometry.search._approach_for_load`) or a
+neighbour's interpenetrations.  A case it cannot finish (a force jumping across
+the load, a pose not found, a patch without curvatures) is flagged and left to
+the Python path (:func:`railcontact.cases.balance.solve_wheel_rail`).
+
+Which cases run here: wheel-rail cases with given loads and a free roll, the same
+wheel and rail profile on both sides, a normal model with the ``"ellipse"``
+capability (Hertz) and a tangential model with a compiled online law, no
+``friction.variation``, no patch turning (``wheelset.turn_distance`` 0) and
+similar materials (:func:`compiled_supported` says why not).
+
+FASTSIM runs on the case's grid (``solver.grid``; default 40 x 40): strips across
+the ellipse and elements per strip, as the per-patch model marches the Hertzian
+grid.  The per-patch path (:func:`railcontact.solve`) and this one share the
+balance's interpenetrations: the per-patch path starts from them
+(:func:`compiled_start`), so that its own balance is met in one or two passes.
+"""
+
+from __future__ import annotations
+
+import math
+import time
+from collections import namedtuple
+from dataclasses import dataclass, field
+from functools import lru_cache
+
+import numpy as np
+from numba import njit
+
+from ..core.hertz_theory import _axes_table
+from ..geometry.locus import LOCUS_WINDOW  # noqa: F401  (documented neighbour)
+from ..geometry.search import ESTIMATE_WINDOW
+from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
+                                   P_ETA, P_PHI, P_SIDE, P_VELOCITY, P_XI, PATCH_FIELDS, PassPose, gap_candidates,
+                                   locus_curvatures, new_memo, pass_profiles, search_patches,
+                                   side_locus, solve_roll)
+from ..normal import normal_supports
+from ..tangential.kalker import _TAB_AB, _TAB_BA, _coefficients_kernel
+from ..tangential.online import online_law, patch_forces
+from ..geometry.track import WheelsetPose
+from ..geometry.wheel_pass import rows_contact
+from .bodies import build_wheelset_track
+from .equilibrium import COUPLING_SLOPE, FORCE_FLOOR, HERTZ_SLOPE, JUMP_SLOPE, STEP_FACTOR
+
+#: the fields of a row of :func:`evaluate_wheelset`'s output: the patch's geometry
+#: (:data:`railcontact.geometry.wheel_pass.PATCH_FIELDS`) and its solution
+ROW_FIELDS = PATCH_FIELDS + ("normal_force", "fx", "fy", "mz", "a", "b", "pmax", "area")
+RF = {name: i for i, name in enumerate(ROW_FIELDS)}
+NRF = len(ROW_FIELDS)
+R_NORMAL_FORCE = NPF + 0
+R_FX = NPF + 1
+R_FY = NPF + 2
+R_MZ = NPF + 3
+R_A = NPF + 4
+R_B = NPF + 5
+R_PMAX = NPF + 6
+R_AREA = NPF + 7
+
+#: the models of a compiled case: contact modulus ``Es`` [Pa], shear modulus ``G``
+#: [Pa], Poisson's ratio ``nu``, the online law's code ``law`` and its parameters
+#: ``tp`` (:func:`railcontact.tangential.online.patch_forces`), the case's
+#: creepages ``creepage`` (xi, eta, phi; NaN: the kinematic ones); the Hertz table
+#: ``dt``, ``hertz`` and Kalker's tables ``kalker_ab``, ``kalker_ba``
+PassModel = namedtuple("PassModel", "Es G nu law tp creepage dt hertz kalker_ab kalker_ba")
+
+#: the outcome codes of :func:`balance_wheelset`
+CONVERGED, NOT_CONVERGED, NO_POSE, JUMP = 0, 1, 2, 3
+OUTCOMES = {CONVERGED: "converged", NOT_CONVERGED: "not converged", NO_POSE: "pose not found",
+            JUMP: "force jumps across the load"}
+
+#: fields of the balance's ``info`` array
+INFO_FIELDS = ("outcome", "passes", "d_left", "d_right", "vertical", "roll", "fz_left",
+               "fz_right", "J00", "J01", "J10", "J11", "patches")
+I_OUTCOME = 0
+I_PASSES = 1
+I_D_LEFT = 2
+I_D_RIGHT = 3
+I_VERTICAL = 4
+I_ROLL = 5
+I_FZ_LEFT = 6
+I_FZ_RIGHT = 7
+I_J00 = 8
+I_J01 = 9
+I_J10 = 10
+I_J11 = 11
+I_PATCHES = 12
+
+
+@njit(cache=True, nogil=True)
+def hertz_patch(A, B, d, model):
+    """Semi-axes a, b [m] and force [N] of Hertz's ellipse of curvatures (A, B) at
+    the approach d (the table of :func:`railcontact.core.hertz_theory.hertz_ellipses_table`)."""
+    tab = model.hertz
+    n = tab.shape[1]
+    small = min(A, B)
+    t = math.log(max(A, B) / small) / model.dt
+    j = min(int(t), n - 2)
+    w = t - j
+    dp = max(d, 0.0)
+    major = math.sqrt(dp / small) * ((1.0 - w) * tab[0, j] + w * tab[0, j + 1])
+    minor = ((1.0 - w) * tab[1, j] + w * tab[1, j + 1]) * major
+    F = 2.0 * math.pi * major * dp * model.Es / 3.0 * ((1.0 - w) * tab[2, j] + w * tab[2, j + 1])
+    if A <= B:
+        return major, minor, F
+    return minor, major, F
+
+
+@njit(cache=True, nogil=True)
+def solve_patch(row, model):
+    """Hertz and the online law on one patch row (:data:`ROW_FIELDS`)."""
+    A, B, d = row[P_A], row[P_B], row[P_APPROACH]
+    a, b, F = hertz_patch(A, B, d, model)
+    fx = fy = mz = 0.0
+    if F > 0.0 and a > 0.0 and b > 0.0:
+        c = np.empty((3, 1))
+        _coefficients_kernel(np.array([a / b]), model.nu, model.kalker_ab, model.kalker_ba, c)
+        cr = model.creepage
+        xi = cr[0] if cr[0] == cr[0] else row[P_XI]
+        eta = cr[1] if cr[1] == cr[1] else row[P_ETA]
+        phi = cr[2] if cr[2] == cr[2] else row[P_PHI]
+        fx, fy, mz = patch_forces(model.law, model.tp, F, a, b, c[0, 0], c[1, 0], c[2, 0],
+                                  xi, eta, phi, row[P_VELOCITY])
+    area = math.pi * a * b
+    row[R_NORMAL_FORCE] = F
+    row[R_FX] = fx
+    row[R_FY] = fy
+    row[R_MZ] = mz
+    row[R_A] = a
+    row[R_B] = b
+    row[R_AREA] = area
+    row[R_PMAX] = 1.5 * F / area if area > 0.0 else 0.0
+
+
+@njit(cache=True, nogil=True)
+def evaluate_wheelset(prof, pose, model, targets, memo, out, fz):
+    """One evaluation of the balance: the search at the interpenetrations
+    ``targets`` [m] (left, right), every patch solved, each wheel's vertical force
+    on its rail into ``fz`` [N].  Returns (patches, vertical position, roll);
+    -1 patches where the pose is not found."""
+    m, z, roll = search_patches(prof, pose, targets, memo, out)
+    fz[0] = 0.0
+    fz[1] = 0.0
+    for i in range(max(m, 0)):
+        row = out[i]
+        solve_patch(row, model)
+        dl = row[P_CONTACT_ANGLE]
+        fz[int(row[P_SIDE])] += row[R_NORMAL_FORCE] * math.cos(dl) - \
+            row[R_FY] * math.sin(dl)
+    return m, z, roll
+
+
+@njit(cache=True, nogil=True)
+def approach_for_load(loc, load, pose, prof, model):
+    """The deepest point's vertical interpenetration [m] that carries ``load`` [N]
+    by the candidates' summed Hertzian vertical forces
+    (:func:`railcontact.geometry.search._approach_for_load`)."""
+    i0, gap, slope = loc[0], loc[5], loc[6]
+    cands = gap_candidates(gap)
+    gmin = np.min(gap)
+    k = cands.size
+    off = np.empty(k)
+    kc = np.empty(k)
+    deepest = 0
+    for j in range(k):
+        i = cands[j]
+        A, B = locus_curvatures(loc, i, pose.r0, prof.zw[i0:])
+        _, _, F = hertz_patch(A, B, 1e-4, model)
+        off[j] = gap[i] - gmin
+        kc[j] = F / 1e-6 * math.cos(math.atan(slope[i])) ** 2.5
+        if off[j] < off[deepest]:
+            deepest = j
+    hi = off[deepest] + (load / kc[deepest]) ** (2.0 / 3.0)
+    if not hi <= 0.05:
+        return math.nan
+    # the summed force is convex and increasing in d: Newton from above
+    d = hi
+    for _ in range(100):
+        f = -load
+        df = 0.0
+        for j in range(k):
+            p = d - off[j]
+            if p > 0.0:
+                f += kc[j] * p * math.sqrt(p)
+                df += 1.5 * kc[j] * math.sqrt(p)
+        if df <= 0.0:
+            break
+        step = f / df
+        d -= step
+        if abs(step) <= 1e-13:
+            break
+    return d
+
+
+@njit(cache=True, nogil=True)
+def first_estimate(prof, pose, model, loads, memo, d):
+    """The multi-Hertzian estimate of each side's interpenetration into ``d``: the
+    rigid pose (both wheels touching, roll to 1e-8 rad) and one load iteration.
+    Returns whether it was found."""
+    rigid = np.zeros(2)
+    for attempt in range(2):
+        roll, z = solve_roll(prof, pose, rigid, 1e-8, memo)
+        if not math.isfinite(roll):
+            return False
+        memo[0] = roll
+        loc0 = side_locus(prof, pose, 0, z, roll, max(ESTIMATE_WINDOW, 2e-4), memo)
+        loc1 = side_locus(prof, pose, 1, z, roll, max(ESTIMATE_WINDOW, 2e-4), memo)
+        if loc0[5].size == 0 or loc1[5].size == 0:
+            return False
+        # (the roll to 1e-8 rad puts the sides' gaps within ~15 nm)
+        if np.min(loc0[5]) > -3e-8 and np.min(loc1[5]) > -3e-8:
+            break
+        memo[6] = np.nan
+        memo[12] = np.nan
+    d[0] = approach_for_load(loc0, loads[0], pose, prof, model)
+    d[1] = approach_for_load(loc1, loads[1], pose, prof, model)
+    # the first search's loci: the samples that the estimate puts within the
+    # interpenetration plus the locus margin (not the estimate's wider window)
+    for s in range(2):
+        loc = loc0 if s == 0 else loc1
+        gap = loc[5]
+        edge = np.min(gap) + d[s] + LOCUS_MARGIN
+        first, last = -1, -1
+        for j in range(gap.size):
+            if gap[j] <= edge:
+                if first < 0:
+                    first = j
+                last = j
+        k = 2 + 6 * s
+        if first >= 0:
+            memo[k + 1] = max(loc[0] + first - TRIM_MARGIN, 0)
+            memo[k + 2] = min(loc[0] + last + TRIM_MARGIN + 1, prof.eta.size)
+    return d[0] > 0.0 and d[1] > 0.0
+
+
+@njit(cache=True, nogil=True)
+def _bracket(hv, hr, n, s, at):
+    """Side s's bracket of the load at ``at`` among the history points (their ln d
+    ``hv`` and residuals ``hr``): indices below / above (-1: none), the points
+    whose residual's sign the other side's difference cannot flip
+    (:func:`railcontact.cases.equilibrium._bracket`)."""
+    lo = hi = -1
+    o = 1 - s
+    for k in range(n):
+        moved = abs(hv[k, o] - at[o])
+        if abs(hr[k, s]) <= COUPLING_SLOPE * moved:
+            continue
+        if hr[k, s] < 0 and (lo < 0 or hv[k, s] > hv[lo, s]):
+            lo = k
+        elif hr[k, s] > 0 and (hi < 0 or hv[k, s] < hv[hi, s]):
+            hi = k
+    if lo >= 0 and hi >= 0 and hv[hi, s] <= hv[lo, s]:
+        return -1, -1
+    return lo, hi
+
+
+@njit(cache=True, nogil=True)
+def _trial(prof, pose, model, v, cand, memo, out, fz):
+    """The evaluation at ln d = ``cand``; where it fails (no pose, a force not
+    finite) the step from ``v`` is halved, up to five times.  Returns (patches,
+    vertical position, roll, the point evaluated, evaluations made)."""
+    m, z, roll = -1, math.nan, math.nan
+    for k in range(6):
+        m, z, roll = evaluate_wheelset(prof, pose, model, np.exp(cand), memo, out, fz)
+        if m > 0 and math.isfinite(fz[0]) and math.isfinite(fz[1]):
+            return m, z, roll, cand, k + 1
+        if v[0] != v[0]:
+            break
+        cand = v + 0.5 * (cand - v)
+    return -1, z, roll, cand, 6
+
+
+@njit(cache=True, nogil=True)
+def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out, info):
+    """The vertical balance of both wheels (module docstring).
+
+    ``start``: (d_left, d_right, J00, J01, J10, J11): the interpenetrations [m] to
+    start from (NaN: the multi-Hertzian estimate) and d(ln F)/d(ln d) (NaN: 1.5 I).
+    ``out``: the patch rows of the last evaluation; ``info``: :data:`INFO_FIELDS`.
+    Returns the outcome code (:data:`OUTCOMES`)."""
+    d = np.empty(2)
+    info[:] = np.nan
+    if start[0] == start[0] and start[1] == start[1] and start[0] > 0 and start[1] > 0:
+        d[0], d[1] = start[0], start[1]
+    elif not first_estimate(prof, pose, model, loads, memo, d):
+        info[I_OUTCOME] = NO_POSE
+        info[I_PASSES] = 0
+        return NO_POSE
+    J = np.empty((2, 2))
+    J[0, 0], J[0, 1], J[1, 0], J[1, 1] = start[2], start[3], start[4], start[5]
+    if not (J[0, 0] > 0 and J[1, 1] > 0 and J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0] > 0):
+        J[0, 0], J[0, 1], J[1, 0], J[1, 1] = HERTZ_SLOPE, 0.0, 0.0, HERTZ_SLOPE
+    clip = math.log(STEP_FACTOR)
+    hv = np.empty((max_passes + 1, 2))
+    hr = np.empty((max_passes + 1, 2))
+    fz = np.empty(2)
+    nan2 = np.full(2, np.nan)
+    m, z, roll, v, passes = _trial(prof, pose, model, nan2, np.log(d), memo, out, fz)
+    r = np.empty(2)
+    prev_r = np.full(2, np.nan)
+    older_r = np.full(2, np.nan)
+    outcome = NOT_CONVERGED
+    n = 0
+    while True:
+        if m <= 0:
+            outcome = NO_POSE
+            break
+        for s in range(2):
+            r[s] = math.log(max(fz[s], FORCE_FLOOR * loads[s]) / loads[s])
+        hv[n] = v
+        hr[n] = r
+        n += 1
+        off0 = abs(fz[0] / loads[0] - 1.0) > tol
+        off1 = abs(fz[1] / loads[1] - 1.0) > tol
+        if not (off0 or off1):
+            outcome = CONVERGED
+            break
+        if passes >= max_passes or n > max_passes:
+            break
+        # a side whose bracket shows a jump: left to the Python path
+        jump = False
+        for s in range(2):
+            if off0 if s == 0 else off1:
+                lo, hi = _bracket(hv, hr, n, s, v)
+                if lo >= 0 and hi >= 0:
+                    width = abs(hv[hi, s] - hv[lo, s])
+                    if abs(hr[hi, s] - hr[lo, s]) > JUMP_SLOPE * width and \
+                            abs(hv[hi, 1 - s] - hv[lo, 1 - s]) <= width:
+                        jump = True
+        if jump:
+            outcome = JUMP
+            break
+        # the Newton step, clipped, safeguarded per side by its bracket
+        det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
+        s0 = -(J[1, 1] * r[0] - J[0, 1] * r[1]) / det
+        s1 = -(-J[1, 0] * r[0] + J[0, 0] * r[1]) / det
+        nxt = np.empty(2)
+        nxt[0] = v[0] + min(max(s0, -clip), clip)
+        nxt[1] = v[1] + min(max(s1, -clip), clip)
+        for s in range(2):
+            lo, hi = _bracket(hv, hr, n, s, nxt)
+            if lo < 0 or hi < 0:
+                continue
+            off = off0 if s == 0 else off1
+            slow = older_r[s] == older_r[s] and off and abs(r[s]) > 0.5 * abs(older_r[s])
+            if slow or not hv[lo, s] < nxt[s] < hv[hi, s]:
+                nxt[s] = 0.5 * (hv[lo, s] + hv[hi, s])
+        m, z, roll, cand, k = _trial(prof, pose, model, v, nxt, memo, out, fz)
+        passes += k
+        if m <= 0:
+            outcome = NO_POSE
+            break
+        # Broyden's update (not across a jump: no entry above JUMP_SLOPE)
+        dv0, dv1 = cand[0] - v[0], cand[1] - v[1]
+        nn = dv0 * dv0 + dv1 * dv1
+        r0n = math.log(max(fz[0], FORCE_FLOOR * loads[0]) / loads[0])
+        r1n = math.log(max(fz[1], FORCE_FLOOR * loads[1]) / loads[1])
+        if nn > 0:
+            e0 = r0n - r[0] - (J[0, 0] * dv0 + J[0, 1] * dv1)
+            e1 = r1n - r[1] - (J[1, 0] * dv0 + J[1, 1] * dv1)
+            N00, N01 = J[0, 0] + e0 * dv0 / nn, J[0, 1] + e0 * dv1 / nn
+            N10, N11 = J[1, 0] + e1 * dv0 / nn, J[1, 1] + e1 * dv1 / nn
+            if max(abs(N00), abs(N01), abs(N10), abs(N11)) <= JUMP_SLOPE:
+                J[0, 0], J[0, 1], J[1, 0], J[1, 1] = N00, N01, N10, N11
+            if not (J[0, 0] > 0 and J[1, 1] > 0 and J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0] > 0):
+                J[0, 0], J[0, 1], J[1, 0], J[1, 1] = HERTZ_SLOPE, 0.0, 0.0, HERTZ_SLOPE
+        older_r[:] = prev_r
+        prev_r[:] = r
+        v = cand
+    info[I_OUTCOME] = outcome
+    info[I_PASSES] = passes
+    info[I_D_LEFT] = math.exp(v[0])
+    info[I_D_RIGHT] = math.exp(v[1])
+    info[I_VERTICAL] = z
+    info[I_ROLL] = roll
+    info[I_FZ_LEFT] = fz[0]
+    info[I_FZ_RIGHT] = fz[1]
+    info[I_J00], info[I_J01], info[I_J10], info[I_J11] = \
+        J[0, 0], J[0, 1], J[1, 0], J[1, 1]
+    info[I_PATCHES] = m
+    return outcome
+
+
+# ---------------------------------------------------------------------------------
+# where a case enters and leaves
+
+
+#: a compiled case's patch rows carry these fields to :class:`CaseForces`
+FORCE_FIELDS = ("normal_force", "fx", "fy", "mz", "a", "b", "pmax", "area", "approach",
+                "contact_angle", "y_rail", "y_wheel", "rolling_radius", "xi", "eta", "phi",
+                "velocity", "A", "B")
+
+
+@dataclass
+class CaseForces:
+    """A wheel-rail case solved in one compiled pass (:func:`solve_case_forces`):
+    forces and patch geometry, no grids.
+
+    ``side`` ("left"/"right") and the :data:`FORCE_FIELDS` per patch (SI units:
+    normal_force, fx, fy [N] on the wheel in the patch's frame, mz [N m], a, b [m],
+    pmax [Pa], area [m^2], approach [m], contact_angle [rad], y_rail, y_wheel,
+    rolling_radius [m], the creepages xi, eta [-], phi [1/m] the patch was solved
+    with, velocity [m/s], A, B [1/m]); ``interpenetration`` [m] and ``vertical_force``
+    [N] per side, the pose's ``vertical`` [m] and ``roll`` [rad], how the balance
+    ended (``outcome``, ``passes``) and its ``jacobian`` (the next case's start);
+    ``cpu_time`` [s] from entry to exit."""
+
+    side: list
+    patches: dict
+    interpenetration: dict
+    vertical_force: dict
+    loads: dict
+    vertical: float
+    roll: float
+    outcome: str
+    passes: int
+    jacobian: np.ndarray = field(repr=False, default=None)
+    cpu_time: float = 0.0
+    normal: str = "hertz"
+    tangential: str = "fastsim"
+    #: the patch rows of the last evaluation (:data:`ROW_FIELDS`)
+    rows: np.ndarray = field(repr=False, default=None)
+    #: the interpenetrations [m] and roll [rad] of the neighbour this case started
+    #: from (None: cold), from which the next case extrapolates its start
+    neighbour: tuple | None = field(repr=False, default=None)
+    #: the search's memo at the end (:data:`railcontact.geometry.wheel_pass.MEMO_SIZE`):
+    #: the wheel samples of its loci and minima, where the next case's search starts
+    memo: np.ndarray | None = field(repr=False, default=None)
+    #: the case's lateral shift [m] and yaw [rad]
+    pose_keys: tuple = (math.nan, math.nan)
+
+    @property
+    def converged(self) -> bool:
+        return self.outcome == OUTCOMES[CONVERGED]
+
+    def load_residual(self) -> float:
+        """The largest |F_z/Q - 1| of the two wheels."""
+        return max(abs(self.vertical_force[s] / self.loads[s] - 1.0) for s in ("left", "right"))
+
+    def to_xarray(self):
+        import xarray as xr
+        units = {"normal_force": "N", "fx": "N", "fy": "N", "mz": "N m", "a": "m", "b": "m",
+                 "pmax": "Pa", "area": "m^2", "approach": "m", "contact_angle": "rad",
+                 "y_rail": "m", "y_wheel": "m", "rolling_radius": "m", "xi": "1",
+                 "eta": "1", "phi": "1/m", "velocity": "m/s", "A": "1/m", "B": "1/m"}
+        data = {k: ("patch", np.asarray(v), {"units": units[k]}) for k, v in self.patches.items()}
+        data["side"] = ("patch", np.asarray(self.side))
+        return xr.Dataset(data, attrs={
+            "normal": self.normal, "tangential": self.tangential, "outcome": self.outcome,
+            "passes": self.passes, "vertical_m": self.vertical, "roll_rad": self.roll,
+            "interpenetration_left_m": self.interpenetration["left"],
+            "interpenetration_right_m": self.interpenetration["right"],
+            "cpu_time_s": self.cpu_time})
+
+
+def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
+    """Why a case cannot run in the compiled pass, or None where it can."""
+    s = case.wheel_rail
+    if s is None:
+        return "not a wheel-rail case"
+    nname = (normal or case.normal).lower()
+    tname = (tangential or case.tangential).lower()
+    if not normal_supports(nname, "ellipse"):
+        return f"normal model {nname!r} is not an ellipse (Hertz)"
+    if tname == "none" or online_law(tname) is None:
+        return f"tangential model {tname!r} has no compiled online law"
+    if tangential is None and case.tangential_options:
+        return "tangential options given"
+    if s.roll is not None or s.vertical_position is not None:
+        return "roll or vertical position prescribed"
+    if s.turn_distance > 0:
+        return "patch turning (wheelset.turn_distance)"
+    if s.wheel.left is not None or s.rail.left is not None:
+        return "different profiles on the two sides"
+    if case.get("friction.variation") is not None:
+        return "friction.variation"
+    if case.material.is_dissimilar:
+        return "dissimilar materials"
+    if case.element_size is not None:
+        return "solver.element_size"
+    return None
+
+
+_BODIES: dict = {}
+
+
+def _bodies(case):
+    """(PassProfiles, wheelset, track) of a case's bodies, once per set of body keys."""
+    s = case.wheel_rail
+    key = (s.wheel, s.rail, s.nominal_radius, s.flange_back_distance, s.flange_back_position,
+           s.gauge, s.gauge_height, s.rail_offset, str(case.base_dir))
+    try:
+        hit = _BODIES.get(key)
+    except TypeError:                     # a profile object that does not hash
+        key, hit = None, None
+    if hit is None:
+        ws, tr = build_wheelset_track(case)
+        hit = (pass_profiles(ws, tr), ws, tr)
+        if key is not None:
+            if len(_BODIES) > 32:
+                _BODIES.clear()
+            _BODIES[key] = hit
+    return hit
+
+
+@lru_cache(maxsize=1)
+def _tables():
+    dt, tab = _axes_table()
+    return dt, tab
+
+
+def case_pass_inputs(case, normal=None, tangential=None):
+    """(PassProfiles, PassPose, PassModel, loads) of a case for the compiled pass;
+    a :class:`ValueError` says why a case cannot run there."""
+    why = compiled_unsupported(case, normal, tangential)
+    if why:
+        raise ValueError(f"the compiled pass does not run this case: {why}")
+    s = case.wheel_rail
+    prof, ws, tr = _bodies(case)
+    if prof is None:
+        raise ValueError("the compiled pass does not run this case: different profiles on "
+                         "the two sides")
+    pitch = s.pitch_velocity if s.pitch_velocity is not None else -s.velocity / ws.nominal_radius
+    pose = PassPose(float(s.lateral_shift), float(s.yaw), tr.rail_offset("left"),
+                    tr.rail_offset("right"), ws.wheel_offset, ws.nominal_radius,
+                    float(s.velocity), float(pitch), float(s.lateral_velocity),
+                    float(s.yaw_rate), float(s.combine_distance))
+    m = case.material
+    nx, ny = (int(v) for v in (case.grid or (40, 40)))
+    law = online_law((tangential or case.tangential).lower())
+    tp = np.array([case.friction, m.shear_modulus, nx, ny, 1.0, 1.0, 1.0, 0.0])
+    creep = np.array(case.creepage if case.creepage is not None else (np.nan,) * 3, float)
+    dt, tab = _tables()
+    model = PassModel(m.contact_modulus, m.shear_modulus, m.nu, int(law), tp, creep, dt, tab,
+                      _TAB_AB, _TAB_BA)
+    loads = np.array([s.loads["left"], s.loads["right"]], float)
+    return prof, pose, model, loads
+
+
+#: a case's search starts from its neighbour's wheel samples where their lateral
+#: shifts differ by at most this [m] and their yaws by at most ``MEMO_YAW`` [rad]
+MEMO_SHIFT = 5e-4
+MEMO_YAW = 1e-3
+
+#: a chain of cases extrapolates its start from the last two where their
+#: interpenetrations differ by less than this factor (smooth neighbours; else the
+#: last case's alone)
+EXTRAPOLATE_RATIO = 1.2
+
+
+def _start_array(start):
+    """(start array of :func:`balance_wheelset`, roll to start from) for a
+    neighbour's result: its interpenetrations, or where it started from its own
+    neighbour and both are close, their extrapolation in ln d (and the roll's)."""
+    st = np.full(6, np.nan)
+    if start is None:
+        return st, 0.0
+    d1 = np.array([start.interpenetration["left"], start.interpenetration["right"]])
+    st[0], st[1] = d1
+    roll = start.roll if math.isfinite(start.roll) else 0.0
+    before = getattr(start, "neighbour", None)
+    if before is not None:
+        d0 = np.array([before[0]["left"], before[0]["right"]])
+        if np.all(d0 > 0) and np.all(np.abs(np.log(d1 / d0)) < math.log(EXTRAPOLATE_RATIO)):
+            st[0], st[1] = d1 * d1 / d0
+            if math.isfinite(before[1]) and abs(roll - before[1]) < 1e-3:
+                roll = 2.0 * roll - before[1]
+    if start.jacobian is not None:
+        st[2:] = np.ravel(start.jacobian)
+    return st, roll
+
+
+def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | None = None,
+                      max_passes: int = 40) -> CaseForces:
+    """Solve a wheel-rail case in one compiled pass (module docstring): both wheels'
+    loads met, the forces of every patch.
+
+    Parameters
+    ----------
+    case : Case
+        A wheel-rail case the pass runs (:func:`compiled_unsupported`).
+    normal, tangential : str, optional
+        Model names overriding the case's.
+    start : CaseForces, optional
+        A neighbouring case's result (the previous case of a sweep): the balance
+        starts from its interpenetrations and Jacobian, and the roll search from
+        its roll.
+    max_passes : int
+        Limit of the balance's evaluations.
+
+    Returns
+    -------
+    CaseForces
+        With ``outcome`` "converged" where each wheel's vertical force meets its
+        load to ``solver.force_tolerance``; else the case belongs to the Python path
+        (:func:`railcontact.solve`).
+    """
+    t0 = time.perf_counter()
+    prof, pose, model, loads = case_pass_inputs(case, normal, tangential)
+    st, roll0 = _start_array(start)
+    memo = new_memo(roll0)
+    s = case.wheel_rail
+    near = start is not None and abs(getattr(start, "pose_keys", (math.nan,))[0]
+                                      - s.lateral_shift) <= MEMO_SHIFT and \
+        abs(start.pose_keys[1] - s.yaw) <= MEMO_YAW
+    if near and getattr(start, "memo", None) is not None:
+        # the neighbour's wheel samples (each use checks that they hold what it
+        # needs, else searches afresh), from the extrapolated roll
+        memo[:] = start.memo
+        memo[0] = roll0
+    out = np.zeros((2 * MAX_PATCHES, NRF))
+    info = np.empty(len(INFO_FIELDS))
+    code = balance_wheelset(prof, pose, model, loads, float(case.force_tolerance),
+                            int(max_passes), st, memo, out, info)
+    res = _case_forces(out, info, code, loads, (normal or case.normal).lower(),
+                       (tangential or case.tangential).lower(), time.perf_counter() - t0)
+    if start is not None and getattr(start, "converged", True):
+        res.neighbour = (dict(start.interpenetration), float(start.roll))
+    res.memo = memo
+    res.pose_keys = (float(s.lateral_shift), float(s.yaw))
+    if code != CONVERGED and start is not None:
+        # a start that did not serve: the case again, cold (its time counts)
+        cold = solve_case_forces(case, normal, tangential, None, max_passes)
+        cold.cpu_time += res.cpu_time
+        return cold
+    return res
+
+
+def _case_forces(out, info, code, loads, nname, tname, cpu) -> CaseForces:
+    m = max(int(info[I_PATCHES]), 0) if info[I_PATCHES] == info[I_PATCHES] else 0
+    rows = out[:m]
+    sides = ["left" if r[P_SIDE] == 0 else "right" for r in rows]
+    patches = {k: rows[:, RF[k]].copy() for k in FORCE_FIELDS}
+    return CaseForces(sides, patches, {"left": float(info[I_D_LEFT]),
+                                       "right": float(info[I_D_RIGHT])},
+                      {"left": float(info[I_FZ_LEFT]), "right": float(info[I_FZ_RIGHT])},
+                      {"left": float(loads[0]), "right": float(loads[1])},
+                      float(info[I_VERTICAL]), float(info[I_ROLL]), OUTCOMES[int(code)],
+                      int(info[I_PASSES]),
+                      info[I_J00:I_J11 + 1].reshape(2, 2).copy(), cpu, nname, tname,
+                      rows.copy())
+
+
+def case_contact(res: CaseForces, case):
+    """The geometry layer's :class:`~railcontact.geometry.search.WheelsetContact` of a
+    compiled case's last evaluation (its patches as
+    :class:`~railcontact.geometry.contact.ContactGeometry`, no search), or None
+    where the case combines regions into patches (their joins are not kept)."""
+    s = case.wheel_rail
+    if s.combine_distance > 0 or res.rows is None or not res.rows.size:
+        return None
+    _, ws, tr = _bodies(case)
+    pose = WheelsetPose(s.lateral_shift, res.vertical, res.roll, s.yaw)
+    return rows_contact(res.rows, ws, tr, pose, s.loads, res.interpenetration)

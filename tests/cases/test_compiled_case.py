@@ -1,0 +1,107 @@
+"""railcontact.cases.compiled_case: a whole wheel-rail case in one compiled pass
+meets the loads and agrees with the per-patch path (railcontact.solve)."""
+
+import numpy as np
+import pytest
+
+import railcontact as rc
+from railcontact.cases.compiled_case import (CaseForces, compiled_unsupported,
+                                             solve_case_forces)
+
+
+def _case(shift, yaw=0.0, creepage=None, **extra):
+    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+           "wheelset": {"lateral_shift": shift, "yaw": yaw, "vertical_force": 7e4,
+                        "velocity": 30.0, **extra},
+           "solver": {"grid": [40, 40]}}
+    if creepage:
+        raw["creepage"] = dict(zip(("longitudinal", "lateral", "spin"), creepage))
+    return rc.case_from_dict(raw)
+
+
+def _side_sums(sides, values):
+    return {s: sum(v for t, v in zip(sides, values) if t == s) for s in ("left", "right")}
+
+
+# tread contact, tread with yaw and given creepages, two-point and flange contact
+@pytest.mark.parametrize("shift, yaw, creepage", [(0.0, 0.0, None),
+                                                  (3e-3, 2e-3, (1e-3, -5e-4, 0.1)),
+                                                  (5.5e-3, 0.0, None),
+                                                  (8e-3, 4e-3, None)])
+def test_loads_met_and_forces_of_the_per_patch_path(shift, yaw, creepage):
+    case = _case(shift, yaw, creepage)
+    res = solve_case_forces(case)
+    assert res.converged and res.load_residual() <= case.force_tolerance
+    ref = rc.solve(case, "hertz", "fastsim")
+    assert ref.converged
+    assert len(res.side) == len(ref.patches)
+    q = 7e4
+    fn = _side_sums(res.side, res.patches["normal_force"])
+    fy = _side_sums(res.side, res.patches["fy"])
+    fx = _side_sums(res.side, res.patches["fx"])
+    for s in ("left", "right"):
+        p = [r for r in ref.patches if r.geometry.side == s]
+        # both balances meet the load to 1e-4: F_n within twice that of Q; the creep
+        # forces differ by FASTSIM on the ellipse against FASTSIM on Hertz's grid
+        assert abs(fn[s] - sum(r.normal.normal_force for r in p)) <= 2e-4 * q
+        assert abs(fy[s] - sum(r.tangential.fy for r in p)) <= 1e-3 * 0.3 * q
+        assert abs(fx[s] - sum(r.tangential.fx for r in p)) <= 1e-3 * 0.3 * q
+        assert res.interpenetration[s] == pytest.approx(ref.contact.interpenetration[s],
+                                                        rel=2e-4)
+
+
+def test_a_force_that_jumps_across_the_load_is_flagged_as_in_python():
+    # at 6.3 mm the right wheel's Hertzian force jumps across its load (the deepest
+    # point of the flange patch passes between two minima of the gap): the
+    # per-patch balance stops there too (force_jump)
+    case = _case(6.3e-3)
+    res = solve_case_forces(case)
+    assert res.outcome == "force jumps across the load" and not res.converged
+    ref = rc.solve(case, "hertz", "fastsim")
+    assert ref.balance.force_jump and not ref.converged
+
+
+def test_a_neighbour_starts_the_balance():
+    a, b = _case(2.0e-3, 2e-3), _case(2.05e-3, 2e-3)
+    first = solve_case_forces(a)
+    cold, warm = solve_case_forces(b), solve_case_forces(b, start=first)
+    assert cold.converged and warm.converged
+    assert warm.passes <= cold.passes
+    for s in ("left", "right"):
+        assert warm.interpenetration[s] == pytest.approx(cold.interpenetration[s], rel=2e-4)
+
+
+def test_the_per_patch_balance_starts_from_the_compiled_one():
+    res = rc.solve(_case(4e-3, 2e-3), "hertz", "fastsim")
+    # the compiled balance's interpenetrations meet the loads with the case's own
+    # models in the first pass (FASTSIM on the grid differs little from the ellipse)
+    assert res.converged and res.balance.passes == 1
+
+
+def test_unsupported_cases_say_why():
+    assert "exact" in compiled_unsupported(_case(0.0), "exact", "exact")
+    assert "online law" in compiled_unsupported(_case(0.0), "hertz", "fastrip")
+    case = _case(0.0, roll=0.0, side="right")
+    assert "roll" in compiled_unsupported(case)
+    with pytest.raises(ValueError, match="roll"):
+        solve_case_forces(case)
+
+
+def test_to_xarray_has_the_patches():
+    res = solve_case_forces(_case(1e-3))
+    assert isinstance(res, CaseForces)
+    ds = res.to_xarray()
+    assert ds.sizes["patch"] == len(res.side) >= 2
+    assert ds["normal_force"].attrs["units"] == "N"
+    assert np.all(ds["pmax"].values > 0)
+
+
+def test_a_far_neighbour_still_gives_the_case():
+    # a chain's jump (the next block of a sweep): the neighbour's start and wheel
+    # samples do not serve; the case is solved again cold where they fail
+    far = solve_case_forces(_case(9e-3, 2e-3))
+    res = solve_case_forces(_case(-4e-3, 4e-3), start=far)
+    cold = solve_case_forces(_case(-4e-3, 4e-3))
+    assert res.converged and cold.converged
+    for s in ("left", "right"):
+        assert res.interpenetration[s] == pytest.approx(cold.interpenetration[s], rel=2e-4)
