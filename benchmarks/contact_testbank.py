@@ -71,7 +71,7 @@ def _module1_deviations(rows, ref, cases=None):
     as in tests/contact_inp/test_testbank.py; the smaller ones' largest F_n
     deviation apart), over ``cases`` (default all); also the cases whose patch
     count differs."""
-    worst = {"fn": 0.0, "ft": 0.0, "pmax": 0.0}
+    worst = {"fn": 0.0, "ft": 0.0, "pmax": 0.0, "area": 0.0}
     n, npatch_diff, small = 0, [], 0.0
     for case in sorted({r["case"] for r in rows}):
         if cases is not None and case not in cases:
@@ -98,6 +98,9 @@ def _module1_deviations(rows, ref, cases=None):
                 worst["ft"] = max(worst["ft"], abs(r[k] - p[k]) / max(abs(p[k]), scale))
             if p.get("pmax_MPa"):
                 worst["pmax"] = max(worst["pmax"], abs(r["pmax_MPa"] / p["pmax_MPa"] - 1))
+            if p.get("ncon") and r.get("ncon") is not None:
+                # elements in contact (railcontact's grid has CONTACT's DX x DS)
+                worst["area"] = max(worst["area"], abs(r["ncon"] / p["ncon"] - 1))
     return n, worst, npatch_diff, small
 
 

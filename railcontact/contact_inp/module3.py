@@ -74,7 +74,8 @@ def handles(case: InpCase) -> bool:
     area (IPOTCN > 0), a transient tangential problem (T = 1, 2), a prescribed
     tangential force (F = 1, 2), the approach prescribed (N = 0), surface
     temperatures (H = 1, 3) or a slip-velocity dependent friction law (L = 2-6)."""
-    return case.module == 3 and (case.digits["T"] in (1, 2) or case.digits["F"] in (1, 2)
+    return case.module == 3 and (is_fastsim_grid(case) or case.digits["T"] in (1, 2)
+                                 or case.digits["F"] in (1, 2)
                                  or case.digits["N"] == 0 or case.digits["H"] in (1, 3)
                                  or case.values.get("FRICTION_LAW", 0) not in (0, 1)
                                  or (case.values.get("IPOTCN") or -1) > 0)
@@ -91,9 +92,18 @@ def _need(case, name):
     return v
 
 
+def is_fastsim_grid(case: InpCase) -> bool:
+    """Modified FASTSIM (M = 2, 3) with the elliptical or parabolic traction bound
+    (B = 2, 3) of a Hertzian case: solved on CONTACT's grid (:func:`solve_fastsim`)."""
+    return case.module == 3 and case.digits["M"] in (2, 3) and case.digits["B"] in (2, 3)
+
+
 def check(case: InpCase) -> None:
     """The one-line InpError of an option this path does not support."""
     d = case.digits
+    if is_fastsim_grid(case):
+        _check_fastsim(case)
+        return
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
                "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
@@ -279,6 +289,10 @@ class Sequence:
 
     def run(self, case: InpCase) -> dict:
         check(case)
+        if is_fastsim_grid(case):
+            # steady rolling with the simplified theory: no memory between cases
+            self.last, self.last_previous = None, None
+            return solve_fastsim(case).row
         prev = self._previous(case)
         start = None
         if self.last is not None and self.last.row.get("T") == case.digits["T"]:
@@ -610,3 +624,112 @@ def _root(fun, start, step):
         lo, flo = hi, fhi
         s *= 4.0
     raise InpError("prescribed tangential force: no creepage found that carries it")
+
+
+# ----------------------------------------------- modified FASTSIM on CONTACT's grid
+def _check_fastsim(case: InpCase) -> None:
+    """What modified FASTSIM on CONTACT's grid supports: steady rolling (T = 3) of a
+    Hertzian case (IPOTCN = -1, -2, -3) with the creepages given (F = 0), the
+    normal force (N = 1), Coulomb friction, rolling along +-x."""
+    d = case.digits
+    allowed = {"T": (3,), "N": (1,), "F": (0,), "S": (0,), "L": (0, 1), "H": (0,),
+               "M2": (0, 1), "E": (0, 1), "C3": (0, 1, 2)}
+    names = {"T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS", "L": "FRCLAW",
+             "H": "HEAT", "M2": "MATER2", "E": "EXRHS", "C3": "INFLCF"}
+    for k, vals in allowed.items():
+        if d[k] not in vals:
+            raise _unsupported(case, f"{names[k]} = {d[k]} with modified FASTSIM (M = "
+                                     f"{d['M']}, B = {d['B']})", f"expected {names[k]} in {vals}")
+    ipotcn = _need(case, "IPOTCN")
+    if ipotcn not in (-1, -2, -3):
+        raise _unsupported(case, f"IPOTCN = {ipotcn} with the traction bound B = {d['B']}",
+                           "expected a Hertzian case, IPOTCN = -1, -2 or -3")
+    chi = _need(case, "CHI")
+    if abs(math.sin(chi)) > 1e-9:
+        raise _unsupported(case, f"CHI = {chi:g} rad", "expected 0 or 180d (pi)")
+    if case.values.get("NVF", 0):
+        raise _unsupported(case, "friction variation (VARFRC)", "expected V = 0")
+    if (case.values.get("SPINXO") or 0.0) or (case.values.get("SPINYO") or 0.0):
+        raise _unsupported(case, "SPINXO, SPINYO (a spin centre off the origin)",
+                           "expected them left out")
+    for k in ("K0_MF", "ALFAMF", "BETAMF") + (("FLX",) if d["M"] == 2 else ()):
+        _need(case, k)
+
+
+def solve_fastsim(case: InpCase) -> CaseResult:
+    """CONTACT's modified FASTSIM (M = 2: one given flexibility FLX; M = 3: three,
+    :func:`railcontact.tangential.fastsim.contact_flexibilities`) in steady rolling
+    on CONTACT's grid of a Hertzian case (SCALE times the ellipse in MX x MY
+    elements), with the traction bound mu p of the Hertzian pressure (B = 2,
+    elliptical: 3 F_n/(2 pi a b) sqrt(1 - x^2/a^2 - y^2/b^2)) or Kalker's parabolic
+    one (B = 3: 2 F_n/(pi a b) (1 - x^2/a^2 - y^2/b^2)) at the element centres, the
+    contact the elements whose centres lie inside the ellipse; each row marched
+    from its leading element, one element per step, the spin's lever taken dq/6
+    ahead (:func:`railcontact.tangential.fastsim.fastsim_grid`; CONTACT's user
+    guide, "Flexibilities of the simplified theory")."""
+    from ..core.hertz_theory import hertz_ellipse as _ellipse
+    from ..tangential.fastsim import contact_flexibilities, fastsim_grid, \
+        modification_factor
+    from ..tangential.kalker import kalker_coefficients
+    d, v = case.digits, case.values
+    es, G, nu = _materials(case)
+    fn = _need(case, "FN")
+    ipotcn = v["IPOTCN"]
+    if ipotcn == -3:
+        a, b = v["AA"] * MM, v["BB"] * MM
+    else:
+        A = v["A1"] / MM
+        B = v["B1"] / MM if ipotcn == -1 else curvature_from_axis_ratio(A, v["AOB"])
+        h = _ellipse(A, B, es, force=fn)
+        a, b = h.a, h.b
+    mx, my, s = int(v["MX"]), int(v["MY"]), v["SCALE"]
+    if mx < 2:
+        raise InpError(f"{case.where()}: MX = {mx} with FASTSIM; expected MX >= 2")
+    dx, dy = 2 * s * a / mx, 2 * s * b / my
+    x = -s * a + (np.arange(mx) + 0.5) * dx
+    y = -s * b + (np.arange(my) + 0.5) * dy
+    r = 1.0 - (x[:, None] / a) ** 2 - (y[None, :] / b) ** 2
+    contact = r > 0
+    if d["B"] == 2:
+        pressure = np.where(contact, 1.5 * fn / (math.pi * a * b) * np.sqrt(np.maximum(r, 0)),
+                            0.0)
+    else:
+        pressure = np.where(contact, 2.0 * fn / (math.pi * a * b) * r, 0.0)
+    mu = _need(case, "FKIN")
+    cphi = _need(case, "CPHI") / MM
+    creep = (_need(case, "CKSI"), _need(case, "CETA"), cphi)
+    mod = (v["K0_MF"], v["ALFAMF"], v["BETAMF"])
+    if d["M"] == 2:
+        C11 = kalker_coefficients(a / b, nu)[0]
+        k = modification_factor(mod, a, b, G, C11, creep, mu, fn)
+        flex = np.full(3, v["FLX"] * MM ** 3 / k)        # mm^3/N -> m^3/N
+    else:
+        flex = np.array(contact_flexibilities(a, b, G, nu, creep, mu, fn, mod))
+    backwards = math.cos(_need(case, "CHI")) < 0
+    dq = dx
+    # rolling towards -x (CHI = 180 deg): the problem mirrored in x (x' = -x: CKSI,
+    # CPHI and p_x change sign), marched towards +x', mirrored back
+    f = (lambda q: np.ascontiguousarray(q[::-1])) if backwards else np.ascontiguousarray
+    xs = -x[::-1].copy() if backwards else x
+    cr = np.array([-creep[0], creep[1], -creep[2]] if backwards else creep, float)
+    bound = f(mu * pressure)
+    px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
+    stick = np.zeros((mx, my), dtype=np.bool_)
+    fastsim_grid(xs, y, bound, flex, cr, dq / 6.0, px, py, sx, sy, stick)
+    if backwards:
+        px, py, sx, sy, stick = -f(px), f(py), -f(sx), f(sy), f(stick)
+    dA = dx * dy
+    ncon = int(np.count_nonzero(contact))
+    nadh = int(np.count_nonzero(contact & stick))
+    X, Y = x[:, None], y[None, :]
+    row = {"case": case.number, "module": 3, "patch": 1, "npatch": 1, "T": 3,
+           "cksi": float(creep[0]), "ceta": float(creep[1]),
+           "cphi_per_mm": float(v.get("CPHI") or 0.0),
+           "veloc_mm_s": float(v.get("VELOC") or 1.0), "mu": float(mu),
+           "fn_N": float(fn), "fx_N": float(px.sum() * dA),
+           "fs_N": float(py.sum() * dA), "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3,
+           "approach_mm": None, "pmax_MPa": float(pressure.max()) * 1e-6,
+           "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh, "nslip": ncon - nadh,
+           "mx": mx, "my": my, "dx_mm": dx / MM, "ds_mm": dy / MM, "tmax_C": None,
+           "converged": True, "message": "", "flexibilities": tuple(float(q) for q in flex)}
+    return CaseResult(Grid(x, y, dx, dy), pressure, px, py, stick, row)

@@ -193,3 +193,72 @@ def test_patch_numbering(testbank):
     ds = solve(case_from_dict(m.raw)).to_xarray()
     # y_rail points to the field side: falling along the patch dimension
     assert ds.sizes["patch"] == 2 and np.all(np.diff(ds["y_rail"].values) < 0)
+
+
+# ------------------------------------------------ switches and crossings (.slcs)
+def _sc_compare(rows, ref, cases, dA):
+    """Every patch (numbered as CONTACT's) within 1 % in F_n, F_x and F_s (the
+    tangential ones also relative to mu F_n), 3 % in p_max and elements in contact,
+    its reference point within 10 um, the contact angle within 1 mrad."""
+    from tests.conftest import read_ref_out
+    refs = read_ref_out(ref)
+    for case in cases:
+        mine = [r for r in rows if r["case"] == case]
+        q = refs[case - 1]["patches"]
+        assert [r["patch"] for r in mine] == list(range(1, len(q) + 1)), case
+        for r, p in zip(mine, q):
+            assert r["converged"], r["message"]
+            assert [r["xcp_tr_mm"], r["ycp_tr_mm"], r["zcp_tr_mm"]] == pytest.approx(
+                [p["xcp"], p["ycp"], p["zcp"]], abs=0.01)
+            assert r["delta_tr_rad"] == pytest.approx(p["delta"], abs=1e-3)
+            assert r["fn_N"] == pytest.approx(p["fn"], rel=0.01)
+            for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
+                assert abs(r[k] - p[c]) <= 0.01 * max(abs(p[c]), 0.3 * p["fn"]), (case, k)
+            assert r["pmax_MPa"] == pytest.approx(p["pmax"], rel=0.03)
+            assert r["area_mm2"] / dA == pytest.approx(p["ncon"], rel=0.03)
+
+
+@pytest.mark.parametrize("name", ["cross_brute", "cross_locus", "wing_brute", "wing_locus",
+                                  "cross+wing"])
+def test_switch_and_crossing_inputs(testbank, name):
+    """CONTACT's S&C inputs (rail slices, D = 5 brute-force search and D = 2 contact
+    locus) through `railcontact solve FILE.inp`: the artificial nose rising 1:10
+    and the wing rail shifting 1:10 at a prescribed position, against .ref_out.
+    Measured: F_n within 0.01 %, F_x, F_s within 0.15 % of mu F_n, p_max 0.03 %."""
+    path = testbank / "examples_s+c" / f"{name}.inp"
+    rows = solve_inp(path)
+    _sc_compare(rows, path.with_suffix(".ref_out"), [1], 0.2 * 0.05)
+
+
+def test_switch_and_crossing_mapping(testbank):
+    """A module 1 case with a .slcs rail becomes a case on rail surfaces: the
+    slices' origin at RAILY0 (GAUGHT < 0), the wheelset at S_WS, CONTACT's contact
+    angle rule (the rail's inclination at the wheelset: "wheelset"), D_SEP as the
+    combining distance, SCALE = 1000 as slices in metres; the wheel slices
+    (.slcw) and a slices rail placed by its gauge face stop with one line."""
+    (m,) = load_inp(testbank / "examples_s+c" / "cross_brute.inp")
+    r = m.raw
+    assert r["rail"]["slices"].endswith("cross_nose.slcs")
+    assert r["rail"]["lateral_position"] == pytest.approx(0.75) and r["rail"]["units"] == "mm"
+    assert r["solver"]["contact_angle"] == "wheelset"
+    ws = r["wheelset"]
+    assert ws["position"] == 0.0 and ws["vertical_position"] == pytest.approx(-2.1275e-3)
+    assert ws["combine_distance"] == pytest.approx(8e-3)
+    m = load_inp(testbank / "examples_s+c" / "mbench_brute.inp", cases=[1])[0]
+    assert m.raw["rail"]["units"] == "m" and "scale" not in m.raw["rail"]
+    assert m.raw["wheelset"]["position"] == pytest.approx(0.239)
+    assert m.raw["wheelset"]["vertical_force"] == 1e4
+    with pytest.raises(InpError, match=r"wheelflat.inp.*S1002_flat.slcw.*slices file") as e:
+        load_inp(testbank / "examples_basic" / "wheelflat.inp")
+    assert "\n" not in str(e.value)
+
+
+def test_uk_crossing_inputs(testbank):
+    """mbench_brute (the S1002 wheel on the UK crossing under 10 kN, D = 5), case
+    10: the wing rail and the nose both loaded, patch 1 the wing rail on the
+    field side, patch 2 the nose, as CONTACT numbers them; 0.2 x 0.2 mm elements
+    (every case: benchmarks/contact_testbank.py)."""
+    path = testbank / "examples_s+c" / "mbench_brute.inp"
+    rows = solve_inp(path, cases=[10])
+    assert [r["npatch"] for r in rows] == [2, 2]
+    _sc_compare(rows, path.with_suffix(".ref_out"), [10], 0.2 * 0.2)
