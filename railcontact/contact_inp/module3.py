@@ -18,7 +18,13 @@ railcontact case file:
   (F = 0) or the relative forces FX/(FSTAT FN) (F = 1, with CETA; F = 2, with
   FY) given; a force is met by Brent's method on the creepage (or shift);
   falling friction by a fixed point of the coefficients (:func:`friction_law`);
-* temperatures: :mod:`railcontact.tangential.temperature` (steady rolling).
+* temperatures: :mod:`railcontact.tangential.temperature` (steady rolling);
+* dissimilar materials (K != 0) in steady rolling: the normal and tangential
+  problems solved in turn, the pressure's tangential displacements a rigid slip,
+  the tractions' normal ones a gap (:mod:`railcontact.cases.coupling`), until
+  neither changes (bentall.inp);
+* modified FASTSIM (M = 2, 3) with the elliptical or parabolic traction bound
+  (B = 2, 3) of a Hertzian case: :func:`solve_fastsim`.
 
 What carries over from case to case follows CONTACT's PVTIME digit (user guide,
 "P - PVTIME"): the tractions that a case leaves are the next case's previous time
@@ -56,6 +62,7 @@ from ..tangential.friction import SlipVelocityFriction
 from ..tangential.temperature import ThermalProperties, flash_temperatures
 from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
                                 steady_rolling, transient_step)
+from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
 from .mapping import curvature_from_axis_ratio
 from .reader import InpCase, InpError
 
@@ -140,10 +147,27 @@ def check(case: InpCase) -> None:
             _need(case, k)
     g1, g2 = _need(case, "GG1"), _need(case, "GG2")
     n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
-    if abs((1 - 2 * n1) / g1 - (1 - 2 * n2) / g2) > 1e-9 * (1 / g1 + 1 / g2) and d["T"] != 0:
-        raise _unsupported(case, "dissimilar materials (K != 0) with a tangential problem on "
-                                 "the grid-given or transient path", "expected quasi-identical "
-                                 "materials ((1 - 2 nu)/G equal for both bodies)")
+    if _dissimilar(case) and d["T"] in (1, 2):
+        raise _unsupported(case, "dissimilar materials (K != 0) with a transient tangential "
+                                 "problem", "expected quasi-identical materials ((1 - 2 nu)/G "
+                                 "equal for both bodies) or steady rolling (T = 3)")
+    if _dissimilar(case) and d["T"] == 3 and d["L"] not in (0, 1):
+        raise _unsupported(case, f"dissimilar materials with FRCLAW = {d['L']}",
+                           "expected Coulomb friction (L = 0, 1)")
+
+
+def _dissimilar(case) -> bool:
+    """Whether the bodies' materials couple the normal and tangential problems
+    (Kalker's difference parameter K != 0)."""
+    g1, g2 = _need(case, "GG1"), _need(case, "GG2")
+    n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    return abs((1 - 2 * n1) / g1 - (1 - 2 * n2) / g2) > 1e-9 * (1 / g1 + 1 / g2)
+
+
+#: the alternation between the normal and tangential problems of dissimilar bodies
+#: stops when both change by less than this (relative to p_max, mu p_max)
+COUPLING_TOL = 1e-7
+COUPLING_ITERATIONS = 50
 
 
 @dataclass
@@ -354,7 +378,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     fn = float(pressure.sum() * dA)
     zero = np.zeros(shape)
     px, py, stick, ok_t, creep = zero, zero, np.zeros(shape, bool), True, (0.0, 0.0)
-    state = {"mu": None}
+    state = {"mu": None, "w_extra": None}
     message = "" if ok_n else "normal problem not converged"
     if t:
         u_prev, p_start = (zero, zero), None
@@ -413,12 +437,13 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 p0 = None if p0 is None else (-f(p0[0]), f(p0[1]))
                 out = steady_rolling(-grid.x[::-1], yt, f(ct), f(bt),
                                      (-cx, cy, -_need(case, "CPHI") / MM), G, nu,
-                                     TANGENTIAL_TOL, 200, p0=p0)
+                                     TANGENTIAL_TOL, 200, p0=p0, w_extra=state["w_extra"])
                 px_, py_, sx_, sy_, st_, it_, ok_ = out
                 return -f(px_), f(py_), -f(sx_), f(sy_), f(st_), it_, ok_
             if t == 3:
                 return steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
-                                      G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
+                                      G, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
+                                      w_extra=state["w_extra"])
             w = _rigid_shift(case, grid, (cx, cy))
             return transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),
                                                        widen(np.array(w[1]))),
@@ -436,6 +461,40 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 out = tuple(o[:, :1] if isinstance(o, np.ndarray) else o for o in out)
             return out
 
+        state["w_extra"] = None
+        coupled = t == 3 and _dissimilar(case)
+        if coupled:
+            # dissimilar bodies: the pressure's tangential displacements add a rigid
+            # slip, the tractions' normal displacements a gap; the two problems are
+            # solved in turn until neither changes (Kalker 1990, sec. 5.2)
+            mat = _body_material(case)
+            xs = -grid.x[::-1].copy() if backwards else grid.x
+            fm = (lambda a: np.ascontiguousarray(a[::-1])) if backwards else (lambda a: a)
+            opx, opy = None, None
+            # (on the solver's grid: a 2-D problem's second, empty strip included)
+            for it in range(COUPLING_ITERATIONS):
+                state["w_extra"] = slip_from_pressure(xs, yt, widen(fm(pressure)), mat)
+                creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G,
+                                                start)
+                gap = normal_gap_from_tractions(grid.x, yt, widen(out[0]), widen(out[1]),
+                                                mat)[:, :grid.y.size]
+                p_new, approach, ok_n = _normal(case, grid, h + gap, es)
+                pm = max(float(p_new.max()), 1e-300)
+                dp = float(np.max(np.abs(p_new - pressure))) / pm
+                dt = 0.0 if opx is None else float(np.max(np.hypot(
+                    out[0] - opx, out[1] - opy))) / (max(mu, 1e-300) * pm)
+                opx, opy = out[0], out[1]
+                pressure = p_new
+                contact = np.ascontiguousarray(pressure > 0)
+                bound = np.ascontiguousarray(mu * pressure)
+                ct, bt = widen(contact), widen(bound)
+                fn = float(pressure.sum() * dA)
+                if dp <= COUPLING_TOL and it > 0 and dt <= COUPLING_TOL:
+                    break
+            else:
+                message = (message + "; " if message else "") + \
+                    f"normal-tangential alternation not converged in {COUPLING_ITERATIONS}"
+            state["w_extra"] = slip_from_pressure(xs, yt, widen(fm(pressure)), mat)
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, _, _, stick, _, ok_t = out
         if not ok_t:
@@ -464,6 +523,15 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
            "converged": bool(ok_n and ok_t), "message": message}
     return CaseResult(grid, pressure, px, py, stick, row,
                       state["mu"] if t and law is not None else None)
+
+
+def _body_material(case):
+    """CONTACT's two bodies as a railcontact Material (body 1 the rail, body 2 the
+    wheel: :attr:`~railcontact.core.materials.Material.difference_parameter`)."""
+    from ..core.materials import Material
+    g1, g2 = _need(case, "GG1") * 1e6, _need(case, "GG2") * 1e6
+    n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    return Material(2 * g1 * (1 + n1), n1, 2 * g2 * (1 + n2), n2)
 
 
 def _thermal(case, body):

@@ -299,3 +299,23 @@ def test_modified_fastsim_options(tmp_path, testbank):
     assert one["fs_N"] == pytest.approx(want, rel=5e-3)
     assert one["nadh"] == one["ncon"]
     assert two["fs_N"] == pytest.approx(0.5 * one["fs_N"], rel=1e-9)
+
+
+def test_dissimilar_materials_bentall(testbank):
+    """bentall.inp: an aluminium roller on a steel one (K != 0), 2-D, rolling
+    along -x, the normal and tangential problems coupled on CONTACT's grid:
+    Bufler's no-slip free rolling (case 3), tractive rolling at FX = +-0.75 mu F_n
+    (cases 5, 6).  The creepage met within half a unit of CONTACT's 4 printed
+    digits, p_max within its printed 0.1 MPa, the elements in contact, adhesion
+    and slip CONTACT's."""
+    path = testbank / "examples_basic" / "bentall.inp"
+    rows = {r["case"]: r for r in solve_inp(path, cases=[3, 5, 6])}
+    creep = {3: 3.591e-4, 5: 2.108e-4, 6: 5.392e-4}
+    ref = read_out(path.with_suffix(".ref_out"))
+    for case, r in rows.items():
+        q = ref[case]
+        assert r["converged"], r["message"]
+        assert r["cksi"] == pytest.approx(creep[case], abs=6e-8)
+        assert r["fx_N"] == pytest.approx(q["fx_N"], abs=0.06)
+        assert r["pmax_MPa"] == pytest.approx(q["pmax_MPa"], abs=0.06)
+        assert (r["ncon"], r["nadh"], r["nslip"]) == (q["ncon"], q["nadh"], q["nslip"])
