@@ -146,7 +146,7 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
     if side not in ("left", "right"):
         raise CaseFileError(f"wheelset.side = {side!r}: a case on rail surfaces solves one "
                             "wheel; expected 'left' or 'right'")
-    z = _optional(case, "wheelset.vertical_position", -0.05, 0.05, "m")
+    z = _optional(case, "wheelset.vertical_position", -0.2, 0.2, "m")
     loads = case.wheel_loads()
     inc = case.get("solver.contact_angle", "local")
     if inc not in ("local", "wheelset"):
@@ -172,7 +172,7 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         gauge_height=case.number("track.gauge_height", 0.014, 0.0, 0.05, "m"),
         position=case.number("wheelset.position", 0.0, -1e5, 1e5, "m"),
         lateral_shift=case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m"),
-        roll=case.number("wheelset.roll", 0.0, -0.1, 0.1, "rad"),
+        roll=case.number("wheelset.roll", 0.0, -0.5, 0.5, "rad"),
         yaw=case.number("wheelset.yaw", 0.0, -0.5, 0.5, "rad"),
         velocity=case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s"),
         pitch_velocity=_optional(case, "wheelset.pitch_velocity", -1e4, 1e4, "rad/s"),

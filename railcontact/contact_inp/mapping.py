@@ -274,14 +274,18 @@ def _rail_frame(raw: dict, base_dir: Path) -> dict:
 
 def _map_module1(case: InpCase, dirs) -> MappedCase:
     d, v = case.digits, case.values
+    if d["E"] == 0 and "Y_WS" not in v:
+        raise InpError(f"{case.where()}: EWHEEL = 0 in the first case: no wheelset data")
+    sgn = -1.0 if d["C"] in (0, 4) else 1.0
+    if Path(str(_need(case, "R_FNAME"))).suffix.lower() == ".slcs" or d["C"] in (4, 5) or (
+            d["C"] in (0, 1) and _need(case, "GAUGHT") <= 0
+            and not 250.0 <= sgn * _need(case, "RAILY0") <= 1000.0):
+        # a switch or crossing, a roller rig, a test rig's rail near the centre
+        return _map_surfaces(case, dirs)
     side = _digit(case, "C", {0: "left", 1: "right"}, "CONFIG")
     normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
     force = _digit(case, "N", {0: "position", 1: "force"}, "NORM")
     _digit(case, "F", {0: "pitch velocity prescribed"}, "FORCE")
-    if d["E"] == 0 and "Y_WS" not in v:
-        raise InpError(f"{case.where()}: EWHEEL = 0 in the first case: no wheelset data")
-    if Path(str(_need(case, "R_FNAME"))).suffix.lower() == ".slcs":
-        return _map_slices(case, dirs)
     _digit(case, "D", {0: "kept", 1: "kept", 2: "planar contact, contact locus"}, "DISCNS")
     tang, topt = _tangential_model(case)
     sgn = 1.0 if side == "right" else -1.0
@@ -367,40 +371,53 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
     return MappedCase(case.number, 1, raw, meta)
 
 
-# ------------------------------------------------- module 1 on rail slices (S&C)
-def _map_slices(case: InpCase, dirs) -> MappedCase:
-    """A module 1 case whose rail is a slices file (``.slcs``: a switch or crossing)
-    as a case on rail surfaces (:mod:`railcontact.cases.surfaces`): the rail's
-    profile origin at (RAILY0, RAILZ0) in the track frame (GAUGHT <= 0, as CONTACT
-    requires for slices), the wheelset at S_WS along the track, the contact angle
-    by CONTACT's rule (the rail's inclination on the cross-section at the
-    wheelset: ``solver.contact_angle = "wheelset"``) for D = 2 (contact locus)
-    and D = 5 (brute-force search) alike (railcontact searches the surfaces once,
-    on a 3-D grid), the patch separation distance D_SEP, and CONTACT's profile
-    processing (MIRRORY, SCALE, SMOOTH) applied to every slice."""
+# ------------------------------- module 1 on rail surfaces: slices (S&C), roller rigs
+def _map_surfaces(case: InpCase, dirs) -> MappedCase:
+    """A module 1 case as a case on rail surfaces (:mod:`railcontact.cases.surfaces`):
+    a rail given by slices (``.slcs``: a switch or crossing), a roller rig (CONFIG
+    = 4, 5: the rail profile turned about the roller's axis, NOMRAD_R and
+    VPITCH_ROL in the places of CANT and VS) or a rail placed at RAILY0 closer to
+    the track centre than 250 mm (a test rig).  The rail's profile origin at
+    (RAILY0, RAILZ0) in the track frame (GAUGHT <= 0), the wheelset at S_WS along
+    the track, the contact angle by CONTACT's rule (the rail's inclination on the
+    cross-section at the wheelset: ``solver.contact_angle = "wheelset"``) for D =
+    2 (contact locus) and D = 5 (brute-force search) alike (railcontact searches
+    the surfaces once, on a 3-D grid), D = 3 the rigid slip on the actual surfaces
+    (``solver.rigid_slip = "surfaces"``), the patch separation distance D_SEP, and
+    CONTACT's profile processing (MIRRORY, SCALE, SMOOTH) applied to every
+    slice."""
     d, v = case.digits, case.values
-    side = _digit(case, "C", {0: "left", 1: "right"}, "CONFIG")
+    side = _digit(case, "C", {0: "left", 1: "right", 4: "left", 5: "right"}, "CONFIG")
+    roller = d["C"] in (4, 5)
+    fname = _need(case, "R_FNAME")
+    slices = Path(str(fname)).suffix.lower() == ".slcs"
+    what = "rail slices" if slices else ("a roller rig" if roller else "a rail at RAILY0")
     normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
     force = _digit(case, "N", {0: "position", 1: "force"}, "NORM")
     _digit(case, "F", {0: "pitch velocity prescribed"}, "FORCE")
-    _digit(case, "D", {0: "kept", 1: "kept", 2: "planar contact, contact locus",
-                       5: "brute-force contact search"}, "DISCNS (rail slices)")
+    allowed_d = {0: "kept", 1: "kept", 2: "planar contact, contact locus",
+                 5: "brute-force contact search"}
+    if not slices:
+        allowed_d[3] = "planar contact with rigid slip on the actual surfaces"
+    _digit(case, "D", allowed_d, f"DISCNS ({what})")
+    # D = 0, 1 keep the search of the case that set it
+    discns = d["D"] if d["D"] >= 2 else (v.get("DISCNS") or 2)
     tang, topt = _tangential_model(case)
     if _need(case, "GAUGHT") > 0:
-        raise _unsupported(case, f"GAUGHT = {v['GAUGHT']:g} mm with rail slices (a variable "
-                                 "rail placed by its gauge face)",
-                           "expected GAUGHT <= 0: the slices' origin at RAILY0, RAILZ0")
+        raise _unsupported(case, f"GAUGHT = {v['GAUGHT']:g} mm with {what} (a rail placed "
+                                 "by its gauge face)",
+                           "expected GAUGHT <= 0: the rail's origin at RAILY0, RAILZ0")
     if v.get("RAILZ0"):
-        raise _unsupported(case, f"RAILZ0 = {v['RAILZ0']:g} mm with rail slices",
-                           "expected 0 (the slices' heights as given)")
-    if v.get("CANT"):
-        raise _unsupported(case, f"CANT = {v['CANT']:g} with rail slices",
-                           "expected 0 (the slices as mounted)")
+        raise _unsupported(case, f"RAILZ0 = {v['RAILZ0']:g} mm with {what}",
+                           "expected 0 (the rail's heights as given)")
+    if v.get("CANT") and not roller:
+        raise _unsupported(case, f"CANT = {v['CANT']:g} with {what}",
+                           "expected 0 (the rail as mounted)")
     for name in ("CURV", "DYRAIL", "DZRAIL", "DROLLR", "VYRAIL", "VZRAIL", "VROLLR", "DXWHL",
                  "DYWHL", "DZWHL", "DROLLW", "DYAWW", "DPITCHW", "VXWHL", "VYWHL", "VZWHL",
                  "VROLLW", "VYAWW", "VPITCHW", "VZ_WS", "VROLL"):
         if v.get(name):
-            raise _unsupported(case, f"{name} = {v[name]:g} with rail slices", "expected 0")
+            raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0")
     if v.get("G_MISS") is not None and v["G_MISS"] >= 0:
         raise _unsupported(case, f"G_MISS = {v['G_MISS']:g} mm (near-miss patches)",
                            "expected it left out or negative")
@@ -408,10 +425,15 @@ def _map_slices(case: InpCase, dirs) -> MappedCase:
         raise _unsupported(case, f"A_SEP = {v['A_SEP']:.4f} rad", "expected at least pi/2: "
                                                                    "regions are combined by "
                                                                    "their distance alone")
-    fname = _need(case, "R_FNAME")
-    rail = {"slices": _profile_path(case, fname, dirs, slices=True),
-            "lateral_position": (1.0 if side == "right" else -1.0) * _need(case, "RAILY0") * MM,
-            "vertical_position": 0.0}
+    place = {"lateral_position": (1.0 if side == "right" else -1.0) * _need(case, "RAILY0") * MM,
+             "vertical_position": 0.0}
+    if _need(case, "VS_WS") <= 0 and not roller:
+        raise _unsupported(case, f"VS = {v['VS_WS']:g} mm/s with {what} (rolling towards -x)",
+                           "expected VS > 0")
+    if not slices:
+        return _surface_case(case, dirs, side, normal, force, tang, topt,
+                             {**_profile_table(case, "R_", dirs), **place}, roller, discns)
+    rail = {"slices": _profile_path(case, fname, dirs, slices=True), **place}
     g = lambda k: v.get("R_" + k)   # noqa: E731
     if g("MIRRORY") not in (-1, 0) or g("MIRRORZ") not in (-1, 0):
         raise _unsupported(case, f"MIRRORY = {g('MIRRORY')}, MIRRORZ = {g('MIRRORZ')} for "
@@ -432,10 +454,17 @@ def _map_slices(case: InpCase, dirs) -> MappedCase:
                                "expected 0 (lambda) or 1 (L_filt)")
         rail["smoothing"] = ({"method": "weighted", "length": smooth * MM} if ismooth == 1
                              else {"method": "unweighted", "lambda": smooth * MM ** 3})
+    return _surface_case(case, dirs, side, normal, force, tang, topt, rail, False, discns)
+
+
+def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
+                  discns) -> MappedCase:
+    """The surface case of :func:`_map_surfaces` with its ``rail`` table."""
+    d, v = case.digits, case.values
     wheel = {**_profile_table(case, "W_", dirs), "nominal_radius": _need(case, "NOMRADW") * MM}
     ws = {"side": side, "position": (v.get("S_WS") or 0.0) * MM,
           "lateral_shift": _need(case, "Y_WS") * MM, "yaw": _need(case, "YAW"),
-          "roll": _need(case, "ROLL"), "velocity": _need(case, "VS_WS") * MM,
+          "roll": _need(case, "ROLL"),
           "pitch_velocity": _need(case, "VPITCH"),
           "lateral_velocity": (v.get("VY_WS") or 0.0) * MM, "yaw_rate": v.get("VYAW") or 0.0,
           "flange_back_distance": _need(case, "FBDIST") * MM,
@@ -450,6 +479,18 @@ def _map_slices(case: InpCase, dirs) -> MappedCase:
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
                       "contact_angle": "wheelset", "tangential_options": topt}}
+    if roller:
+        # CONTACT's roller rig: NOMRAD_R and VPITCH_ROL read in the places of CANT
+        # and VS; the wheelset does not travel
+        raw["roller"] = {"radius": _need(case, "CANT") * MM,
+                         "angular_velocity": _need(case, "VS_WS")}
+    else:
+        ws["velocity"] = _need(case, "VS_WS") * MM
+    if discns == 3:
+        if tang != "exact":
+            raise _unsupported(case, f"DISCNS = 3 with MATER = {d['M']}",
+                               "expected MATER = 0 (the exact tangential model)")
+        raw["solver"]["rigid_slip"] = "surfaces"
     meta = {"module": 1, "side": side, "nominal_radius": v["NOMRADW"] * MM,
             "wheel_offset": (v["FBDIST"] / 2 - v["FBPOS"]) * MM, "cant": 0.0,
             "origin_shift": (0.0, 0.0), "z_top": 0.0, "surfaces": True}
