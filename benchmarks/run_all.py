@@ -691,7 +691,8 @@ def bench_tangential_accuracy():
 
 def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
     """Issue 6: the benchmark vehicle on a curved, irregular track, against real time."""
-    from railcontact.dynamics import Route, VehicleModel, WheelRailTable, simulate_vehicle
+    from railcontact.dynamics import (Integration, Route, VehicleModel, WheelRailTable,
+                                      simulate_vehicle)
     from railcontact.dynamics.route import Irregularities
     from railcontact.dynamics.vehicle import G_ACC
     out("## Vehicle dynamics: Manchester vehicle, 50 m/s, curved irregular track\n")
@@ -709,12 +710,12 @@ def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
     phi = math.asin(0.12 / 1.5)
     au = velocity ** 2 / 2500.0 * math.cos(phi) - G_ACC * math.sin(phi)
     simulate_vehicle(model, route, table, velocity, 0.5)        # compile / load the cache
-    simulate_vehicle(model, route, table, velocity, 0.5, integrator="lsoda")
+    simulate_vehicle(model, route, table, velocity, 0.5, integration=Integration("lsoda"))
     rows = []
     ds = simulate_vehicle(model, route, table, velocity, duration, "fastsim")
     rows.append(("Hertz table + FASTSIM (compiled, 12x12), rk4", duration, ds))
     ds_l = simulate_vehicle(model, route, table, velocity, duration, "fastsim",
-                            integrator="lsoda")
+                            integration=Integration("lsoda"))
     rows.append(("Hertz table + FASTSIM (compiled, 12x12), LSODA rtol 1e-6", duration, ds_l))
     ds_p = simulate_vehicle(model, route, table, velocity, duration, "polach")
     rows.append(("Hertz table + Polach (compiled), rk4", duration, ds_p))
@@ -746,7 +747,7 @@ def bench_dynamics(duration=100.0, velocity=50.0, exact_duration=0.01):
 def _wear_runs(sc):
     """Step-1 tables and dynamics runs of a closed-loop scenario (the same for every
     local model): (simulation, tables per route, datasets per route, grids)."""
-    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.dynamics.simulation import Integration, simulate_vehicle
     from railcontact.wear.closed_loop import ClosedLoopWear
     from railcontact.wear.mapping import arc_length_grid
     from railcontact.wear.route_tasks import build_table
@@ -756,8 +757,9 @@ def _wear_runs(sc):
     d = sc.dynamics
     runs = [simulate_vehicle(sc.model, r.route, tables, r.speed, r.duration, d["tangential"],
                              r.friction, sc.case.material, d["initial_lateral_shift"],
-                             d["sample_rate"], d["rtol"], False, d["tangential_options"],
-                             d["fastsim_grid"], integrator=d["integrator"], step=d["step"])
+                             d["tangential_options"], d["fastsim_grid"],
+                             Integration(d["integrator"], d["sample_rate"], d["rtol"],
+                                         step=d["step"]))
             for r in sc.routes]
     grid = arc_length_grid(sim.wheels[0][0], sc.grid_step)
     rgrid = arc_length_grid(sim.rails[0][0], sc.grid_step)
@@ -792,11 +794,11 @@ def bench_wear_closed_loop(full: bool = True):
     """Issue 24: closed-loop wear of examples/wear_vehicle.toml (one core): (a) exact +
     exact against Hertz + FASTSIM, (b) the per-patch cost of every model and, unless
     ``full`` is False, (c) the sample stride, (d) repeated states, (e) the step size."""
-    from railcontact.wear import load_scenario
+    from railcontact.inputs import load_wear_scenario
     from railcontact.wear.closed_loop import ClosedLoopWear
     out("## Closed-loop wear: examples/wear_vehicle.toml (Manchester vehicle, tangent + "
         "R1200 + R300, 4 steps of 0.1 mm, USFD), one core (scheduler sync)\n")
-    sc = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
     sc.scheduler = "sync"
     # (a) the example with Hertz + FASTSIM and with exact + exact, interleaved by step
     models = {"hertz+fastsim": sc, "exact+exact": sc.with_models("exact", "exact")}
@@ -868,7 +870,7 @@ def bench_wear_closed_loop(full: bool = True):
     out("\nSample stride (step-1 runs, dynamics sampled at 400 Hz: one sample per 0.1, "
         "0.09, 0.05 m on the three routes): the route mix's wheel wear per metre "
         "(vehicle-averaged, smoothed) against every sample's, max |difference| / max:\n")
-    sc4 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+    sc4 = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
     sc4.dynamics["sample_rate"] = 400.0
     sim4, tables4, runs4, grid4, rgrid4 = _wear_runs(sc4)
     out("| local model | 0.25 m | 0.5 m | 1 m (default) | 2 m | 4 m |")
@@ -919,7 +921,7 @@ def bench_wear_closed_loop(full: bool = True):
         for ds_ in (dists, [x / 2 for x in dists for _ in (0, 1)]):
             key = tuple(ds_)
             if key not in runs:
-                s2 = load_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
+                s2 = load_wear_scenario(HERE.parent / "examples" / "wear_vehicle.toml")
                 s2.scheduler, s2.steps, s2.distances = "sync", len(ds_), list(ds_)
                 sim2 = ClosedLoopWear(s2, None, progress=False)
                 runs[key] = (sim2.run(resume=False), sim2)
@@ -1122,6 +1124,113 @@ def bench_quasi_elastic(alphas=(1e-5, 2e-5, 3e-5, 5e-5)):
             f"{critical_speed(model, qe):.1f} m/s")
 
 
+def bench_wear_grid_reuse(repeat: int = 5):
+    """Issue 29: grid reuse in the wear post-processing (the exact normal solver's
+    declared "grid-reuse"): a bogie on a 40 m R300 curve, every sample post-processed
+    with exact + exact and no repeated states, with and without the kept grid,
+    interleaved ``repeat`` times (medians)."""
+    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.inputs import wear_scenario_from_dict
+    from railcontact.wear import get_wear_law
+    from railcontact.wear.postprocess import PatchPostProcessor
+    from railcontact.wear.route_tasks import build_table
+    sc = wear_scenario_from_dict({
+        "wheel": {"profile": "S1002"}, "rail": {"profile": "60E1", "inclination": 0.025},
+        "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [20, 20]},
+        "vehicle": {"model": "bogie"}, "dynamics": {"table_range": 0.010, "table_step": 5e-4},
+        "wear": {"law": "usfd", "steps": 1},
+        "route": [{"name": "R300", "radius": 300.0, "cant": 0.1, "speed": 20.0,
+                   "length": 40.0, "lead": 5.0}]})
+    sim = sc.driver(progress=False)
+    table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
+    item = sc.routes[0]
+    ds = simulate_vehicle(sc.model, item.route, table, item.speed, item.duration,
+                          friction=item.friction, sample_rate=100.0)
+    grid = np.arange(0.0, 0.2, 1e-4)
+    args = (ds, [table, table], [list(sim.wheels[0])] * 2, sim.rails[0], [[grid, grid]] * 2,
+            [grid, grid], item.friction, 1)
+    pps = {}
+    for keep in (False, True):
+        pp = PatchPostProcessor("exact", "exact", get_wear_law("usfd"), sc.case.material,
+                                (20, 20), reuse_tolerance=0.0)
+        pp.regrid = keep and pp.regrid
+        pp.run(*args)                                          # compiled, warm
+        pps[keep] = pp
+    wall, solve, res = {False: [], True: []}, {False: [], True: []}, {}
+    for _ in range(repeat):
+        for keep, pp in pps.items():
+            t0 = time.perf_counter()
+            res[keep] = pp.run(*args)
+            wall[keep].append(time.perf_counter() - t0)
+            solve[keep].append(res[keep]["stats"].solve_time)
+    same = all(np.array_equal(np.array(res[True][k]), np.array(res[False][k]))
+               for k in ("wheel", "rail")) and res[True]["energy"] == res[False]["energy"]
+    out("## Wear post-processing: grid reuse (exact + exact, bogie on R300, "
+        f"{res[True]['stats'].solved} solves, medians of {repeat} interleaved runs)\n")
+    out("| kept grid | post-processing [s] | solves [s] |")
+    out("|---|---|---|")
+    for keep in (False, True):
+        out(f"| {'yes' if keep else 'no'} | {statistics.median(wall[keep]):.3f} | "
+            f"{statistics.median(solve[keep]):.3f} |")
+    out(f"\n* wear depths and energy with and without it bit-identical: {same}\n")
+
+
+def bench_roller_rig(yaw_stiffness=(2e4, 5e4, 1e5, 2e5), lateral_stiffness=(1.55e5, 1.55e6)):
+    """The 1:5 wheelset of examples/roller_rig_dynamics.toml on rollers of 0.18 m and
+    on tangent track: the linear critical speeds over the primary stiffnesses, and
+    which roller-rig terms move it (the roller's curvature in the Hertz patch alone;
+    the kinematics alone: the leaning normal, the roller's spin, its radius in xi);
+    the contact's x against the 3-D roller search; the cost of the example."""
+    import copy
+    import dataclasses
+    import runpy
+    out("\n## Roller rig (1:5 S1002/60E1, rollers of 0.18 m): rig against tangent track")
+    from railcontact.dynamics.roller_rig import (O_XC, RigSystem, RollerRig, critical_speed,
+                                                 rig_tables, run_rig_scenario)
+    from railcontact.inputs import load_dynamics_scenario
+    sc = load_dynamics_scenario(HERE.parent / "examples" / "roller_rig_dynamics.toml")
+    t0 = time.perf_counter()
+    rig_tab, track_tab = rig_tables(sc)
+    out(f"* contact table, {rig_tab.shift.size} shifts: {time.perf_counter() - t0:.2f} s")
+    out("| k_y [N/m] | k_psi [N m/rad] | track [m/s] | rig [m/s] | rig/track | Hertz only "
+        "| kinematics only |")
+    out("|---|---|---|---|---|---|---|")
+    for ky in lateral_stiffness:
+        for kp in yaw_stiffness:
+            w = dataclasses.replace(sc.vehicle, k_y=ky, k_yaw=kp)
+
+            def vc(rig, tab):
+                try:
+                    return critical_speed(w, rig, tab)
+                except (rc.InputError, ValueError) as exc:
+                    return str(exc).split(": ")[-1]
+            hertz = copy.copy(rig_tab)
+            hertz.radius = None
+            kin = copy.copy(track_tab)
+            kin.radius = sc.rig.radius
+            vt, vr = vc(sc.rig.on_track(), track_tab), vc(sc.rig, rig_tab)
+            vh, vk = vc(sc.rig.on_track(), hertz), vc(sc.rig, kin)
+            f = lambda v: f"{v:.1f}" if isinstance(v, float) else v
+            ratio = f"{vr / vt:.3f}" if isinstance(vr, float) and isinstance(vt, float) else "-"
+            out(f"| {ky:.3g} | {kp:.3g} | {f(vt)} | {f(vr)} | {ratio} | {f(vh)} | {f(vk)} |")
+    ex = runpy.run_path(str(HERE.parent / "examples" / "roller_rig_scaled.py"))
+    system = RigSystem(sc.vehicle, sc.rig, rig_tab)
+    for y, psi in ((0.0, 0.838e-3), (0.0, -2e-3), (4e-4, 1e-3), (-6e-4, -1.5e-3)):
+        xc = system.forces([[y, psi, 0.0, 0.0]])[0, 0, 1, 0, O_XC]
+        (p,) = rc.solve(ex["case"](y, psi)).patches
+        out(f"* y {y * 1e3:.1f} mm, yaw {psi * 1e3:.3f} mrad: contact x {xc * 1e3:.4f} mm, "
+            f"3-D roller search {p.geometry.position[0] * 1e3:.4f} mm "
+            f"({xc / p.geometry.position[0] - 1:+.2%})")
+    for name in ("roller_rig_dynamics.toml", "roller_rig_bogie.toml"):
+        t0 = time.perf_counter()
+        ds = run_rig_scenario(load_dynamics_scenario(HERE.parent / "examples" / name),
+                              progress=False)
+        out(f"* examples/{name}: {time.perf_counter() - t0:.2f} s (4 s of hunting at "
+            f"200 Hz, table and both critical speeds); linear critical speed on the rig "
+            f"{ds.attrs['critical_speed_m_s']:.1f} m/s, on track "
+            f"{ds.attrs['track_critical_speed_m_s']:.1f} m/s")
+
+
 def main():
     out(f"# railcontact benchmarks ({time.strftime('%Y-%m-%d')}, {os.cpu_count()} cores, "
         f"Python {sys.version.split()[0]})\n")
@@ -1137,7 +1246,9 @@ def main():
     bench_dynamics()
     bench_fmu()
     bench_quasi_elastic()
+    bench_roller_rig()
     bench_wear_closed_loop()
+    bench_wear_grid_reuse()
     (HERE / "results.md").write_text("\n".join(lines) + "\n")
     import contact_inputs          # CONTACT's input files: benchmarks/contact_inputs.md
     contact_inputs.main()

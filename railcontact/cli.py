@@ -8,8 +8,10 @@ import logging
 import sys
 from pathlib import Path
 
+from .core.checks import MAX_JOB_CASES, check_job_size, check_output, shown
 from .core.errors import InputError, RailContactError
 from .core.files import write_netcdf, write_text
+from .core.parallel import check_scheduler
 
 log = logging.getLogger("railcontact")
 
@@ -41,6 +43,21 @@ def _report_status(converged: bool, message: str, warnings, what: str = "") -> i
     return 0
 
 
+def _check_models(normal, tangential) -> None:
+    """Model names given on the command line, known before any work."""
+    if normal:
+        from .normal import normal_model_class
+        normal_model_class(normal)
+    if tangential and str(tangential).lower() != "none":
+        from .tangential import tangential_model_class
+        tangential_model_class(tangential)
+
+
+def _check_pairs(pairs) -> None:
+    for normal, tangential in pairs:
+        _check_models(normal, tangential)
+
+
 def _is_inp(path: str) -> bool:
     return str(path).lower().endswith(".inp")
 
@@ -55,7 +72,7 @@ def _parse_cases(spec):
             lo, _, hi = part.partition("-")
             out += list(range(int(lo), int(hi or lo) + 1))
     except ValueError:
-        raise InputError(f"--case {spec!r}: expected case numbers such as 1,3-5") from None
+        raise InputError(f"--case {shown(spec)}: expected case numbers such as 1,3-5") from None
     return out
 
 
@@ -68,8 +85,11 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
                          "over the cases it holds")
     out = Path(args.out) if args.out else None
     if out is not None and out.suffix.lower() not in (".csv", ".json"):
-        raise InputError(f"--out {args.out!r}: expected a .csv or .json file for a CONTACT "
+        raise InputError(f"--out {shown(args.out)}: expected a .csv or .json file for a CONTACT "
                          "input file")
+    if out is not None:
+        check_output(out)
+    _check_models(args.normal, args.tangential)
     table = solve_inp(args.case, cases=_parse_cases(args.cases), profile_dirs=args.profiles or (),
                       scheduler=scheduler, warm=warm, normal=args.normal,
                       tangential=args.tangential,
@@ -97,7 +117,12 @@ def cmd_solve(args):
         return _run_inp(args, "sync")
     if args.cases or args.profiles:
         raise InputError("--case and --profiles apply to CONTACT input files (.inp)")
-    res = solve(load_case(args.case), args.normal, args.tangential)
+    if args.out:
+        check_output(args.out)
+    _check_models(args.normal, args.tangential)
+    case = load_case(args.case)
+    log.info("solving %s", args.case)
+    res = solve(case, args.normal, args.tangential)
     d = res.to_dict()
     if args.json:
         _print_json(d)
@@ -127,6 +152,7 @@ def cmd_geometry(args):
 def cmd_sweep(args):
     from .cases.case import load_case
     from .cases.sweep import parse_vary, sweep
+    check_scheduler(args.scheduler, auto=True)
     if _is_inp(args.case):
         return _run_inp(args, args.scheduler, warm=args.warm)
     if not args.vary:
@@ -134,16 +160,20 @@ def cmd_sweep(args):
                          "input file (.inp)")
     if args.cases or args.profiles or args.out:
         raise InputError("--case, --profiles and --out apply to CONTACT input files (.inp)")
+    _check_models(args.normal, args.tangential)
+    vary = dict(parse_vary(v, allow_large=args.allow_large) for v in args.vary)
     case = load_case(args.case)
-    vary = dict(parse_vary(v) for v in args.vary)
     out = sweep(case, vary, args.normal, args.tangential, scheduler=args.scheduler,
-                progress=not args.json or sys.stderr.isatty(), warm=args.warm)
+                progress=not args.json or sys.stderr.isatty(), warm=args.warm,
+                allow_large=args.allow_large)
     if args.json:
         _print_json(out)
     else:
         for c in out["cases"]:
             print(c["params"], c.get("error", ""))
             _print_table(c)
+            if "error" not in c and not c["converged"]:
+                print(f"  not converged: {c['message']}")
     solved = [c for c in out["cases"] if "error" not in c]
     bad = [c for c in solved if not c["converged"]]
     warned = sum(bool(c["warnings"]) for c in solved)
@@ -158,8 +188,13 @@ def cmd_sweep(args):
 def cmd_compare(args):
     from .cases.case import load_case
     from .cases.compare import DEFAULT_MODELS, compare, format_table, write_outputs
-    case = load_case(args.case)
     models = tuple(m.strip() for m in args.models.split(",")) if args.models else DEFAULT_MODELS
+    for m in models:
+        _check_models(m, None)
+    _check_models(None, args.tangential)
+    if args.out:
+        check_output(args.out, folder=True)
+    case = load_case(args.case)
     rows, results = compare(case, models, args.tangential)
     if args.json:
         _print_json({"rows": rows})
@@ -171,17 +206,21 @@ def cmd_compare(args):
 
 
 def cmd_wear(args):
-    from .wear import load_scenario
-    sc = load_scenario(args.scenario)
+    from .inputs import load_wear_scenario
+    from .wear.vehicle_scenario import VehicleWearScenario
+    out = check_output(args.out, folder=True)
+    if args.scheduler:
+        check_scheduler(args.scheduler)
+    _check_models(args.normal, args.tangential)
+    sc = load_wear_scenario(args.scenario)
     if args.scheduler:
         sc.scheduler = args.scheduler
-    out = Path(args.out)
-    if hasattr(sc, "routes"):                     # closed loop: a vehicle on routes
-        from .wear.closed_loop import ClosedLoopWear
+    sc = sc.with_models(args.normal, args.tangential)     # an unknown name fails here
+    out.mkdir(parents=True, exist_ok=True)
+    driver = sc.driver(out)
+    ds = driver.run(resume=not args.restart)
+    if isinstance(sc, VehicleWearScenario):               # closed loop: a vehicle on routes
         from .wear.plots import plot_closed_loop
-        sc = sc.with_models(args.normal, args.tangential)
-        out.mkdir(parents=True, exist_ok=True)
-        ds = ClosedLoopWear(sc, out).run(resume=not args.restart)
         plot_closed_loop(ds, out)
         bad = int(ds["not_converged"].sum()) if "not_converged" in ds else 0
         print(f"{ds.sizes['step']} steps, {ds.attrs['total_distance_m'] / 1e3:.1f} km, "
@@ -189,44 +228,40 @@ def cmd_wear(args):
               f"measures.png" + (" and records/" if sc.records else ""))
         return _report_status(bad == 0, f"{bad} local solves did not converge (see "
                               "'not_converged' in wear.nc)", [])
-    from .wear import WearSimulation
     from .wear.plots import plot_wear
-    if args.normal or args.tangential:
-        from .normal import normal_model_class
-        from .tangential import tangential_model_class
-        solver = sc.base.setdefault("solver", {})
-        if args.normal:
-            normal_model_class(args.normal)                 # a known name, or its error
-            solver["normal"] = args.normal
-        if args.tangential:
-            tangential_model_class(args.tangential)
-            solver["tangential"] = args.tangential
-    out.mkdir(parents=True, exist_ok=True)
-    sim = WearSimulation(sc, out)
-    ds = sim.run(resume=not args.restart)
-    plot_wear(ds, sim, out)
+    plot_wear(ds, driver, out)
     print(f"{ds.sizes['step']} steps, {ds.attrs['total_distance_m'] / 1e3:.1f} km; wrote "
           f"{out / 'wear.nc'} and plots")
 
 
 def cmd_wear_compare(args):
-    from .wear import load_scenario
+    from .inputs import load_wear_scenario
     from .wear.compare import compare_wear, comparison_rows, format_rows, parse_models
-    sc = load_scenario(args.scenario)
+    from .wear.vehicle_scenario import VehicleWearScenario
+    check_output(args.out, folder=True)
+    if args.scheduler:
+        check_scheduler(args.scheduler)
+    if args.models:
+        _check_pairs(parse_models(args.models))
+    sc = load_wear_scenario(args.scenario)
     if args.scheduler:
         sc.scheduler = args.scheduler
-    closed = hasattr(sc, "routes")
+    closed = isinstance(sc, VehicleWearScenario)
     spec = args.models or ("hertz+fastsim,kik-piotrowski+fastsim,stripes+fastsim,"
                            "analyn+fastsim,exact+exact" if closed else
                            "hertz+fastsim,kpec+fastsim,analyn+fastsim")
-    res = compare_wear(sc, parse_models(spec), Path(args.out))
+    pairs = parse_models(spec)
+    _check_pairs(pairs)
+    res = compare_wear(sc, pairs, Path(args.out))
     print(format_rows(comparison_rows(res)))
     print(f"wrote {Path(args.out) / 'wear_comparison.png'} and wear_comparison.csv")
 
 
 def cmd_simulate(args):
     from .inputs import load_dynamics_scenario
+    check_output(args.out, folder=True)
     if len(args.scenario) > 1:
+        check_scheduler(args.scheduler)
         from .dynamics.scenario import simulate_batch
         outs = [Path(args.out) / Path(s).stem for s in args.scenario]
         if len(set(outs)) != len(outs):
@@ -234,6 +269,10 @@ def cmd_simulate(args):
                              "output folder; rename them")
         # every scenario is read and checked before any runs
         scenarios = {str(s): load_dynamics_scenario(s) for s in args.scenario}
+        from .dynamics.roller_rig import RigScenario
+        rigs = [n for n, sc in scenarios.items() if isinstance(sc, RigScenario)]
+        if rigs:
+            raise InputError(f"simulate: roller-rig scenarios {rigs} run one at a time")
         res = simulate_batch(scenarios, outs, scheduler=args.scheduler)
         for r in res:
             if "error" in r:
@@ -244,8 +283,18 @@ def cmd_simulate(args):
         if any("error" in r for r in res):
             raise SystemExit(1)
         return
+    from .dynamics.roller_rig import RigScenario, run_rig_scenario
     from .dynamics.scenario import run_scenario
-    ds = run_scenario(load_dynamics_scenario(args.scenario[0]), args.out)
+    sc = load_dynamics_scenario(args.scenario[0])
+    if isinstance(sc, RigScenario):
+        ds = run_rig_scenario(sc, args.out)
+        print(f"{ds.attrs['run']} of the {ds.attrs['model']}: {float(ds['time'][-1]):.2f} s in "
+              f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical "
+              f"speed {ds.attrs['critical_speed_m_s']:.1f} m/s on the rig, "
+              f"{ds.attrs['track_critical_speed_m_s']:.1f} m/s on tangent track; wrote "
+              f"{Path(args.out) / 'simulation.nc'} and rig_forces.png")
+        return 0
+    ds = run_scenario(sc, args.out)
     print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
           f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
           f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
@@ -257,6 +306,8 @@ def cmd_profile(args):
     from .profiles import get_profile, write_profile
     from .core.plotting import plot_profile
     kind = args.kind
+    if args.out:
+        check_output(args.out)
     prof = get_profile(args.profile, kind, inclination=args.inclination)
     if args.action == "plot":
         path = plot_profile(prof, args.out or f"{prof.name}.png")
@@ -275,10 +326,17 @@ def cmd_track(args):
     if not (args.step > 0 and args.stop >= args.start):
         raise InputError(f"track: --from {args.start} --to {args.stop} --step {args.step}: "
                          "expected start <= stop and a step > 0 (m)")
+    if not all(np.isfinite([args.start, args.stop, args.step])):
+        raise InputError(f"track: --from {args.start} --to {args.stop} --step {args.step}: "
+                         "expected finite lengths (m)")
+    count = int((args.stop - args.start) / args.step + 1e-9) + 1
+    check_job_size(count, f"track --from {args.start:g} --to {args.stop:g} --step "
+                   f"{args.step:g}", allow_large=args.allow_large, seconds_each=0.5)
+    out = check_output(args.out, folder=True)
+    _check_models(args.normal, args.tangential)
     positions = np.arange(args.start, args.stop + 0.5 * args.step, args.step)
     ds = sweep_along_track(load_case(args.case), positions, args.normal, args.tangential,
                            progress=True)
-    out = Path(args.out)
     out.mkdir(parents=True, exist_ok=True)
     write_netcdf(ds, out / "track_sweep.nc")
     plot_track_sweep(ds, out / "track_sweep.png")
@@ -295,6 +353,9 @@ def cmd_fmu(args):
     except ImportError as exc:
         raise InputError(f"fmu: {exc}; install the 'fmu' extra (pip install "
                          "'railcontact[fmu]')") from None
+    out = Path(args.out)
+    if not out.is_dir():
+        check_output(out)
     params = {"mode": args.mode}
     for key, value in (("case_file", args.case), ("wheel_profile", args.wheel),
                        ("rail_profile", args.rail), ("normal_model", args.normal),
@@ -307,7 +368,7 @@ def cmd_fmu(args):
 
 def cmd_demo(args):
     from .demo import run_demo
-    run_demo(Path(args.out))
+    run_demo(check_output(args.out, folder=True))
 
 
 def _inp_arguments(p):
@@ -348,6 +409,8 @@ def build_parser():
     w.add_argument("--tangential")
     w.add_argument("--scheduler", default="auto",
                    help="sync, threads, processes, auto, or a Dask scheduler address")
+    w.add_argument("--allow-large", action="store_true",
+                   help=f"run a sweep of more than {MAX_JOB_CASES} cases")
     w.add_argument("--warm", action="store_true",
                    help="solve neighbouring cases in chains, each warm-started from the "
                         "previous solution (exact solvers)")
@@ -377,7 +440,8 @@ def build_parser():
     wc.add_argument("--out", default="wear_comparison")
     wc.set_defaults(func=cmd_wear_compare)
     sm = sub.add_parser("simulate", help="vehicle dynamics: wheelset, bogie or vehicle on a "
-                        "track (several scenarios: one Dask batch)")
+                        "track, or a wheelset or bogie on a roller rig ([roller_rig]); "
+                        "several track scenarios: one Dask batch")
     sm.add_argument("scenario", nargs="+")
     sm.add_argument("--out", default="simulation_output",
                     help="output folder (one sub-folder per scenario for a batch)")
@@ -401,6 +465,8 @@ def build_parser():
     t.add_argument("--normal")
     t.add_argument("--tangential")
     t.add_argument("--out", default="track_output")
+    t.add_argument("--allow-large", action="store_true",
+                   help=f"run more than {MAX_JOB_CASES} positions")
     t.set_defaults(func=cmd_track)
     f = sub.add_parser("fmu", help="write the wheel-rail contact element as an FMI 3.0 "
                        "co-simulation FMU for multibody tools (docs/multibody.md)")
@@ -423,11 +489,24 @@ def build_parser():
     return p
 
 
+class _Format(logging.Formatter):
+    """Log records on stderr in the one format of the command's messages:
+    ``railcontact: warning: ...`` (``info``, ``debug`` with --verbose)."""
+
+    def format(self, record):
+        return f"railcontact: {record.levelname.lower()}: {record.getMessage()}"
+
+
 def main(argv=None) -> int:
+    """Run the command line ``argv`` in this process; returns the exit status (0 done,
+    1 a result written that is not a solution or has a derailed wheel, 2 a bad input,
+    130 interrupted)."""
     parser = build_parser()
     args = parser.parse_args(argv)
+    handler = logging.StreamHandler(sys.stderr)
+    handler.setFormatter(_Format())
     logging.basicConfig(level=logging.INFO if args.verbose else logging.WARNING,
-                        format="%(levelname)s %(name)s: %(message)s")
+                        handlers=[handler], force=True)
     if getattr(args, "kind", "x") is None:
         from .profiles.library import RAIL_PROFILES
         args.kind = "rail" if args.profile.upper() in RAIL_PROFILES or \
@@ -440,8 +519,76 @@ def main(argv=None) -> int:
     except KeyboardInterrupt:
         print("railcontact: interrupted", file=sys.stderr)
         return 130
+    except OSError as exc:                   # the machine's: a full disk, a lost folder
+        print(f"railcontact: error: {exc}", file=sys.stderr)
+        return 2
     return int(status or 0)
 
 
+#: seconds the command is given to stop by itself after Ctrl-C before it is ended
+INTERRUPT_GRACE = 0.3
+
+
+def console_main() -> None:
+    """The ``railcontact`` console script: :func:`main` in a child process that the
+    parent ends within a second of Ctrl-C (SIGINT) or SIGTERM, so that a command
+    stops even inside a compiled loop that does not look at signals; exit status
+    130 then.  Every file is written whole (:mod:`railcontact.core.files`), so an
+    ended command leaves no half-written output.  Where ``os.fork`` is missing the
+    command runs in this process."""
+    import os
+    import signal
+    import time
+    signal.signal(signal.SIGINT, signal.default_int_handler)     # KeyboardInterrupt again
+    if not hasattr(os, "fork") or os.environ.get("RAILCONTACT_NO_FORK"):
+        sys.exit(main())
+    sys.stdout.flush()
+    sys.stderr.flush()
+    pid = os.fork()
+    if pid == 0:                                             # the child runs the command
+        try:
+            code = main()
+        except SystemExit as exc:
+            code = exc.code if isinstance(exc.code, int) else (0 if exc.code is None else 1)
+        except KeyboardInterrupt:
+            print("railcontact: interrupted", file=sys.stderr)
+            code = 130
+        except BaseException:                                # a bug: its traceback
+            import traceback
+            traceback.print_exc()
+            code = 1
+        sys.stdout.flush()
+        sys.stderr.flush()
+        os._exit(code)
+
+    def stop(signum, frame):
+        raise KeyboardInterrupt
+
+    signal.signal(signal.SIGINT, stop)
+    signal.signal(signal.SIGTERM, stop)
+    try:
+        _, status = os.waitpid(pid, 0)
+    except KeyboardInterrupt:
+        signal.signal(signal.SIGINT, signal.SIG_IGN)
+        signal.signal(signal.SIGTERM, signal.SIG_IGN)
+        try:
+            os.kill(pid, signal.SIGINT)                  # its own 'interrupted' line
+        except ProcessLookupError:
+            pass
+        end = time.monotonic() + INTERRUPT_GRACE
+        while time.monotonic() < end:
+            if os.waitpid(pid, os.WNOHANG)[0]:
+                break
+            time.sleep(0.01)
+        else:                                            # deaf to signals: ended
+            os.kill(pid, signal.SIGKILL)
+            print("railcontact: interrupted", file=sys.stderr)
+        sys.stderr.flush()
+        os._exit(130)                        # no clean-up of this process's imports
+    sys.stdout.flush()
+    sys.stderr.flush()
+    os._exit(128 + os.WTERMSIG(status) if os.WIFSIGNALED(status) else os.WEXITSTATUS(status))
+
+
 if __name__ == "__main__":
-    sys.exit(main())
+    console_main()

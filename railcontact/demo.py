@@ -18,7 +18,8 @@ from .core.plotting import plot_contact_positions, plot_patches
 from .profiles import rail_profile, s1002
 from .cases.results import PatchResult
 from .tangential import get_tangential_model
-from .wear import WearSimulation, scenario_from_dict
+from .inputs import wear_scenario_from_dict
+from .wear import WearSimulation
 from .wear.plots import plot_wear
 
 log = logging.getLogger(__name__)
@@ -85,7 +86,7 @@ def run_demo(out: Path, load: float = 75e3, velocity: float = 30.0, friction: fl
                               {"lateral_shift": -0.004, "yaw": -0.004}]}
     wear_dir = out / "wear"
     wear_dir.mkdir(exist_ok=True)
-    sim = WearSimulation(scenario_from_dict(wear_raw), wear_dir)
+    sim = WearSimulation(wear_scenario_from_dict(wear_raw), wear_dir)
     wds = sim.run(resume=False)
     plot_wear(wds, sim, wear_dir)
     print(f"wear: {wds.sizes['step']} steps, {wds.attrs['total_distance_m'] / 1e3:.0f} km, "

@@ -35,11 +35,11 @@ def read_csv(path):
 def wear_vehicle_example(tmp_path_factory):
     """examples/wear_vehicle.toml run once (closed-loop wear, Hertz + FASTSIM):
     its output folder and dataset."""
-    from railcontact.wear import load_scenario
+    from railcontact.inputs import load_wear_scenario
     from railcontact.wear.closed_loop import ClosedLoopWear
     from railcontact.wear.plots import plot_closed_loop
     out = tmp_path_factory.mktemp("wear_vehicle")
-    ds = ClosedLoopWear(load_scenario(ROOT / "examples" / "wear_vehicle.toml"), out,
+    ds = ClosedLoopWear(load_wear_scenario(ROOT / "examples" / "wear_vehicle.toml"), out,
                         progress=False).run(resume=False)
     plot_closed_loop(ds, out)
     return out, ds

@@ -104,3 +104,82 @@ def test_every_module_has_its_test_file():
         if not mirror.is_file():
             missing.append(str(mirror.relative_to(PACKAGE.parent)))
     assert not missing, sorted(missing)
+
+
+#: at most this many parameters per function, compiled kernels included (HELPER
+#: rules, docs/architecture.md): a longer list takes a parameter object
+MAX_PARAMETERS = 12
+
+#: functions over the limit that issue 30 rewrites ("module:function", as
+#: reported below).  PENDING: empty this list when that work is merged; the test
+#: fails on an entry that no longer exceeds the limit, so it cannot go stale.
+PENDING_ISSUE_30 = {
+    "railcontact.geometry.search:find_contact",    # 19: case keys re-validated
+    "railcontact.geometry.search:_make_patch",     # 15
+    "railcontact.cases.batch:_forces",             # 13
+}
+
+
+def _parameter_count(node) -> int:
+    """Parameters of a function: positional and keyword-only (not self or cls),
+    *args and **kwargs one each."""
+    a = node.args
+    names = [x.arg for x in a.posonlyargs + a.args + a.kwonlyargs]
+    n = len(names) - (1 if names and names[0] in ("self", "cls") else 0)
+    return n + (a.vararg is not None) + (a.kwarg is not None)
+
+
+def _long_signatures(source: str, module: str) -> dict:
+    """``module:function`` -> parameter count of every function (methods, nested
+    functions and compiled kernels too) over ``MAX_PARAMETERS``."""
+    out = {}
+    for node in ast.walk(ast.parse(source)):
+        if isinstance(node, (ast.FunctionDef, ast.AsyncFunctionDef)):
+            n = _parameter_count(node)
+            if n > MAX_PARAMETERS:
+                out[f"{module}:{node.name}"] = n
+    return out
+
+
+def test_no_function_takes_more_than_twelve_parameters():
+    found = {}
+    for module, path in _modules().items():
+        found.update(_long_signatures(path.read_text(encoding="utf-8"), module))
+    over = {k: v for k, v in found.items() if k not in PENDING_ISSUE_30}
+    assert not over, f"functions with more than {MAX_PARAMETERS} parameters: {over}"
+    stale = PENDING_ISSUE_30 - set(found)
+    assert not stale, f"no longer over the limit, remove from PENDING_ISSUE_30: {sorted(stale)}"
+
+
+def test_the_parameter_check_catches_long_signatures():
+    names = [f"a{i}" for i in range(13)]
+    src = (f"def thirteen({', '.join(names)}):\n    pass\n"
+           f"def twelve({', '.join(names[:12])}):\n    pass\n"
+           "class K:\n"
+           f"    def method(self, {', '.join(names[:12])}):\n        pass\n"
+           f"    def starred(self, {', '.join(names[:11])}, *args, **kw):\n        pass\n"
+           "@njit(cache=True)\n"
+           f"def kernel({', '.join(names[:10])}, *, b0, b1, b2=1):\n    pass\n")
+    assert _long_signatures(src, "m") == {"m:thirteen": 13, "m:starred": 13, "m:kernel": 13}
+
+
+#: who may call the case-file parser (railcontact.cases.case: case_from_dict,
+#: load_case): the front ends, the parser's own module, the sweep (which varies a
+#: case file's dotted keys) and CONTACT's input files (read into case files); every
+#: other module takes parsed, typed objects (docs/architecture.md, "Data flow")
+CASE_PARSER_USERS = {"railcontact", "railcontact.cli", "railcontact.demo", "railcontact.inputs",
+                     "railcontact.fmu", "railcontact.cases.case", "railcontact.cases.sweep",
+                     "railcontact.contact_inp", "railcontact.contact_inp.mapping"}
+
+
+def test_only_front_ends_parse_case_files():
+    users = set()
+    for name, path in _modules().items():
+        for node in ast.walk(ast.parse(path.read_text())):
+            if isinstance(node, ast.ImportFrom) and node.module and (
+                    node.module.endswith("cases.case") or node.module == "railcontact"
+                    or (node.level == 1 and node.module == "case" and ".cases" in name)):
+                if {a.name for a in node.names} & {"case_from_dict", "load_case"}:
+                    users.add(name)
+    assert users - CASE_PARSER_USERS == set(), sorted(users - CASE_PARSER_USERS)
+    assert "railcontact.cli" in users and "railcontact.inputs" in users   # the scan sees them

@@ -189,3 +189,60 @@ def test_flange_climb_is_flagged(tmp_path, capsys, shift, climbing):
     flagged = any("flange climb" in w for w in d["warnings"])
     assert flagged == climbing
     assert ("flange climb" in err) == climbing
+
+
+BIG_EXACT = """[bodies]
+radii = {wheel_rolling = 0.46, rail_lateral = 0.3}
+normal_force = 1e5
+[solver]
+normal = "exact"
+tangential = "exact"
+grid = [500, 500]
+"""
+
+
+def test_ctrl_c_stops_a_compiled_loop_within_a_second(tmp_path):
+    """SIGINT (Ctrl-C) while the exact solvers iterate on 250 000 elements in
+    compiled code: the command ends within a second with exit status 130 and one
+    line, and writes nothing."""
+    import os
+    import signal
+    import time
+    case = tmp_path / "big.toml"
+    case.write_text(BIG_EXACT)
+    from pathlib import Path
+    script = Path(sys.executable).parent / "railcontact"      # the console script
+    if not script.exists():
+        pytest.skip("the railcontact console script is not installed beside Python")
+    env = {**os.environ, "PYTHONUNBUFFERED": "1"}
+    p = subprocess.Popen([str(script), "-v", "solve", str(case), "--out",
+                          str(tmp_path / "r.nc")], stdout=subprocess.PIPE,
+                         stderr=subprocess.PIPE, text=True, env=env)
+    for line in p.stderr:                   # the case read, the solvers about to run
+        if "railcontact: info: solving" in line:
+            break
+    time.sleep(2.0)                         # inside the exact solvers' iterations
+    assert p.poll() is None
+    t0 = time.monotonic()
+    p.send_signal(signal.SIGINT)
+    out, err = p.communicate(timeout=20)
+    elapsed = time.monotonic() - t0
+    assert p.returncode == 130 and elapsed < 1.0, (p.returncode, elapsed, err)
+    assert err.strip().splitlines()[-1] == "railcontact: interrupted"
+    assert not (tmp_path / "r.nc").exists()
+
+
+def test_warnings_in_one_format(tmp_path, capsys):
+    """Warnings of a result go to stderr as 'railcontact: warning: ...' lines and
+    into the JSON; p_max beyond the material's limit is one of them."""
+    text = (EX / "bodies.toml").read_text().replace("normal_force = 111.5e3", "normal_force = 5e7")
+    f = tmp_path / "hard.toml"
+    f.write_text(text)
+    code, out, err = run_cli(["solve", str(f), "--json"], capsys)
+    d = json.loads(out)
+    assert code == 0 and any("plasticity: p_max" in w for w in d["warnings"])
+    lines = err.strip().splitlines()
+    assert lines and all(ln.startswith("railcontact: warning: ") for ln in lines)
+    f.write_text(text.replace("[material]", "[material]\nyield_stress = 5e9"))
+    code, out, err = run_cli(["solve", str(f), "--json"], capsys)
+    assert code == 0 and not json.loads(out)["warnings"]

@@ -27,8 +27,15 @@ def test_case_examples(path, tmp_path, request):
     if "[vehicle]" in text and "[wear]" in text:       # closed-loop wear (run once)
         out, ds = request.getfixturevalue("wear_vehicle_example")
         assert ds.sizes["step"] >= 1 and ds.sizes["route"] >= 3
-        for f in ("wear.nc", "wear.png", "measures.png", "checkpoint.npz"):
+        for f in ("wear.nc", "wear.png", "measures.png", "checkpoint.nc"):
             assert (out / f).is_file()
+        return
+    if "[roller_rig]" in text:           # a wheelset on a roller rig
+        from railcontact.dynamics.roller_rig import run_rig_scenario
+        from railcontact.inputs import load_dynamics_scenario
+        ds = run_rig_scenario(load_dynamics_scenario(path), tmp_path, progress=False)
+        assert ds.sizes["time"] > 10 and (tmp_path / "rig_forces.png").is_file()
+        assert ds.attrs["critical_speed_m_s"] < ds.attrs["track_critical_speed_m_s"]
         return
     if "[vehicle]" in text:
         from railcontact.dynamics.scenario import run_scenario
@@ -42,8 +49,9 @@ def test_case_examples(path, tmp_path, request):
         assert float(abs(ds["Y_over_Q"]).max()) < 0.8
         return
     if "[wear]" in text:
-        from railcontact.wear import WearSimulation, load_scenario
-        ds = WearSimulation(load_scenario(path), tmp_path, progress=False).run()
+        from railcontact.inputs import load_wear_scenario
+        from railcontact.wear import WearSimulation
+        ds = WearSimulation(load_wear_scenario(path), tmp_path, progress=False).run()
         assert ds.sizes["step"] >= 1 and (tmp_path / "wear.nc").is_file()
         return
     res = rc.solve(rc.load_case(path))

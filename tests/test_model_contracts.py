@@ -2,8 +2,11 @@
 declared capabilities, and every normal x tangential pair meets the analytic
 solutions on a Hertzian gap (as SciPy's test_ivp loops over its methods)."""
 
+import ast
 import math
+import re
 from functools import lru_cache
+from pathlib import Path
 
 import numpy as np
 import pytest
@@ -102,3 +105,99 @@ def test_batch_path_equals_the_models(normal, tangential):
     ts = get_tangential_model(tangential).solve(ns, geo, MAT, geo.creepage, MU, 1.0)
     assert res.normal_force[0] == pytest.approx(ns.normal_force, rel=0.01)
     assert np.abs(res.Fx[0] - ts.fx) < 0.02 * MU * ns.normal_force
+
+
+# ------------------------------------------------ capabilities used, not probed
+#: the attributes of the models' contract (the Protocols) and those a declared
+#: capability names (``online_law``, ``strip_forces``, ``mode``)
+CONTRACT_ATTRIBUTES = {"name", "capabilities", "solve", "online_law", "strip_forces", "mode"}
+#: the functions that ask a registry for a capability, by layer
+_REGISTRY_CALLS = {"normal_supports": ("normal", 1), "normal_models": ("normal", 0),
+                   "tangential_supports": ("tangential", 1),
+                   "tangential_models": ("tangential", 0)}
+_MODEL = re.compile(r"(^|\.|_)(n|t)?model$|^cls$")
+_SCENARIO = re.compile(r"(^|\.)(sc|scenario)$")
+
+
+def _layers(text: str) -> set:
+    """The layers whose models an expression names (``self.nmodel``, ``tmodel``)."""
+    out = set()
+    if re.search(r"nmodel|normal", text):
+        out.add("normal")
+    if re.search(r"tmodel|tangential", text):
+        out.add("tangential")
+    return out or {"normal", "tangential"}
+
+
+@lru_cache(maxsize=None)
+def _scan():
+    """What the package's callers ask of the models: (where, layers, capability) of
+    every ``"cap" in x.capabilities`` and registry query, and (where, object,
+    attribute) of every getattr/hasattr on a model or a scenario."""
+    import railcontact
+    root = Path(railcontact.__file__).parent
+    asked, probes = [], []
+    for path in sorted(root.rglob("*.py")):
+        tree = ast.parse(path.read_text(encoding="utf-8"))
+        for node in ast.walk(tree):
+            where = f"{path.relative_to(root.parent)}:{getattr(node, 'lineno', 0)}"
+            if (isinstance(node, ast.Compare) and isinstance(node.left, ast.Constant)
+                    and isinstance(node.left.value, str)
+                    and isinstance(node.ops[0], (ast.In, ast.NotIn))):
+                caps = [n for n in ast.walk(node.comparators[0])
+                        if isinstance(n, ast.Attribute) and n.attr == "capabilities"]
+                for n in caps:
+                    asked.append((where, frozenset(_layers(ast.unparse(n.value))),
+                                  node.left.value))
+            if isinstance(node, ast.Call) and isinstance(node.func, ast.Name):
+                fn = node.func.id
+                if fn in _REGISTRY_CALLS:
+                    layer, pos = _REGISTRY_CALLS[fn]
+                    if len(node.args) > pos and isinstance(node.args[pos], ast.Constant):
+                        asked.append((where, frozenset({layer}), node.args[pos].value))
+                if fn in ("getattr", "hasattr") and len(node.args) >= 2 \
+                        and isinstance(node.args[1], ast.Constant):
+                    obj = ast.unparse(node.args[0])
+                    if _MODEL.search(obj) or _SCENARIO.search(obj):
+                        probes.append((where, obj, node.args[1].value))
+    return asked, probes
+
+
+def test_the_scan_sees_the_callers():
+    """The scan finds known uses (so that the tests below can fail)."""
+    asked, _ = _scan()
+    found = {(w.split(":")[0], c) for w, _, c in asked}
+    assert ("railcontact/wear/postprocess.py", "grid-reuse") in found
+    assert ("railcontact/cases/batch.py", "strip-march") in found
+
+
+@pytest.mark.parametrize("layer, declared", [("normal", NORMAL_CAPABILITIES),
+                                             ("tangential", TANGENTIAL_CAPABILITIES)])
+def test_every_declared_capability_is_used(layer, declared):
+    asked, _ = _scan()
+    used = {c for _, layers, c in asked if layer in layers}
+    assert set(declared) - used == set(), f"{layer} capabilities no caller asks for"
+
+
+def test_no_caller_asks_an_undeclared_capability():
+    asked, _ = _scan()
+    declared = {"normal": set(NORMAL_CAPABILITIES), "tangential": set(TANGENTIAL_CAPABILITIES)}
+    bad = [(w, c) for w, layers, c in asked
+           if not any(c in declared[layer] for layer in layers)]
+    assert bad == []
+
+
+def test_no_caller_probes_a_model_or_a_scenario():
+    """getattr/hasattr on a model only for its contract's attributes; never on a
+    scenario (its type says what it is)."""
+    _, probes = _scan()
+    bad = [(w, obj, attr) for w, obj, attr in probes
+           if _SCENARIO.search(obj) or attr not in CONTRACT_ATTRIBUTES]
+    assert bad == []
+
+
+@pytest.mark.parametrize("name", tangential_models())
+def test_coupled_models_declare_their_mode(name):
+    cls = tangential_model_class(name)
+    model = get_tangential_model(name)
+    assert ("coupled" in cls.capabilities) == isinstance(getattr(model, "mode", None), str)

@@ -19,6 +19,8 @@ from .patches import (add_tangential, coupled_models, lateral_ratio, nearest_pat
 from .results import vertical_force_on_rail
 from ..tangential import get_tangential_model
 
+from ..core.status import SolverStatus
+
 log = logging.getLogger(__name__)
 
 
@@ -214,9 +216,22 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     balance.standin = evaluate.standin
     results = ev.results
     side = case.wheel_rail.side
+    wheel_rail_validity(results, evaluate.bodies)      # both wheels: either may derail
     if side != "both":
+        other = [r for r in results if r.geometry.side != side]
         results = [r for r in results if r.geometry.side == side]
+        if results:
+            _report_other_wheel(results[0], other)
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
-    wheel_rail_validity(results, evaluate.bodies)
     return results, ev.contact, balance
+
+
+def _report_other_wheel(first, other) -> None:
+    """A derailment or flange climb of the wheel not reported (``wheelset.side``)
+    carried by the first reported patch's validity: a case is no solution where
+    either wheel stands on its flange tip."""
+    parts = [(f"the {r.geometry.side} wheel (not reported)", r.validity) for r in other
+             if r.validity is not None and (not r.validity.converged or r.validity.warnings)]
+    if parts:
+        first.validity = SolverStatus.combine([("", first.validity), *parts])

@@ -23,6 +23,7 @@ from dataclasses import dataclass, field
 import numpy as np
 from numba import njit
 
+from ..core.checks import shown
 from ..core.errors import InputError
 from ..core.hertz_theory import hertz_ellipses
 from ..core.materials import Material, STEEL
@@ -99,7 +100,7 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
     if not patches:
         raise InputError("solve_patches: no patches given")
     if not (math.isfinite(friction) and 0 < friction <= 5):
-        raise InputError(f"friction coefficient {friction!r}: expected a value in (0, 5]")
+        raise InputError(f"friction coefficient {shown(friction)}: expected a value in (0, 5]")
     t0 = time.perf_counter()
     n = len(patches)
     A = np.fromiter((p.curvatures[0] for p in patches), float, n)
@@ -115,7 +116,7 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
     if ellipse and law is not None:
         nx, ny = (int(v) for v in fastsim_grid)
         if not (2 <= nx <= 500 and 2 <= ny <= 500):
-            raise InputError(f"fastsim_grid {fastsim_grid!r}: expected two integers in "
+            raise InputError(f"fastsim_grid {shown(fastsim_grid)}: expected two integers in "
                              "[2, 500]")
         a, b, F = hertz_ellipses(A, B, material.contact_modulus, pen)
         ok = F > 0
@@ -160,14 +161,17 @@ def _strip_patches(patches, normal, tangential, material, friction, cr, V, strip
     that marches strips does so (``strip_forces``), an online law runs on each
     patch's equivalent ellipse."""
     if not (isinstance(strips, (int, np.integer)) and 5 <= strips <= 1000):
-        raise InputError(f"strips {strips!r}: expected an integer in [5, 1000]")
+        raise InputError(f"strips {shown(strips)}: expected an integer in [5, 1000]")
     nx = int(nx)
     if not 2 <= nx <= 500:
-        raise InputError(f"fastsim_grid elements per strip {nx!r}: expected [2, 500]")
+        raise InputError(f"fastsim_grid elements per strip {shown(nx)}: expected [2, 500]")
     if normal_supports(normal, "ellipse"):
         st = hertz_ellipse_strips(patches, material.contact_modulus, strips=int(strips))
-    else:
+    elif normal_supports(normal, "strips"):
         st = solve_strips(normal, patches, material.contact_modulus, strips=int(strips))
+    else:
+        raise InputError(f"normal model {normal!r} in batch: expected one that declares "
+                         "'ellipse' or 'strips'")
     F = st.normal_force
     a, b = st.equivalent_ellipses()
     ok = (F > 0) & (a > 0) & (b > 0)

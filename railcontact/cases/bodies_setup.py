@@ -6,6 +6,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..core.checks import shown
 from ..core.errors import CaseFileError
 from .keys import CaseKeys
 
@@ -48,7 +49,7 @@ def parse_bodies(case: CaseKeys) -> BodiesSetup:
     for k in RADII:
         r = given.get(k, math.inf)
         if isinstance(r, bool) or not isinstance(r, (int, float)) or r == 0 or math.isnan(r):
-            raise CaseFileError(f"bodies.radii.{k} = {r!r}: expected a radius in m (non-zero; "
+            raise CaseFileError(f"bodies.radii.{k} = {shown(r)}: expected a radius in m (non-zero; "
                                 "negative = concave, inf = flat)")
         radii[k] = float(r)
         curv[k] = 0.0 if math.isinf(r) else 1.0 / r

@@ -11,6 +11,7 @@ from .bodies_setup import RADII, BodiesSetup, parse_bodies
 from .keys import PROFILE_OPTIONS, CaseKeys
 from .surface_setup import SurfaceCaseSetup, is_surface_case, parse_surface_case
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
+from ..core.checks import check_grid_size, shown
 from ..core.errors import CaseFileError, InputError, RailContactError
 from ..core.files import read_toml
 from ..core.materials import Material
@@ -21,7 +22,7 @@ from ..tangential import get_tangential_model
 _ALLOWED = {
     "title": None,
     "material": {"young_modulus", "poisson_ratio", "wheel_young_modulus",
-                 "wheel_poisson_ratio"},
+                 "wheel_poisson_ratio", "yield_stress"},
     "friction": {"coefficient", "variation"},
     "wheel": {"profile", "nominal_radius", "profile_left", "units"} | PROFILE_OPTIONS,
     "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
@@ -39,7 +40,7 @@ _ALLOWED = {
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options", "force_tolerance", "search_length",
-               "contact_angle", "rigid_slip"},
+               "contact_angle", "rigid_slip", "allow_large"},
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
 }
@@ -92,14 +93,32 @@ class Case(CaseKeys):
 
     def with_value(self, dotted: str, value) -> "Case":
         """A copy of the case with one dotted key set (used by sweeps)."""
+        return self.with_values({dotted: value})
+
+    def with_values(self, values: dict) -> "Case":
+        """A copy of the case with the dotted keys of ``values`` set (``{"wheelset.yaw":
+        0.002, "creepage": {...}}``; a value may be a :class:`~railcontact.profiles.Profile`
+        for a profile key), parsed and checked as a case file is."""
         raw = copy.deepcopy(self.raw)
-        node = raw
-        parts = dotted.split(".")
-        for part in parts[:-1]:
-            node = node.setdefault(part, {})
-            if not isinstance(node, dict):
-                raise CaseFileError(f"{dotted}: {part} is not a table")
-        node[parts[-1]] = value
+        for dotted, value in values.items():
+            node = raw
+            parts = dotted.split(".")
+            for part in parts[:-1]:
+                node = node.setdefault(part, {})
+                if not isinstance(node, dict):
+                    raise CaseFileError(f"{dotted}: {part} is not a table")
+            node[parts[-1]] = value
+        return case_from_dict(raw, self.base_dir)
+
+    def with_models(self, normal: str | None = None, tangential: str | None = None) -> "Case":
+        """A copy with other models (``[solver]``'s normal and tangential; the options of
+        a replaced model are dropped), checked as a case file is."""
+        raw = copy.deepcopy(self.raw)
+        sol = raw.setdefault("solver", {})
+        for key, name in (("normal", normal), ("tangential", tangential)):
+            if name:
+                sol[key] = name
+                sol.pop(f"{key}_options", None)
         return case_from_dict(raw, self.base_dir)
 
 
@@ -126,7 +145,7 @@ def _check_keys(raw: dict) -> None:
     if "bodies" in raw:
         radii = raw["bodies"].get("radii")
         if not isinstance(radii, dict) or set(radii) - set(RADII) or not radii:
-            raise CaseFileError(f"bodies.radii = {radii!r}: expected a table with keys "
+            raise CaseFileError(f"bodies.radii = {shown(radii)}: expected a table with keys "
                                 f"{sorted(RADII)} (m; negative = concave, inf = flat)")
 
 
@@ -142,6 +161,13 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     normal = str(sol.get("normal", "hertz")).lower()
     tangential = str(sol.get("tangential", "fastsim")).lower()
     grid, element_size = _grid(sol)
+    allow_large = sol.get("allow_large", False)
+    if not isinstance(allow_large, bool):
+        raise CaseFileError(f"solver.allow_large = {shown(allow_large)}: expected true or false")
+    if grid:
+        check_grid_size(grid, "solver.grid", allow_large)
+    if keys.get("material.yield_stress") is not None:
+        keys.number("material.yield_stress", None, 1e6, 1e11, "Pa")
     normal_options = dict(sol.get("normal_options", {}))
     if "plasticity" in raw:
         if "pressure_limit" in normal_options:
@@ -201,11 +227,13 @@ def _grid(sol: dict) -> tuple:
         v = sol.get(key)
         if v is not None:
             if not (isinstance(v, list) and len(v) == 2
-                    and all(isinstance(t, (int, float)) and t > 0 for t in v)):
-                raise CaseFileError(f"solver.{key} = {v!r}: expected two positive numbers "
-                                    "(rolling, lateral)")
-            if key == "grid" and not all(float(t).is_integer() for t in v):
-                raise CaseFileError(f"solver.grid = {v!r}: expected two integers")
+                    and all(isinstance(t, (int, float)) and not isinstance(t, bool)
+                            and math.isfinite(t) and t > 0 for t in v)):
+                raise CaseFileError(f"solver.{key} = {shown(v)}: expected two positive "
+                                    "finite numbers (rolling, lateral)")
+            if key == "grid" and not all(float(t).is_integer() and 2 <= t <= 2000 for t in v):
+                raise CaseFileError(f"solver.grid = {shown(v)}: expected two integers in "
+                                    "[2, 2000]")
             out[key] = tuple(int(t) if key == "grid" else float(t) for t in v)
     if len(out) == 2:
         raise CaseFileError("solver: give either grid or element_size, not both")
@@ -220,7 +248,7 @@ def _pressure_limit(keys: CaseKeys, normal: str) -> float:
     pl = keys.raw["plasticity"]
     if normal != "exact":
         raise CaseFileError(f"[plasticity] bounds the pressure of the exact normal model; "
-                            f"solver.normal is {normal!r} (expected 'exact')")
+                            f"solver.normal is {shown(normal)} (expected 'exact')")
     if "pressure_limit" in pl:
         if "yield_stress" in pl or "pressure_factor" in pl:
             raise CaseFileError("[plasticity]: give pressure_limit, or yield_stress (with "
@@ -249,13 +277,13 @@ def _friction_variation(case: CaseKeys) -> tuple | None:
               and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
                       for v in a + c))
     if not ok:
-        raise CaseFileError(f"friction.variation = {var!r}: expected a table with lists angle "
+        raise CaseFileError(f"friction.variation = {shown(var)}: expected a table with lists angle "
                             "[rad] and coefficient of equal length")
     if any(b <= a for a, b in zip(var["angle"], var["angle"][1:])):
-        raise CaseFileError(f"friction.variation.angle = {var['angle']!r}: expected increasing "
+        raise CaseFileError(f"friction.variation.angle = {shown(var['angle'])}: expected increasing "
                             "angles [rad]")
     if any(not 0.0 <= c <= 5.0 for c in var["coefficient"]):
-        raise CaseFileError(f"friction.variation.coefficient = {var['coefficient']!r}: expected "
+        raise CaseFileError(f"friction.variation.coefficient = {shown(var['coefficient'])}: expected "
                             "values in [0, 5]")
     return (tuple(float(a) for a in var["angle"]), tuple(float(c) for c in var["coefficient"]))
 

@@ -22,6 +22,7 @@ pass gives the decoupled solution.
 from __future__ import annotations
 
 import logging
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -69,9 +70,20 @@ def slip_from_pressure(x, y, p, material, mode: str = "rolling"):
 MAX_ALTERNATIONS = 30
 
 
+@dataclass(frozen=True)
+class Alternation:
+    """When the alternation between the normal and the tangential problem stops."""
+
+    #: largest change of the pressure and of the traction between two alternations,
+    #: relative to p_max and mu p_max [-]
+    tol: float = 1e-5
+    #: alternations at most (None: ``MAX_ALTERNATIONS``)
+    maxiter: int | None = None
+
+
 def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, velocity,
                   normal_force=None, penetration=None, grid=None, element_size=None,
-                  tol: float = 1e-5, maxiter: int | None = None):
+                  alternation: Alternation | None = None):
     """Normal and tangential solution of one patch of dissimilar bodies.
 
     ``nmodel`` and ``tmodel`` must be the exact models.  Returns the normal and
@@ -81,11 +93,13 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
     if "coupled" not in nmodel.capabilities & tmodel.capabilities:
         raise InputError("coupled normal-tangential solution of dissimilar materials needs "
                          "normal = 'exact' and tangential = 'exact'")
-    maxiter = MAX_ALTERNATIONS if maxiter is None else int(maxiter)
+    alternation = alternation or Alternation()
+    tol = alternation.tol
+    maxiter = MAX_ALTERNATIONS if alternation.maxiter is None else int(alternation.maxiter)
     kw = {"grid": grid, "element_size": element_size}
     load = {"normal_force": normal_force, "penetration": penetration}
     ns = nmodel.solve(geometry, material, **load, **kw)
-    mode = getattr(tmodel, "mode", "rolling")
+    mode = tmodel.mode                      # declared with "coupled"
     ts = tmodel.solve(ns, geometry, material, creepage, friction, velocity,
                       extra_slip=slip_from_pressure(ns.x, ns.y, ns.pressure, material, mode))
     converged = not material.is_dissimilar
@@ -105,7 +119,7 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
         log.debug("coupling iteration %d: change p %.2e, t %.2e", it, dp, dt)
         converged = dp <= tol and dt <= tol
     if not converged:
-        log.warning("dissimilar materials: the normal-tangential alternation did not converge "
+        log.info("dissimilar materials: the normal-tangential alternation did not converge "
                     "in %d iterations (flagged in the result)", maxiter)
     ts.options.update(coupling_iterations=it,
                       difference_parameter=material.difference_parameter)

@@ -22,6 +22,7 @@ from pathlib import Path
 import numpy as np
 
 from .case import Case
+from ..core.checks import shown
 from ..core.errors import ContactNotFoundError, InputError
 from ..core.files import written_whole
 from .surfaces import build_surface_case, solve_on_surfaces
@@ -62,7 +63,7 @@ def solve_along_track(case: Case, positions, normal=None, tangential=None,
     from tqdm.auto import tqdm
     s = np.asarray(positions, dtype=float)
     if s.ndim != 1 or s.size < 1 or not np.all(np.isfinite(s)):
-        raise InputError(f"positions = {positions!r}: expected positions along the track [m]")
+        raise InputError(f"positions = {shown(positions)}: expected positions along the track [m]")
     setup = build_surface_case(case)
     out, prev = [], None
     for si in tqdm(s, desc="along the track", disable=not progress):

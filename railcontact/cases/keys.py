@@ -12,6 +12,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..core.checks import shown
 from ..core.errors import CaseFileError, RailContactError
 from ..profiles.processing import ProfileOptions
 
@@ -44,9 +45,9 @@ class CaseKeys:
         if v is None:
             raise CaseFileError(f"{dotted}: missing; expected a number in {unit or 'SI units'}")
         if isinstance(v, bool) or not isinstance(v, (int, float)) or math.isnan(v):
-            raise CaseFileError(f"{dotted} = {v!r}: expected a number in {unit or 'SI units'}")
+            raise CaseFileError(f"{dotted} = {shown(v)}: expected a number in {unit or 'SI units'}")
         if not lo <= v <= hi:
-            raise CaseFileError(f"{dotted} = {v!r}: expected a value in [{lo:g}, {hi:g}] {unit}")
+            raise CaseFileError(f"{dotted} = {shown(v)}: expected a value in [{lo:g}, {hi:g}] {unit}")
         return float(v)
 
     def profile_options(self, body: str):
@@ -56,7 +57,7 @@ class CaseKeys:
         table = self.raw.get(body, {})
         units = table.get("units", "auto")
         if units not in ("auto", "mm", "m"):
-            raise CaseFileError(f"{body}.units = {units!r}: expected 'auto', 'mm' or 'm'")
+            raise CaseFileError(f"{body}.units = {shown(units)}: expected 'auto', 'mm' or 'm'")
         if not PROFILE_OPTIONS & set(table):
             return None, units
         try:
@@ -70,7 +71,7 @@ class CaseKeys:
         v = self.get("wheelset.vertical_force", 70e3)
         if isinstance(v, list):
             if len(v) != 2:
-                raise CaseFileError(f"wheelset.vertical_force = {v!r}: expected one load or "
+                raise CaseFileError(f"wheelset.vertical_force = {shown(v)}: expected one load or "
                                     "[left, right] in N")
             vals = v
         else:
@@ -78,7 +79,7 @@ class CaseKeys:
         out = {}
         for side, x in zip(("left", "right"), vals):
             if isinstance(x, bool) or not isinstance(x, (int, float)) or not 1.0 <= x <= 1e7:
-                raise CaseFileError(f"wheelset.vertical_force = {v!r}: expected loads in "
+                raise CaseFileError(f"wheelset.vertical_force = {shown(v)}: expected loads in "
                                     "[1, 1e7] N")
             out[side] = float(x)
         return out

@@ -149,7 +149,14 @@ class SolveResult:
                                      {"units": u})
         return xr.Dataset(data, coords={"side": ("patch", [str(r["side"]) for r in rows])},
                           attrs={"normal_model": self.normal, "tangential_model": self.tangential,
-                                 "title": self.title})
+                                 "title": self.title, **self._status_attrs()})
+
+    def _status_attrs(self) -> dict:
+        """The status as NetCDF attributes: converged (0/1), message, warnings (one
+        string, '; ' between them)."""
+        s = self.status
+        return {"converged": int(s.converged), "message": s.message,
+                "warnings": "; ".join(s.warnings)}
 
 
 

@@ -20,6 +20,8 @@ from .results import PatchResult, SolveResult
 from .surfaces import solve_on_surfaces
 from ..tangential.inverse import solve_for_forces
 from .balance import solve_at_position, solve_wheel_rail
+from ..core.checks import shown
+from ..core.errors import InputError
 
 log = logging.getLogger(__name__)
 
@@ -48,18 +50,51 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     :mod:`railcontact.cases.surfaces`) is solved by
     :func:`railcontact.cases.surfaces.solve_on_surfaces`.
     """
+    if not isinstance(case, Case):
+        raise InputError(f"case = {shown(case)}: expected a Case (railcontact.load_case(path) "
+                         "or railcontact.case_from_dict(dict))")
+    for name, value in (("normal", normal), ("tangential", tangential)):
+        if value is not None and not isinstance(value, str):
+            raise InputError(f"{name} = {shown(value)}: expected a model name (str) or None")
+    if warm_start is not None and not isinstance(warm_start, SolveResult):
+        raise InputError(f"warm_start = {shown(warm_start)}: expected a SolveResult or None")
     if not case.is_bodies and is_surface_case(case):
-        return solve_on_surfaces(case, normal, tangential, warm_start=warm_start)
+        return _check_pressure(solve_on_surfaces(case, normal, tangential,
+                                                 warm_start=warm_start), case)
     if warm_start is not None:
         res = _solve(case, normal, tangential, warm_start)
         # a force that jumps across the load is the model's: a cold start meets it too
         if res.converged or (res.balance is not None and res.balance.force_jump):
-            return res
+            return _check_pressure(res, case)
         log.info("warm-started case did not converge; solving it again cold")
         cold = _solve(case, normal, tangential, None)
         cold.cpu_time += res.cpu_time                 # the failed attempt counts
-        return cold
-    return _solve(case, normal, tangential, None)
+        return _check_pressure(cold, case)
+    return _check_pressure(_solve(case, normal, tangential, None), case)
+
+
+#: p_max [Pa] beyond which a result is flagged where the case gives no yield stress:
+#: Tabor's hardness, 3 x the yield stress, of a rail steel of 1 GPa yield stress
+#: (head-hardened grades): no elastic-perfectly-plastic contact carries more
+#: (docs/case_files.md, "Convergence and validity")
+DEFAULT_PRESSURE_LIMIT = 3.0e9
+
+
+def _check_pressure(res: SolveResult, case: Case) -> SolveResult:
+    """A warning on each patch whose p_max exceeds the material's pressure limit:
+    ``material.yield_stress`` x 3 (Tabor's hardness) where given, else
+    :data:`DEFAULT_PRESSURE_LIMIT`; none where ``[plasticity]`` bounds the pressure."""
+    if "pressure_limit" in case.normal_options:
+        return res
+    ys = case.get("material.yield_stress")
+    limit = 3.0 * float(ys) if ys is not None else DEFAULT_PRESSURE_LIMIT
+    for p in res.patches:
+        if p.normal is not None and p.normal.pmax > limit * (1 + 1e-9):
+            p.validity = p.validity.with_warnings(
+                f"plasticity: p_max {p.normal.pmax / 1e9:.2f} GPa exceeds the elastic "
+                f"material's limit {limit / 1e9:.2f} GPa (3 x yield stress); the elastic "
+                "result overstates the pressure: give [plasticity] with the exact model")
+    return res
 
 
 

@@ -13,6 +13,7 @@ from __future__ import annotations
 
 from dataclasses import dataclass
 
+from ..core.checks import shown
 from ..core.errors import CaseFileError
 from .keys import PROFILE_OPTIONS, CaseKeys
 from .wheel_rail_setup import ProfileSource
@@ -133,7 +134,7 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
     roller = raw.get("roller")
     if roller is not None:
         if not isinstance(roller, dict) or set(roller) - ROLLER_KEYS or "radius" not in roller:
-            raise CaseFileError(f"[roller] = {roller!r}: expected radius [m] and optionally "
+            raise CaseFileError(f"[roller] = {shown(roller)}: expected radius [m] and optionally "
                                 f"{sorted(ROLLER_KEYS - {'radius'})}")
         roller = RollerSpec(case.number("roller.radius", None, 0.02, 10.0, "m"),
                             _optional(case, "roller.angular_velocity", -1e5, 1e5, "rad/s"),
@@ -144,18 +145,18 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
             raise CaseFileError("[roller]: the roller's profile is a rail profile, not slices")
     side = case.get("wheelset.side", "right")
     if side not in ("left", "right"):
-        raise CaseFileError(f"wheelset.side = {side!r}: a case on rail surfaces solves one "
+        raise CaseFileError(f"wheelset.side = {shown(side)}: a case on rail surfaces solves one "
                             "wheel; expected 'left' or 'right'")
     z = _optional(case, "wheelset.vertical_position", -0.2, 0.2, "m")
     loads = case.wheel_loads()
     inc = case.get("solver.contact_angle", "local")
     if inc not in ("local", "wheelset"):
-        raise CaseFileError(f"solver.contact_angle = {inc!r}: expected 'local' (the rail's "
+        raise CaseFileError(f"solver.contact_angle = {shown(inc)}: expected 'local' (the rail's "
                             "inclination at each point of the patch) or 'wheelset' (on its "
                             "cross-section at the wheelset's position, as CONTACT)")
     slip = case.get("solver.rigid_slip", "planar")
     if slip not in ("planar", "surfaces"):
-        raise CaseFileError(f"solver.rigid_slip = {slip!r}: expected 'planar' (the creepages of "
+        raise CaseFileError(f"solver.rigid_slip = {shown(slip)}: expected 'planar' (the creepages of "
                             "the reference point) or 'surfaces' (on the actual surfaces)")
     if slip == "surfaces" and tangential != "exact":
         raise CaseFileError("solver.rigid_slip = 'surfaces' needs solver.tangential = 'exact'")
@@ -204,14 +205,14 @@ def _rail_spec(r: dict, where: str) -> RailSpec:
     if lr is not None and not (isinstance(lr, list) and len(lr) == 2 and all(
             isinstance(v, (int, float)) and not isinstance(v, bool) and abs(v) < 1 for v in lr)
             and lr[0] < lr[1]):
-        raise CaseFileError(f"{where}.lateral_range = {lr!r}: expected [y_min, y_max] in m "
+        raise CaseFileError(f"{where}.lateral_range = {shown(lr)}: expected [y_min, y_max] in m "
                             "(rail-profile coordinates), y_min < y_max")
     units = r.get("units", "auto")
     if units not in ("auto", "mm", "m"):
-        raise CaseFileError(f"{where}.units = {units!r}: expected 'auto', 'mm' or 'm'")
+        raise CaseFileError(f"{where}.units = {shown(units)}: expected 'auto', 'mm' or 'm'")
     sl = r.get("slices")
     if sl is not None and not isinstance(sl, (str, list)):
-        raise CaseFileError(f"{where}.slices = {sl!r}: expected a .slcs file or a list of "
+        raise CaseFileError(f"{where}.slices = {shown(sl)}: expected a .slcs file or a list of "
                             "{s, profile}")
     keys = CaseKeys({where: r})
     options, _ = CaseKeys({"rail": r}).profile_options("rail")

@@ -12,14 +12,17 @@ import numpy as np
 
 from .case import Case, case_from_dict
 from .solve import solve
+from ..core.checks import check_job_size, shown
 from ..core.errors import InputError, RailContactError
-from ..core.parallel import compute
+from ..core.parallel import check_scheduler, compute
 
 log = logging.getLogger(__name__)
 
 
-def parse_vary(spec: str):
-    """Parse ``KEY=START:STOP:STEP`` (inclusive stop) or ``KEY=v1,v2,...``."""
+def parse_vary(spec: str, allow_large: bool = False):
+    """Parse ``KEY=START:STOP:STEP`` (inclusive stop) or ``KEY=v1,v2,...``; more
+    than :data:`~railcontact.core.checks.MAX_JOB_CASES` values only with
+    ``allow_large``."""
     if "=" not in spec:
         raise InputError(f"--vary {spec!r}: expected KEY=START:STOP:STEP or KEY=v1,v2,...")
     key, rng = spec.split("=", 1)
@@ -30,15 +33,22 @@ def parse_vary(spec: str):
             if len(parts) != 3 or parts[2] == 0:
                 raise ValueError
             start, stop, step = parts
-            n = int(np.floor((stop - start) / step + 1e-9)) + 1
-            if n < 1 or n > 100000:
+            if not all(np.isfinite(parts)):
                 raise ValueError
-            values = [start + i * step for i in range(n)]
+            n = int(np.floor((stop - start) / step + 1e-9)) + 1
+            if n < 1:
+                raise ValueError
+            values = None
         else:
             values = [float(v) for v in rng.split(",")]
-    except ValueError:
-        raise InputError(f"--vary {spec!r}: expected KEY=START:STOP:STEP with a non-zero step "
-                         "that reaches STOP, or KEY=v1,v2,...") from None
+            if not all(np.isfinite(values)):
+                raise ValueError
+    except (ValueError, OverflowError):
+        raise InputError(f"--vary {shown(spec)}: expected KEY=START:STOP:STEP with a non-zero "
+                         "step that reaches STOP, or KEY=v1,v2,... (finite numbers)") from None
+    if values is None:
+        check_job_size(n, f"--vary {shown(spec)}", allow_large=allow_large)
+        values = [start + i * step for i in range(n)]
     return key, [round(v, 12) for v in values]
 
 
@@ -79,7 +89,7 @@ def _expected_seconds(case: Case, n: int, normal, tangential) -> float:
 
 def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | None = None,
           scheduler: str = "auto", progress: bool = True, warm: bool = False,
-          chains: int | None = None) -> dict:
+          chains: int | None = None, allow_large: bool = False) -> dict:
     """Solve every combination of the varied case keys.
 
     Parameters
@@ -99,6 +109,8 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
         Solve consecutive cases as chains, each case warm-started from the previous
         one (pays for the exact solvers, whose iterations start from the neighbouring
         solution; the last varied key changes fastest).
+    allow_large : bool
+        Run more than :data:`~railcontact.core.checks.MAX_JOB_CASES` cases.
     chains : int, optional
         Number of chains (parallel tasks) with ``warm``: default one for the ``sync``
         scheduler, else one per CPU core.
@@ -108,8 +120,19 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
     dict ``{"cases": [{"params": {...}, "patches": [...]}], "cpu_time": s}``; a case
     that fails carries an ``"error"`` message instead of patches.
     """
+    if not isinstance(case, Case):
+        raise InputError(f"case = {shown(case)}: expected a Case (railcontact.load_case or "
+                         "case_from_dict)")
     t0 = time.perf_counter()
-    keys = list(vary)
+    keys = list(vary) if isinstance(vary, dict) else []
+    if not isinstance(vary, dict) or not all(isinstance(v, (list, tuple)) and v
+                                             for v in vary.values()):
+        raise InputError(f"vary = {shown(vary)}: expected a dict of case keys to non-empty "
+                         "lists of values")
+    check_scheduler(scheduler, "scheduler", auto=True)
+    count = int(np.prod([len(vary[k]) for k in keys], dtype=float))
+    check_job_size(count, "sweep", allow_large=allow_large,
+                   seconds_each=_expected_seconds(case, 1, normal, tangential))
     combos = list(itertools.product(*[vary[k] for k in keys]))
     raws = []
     for combo in combos:

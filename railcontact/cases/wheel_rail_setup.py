@@ -13,6 +13,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from ..core.checks import shown
 from ..core.errors import CaseFileError
 from .keys import CaseKeys
 from ..profiles.processing import ProfileOptions
@@ -97,7 +98,7 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
     :class:`~railcontact.core.errors.CaseFileError` names the first key that is wrong."""
     side = case.get("wheelset.side", "both")
     if side not in SIDES_OR_BOTH:
-        raise CaseFileError(f"wheelset.side = {side!r}: expected 'left', 'right' or 'both'")
+        raise CaseFileError(f"wheelset.side = {shown(side)}: expected 'left', 'right' or 'both'")
     roll = _optional(case, "wheelset.roll", -0.1, 0.1, "rad")
     if roll is not None and side == "both":
         raise CaseFileError("wheelset.roll is prescribed: give wheelset.side = 'left' or "
@@ -114,8 +115,8 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
     combine = case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m")
     turn = case.number("wheelset.turn_distance", 0.0, 0.0, 0.2, "m")
     if 0 < turn <= combine:
-        raise CaseFileError(f"wheelset.turn_distance = {turn!r}: expected 0 (no turning) or "
-                            f"a distance beyond wheelset.combine_distance ({combine!r} m)")
+        raise CaseFileError(f"wheelset.turn_distance = {shown(turn)}: expected 0 (no turning) or "
+                            f"a distance beyond wheelset.combine_distance ({shown(combine)} m)")
     profiles = {}
     for body, default in (("wheel", "S1002"), ("rail", "60E1")):
         options, units = case.profile_options(body)
@@ -125,13 +126,13 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
             _optional(case, "rail.inclination", -0.1, 0.1, "rad") if body == "rail" else None)
     return WheelRailSetup(
         wheel=profiles["wheel"], rail=profiles["rail"],
-        nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.1, 1.5, "m"),
-        flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.5, 2.5, "m"),
+        nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.02, 1.5, "m"),
+        flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.1, 2.5, "m"),
         flange_back_position=case.number("wheelset.flange_back_position", -0.070, -0.2, 0.2,
                                          "m"),
-        gauge=case.number("track.gauge", 1.435, 0.5, 2.5, "m"),
+        gauge=case.number("track.gauge", 1.435, 0.1, 2.5, "m"),
         gauge_height=case.number("track.gauge_height", 0.014, 0.0, 0.05, "m"),
-        rail_offset=_optional(case, "track.rail_offset", 0.25, 1.0, "m"),
+        rail_offset=_optional(case, "track.rail_offset", 0.05, 1.0, "m"),
         lateral_shift=case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m"),
         yaw=case.number("wheelset.yaw", 0.0, -0.1, 0.1, "rad"),
         roll=roll, side=side, loads=case.wheel_loads(), vertical_position=z,

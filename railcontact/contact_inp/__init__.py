@@ -56,7 +56,36 @@ def load_inp(path, cases=None, profile_dirs=()) -> list:
             raise InpError(f"{Path(path).name}: no case {missing[0]} (the file holds cases "
                            f"1-{max(have)})")
         read = [c for c in read if c.number in want]
-    return [_map(c, tuple(profile_dirs)) for c in read]
+    mapped = [_map(c, tuple(profile_dirs)) for c in read]
+    for c, m in zip(read, mapped):            # every case valid before any is solved
+        if m.raw is not None:
+            check_mapped(c, m)
+    return mapped
+
+
+#: the CONTACT inputs behind the keys of a mapped case, for the line of an error
+INP_NAMES = {"wheelset.vertical_force": "FZ_WS", "wheelset.vertical_position": "Z_WS",
+             "wheelset.lateral_shift": "Y_WS", "wheelset.yaw": "YAW", "wheelset.roll": "ROLL",
+             "wheelset.velocity": "VS_WS", "wheelset.pitch_velocity": "VPITCH",
+             "wheelset.lateral_velocity": "VY_WS", "wheelset.yaw_rate": "VYAW",
+             "wheelset.flange_back_distance": "FBDIST",
+             "wheelset.flange_back_position": "FBPOS", "wheel.nominal_radius": "NOMRADW",
+             "rail.inclination": "CANT", "track.gauge": "GAUGWD", "friction": "FSTAT",
+             "material": "GG1", "solver.element_size": "DX", "bodies.normal_force": "FN",
+             "bodies.velocity": "VELOC", "bodies.radii": "A1", "creepage": "CKSI",
+             "wheel.": "W_FNAME", "rail.": "R_FNAME"}
+
+
+def check_mapped(case: InpCase, mapped: MappedCase):
+    """The railcontact case of a mapped CONTACT case, validated; an invalid value is
+    an :class:`InpError` naming the file, the case and the line of the CONTACT input
+    behind it."""
+    try:
+        return case_from_dict(mapped.raw, case.path.parent)
+    except RailContactError as exc:
+        text = str(exc)
+        name = next((n for key, n in INP_NAMES.items() if text.startswith(key)), None)
+        raise InpError(f"{case.where(name)}: {text}") from None
 
 
 def _map(case, profile_dirs):

@@ -20,7 +20,7 @@ from ..geometry.turning import default_turn_distance
 from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
 from ..core.materials import Material
 from ..profiles import get_profile
-from .reader import InpCase, InpError
+from .reader import WORDS, InpCase, InpError
 
 MM = 1e-3
 
@@ -37,8 +37,10 @@ class MappedCase:
     meta: dict = field(default_factory=dict)
 
 
-def _unsupported(case: InpCase, what: str, supported: str) -> InpError:
-    return InpError(f"{case.where()}: {what} is not supported; {supported}")
+def _unsupported(case: InpCase, what: str, supported: str, name: str | None = None
+                 ) -> InpError:
+    """The error for an unsupported option, at the line of the input ``name``."""
+    return InpError(f"{case.where(name)}: {what} is not supported; {supported}")
 
 
 def _need(case, name):
@@ -77,8 +79,11 @@ def _digit(case, letter, allowed: dict, label: str):
     if v not in allowed:
         supported = ", ".join(f"{k} ({m})" for k, m in allowed.items())
         what = MEANINGS.get(letter, {}).get(v)
+        word = next((w for w in WORDS[case.module] if letter[0] in w), None)
+        if letter in ("C3", "M2"):
+            word = WORDS[case.module][1]
         raise _unsupported(case, f"{label} = {v}" + (f" ({what})" if what else ""),
-                           f"expected {supported}")
+                           f"expected {supported}", word)
     return allowed[v]
 
 
@@ -218,7 +223,9 @@ def _profile_path(case: InpCase, name: str, dirs, slices: bool = False) -> str:
         if c.is_file():
             return str(c.resolve())
     where = ", ".join(str(c.parent) for c in cands[:3])
-    raise InpError(f"{case.where()}: profile file {name!r} not found (looked in {where}); "
+    line = next((case.where(k) for k in ("R_FNAME", "W_FNAME") if case.values.get(k) == name),
+                case.where())
+    raise InpError(f"{line}: profile file {name!r} not found (looked in {where}); "
                    "give its folder with --profiles DIR")
 
 

@@ -28,6 +28,7 @@ import re
 from dataclasses import dataclass, field
 from pathlib import Path
 
+from ..core.checks import shown
 from ..core.errors import CaseFileError
 
 #: control words: digit names from left to right (module 1; module 3 without C and V)
@@ -70,14 +71,18 @@ class _Lines:
             if s:
                 self.lines.append((ln, s))
         self.i = 0
+        self.last_line = 0              # the line of the last value read
 
     @property
     def line_number(self) -> int:
         return self.lines[self.i][0] if self.i < len(self.lines) else (
             self.lines[-1][0] if self.lines else 0)
 
-    def error(self, what: str) -> InpError:
-        return InpError(f"{self.path.name}, line {self.line_number}: {what}")
+    def error(self, what: str, line: int | None = None) -> InpError:
+        """The error at ``line``, else at the line of the value last read (or the next
+        line, before any)."""
+        return InpError(f"{self.path.name}, line {line or self.last_line or self.line_number}: "
+                        f"{what}")
 
     @staticmethod
     def _tokens(s: str):
@@ -100,9 +105,10 @@ class _Lines:
                 self.i += 1
             kind, tok = kinds[len(out)], toks[j]
             val = _parse(kind, tok)
+            self.last_line = self.lines[self.i - 1][0]
             if val is None:
                 self.i -= 1
-                raise self.error(f"{names_l[min(len(out), len(names_l) - 1)]} = {tok!r}: "
+                raise self.error(f"{names_l[min(len(out), len(names_l) - 1)]} = {shown(tok)}: "
                                  f"expected {_KIND_NAMES[kind]}")
             out.append(val)
             j += 1
@@ -128,7 +134,8 @@ def _parse(kind, tok):
         if v is None:
             # an integer written as a real ("0.0"), as CONTACT's reader takes it
             r = _real(tok)
-            if r is not None and r == int(r) and re.fullmatch(r"[-+]?\d+\.0*", tok):
+            if r is not None and re.fullmatch(r"[-+]?\d+\.0*", tok) and math.isfinite(r) \
+                    and r == int(r):
                 v = int(r)
         return v
     if kind == "d":
@@ -168,8 +175,14 @@ class InpCase:
     values: dict = field(default_factory=dict)
     read: set = field(default_factory=set)
 
-    def where(self) -> str:
-        return f"{self.path.name}, case {self.number} (line {self.line})"
+    #: the line each value was read from (kept values: the line of an earlier case)
+    value_lines: dict = field(default_factory=dict)
+
+    def where(self, name: str | None = None) -> str:
+        """File, case and line: the line of the value ``name`` where given and read,
+        else the case's first line."""
+        line = self.value_lines.get(name, self.line) if name else self.line
+        return f"{self.path.name}, case {self.number} (line {line})"
 
 
 def read_inp(path) -> list:
@@ -182,6 +195,7 @@ def read_inp(path) -> list:
         raise InpError(f"CONTACT input file {str(path)!r} does not exist")
     lines = _Lines(path)
     state = {1: {}, 3: {}}                      # per module: the values kept
+    lines_of = {1: {}, 3: {}}                   # and the lines they were read from
     cases, number = [], 0
     while not lines.done():
         first = lines.line_number
@@ -192,9 +206,13 @@ def read_inp(path) -> list:
             raise lines.error(f"MODULE = {module}: expected 1 (wheel-rail), 3 (basic contact) "
                               "or 0 (stop)")
         number += 1
-        case = InpCase(path, number, module, first, {}, copy.deepcopy(state[module]))
+        case = InpCase(path, number, module, first, {}, copy.deepcopy(state[module]),
+                       value_lines=dict(lines_of[module]))
+        case._source = lines
         _read_case(lines, case)
+        del case._source
         state[module] = copy.deepcopy(case.values)
+        lines_of[module] = dict(case.value_lines)
         if case.digits["R"] in (0, 1):
             cases.append(case)
     if not cases:
@@ -208,6 +226,9 @@ def _put(case, names: str, vals):
         if v is not None or n not in case.values:
             case.values[n] = v
         case.read.add(n)
+        source = getattr(case, "_source", None)
+        if source is not None:
+            case.value_lines[n] = source.last_line
 
 
 def _read_case(lines: _Lines, case: InpCase) -> None:
@@ -217,7 +238,9 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
     w1, w2, w3 = WORDS[case.module]
     d = {}
     d.update(_digits(w1, lines.group("i", w1)[0], lines))
+    case.value_lines[w1] = lines.last_line
     word2, m2 = lines.group("i", w2, "i")
+    case.value_lines[w2] = lines.last_line
     dd = _digits(w2, word2, lines)
     dd["C3"] = dd.pop("C")
     d.update(dd)
@@ -281,7 +304,7 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
         case.values.update(CHI=0.0, DQ=1.0, VELOC=1.0)
     if d["S"] in (2, 3):
         raise lines.error(f"subsurface stresses (STRESS = {d['S']}) are not supported; "
-                          "expected S = 0")
+                          "expected S = 0", case.value_lines.get(w1))
 
 
 def _read_undeformed_distance(lines, case):
@@ -320,7 +343,8 @@ def _read_friction(lines, case, d):
               5: ("FKIN, FEXP1, SABSH1, FEXP2, SABSH2", "ddddd"),
               6: ("FREF, TREF, DFHEAT, DTHEAT", "dddd")}.get(law)
     if params is None:
-        raise lines.error(f"FRCLAW = {law}: expected 0 .. 6")
+        raise lines.error(f"FRCLAW = {law}: expected 0 .. 6", case.value_lines.get(WORDS[
+            case.module][1]))
     names, kinds = params
     case.values["FRICTION_LAW"] = law
     if d["V"] == 0:
@@ -400,6 +424,7 @@ def _read_profile_line(lines, case, prefix: str):
     for k, v in vals.items():
         case.values[prefix + k] = v
         case.read.add(prefix + k)
+        case.value_lines[prefix + k] = lines.last_line
 
 
 def _read_track(lines, case, d):

@@ -37,3 +37,8 @@ class ContactNotFoundError(RailContactError):
 
 class ConvergenceError(RailContactError):
     """An iterative solver did not reach its tolerance."""
+
+
+class ResourceError(InputError):
+    """A job larger than the documented limits (grid elements, cases, positions):
+    refused before any work unless the user insists."""

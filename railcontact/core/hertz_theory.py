@@ -120,6 +120,10 @@ def hertz_ellipse(A: float, B: float, contact_modulus: float, force: float | Non
         Exactly one: normal force F [N] >= 0 or approach delta [m] >= 0.
     """
     for name, v in (("A", A), ("B", B)):
+        if isinstance(v, float) and math.isnan(v):
+            raise InputError(f"relative curvature {name} = nan 1/m: the wheel and rail "
+                             "surfaces do not meet in a patch (is a rail profile given as the "
+                             "wheel, or a wheel profile as the rail?)")
         if not (math.isfinite(v) and v > 0.0):
             raise InputError(f"relative curvature {name} = {v!r} 1/m: expected > 0 (the surfaces "
                              "must form a point contact; for conformal or flat geometry use a "

@@ -5,15 +5,16 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass
 
+from .checks import shown
 from .errors import InputError
 
 
 def _check(name, E, nu):
     if not (isinstance(E, (int, float)) and math.isfinite(E) and 1e6 <= E <= 1e13):
-        raise InputError(f"material.{name}young_modulus = {E!r}: expected a Young's modulus "
+        raise InputError(f"material.{name}young_modulus = {shown(E)}: expected a Young's modulus "
                          "in Pa between 1e6 and 1e13 (steel: 2.1e11)")
     if not (isinstance(nu, (int, float)) and math.isfinite(nu) and 0.0 <= nu < 0.5):
-        raise InputError(f"material.{name}poisson_ratio = {nu!r}: expected a value in [0, 0.5)")
+        raise InputError(f"material.{name}poisson_ratio = {shown(nu)}: expected a value in [0, 0.5)")
 
 
 @dataclass(frozen=True)

@@ -1,4 +1,11 @@
-"""Progress bars (tqdm) for Dask computations and loops."""
+"""Progress bars (tqdm) for Dask computations and loops.
+
+tqdm's own Dask callback (``tqdm.dask.TqdmCallback``) counts every task of a graph
+(a sweep's chain of cases counts one, a wear step's tables count with its routes),
+and neither it nor any local Dask callback is called under a dask.distributed
+scheduler; :class:`TqdmCallback` counts the cases of the tasks it is asked to and
+follows a cluster's futures (:meth:`TqdmCallback.follow`).
+"""
 
 from __future__ import annotations
 
@@ -41,3 +48,17 @@ class TqdmCallback(Callback):
 
     def _finish(self, dsk, state, errored):
         self.bar.close()
+
+    def follow(self, futures) -> dict:
+        """Advance the bar as the dask.distributed ``futures`` finish; returns their
+        results by key (an error of a task is raised)."""
+        from distributed import as_completed
+        self._start(None)
+        done = {}
+        try:
+            for fut, result in as_completed(futures, with_results=True):
+                done[fut.key] = result
+                self._posttask(fut.key, result, None, None, None)
+        finally:
+            self._finish(None, None, False)
+        return done

@@ -8,20 +8,30 @@ module's Protocol).
 
 from __future__ import annotations
 
+from .checks import shown
 from .errors import UnknownModelError
 
 
 class Registry:
     """Maps model names to classes; ``register`` is a class decorator."""
 
-    def __init__(self, layer: str):
+    def __init__(self, layer: str, check_solve=None):
         self.layer = layer
         self._models: dict = {}
+        self._check = check_solve
 
     def register(self, name: str):
+        """Class decorator registering a model as ``name``; where the registry has a
+        ``check_solve(*args, **kwargs)``, the class's ``solve`` calls it first (the
+        layer's inputs checked for every model: the package's errors, not
+        AttributeErrors from deep inside a model)."""
         def deco(cls):
             cls.name = name
             self._models[name] = cls
+            solve = cls.__dict__.get("solve")
+            if self._check is not None and solve is not None and \
+                    not getattr(solve, "_checked", False):
+                cls.solve = _checked(solve, self._check)
             return cls
         return deco
 
@@ -30,7 +40,7 @@ class Registry:
         try:
             return self._models[str(name).lower()]
         except KeyError:
-            raise UnknownModelError(f"unknown {self.layer} model {name!r}; expected one of "
+            raise UnknownModelError(f"unknown {self.layer} model {shown(name)}; expected one of "
                                     f"{self.names()}") from None
 
     def create(self, name: str, **options):
@@ -45,3 +55,14 @@ class Registry:
         """Registered names, or those that declare ``capability``."""
         return sorted(n for n in self._models
                       if capability is None or self.supports(n, capability))
+
+
+def _checked(solve, check):
+    import functools
+
+    @functools.wraps(solve)
+    def checked_solve(self, *args, **kwargs):
+        check(*args, **kwargs)
+        return solve(self, *args, **kwargs)
+    checked_solve._checked = True
+    return checked_solve

@@ -50,6 +50,7 @@ irregularity c adds Q_total c to the wheelset's lateral force.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -61,13 +62,111 @@ from .wheel_rail import (F_A, F_B, F_C11, F_C22, F_C23, F_CA, F_CB, F_DELTA, F_R
 
 #: half the lateral distance of the wheel loads for the load transfer [m]
 LOAD_BASE = 0.75
-#: per-patch inputs and outputs kept by the right-hand side
-PIN = ("normal_force", "a", "b", "C11", "C22", "C23", "xi", "eta", "phi", "contact_angle",
-       "y_contact", "A", "B", "y_rail", "velocity", "y_wheel")
-POUT = ("Fx", "Fy", "Mz", "Y", "Q", "Tgamma")
-WOUT = ("relative_shift", "outside_table", "load_left", "load_right")
 #: fixed-point passes for the normal force of steep patches (creep force's vertical part)
 NORMAL_PASSES = 2
+
+#: per-patch inputs kept by the right-hand side, one record per (wheelset, side, slot):
+#: normal force [N], Hertz semi-axes a, b [m] at that force, Kalker's C11, C22, C23 [-],
+#: creepages xi [-], eta [-], phi [1/m], contact angle [rad], lateral position of the
+#: contact point relative to the wheelset centre [m], curvatures A, B [1/m], rail and
+#: wheel profile coordinates y_rail, y_wheel [m] and the rolling velocity [m/s]
+PATCH_IN = np.dtype([(name, np.float64) for name in (
+    "normal_force", "a", "b", "C11", "C22", "C23", "xi", "eta", "phi", "contact_angle",
+    "y_contact", "A", "B", "y_rail", "velocity", "y_wheel")], align=True)
+#: per-patch outputs: creep forces Fx, Fy [N] and spin moment Mz [N m] on the wheel
+#: (contact plane), lateral Y and vertical Q force of the rail on the wheel [N] (track
+#: plane) and the wear number T gamma [N]
+PATCH_OUT = np.dtype([(name, np.float64) for name in ("Fx", "Fy", "Mz", "Y", "Q", "Tgamma")],
+                     align=True)
+#: per-wheelset outputs: shift relative to the rails [m], whether it lies outside the
+#: contact table, and the quasi-static wheel loads [N]
+WHEELSET_OUT = np.dtype([("relative_shift", np.float64), ("outside_table", np.bool_),
+                         ("load_left", np.float64), ("load_right", np.float64)], align=True)
+#: the external creep forces of mode 1, per patch: Fx, Fy [N], Mz [N m] and the normal
+#: force [N] (0: the table's)
+EXTERNAL = np.dtype([(name, np.float64) for name in ("Fx", "Fy", "Mz", "normal_force")],
+                    align=True)
+
+
+class Vehicle(NamedTuple):
+    """The vehicle's compiled form (:meth:`~railcontact.dynamics.vehicle.VehicleModel.packed`)."""
+
+    #: (nb,) :data:`~railcontact.dynamics.vehicle.BODY` records
+    bodies: np.ndarray
+    #: (ne,) :data:`~railcontact.dynamics.vehicle.ELEMENT` records
+    elements: np.ndarray
+    #: (n_stops, n) deflections [m] of the bump stop tables (rows named by ``elements.bump``)
+    bump_deflection: np.ndarray
+    #: (n_stops, n) forces [N] of the bump stop tables
+    bump_force: np.ndarray
+    #: (nw,) :data:`~railcontact.dynamics.vehicle.WHEELSET` records
+    wheelsets: np.ndarray
+
+
+class Track(NamedTuple):
+    """The route's compiled form (:meth:`~railcontact.dynamics.route.Route.packed`)."""
+
+    #: knots [m] of the design geometry
+    s_knots: np.ndarray
+    #: curvature [1/m] at the knots (positive: curve to the right)
+    curvature: np.ndarray
+    #: cant angle [rad] at the knots
+    cant: np.ndarray
+    #: uniform distances [m] of the irregularities
+    irregularity_s: np.ndarray
+    #: alignment irregularity [m] at ``irregularity_s``
+    alignment: np.ndarray
+    #: cross-level irregularity [rad] at ``irregularity_s``
+    cross_level: np.ndarray
+
+
+class ContactTables(NamedTuple):
+    """The wheelsets' contact tables (:class:`~railcontact.dynamics.wheel_rail.WheelRailTable`)
+    on one shift grid."""
+
+    #: (n,) uniform lateral shifts [m]
+    shift: np.ndarray
+    #: (nw, n, 2, 2, nfields) per wheelset the table's ``data``
+    data: np.ndarray
+    #: (nw,) reference wheel loads [N] of the tables
+    reference_loads: np.ndarray
+    #: nominal rolling radius r0 [m]
+    nominal_radius: float
+
+
+class System(NamedTuple):
+    """Everything constant during a run: the inputs of :func:`rhs_core`."""
+
+    #: forward speed V [m/s]
+    velocity: float
+    #: distance [m] of the vehicle's origin along the route at t = 0
+    s0: float
+    vehicle: Vehicle
+    track: Track
+    contact: ContactTables
+    #: code of the compiled creep law (:func:`~railcontact.tangential.online.online_law`;
+    #: any value with ``mode`` 1)
+    law: int
+    #: parameters of the creep law (:func:`~railcontact.tangential.online.patch_forces`'s ``tp``)
+    law_params: np.ndarray
+
+
+class Outputs(NamedTuple):
+    """What the right-hand side records of its last evaluation."""
+
+    #: (nw, 2, 2) :data:`PATCH_IN` records per wheelset, side (left, right), slot
+    #: (tread, flange)
+    patch_in: np.ndarray
+    #: (nw, 2, 2) :data:`PATCH_OUT` records
+    patch_out: np.ndarray
+    #: (nw,) :data:`WHEELSET_OUT` records
+    wheelset_out: np.ndarray
+
+    @classmethod
+    def empty(cls, n_wheelsets: int) -> "Outputs":
+        return cls(np.zeros((n_wheelsets, 2, 2), PATCH_IN),
+                   np.zeros((n_wheelsets, 2, 2), PATCH_OUT),
+                   np.zeros(n_wheelsets, WHEELSET_OUT))
 
 
 @njit(cache=True, nogil=True)
@@ -99,17 +198,36 @@ def _track_at(s, ks, kk, kc):
 
 
 @njit(cache=True, nogil=True)
-def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, irc, shift,
-             tables, qrefs, r0, law, tp, mode, fext, pin, pout, wout):
+def rhs_core(t, u, system, mode, fext, out):
     """Time derivative of the state u = (q, q') with q = (y, ψ, φ) per body.
 
-    ``tables`` (nw, n, 2, 2, nfields): each wheelset's contact table on the common
-    shift grid ``shift``, with its reference loads ``qrefs`` (nw,) [N].
-
-    ``mode`` 0: creep forces from the compiled law ``law``; 1: from ``fext``
-    (nw, 2, 2, 4: F_x, F_y, M_z and the normal force, 0 for the table's) given by
-    the caller.  Fills the per-patch inputs ``pin``, outputs
-    ``pout`` and per-wheelset values ``wout`` for output and for ``mode`` 1."""
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    u : ndarray (6 nb,)
+        State: displacements [m, rad] then velocities [m/s, rad/s], three per body.
+    system : System
+        The vehicle, track, contact tables, speed and creep law.
+    mode : int
+        0: creep forces from the compiled law ``system.law``; 1: from ``fext``.
+    fext : ndarray (nw, 2, 2) of :data:`EXTERNAL`
+        With ``mode`` 1: the creep forces per patch given by the caller.
+    out : Outputs
+        Filled with the per-patch inputs and outputs and the per-wheelset values of
+        this evaluation (for output, and for ``mode`` 1).
+    """
+    V, s0 = system.velocity, system.s0
+    bodies, elems = system.vehicle.bodies, system.vehicle.elements
+    bx, bf, wsets = system.vehicle.bump_deflection, system.vehicle.bump_force, \
+        system.vehicle.wheelsets
+    ks, kk, kc = system.track.s_knots, system.track.curvature, system.track.cant
+    irs, ira, irc = system.track.irregularity_s, system.track.alignment, \
+        system.track.cross_level
+    shift, tables = system.contact.shift, system.contact.data
+    qrefs, r0 = system.contact.reference_loads, system.contact.nominal_radius
+    law, tp = system.law, system.law_params
+    pin, pout, wout = out.patch_in, out.patch_out, out.wheelset_out
     nb = bodies.shape[0]
     nd = 3 * nb
     q = u[:nd]
@@ -118,19 +236,21 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
     kap = np.empty(nb)
     dkap = np.empty(nb)
     for b in range(nb):
-        s = s0 + V * t + bodies[b, 3]
+        body = bodies[b]
+        s = s0 + V * t + body.x
         k, dk, ct = _track_at(s, ks, kk, kc)
         kap[b] = k
         dkap[b] = dk
         au = V * V * k * math.cos(ct) - G_ACC * math.sin(ct)
-        F[3 * b] -= bodies[b, 0] * au
-        F[3 * b + 1] -= bodies[b, 1] * V * V * dk
-        if bodies[b, 5] > 0:
-            F[3 * b + 2] += bodies[b, 0] * G_ACC * bodies[b, 6] * q[3 * b + 2]
+        F[3 * b] -= body.mass * au
+        F[3 * b + 1] -= body.yaw_inertia * V * V * dk
+        if body.roll:
+            F[3 * b + 2] += body.mass * G_ACC * body.roll_arm * q[3 * b + 2]
     for e in range(elems.shape[0]):
-        i = int(elems[e, 0])
-        j = int(elems[e, 1])
-        ai, aj, di, dj = elems[e, 2], elems[e, 3], elems[e, 4], elems[e, 5]
+        el = elems[e]
+        i = el.i
+        j = el.j
+        ai, aj, di, dj = el.a_i, el.a_j, el.d_i, el.d_j
         dy = q[3 * i] + ai * q[3 * i + 1] - di * q[3 * i + 2] - 0.5 * kap[i] * ai * ai
         dyd = qd[3 * i] + ai * qd[3 * i + 1] - di * qd[3 * i + 2] - 0.5 * V * dkap[i] * ai * ai
         dp = q[3 * i + 1] - kap[i] * ai
@@ -145,12 +265,12 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
             dpd -= qd[3 * j + 1] - V * dkap[j] * aj
             dr -= q[3 * j + 2]
             drd -= qd[3 * j + 2]
-        f = -(elems[e, 6] * dy + elems[e, 7] * dyd)
-        ib = int(elems[e, 12])
+        f = -(el.k_y * dy + el.c_y * dyd)
+        ib = el.bump
         if ib >= 0:
             f -= _bump_force(dy, bx[ib], bf[ib])
-        m = -(elems[e, 8] * dp + elems[e, 9] * dpd)
-        mr = -(elems[e, 10] * dr + elems[e, 11] * drd)
+        m = -(el.k_yaw * dp + el.c_yaw * dpd)
+        mr = -(el.k_roll * dr + el.c_roll * drd)
         F[3 * i] += f
         F[3 * i + 1] += ai * f + m
         F[3 * i + 2] += -di * f + mr
@@ -161,8 +281,9 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
     vals = np.empty((2, 2, tables.shape[4]))
     hs = 0.5 * (irs[1] - irs[0])
     for w in range(wsets.shape[0]):
-        b = int(wsets[w, 0])
-        s = s0 + V * t + bodies[b, 3]
+        ws = wsets[w]
+        b = ws.body
+        s = s0 + V * t + bodies[b].x
         k, dk, ct = _track_at(s, ks, kk, kc)
         ya = np.interp(s, irs, ira)
         yad = (np.interp(s + hs, irs, ira) - np.interp(s - hs, irs, ira)) / (2 * hs)
@@ -170,13 +291,14 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
         y, psi, yd, psid = q[3 * b], q[3 * b + 1], qd[3 * b], qd[3 * b + 1]
         yrel = y - ya
         outside = lookup(shift, tables[w], yrel, vals)
-        Qt = wsets[w, 1] * (G_ACC * math.cos(ct) + V * V * k * math.sin(ct))
-        dQ = wsets[w, 2] * (V * V * k * math.cos(ct) - G_ACC * math.sin(ct)) / (2 * LOAD_BASE)
+        Qt = ws.mass * (G_ACC * math.cos(ct) + V * V * k * math.sin(ct))
+        dQ = ws.moment * (V * V * k * math.cos(ct) - G_ACC * math.sin(ct)) / (2 * LOAD_BASE)
         loads = (max(0.5 * Qt + dQ, 0.0), max(0.5 * Qt - dQ, 0.0))
-        wout[w, 0] = yrel
-        wout[w, 1] = 1.0 if outside else 0.0
-        wout[w, 2] = loads[0]
-        wout[w, 3] = loads[1]
+        wo = wout[w]
+        wo.relative_shift = yrel
+        wo.outside_table = outside
+        wo.load_left = loads[0]
+        wo.load_right = loads[1]
         om = V / r0
         psid_abs = psid + V * k
         for sd in range(2):
@@ -192,15 +314,14 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
                 eta = ((psi - yad) * r / r0 - (yd / V - yad)) * cd
                 phi = -(om * sdl + psid_abs * cd) / V
                 p = pin[w, sd, sl]
-                p[0], p[1], p[2] = N, v[F_A] * sc, v[F_B] * sc
-                p[3], p[4], p[5] = v[F_C11], v[F_C22], v[F_C23]
-                p[6], p[7], p[8] = xi, eta, phi
-                p[9], p[10], p[11], p[12], p[13], p[14] = delta, yp, v[F_CA], v[F_CB], \
-                    v[F_YRAIL], V
-                p[15] = v[F_YWHEEL]
+                p.normal_force, p.a, p.b = N, v[F_A] * sc, v[F_B] * sc
+                p.C11, p.C22, p.C23 = v[F_C11], v[F_C22], v[F_C23]
+                p.xi, p.eta, p.phi = xi, eta, phi
+                p.contact_angle, p.y_contact, p.A, p.B = delta, yp, v[F_CA], v[F_CB]
+                p.y_rail, p.velocity, p.y_wheel = v[F_YRAIL], V, v[F_YWHEEL]
                 if mode == 0:
-                    fx, fy, mz = patch_forces(law, tp, N, p[1], p[2], p[3], p[4], p[5], xi, eta,
-                                              phi, V)
+                    fx, fy, mz = patch_forces(law, tp, N, p.a, p.b, p.C11, p.C22, p.C23, xi,
+                                              eta, phi, V)
                     # vertical equilibrium with the creep force: N cos d - Fy sin d = Q_k
                     for _ in range(NORMAL_PASSES):
                         if N <= 0.0 or abs(sdl) < 0.05:
@@ -208,53 +329,50 @@ def rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, ir
                         n_new = max(n_tab + fy * sdl / cd, 0.0)
                         scale = (n_new / N) ** (1.0 / 3.0)
                         N = n_new
-                        p[0], p[1], p[2] = N, p[1] * scale, p[2] * scale
-                        fx, fy, mz = patch_forces(law, tp, N, p[1], p[2], p[3], p[4], p[5], xi,
-                                                  eta, phi, V)
+                        p.normal_force, p.a, p.b = N, p.a * scale, p.b * scale
+                        fx, fy, mz = patch_forces(law, tp, N, p.a, p.b, p.C11, p.C22, p.C23,
+                                                  xi, eta, phi, V)
                 else:
-                    fx, fy, mz = fext[w, sd, sl, 0], fext[w, sd, sl, 1], fext[w, sd, sl, 2]
-                    if fext[w, sd, sl, 3] > 0.0 and N > 0.0:
-                        scale = (fext[w, sd, sl, 3] / N) ** (1.0 / 3.0)
-                        N = fext[w, sd, sl, 3]
-                        p[0], p[1], p[2] = N, p[1] * scale, p[2] * scale
+                    fe = fext[w, sd, sl]
+                    fx, fy, mz = fe.Fx, fe.Fy, fe.Mz
+                    if fe.normal_force > 0.0 and N > 0.0:
+                        scale = (fe.normal_force / N) ** (1.0 / 3.0)
+                        N = fe.normal_force
+                        p.normal_force, p.a, p.b = N, p.a * scale, p.b * scale
                 if N <= 0.0:
                     fx, fy, mz = 0.0, 0.0, 0.0
                 o = pout[w, sd, sl]
-                o[0], o[1], o[2] = fx, fy, mz
-                o[3] = N * sdl + fy * cd
-                o[4] = N * cd - fy * sdl
-                o[5] = abs(fx * xi) + abs(fy * eta)
-                F[3 * b] += o[3]
+                o.Fx, o.Fy, o.Mz = fx, fy, mz
+                o.Y = N * sdl + fy * cd
+                o.Q = N * cd - fy * sdl
+                o.Tgamma = abs(fx * xi) + abs(fy * eta)
+                F[3 * b] += o.Y
                 F[3 * b + 1] += -yp * fx + mz * cd
         F[3 * b] += Qt * cl
     du = np.empty(2 * nd)
     du[:nd] = qd
     for b in range(nb):
-        du[nd + 3 * b] = F[3 * b] / bodies[b, 0]
-        du[nd + 3 * b + 1] = F[3 * b + 1] / bodies[b, 1]
-        du[nd + 3 * b + 2] = F[3 * b + 2] / bodies[b, 2] if bodies[b, 5] > 0 else 0.0
+        body = bodies[b]
+        du[nd + 3 * b] = F[3 * b] / body.mass
+        du[nd + 3 * b + 1] = F[3 * b + 1] / body.yaw_inertia
+        du[nd + 3 * b + 2] = F[3 * b + 2] / body.roll_inertia if body.roll else 0.0
     return du
 
 
 @njit(cache=True, nogil=True)
-def rk4_run(u, t0, dt, n_steps, every, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs,
-            ira, irc, shift, tables, qrefs, r0, law, tp, fext, pin, pout, wout, samples):
-    """Classical fixed-step Runge-Kutta (4th order) with a compiled creep law: ``n_steps``
-    steps of ``dt`` from (t0, u); every ``every`` steps the state goes to the next
-    row of ``samples``.  Returns the final state."""
+def rk4_run(u, t0, dt, n_steps, every, system, fext, out, samples):
+    """Classical fixed-step Runge-Kutta (4th order) with the compiled creep law of
+    ``system``: ``n_steps`` steps of ``dt`` [s] from (t0 [s], u); every ``every``
+    steps the state goes to the next row of ``samples`` (n, 6 nb).  ``fext`` is
+    :func:`rhs_core`'s (unused: mode 0); ``out`` (:class:`Outputs`) holds the last
+    evaluation's values.  Returns the final state."""
     k = 0
     for n in range(n_steps):
         t = t0 + n * dt
-        k1 = rhs_core(t, u, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc, irs, ira, irc,
-                      shift, tables, qrefs, r0, law, tp, 0, fext, pin, pout, wout)
-        k2 = rhs_core(t + 0.5 * dt, u + 0.5 * dt * k1, V, s0, bodies, elems, bx, bf, wsets, ks,
-                      kk, kc, irs, ira, irc, shift, tables, qrefs, r0, law, tp, 0, fext, pin,
-                      pout, wout)
-        k3 = rhs_core(t + 0.5 * dt, u + 0.5 * dt * k2, V, s0, bodies, elems, bx, bf, wsets, ks,
-                      kk, kc, irs, ira, irc, shift, tables, qrefs, r0, law, tp, 0, fext, pin,
-                      pout, wout)
-        k4 = rhs_core(t + dt, u + dt * k3, V, s0, bodies, elems, bx, bf, wsets, ks, kk, kc,
-                      irs, ira, irc, shift, tables, qrefs, r0, law, tp, 0, fext, pin, pout, wout)
+        k1 = rhs_core(t, u, system, 0, fext, out)
+        k2 = rhs_core(t + 0.5 * dt, u + 0.5 * dt * k1, system, 0, fext, out)
+        k3 = rhs_core(t + 0.5 * dt, u + 0.5 * dt * k2, system, 0, fext, out)
+        k4 = rhs_core(t + dt, u + dt * k3, system, 0, fext, out)
         u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
         if (n + 1) % every == 0 and k < samples.shape[0]:
             samples[k] = u

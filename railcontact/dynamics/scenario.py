@@ -22,7 +22,7 @@ from ..core.parallel import compute
 from ..geometry.track import Track, Wheelset
 from ..tangential import tangential_models
 from .route import Irregularities, Route
-from .simulation import critical_speed, simulate_vehicle
+from .simulation import Integration, critical_speed, simulate_vehicle
 from .vehicle import G_ACC, MANCHESTER, VehicleModel
 from .wheel_rail import WheelRailTable
 
@@ -273,9 +273,9 @@ def run_scenario(sc: DynamicsScenario, out=None, progress: bool = True):
     table = build_table(sc, progress)
     ds = simulate_vehicle(sc.model, sc.route, table, sc.velocity, sc.duration,
                           sc.tangential, sc.friction, sc.material,
-                          sc.initial_lateral_shift, sc.sample_rate, sc.rtol, progress,
-                          sc.tangential_options, sc.fastsim_grid,
-                          integrator=sc.integrator, step=sc.step)
+                          sc.initial_lateral_shift, sc.tangential_options, sc.fastsim_grid,
+                          Integration(sc.integrator, sc.sample_rate, sc.rtol, step=sc.step,
+                                      progress=progress))
     try:
         vc = critical_speed(sc.model, table, material=sc.material)
     except (InputError, ValueError):           # no crossing in the bracket

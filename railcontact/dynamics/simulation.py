@@ -6,6 +6,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.integrate import solve_ivp
@@ -17,7 +18,8 @@ from ..geometry.validity import nadal_limit
 from ..core.materials import Material, STEEL
 from ..tangential import get_tangential_model
 from ..tangential.polach import PRESETS
-from .equations_of_motion import NORMAL_PASSES, PIN, POUT, rhs_core, rk4_run
+from .equations_of_motion import (EXTERNAL, NORMAL_PASSES, ContactTables, Outputs, System,
+                                  Track, Vehicle, rhs_core, rk4_run)
 from .route import Route
 from .vehicle import VehicleModel
 from .wheel_rail import WheelRailTable, online_law, python_patch_forces
@@ -58,18 +60,16 @@ class _System:
             raise InputError(f"friction coefficient {friction!r}: expected a value in (0, 2]")
         self.model, self.route = model, route
         self.V = float(velocity)
-        self.bodies, self.elems, self.bx, self.bf, self.wsets = model.packed()
-        self.track = route.packed()
         self.s0 = -min(b.x for b in model.bodies)
         nw = len(model.wheelsets)
         self.tables = _per_wheelset(table, nw)
         self.table = self.tables[0]
-        self.table_data = np.ascontiguousarray(np.stack([tb.data for tb in self.tables]))
-        self.qrefs = np.array([tb.reference_load for tb in self.tables], dtype=float)
-        self.pin = np.zeros((nw, 2, 2, len(PIN)))
-        self.pout = np.zeros((nw, 2, 2, len(POUT)))
-        self.wout = np.zeros((nw, 4))
-        self.fext = np.zeros((nw, 2, 2, 4))
+        self.contact = ContactTables(
+            self.table.shift, np.ascontiguousarray(np.stack([tb.data for tb in self.tables])),
+            np.array([tb.reference_load for tb in self.tables], dtype=float),
+            float(self.table.nominal_radius))
+        self.out = Outputs.empty(nw)
+        self.fext = np.zeros((nw, 2, 2), EXTERNAL)
         self.tangential = tangential
         opts = dict(tangential_options or {})
         mu = friction
@@ -92,32 +92,47 @@ class _System:
             self.law = -1
             self.py_model = get_tangential_model(tangential, **opts)
         self.material, self.friction = material, mu
+        self.system = System(self.V, self.s0, Vehicle(*model.packed()), Track(*route.packed()),
+                             self.contact, max(self.law, 0), self.tp)
         self.calls = 0
+
+    @property
+    def pin(self) -> np.ndarray:
+        """The last evaluation's per-patch inputs (:data:`~.equations_of_motion.PATCH_IN`)."""
+        return self.out.patch_in
+
+    @property
+    def pout(self) -> np.ndarray:
+        """The last evaluation's per-patch outputs (:data:`~.equations_of_motion.PATCH_OUT`)."""
+        return self.out.patch_out
+
+    @property
+    def wout(self) -> np.ndarray:
+        """The last evaluation's per-wheelset values (:data:`~.equations_of_motion.WHEELSET_OUT`)."""
+        return self.out.wheelset_out
 
     def rhs(self, t, u):
         self.calls += 1
-        args = (self.V, self.s0, self.bodies, self.elems, self.bx, self.bf, self.wsets,
-                *self.track, self.table.shift, self.table_data, self.qrefs,
-                self.table.nominal_radius)
         if self.law >= 0:
-            return rhs_core(t, u, *args, self.law, self.tp, 0, self.fext, self.pin, self.pout,
-                            self.wout)
+            return rhs_core(t, u, self.system, 0, self.fext, self.out)
         self.fext[:] = 0.0
-        rhs_core(t, u, *args, 0, self.tp, 1, self.fext, self.pin, self.pout, self.wout)
-        for idx in np.ndindex(self.pin.shape[:3]):
+        rhs_core(t, u, self.system, 1, self.fext, self.out)
+        for idx in np.ndindex(self.pin.shape):
             p = self.pin[idx]
-            N = p[0]
+            N = p["normal_force"]
             if N <= 0:
                 continue
-            f = python_patch_forces(self.py_model, self.material, self.friction, N, p[11],
-                                    p[12], p[6], p[7], p[8], p[14], (20, 20))
-            sd, cd = math.sin(p[9]), math.cos(p[9])
+            f = python_patch_forces(self.py_model, self.material, self.friction, N, p["A"],
+                                    p["B"], p["xi"], p["eta"], p["phi"], p["velocity"], (20, 20))
+            sd, cd = math.sin(p["contact_angle"]), math.cos(p["contact_angle"])
             for _ in range(NORMAL_PASSES if abs(sd) >= 0.05 else 0):
-                N = max(p[0] + f[1] * sd / cd, 0.0)   # N cos d - Fy sin d = table share
-                f = python_patch_forces(self.py_model, self.material, self.friction, N, p[11],
-                                        p[12], p[6], p[7], p[8], p[14], (20, 20))
+                # N cos d - Fy sin d = table share
+                N = max(p["normal_force"] + f[1] * sd / cd, 0.0)
+                f = python_patch_forces(self.py_model, self.material, self.friction, N, p["A"],
+                                        p["B"], p["xi"], p["eta"], p["phi"], p["velocity"],
+                                        (20, 20))
             self.fext[idx] = (*f, N)
-        return rhs_core(t, u, *args, 0, self.tp, 1, self.fext, self.pin, self.pout, self.wout)
+        return rhs_core(t, u, self.system, 1, self.fext, self.out)
 
     def active(self) -> np.ndarray:
         """Indices of the states that are degrees of freedom (roll only where given)."""
@@ -128,18 +143,57 @@ class _System:
         return np.array(act + [nd + i for i in act])
 
 
+@dataclass(frozen=True)
+class Integration:
+    """How a run of :func:`simulate_vehicle` is stepped, sampled and shown.
+
+    Attributes
+    ----------
+    method : {"auto", "rk4", "lsoda"}
+        ``"lsoda"``: SciPy's stiff-capable LSODA (switching between Adams and BDF)
+        with error control (``rtol``), one Python call of the compiled right-hand
+        side per evaluation.  ``"rk4"``: a compiled fixed-step Runge-Kutta loop
+        (compiled laws only) whose step is bounded by the stiffness: dt <= 1 / rho
+        with rho the spectral radius of the linearised model at this speed (RK4 is
+        stable up to 2.78 / rho), by 1 ms and by the sampling interval.
+        ``"auto"``: rk4 for compiled laws.
+    sample_rate : float
+        Output samples per second [Hz].
+    rtol : float
+        Relative tolerance of LSODA.
+    max_step : float, optional
+        Upper bound of LSODA's step [s].
+    step : float, optional
+        Upper bound of the rk4 step [s].
+    progress : bool
+        Show a progress bar.
+    """
+
+    method: str = "auto"
+    sample_rate: float = 100.0
+    rtol: float = 1e-6
+    max_step: float | None = None
+    step: float | None = None
+    progress: bool = False
+
+    def __post_init__(self):
+        if self.method not in ("auto", "rk4", "lsoda"):
+            raise InputError(f"integrator {self.method!r}: expected 'auto', 'rk4' or 'lsoda'")
+        if not (isinstance(self.sample_rate, (int, float)) and 0 < self.sample_rate <= 1e5):
+            raise InputError(f"simulation sample_rate {self.sample_rate!r} Hz: expected "
+                             "(0, 1e5]")
+
+
 def simulate_vehicle(model: VehicleModel, route: Route, table,
                      velocity: float, duration: float, tangential: str = "fastsim",
                      friction: float = 0.3, material: Material = STEEL,
-                     initial_lateral_shift: float = 0.0, sample_rate: float = 100.0,
-                     rtol: float = 1e-6, progress: bool = False,
+                     initial_lateral_shift: float = 0.0,
                      tangential_options: dict | None = None, fastsim_grid=(12, 12),
-                     max_step: float | None = None, integrator: str = "auto",
-                     step: float | None = None):
+                     integration: Integration = Integration()):
     """Run ``model`` over ``route`` at constant ``velocity`` [m/s] for ``duration`` [s].
 
-    The stiff-capable LSODA integrator (switching between Adams and BDF) steps the
-    compiled right-hand side; results are sampled at ``sample_rate`` [Hz].
+    The compiled right-hand side is stepped by RK4 (compiled laws) or LSODA, and
+    sampled at ``integration.sample_rate`` [Hz].
 
     Parameters
     ----------
@@ -151,25 +205,17 @@ def simulate_vehicle(model: VehicleModel, route: Route, table,
         tangential model (Python, slow).
     initial_lateral_shift : float
         Lateral displacement [m] of every wheelset at t = 0 (a perturbation).
-    integrator : {"auto", "rk4", "lsoda"}
-        ``"lsoda"``: SciPy's stiff-capable LSODA with error control (``rtol``), one
-        Python call of the compiled right-hand side per evaluation.  ``"rk4"``: a
-        compiled fixed-step Runge-Kutta loop (compiled laws only) whose step is
-        bounded by the stiffness: dt <= 1 / rho with rho the spectral radius of
-        the linearised model at this speed (RK4 is stable up to 2.78 / rho), by
-        1 ms and by the sampling interval.  ``"auto"``: rk4 for compiled laws.
-    step : float, optional
-        Upper bound of the rk4 step [s].
+    integration : Integration
+        The integrator, its tolerance and steps, the sampling and the progress bar.
 
     Returns
     -------
     xarray.Dataset
         See :func:`_dataset` and docs/dynamics.md.
     """
+    sample_rate, progress = integration.sample_rate, integration.progress
     if not (isinstance(duration, (int, float)) and 0 < duration <= 1e5):
         raise InputError(f"simulation duration {duration!r} s: expected a value in (0, 1e5]")
-    if not (isinstance(sample_rate, (int, float)) and 0 < sample_rate <= 1e5):
-        raise InputError(f"simulation sample_rate {sample_rate!r} Hz: expected (0, 1e5]")
     if not (isinstance(initial_lateral_shift, (int, float)) and abs(initial_lateral_shift) < 0.02):
         raise InputError(f"initial_lateral_shift {initial_lateral_shift!r} m: expected |y| < 0.02")
     sysm = _System(model, route, table, velocity, tangential, friction, material,
@@ -191,19 +237,18 @@ def simulate_vehicle(model: VehicleModel, route: Route, table,
             state["shown"] = t
         return sysm.rhs(t, u)
 
+    integrator = integration.method
     if integrator == "auto":
         integrator = "rk4" if sysm.law >= 0 else "lsoda"
-    if integrator not in ("rk4", "lsoda"):
-        raise InputError(f"integrator {integrator!r}: expected 'auto', 'rk4' or 'lsoda'")
     if integrator == "rk4":
         if sysm.law < 0:
             raise InputError(f"integrator 'rk4' needs a compiled creep law (linear, fastsim, "
                              f"polach), not {tangential!r}; use 'lsoda'")
-        return _run_rk4(sysm, u0, duration, sample_rate, step, progress, bar)
+        return _run_rk4(sysm, u0, duration, sample_rate, integration.step, progress, bar)
     wall = time.perf_counter()
     try:
-        sol = solve_ivp(f, (0.0, duration), u0, method="LSODA", t_eval=t_eval, rtol=rtol,
-                        atol=1e-9, max_step=max_step or np.inf)
+        sol = solve_ivp(f, (0.0, duration), u0, method="LSODA", t_eval=t_eval,
+                        rtol=integration.rtol, atol=1e-9, max_step=integration.max_step or np.inf)
     finally:
         bar.update(max(round(duration - state["shown"], 3), 0))
         bar.close()
@@ -231,20 +276,17 @@ def _run_rk4(sysm: _System, u0, duration, sample_rate, step, progress, bar):
     Y = np.empty((n_samples + 1, u0.size))
     Y[0] = u0
     u = u0.copy()
-    args = (sysm.V, sysm.s0, sysm.bodies, sysm.elems, sysm.bx, sysm.bf, sysm.wsets,
-            *sysm.track, sysm.table.shift, sysm.table_data, sysm.qrefs,
-            sysm.table.nominal_radius, sysm.law, sysm.tp, sysm.fext, sysm.pin, sysm.pout,
-            sysm.wout)
     chunk = max(1, n_samples // 100)
     wall = time.perf_counter()
     try:
         for k0 in range(0, n_samples, chunk):
             k1 = min(k0 + chunk, n_samples)
-            u = rk4_run(u, t[k0], dt, (k1 - k0) * every, every, *args, Y[k0 + 1:k1 + 1])
+            u = rk4_run(u, t[k0], dt, (k1 - k0) * every, every, sysm.system, sysm.fext, sysm.out,
+                        Y[k0 + 1:k1 + 1])
             if not np.all(np.isfinite(u)):
                 raise RailContactError(f"simulation diverged before t = {t[k1]:.4g} s (rk4, "
                                        f"step {dt:.3g} s); try integrator = 'lsoda'")
-            bar.update(round(t[k1] - t[k0], 3))
+            bar.update(max(min(round(float(t[k1]), 3), bar.total) - bar.n, 0))  # not past it
     finally:
         bar.close()
     wall = time.perf_counter() - wall
@@ -260,9 +302,9 @@ def _dataset(sysm: _System, t, Y, wall):
     calls = sysm.calls
     nt = t.size
     nw = len(model.wheelsets)
-    pin = np.zeros((nt,) + sysm.pin.shape)
-    pout = np.zeros((nt,) + sysm.pout.shape)
-    wout = np.zeros((nt,) + sysm.wout.shape)
+    pin = np.zeros((nt,) + sysm.pin.shape, sysm.pin.dtype)
+    pout = np.zeros((nt,) + sysm.pout.shape, sysm.pout.dtype)
+    wout = np.zeros((nt,) + sysm.wout.shape, sysm.wout.dtype)
     for i in range(nt):
         sysm.rhs(t[i], Y[:, i])
         pin[i], pout[i], wout[i] = sysm.pin, sysm.pout, sysm.wout
@@ -274,8 +316,8 @@ def _dataset(sysm: _System, t, Y, wall):
     kap, cant = sysm.route.at(s_first)
     dims_p = ("time", "wheelset", "side", "patch")
     dims_w = ("time", "wheelset", "side")
-    Q = pout[..., 4].sum(axis=3)
-    Yf = pout[..., 3].sum(axis=3)
+    Q = pout["Q"].sum(axis=3)
+    Yf = pout["Y"].sum(axis=3)
     with np.errstate(divide="ignore", invalid="ignore"):
         YQ = np.where(Q > 0, Yf / Q, np.nan)
     data = {
@@ -287,36 +329,36 @@ def _dataset(sysm: _System, t, Y, wall):
                                   "relative to the design track"}),
         "yaw": (("time", "wheelset"), q[wi, 1].T,
                 {"units": "rad", "long_name": "wheelset yaw relative to the track tangent"}),
-        "relative_shift": (("time", "wheelset"), wout[..., 0],
+        "relative_shift": (("time", "wheelset"), wout["relative_shift"],
                            {"units": "m", "long_name": "wheelset shift relative to the rails"}),
-        "load_left": (("time", "wheelset"), wout[..., 2], {"units": "N"}),
-        "load_right": (("time", "wheelset"), wout[..., 3], {"units": "N"}),
-        "normal_force": (dims_w, pin[..., 0].sum(axis=3), {"units": "N"}),
-        "longitudinal_force": (dims_w, pout[..., 0].sum(axis=3),
+        "load_left": (("time", "wheelset"), wout["load_left"], {"units": "N"}),
+        "load_right": (("time", "wheelset"), wout["load_right"], {"units": "N"}),
+        "normal_force": (dims_w, pin["normal_force"].sum(axis=3), {"units": "N"}),
+        "longitudinal_force": (dims_w, pout["Fx"].sum(axis=3),
                                {"units": "N", "long_name": "creep force Fx on the wheel"}),
-        "lateral_creep_force": (dims_w, pout[..., 1].sum(axis=3),
+        "lateral_creep_force": (dims_w, pout["Fy"].sum(axis=3),
                                 {"units": "N", "long_name": "creep force Fy on the wheel, "
                                  "contact plane"}),
         "Y": (dims_w, Yf, {"units": "N", "long_name": "lateral force of the rail on the "
                            "wheel, track plane"}),
         "Q": (dims_w, Q, {"units": "N", "long_name": "vertical force of the rail on the wheel"}),
         "Y_over_Q": (dims_w, YQ, {"units": "1"}),
-        "Tgamma": (dims_w, pout[..., 5].sum(axis=3), {"units": "N",
+        "Tgamma": (dims_w, pout["Tgamma"].sum(axis=3), {"units": "N",
                                                       "long_name": "wear number T gamma"}),
-        "patch_normal_force": (dims_p, pin[..., 0], {"units": "N"}),
-        "patch_Fx": (dims_p, pout[..., 0], {"units": "N"}),
-        "patch_Fy": (dims_p, pout[..., 1], {"units": "N"}),
-        "patch_Mz": (dims_p, pout[..., 2], {"units": "N m"}),
-        "creepage_longitudinal": (dims_p, pin[..., 6], {"units": "1"}),
-        "creepage_lateral": (dims_p, pin[..., 7], {"units": "1"}),
-        "creepage_spin": (dims_p, pin[..., 8], {"units": "1/m"}),
-        "contact_angle": (dims_p, pin[..., 9], {"units": "rad"}),
-        "y_rail": (dims_p, np.where(pin[..., 0] > 0, pin[..., 13], np.nan),
+        "patch_normal_force": (dims_p, pin["normal_force"], {"units": "N"}),
+        "patch_Fx": (dims_p, pout["Fx"], {"units": "N"}),
+        "patch_Fy": (dims_p, pout["Fy"], {"units": "N"}),
+        "patch_Mz": (dims_p, pout["Mz"], {"units": "N m"}),
+        "creepage_longitudinal": (dims_p, pin["xi"], {"units": "1"}),
+        "creepage_lateral": (dims_p, pin["eta"], {"units": "1"}),
+        "creepage_spin": (dims_p, pin["phi"], {"units": "1/m"}),
+        "contact_angle": (dims_p, pin["contact_angle"], {"units": "rad"}),
+        "y_rail": (dims_p, np.where(pin["normal_force"] > 0, pin["y_rail"], np.nan),
                    {"units": "m", "long_name": "contact position on the rail profile"}),
-        "y_wheel": (dims_p, np.where(pin[..., 0] > 0, pin[..., 15], np.nan),
+        "y_wheel": (dims_p, np.where(pin["normal_force"] > 0, pin["y_wheel"], np.nan),
                     {"units": "m", "long_name": "contact position on the wheel profile"}),
-        "semi_axis_a": (dims_p, pin[..., 1], {"units": "m"}),
-        "semi_axis_b": (dims_p, pin[..., 2], {"units": "m"}),
+        "semi_axis_a": (dims_p, pin["a"], {"units": "m"}),
+        "semi_axis_b": (dims_p, pin["b"], {"units": "m"}),
         "distance": ("time", s_first, {"units": "m", "long_name": "position of wheelset 1"}),
         "curvature": ("time", kap, {"units": "1/m"}),
         "cant": ("time", cant, {"units": "rad"}),
@@ -329,13 +371,13 @@ def _dataset(sysm: _System, t, Y, wall):
         attrs={"model": model.name, "velocity_m_s": V, "tangential": sysm.tangential,
                "friction": sysm.friction, "total_mass_kg": model.total_mass,
                "rhs_calls": calls, "wall_time_s": wall,
-               "outside_table": int(wout[..., 1].max() > 0) if nt else 0})
-    warnings = _validity(sysm, t, YQ, pin[..., 1, 0] > 0)
+               "outside_table": int(wout["outside_table"].any()) if nt else 0})
+    warnings = _validity(sysm, t, YQ, pin["normal_force"][..., 1] > 0)
     if ds.attrs["outside_table"]:
         warnings.insert(0, "a wheelset left the contact table's range: the contact was "
                            "clamped to the table's edge; build the table with a larger range")
-    for w in warnings:
-        log.warning("%s", w)
+    for w in warnings:                 # in the result; the CLI prints them
+        log.info("%s", w)
     ds.attrs["warnings"] = "; ".join(warnings)
     return ds
 
@@ -398,8 +440,8 @@ def amplitude_growth(model: VehicleModel, table: WheelRailTable, velocity: float
     """Ratio of the largest wheelset displacement in the last quarter of a run on
     tangent track to that in the first quarter (> 1: unstable)."""
     ds = simulate_vehicle(model, Route.tangent(velocity * duration + 100), table, velocity,
-                          duration, tangential, initial_lateral_shift=y0, sample_rate=200.0,
-                          rtol=1e-8)
+                          duration, tangential, initial_lateral_shift=y0,
+                          integration=Integration(sample_rate=200.0, rtol=1e-8))
     y = np.abs(ds["lateral_displacement"].values).max(axis=1)
     n = y.size
     return float(y[-n // 4:].max() / y[:n // 4].max())

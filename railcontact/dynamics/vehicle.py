@@ -21,6 +21,25 @@ from ..core.errors import InputError
 #: acceleration of gravity [m/s^2]
 G_ACC = 9.81
 
+#: a body in the compiled equations of motion (:meth:`VehicleModel.packed`): mass [kg],
+#: yaw and roll inertia [kg m²], longitudinal position x [m], centre of gravity height
+#: [m], whether roll is a degree of freedom, roll arm [m] (as :class:`Body`)
+BODY = np.dtype([("mass", np.float64), ("yaw_inertia", np.float64),
+                 ("roll_inertia", np.float64), ("x", np.float64), ("height", np.float64),
+                 ("roll", np.bool_), ("roll_arm", np.float64)], align=True)
+#: a suspension element (as :class:`Element`): bodies i, j (-1: the track),
+#: attachment offsets a_i, a_j [m] and depths d_i, d_j [m], lateral k_y [N/m], c_y
+#: [N s/m], yaw k_yaw [N m/rad], c_yaw [N m s/rad], roll k_roll [N m/rad], c_roll
+#: [N m s/rad], and ``bump``: its row in the bump stop tables (-1: none)
+ELEMENT = np.dtype([("i", np.int64), ("j", np.int64)]
+                   + [(name, np.float64) for name in ("a_i", "a_j", "d_i", "d_j", "k_y", "c_y",
+                                                       "k_yaw", "c_yaw", "k_roll", "c_roll")]
+                   + [("bump", np.int64)], align=True)
+#: a wheelset's load path: its body, the supported mass [kg] and first moment
+#: Σ m h [kg m]
+WHEELSET = np.dtype([("body", np.int64), ("mass", np.float64), ("moment", np.float64)],
+                    align=True)
+
 #: Manchester benchmark vehicle 1 (REFERENCES.md §10; Iwnicki 1998 via secondary
 #: sources).  Primary cx, cy are unverified there; no yaw damper is given.
 MANCHESTER = {
@@ -244,9 +263,12 @@ class VehicleModel:
 
     # ------------------------------------------------------------ packing
     def packed(self):
-        """Arrays for the compiled right-hand side."""
-        bodies = np.array([[b.mass, b.yaw_inertia, b.roll_inertia, b.x, b.height,
-                            1.0 if b.roll else 0.0, b.roll_arm] for b in self.bodies])
+        """Structured arrays for the compiled right-hand side: the bodies
+        (:data:`BODY`), the elements (:data:`ELEMENT`), the bump stop tables'
+        deflections [m] and forces [N] (one row per stop, padded with the last
+        point) and the wheelsets (:data:`WHEELSET`)."""
+        bodies = np.array([(b.mass, b.yaw_inertia, b.roll_inertia, b.x, b.height, b.roll,
+                            b.roll_arm) for b in self.bodies], dtype=BODY)
         tables = [e.bump for e in self.elements if e.bump is not None]
         npts = max([len(t[0]) for t in tables], default=2)
         bx = np.zeros((max(len(tables), 1), npts))
@@ -264,7 +286,7 @@ class VehicleModel:
                 bf[it, :] = f[-1]
                 bx[it, :d.size], bf[it, :d.size] = d, f
                 idx, it = it, it + 1
-            elems.append([e.i, e.j, e.a_i, e.a_j, e.d_i, e.d_j, e.k_y, e.c_y, e.k_yaw, e.c_yaw,
-                          e.k_roll, e.c_roll, idx])
-        wsets = np.array([[w[0], w[1], w[2]] for w in self.wheelsets], dtype=float)
-        return (bodies, np.array(elems, dtype=float).reshape(-1, 13), bx, bf, wsets)
+            elems.append((e.i, e.j, e.a_i, e.a_j, e.d_i, e.d_j, e.k_y, e.c_y, e.k_yaw, e.c_yaw,
+                          e.k_roll, e.c_roll, idx))
+        wsets = np.array([(w[0], w[1], w[2]) for w in self.wheelsets], dtype=WHEELSET)
+        return bodies, np.array(elems, dtype=ELEMENT), bx, bf, wsets

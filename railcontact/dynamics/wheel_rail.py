@@ -47,6 +47,19 @@ FIELDS = ("load_share", "contact_angle", "rolling_radius", "y_contact", "a", "b"
  F_YWHEEL) = range(13)
 
 
+def _shift_grid(reference_load: float, shift_range: float, step: float) -> np.ndarray:
+    """The lateral shifts [m] of a contact table: -range to range by ``step``, its
+    inputs checked (a reference load > 0 N, a range in [1, 30] mm, a step of at most a
+    quarter of it)."""
+    if not (math.isfinite(reference_load) and reference_load > 0):
+        raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")
+    if not (1e-3 <= shift_range <= 0.03 and 1e-5 <= step <= shift_range / 4):
+        raise InputError(f"contact table range {shift_range!r} m, step {step!r} m: expected "
+                         "a range in [0.001, 0.03] m and a step of at most range/4")
+    n = int(round(shift_range / step))
+    return np.linspace(-n * step, n * step, 2 * n + 1)
+
+
 @dataclass
 class WheelRailTable:
     """Per-patch contact table over the wheelset's lateral shift relative to the rails.
@@ -99,13 +112,7 @@ class WheelRailTable:
               keep_geometry: bool = False):
         """Contact search at every shift in [-shift_range, shift_range] (yaw 0);
         ``keep_geometry`` keeps the patches' geometry (:attr:`geometry`)."""
-        if not (math.isfinite(reference_load) and reference_load > 0):
-            raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")
-        if not (1e-3 <= shift_range <= 0.03 and 1e-5 <= step <= shift_range / 4):
-            raise InputError(f"contact table range {shift_range!r} m, step {step!r} m: expected "
-                             "a range in [0.001, 0.03] m and a step of at most range/4")
-        n = int(round(shift_range / step))
-        shifts = np.linspace(-n * step, n * step, 2 * n + 1)
+        shifts = _shift_grid(reference_load, shift_range, step)
         data = np.full((shifts.size, 2, 2, len(FIELDS)), np.nan)
         data[..., F_SHARE] = 0.0
         delta_r = np.full(shifts.size, np.nan)
@@ -178,13 +185,7 @@ class WheelRailTable:
         smoothly through the jumps of the rigid contact point (docs/dynamics.md,
         "Arnold's quasi-elastic contact")."""
         from ..geometry.quasi_elastic import quasi_elastic_contact
-        if not (math.isfinite(reference_load) and reference_load > 0):
-            raise InputError(f"contact table reference load {reference_load!r} N: expected > 0")
-        if not (1e-3 <= shift_range <= 0.03 and 1e-5 <= step <= shift_range / 4):
-            raise InputError(f"contact table range {shift_range!r} m, step {step!r} m: expected "
-                             "a range in [0.001, 0.03] m and a step of at most range/4")
-        n = int(round(shift_range / step))
-        shifts = np.linspace(-n * step, n * step, 2 * n + 1)
+        shifts = _shift_grid(reference_load, shift_range, step)
         data = np.zeros((shifts.size, 2, 2, len(FIELDS)))
         delta_r = np.empty(shifts.size)
         Es, nu = material.contact_modulus, material.nu

@@ -8,6 +8,7 @@ differences (:func:`curvatures_fd`)."""
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -22,6 +23,36 @@ from .track import Track, Wheelset
 #: kappa <= 1e3 1/m the profile curvatures, below 1e-13 m
 NEWTON_TOL = 1e-8
 
+
+
+class Spline(NamedTuple):
+    """A profile's piecewise cubic for the compiled kernels (:func:`ppoly_at`)."""
+
+    #: breakpoints [m] of the lateral coordinate
+    breaks: np.ndarray
+    #: (4, n) coefficients of the cubic pieces [m^(1-k)]
+    coefs: np.ndarray
+
+
+class PatchFrame(NamedTuple):
+    """A patch's tangent plane and the wheelset's axes, for the compiled gap kernels."""
+
+    #: centre of the patch [m], track axes
+    C: np.ndarray
+    #: lateral tangent of the plane (unit; x is the rolling direction)
+    t: np.ndarray
+    #: normal of the plane (unit)
+    n: np.ndarray
+    #: lateral offset [m] of the rail profile's origin
+    y_off: float
+    #: (3, 3) from track to wheelset axes (the transpose of the wheelset's axes)
+    Rt: np.ndarray
+    #: origin of the wheelset axes [m], track axes
+    O: np.ndarray
+    #: lateral offset [m] of the wheel profile's origin in wheelset axes
+    e: float
+    #: nominal rolling radius [m]
+    r0: float
 
 
 class GapEvaluator:
@@ -45,6 +76,8 @@ class GapEvaluator:
         self.Rt = np.ascontiguousarray(self.R.T)
         self.frame = np.concatenate([self.C, self.t, self.n, [self.y_off], self.Rt.ravel(),
                                      self.O, [self.e, self.r0]]).astype(float)
+        self.patch_frame = PatchFrame(self.C, self.t, self.n, float(self.y_off), self.Rt,
+                                      self.O, float(self.e), float(self.r0))
 
     def contact_angle_at(self, y):
         """Local contact angle [rad] (track convention, as ``contact_angle``) at
@@ -74,9 +107,9 @@ class GapEvaluator:
         in the side's lateral sense, as ``__call__`` passes it)."""
         if not signed:
             ys = self.sign * ys
-        return sane_gap(_gap_kernel(x, ys, self.C, self.t, self.n, self.y_off, self.rail._breaks,
-                                 self.rail._coefs, self.Rt, self.O, self.e, self.r0,
-                                 self.wheel._breaks, self.wheel._coefs))
+        return sane_gap(_gap_kernel(x, ys, self.patch_frame,
+                                    Spline(self.rail._breaks, self.rail._coefs),
+                                    Spline(self.wheel._breaks, self.wheel._coefs)))
 
 
 
@@ -113,11 +146,13 @@ def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr, k=-1):
 
 
 @njit(cache=True, nogil=True)
-def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw, k=-1):
+def _wheel_distance(xp, ysp, frame, wheel, tw, k=-1):
     """Distance along n from the tangent-plane point C + xp (1, 0, 0) + ysp t to
-    the wheel surface (radius r0 + z_w(eta - e) in wheelset axes), by Newton from
-    the estimate ``tw``, starting the profile lookup at interval ``k``.  Returns the
-    distance and the interval."""
+    the wheel surface (radius r0 + z_w(eta - e) in wheelset axes; ``frame`` a
+    :class:`PatchFrame`, ``wheel`` the wheel profile's :class:`Spline`), by Newton
+    from the estimate ``tw`` [m], starting the profile lookup at interval ``k``.
+    Returns the distance and the interval."""
+    C, t, n, Rt, O = frame.C, frame.t, frame.n, frame.Rt, frame.O
     nl0 = Rt[0, 0] * n[0] + Rt[0, 1] * n[1] + Rt[0, 2] * n[2]
     nl1 = Rt[1, 0] * n[0] + Rt[1, 1] * n[1] + Rt[1, 2] * n[2]
     nl2 = Rt[2, 0] * n[0] + Rt[2, 1] * n[1] + Rt[2, 2] * n[2]
@@ -127,7 +162,8 @@ def _wheel_distance(xp, ysp, C, t, n, Rt, O, e, r0, wb, wc, tw, k=-1):
     l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
     l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
     l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
-    return _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, tw, k)
+    return _wheel_newton(l0, l1, l2, nl0, nl1, nl2, frame.e, frame.r0, wheel.breaks,
+                         wheel.coefs, tw, k)
 
 
 
@@ -149,15 +185,19 @@ def _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, tw, k):
 
 
 @njit(cache=True, nogil=True)
-def _gap_kernel(x, ys, C, t, n, y_off, rb, rc, Rt, O, e, r0, wb, wc):
+def _gap_kernel(x, ys, frame, rail, wheel):
     """Distance along the normal n between rail and wheel surfaces through the
-    tangent-plane points C + x (1, 0, 0) + ys t (1 m where a surface is missed)."""
+    tangent-plane points C + x (1, 0, 0) + ys t [m] of the patch ``frame``
+    (:class:`PatchFrame`; 1 m where a surface is missed); ``rail``, ``wheel`` the
+    profiles' :class:`Spline`."""
+    C, t, n, y_off = frame.C, frame.t, frame.n, frame.y_off
+    rb, rc = rail.breaks, rail.coefs
     h = np.empty(x.size)
     kr = -1
     kw = -1
     for i in range(x.size):
         tr, kr = _rail_distance(ys[i], C, t, n, y_off, rb, rc, 0.0, kr)
-        tw, kw = _wheel_distance(x[i], ys[i], C, t, n, Rt, O, e, r0, wb, wc, 0.0, kw)
+        tw, kw = _wheel_distance(x[i], ys[i], frame, wheel, 0.0, kw)
         g = tr - tw
         h[i] = g if math.isfinite(g) else 1.0
     return h

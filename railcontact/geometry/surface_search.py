@@ -371,8 +371,8 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
                 cells = lab2 == k
                 if cells.sum() < min_cells:
                     continue
-                patches.append(_make_patch(wheel, rail, ir, sp, side, mo, fx, fy, gf, zr, dz,
-                                           cells, fine))
+                patches.append(_make_patch(wheel, rail, ir, sp, side, mo,
+                                           _FineGrid(fx, fy, gf, zr, dz, fine), cells))
     # CONTACT's numbering: from the field side towards the gauge side (the side
     # frame's y falling), then along x
     fs = 1.0 if side == "right" else -1.0
@@ -448,8 +448,30 @@ def _unique(patches):
     return out
 
 
-def _make_patch(wheel, rail, ir, sp, side, mo, fx, fy, g, zr, dz, cells, fine):
-    """The patch of one interpenetration region (``cells`` of the fine grid)."""
+@dataclass(frozen=True)
+class _FineGrid:
+    """The fine search grid around a candidate region, in track axes."""
+
+    #: (nx,) longitudinal positions [m] relative to the wheelset
+    x: np.ndarray
+    #: (ny,) lateral positions [m]
+    y: np.ndarray
+    #: (nx, ny) vertical gap [m] (inf where a surface is missed)
+    gap: np.ndarray
+    #: (nx, ny) rail surface height [m]
+    rail_height: np.ndarray
+    #: (nx, ny) lateral inclination dz/dy of the rail surface [-]
+    inclination: np.ndarray
+    #: (dx, dy) spacing [m]
+    spacing: tuple
+
+
+def _make_patch(wheel, rail, ir, sp, side, mo, grid: _FineGrid, cells):
+    """The patch of one interpenetration region (``cells`` of the fine ``grid``) of
+    rail ``ir`` at the wheelset's pose ``sp`` and motion ``mo`` (mirrored to the
+    side)."""
+    fx, fy, g, zr, dz, fine = grid.x, grid.y, grid.gap, grid.rail_height, grid.inclination, \
+        grid.spacing
     sgn = 1.0 if side == "right" else -1.0
     X, Y = np.meshgrid(fx, fy, indexing="ij")
     w = np.where(cells, g * g, 0.0)

@@ -59,14 +59,14 @@ class Track:
     def __post_init__(self) -> None:
         if self.rail_left is None:
             self.rail_left = self.rail_right
-        _check("track.gauge", self.gauge, 0.5, 2.0, "m")
+        _check("track.gauge", self.gauge, 0.1, 2.0, "m")       # 0.1: scaled rigs
         _check("track.gauge_height", self.gauge_height, 0.0, 0.05, "m")
         for side in SIDES:
             rail = self.rail(side)
             if rail.kind != "rail":
                 raise ProfileError(f"{side} rail profile {rail.name!r} is a wheel profile")
             if self.rail_offsets is not None:
-                _check(f"track.rail_offsets[{side!r}]", self.rail_offsets.get(side), 0.25,
+                _check(f"track.rail_offsets[{side!r}]", self.rail_offsets.get(side), 0.05,
                        1.0, "m")
                 self._offsets[side] = float(self.rail_offsets[side])
             else:
@@ -137,8 +137,8 @@ class Wheelset:
     def __post_init__(self) -> None:
         if self.wheel_left is None:
             self.wheel_left = self.wheel_right
-        _check("wheel.nominal_radius", self.nominal_radius, 0.1, 1.5, "m")
-        _check("wheelset.flange_back_distance", self.flange_back_distance, 0.5, 2.0, "m")
+        _check("wheel.nominal_radius", self.nominal_radius, 0.02, 1.5, "m")
+        _check("wheelset.flange_back_distance", self.flange_back_distance, 0.1, 2.0, "m")
         _check("wheelset.flange_back_position", self.flange_back_position, -0.2, 0.0, "m")
         for side in SIDES:
             w = self.wheel(side)

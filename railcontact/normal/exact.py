@@ -28,7 +28,7 @@ from ..core.errors import InputError
 from ..core.hertz_theory import hertz_ellipse
 from ..core.materials import STEEL, Material
 from ..core.status import SolverStatus
-from .base import NormalSolution, bilinear, make_grid, register, same_grid
+from .base import NormalSolution, bilinear, make_grid, register, resized_elements, same_grid
 from .influence import bounding_box, normal_operator, normal_operator_block
 from .polonsky_keer import polonsky_keer
 from .potential_area import (AREA_SAMPLES, FORCE_BOX, GROWTH_STEPS, crossings, cut_regions,
@@ -301,8 +301,8 @@ class ExactNormalModel:
                      "enlarged to %.2f x %.2f mm", 2e3 * box[1][0], 2e3 * box[1][1])
         sides = edge_sides(sol.contact)
         if any(sides):
-            log.warning("exact normal solver: contact reaches the edge of the potential contact "
-                        "area; results may be truncated")
+            log.info("exact normal solver: contact reaches the edge of the potential contact "
+                     "area; results may be truncated")
         sol.cpu_time = time.perf_counter() - t0
         return sol
 
@@ -391,8 +391,11 @@ class ExactNormalModel:
         status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
             f"exact normal solver: no convergence in {it} iterations", it)
         if not ok:
-            log.warning("exact normal solver: no convergence in %d iterations", it)
+            log.info("exact normal solver: no convergence in %d iterations", it)
         contact = p > 0
+        resized = resized_elements(element_size, dx, dy)
+        if resized:
+            status = status.with_warnings(resized)
         if any(edge_sides(contact)):
             status = status.with_warnings("the contact reaches the edge of the potential "
                                           "contact area (results may be truncated)")

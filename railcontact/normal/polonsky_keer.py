@@ -14,6 +14,7 @@ direct sums.  The model around it (grid, potential area, warm starts) is
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -77,10 +78,10 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
                 or cols.min() < 0 or cols.max() >= fm.shape[0]:
             raise InputError(f"regions: expected one sub-region index per grid column "
                              f"({h.shape[1]}) and a square factor matrix covering them")
-    gbar, it, converged = _pk_kernel(op.khat, op.shape, h, float(dA),
+    influence = Influence(op.khat, op.shape, op.kernel, cols, fm)
+    gbar, it, converged = _pk_kernel(influence, h, float(dA),
                                      0.0 if force is None else float(force), force is not None,
-                                     float(tol), int(maxiter), p, scale, op.kernel, cols, fm,
-                                     plimit)
+                                     p, scale, plimit, float(tol), int(maxiter))
     approach = gbar if force is not None else 0.0
     return p, approach, int(it), bool(converged)
 
@@ -168,30 +169,207 @@ DIRECT_FRACTION = 0.02
 
 
 
+class Influence(NamedTuple):
+    """The influence operator p -> A p of :func:`_pk_kernel`: the spectrum of a
+    :class:`~railcontact.normal.influence.Convolution` and its kernel, with the
+    sub-regions of a combined patch."""
+
+    #: spectrum [m/Pa] of the influence kernel on the padded grid
+    khat: np.ndarray
+    #: (nx, ny) the padded grid of the FFT
+    shape: tuple
+    #: the influence kernel [m/Pa], offsets centred at (rows - 1) / 2, (columns - 1) / 2
+    kernel: np.ndarray
+    #: (my,) the sub-region of each grid column
+    cols: np.ndarray
+    #: (k, k) interaction factors [-] between the sub-regions (:func:`_apply`)
+    factors: np.ndarray
+
+
 @njit(cache=True, nogil=True)
-def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, kernel, cols,
-               fm, plimit):
+def _free_set(p, u, h, g, S, Sp, plimit):
+    """The gap g = A p + h and the set S of the elements free to move: loaded below
+    the limit, or at the limit with an opening gap (it may unload).  Returns the
+    size of S and whether an element at the limit joined it (the directions
+    restart)."""
+    mx, my = h.shape
+    nS = 0
+    rejoined = False
+    for i in range(mx):
+        for j in range(my):
+            g[i, j] = u[i, j] + h[i, j]
+            at = p[i, j] >= plimit
+            S[i, j] = (0.0 < p[i, j] and not at) or (at and g[i, j] > 0.0)
+            if at and S[i, j] and not Sp[i, j]:
+                rejoined = True
+            nS += S[i, j]
+    return nS, rejoined
+
+
+@njit(cache=True, nogil=True)
+def _no_free_element(p, g, S, plimit):
+    """With S empty: whether the pressure already is the solution (no element at
+    zero overlaps, none at the limit has a gap); else S becomes the elements below
+    the limit at the deepest overlap.  Returns (solved, the size of S)."""
+    mx, my = g.shape
+    gmin = np.inf
+    kkt = True
+    for i in range(mx):
+        for j in range(my):
+            if p[i, j] < plimit:
+                gmin = min(gmin, g[i, j])
+                kkt = kkt and g[i, j] >= 0.0
+            else:
+                kkt = kkt and g[i, j] <= 0.0
+    nS = 0
+    for i in range(mx):
+        for j in range(my):
+            S[i, j] = p[i, j] < plimit and g[i, j] <= gmin + 1e-15
+            nS += S[i, j]
+    return kkt, nS
+
+
+@njit(cache=True, nogil=True)
+def _direction(g, S, t, restart, G_old):
+    """Conjugate gradients: the new direction t on S from the gap g (steepest descent
+    where the directions restart).  Returns G = |g|² on S."""
+    mx, my = g.shape
+    G = 0.0
+    for i in range(mx):
+        for j in range(my):
+            if S[i, j]:
+                G += g[i, j] * g[i, j]
+    beta = 0.0 if restart else G / G_old
+    for i in range(mx):
+        for j in range(my):
+            t[i, j] = g[i, j] + beta * t[i, j] if S[i, j] else 0.0
+    return G
+
+
+@njit(cache=True, nogil=True)
+def _step_length(g, r, t, S):
+    """Conjugate gradients: the step tau = (g, t) / (A t, t) on S (0 / 0: nothing
+    left to do; returned as the pair (num, den))."""
+    mx, my = g.shape
+    den = 0.0
+    num = 0.0
+    for i in range(mx):
+        for j in range(my):
+            if S[i, j]:
+                den += r[i, j] * t[i, j]
+                num += g[i, j] * t[i, j]
+    return num, den
+
+
+@njit(cache=True, nogil=True)
+def _project(p, t, g, tau, plimit, pn, idx, dq):
+    """The step p - tau t projected on the bounds 0 <= p <= ``plimit`` (the plastic
+    cap), into ``pn``; an unloaded element with an overlap is loaded.  The elements
+    changed by the projection go to ``idx`` (flat index) and ``dq`` (their change),
+    as many as fit.  Returns (sum of pn, number of elements changed, whether an
+    element was loaded: the directions restart)."""
+    mx, my = p.shape
+    limit = idx.size - 1
+    loaded = False
+    total = 0.0
+    nd = 0
+    for i in range(mx):
+        for j in range(my):
+            q0 = p[i, j] - tau * t[i, j]
+            q = q0
+            if q < 0.0:
+                q = 0.0                     # clipped
+            elif q > plimit:
+                q = plimit                  # clipped at the limit: plastic
+            if q == 0.0 and g[i, j] < 0.0:
+                q = min(-tau * g[i, j], plimit)  # an overlap: load the element
+                loaded = True
+            if q != q0:
+                if nd < limit:
+                    idx[nd] = i * my + j
+                    dq[nd] = q - q0
+                nd += 1
+            total += q
+            pn[i, j] = q
+    return total, nd, loaded
+
+
+@njit(cache=True, nogil=True)
+def _accept(p, pn, f):
+    """p = f pn; returns the relative change sum |p_new - p| / sum p_new."""
+    mx, my = p.shape
+    diff = 0.0
+    ref = 0.0
+    for i in range(mx):
+        for j in range(my):
+            q = pn[i, j] * f
+            diff += abs(q - p[i, j])
+            ref += q
+            p[i, j] = q
+    return diff / max(ref, 1e-300)
+
+
+@njit(cache=True, nogil=True)
+def _update_displacements(u, f, tau, r, rbar, changed, influence):
+    """A p after a step without a convolution: p changed by -tau t (then scaled by
+    f) and by ``changed`` = (idx, dq) on the few elements the projection moved, so
+    A p = f (A p_old - tau A t) plus the direct sum of those elements'
+    displacements (:func:`_add_direct`); ``r + rbar`` is A t."""
+    mx, my = u.shape
+    for i in range(mx):
+        for j in range(my):
+            u[i, j] = f * (u[i, j] - tau * (r[i, j] + rbar))
+    _add_direct(u, f, changed[0], changed[1], influence.kernel, influence.cols,
+                influence.factors)
+
+
+@njit(cache=True, nogil=True)
+def _pk_kernel(influence, h, dA, force, controlled, p, scale, plimit, tol, maxiter):
     """Constrained conjugate gradients of Polonsky & Keer on the pressure ``p``
     (the initial estimate, overwritten with the solution).
 
-    Conjugate directions on the set S of loaded elements; an element whose pressure
-    would turn negative is set to zero, an unloaded element with a negative gap
-    (an overlap) is loaded and the directions restart.  Force-controlled: the
-    approach is the mean gap over S and the pressure is scaled to the force.
+    Parameters
+    ----------
+    influence : Influence
+        The operator p -> A p [m/Pa], with the sub-regions of a combined patch.
+    h : ndarray (mx, my)
+        Undeformed distance [m] (less the approach where it is given).
+    dA : float
+        Element area [m²].
+    force : float
+        Total force [N] with ``controlled``.
+    controlled : bool
+        Force-controlled (the approach is the unknown) or not.
+    p : ndarray (mx, my)
+        Pressure [Pa]: the start, overwritten with the solution.
+    scale : float
+        Gap scale [m] of the convergence test.
+    plimit : float
+        Upper bound of the pressure [Pa] (inf: elastic).
+    tol : float
+        Relative tolerance.
+    maxiter : int
+        Iterations at most.
+
+    Conjugate directions on the set S of loaded elements (:func:`_free_set`,
+    :func:`_direction`, :func:`_step_length`); an element whose pressure would turn
+    negative is set to zero, an unloaded element with a negative gap (an overlap)
+    is loaded and the directions restart (:func:`_project`).  Force-controlled:
+    the approach is the mean gap over S and the pressure is scaled to the force.
     After a step A p = f (A p_old - tau A t + A d), with f the force scaling (1
     displacement-controlled) and d the changes of the clipped and loaded elements:
-    A d summed directly where they are few (``DIRECT_FRACTION`` of the elements),
-    else A p by a convolution; refreshed by a convolution every 10 steps.
-    ``cols``, ``fm``: sub-regions of the columns and their interaction factors
-    (:func:`_apply`; one region: the plain operator).
-    ``plimit``: the upper bound of the pressure (inf: elastic).  An element that
-    reaches the limit is clipped to it (it may overlap: plastic flow) and leaves
-    the directions; an element at the limit whose gap opens joins them again (it
-    may unload; the directions restart), so that at the solution p = 0 with a gap,
-    0 < p < limit without one, or p = limit with an overlap.  Only with the
-    approach given (``controlled`` False).
+    A d summed directly where they are few (``DIRECT_FRACTION`` of the elements;
+    :func:`_update_displacements`), else A p by a convolution; refreshed by a
+    convolution every 10 steps.
+    ``plimit``: an element that reaches the limit is clipped to it (it may overlap:
+    plastic flow) and leaves the directions; an element at the limit whose gap
+    opens joins them again (it may unload; the directions restart), so that at the
+    solution p = 0 with a gap, 0 < p < limit without one, or p = limit with an
+    overlap.  Only with the approach given (``controlled`` False).
     Returns the approach (mean gap, force-controlled), iterations, converged.
     """
+    khat, shape, cols, fm = influence.khat, influence.shape, influence.cols, \
+        influence.factors
     mx, my = h.shape
     buf = np.zeros(shape)
     t = np.zeros((mx, my))
@@ -215,111 +393,39 @@ def _pk_kernel(khat, shape, h, dA, force, controlled, tol, maxiter, p, scale, ke
         if not valid or fresh >= 10:
             u[:, :] = _apply(p, khat, shape, buf, cols, fm)
             fresh = 0
-        nS = 0
-        for i in range(mx):
-            for j in range(my):
-                g[i, j] = u[i, j] + h[i, j]
-                # an element at the limit whose gap opens joins the directions
-                # (it may unload), as an element between the bounds
-                at = p[i, j] >= plimit
-                S[i, j] = (0.0 < p[i, j] and not at) or (at and g[i, j] > 0.0)
-                if at and S[i, j] and not Sp[i, j]:
-                    restart = True
-                nS += S[i, j]
+        nS, rejoined = _free_set(p, u, h, g, S, Sp, plimit)
+        restart = restart or rejoined
         if nS == 0:
-            # no free element: the solution where no element at zero overlaps and
-            # none at the limit has a gap; else start from the deepest free overlap
-            gmin = np.inf
-            kkt = True
-            for i in range(mx):
-                for j in range(my):
-                    if p[i, j] < plimit:
-                        gmin = min(gmin, g[i, j])
-                        kkt = kkt and g[i, j] >= 0.0
-                    else:
-                        kkt = kkt and g[i, j] <= 0.0
-            if not controlled and kkt:
+            solved, nS = _no_free_element(p, g, S, plimit)
+            if not controlled and solved:
                 converged = True             # e.g. no overlap anywhere: p = 0
                 break
-            for i in range(mx):
-                for j in range(my):
-                    S[i, j] = p[i, j] < plimit and g[i, j] <= gmin + 1e-15
-                    nS += S[i, j]
         if controlled:
             gbar = _mean_on(g, S)
             g -= gbar
-        G = 0.0
-        for i in range(mx):
-            for j in range(my):
-                if S[i, j]:
-                    G += g[i, j] * g[i, j]
         Sp[:, :] = S
-        beta = 0.0 if restart else G / G_old
-        for i in range(mx):
-            for j in range(my):
-                t[i, j] = g[i, j] + beta * t[i, j] if S[i, j] else 0.0
+        G = _direction(g, S, t, restart, G_old)
         G_old = G
         r = _apply(t, khat, shape, buf, cols, fm)
         rbar = 0.0
         if controlled:
             rbar = _mean_on(r, S)
             r -= rbar
-        den = 0.0
-        num = 0.0
-        for i in range(mx):
-            for j in range(my):
-                if S[i, j]:
-                    den += r[i, j] * t[i, j]
-                    num += g[i, j] * t[i, j]
+        num, den = _step_length(g, r, t, S)
         if den == 0.0:
             converged = True
             break
         tau = num / den
-        restart = False
-        total = 0.0
-        nd = 0                                  # elements clipped or loaded
-        for i in range(mx):
-            for j in range(my):
-                q0 = p[i, j] - tau * t[i, j]
-                q = q0
-                if q < 0.0:
-                    q = 0.0                     # clipped
-                elif q > plimit:
-                    q = plimit                  # clipped at the limit: plastic
-                if q == 0.0 and g[i, j] < 0.0:
-                    q = min(-tau * g[i, j], plimit)  # an overlap: load the element
-                    restart = True
-                if q != q0:
-                    if nd < limit:
-                        idx[nd] = i * my + j
-                        dq[nd] = q - q0
-                    nd += 1
-                total += q
-                pn[i, j] = q
+        total, nd, restart = _project(p, t, g, tau, plimit, pn, idx, dq)
         f = force / (total * dA) if controlled and total > 0.0 else 1.0
-        diff = 0.0
-        ref = 0.0
-        for i in range(mx):
-            for j in range(my):
-                q = pn[i, j] * f
-                diff += abs(q - p[i, j])
-                ref += q
-                p[i, j] = q
+        change = _accept(p, pn, f)
         if nd <= limit:
-            # p changed by -tau t (then scaled by f) and by dq on the few elements
-            # clipped or loaded: A p follows from A t, the product before the mean
-            # was taken off, and the direct sum of those elements' displacements
-            # (refreshed every 10 steps)
-            for i in range(mx):
-                for j in range(my):
-                    u[i, j] = f * (u[i, j] - tau * (r[i, j] + rbar))
-            _add_direct(u, f, idx[:nd], dq[:nd], kernel, cols, fm)
+            _update_displacements(u, f, tau, r, rbar, (idx[:nd], dq[:nd]), influence)
             fresh += 1
             valid = True
         else:
             valid = False
-        ref = max(ref, 1e-300)
-        if diff / ref < tol and G <= (tol * scale) ** 2 * max(nS, 1):
+        if change < tol and G <= (tol * scale) ** 2 * max(nS, 1):
             converged = True
             break
     return gbar, it, converged

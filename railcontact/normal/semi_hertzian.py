@@ -22,7 +22,8 @@ from scipy.optimize import brentq, root_scalar
 
 from ..core.errors import InputError
 from ..core.materials import STEEL, Material
-from .base import NormalSolution, make_grid, register
+from ..core.status import SolverStatus
+from .base import NormalSolution, make_grid, register, resized_elements
 from .exact import ExactNormalModel
 from .potential_area import own_gap
 from ..core.hertz_theory import hertz_ellipse
@@ -167,7 +168,14 @@ class _StripModel(ExactNormalModel):
                               area=float(contact.sum() * dA), pmax=float(p.max(initial=0.0)),
                               penetration=float(delta), normal_force=float(p.sum() * dA),
                               semi_axes=None, strips=strips, pressure_at=pressure_at,
-                              cpu_time=time.perf_counter() - t0, gap=h0)
+                              cpu_time=time.perf_counter() - t0, gap=h0,
+                              **_resized_status(element_size, dx, dy))
+
+
+def _resized_status(element_size, dx, dy) -> dict:
+    """``status`` with the warning of elements changed from the request, if any."""
+    w = resized_elements(element_size, dx, dy)
+    return {"status": SolverStatus().with_warnings(w)} if w else {}
 
 
 @register("kik-piotrowski")

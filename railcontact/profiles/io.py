@@ -29,6 +29,7 @@ from pathlib import Path
 
 import numpy as np
 
+from ..core.checks import shown
 from ..core.errors import ProfileError
 from ..core.files import write_text
 from .processing import (ProfileOptions, find_kinks, remove_close_points, remove_zigzags,
@@ -69,7 +70,7 @@ def _parse_numbers(lines, path, ncol_min=2):
                 break
         if not vals:
             if rows:
-                raise ProfileError(f"{path}: line {ln}: {line.strip()!r} is not numeric; "
+                raise ProfileError(f"{path}: line {ln}: {shown(line.strip())} is not numeric; "
                                    "expected columns of numbers y z")
             continue  # header line before the data
         if len(vals) < ncol_min:
@@ -140,14 +141,14 @@ def _read_miniprof(path: Path):
         data_lines.append((ln, line))
     cols = [c.strip().upper() for c in header.get("columndef", "X,Y").split(",")]
     if "X" not in cols or "Y" not in cols:
-        raise ProfileError(f"{path}: ColumnDef={header.get('columndef')!r}; expected X and Y")
+        raise ProfileError(f"{path}: ColumnDef={shown(header.get('columndef'))}; expected X and Y")
     data = _parse_numbers(data_lines, path, ncol_min=max(cols.index("X"), cols.index("Y")) + 1)
 
     def offset(key):
         try:
             return float(header.get(key) or 0.0)
         except ValueError:
-            raise ProfileError(f"{path}: {key} = {header.get(key)!r}; expected a number "
+            raise ProfileError(f"{path}: {key} = {shown(header.get(key))}; expected a number "
                                "(mm)") from None
 
     return (data[:, cols.index("X")] + offset("xoffset"),
@@ -197,7 +198,7 @@ def read_profile(path, kind: str | None = None, units: str = "auto",
         raise ProfileError(f"profile file {str(path)!r} does not exist")
     suffix = path.suffix.lower()
     if units not in ("auto", "mm", "m"):
-        raise ProfileError(f"units={units!r}: expected 'auto', 'mm' or 'm'")
+        raise ProfileError(f"units={shown(units)}: expected 'auto', 'mm' or 'm'")
     try:
         if suffix in (".prr", ".prw"):
             y, z, fkind, funits, fz_down = _read_simpack(path)
@@ -260,7 +261,7 @@ def write_profile(profile: Profile, path, units: str = "mm") -> Path:
     """
     path = Path(path)
     if units not in ("mm", "m"):
-        raise ProfileError(f"units={units!r}: expected 'mm' or 'm'")
+        raise ProfileError(f"units={shown(units)}: expected 'mm' or 'm'")
     f = 1e3 if units == "mm" else 1.0
     suffix = path.suffix.lower()
     if suffix in (".prr", ".prw"):
@@ -282,7 +283,7 @@ def write_profile(profile: Profile, path, units: str = "mm") -> Path:
                  f"y_{units}{sep}z_{units}"]
         lines += [f"{a:.9e}{sep}{b:.9e}" for a, b in zip(profile.y * f, profile.z * f)]
     else:
-        raise ProfileError(f"cannot write profile format {suffix!r}; expected .csv, .txt, "
+        raise ProfileError(f"cannot write profile format {shown(suffix)}; expected .csv, .txt, "
                            ".prr or .prw")
     return write_text(path, "\n".join(lines) + "\n")
 

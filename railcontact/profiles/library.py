@@ -3,6 +3,7 @@
 from __future__ import annotations
 
 import math
+from dataclasses import is_dataclass, replace
 from functools import lru_cache
 from pathlib import Path
 
@@ -49,14 +50,20 @@ def get_profile(spec, kind: str, inclination: float | None = None,
         upper = name.upper()
         builtin = (kind == "wheel" and upper in WHEEL_PROFILES) or \
             (kind == "rail" and upper in RAIL_PROFILES)
-        if builtin and read_kw.get("options") is not None:
-            raise ProfileError(f"{kind} profile {name!r} is built in: the profile-file options "
-                               "(mirroring, scale, smoothing, kinks) apply to files")
+        opts = read_kw.get("options")
+        scale = 1.0
+        if builtin and opts is not None:
+            # a built-in profile may be scaled (a scaled model on a roller rig), no more
+            if not is_dataclass(opts) or replace(opts, scale=1.0) != type(opts)():
+                raise ProfileError(f"{kind} profile {name!r} is built in: the profile-file "
+                                   "options (mirroring, smoothing, kinks) apply to files; "
+                                   "only scale applies to it")
+            scale = float(opts.scale)
         if kind == "wheel" and upper in WHEEL_PROFILES:
-            return s1002()
+            return _scaled(s1002(), scale)
         if kind == "rail" and upper in RAIL_PROFILES:
-            return rail_profile(upper, DEFAULT_INCLINATION if inclination is None
-                                else inclination)
+            return _scaled(rail_profile(upper, DEFAULT_INCLINATION if inclination is None
+                                        else inclination), scale)
         path = Path(name)
         if base_dir is not None and not path.is_absolute():
             path = Path(base_dir) / path
@@ -73,6 +80,15 @@ def get_profile(spec, kind: str, inclination: float | None = None,
     if kind == "rail" and inclination:
         prof = _inclined(prof, float(inclination))
     return prof
+
+
+def _scaled(prof: Profile, scale: float) -> Profile:
+    """A built-in profile with its coordinates multiplied by ``scale`` (a 1:5 model:
+    0.2); the same profile for 1."""
+    if scale == 1.0:
+        return prof
+    return Profile(prof.y * scale, prof.z * scale, kind=prof.kind,
+                   name=f"{prof.name} x{scale:g}")
 
 
 @lru_cache(maxsize=32)

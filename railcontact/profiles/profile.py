@@ -67,53 +67,6 @@ def ppoly_at(xi, breaks, c, k=-1):
             (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k], k)
 
 
-@njit(cache=True, nogil=True)
-def _ppoly_eval(x, breaks, c, nu):
-    """Evaluate a cubic piecewise polynomial (or its derivative nu <= 2) at x.
-
-    NaN outside [breaks[0], breaks[-1]].  c has shape (4, n_intervals), highest
-    power first (scipy's PPoly layout).
-    """
-    out = np.empty(x.size)
-    n = breaks.size - 1
-    lo, hi = breaks[0], breaks[n]
-    for i in range(x.size):
-        xi = x[i]
-        if not (lo <= xi <= hi):
-            out[i] = np.nan
-            continue
-        k = _segment(breaks, xi)
-        t = xi - breaks[k]
-        if nu == 0:
-            out[i] = ((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]
-        elif nu == 1:
-            out[i] = (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k]
-        else:
-            out[i] = 6.0 * c[0, k] * t + 2.0 * c[1, k]
-    return out
-
-
-@njit(cache=True, nogil=True)
-def _ppoly_eval01(x, breaks, c):
-    """Value and first derivative of a cubic piecewise polynomial at x in one pass
-    (NaN outside [breaks[0], breaks[-1]])."""
-    val = np.empty(x.size)
-    der = np.empty(x.size)
-    n = breaks.size - 1
-    lo, hi = breaks[0], breaks[n]
-    for i in range(x.size):
-        xi = x[i]
-        if not (lo <= xi <= hi):
-            val[i] = np.nan
-            der[i] = np.nan
-            continue
-        k = _segment(breaks, xi)
-        t = xi - breaks[k]
-        val[i] = ((c[0, k] * t + c[1, k]) * t + c[2, k]) * t + c[3, k]
-        der[i] = (3.0 * c[0, k] * t + 2.0 * c[1, k]) * t + c[2, k]
-    return val, der
-
-
 @dataclass(eq=False)
 class Profile:
     """Wheel or rail profile z(y) in SI units.
@@ -184,6 +137,9 @@ class Profile:
         ck = pp.c[:, keep[:-1]][:, :xk.size - 1]
         self._breaks = np.ascontiguousarray(xk)
         self._coefs = np.ascontiguousarray(ck)
+        # the Python paths evaluate through scipy's PPoly (NaN outside); compiled
+        # callers take the breaks and coefficients to ppoly_at
+        self._pp = interpolate.PPoly(self._coefs, self._breaks, extrapolate=False)
         # a profile is immutable: parsed files and built-in profiles are cached and
         # shared by every case that names them, so an edit in place would reach them
         for a in (self.y, self.z, self._breaks, self._coefs):
@@ -216,11 +172,11 @@ class Profile:
         return float(self.y[-1])
 
     def _eval(self, y, nu: int):
+        """The spline's derivative ``nu`` at y (scipy's PPoly); NaN outside the points."""
         y = np.asarray(y, dtype=float)
-        flat = np.ascontiguousarray(y.ravel())
-        out = _ppoly_eval(flat, self._breaks, self._coefs, nu)
-        out[(flat < self.y[0]) | (flat > self.y[-1])] = np.nan
-        return out.reshape(y.shape) if y.ndim else out[0]
+        out = self._pp(y, nu)
+        out[(y < self.y[0]) | (y > self.y[-1])] = np.nan
+        return out if y.ndim else out[()]
 
     def z_at(self, y):
         """Height z(y) [m]; NaN outside the profile."""
@@ -231,14 +187,9 @@ class Profile:
         return self._eval(y, 1)
 
     def z_and_slope(self, y):
-        """Height z(y) [m] and slope dz/dy [-] together (one pass); NaN outside."""
+        """Height z(y) [m] and slope dz/dy [-] together; NaN outside."""
         y = np.asarray(y, dtype=float)
-        flat = np.ascontiguousarray(y.ravel())
-        z, d = _ppoly_eval01(flat, self._breaks, self._coefs)
-        out = (flat < self.y[0]) | (flat > self.y[-1])
-        z[out] = np.nan
-        d[out] = np.nan
-        return z.reshape(y.shape), d.reshape(y.shape)
+        return self._eval(y, 0), self._eval(y, 1)
 
     def second_derivative(self, y):
         """d2z/dy2 [1/m]; NaN outside the profile."""

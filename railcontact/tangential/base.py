@@ -8,10 +8,22 @@ from typing import ClassVar, Protocol, runtime_checkable
 import numpy as np
 
 from ..core.errors import InputError
+from ..core.checks import shown
 from ..core.registry import Registry
 from ..core.status import SolverStatus
 
-_REGISTRY = Registry("tangential")
+def _check_solve(normal=None, geometry=None, material=None, *args, **kwargs):
+    """The inputs every tangential model's ``solve`` takes, checked first."""
+    if not hasattr(normal, "pressure"):
+        raise InputError(f"normal = {shown(normal)}: expected the NormalSolution of the patch")
+    if geometry is not None and not hasattr(geometry, "curvatures"):
+        raise InputError(f"geometry = {shown(geometry)}: expected a ContactGeometry "
+                         "(railcontact.geometry)")
+    if material is not None and not hasattr(material, "contact_modulus"):
+        raise InputError(f"material = {shown(material)}: expected a railcontact.Material")
+
+
+_REGISTRY = Registry("tangential", _check_solve)
 register = _REGISTRY.register
 
 
@@ -42,7 +54,9 @@ TANGENTIAL_CAPABILITIES = {
               "railcontact.tangential.online): vehicle dynamics and batches",
     "strip-march": "marches the strips of many patches at once (class method "
                    "strip_forces): batches of the strip models",
-    "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials)",
+    "coupled": "takes part in the coupled normal-tangential iteration (dissimilar materials; "
+               "attribute mode: 'rolling', 'shift' or 'transient', how the pressure's "
+               "displacements enter the slip)",
     "lazy": "costly: the vertical balance lets FASTSIM stand in for it until its last "
             "passes (railcontact.cases.equilibrium)",
 }
@@ -57,7 +71,8 @@ class TangentialModel(Protocol):
     :class:`TangentialSolution` whose ``status`` says whether it converged.
     ``capabilities`` is a frozenset of keys of :data:`TANGENTIAL_CAPABILITIES`; a
     model with ``"online"`` names its compiled law in ``online_law``, one with
-    ``"strip-march"`` implements ``strip_forces``.
+    ``"strip-march"`` implements ``strip_forces``, one with ``"coupled"`` says in
+    ``mode`` whether it rolls or shifts.
     """
 
     name: ClassVar[str]
@@ -74,12 +89,12 @@ def check_inputs(creepage, friction):
     try:
         xi, eta, phi = (float(c) for c in creepage)
     except (TypeError, ValueError):
-        raise InputError(f"creepage = {creepage!r}: expected three numbers (xi, eta, phi)") \
+        raise InputError(f"creepage = {shown(creepage)}: expected three numbers (xi, eta, phi)") \
             from None
     if not all(math.isfinite(c) for c in (xi, eta, phi)):
-        raise InputError(f"creepage = {creepage!r}: expected finite values")
+        raise InputError(f"creepage = {shown(creepage)}: expected finite values")
     if not (math.isfinite(friction) and 0.0 <= friction <= 5.0):
-        raise InputError(f"friction.coefficient = {friction!r}: expected a value in [0, 5]")
+        raise InputError(f"friction.coefficient = {shown(friction)}: expected a value in [0, 5]")
     return xi, eta, phi
 
 

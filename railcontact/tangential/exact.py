@@ -37,6 +37,7 @@ from __future__ import annotations
 import logging
 import math
 import time
+from dataclasses import dataclass
 from functools import lru_cache
 
 import numpy as np
@@ -48,7 +49,7 @@ from ..normal.influence import TangentialOperator, block_size, bounding_box, tan
 from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
-from .semi_smooth_newton import initial_march, ssn_solve
+from .semi_smooth_newton import SlipOperator, initial_march, ssn_solve
 
 log = logging.getLogger(__name__)
 
@@ -146,8 +147,8 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     # the iteration returns the slip's linear part and the stick mask of its last
     # iterate (C p accumulated from its products, no product more)
     qx, qy, cx, cy, sb, it, nprod, converged = ssn_solve(
-        *q, op.kxx, op.kxy, op.kyy, op.shape, dx, shift, cb, gb, rho, dxx, dyy, float(tol),
-        int(maxiter))
+        *q, SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift), cb, gb, rho, (dxx, dyy),
+        float(tol), int(maxiter))
     log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
     sbx, sby = q[2] + cx, q[3] + cy
     px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
@@ -275,6 +276,17 @@ def _initial_tractions(warm, x, y, contact, bound):
             np.ascontiguousarray(np.where(contact, ty * scale, 0.0)))
 
 
+@dataclass(frozen=True)
+class _Iteration:
+    """How the exact tangential solver ended."""
+
+    #: Newton iterations (or time steps' iterations, transient)
+    iterations: int
+    converged: bool
+    #: whether it restarted from zero traction
+    fallback: bool
+
+
 @register("exact")
 class ExactTangentialModel:
     """Kalker's exact theory of steady-state rolling (identical materials).
@@ -371,8 +383,9 @@ class ExactTangentialModel:
                                  "materials); expected identical materials")
             px, py, sx, sy, stick, it, ok = self._transient(x, y, contact, bound,
                                                             (xi, eta, phi), material, previous)
-            return self._solution(x, y, px, py, sx, sy, stick, contact, it, ok, False,
-                                  velocity, (xi, eta, phi), friction, t0)
+            return self._solution(x, y, (px, py, sx, sy, stick), contact,
+                                  _Iteration(it, ok, False), velocity, (xi, eta, phi),
+                                  friction, t0)
         p0 = None
         if warm_start is None and self.mode == "rolling" and normal.strips is not None \
                 and normal.pressure_at is not None:
@@ -401,14 +414,19 @@ class ExactTangentialModel:
             fallback = True
             if q[-1] or not ok:
                 px, py, sx, sy, stick, it, ok = q
-        return self._solution(x, y, px, py, sx, sy, stick, contact, it, ok, fallback,
-                              velocity, (xi, eta, phi), friction, t0)
+        return self._solution(x, y, (px, py, sx, sy, stick), contact,
+                              _Iteration(it, ok, fallback), velocity, (xi, eta, phi), friction,
+                              t0)
 
-    def _solution(self, x, y, px, py, sx, sy, stick, contact, it, ok, fallback, velocity,
-                  creepage, friction, t0) -> TangentialSolution:
-        """The TangentialSolution of tractions (px, py) on the rail."""
+    def _solution(self, x, y, fields, contact, iteration, velocity, creepage, friction,
+                  t0) -> TangentialSolution:
+        """The TangentialSolution of tractions (px, py) on the rail: ``fields`` (px,
+        py [Pa], sx, sy [-], stick) on the grid (x, y) [m], ``iteration`` how the
+        solver ended (:class:`_Iteration`), ``t0`` its start (``time.perf_counter``)."""
+        px, py, sx, sy, stick = fields
+        it, ok, fallback = iteration.iterations, iteration.converged, iteration.fallback
         if not ok:
-            log.warning("exact tangential solver: not converged (flagged in the result)")
+            log.info("exact tangential solver: not converged (flagged in the result)")
         status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
             f"exact tangential solver: no convergence in {it} Newton iterations"
             + (" (also restarted from zero traction)" if fallback else ""), it)

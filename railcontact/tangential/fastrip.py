@@ -56,7 +56,7 @@ from numba import njit
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from .base import TangentialSolution, check_inputs, register
-from .fastsim import (_strip_to_grid, blend_weight, equivalent_ellipse,
+from .fastsim import (StripArrays, Traction, _strip_to_grid, blend_weight, equivalent_ellipse,
                       semi_ellipse_weights, strip_pressures)
 from .friction import falling_friction
 from .kalker import (flexibilities, flexibilities_array, kalker_coefficients,
@@ -64,23 +64,23 @@ from .kalker import (flexibilities, flexibilities_array, kalker_coefficients,
 
 
 @njit(cache=True, nogil=True)
-def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid,
-           px_out, py_out, sx_out, sy_out, stick_out):
+def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid, grid):
     """March every strip from its leading edge: the trial traction (on the rail) is
-    the previous one plus the strip-theory increment (dqx, dqy) and FASTSIM's spin
-    increment; where it exceeds the bound it is scaled back, and the excess over
-    the bound is the slip (times L3 / step, as in FASTSIM).  Returns the forces on
-    the rail (mid-point rule) and fills the grid fields."""
+    the previous one plus the strip-theory increment (dqx, dqy) [Pa] and FASTSIM's
+    spin increment (flexibility ``L3`` [m/Pa], spin ``phi`` [1/m]); where it exceeds
+    the bound [Pa] it is scaled back, and the excess over the bound is the slip
+    (times L3 / step, as in FASTSIM).  ``y`` (my,) the strips' positions [m], ``dy``
+    their width [m], ``x_lead``, ``x_trail`` their edges [m], ``xgrid`` the grid's x
+    [m].  Returns the forces on the rail (mid-point rule) and fills the grid fields
+    ``grid`` (:class:`~railcontact.tangential.fastsim.Traction`)."""
     my = y.size
     nx = bound.shape[1]
     fx = 0.0
     fy = 0.0
     mz = 0.0
-    pxs = np.empty(nx)
-    pys = np.empty(nx)
-    sxs = np.empty(nx)
-    sys_ = np.empty(nx)
-    sts = np.empty(nx, dtype=np.bool_)
+    strip = Traction(np.empty(nx), np.empty(nx), np.empty(nx), np.empty(nx),
+                     np.empty(nx, dtype=np.bool_))
+    pxs, pys, sxs, sys_, sts = strip.px, strip.py, strip.sx, strip.sy, strip.stick
     for j in range(my):
         length = x_lead[j] - x_trail[j]
         if length <= 0.0:
@@ -125,8 +125,7 @@ def _march(y, dy, x_lead, x_trail, bound, dqx, dqy, L3, phi, xgrid,
             fy += py * dx * dy
             mz += (xm * py - y[j] * px) * dx * dy
             prev = xm
-        _strip_to_grid(j, x_lead[j], x_trail[j], dx, xgrid, pxs, pys, sxs, sys_, sts,
-                       px_out, py_out, sx_out, sy_out, stick_out)
+        _strip_to_grid(j, x_lead[j], x_trail[j], dx, xgrid, strip, grid)
     return fx, fy, mz
 
 
@@ -213,18 +212,20 @@ def strip_parameters(a, b, fn, xi, eta, c11, c22, G, mu):
 
 
 @njit(cache=True, nogil=True)
-def fastrip_strip_patches(y, dy, x_mid, half, p_strip, mu, wn, ex, ey, K, L3, phi, nx, out):
+def fastrip_strip_patches(strips, mu, wn, ex, ey, K, L3, phi, nx, out):
     """Forces only, for many patches with semi-elliptic strip pressures (the strip
     models' batch solutions, :mod:`railcontact.normal.strip_batch`): the strip theory
     (:func:`_strip_increments`) and the spin march (:func:`_march`, ``nx`` elements
     per strip) of :class:`FastripModel`.
 
-    Arrays of shape (patches, strips): ``y``, ``x_mid``, ``half``, ``p_strip``; per
-    patch: ``dy``, ``mu``, ``wn``, ``ex``, ``ey``, ``K`` (:func:`strip_parameters`),
+    ``strips`` (:class:`~railcontact.tangential.fastsim.StripArrays`) the patches'
+    strips; per patch: ``mu``, ``wn``, ``ex``, ``ey``, ``K`` (:func:`strip_parameters`),
     ``L3`` [m/Pa] of the equivalent ellipse and the spin ``phi`` [1/m].  Writes
     (F_x, F_y, M_z) on the wheel into ``out`` (patches, 3); patches with L3 <= 0 get
     zero.
     """
+    y, dy, x_mid, half, p_strip = strips.y, strips.dy, strips.x_mid, strips.half, \
+        strips.p_strip
     my = y.shape[1]
     xl = np.empty(my)
     xt = np.empty(my)
@@ -236,7 +237,7 @@ def fastrip_strip_patches(y, dy, x_mid, half, p_strip, mu, wn, ex, ey, K, L3, ph
     dqy = np.empty((my, nx))
     xgrid = np.empty(0)
     none = np.empty((0, my))
-    nost = np.empty((0, my), dtype=np.bool_)
+    nogrid = Traction(none, none, none, none, np.empty((0, my), dtype=np.bool_))
     w = semi_ellipse_weights(nx)
     for k in range(y.shape[0]):
         if not (L3[k] > 0.0 and mu[k] > 0.0):
@@ -252,7 +253,7 @@ def fastrip_strip_patches(y, dy, x_mid, half, p_strip, mu, wn, ex, ey, K, L3, ph
                 dqx[j, i] = -ex[k] * dq[j, i]      # rail tractions: opposite to the wheel's
                 dqy[j, i] = -ey[k] * dq[j, i]
         fx, fy, mz = _march(y[k], dy[k], xl, xt, bound, dqx, dqy, L3[k], phi[k], xgrid,
-                            none, none, none, none, nost)
+                            nogrid)
         out[k, 0] = -fx
         out[k, 1] = -fy
         out[k, 2] = -mz
@@ -295,8 +296,7 @@ class FastripModel:
         with np.errstate(divide="ignore", invalid="ignore"):
             wn, ex, ey, K = strip_parameters(a, b, strips.normal_force, xi, eta, c11, c22, G,
                                              friction)
-        fastrip_strip_patches(strips.y, strips.dy, strips.x_mid, strips.half, strips.p_strip,
-                              np.full(n, float(friction)), wn, ex, ey, K, L3, phi,
+        fastrip_strip_patches(StripArrays.of(strips), np.full(n, float(friction)), wn, ex, ey, K, L3, phi,
                               int(elements), out)
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
@@ -339,7 +339,7 @@ class FastripModel:
             # rail tractions: opposite to the wheel's (direction e)
             fxr, fyr, mzr = _march(np.ascontiguousarray(y), normal.dy, x_lead, x_trail, bound,
                                    -ex * dq, -ey * dq, L3, phi, np.ascontiguousarray(x),
-                                   px, py, sx, sy, stick)
+                                   Traction(px, py, sx, sy, stick))
             if self.falling is None:
                 break
             w = np.hypot(sx, sy) * velocity

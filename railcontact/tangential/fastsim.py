@@ -22,6 +22,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -30,15 +31,52 @@ from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from .base import TangentialSolution, check_inputs, register
 from .friction import falling_friction
-from .kalker import flexibilities, flexibilities_array, kalker_coefficients, kalker_coefficients_array
+from .kalker import (Creepage, Flexibilities, flexibilities, flexibilities_array,
+                     kalker_coefficients, kalker_coefficients_array)
 
 
-@njit(cache=True, nogil=True)
-def _strip_to_grid(j, x_lead, x_trail, dx, xgrid, pxs, pys, sxs, sys_, sts,
-                   px_out, py_out, sx_out, sy_out, stick_out):
-    """Copy one strip's mid-point values (element length dx from the leading edge)
-    to column j of the regular grid: tractions interpolated linearly, slip and
-    stick from the nearest mid-point."""
+class Traction(NamedTuple):
+    """Tangential fields of a march, on a strip's elements (1-D) or on the grid
+    (mx, my; empty (0, my) where only the forces are wanted)."""
+
+    #: tractions [Pa] on the rail
+    px: np.ndarray
+    py: np.ndarray
+    #: slip (relative velocity over V) [-]
+    sx: np.ndarray
+    sy: np.ndarray
+    #: adhesion (bool)
+    stick: np.ndarray
+
+
+class StripArrays(NamedTuple):
+    """Many patches with semi-elliptic strip pressures (a
+    :class:`~railcontact.normal.strip_batch.StripSolution`), arrays (patches, strips)
+    unless said."""
+
+    #: lateral position of each strip [m]
+    y: np.ndarray
+    #: (patches,) strip width [m]
+    dy: np.ndarray
+    #: centre x of each strip's contact [m]
+    x_mid: np.ndarray
+    #: half-length l_j of each strip's contact [m]
+    half: np.ndarray
+    #: peak pressure p_j of each strip [Pa]
+    p_strip: np.ndarray
+
+    @classmethod
+    def of(cls, strips) -> "StripArrays":
+        return cls(strips.y, strips.dy, strips.x_mid, strips.half, strips.p_strip)
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _strip_to_grid(j, x_lead, x_trail, dx, xgrid, strip, grid):
+    """Copy one strip's mid-point values ``strip`` (:class:`Traction`, element length
+    dx from the leading edge) to column j of the regular grid ``grid``: tractions
+    interpolated linearly, slip and stick from the nearest mid-point."""
+    pxs, pys, sxs, sys_, sts = strip.px, strip.py, strip.sx, strip.sy, strip.stick
+    px_out, py_out, sx_out, sy_out, stick_out = grid.px, grid.py, grid.sx, grid.sy, grid.stick
     nx = pxs.size
     for i in range(xgrid.size):
         xc = xgrid[i]
@@ -64,21 +102,26 @@ def _strip_to_grid(j, x_lead, x_trail, dx, xgrid, pxs, pys, sxs, sys_, sts,
 
 
 @njit(cache=True, nogil=True)
-def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgrid,
-                    px_out, py_out, sx_out, sy_out, stick_out):
-    """March all strips; fill grid fields (traction on body 1 = rail) and return forces.
+def _fastsim_strips(y, dy, x_lead, x_trail, bound, L, creepage, xgrid, grid):
+    """March all strips; fill the grid fields ``grid`` (:class:`Traction`, traction
+    on body 1 = rail) and return the forces.
 
-    ``L1, L2, L3`` and ``phi`` are given per strip (length my)."""
+    ``y`` (my,) the strips' positions [m], ``dy`` their width [m], ``x_lead``,
+    ``x_trail`` (my,) their edges [m], ``bound`` (my, nx) the traction bound [Pa] at
+    the elements' mid-points, ``L``
+    (:class:`~railcontact.tangential.kalker.Flexibilities`) and the spin of
+    ``creepage`` (:class:`~railcontact.tangential.kalker.Creepage`) per strip
+    (length my), ``xgrid`` the grid's x [m]."""
+    L1, L2, L3 = L.L1, L.L2, L.L3
+    xi, eta, phi = creepage.xi, creepage.eta, creepage.phi
     my = y.size
     nx = bound.shape[1]
     fx = 0.0
     fy = 0.0
     mz = 0.0
-    pxs = np.empty(nx)
-    pys = np.empty(nx)
-    sxs = np.empty(nx)
-    sys_ = np.empty(nx)
-    sts = np.empty(nx, dtype=np.bool_)
+    strip = Traction(np.empty(nx), np.empty(nx), np.empty(nx), np.empty(nx),
+                     np.empty(nx, dtype=np.bool_))
+    pxs, pys, sxs, sys_, sts = strip.px, strip.py, strip.sx, strip.sy, strip.stick
     for j in range(my):
         length = x_lead[j] - x_trail[j]
         if length <= 0.0:
@@ -116,8 +159,7 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L1, L2, L3, xi, eta, phi, xgr
             fy += py * dx * dy
             mz += (xm * py - y[j] * px) * dx * dy
             prev = xm
-        _strip_to_grid(j, x_lead[j], x_trail[j], dx, xgrid, pxs, pys, sxs, sys_, sts,
-                       px_out, py_out, sx_out, sy_out, stick_out)
+        _strip_to_grid(j, x_lead[j], x_trail[j], dx, xgrid, strip, grid)
     return fx, fy, mz
 
 
@@ -222,14 +264,20 @@ def modification_factor(modification, a, b, G, C11, creepage, mu, fn) -> float:
 
 
 @njit(cache=True, nogil=True)
-def fastsim_ellipse(a, b, fn, mu, G, C11, C22, C23, xi, eta, phi, nx, ny):
+def fastsim_ellipse(a, b, fn, mu, G, C, creepage, nx, ny):
     """Forces only, for online use (vehicle dynamics): FASTSIM with blended
     flexibilities and the Hertzian traction bound on an ellipse with semi-axes a
-    (rolling), b [m], ``ny`` strips of ``nx`` elements.
+    (rolling), b [m], normal force ``fn`` [N], friction ``mu``, shear modulus ``G``
+    [Pa], Kalker's coefficients ``C``
+    (:class:`~railcontact.tangential.kalker.KalkerCoefficients`) and the creepages
+    (:class:`~railcontact.tangential.kalker.Creepage`), ``ny`` strips of ``nx``
+    elements.
 
     Returns (F_x, F_y, M_z) on the wheel [N, N, N m], as :class:`FastsimModel`
     (same flexibilities and march, without grid fields).
     """
+    C11, C22, C23 = C.C11, C.C22, C.C23
+    xi, eta, phi = creepage.xi, creepage.eta, creepage.phi
     if fn <= 0.0 or a <= 0.0 or b <= 0.0:
         return 0.0, 0.0, 0.0
     L1 = 8.0 * a / (3.0 * C11 * G)
@@ -305,26 +353,31 @@ def strip_pressures(x_mid, half, p_strip, w, scale, xl, xt, out):
 
 
 @njit(cache=True, nogil=True)
-def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, phi, nx,
-                          out):
+def fastsim_strip_patches(strips, L, mu, creepage, nx, out):
     """Forces only, for many patches with semi-elliptic strip pressures (the strip
     models' batch solutions, :mod:`railcontact.normal.strip_batch`): FASTSIM's strip
     march (:func:`_fastsim_strips`, ``nx`` elements per strip) with the bound
     mu p_j sqrt(1 - ((x - x_mid_j)/l_j)^2).
 
-    Arrays of shape (patches, strips): ``y``, ``x_mid``, ``half`` (l_j), ``p_strip``,
-    the flexibilities ``L1``, ``L2``, ``L3`` [m/Pa] and the spin ``phi`` [1/m] per
-    strip (uniform for ``fastsim``, local for ``fastsim-strips``); per patch: ``dy``,
-    ``mu``, ``xi``, ``eta``.  Writes (F_x, F_y, M_z) on the wheel [N, N, N m] into
-    ``out`` (patches, 3); patches with L1 <= 0 get zero.
+    ``strips`` (:class:`StripArrays`) the patches' strips; arrays of shape (patches,
+    strips): the flexibilities ``L`` [m/Pa]
+    (:class:`~railcontact.tangential.kalker.Flexibilities`) and the spin
+    ``creepage.phi`` [1/m] per strip (uniform for ``fastsim``, local for
+    ``fastsim-strips``); per patch: ``mu``, ``creepage.xi``, ``creepage.eta``.
+    Writes (F_x, F_y, M_z) on the wheel [N, N, N m] into ``out`` (patches, 3);
+    patches with L1 <= 0 get zero.
     """
+    y, dy, x_mid, half, p_strip = strips.y, strips.dy, strips.x_mid, strips.half, \
+        strips.p_strip
+    L1, L2, L3 = L.L1, L.L2, L.L3
+    xi, eta, phi = creepage.xi, creepage.eta, creepage.phi
     my = y.shape[1]
     bound = np.empty((my, nx))
     xl = np.empty(my)
     xt = np.empty(my)
     xgrid = np.empty(0)
     none = np.empty((0, my))
-    nost = np.empty((0, my), dtype=np.bool_)
+    nogrid = Traction(none, none, none, none, np.empty((0, my), dtype=np.bool_))
     w = semi_ellipse_weights(nx)
     for k in range(y.shape[0]):
         if not (L1[k, 0] > 0.0):
@@ -333,8 +386,9 @@ def fastsim_strip_patches(y, dy, x_mid, half, p_strip, L1, L2, L3, mu, xi, eta, 
             out[k, 2] = 0.0
             continue
         strip_pressures(x_mid[k], half[k], p_strip[k], w, mu[k], xl, xt, bound)
-        fx, fy, mz = _fastsim_strips(y[k], dy[k], xl, xt, bound, L1[k], L2[k], L3[k], xi[k],
-                                     eta[k], phi[k], xgrid, none, none, none, none, nost)
+        fx, fy, mz = _fastsim_strips(y[k], dy[k], xl, xt, bound,
+                                     Flexibilities(L1[k], L2[k], L3[k]),
+                                     Creepage(xi[k], eta[k], phi[k]), xgrid, nogrid)
         # the march gives the tractions on the rail; the wheel gets the opposite
         out[k, 0] = -fx
         out[k, 1] = -fy
@@ -369,10 +423,16 @@ def blend_weight(a, b, c11, c22, G, xi, eta, mu, fn):
     return np.where(np.asarray(fn) > 0, np.minimum(1.0, f / 3.0), 0.0)
 
 
-def blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi, mu, fn, coefficients=None):
+def blended_flexibilities(a, b, L, G, nu, creepage, mu, fn, coefficients=None):
     """Flexibilities blended towards a combined value as the creepage grows
     (scalars, or arrays of semi-axes and flexibilities, elementwise).
-    ``coefficients``: Kalker's (C11, C22) of the ellipses, where already known."""
+
+    ``a``, ``b`` the semi-axes [m], ``L`` the flexibilities (L1, L2, L3) [m/Pa], ``G``
+    [Pa] and ``nu`` the material, ``creepage`` (xi, eta, phi), ``mu`` the friction and
+    ``fn`` the normal force [N]; ``coefficients``: Kalker's (C11, C22) of the
+    ellipses, where already known.  Returns (L1, L2, L3)."""
+    L1, L2, L3 = L
+    xi, eta, phi = creepage
     if np.ndim(fn) == 0 and (mu <= 0 or fn <= 0):
         return L1, L2, L3
     if coefficients is not None:
@@ -460,10 +520,10 @@ class FastsimModel:
         L, spin = cls._batch_flexibilities(strips, patches, a, b, ok, creepage, material,
                                            friction)
         xi, eta, _ = creepage
-        fastsim_strip_patches(strips.y, strips.dy, strips.x_mid, strips.half, strips.p_strip,
-                              *(np.ascontiguousarray(v) for v in L),
-                              np.full(xi.size, float(friction)), xi, eta, spin, int(elements),
-                              out)
+        fastsim_strip_patches(StripArrays.of(strips),
+                              Flexibilities(*(np.ascontiguousarray(v) for v in L)),
+                              np.full(xi.size, float(friction)), Creepage(xi, eta, spin),
+                              int(elements), out)
 
     @staticmethod
     def _batch_flexibilities(strips, patches, a, b, ok, creepage, material, friction):
@@ -475,8 +535,8 @@ class FastsimModel:
         if ok.any():
             F = strips.normal_force
             f = flexibilities_array(a[ok], b[ok], G, nu)
-            L[:, ok] = np.array(blended_flexibilities(a[ok], b[ok], *f, G, nu, xi[ok],
-                                                      eta[ok], phi[ok], friction,
+            L[:, ok] = np.array(blended_flexibilities(a[ok], b[ok], f, G, nu,
+                                                      (xi[ok], eta[ok], phi[ok]), friction,
                                                       F[ok]))[:, :, None]
         return L, np.repeat(phi[:, None], strips.y.shape[1], axis=1)
 
@@ -492,8 +552,8 @@ class FastsimModel:
         else:
             L1, L2, L3 = flexibilities(a, b, G, nu)
         if self.flexibility == "blended":
-            L1, L2, L3 = blended_flexibilities(a, b, L1, L2, L3, G, nu, xi, eta, phi,
-                                               friction, fn)
+            L1, L2, L3 = blended_flexibilities(a, b, (L1, L2, L3), G, nu, creepage, friction,
+                                               fn)
         elif self.flexibility == "single":
             c = np.sqrt(a * b)
             den = np.sqrt(xi * xi + (c * phi) ** 2 + eta * eta)
@@ -551,8 +611,9 @@ class FastsimModel:
             fx1, fy1, mz1 = _fastsim_strips(np.ascontiguousarray(normal.y), normal.dy,
                                             np.ascontiguousarray(x_lead, dtype=float),
                                             np.ascontiguousarray(x_trail, dtype=float), bound,
-                                            L1, L2, L3, xi, eta, phis,
-                                            np.ascontiguousarray(normal.x), px, py, sx, sy, stick)
+                                            Flexibilities(L1, L2, L3), Creepage(xi, eta, phis),
+                                            np.ascontiguousarray(normal.x),
+                                            Traction(px, py, sx, sy, stick))
             if self.falling is None:
                 break
             w = np.hypot(sx, sy)[ix, iy] * velocity

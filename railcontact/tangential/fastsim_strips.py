@@ -74,7 +74,7 @@ class FastsimStripsModel(FastsimModel):
                                          material.contact_modulus, strips.penetration[rows])
         c = kalker_coefficients_array(la / lb, nu)
         f = flexibilities_from_coefficients(la, lb, *c, G)
-        L[:, act] = blended_flexibilities(la, lb, *f, G, nu, xi[rows], eta[rows], phi[rows],
+        L[:, act] = blended_flexibilities(la, lb, f, G, nu, (xi[rows], eta[rows], phi[rows]),
                                           friction, strips.normal_force[rows],
                                           coefficients=c[:2])
         return L, np.ascontiguousarray(sample_strip_spin(patches, strips.y))

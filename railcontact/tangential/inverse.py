@@ -13,6 +13,7 @@ import math
 
 import numpy as np
 
+from ..core.checks import shown
 from ..core.errors import ConvergenceError, InputError
 from .fastsim import equivalent_ellipse
 from .kalker import kalker_coefficients
@@ -29,7 +30,7 @@ def solve_for_forces(model, normal, geometry, material, forces, spin: float = 0.
     fx_t, fy_t = (float(f) for f in forces)
     fn = normal.normal_force
     if not (math.isfinite(fx_t) and math.isfinite(fy_t)):
-        raise InputError(f"forces = {forces!r}: expected finite values in N")
+        raise InputError(f"forces = {shown(forces)}: expected finite values in N")
     if math.hypot(fx_t, fy_t) >= 0.999 * friction * fn:
         raise InputError(f"tangential force {math.hypot(fx_t, fy_t):.6g} N: expected less than "
                          f"the saturation mu F_n = {friction * fn:.6g} N")
@@ -64,5 +65,5 @@ def solve_for_forces(model, normal, geometry, material, forces, spin: float = 0.
                 break
             step *= 0.5
         x, r, t = x + step * dx, r_new, t_new
-    raise ConvergenceError(f"creepages for forces {forces!r} N not found in {maxiter} "
+    raise ConvergenceError(f"creepages for forces {shown(forces)} N not found in {maxiter} "
                            f"iterations (residual {np.max(np.abs(r)):.3g} N)")

@@ -12,6 +12,7 @@ from __future__ import annotations
 
 import math
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -44,6 +45,36 @@ _C23_BA = np.array([[12.2, 14.6, 18.0], [5.72, 6.63, 7.89], [3.79, 4.32, 5.01],
                     [2.88, 3.24, 3.70], [2.35, 2.62, 2.96], [2.01, 2.23, 2.50],
                     [1.76, 1.95, 2.18], [1.58, 1.75, 1.94], [1.44, 1.59, 1.77],
                     [1.33, 1.47, 1.63]])
+
+
+class Creepage(NamedTuple):
+    """The creepages of a patch (CONTACT's convention: rigid slip of the rail
+    relative to the wheel over V), as compiled kernels take them; each a value, or
+    an array (e.g. the spin per strip)."""
+
+    #: longitudinal creepage ξ [-]
+    xi: float
+    #: lateral creepage η [-]
+    eta: float
+    #: spin creepage φ [1/m]
+    phi: float
+
+
+class KalkerCoefficients(NamedTuple):
+    """Kalker's creep coefficients of an ellipse [-] (:func:`kalker_coefficients`)."""
+
+    C11: float
+    C22: float
+    C23: float
+
+
+class Flexibilities(NamedTuple):
+    """FASTSIM's flexibilities [m/Pa] (:func:`flexibilities`): longitudinal, lateral
+    and spin; each a value, or an array (per strip)."""
+
+    L1: float
+    L2: float
+    L3: float
 
 
 _TAB_AB = np.stack([_C11_AB, _C22_AB, _C23_AB])      # (3 coefficients, 10 ratios, 3 nu)

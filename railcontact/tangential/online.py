@@ -22,7 +22,7 @@ from numba import njit
 
 from .base import tangential_model_class, tangential_supports
 from .fastsim import fastsim_ellipse
-from .kalker import linear_forces
+from .kalker import Creepage, KalkerCoefficients, linear_forces
 from .polach import polach_kernel
 
 
@@ -56,9 +56,10 @@ def patch_forces(law, tp, N, a, b, C11, C22, C23, xi, eta, phi, V):
         fx, fy = linear_forces(G, a, b, C11, C22, C23, xi, eta, phi)
         return fx, fy, 0.0
     if law == 1:
-        return fastsim_ellipse(a, b, N, mu, G, C11, C22, C23, xi, eta, phi,
-                               int(tp[2]), int(tp[3]))
+        return fastsim_ellipse(a, b, N, mu, G, KalkerCoefficients(C11, C22, C23),
+                               Creepage(xi, eta, phi), int(tp[2]), int(tp[3]))
     w = math.hypot(xi, eta) * V
     mu_eff = mu * ((1.0 - tp[6]) * math.exp(-tp[7] * w) + tp[6])
-    fx, fy = polach_kernel(N, mu_eff, a, b, G, C11, C22, C23, xi, eta, phi, tp[4], tp[5])
+    fx, fy = polach_kernel(N, mu_eff, a, b, G, KalkerCoefficients(C11, C22, C23),
+                           Creepage(xi, eta, phi), tp[4], tp[5])
     return fx, fy, 0.0

@@ -35,12 +35,13 @@ import time
 import numpy as np
 from numba import njit
 
+from ..core.checks import shown
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from .base import TangentialSolution, register
 from .fastsim import equivalent_ellipse
 from .friction import falling_friction
-from .kalker import kalker_coefficients
+from .kalker import Creepage, KalkerCoefficients, kalker_coefficients
 
 #: extended-model presets: (k_A, k_S, mu0, A, B [s/m]); source REFERENCES.md 6.4
 #: (Polach 2005 as transcribed there, unverified against the paper)
@@ -52,14 +53,20 @@ def polach_forces(Q, mu, a, b, G, nu, sx, sy, psi, kA=1.0, kS=1.0):
     part of the method."""
     if Q <= 0 or a <= 0 or b <= 0:
         return 0.0, 0.0
-    C11, C22, C23 = kalker_coefficients(a / b, nu)
-    return polach_kernel(Q, mu, a, b, G, C11, C22, C23, sx, sy, psi, kA, kS)
+    C = KalkerCoefficients(*kalker_coefficients(a / b, nu))
+    return polach_kernel(Q, mu, a, b, G, C, Creepage(sx, sy, psi), kA, kS)
 
 
 @njit(cache=True, nogil=True)
-def polach_kernel(Q, mu, a, b, G, C11, C22, C23, sx, sy, psi, kA, kS):
+def polach_kernel(Q, mu, a, b, G, C, creepage, kA, kS):
     """:func:`polach_forces` with the creep coefficients given (compiled, for online
-    use in the dynamics layer)."""
+    use in the dynamics layer): wheel load Q [N], friction mu, semi-axes a, b [m],
+    shear modulus G [Pa], Kalker's coefficients ``C``
+    (:class:`~railcontact.tangential.kalker.KalkerCoefficients`), the creepages
+    (:class:`~railcontact.tangential.kalker.Creepage`: sx, sy [-], psi [1/m]) and
+    Polach's reduction factors kA, kS."""
+    C11, C22, C23 = C.C11, C.C22, C.C23
+    sx, sy, psi = creepage.xi, creepage.eta, creepage.phi
     if Q <= 0.0 or a <= 0.0 or b <= 0.0:
         return 0.0, 0.0
     syc = sy + psi * a if abs(sy + psi * a) > abs(sy) else sy
@@ -101,11 +108,13 @@ class PolachModel:
         self.mu0 = None
         if preset is not None:
             if preset not in PRESETS:
-                raise InputError(f"polach preset {preset!r}: expected one of {sorted(PRESETS)}")
+                raise InputError(f"polach preset {shown(preset)}"
+                                 f": expected one of {sorted(PRESETS)}")
             kA, kS, self.mu0, A, B = PRESETS[preset]
             falling = {"A": A, "B": B}
         if not (0 < kS <= kA <= 1):
-            raise InputError(f"polach kA = {kA!r}, kS = {kS!r}: expected 0 < kS <= kA <= 1")
+            raise InputError(f"polach kA = {shown(kA)}, kS = {shown(kS)}"
+                             f": expected 0 < kS <= kA <= 1")
         self.kA, self.kS, self.falling, self.preset = kA, kS, falling_friction(falling), preset
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
@@ -114,10 +123,10 @@ class PolachModel:
         t0 = time.perf_counter()
         xi, eta, phi = (float(c) for c in creepage)
         if not all(math.isfinite(c) for c in (xi, eta, phi)):
-            raise InputError(f"creepage = {creepage!r}: expected finite values")
+            raise InputError(f"creepage = {shown(creepage)}: expected finite values")
         mu0 = self.mu0 if self.mu0 is not None else friction
         if not (math.isfinite(mu0) and 0 < mu0 <= 5):
-            raise InputError(f"friction.coefficient = {mu0!r}: expected a value in (0, 5]")
+            raise InputError(f"friction.coefficient = {shown(mu0)}: expected a value in (0, 5]")
         a, b = equivalent_ellipse(normal)
         syc = eta + phi * a if abs(eta + phi * a) > abs(eta) else eta
         mu = mu0

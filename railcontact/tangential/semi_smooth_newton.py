@@ -17,9 +17,38 @@ warm starts) is :mod:`railcontact.tangential.exact`.
 from __future__ import annotations
 
 import math
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+
+
+class SlipOperator(NamedTuple):
+    """The operator p -> C p (:func:`_c_of`) on the padded grid of the contact's box."""
+
+    #: spectra [m/Pa] of the influence kernels on the padded grid
+    kxx: np.ndarray
+    kxy: np.ndarray
+    kyy: np.ndarray
+    #: (nx, ny) the padded grid of the FFT
+    shape: tuple
+    #: element length [m] in the rolling direction
+    dx: float
+    #: a shift (True) or steady rolling (False: the slip has the upstream difference)
+    shift: bool
+
+
+class Jacobian(NamedTuple):
+    """The Newton iteration's linearisation at an iterate (:func:`_ssn_blocks`)."""
+
+    #: (mx, my) the contact elements
+    contact: np.ndarray
+    #: (mx, my) the elements in adhesion
+    stick: np.ndarray
+    #: (mx, my, 2, 2) the blocks of the residual's derivative
+    M: np.ndarray
+    #: the scaling [m/Pa] of the tractions in the residual
+    rho: float
 
 
 @njit(cache=True, nogil=True)
@@ -248,33 +277,38 @@ def _pack(ax, ay, cidx):
 
 
 @njit(cache=True, nogil=True)
-def _jacobian_times(v, cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx, shift, contact, stick,
-                    M, rho):
-    """J v for the stacked vector v of the unknowns at the contact elements (outside
-    the contact J is the identity and the Newton steps are zero), and C v there (the
-    linear part of the slip, which the Newton iteration accumulates)."""
+def _jacobian_times(v, cidx, mx, my, op, buffers, jac):
+    """J v for the stacked vector v of the unknowns at the contact elements ``cidx``
+    (flat indices on the (mx, my) grid; outside the contact J is the identity and the
+    Newton steps are zero), and C v there (the linear part of the slip, which the
+    Newton iteration accumulates).  ``op`` the :class:`SlipOperator`, ``buffers`` its
+    two padded work arrays, ``jac`` the :class:`Jacobian`."""
     zx, zy = _unpack(v, cidx, mx, my)
-    cx, cy = _c_of(zx, zy, kxx, kxy, kyy, shape, bx, by, dx, shift)
-    ox, oy = _ssn_apply(zx, zy, cx, cy, contact, stick, M, rho)
+    cx, cy = _c_of(zx, zy, op.kxx, op.kxy, op.kyy, op.shape, buffers[0], buffers[1], op.dx,
+                   op.shift)
+    ox, oy = _ssn_apply(zx, zy, cx, cy, jac.contact, jac.stick, jac.M, jac.rho)
     return _pack(ox, oy, cidx), _pack(cx, cy, cidx)
 
 
 @njit(cache=True, nogil=True)
-def _precond_times(v, cidx, mx, my, contact, stick, M, rho, dxx, dyy, shift):
-    """P^-1 v for the stacked vector v of the unknowns at the contact elements."""
+def _precond_times(v, cidx, mx, my, jac, self_terms, shift):
+    """P^-1 v for the stacked vector v of the unknowns at the contact elements;
+    ``self_terms`` (dxx, dyy) [m/Pa] the elements' own influence."""
     zx, zy = _unpack(v, cidx, mx, my)
-    ox, oy = _ssn_precond(zx, zy, contact, stick, M, rho, dxx, dyy, not shift)
+    ox, oy = _ssn_precond(zx, zy, jac.contact, jac.stick, jac.M, jac.rho, self_terms[0],
+                          self_terms[1], not shift)
     return _pack(ox, oy, cidx)
 
 
 @njit(cache=True, nogil=True)
-def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, kxx, kxy, kyy, shape, bx, by,
-                 dx, shift, contact, stick, M, rho, dxx, dyy):
+def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, op, buffers, jac, self_terms):
     """Solve J d = b to ||b - J d|| <= rtol ||b|| by restarted GMRES (Saad & Schultz
-    1986) with right preconditioning by P (flexible form: the preconditioned
-    directions are kept, Saad 1993); Givens rotations, Gram-Schmidt twice.
-    Returns d, C d (from the products with the kept directions) and the number of
-    products with J."""
+    1986; ``restart`` directions, ``maxcycles`` cycles at most) with right
+    preconditioning by P (flexible form: the preconditioned directions are kept,
+    Saad 1993); Givens rotations, Gram-Schmidt twice.  The unknowns, operator and
+    linearisation as in :func:`_jacobian_times`, ``self_terms`` as in
+    :func:`_precond_times`.  Returns d, C d (from the products with the kept
+    directions) and the number of products with J."""
     n = b.size
     x = np.zeros(n)
     cx = np.zeros(n)
@@ -292,8 +326,7 @@ def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, kxx, kxy, kyy, shape
     r = b.copy()
     for cycle in range(maxcycles):
         if cycle > 0:
-            r = b - _jacobian_times(x, cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
-                                    shift, contact, stick, M, rho)[0]
+            r = b - _jacobian_times(x, cidx, mx, my, op, buffers, jac)[0]
             nprod += 1
         beta = np.sqrt(np.dot(r, r))
         if beta <= rtol * bnorm:
@@ -304,10 +337,8 @@ def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, kxx, kxy, kyy, shape
         k_used = 0
         resid = beta
         for k in range(restart):
-            Z[k] = _precond_times(V[k], cidx, mx, my, contact, stick, M, rho, dxx, dyy,
-                                  shift)
-            w, CZ[k] = _jacobian_times(Z[k], cidx, mx, my, kxx, kxy, kyy, shape, bx, by, dx,
-                                       shift, contact, stick, M, rho)
+            Z[k] = _precond_times(V[k], cidx, mx, my, jac, self_terms, op.shift)
+            w, CZ[k] = _jacobian_times(Z[k], cidx, mx, my, op, buffers, jac)
             nprod += 1
             # classical Gram-Schmidt, done twice (as stable as the modified form, in
             # matrix-vector products)
@@ -362,12 +393,17 @@ def _ssn_state(px, py, wx, wy, cx, cy, contact, bound, rho):
 
 
 @njit(cache=True, nogil=True)
-def ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, rho, dxx,
-               dyy, tol, maxiter):
-    """Semi-smooth Newton iteration of :func:`steady_rolling`, compiled; (px, py) the
-    initial tractions.  Returns px, py, the linear part of their slip C p (cx, cy;
-    in the contact), the stick mask, Newton iterations, products with J,
-    converged."""
+def ssn_solve(px, py, wx, wy, op, contact, bound, rho, self_terms, tol, maxiter):
+    """Semi-smooth Newton iteration of :func:`steady_rolling`, compiled.
+
+    (px, py) the initial tractions [Pa], (wx, wy) the rigid slip [-] in the
+    ``contact``, ``op`` the :class:`SlipOperator`, ``bound`` the traction bound [Pa],
+    ``rho`` the scaling of the tractions in the residual [m/Pa], ``self_terms`` (dxx,
+    dyy) [m/Pa] the elements' own influence (the preconditioner), ``tol`` relative to
+    the largest bound and ``maxiter`` Newton iterations at most.
+    Returns px, py, the linear part of their slip C p (cx, cy; in the contact), the
+    stick mask, Newton iterations, products with J, converged."""
+    kxx, kxy, kyy, shape, dx, shift = op.kxx, op.kxy, op.kyy, op.shape, op.dx, op.shift
     mx, my = px.shape
     cidx = np.flatnonzero(contact.ravel())    # the unknowns: tractions in the contact
     bx = np.zeros(shape)
@@ -406,8 +442,8 @@ def ssn_solve(px, py, wx, wy, kxx, kxy, kyy, shape, dx, shift, contact, bound, r
             if rmax < 1e-2 * gmax:
                 forcing = min(0.3, max(0.3 * tol * gmax / rmax, 1e-3))
         phi_prev = phi2
-        d, cd, k = _newton_step(rhs, forcing, 60, 10, cidx, mx, my, kxx, kxy, kyy, shape,
-                                bx, by, dx, shift, contact, stick, M, rho, dxx, dyy)
+        d, cd, k = _newton_step(rhs, forcing, 60, 10, cidx, mx, my, op, (bx, by),
+                                Jacobian(contact, stick, M, rho), self_terms)
         nprod += k
         # backtracking on the merit function |F|^2
         alpha = 1.0

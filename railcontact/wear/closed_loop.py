@@ -18,7 +18,7 @@ Each wear step of a :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenar
    ``max_depth_per_step``; the depth is smoothed (Gaussian, area conserved) and the
    profiles move along their inward normals; the next step runs on them.
 
-Results go to ``wear.nc`` after every step (see ``docs/wear.md``), with a checkpoint
+Results go to ``wear.nc`` as the steps run (see ``docs/wear.md``), with a checkpoint
 from which an interrupted run resumes; with ``wear.records = true``, ``records/``
 holds per step and route the post-processed samples (the dynamics' inputs and the
 local model's results per patch).
@@ -26,26 +26,21 @@ local model's results per patch).
 
 from __future__ import annotations
 
-import json
 import logging
 import math
 import re
-import sys
-import time
-from pathlib import Path
 
 import numpy as np
 
 from ..cases.bodies import build_wheelset_track
-from ..dynamics.vehicle import G_ACC
-from ..core.errors import InputError, RailContactError
-from ..core.files import write_netcdf, written_whole
-from ..geometry.tables import equivalent_conicity
-from ..profiles.measures import wheel_measures
-from ..profiles.profile import Profile
+from ..core.errors import InputError
+from ..core.files import write_netcdf
 from ..core.parallel import compute
 from ..core.progress import TqdmCallback
-from .mapping import arc_length_grid, removed_area, smooth_depth, wear_profile
+from ..dynamics.vehicle import G_ACC
+from ..geometry.tables import equivalent_conicity
+from ..profiles.measures import wheel_measures
+from .driver import StepLoads, Variable, WearDriver, WornBody
 from .route_tasks import build_table, run_route
 
 log = logging.getLogger(__name__)
@@ -53,24 +48,81 @@ log = logging.getLogger(__name__)
 SIDES = ("left", "right")
 #: amplitude of the equivalent conicity (EN 15302's usual 3 mm) [m]
 CONICITY_AMPLITUDE = 3e-3
+#: per route: the step's record key <- the attribute of the post-processing's stats
+STAT_VARIABLES = (("patches", "patches"), ("patches_solved", "solved"),
+                  ("patches_reused", "reused"), ("patches_skipped", "skipped"),
+                  ("not_converged", "not_converged"), ("solve_time", "solve_time"),
+                  ("postprocess_time", "cpu_time"), ("samples", "samples"))
+
+_WS, _RS = ("wheelset", "side"), ("route", "side")
+_RWS, _RWSP = ("route", "wheelset", "side"), ("route", "wheelset", "side", "patch")
+_AREA = ("worn cross-section area given by the wear law",
+         "cross-section area between the profiles before and after the step")
+#: the results of a closed-loop run (wear.nc, docs/wear.md)
+VARIABLES = (
+    Variable("distance", (), "m", "distance run in the step"),
+    Variable("wear_depth_wheel", _WS + ("y_wheel",), "m", "wear depth of the step (smoothed)"),
+    Variable("wear_depth_rail", _RS + ("y_rail",), "m", "wear depth of the step (smoothed)"),
+    Variable("law_area_wheel", _WS, "m2", _AREA[0]),
+    Variable("removed_area_wheel", _WS, "m2", _AREA[1]),
+    Variable("law_area_rail", _RS, "m2", _AREA[0]),
+    Variable("removed_area_rail", _RS, "m2", _AREA[1]),
+    Variable("wear_rate_wheel", ("route", "wheelset", "side", "y_wheel"), "m/m",
+             "wheel wear depth per metre run on the route (before smoothing)"),
+    Variable("lateral_position", ("route", "wheelset"), "m",
+             "mean wheelset lateral displacement on the route's full-curvature section (the "
+             "whole run on tangent track)"),
+    Variable("yaw", ("route", "wheelset"), "rad", "mean wheelset yaw there"),
+    Variable("max_Y_over_Q", _RWS, "1", "largest |Y/Q| of the run"),
+    Variable("Tgamma", _RWS, "N", "mean wear number T gamma of the run (dynamics' creep law)"),
+    Variable("contact_y_wheel", _RWSP, "m",
+             "mean contact position on the wheel profile on the full-curvature section"),
+    Variable("contact_y_rail", _RWSP, "m",
+             "mean contact position on the rail profile on the full-curvature section"),
+    Variable("energy", ("route",), "J/m", "frictional energy per metre run (local contact "
+             "model)"),
+    Variable("patches", ("route",), "1", "loaded patches post-processed"),
+    Variable("patches_solved", ("route",), "1", "patches solved by the local model"),
+    Variable("patches_reused", ("route",), "1", "patches that reused a repeated state"),
+    Variable("patches_skipped", ("route",), "1",
+             "loaded patches without a table geometry (none expected)"),
+    Variable("not_converged", ("route",), "1", "solves not converged"),
+    Variable("samples", ("route",), "1", "samples post-processed"),
+    Variable("stride", ("route",), "1", "post-processed every stride-th sample"),
+    Variable("solve_time", ("route",), "s", "CPU time of the local solves"),
+    Variable("postprocess_time", ("route",), "s", "CPU time of the post-processing"),
+    Variable("dynamics_time", ("route",), "s", "CPU time of the dynamics run"),
+    Variable("outside_table", ("route",), "1", "1: a wheelset left the table"),
+    Variable("table_time", (), "s", "CPU time of the contact tables"),
+    Variable("wall_time", (), "s", "wall time of the step"),
+    Variable("cumulative_distance", (), "m", "distance run before the state", "state"),
+    Variable("profile_z_wheel", _WS + ("y_wheel",), "m", "wheel profile height z(y)", "state"),
+    Variable("profile_z_rail", _RS + ("y_rail",), "m", "rail profile height z(y)", "state"),
+    Variable("flange_height", _WS, "m", "flange height Sh", "state"),
+    Variable("flange_thickness", _WS, "m", "flange thickness Sd", "state"),
+    Variable("qR", _WS, "m", "flange steepness qR", "state"),
+    Variable("delta_r", ("route", "wheelset", "lateral_shift"), "m",
+             "rolling radius difference r_right - r_left", "state"),
+    Variable("equivalent_conicity", ("route", "wheelset"), "1",
+             f"equivalent conicity at {CONICITY_AMPLITUDE * 1e3:g} mm (EN 15302, integration "
+             "of the kinematic oscillation)", "state"),
+)
 
 
-class ClosedLoopWear:
+class ClosedLoopWear(WearDriver):
     """Run a closed-loop wear scenario step by step (see the module docstring).
 
     Parameters
     ----------
     scenario : VehicleWearScenario
     out_dir : path, optional
-        Folder for ``wear.nc``, ``checkpoint.npz`` and ``records/`` (``wear.records``).
+        Folder for ``wear.nc``, ``checkpoint.nc`` and ``records/`` (``wear.records``).
     progress : bool
         Progress bars over the steps and the routes.
     """
 
     def __init__(self, scenario, out_dir=None, progress: bool = True):
-        self.sc = scenario
-        self.out = Path(out_dir) if out_dir else None
-        self.progress = progress
+        super().__init__(scenario, out_dir, progress)
         case = scenario.case
         ws, tr = build_wheelset_track(case)
         self.nw = len(scenario.model.wheelsets)
@@ -97,13 +149,24 @@ class ClosedLoopWear:
                                 max(p.y_max for p in self.initial_rails) + step / 2, step)
         w = np.array([r.weight for r in scenario.routes], dtype=float)
         self.weights = w / w.sum()
-        self.steps: list = []        # per step: dict of arrays
-        self.states: list = []       # per state (0 = new profiles): dict of arrays
-        self.step = 0
-        self.distance = 0.0
-        self.cpu_time = 0.0
 
     # ------------------------------------------------------------ profiles
+    def slots(self) -> list:
+        """("wheel", wheelset, side) and ("rail", route, side)."""
+        return ([("wheel", w, j) for w in range(self.nw) for j in range(2)]
+                + [("rail", r, j) for r in range(self.nr) for j in range(2)])
+
+    def profile(self, slot):
+        kind, a, j = slot
+        return (self.wheels if kind == "wheel" else self.rails)[a][j]
+
+    def set_profile(self, slot, profile) -> None:
+        kind, a, j = slot
+        (self.wheels if kind == "wheel" else self.rails)[a][j] = profile
+
+    def initial_profiles(self) -> list:
+        return list(self.initial_wheels + self.initial_rails)
+
     def wheel_groups(self) -> list:
         """Lists of (wheelset, side) that share one worn profile."""
         pairs = [(w, j) for w in range(self.nw) for j in range(2)]
@@ -203,69 +266,43 @@ class ClosedLoopWear:
                 rec["equivalent_conicity"][r, w] = done[id(t)]
         return rec
 
-    def run_step(self) -> dict:
-        """One wear step (see the module docstring); returns its record."""
+    def loads(self, grid_of: dict) -> StepLoads:
+        """The tables and route runs of the current profiles (one Dask graph), the
+        measures of the profiles (the state before the step) and the worn bodies:
+        each wheel group's rate (the routes' weighted mean per metre run) and each
+        route's rails (per vehicle passage x passages per metre run)."""
         sc = self.sc
-        t0 = time.perf_counter()
-        grid_of: dict = {}
-        for p in [p for pair in self.wheels + self.rails for p in pair]:
-            if id(p) not in grid_of:
-                grid_of[id(p)] = arc_length_grid(p, sc.grid_step)
         wheels0 = [list(pair) for pair in self.wheels]
         tables, results = self._compute(grid_of)
         if len(self.states) == self.step:
             self.states.append(self._state(tables))
         wt = self.weights
-        # wheels: the routes' weighted mean per metre run, averaged over each group
         per_m = [[sum(wt[r] * results[r]["wheel"][w][j] for r in range(self.nr))
                   for j in range(2)] for w in range(self.nw)]
-        groups = self.wheel_groups()
-        group_rate = [sum(per_m[w][j] for w, j in g) / len(g) for g in groups]
-        # rails: depth per vehicle passage x passages per metre run (the vehicle runs
-        # its share of the distance over the route, rail_traffic times)
-        rail_rate = [[results[r]["rail"][j] * sc.rail_traffic * wt[r] / sc.routes[r].length
-                      for j in range(2)] for r in range(self.nr)]
-        bodies = []            # (kind, profile before, rate per metre, smoothed, members)
+        bodies = []
         if self._worn("wheel"):
-            bodies += [("wheel", wheels0[g[0][0]][g[0][1]], rate,
-                        smooth_depth(rate, sc.grid_step, sc.smoothing), g)
-                       for g, rate in zip(groups, group_rate)]
+            for g in self.wheel_groups():
+                old = wheels0[g[0][0]][g[0][1]]
+                rate = sum(per_m[w][j] for w, j in g) / len(g)
+                bodies.append(WornBody("wheel", old, grid_of[id(old)], rate, self.y_wheel,
+                                       [("wheel", w, j) for w, j in g]))
         if self._worn("rail"):
-            bodies += [("rail", self.rails[r][j], rail_rate[r][j],
-                        smooth_depth(rail_rate[r][j], sc.grid_step, sc.smoothing), [(r, j)])
-                       for r in range(self.nr) for j in range(2)]
-        if sc.distances is not None and self.step < len(sc.distances):
-            dist = float(sc.distances[self.step])
-        elif sc.step_distance:
-            dist = sc.step_distance
-        else:
-            peak = max((float(b[3].max()) for b in bodies), default=0.0)
-            if not peak > 0:
-                raise RailContactError("no wear in this step (no frictional work on the worn "
-                                       "bodies); check the routes and the wear law")
-            dist = sc.max_depth_per_step / peak
-        rec = {"distance": dist}
-        for kind, n, y in (("wheel", self.nw, self.y_wheel), ("rail", self.nr, self.y_rail)):
-            rec[f"wear_depth_{kind}"] = np.zeros((n, 2, y.size))
-            rec[f"law_area_{kind}"] = np.zeros((n, 2))
-            rec[f"removed_area_{kind}"] = np.zeros((n, 2))
-        for kind, old, rate, smoothed, members in bodies:
-            grid = grid_of[id(old)]
-            depth = smoothed * dist
-            new = wear_profile(old, grid, depth, kind)
-            if sc.profile_smoothing > 0:
-                new = new.smoothed(sc.profile_smoothing)
-            y = self.y_wheel if kind == "wheel" else self.y_rail
-            on_y = np.interp(old.arc_length(y), grid, depth, left=0.0, right=0.0)
-            law_area = float(np.trapezoid(rate, grid)) * dist
-            area = removed_area(old, new, kind)
-            target = self.wheels if kind == "wheel" else self.rails
-            for a, j in members:
-                target[a][j] = new
-                rec[f"wear_depth_{kind}"][a, j] = on_y
-                rec[f"law_area_{kind}"][a, j] = law_area
-                rec[f"removed_area_{kind}"][a, j] = area
-        # per route: each wheel's wear per metre run there (before smoothing)
+            # the vehicle runs its share of the distance over the route, rail_traffic times
+            for r in range(self.nr):
+                for j in range(2):
+                    old = self.rails[r][j]
+                    rate = results[r]["rail"][j] * sc.rail_traffic * wt[r] / sc.routes[r].length
+                    bodies.append(WornBody("rail", old, grid_of[id(old)], rate, self.y_rail,
+                                           [("rail", r, j)]))
+        self._log(results)
+        if self.out and sc.records:
+            self._write_records(results)
+        return StepLoads(bodies, self._route_record(wheels0, grid_of, tables, results))
+
+    def _route_record(self, wheels0, grid_of, tables, results) -> dict:
+        """The step's entries per route: each wheel's wear per metre run there (before
+        smoothing), the run's measures, energy, counts and times."""
+        rec = {}
         s_y = [[wheels0[w][j].arc_length(self.y_wheel) for j in range(2)]
                for w in range(self.nw)]
         rec["wear_rate_wheel"] = np.array([[[np.interp(
@@ -274,54 +311,40 @@ class ClosedLoopWear:
         for key in results[0]["measures"]:
             rec[key] = np.array([res["measures"][key] for res in results])
         rec["energy"] = np.array([res["energy"] for res in results])
-        stats = [res["stats"] for res in results]
-        for key, attr in (("patches", "patches"), ("patches_solved", "solved"),
-                          ("patches_reused", "reused"), ("patches_skipped", "skipped"),
-                          ("not_converged", "not_converged"),
-                          ("solve_time", "solve_time"), ("postprocess_time", "cpu_time"),
-                          ("samples", "samples")):
-            rec[key] = np.array([float(getattr(s, attr)) for s in stats])
-        rec["dynamics_time"] = np.array([res["dynamics_time"] for res in results])
-        rec["stride"] = np.array([float(res["stride"]) for res in results])
+        for key, attr in STAT_VARIABLES:
+            rec[key] = np.array([float(getattr(res["stats"], attr)) for res in results])
+        for key in ("dynamics_time", "stride", "outside_table"):
+            rec[key] = np.array([float(res[key]) for res in results])
         unique = {id(t): t for row in tables for t in row}
         rec["table_time"] = float(sum(t.cpu_time for t in unique.values()))
-        rec["outside_table"] = np.array([float(res["outside_table"]) for res in results])
-        rec["wall_time"] = time.perf_counter() - t0
-        for item, res in zip(sc.routes, results):
+        return rec
+
+    def _log(self, results) -> None:
+        for item, res in zip(self.sc.routes, results):
             for wtext, count in res["stats"].warnings.items():
                 log.info("step %d, route %s: %d solves: %s", self.step + 1, item.name, count,
                          wtext)
             if res["warnings"]:
                 log.warning("step %d, route %s: %s", self.step + 1, item.name, res["warnings"])
-        self.step += 1
-        self.distance += dist
-        self.steps.append(rec)
-        if self.out:
-            if sc.records:
-                self._write_records(results)
-            self.save_checkpoint()
-            self.write()
-        return rec
 
-    # ------------------------------------------------------------ run
-    def run(self, resume: bool = True):
-        """Run the remaining steps; returns the results (:meth:`to_xarray`)."""
-        from tqdm.auto import tqdm
-        if resume:
-            self.load_checkpoint()
-        t0 = time.perf_counter()
-        for _ in tqdm(range(self.step, self.sc.steps), desc="wear", unit="step",
-                      disable=not self.progress, file=sys.stderr):
-            self.run_step()
-        if len(self.states) == self.step:            # the final profiles' measures
+    def record(self, rec: dict, worn: list) -> None:
+        """Depths and areas per wheelset (route) and side."""
+        for kind, n, y in (("wheel", self.nw, self.y_wheel), ("rail", self.nr, self.y_rail)):
+            rec[f"wear_depth_{kind}"] = np.zeros((n, 2, y.size))
+            rec[f"law_area_{kind}"] = np.zeros((n, 2))
+            rec[f"removed_area_{kind}"] = np.zeros((n, 2))
+        for w in worn:
+            for kind, a, j in w.body.slots:
+                rec[f"wear_depth_{kind}"][a, j] = w.depth_on_y
+                rec[f"law_area_{kind}"][a, j] = w.law_area
+                rec[f"removed_area_{kind}"][a, j] = w.removed_area
+
+    def finish(self) -> None:
+        """The measures of the final profiles (their tables, without a run)."""
+        if len(self.states) == self.step:
             tasks, rows = self._table_tasks()
             out = compute(tasks, self.sc.scheduler, what="wear.scheduler")
             self.states.append(self._state([[out[i] for i in row] for row in rows]))
-        self.cpu_time += time.perf_counter() - t0
-        if self.out:
-            self.save_checkpoint()
-            self.write()
-        return self.to_xarray()
 
     # ------------------------------------------------------------ outputs
     def _write_records(self, results):
@@ -329,23 +352,14 @@ class ClosedLoopWear:
         folder.mkdir(parents=True, exist_ok=True)
         for item, res in zip(self.sc.routes, results):
             name = re.sub(r"[^A-Za-z0-9_.-]+", "_", item.name)
-            path = folder / f"step{self.step:03d}_{name}.nc"
+            path = folder / f"step{self.step + 1:03d}_{name}.nc"
             write_netcdf(res["records"], path)
 
-    def write(self):
-        """Write ``wear.nc`` (and ``wear.png``) into the output folder."""
-        ds = self.to_xarray()
-        write_netcdf(ds, self.out / "wear.nc")
-        return ds
+    def variables(self) -> tuple:
+        return VARIABLES
 
-    def to_xarray(self):
-        """The run's results as an :class:`xarray.Dataset` (see docs/wear.md)."""
-        import xarray as xr
-        sc = self.sc
-        K = len(self.steps)
-        coords = {"step": ("step", np.arange(1, K + 1)),
-                  "state": ("state", np.arange(len(self.states))),
-                  "route": ("route", [r.name for r in sc.routes]),
+    def coords(self) -> dict:
+        coords = {"route": ("route", [r.name for r in self.sc.routes]),
                   "wheelset": ("wheelset", np.arange(1, self.nw + 1)),
                   "side": ("side", list(SIDES)), "patch": ("patch", ["tread", "flange"]),
                   "y_wheel": ("y_wheel", self.y_wheel, {"units": "m", "long_name":
@@ -355,150 +369,19 @@ class ClosedLoopWear:
                                                     "lateral position on the new rail "
                                                     "profile"})}
         if self.states and "delta_r" in self.states[0]:
-            tab = self.settings["table_range"]
+            tab = self.sc.dynamics["table_range"]
             n = self.states[0]["delta_r"].shape[-1]
             coords["lateral_shift"] = ("lateral_shift", np.linspace(-tab, tab, n),
                                        {"units": "m"})
-        data = {}
+        return coords
 
-        def put(name, dims, values, units, long_name, over="step"):
-            rows = self.steps if over == "step" else self.states
-            if not rows:
-                return
-            data[name] = ((over,) + dims, np.array([r[values] for r in rows], dtype=float),
-                          {"units": units, "long_name": long_name})
-
-        put("distance", (), "distance", "m", "distance run in the step")
-        put("wear_depth_wheel", ("wheelset", "side", "y_wheel"), "wear_depth_wheel", "m",
-            "wear depth of the step (smoothed)")
-        put("wear_depth_rail", ("route", "side", "y_rail"), "wear_depth_rail", "m",
-            "wear depth of the step (smoothed)")
-        for kind, dim in (("wheel", "wheelset"), ("rail", "route")):
-            put(f"law_area_{kind}", (dim, "side"), f"law_area_{kind}", "m2",
-                "worn cross-section area given by the wear law")
-            put(f"removed_area_{kind}", (dim, "side"), f"removed_area_{kind}", "m2",
-                "cross-section area between the profiles before and after the step")
-        put("wear_rate_wheel", ("route", "wheelset", "side", "y_wheel"), "wear_rate_wheel",
-            "m/m", "wheel wear depth per metre run on the route (before smoothing)")
-        put("lateral_position", ("route", "wheelset"), "lateral_position", "m",
-            "mean wheelset lateral displacement on the route's full-curvature section (the "
-            "whole run on tangent track)")
-        put("yaw", ("route", "wheelset"), "yaw", "rad", "mean wheelset yaw there")
-        put("max_Y_over_Q", ("route", "wheelset", "side"), "max_Y_over_Q", "1",
-            "largest |Y/Q| of the run")
-        put("Tgamma", ("route", "wheelset", "side"), "Tgamma", "N",
-            "mean wear number T gamma of the run (dynamics' creep law)")
-        put("contact_y_wheel", ("route", "wheelset", "side", "patch"), "contact_y_wheel", "m",
-            "mean contact position on the wheel profile on the full-curvature section")
-        put("contact_y_rail", ("route", "wheelset", "side", "patch"), "contact_y_rail", "m",
-            "mean contact position on the rail profile on the full-curvature section")
-        put("energy", ("route",), "energy", "J/m",
-            "frictional energy per metre run (local contact model)")
-        for key, units, text in (("patches", "1", "loaded patches post-processed"),
-                                 ("patches_solved", "1", "patches solved by the local model"),
-                                 ("patches_reused", "1", "patches that reused a repeated "
-                                                         "state"),
-                                 ("patches_skipped", "1", "loaded patches without a "
-                                                          "table geometry (none expected)"),
-                                 ("not_converged", "1", "solves not converged"),
-                                 ("samples", "1", "samples post-processed"),
-                                 ("stride", "1", "post-processed every stride-th sample"),
-                                 ("solve_time", "s", "CPU time of the local solves"),
-                                 ("postprocess_time", "s", "CPU time of the post-processing"),
-                                 ("dynamics_time", "s", "CPU time of the dynamics run"),
-                                 ("outside_table", "1", "1: a wheelset left the table")):
-            put(key, ("route",), key, units, text)
-        put("table_time", (), "table_time", "s", "CPU time of the contact tables")
-        put("wall_time", (), "wall_time", "s", "wall time of the step")
-        put("cumulative_distance", (), "cumulative_distance", "m",
-            "distance run before the state", over="state")
-        put("profile_z_wheel", ("wheelset", "side", "y_wheel"), "profile_z_wheel", "m",
-            "wheel profile height z(y)", over="state")
-        put("profile_z_rail", ("route", "side", "y_rail"), "profile_z_rail", "m",
-            "rail profile height z(y)", over="state")
-        for key, text in (("flange_height", "flange height Sh"),
-                          ("flange_thickness", "flange thickness Sd"),
-                          ("qR", "flange steepness qR")):
-            put(key, ("wheelset", "side"), key, "m", text, over="state")
-        put("delta_r", ("route", "wheelset", "lateral_shift"), "delta_r", "m",
-            "rolling radius difference r_right - r_left", over="state")
-        put("equivalent_conicity", ("route", "wheelset"), "equivalent_conicity", "1",
-            f"equivalent conicity at {CONICITY_AMPLITUDE * 1e3:g} mm (EN 15302, "
-            "integration of the kinematic oscillation)", over="state")
-        attrs = {"law": sc.law, "normal": sc.normal, "tangential": sc.tangential,
-                 "dynamics_tangential": sc.dynamics["tangential"], "worn_body": sc.body,
-                 "wheels": sc.wheels, "sample_distance_m": sc.sample_distance,
-                 "reuse_tolerance": sc.reuse_tolerance, "total_distance_m": float(self.distance),
-                 "cpu_time_s": float(self.cpu_time), "title": sc.title,
-                 "route_weights": [float(w) for w in self.weights],
-                 "route_lengths_m": [float(r.length) for r in sc.routes],
-                 "route_speeds_m_s": [float(r.speed) for r in sc.routes]}
-        return xr.Dataset(data, coords=coords, attrs=attrs)
-
-    # ------------------------------------------------------------ checkpoints
-    def _profiles(self):
-        """The distinct profile objects and, per wheel and rail, their index."""
-        uniq, index = [], {}
-        for p in [p for pair in self.wheels + self.rails for p in pair]:
-            if id(p) not in index:
-                index[id(p)] = len(uniq)
-                uniq.append(p)
-        return uniq, [[index[id(p)] for p in pair] for pair in self.wheels], \
-            [[index[id(p)] for p in pair] for pair in self.rails]
-
-    def save_checkpoint(self):
-        """Profiles, records and counters after the last step (``checkpoint.npz``)."""
-        uniq, wi, ri = self._profiles()
-        arrays = {}
-        for k, p in enumerate(uniq):
-            arrays[f"profile{k}_y"], arrays[f"profile{k}_z"] = p.y, p.z
-        for kind, rows in (("step", self.steps), ("state", self.states)):
-            for k, rec in enumerate(rows):
-                for name, v in rec.items():
-                    arrays[f"{kind}{k}__{name}"] = np.asarray(v, dtype=float)
-        meta = {"step": self.step, "distance": self.distance, "wheels": wi, "rails": ri,
-                "kinds": [p.kind for p in uniq], "names": [p.name for p in uniq],
-                "smoothing": [p.smoothing for p in uniq],
-                "steps": len(self.steps), "states": len(self.states),
-                "cpu_time": self.cpu_time, "scenario": self._fingerprint()}
-        arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
-        with written_whole(self.out / "checkpoint.npz") as tmp, open(tmp, "wb") as f:
-            np.savez(f, **arrays)
-
-    def _fingerprint(self) -> str:
-        """What a checkpoint must match to be resumed: routes, wheels, models."""
+    def attrs(self) -> dict:
         sc = self.sc
-        return json.dumps([sc.wheels, sc.body, sc.law, sc.normal, sc.tangential, self.nw,
-                           [(r.name, r.length, r.speed) for r in sc.routes]])
+        return {"law": sc.law, "normal": sc.normal, "tangential": sc.tangential,
+                "dynamics_tangential": sc.dynamics["tangential"], "worn_body": sc.body,
+                "wheels": sc.wheels, "sample_distance_m": sc.sample_distance,
+                "reuse_tolerance": sc.reuse_tolerance, "title": sc.title,
+                "route_weights": [float(w) for w in self.weights],
+                "route_lengths_m": [float(r.length) for r in sc.routes],
+                "route_speeds_m_s": [float(r.speed) for r in sc.routes]}
 
-    def load_checkpoint(self) -> bool:
-        """Resume from ``checkpoint.npz`` of the output folder (False: none there)."""
-        p = self.out / "checkpoint.npz" if self.out else None
-        if p is None or not p.is_file():
-            return False
-        data = np.load(p)
-        meta = json.loads(bytes(data["meta"]).decode())
-        if meta.get("scenario") != self._fingerprint():
-            raise InputError(f"{p}: the checkpoint belongs to another scenario (routes, "
-                             "wheels, models); remove it or run with --restart")
-        uniq = [Profile(data[f"profile{k}_y"], data[f"profile{k}_z"], kind=kind, name=name,
-                        smoothing=sm)
-                for k, (kind, name, sm) in enumerate(zip(meta["kinds"], meta["names"],
-                                                         meta["smoothing"]))]
-        self.wheels = [[uniq[k] for k in pair] for pair in meta["wheels"]]
-        self.rails = [[uniq[k] for k in pair] for pair in meta["rails"]]
-        self.step, self.distance = meta["step"], meta["distance"]
-        self.cpu_time = meta.get("cpu_time", 0.0)
-        for kind, n, rows in (("step", meta["steps"], self.steps),
-                              ("state", meta["states"], self.states)):
-            rows.clear()
-            prefix = [f"{kind}{k}__" for k in range(n)]
-            for pre in prefix:
-                rec = {}
-                for key in data.files:
-                    if key.startswith(pre):
-                        v = data[key]
-                        rec[key[len(pre):]] = float(v) if v.ndim == 0 else v
-                rows.append(rec)
-        log.info("resumed from %s at step %d", p, self.step)
-        return True

@@ -8,7 +8,6 @@ per model and a table of the worn area, maximum depth and CPU time per model.
 
 from __future__ import annotations
 
-import copy
 import csv
 import time
 from pathlib import Path
@@ -16,9 +15,8 @@ from pathlib import Path
 import numpy as np
 
 from ..core.errors import InputError
-from .closed_loop import ClosedLoopWear
 from .plots import _wheel_panels
-from .simulation import WearSimulation
+from .vehicle_scenario import VehicleWearScenario
 
 
 def parse_models(spec: str):
@@ -35,19 +33,23 @@ def parse_models(spec: str):
 
 def compare_wear(scenario, models, out=None, progress=True):
     """Run ``scenario`` for each (normal, tangential) pair; returns {label: dataset}
-    (and writes ``wear_comparison.png`` and ``.csv`` into ``out``)."""
-    if hasattr(scenario, "routes"):
+    (and writes ``wear_comparison.png`` and ``.csv`` into ``out``).  Every model name
+    is checked before the first pair runs."""
+    from ..normal import normal_model_class
+    from ..tangential import tangential_model_class
+    for normal, tang in models:
+        normal_model_class(normal)
+        tangential_model_class(tang)
+    if isinstance(scenario, VehicleWearScenario):
         return _compare_closed_loop(scenario, models, out, progress)
     results = {}
-    for normal, tang in models:
-        sc = copy.deepcopy(scenario)
-        sc.base.setdefault("solver", {})
-        sc.base["solver"] = {**sc.base["solver"], "normal": normal, "tangential": tang}
+    scenarios = [scenario.with_models(normal, tang) for normal, tang in models]
+    for (normal, tang), sc in zip(models, scenarios):
         label = f"{normal}+{tang}"
         sub = Path(out) / label if out else None
         if sub:
             sub.mkdir(parents=True, exist_ok=True)
-        results[label] = WearSimulation(sc, sub, progress=progress).run(resume=False)
+        results[label] = sc.driver(sub, progress=progress).run(resume=False)
     if out:
         _write(results, Path(out))
     return results
@@ -84,15 +86,15 @@ def _compare_closed_loop(scenario, models, out, progress):
     the step distances (by its step control), the others run over the same."""
     results = {}
     distances = None
-    for normal, tang in models:
-        sc = scenario.with_models(normal, tang)
+    scenarios = [scenario.with_models(normal, tang) for normal, tang in models]
+    for (normal, tang), sc in zip(models, scenarios):
         sc.distances = distances
         label = f"{normal}+{tang}"
         sub = Path(out) / label if out else None
         if sub:
             sub.mkdir(parents=True, exist_ok=True)
         c0 = time.process_time()
-        ds = ClosedLoopWear(sc, sub, progress=progress).run(resume=False)
+        ds = sc.driver(sub, progress=progress).run(resume=False)
         ds.attrs["process_cpu_time_s"] = time.process_time() - c0
         if distances is None:
             distances = [float(d) for d in ds["distance"].values]

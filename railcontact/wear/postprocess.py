@@ -43,6 +43,7 @@ from dataclasses import dataclass, field
 
 import numpy as np
 
+from ..core.errors import InputError
 from ..core.materials import Material
 from ..normal import get_normal_model
 from ..tangential import get_tangential_model
@@ -92,6 +93,123 @@ class _Strips:
     dy: float
 
 
+@dataclass
+class _Solved:
+    """A solved patch state: its strips, the wear depth per passage on them [m] and
+    the values recorded per patch (:data:`RECORDS`)."""
+
+    strips: _Strips
+    depth_y: np.ndarray
+    values: tuple
+
+
+#: the local model's values recorded per sample, wheelset, side and patch slot
+RECORDS = ("Fn", "Fx", "Fy", "area", "pmax", "frictional_power")
+
+
+@dataclass
+class _Samples:
+    """The post-processed samples of a dynamics run: per sample, wheelset, side and
+    patch slot the normal force N [N], the creepages (ξ, η [-], φ [1/m]) and the
+    semi-axes [m]; per sample and wheelset the nearest table shift and its neighbour
+    on the sample's side (the slot's geometry where the nearest has none)."""
+
+    N: np.ndarray
+    creep: np.ndarray
+    semi_a: np.ndarray
+    semi_b: np.ndarray
+    near: np.ndarray
+    other: np.ndarray
+    velocity: float
+    time: np.ndarray
+
+    @classmethod
+    def read(cls, ds, shift, stride: int) -> "_Samples":
+        """Every ``stride``-th sample of the run ``ds`` on the table shifts ``shift``."""
+        idx = np.arange(0, ds.sizes["time"], max(int(stride), 1))
+        yrel = ds["relative_shift"].values[idx]
+        h = shift[1] - shift[0]
+        near = np.clip(np.rint((yrel - shift[0]) / h).astype(int), 0, shift.size - 1)
+        other = np.clip(np.where(yrel - shift[0] >= near * h, near + 1, near - 1), 0,
+                        shift.size - 1)
+        creep = np.stack([ds[f"creepage_{c}"].values[idx]
+                          for c in ("longitudinal", "lateral", "spin")], axis=-1)
+        return cls(ds["patch_normal_force"].values[idx], creep,
+                   ds["semi_axis_a"].values[idx], ds["semi_axis_b"].values[idx], near, other,
+                   float(ds.attrs["velocity_m_s"]), ds["time"].values[idx])
+
+    def loaded(self):
+        """(sample, wheelset, side, slot) of every loaded patch, in sample order."""
+        return np.argwhere(self.N > 0)
+
+
+@dataclass
+class _Run:
+    """The bookkeeping of one run's post-processing: its inputs (tables, profiles,
+    grids, friction), the sums of the wear depths, the records and the caches
+    (solved states and their mapped depths by reuse key; each wheel slot's last
+    solution for warm starts)."""
+
+    samples: _Samples
+    tables: list
+    wheels: list
+    rails: tuple
+    wheel_grids: list
+    rail_grids: list
+    friction: float
+    wheel: list = field(default_factory=list)
+    rail: list = field(default_factory=list)
+    records: dict = field(default_factory=dict)
+    energy: float = 0.0
+    solved: dict = field(default_factory=dict)
+    mapped: dict = field(default_factory=dict)
+    last: dict = field(default_factory=dict)
+    stats: PostProcessStats = field(default_factory=PostProcessStats)
+
+    def __post_init__(self):
+        self.wheel = [[np.zeros_like(g) for g in pair] for pair in self.wheel_grids]
+        self.rail = [np.zeros_like(g) for g in self.rail_grids]
+        self.records = {k: np.full(self.samples.N.shape, np.nan) for k in RECORDS}
+
+    def geometry(self, i: int, w: int, j: int, k: int):
+        """(table index, patch geometry) of a loaded patch; None where it enters
+        between two table shifts (no geometry at either)."""
+        for ti in (int(self.samples.near[i, w]), int(self.samples.other[i, w])):
+            geom = self.tables[w].geometry[ti][j][k]
+            if geom is not None:
+                return ti, geom
+        return None
+
+    def add(self, at: tuple, key, geom, hit: _Solved) -> None:
+        """A patch's records, energy and wear depth on the wheel and rail grids (the
+        depths of a reuse key map onto the same profiles: computed once)."""
+        i, w, j, k = at
+        for name, v in zip(RECORDS, hit.values):
+            self.records[name][i, w, j, k] = v
+        self.energy += hit.values[-1] / self.samples.velocity
+        if not hit.depth_y.any():
+            return
+        depths = self.mapped.get(key) if key is not None else None
+        if depths is None:
+            depths = (profile_depth(geom, hit.strips, hit.depth_y, self.wheels[w][j], "wheel",
+                                    self.wheel_grids[w][j]) / (2 * math.pi * geom.rolling_radius),
+                      profile_depth(geom, hit.strips, hit.depth_y, self.rails[j], "rail",
+                                    self.rail_grids[j]))
+            if key is not None:
+                self.mapped[key] = depths
+        self.wheel[w][j] += depths[0]
+        self.rail[j] += depths[1]
+
+    def result(self, cpu_time: float) -> dict:
+        """The means over the samples (per metre of track) and the records."""
+        n = max(self.samples.time.size, 1)
+        self.stats.samples = int(self.samples.time.size)
+        self.stats.cpu_time = cpu_time
+        return {"wheel": [[d / n for d in pair] for pair in self.wheel],
+                "rail": [d / n for d in self.rail], "energy": self.energy / n,
+                "records": self.records, "time": self.samples.time, "stats": self.stats}
+
+
 class PatchPostProcessor:
     """Solve the patches of dynamics runs with one local contact model and a wear law.
 
@@ -106,7 +224,8 @@ class PatchPostProcessor:
     reuse_tolerance : float
         Width of the bins of repeated states (0: every patch is solved).
     warm : bool
-        Warm starts along the time history (for models that accept them).
+        Warm starts along the time history (models with the ``"warm-start"``
+        capability) and grid reuse at the same table shift (``"grid-reuse"``).
     """
 
     def __init__(self, normal: str, tangential: str, law, material: Material, grid=None,
@@ -114,11 +233,14 @@ class PatchPostProcessor:
                  reuse_tolerance: float = 1e-3, warm: bool = True):
         self.nmodel = get_normal_model(normal, **(normal_options or {}))
         self.tmodel = get_tangential_model(tangential, **(tangential_options or {}))
+        if "force-control" not in self.nmodel.capabilities:
+            raise InputError(f"normal model {normal!r}: the wear post-processing solves for the "
+                             "dynamics' normal force; expected a model with 'force-control'")
         self.law, self.material = law, material
         self.kw = {"grid": grid, "element_size": element_size}
         self.tol = float(reuse_tolerance)
         self.nwarm = warm and "warm-start" in self.nmodel.capabilities
-        self.regrid = warm and getattr(self.nmodel, "reuses_grids", False)
+        self.regrid = warm and "grid-reuse" in self.nmodel.capabilities
         self.twarm = warm and "warm-start" in self.tmodel.capabilities
 
     def _key(self, w, ti, j, k, N, creep, a, b, mu):
@@ -162,84 +284,37 @@ class PatchPostProcessor:
         (:class:`PostProcessStats`).
         """
         t0 = time.thread_time()
-        st = PostProcessStats()
-        nt = ds.sizes["time"]
-        idx = np.arange(0, nt, max(int(stride), 1))
-        V = float(ds.attrs["velocity_m_s"])
-        N = ds["patch_normal_force"].values[idx]
-        creep = np.stack([ds[f"creepage_{c}"].values[idx] for c in ("longitudinal", "lateral",
-                                                                    "spin")], axis=-1)
-        sa, sb = ds["semi_axis_a"].values[idx], ds["semi_axis_b"].values[idx]
-        yrel = ds["relative_shift"].values[idx]
-        nw = yrel.shape[1]
-        shift = tables[0].shift
-        h = shift[1] - shift[0]
-        near = np.clip(np.rint((yrel - shift[0]) / h).astype(int), 0, shift.size - 1)
-        # the neighbouring table point on the sample's side: the slot's geometry where
-        # the nearest point has none (a patch entering between two table points)
-        other = np.clip(np.where(yrel - shift[0] >= near * h, near + 1, near - 1), 0,
-                        shift.size - 1)
-        wheel = [[np.zeros_like(wheel_grids[w][j]) for j in range(2)] for w in range(nw)]
-        rail = [np.zeros_like(rail_grids[j]) for j in range(2)]
-        rec = {k: np.full(N.shape, np.nan) for k in ("Fn", "Fx", "Fy", "area", "pmax",
-                                                      "frictional_power")}
-        energy = 0.0
-        cache: dict = {}
-        mapped: dict = {}                   # key -> (wheel, rail) depth on the grids
-        last: dict = {}
-        for i in range(idx.size):
-            for w in range(nw):
-                geo_tab = tables[w].geometry
-                for j in range(2):
-                    for k in range(2):
-                        n = float(N[i, w, j, k])
-                        if not n > 0:
-                            continue
-                        st.patches += 1
-                        ti = int(near[i, w])
-                        geom = geo_tab[ti][j][k]
-                        if geom is None:
-                            ti = int(other[i, w])
-                            geom = geo_tab[ti][j][k]
-                        if geom is None:            # entering between table points
-                            st.skipped += 1
-                            continue
-                        cr = (float(creep[i, w, j, k, 0]), float(creep[i, w, j, k, 1]),
-                              float(creep[i, w, j, k, 2]))
-                        key = self._key(w, ti, j, k, n, cr, float(sa[i, w, j, k]),
-                                        float(sb[i, w, j, k]), friction)
-                        hit = cache.get(key) if key is not None else None
-                        if hit is None:
-                            hit, ns, ts = self._solve(geom, n, cr, friction, V,
-                                                      last.get((w, j, k)), ti, st)
-                            last[(w, j, k)] = (ti, ns, ts)
-                            if key is not None:
-                                cache[key] = hit
-                        else:
-                            st.reused += 1
-                        strips, depth_y, values = hit
-                        for name, v in zip(rec, values):
-                            rec[name][i, w, j, k] = v
-                        energy += values[-1] / V
-                        if not depth_y.any():
-                            continue
-                        depths = mapped.get(key) if key is not None else None
-                        if depths is None:          # the same key maps onto the same profiles
-                            depths = (profile_depth(geom, strips, depth_y, wheels[w][j],
-                                                    "wheel", wheel_grids[w][j])
-                                      / (2 * math.pi * geom.rolling_radius),
-                                      profile_depth(geom, strips, depth_y, rails[j], "rail",
-                                                    rail_grids[j]))
-                            if key is not None:
-                                mapped[key] = depths
-                        wheel[w][j] += depths[0]
-                        rail[j] += depths[1]
-        n_s = max(idx.size, 1)
-        st.samples = int(idx.size)
-        st.cpu_time = time.thread_time() - t0
-        return {"wheel": [[d / n_s for d in pair] for pair in wheel],
-                "rail": [d / n_s for d in rail], "energy": energy / n_s,
-                "records": rec, "time": ds["time"].values[idx], "stats": st}
+        run = _Run(_Samples.read(ds, tables[0].shift, stride), tables, wheels, rails,
+                   wheel_grids, rail_grids, friction)
+        for at in run.samples.loaded():
+            self._patch(run, tuple(int(x) for x in at))
+        return run.result(time.thread_time() - t0)
+
+    def _patch(self, run: _Run, at: tuple) -> None:
+        """One loaded patch (sample, wheelset, side, slot): its geometry, its solution
+        (solved, or a repeated state's) and its wear."""
+        i, w, j, k = at
+        smp = run.samples
+        n = float(smp.N[at])
+        run.stats.patches += 1
+        found = run.geometry(i, w, j, k)
+        if found is None:                   # entering between table points
+            run.stats.skipped += 1
+            return
+        ti, geom = found
+        cr = tuple(float(c) for c in smp.creep[at])
+        key = self._key(w, ti, j, k, n, cr, float(smp.semi_a[at]), float(smp.semi_b[at]),
+                        run.friction)
+        hit = run.solved.get(key) if key is not None else None
+        if hit is None:
+            hit, ns, ts = self._solve(geom, n, cr, run.friction, smp.velocity,
+                                      run.last.get((w, j, k)), ti, run.stats)
+            run.last[(w, j, k)] = (ti, ns, ts)
+            if key is not None:
+                run.solved[key] = hit
+        else:
+            run.stats.reused += 1
+        run.add(at, key, geom, hit)
 
     def _solve(self, geom, n, creep, friction, V, previous, ti, st):
         """Normal (force-controlled) and tangential solution of one patch and its wear
@@ -269,4 +344,4 @@ class PatchPostProcessor:
                 st.warnings[wtext] = st.warnings.get(wtext, 0) + 1
         depth_y = strip_depth(self.law.rate(ns, ts, V), ns)
         values = (ns.normal_force, ts.fx, ts.fy, ns.area, ns.pmax, ts.frictional_power)
-        return (_Strips(ns.y, ns.dy), depth_y, values), ns, ts
+        return _Solved(_Strips(ns.y, ns.dy), depth_y, values), ns, ts

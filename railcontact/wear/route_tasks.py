@@ -11,7 +11,7 @@ import time
 
 import numpy as np
 
-from ..dynamics.simulation import simulate_vehicle
+from ..dynamics.simulation import Integration, simulate_vehicle
 from ..dynamics.wheel_rail import F_SHARE, F_YWHEEL, WheelRailTable
 from ..geometry.track import Track, Wheelset
 from .laws import get_wear_law
@@ -71,9 +71,10 @@ def run_route(item, model, tables, dyn, material, wheels, rails, wheel_grids, ra
     t0 = time.thread_time()
     ds = simulate_vehicle(model, item.route, tables, item.speed, item.duration,
                           dyn["tangential"], item.friction, material,
-                          dyn["initial_lateral_shift"], dyn["sample_rate"], dyn["rtol"], False,
-                          dyn["tangential_options"], dyn["fastsim_grid"],
-                          integrator=dyn["integrator"], step=dyn["step"])
+                          dyn["initial_lateral_shift"], dyn["tangential_options"],
+                          dyn["fastsim_grid"],
+                          Integration(dyn["integrator"], dyn["sample_rate"], dyn["rtol"],
+                                      step=dyn["step"]))
     t_dyn = time.thread_time() - t0
     pp = PatchPostProcessor(post["normal"], post["tangential"],
                             get_wear_law(post["law"], **post["parameters"]), material,

@@ -24,28 +24,23 @@ interrupted run resume without loss.
 from __future__ import annotations
 
 import copy
-import json
 import logging
 import math
-import time
 from dataclasses import dataclass, field
 from pathlib import Path
 
 import numpy as np
 
 from ..cases.bodies import build_wheelset_track
-from ..cases.case import case_from_dict
-from ..core.files import read_toml
+from ..cases.case import Case
 from ..cases.solve import solve
-from ..core.errors import CaseFileError, InputError, RailContactError
-from ..core.files import write_netcdf, written_whole
+from ..core.errors import CaseFileError, InputError
 from ..core.parallel import compute
 from ..core.progress import TqdmCallback
-from ..profiles.profile import Profile
+from .driver import StepLoads, Variable, WearDriver, WornBody
 from .laws import get_wear_law
-from .mapping import arc_length_grid, profile_depth, smooth_depth, strip_depth, wear_profile
-from .vehicle_scenario import (WearSettings, apply_wear_settings, is_vehicle_scenario,
-                               number, vehicle_scenario_from_dict)
+from .mapping import profile_depth, strip_depth
+from .vehicle_scenario import WearSettings, apply_wear_settings, number
 
 log = logging.getLogger(__name__)
 
@@ -64,30 +59,51 @@ _COND_KEYS = {"weight", "lateral_shift", "yaw", "vertical_force", "velocity", "p
 @dataclass
 class WearScenario(WearSettings):
     """A validated open-loop wear scenario: the base case (``base``, a case file's
-    dict), its operating conditions with their weights (``conditions``) and the
-    rail passages per metre of wheel travel."""
+    dict as read), its operating conditions with their weights (``conditions``, as
+    read), each condition's parsed case (``cases``) and the rail passages per metre
+    of wheel travel."""
 
     base: dict
     rail_passages_per_meter: float = 1.0
     conditions: list = field(default_factory=list)
+    cases: list = field(default_factory=list)
+
+    def identity(self) -> dict:
+        """The settings a checkpoint must match (:meth:`WearSettings.identity`), the
+        base case and the conditions."""
+        return {**super().identity(), "base": self.base, "conditions": self.conditions,
+                "rail_passages_per_meter": self.rail_passages_per_meter}
+
+    def driver(self, out_dir=None, progress: bool = True) -> "WearSimulation":
+        """The wear run of this scenario (:class:`WearSimulation`)."""
+        return WearSimulation(self, out_dir, progress)
+
+    def with_models(self, normal: str | None = None, tangential: str | None = None):
+        """A copy with other local contact models (the ``[solver]`` keys); an unknown
+        name is an error here, before any work."""
+        if not (normal or tangential):
+            return self
+        out = copy.copy(self)
+        out.cases = [c.with_models(normal, tangential) for c in self.cases]
+        out.base = copy.deepcopy(self.base)
+        out.base["solver"] = dict(out.cases[0].raw.get("solver", {}))
+        if out.cases[0].tangential == "none":
+            raise CaseFileError("wear needs a tangential model (solver.tangential is 'none')")
+        return out
 
 
-def load_scenario(path):
-    """Read and validate a wear scenario TOML file: a :class:`WearScenario`
-    (operating conditions or a time history) or, with ``[vehicle]`` and
-    ``[[route]]``, a closed-loop
-    :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenario`."""
-    path = Path(path)
-    return scenario_from_dict(read_toml(path, "wear scenario"), path.parent)
+#: the sections of an open-loop wear scenario that are not a case's
+WEAR_SCENARIO_SECTIONS = ("wear", "condition")
 
 
-def scenario_from_dict(raw: dict, base_dir=None):
-    """Validate a parsed wear scenario (see :func:`load_scenario`)."""
-    if is_vehicle_scenario(raw):
-        return vehicle_scenario_from_dict(raw, base_dir)
-    raw = copy.deepcopy(raw)
-    wear = raw.pop("wear", {})
-    conds = raw.pop("condition", None)
+def scenario_from_sections(sections: dict, base_dir, read_base) -> WearScenario:
+    """Validate an open-loop wear scenario (nothing is computed): its ``[wear]`` and
+    ``[[condition]]`` tables (``sections``) here, then its base case by
+    ``read_base()``, which returns it parsed (a :class:`~railcontact.cases.case.Case`:
+    the front end :func:`railcontact.inputs.wear_scenario_from_dict` reads it); every
+    condition's case is checked here, before any work."""
+    wear = copy.deepcopy(sections.get("wear", {}))
+    conds = copy.deepcopy(sections.get("condition"))
     if not isinstance(wear, dict):
         raise CaseFileError("[wear] must be a table")
     if "history" in wear:
@@ -102,6 +118,8 @@ def scenario_from_dict(raw: dict, base_dir=None):
         raise CaseFileError("missing [[condition]] tables; expected at least one operating "
                             "condition (lateral_shift, yaw, vertical_force, weight, ...)")
     for i, c in enumerate(conds):
+        if not isinstance(c, dict):
+            raise CaseFileError(f"condition {i + 1}: expected a table of wheelset keys")
         bad = set(c) - _COND_KEYS
         if bad:
             raise CaseFileError(f"condition {i + 1}: unknown key(s) {sorted(bad)}; expected "
@@ -109,11 +127,12 @@ def scenario_from_dict(raw: dict, base_dir=None):
         w = c.get("weight", 1.0)
         if not (isinstance(w, (int, float)) and w > 0):
             raise CaseFileError(f"condition {i + 1}: weight = {w!r}; expected a value > 0")
-    sc = WearScenario(base=raw, conditions=conds, base_dir=Path(base_dir or Path.cwd()))
+    base = read_base()
+    sc = WearScenario(base=copy.deepcopy(base.raw), conditions=conds,
+                      base_dir=Path(base_dir or Path.cwd()))
     apply_wear_settings(sc, wear)
     sc.rail_passages_per_meter = number(wear, "wear", "rail_passages_per_meter", 1.0, 1e-9, 1e3)
-    # validate the base case with the first condition
-    case_from_dict(_condition_raw(sc, conds[0], None), sc.base_dir)
+    sc.cases = [base.with_values(_condition_values(base, c)) for c in conds]
     return sc
 
 
@@ -169,38 +188,43 @@ def read_history(path: Path, stride: int = 1) -> list:
     return conds
 
 
-def _condition_raw(sc: WearScenario, cond: dict, profiles: dict | None) -> dict:
-    raw = copy.deepcopy(sc.base)
-    ws = raw.setdefault("wheelset", {})
+def _condition_values(base: Case, cond: dict) -> dict:
+    """The dotted case keys that an operating condition sets on the base case."""
+    out = {}
     for k, v in cond.items():
-        if k in ("weight",):
+        if k == "weight":
             continue
         if k == "curve_radius":
             # steady curving: the wheelset turns with the track at V / R (positive R:
             # curve to the right); cant enters through the per-wheel vertical loads
             if not (isinstance(v, (int, float)) and abs(v) >= 10.0):
                 raise CaseFileError(f"condition curve_radius = {v!r}: expected |R| >= 10 m")
-            vel = cond.get("velocity", raw.get("wheelset", {}).get("velocity", 30.0))
-            ws["yaw_rate"] = float(vel) / float(v)
+            vel = cond.get("velocity", base.raw.get("wheelset", {}).get("velocity", 30.0))
+            out["wheelset.yaw_rate"] = float(vel) / float(v)
         elif k == "creepage":
-            raw["creepage"] = dict(v)
+            out["creepage"] = dict(v)
         else:
-            ws[k] = v
-    if profiles is not None:
-        raw.setdefault("wheel", {})["profile"] = profiles["wheel_right"]
-        raw["wheel"]["profile_left"] = profiles["wheel_left"]
-        raw.setdefault("rail", {})["profile"] = profiles["rail_right"]
-        raw["rail"]["profile_left"] = profiles["rail_left"]
-        raw["rail"]["inclination"] = 0.0       # worn rails are kept as mounted
-    return raw
+            out[f"wheelset.{k}"] = v
+    return out
 
 
-def condition_wear(raw: dict, base_dir, law_name: str, law_params: dict, grids: dict,
+def _on_profiles(case: Case, profiles: dict) -> Case:
+    """A condition's case on the current (worn) profiles; worn rails are kept as
+    mounted (inclination 0)."""
+    return case.with_values({"wheel.profile": profiles["wheel_right"],
+                             "wheel.profile_left": profiles["wheel_left"],
+                             "rail.profile": profiles["rail_right"],
+                             "rail.profile_left": profiles["rail_left"],
+                             "rail.inclination": 0.0})
+
+
+def condition_wear(case: Case, law_name: str, law_params: dict, grids: dict,
                    profiles: dict) -> dict:
-    """Wear of one operating condition: depth per revolution (wheels) and per passage
-    (rails) on the s-grids, the rolling radii, and the frictional energy [J/m]."""
+    """Wear of one operating condition (its case on the current profiles): depth per
+    revolution (wheels) and per passage (rails) on the s-grids, the rolling radii, and
+    the frictional energy [J/m]."""
     law = get_wear_law(law_name, **law_params)
-    res = solve(case_from_dict(raw, base_dir))
+    res = solve(case)
     out = {b: np.zeros_like(grids[b]) for b in BODIES}
     radius = {"left": math.nan, "right": math.nan}
     energy = 0.0
@@ -218,71 +242,55 @@ def condition_wear(raw: dict, base_dir, law_name: str, law_params: dict, grids: 
     return {"depth": out, "radius": radius, "energy": energy, "converged": res.converged}
 
 
-class WearSimulation:
-    """Run a wear scenario step by step (see the module docstring)."""
+class WearSimulation(WearDriver):
+    """A wear run under fixed operating conditions (or a recorded history): the
+    :class:`~railcontact.wear.driver.WearDriver` whose loads are the conditions
+    solved on the current profiles (see the module docstring).
+
+    Parameters
+    ----------
+    scenario : WearScenario
+    out_dir : path, optional
+        Folder of ``wear.nc`` and ``checkpoint.nc``.
+    progress : bool
+        Progress bars over the steps and the conditions.
+    """
 
     def __init__(self, scenario: WearScenario, out_dir=None, progress: bool = True):
-        self.sc = scenario
-        self.out = Path(out_dir) if out_dir else None
-        self.progress = progress
-        case = case_from_dict(_condition_raw(scenario, scenario.conditions[0], None),
-                              scenario.base_dir)
+        super().__init__(scenario, out_dir, progress)
+        case = scenario.cases[0]
         ws, tr = build_wheelset_track(case)
         self.profiles = {"wheel_left": ws.wheel_left, "wheel_right": ws.wheel_right,
                          "rail_left": tr.rail_left, "rail_right": tr.rail_right}
         self.initial = dict(self.profiles)
-        self.history = []
-        self.step = 0
-        self.distance = 0.0
+        self.models = (case.normal, case.tangential)
 
-    # ------------------------------------------------------------ checkpoints
-    def _checkpoint_path(self):
-        return self.out / "checkpoint.npz" if self.out else None
+    # ------------------------------------------------------------ profiles
+    def slots(self) -> list:
+        return list(BODIES)
 
-    def save_checkpoint(self):
-        p = self._checkpoint_path()
-        if p is None:
-            return
-        arrays = {}
-        for b, prof in self.profiles.items():
-            arrays[f"{b}_y"], arrays[f"{b}_z"] = prof.y, prof.z
-        meta = {"step": self.step, "distance": self.distance,
-                "history": [{k: (v.tolist() if isinstance(v, np.ndarray) else v)
-                             for k, v in h.items()} for h in self.history]}
-        arrays["meta"] = np.frombuffer(json.dumps(meta).encode(), dtype=np.uint8)
-        with written_whole(p) as tmp, open(tmp, "wb") as f:
-            np.savez(f, **arrays)
+    def profile(self, slot):
+        return self.profiles[slot]
 
-    def load_checkpoint(self) -> bool:
-        p = self._checkpoint_path()
-        if p is None or not p.is_file():
-            return False
-        data = np.load(p)
-        meta = json.loads(bytes(data["meta"]).decode())
-        for b in BODIES:
-            kind = "wheel" if b.startswith("wheel") else "rail"
-            self.profiles[b] = Profile(data[f"{b}_y"], data[f"{b}_z"], kind=kind, name=b)
-        self.step, self.distance = meta["step"], meta["distance"]
-        self.history = [{k: (np.array(v) if isinstance(v, list) else v) for k, v in h.items()}
-                        for h in meta["history"]]
-        log.info("resumed from %s at step %d", p, self.step)
-        return True
+    def set_profile(self, slot, profile) -> None:
+        self.profiles[slot] = profile
 
-    # ------------------------------------------------------------------ steps
-    def _worn(self, body_key):
-        kind = body_key.split("_")[0]
-        return self.sc.body in (kind, "both")
+    def initial_profiles(self) -> list:
+        return [self.initial[b] for b in BODIES]
 
-    def run_step(self):
+    # ------------------------------------------------------------ one step
+    def loads(self, grid_of: dict) -> StepLoads:
+        """Every condition solved on the current profiles (a Dask graph); the wear per
+        metre run of each worn body is their weighted mean."""
+        import dask
         sc = self.sc
-        grids = {b: arc_length_grid(self.profiles[b], sc.grid_step) for b in BODIES}
+        grids = {b: grid_of[id(self.profiles[b])] for b in BODIES}
         w = np.array([c.get("weight", 1.0) for c in sc.conditions], dtype=float)
         w /= w.sum()
-        raws = [_condition_raw(sc, c, self.profiles) for c in sc.conditions]
-        import dask
-        tasks = [dask.delayed(condition_wear)(r, sc.base_dir, sc.law, sc.parameters, grids,
-                                              self.profiles) for r in raws]
-        bar = TqdmCallback(len(raws), f"wear step {self.step + 1}", prefix="condition_wear",
+        cases = [_on_profiles(c, self.profiles) for c in sc.cases]
+        tasks = [dask.delayed(condition_wear)(c, sc.law, sc.parameters, grids, self.profiles)
+                 for c in cases]
+        bar = TqdmCallback(len(cases), f"wear step {self.step + 1}", prefix="condition_wear",
                            leave=False, disable=not self.progress)
         results = compute(tasks, sc.scheduler, bar, "wear.scheduler")
         per_m = {b: np.zeros_like(grids[b]) for b in BODIES}
@@ -296,71 +304,48 @@ class WearSimulation:
                         per_m[b] += wi * r["depth"][b] / (2 * math.pi * rad)
                 else:
                     per_m[b] += wi * r["depth"][b] * sc.rail_passages_per_meter
-        worn = [b for b in BODIES if self._worn(b)]
-        law_area = {b: float(np.trapezoid(per_m[b], grids[b])) for b in BODIES}
-        per_m = {b: smooth_depth(per_m[b], sc.grid_step, sc.smoothing) for b in BODIES}
-        peak = max(float(per_m[b].max()) for b in worn)
-        if peak <= 0:
-            raise RailContactError("no wear in this step (no frictional work); check the "
-                                   "creepages and the operating conditions")
-        dist = sc.step_distance if sc.step_distance else sc.max_depth_per_step / peak
-        rec = {"step": self.step + 1, "distance": dist, "energy_per_m": energy,
-               "converged": all(r["converged"] for r in results)}
-        for b in BODIES:
-            depth = per_m[b] * dist if b in worn else np.zeros_like(grids[b])
-            rec[f"law_area_{b}"] = law_area[b] * dist if b in worn else 0.0
-            old = self.profiles[b]
-            if b in worn:
-                new = wear_profile(old, grids[b], depth, b.split("_")[0])
-                if sc.profile_smoothing > 0:
-                    new = new.smoothed(sc.profile_smoothing)
-                self.profiles[b] = new
-            # record on the lateral coordinate of the original profile
-            s_old = old.arc_length(self.initial[b].y)
-            rec[f"depth_{b}"] = np.interp(s_old, grids[b], depth, left=0.0, right=0.0)
-            rec[f"z_{b}"] = self.profiles[b].z_at(self.initial[b].y)
-        self.step += 1
-        self.distance += dist
-        self.history.append(rec)
-        self.save_checkpoint()
-        return rec
+        bodies = [WornBody(b.split("_")[0], self.profiles[b], grids[b], per_m[b],
+                           self.initial[b].y, [b]) for b in BODIES if self._worn(b)]
+        return StepLoads(bodies, {"energy": energy, "not_converged":
+                                  float(sum(not r["converged"] for r in results))})
 
-    def run(self, resume: bool = True):
-        """Run all remaining steps; returns the results as an xarray Dataset."""
-        if resume:
-            self.load_checkpoint()
-        from tqdm.auto import tqdm
-        t0 = time.perf_counter()
-        for _ in tqdm(range(self.step, self.sc.steps), desc="wear", unit="step",
-                      disable=not self.progress):
-            self.run_step()
-        ds = self.to_xarray()
-        ds.attrs["cpu_time_s"] = time.perf_counter() - t0
-        if self.out:
-            write_netcdf(ds, self.out / "wear.nc")
-        return ds
+    def _worn(self, body_key):
+        return self.sc.body in (body_key.split("_")[0], "both")
 
-    def to_xarray(self):
-        import xarray as xr
-        steps = np.array([h["step"] for h in self.history], dtype=int)
-        data = {"distance": ("step", np.array([h["distance"] for h in self.history]),
-                             {"units": "m", "long_name": "distance of the step"}),
-                "energy": ("step", np.array([h["energy_per_m"] for h in self.history]),
-                           {"units": "J m-1", "long_name": "weighted frictional energy per "
-                            "metre"})}
+    def record(self, rec: dict, worn: list) -> None:
+        """Depth, areas and profile height of the four bodies on their new profiles'
+        lateral positions (zero for a body that does not wear)."""
         for b in BODIES:
-            data[f"law_area_{b}"] = ("step", np.array([h[f"law_area_{b}"] for h in self.history]),
-                                     {"units": "m2", "long_name": "worn cross-section area given "
-                                      "by the wear law"})
-        coords = {"step": ("step", steps)}
+            y = self.initial[b].y
+            rec[f"wear_depth_{b}"] = np.zeros_like(y)
+            rec[f"law_area_{b}"] = rec[f"removed_area_{b}"] = 0.0
+        for w in worn:
+            (b,) = w.body.slots
+            rec[f"wear_depth_{b}"] = w.depth_on_y
+            rec[f"law_area_{b}"] = w.law_area
+            rec[f"removed_area_{b}"] = w.removed_area
         for b in BODIES:
-            dim = f"y_{b}"
-            coords[dim] = (dim, self.initial[b].y, {"units": "m"})
-            data[f"wear_depth_{b}"] = (("step", dim),
-                                       np.array([h[f"depth_{b}"] for h in self.history]),
-                                       {"units": "m", "long_name": "wear depth of the step"})
-            data[f"profile_z_{b}"] = (("step", dim), np.array([h[f"z_{b}"] for h in self.history]),
-                                      {"units": "m", "long_name": "profile height after the step"})
-        return xr.Dataset(data, coords=coords,
-                          attrs={"law": self.sc.law, "worn_body": self.sc.body,
-                                 "total_distance_m": float(self.distance)})
+            rec[f"profile_z_{b}"] = self.profiles[b].z_at(self.initial[b].y)
+
+    # ------------------------------------------------------------ outputs
+    def variables(self) -> tuple:
+        out = [Variable("distance", (), "m", "distance of the step"),
+               Variable("energy", (), "J m-1", "weighted frictional energy per metre"),
+               Variable("not_converged", (), "1", "conditions whose solve did not converge"),
+               Variable("wall_time", (), "s", "wall time of the step")]
+        for b in BODIES:
+            dim = (f"y_{b}",)
+            out += [Variable(f"law_area_{b}", (), "m2", "worn cross-section area given by "
+                             "the wear law"),
+                    Variable(f"removed_area_{b}", (), "m2", "cross-section area between the "
+                             "profiles before and after the step"),
+                    Variable(f"wear_depth_{b}", dim, "m", "wear depth of the step"),
+                    Variable(f"profile_z_{b}", dim, "m", "profile height after the step")]
+        return tuple(out)
+
+    def coords(self) -> dict:
+        return {f"y_{b}": (f"y_{b}", self.initial[b].y, {"units": "m"}) for b in BODIES}
+
+    def attrs(self) -> dict:
+        return {"law": self.sc.law, "worn_body": self.sc.body, "normal": self.models[0],
+                "tangential": self.models[1]}

@@ -13,13 +13,14 @@ from __future__ import annotations
 
 import copy
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass, field, fields
 from pathlib import Path
 
-from ..cases.case import Case, case_from_dict
+from ..cases.case import Case
 from ..dynamics.scenario import (creep_law_settings, route_from_section, vehicle_from_section,
                                  vehicle_length)
 from ..core.errors import CaseFileError
+from ..core.parallel import check_scheduler
 from .laws import get_wear_law
 
 #: keys of [wear] in a vehicle scenario
@@ -67,6 +68,7 @@ class WearSettings:
     grid_step : float           arc-length resolution of the wear distributions [m]
     scheduler : str             Dask scheduler ("threads", "processes", "sync" or an address)
     base_dir : Path             folder that relative paths of the scenario start from
+    distances : list            imposed step distances [m] (None: by the step control)
     """
 
     law: str = "frictional-power"
@@ -80,14 +82,25 @@ class WearSettings:
     grid_step: float = 1e-4
     scheduler: str = "threads"
     base_dir: Path = field(default_factory=Path.cwd)
+    #: imposed step distances [m] (wear-compare runs every model over the first's)
+    distances: list | None = None
+
+    def identity(self) -> dict:
+        """The settings that decide the results (a checkpoint must match them)."""
+        return {f.name: getattr(self, f.name) for f in fields(WearSettings)}
 
 
 def apply_wear_settings(target, wear: dict) -> None:
     """The [wear] settings common to both scenario kinds, validated, set on ``target``
     (law, parameters, body, scheduler and the numbers of ``WEAR_RANGES``)."""
+    if "max_depth_per_step" in wear and "step_distance" in wear:
+        raise CaseFileError("wear: give max_depth_per_step (the step chosen by the depth) or "
+                            "step_distance (a fixed step), not both")
     for key in ("law", "body", "scheduler"):
         if key in wear:
             setattr(target, key, str(wear[key]))
+    if "scheduler" in wear:
+        check_scheduler(target.scheduler, "wear.scheduler")
     target.parameters = dict(wear.get("parameters", {}))
     for key, lo, hi in WEAR_RANGES:
         if key in wear:
@@ -138,9 +151,19 @@ class VehicleWearScenario(WearSettings):
     reuse_tolerance: float = 1e-3
     rail_traffic: float = 1.0
     records: bool = False
-    #: imposed step distances [m] (wear-compare runs every model over the first's)
-    distances: list | None = None
     title: str = ""
+    #: the [vehicle], [[route]] and [dynamics] sections as read
+    sections: dict = field(default_factory=dict)
+
+    def identity(self) -> dict:
+        """The settings a checkpoint must match (:meth:`WearSettings.identity`): the
+        case sections (but the title), the vehicle, the routes, the dynamics and the
+        closed loop's [wear] keys."""
+        case = {k: v for k, v in self.case.raw.items() if k != "title"}
+        return {**super().identity(), "case": case, **self.sections,
+                "dynamics_settings": self.dynamics, "wheels": self.wheels,
+                "sample_distance": self.sample_distance,
+                "reuse_tolerance": self.reuse_tolerance, "rail_traffic": self.rail_traffic}
 
     @property
     def normal(self) -> str:
@@ -150,18 +173,16 @@ class VehicleWearScenario(WearSettings):
     def tangential(self) -> str:
         return self.case.tangential
 
+    def driver(self, out_dir=None, progress: bool = True):
+        """The closed-loop wear run of this scenario
+        (:class:`~railcontact.wear.closed_loop.ClosedLoopWear`)."""
+        from .closed_loop import ClosedLoopWear
+        return ClosedLoopWear(self, out_dir, progress)
+
     def with_models(self, normal: str | None = None, tangential: str | None = None):
         """A copy with other local contact models (the ``[solver]`` keys)."""
-        raw = copy.deepcopy(self.case.raw)
-        sol = raw.setdefault("solver", {})
-        if normal:
-            sol["normal"] = normal
-            sol.pop("normal_options", None)
-        if tangential:
-            sol["tangential"] = tangential
-            sol.pop("tangential_options", None)
         out = copy.copy(self)
-        out.case = case_from_dict(raw, self.base_dir)
+        out.case = self.case.with_models(normal, tangential)
         if out.case.tangential == "none":
             raise CaseFileError("wear needs a tangential model (solver.tangential is 'none')")
         return out
@@ -172,9 +193,17 @@ def is_vehicle_scenario(raw: dict) -> bool:
     return "vehicle" in raw or "route" in raw
 
 
-def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
-    """Validate a parsed closed-loop wear scenario (nothing is computed)."""
-    raw = copy.deepcopy(raw)
+#: the sections of a closed-loop wear scenario that are not a case's
+VEHICLE_SCENARIO_SECTIONS = ("vehicle", "route", "dynamics", "wear", "condition")
+
+
+def vehicle_scenario_from_sections(sections: dict, base_dir, read_case) -> VehicleWearScenario:
+    """Validate a closed-loop wear scenario (nothing is computed): its own sections
+    (:data:`VEHICLE_SCENARIO_SECTIONS`, with ``title``) here, then its case sections by
+    ``read_case()``,
+    which returns them parsed (a :class:`~railcontact.cases.case.Case`: the front end
+    :func:`railcontact.inputs.wear_scenario_from_dict` reads them)."""
+    raw = copy.deepcopy(sections)
     base_dir = Path(base_dir or Path.cwd())
     veh = raw.pop("vehicle", {})
     routes = raw.pop("route", None)
@@ -195,7 +224,7 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
         raise CaseFileError("missing [[route]] items; expected at least one route (segments "
                             "or radius, speed, length, weight)")
     model = vehicle_from_section(veh, base_dir)
-    case = case_from_dict(raw, base_dir)
+    case = read_case()
     if case.is_bodies:
         raise CaseFileError("a wear scenario needs [wheel] and [rail] profiles, not [bodies]")
     if case.tangential == "none":
@@ -216,7 +245,8 @@ def vehicle_scenario_from_dict(raw: dict, base_dir=None) -> VehicleWearScenario:
     if len(set(names)) != len(names):
         raise CaseFileError(f"route names {names}: expected distinct names")
     sc = VehicleWearScenario(case=case, model=model, routes=items, dynamics=dynamics,
-                             title=str(raw.get("title", "")), base_dir=base_dir)
+                             title=str(raw.get("title", "")), base_dir=base_dir,
+                             sections={"vehicle": veh, "route": routes, "dynamics": dyn})
     apply_wear_settings(sc, wear)
     if "wheels" in wear:
         sc.wheels = str(wear["wheels"])

@@ -144,7 +144,7 @@ def test_a_jump_across_the_load_stops_with_the_evaluation_nearest_it(caplog):
     left side balanced), flagged; a warning says so."""
     import logging
     f = Forces(jumping(0.3))
-    with caplog.at_level(logging.WARNING, logger="railcontact.cases.equilibrium"):
+    with caplog.at_level(logging.INFO, logger="railcontact.cases.equilibrium"):
         ev, bal = balance(f, start(0.9, 1.2), Q, 1e-4)
     assert not bal.converged and bal.force_jump
     assert "jumps across the load" in bal.status.message

@@ -53,3 +53,18 @@ def test_an_unconverged_patch_makes_the_case_unconverged(bodies_result):
     warned = dataclasses.replace(patch, validity=SolverStatus(warnings=("flange climb",)))
     res = dataclasses.replace(bodies_result, patches=[warned])
     assert res.converged and res.warnings == ["flange climb"]
+
+
+def test_the_status_is_in_the_netcdf_attributes():
+    """A result's status travels with its NetCDF: converged (0/1), message and the
+    warnings ('; ' between them); here p_max beyond the default limit of 3 GPa."""
+    from pathlib import Path
+
+    import railcontact as rc
+    case = rc.load_case(Path(__file__).resolve().parents[2] / "examples" / "bodies.toml")
+    ok = rc.solve(case).to_xarray().attrs
+    assert ok["converged"] == 1 and ok["message"] == "" and ok["warnings"] == ""
+    hard = rc.solve(case.with_value("bodies.normal_force", 5e7))
+    attrs = hard.to_xarray().attrs
+    assert attrs["converged"] == 1 and attrs["warnings"] == "; ".join(hard.warnings)
+    assert "plasticity: p_max" in attrs["warnings"] and "[plasticity]" in attrs["warnings"]

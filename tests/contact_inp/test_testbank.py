@@ -119,7 +119,7 @@ def test_steady_then_transient(t3_t1_force):
     F_n of the tread and gauge-corner patches +0.2 and -0.7 %."""
     rows, ref, path = t3_t1_force
     _compare(rows, ref, [1], keys=("fn_N", "pmax_MPa"))
-    with pytest.raises(InpError, match=r"case 2 \(line 26\): TANG = 1 \(transient"):
+    with pytest.raises(InpError, match=r"case 2 \(line 27\): TANG = 1 \(transient"):
         load_inp(path)
 
 

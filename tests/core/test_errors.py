@@ -15,11 +15,11 @@ from railcontact.normal.base import get_normal_model
 def test_every_exception_derives_from_the_base():
     classes = [c for _, c in inspect.getmembers(errors, inspect.isclass)
                if issubclass(c, BaseException) and c.__module__ == errors.__name__]
-    assert len(classes) == 7
+    assert len(classes) == 8
     assert all(issubclass(c, RailContactError) for c in classes)
     # bad input is also a ValueError, an unknown name also a KeyError (for callers
     # that catch the built-in types)
-    for c in (ProfileError, CaseFileError, UnknownModelError):
+    for c in (ProfileError, CaseFileError, UnknownModelError, errors.ResourceError):
         assert issubclass(c, InputError) and issubclass(c, ValueError)
     assert issubclass(UnknownModelError, KeyError)
 

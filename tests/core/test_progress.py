@@ -1,6 +1,7 @@
 """railcontact.core.progress: a tqdm bar advanced by the cases of finished Dask tasks."""
 
 import dask
+import pytest
 
 from railcontact.core import progress
 
@@ -30,3 +31,27 @@ def test_bar_counts_the_cases_of_solve_tasks_only(monkeypatch):
     assert [len(c) for c in out[0]] == [3, 4]
     (bar,) = _Bar.made
     assert (bar.total, bar.desc, bar.n, bar.closed) == (7, "sweep", 7, True)
+
+
+def test_bar_follows_a_cluster(monkeypatch):
+    """Under a dask.distributed scheduler (no local callbacks run there) the bar
+    follows the futures: it counts the cases of the counted tasks (a LocalCluster
+    in this process, 2 workers; skipped without the ``cluster`` extra)."""
+    pytest.importorskip("distributed")
+    from distributed import LocalCluster
+    from railcontact.core.parallel import compute
+    monkeypatch.setattr(progress, "tqdm", _Bar)
+    _Bar.made.clear()
+    chains = [dask.delayed(_cases)(n, dask_key_name=f"_solve-{n}") for n in (3, 4)]
+    other = dask.delayed(_cases)(10, dask_key_name="_prepare-0")
+    with LocalCluster(n_workers=2, threads_per_worker=1, dashboard_address=None,
+                      processes=False) as cluster:
+        out = compute(chains + [other], cluster.scheduler_address,
+                      progress.TqdmCallback(total=7, desc="sweep"))
+    assert [len(c) for c in out] == [3, 4, 10]
+    (bar,) = _Bar.made
+    assert (bar.n, bar.closed) == (7, True)
+
+
+def _cases(n):
+    return list(range(n))

@@ -66,14 +66,15 @@ def test_simulation_history_feeds_wear(tmp_path):
     """A recorded bogie run drives the wear loop end to end (short track)."""
     from railcontact.dynamics.scenario import run_scenario
     from railcontact.inputs import load_dynamics_scenario
-    from railcontact.wear import WearSimulation, scenario_from_dict
+    from railcontact.inputs import wear_scenario_from_dict
+    from railcontact.wear import WearSimulation
     p = _write(tmp_path, SHORT.format(model="bogie", duration=1.0, hw=1))
     run_scenario(load_dynamics_scenario(p), tmp_path, progress=False)
     raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
            "solver": {"normal": "hertz", "tangential": "fastsim", "grid": [20, 20]},
            "wear": {"law": "frictional-power", "steps": 1, "history": "history.csv",
                     "history_stride": 10}}
-    sc = scenario_from_dict(raw, tmp_path)
+    sc = wear_scenario_from_dict(raw, tmp_path)
     assert len(sc.conditions) == 6
     (tmp_path / "wear").mkdir()
     ds = WearSimulation(sc, tmp_path / "wear", progress=False).run(resume=False)

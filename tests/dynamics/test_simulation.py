@@ -7,7 +7,7 @@ import math
 import numpy as np
 import pytest
 
-from railcontact.dynamics import (Route, VehicleModel, WheelRailTable, amplitude_growth,
+from railcontact.dynamics import (Integration, Route, VehicleModel, WheelRailTable, amplitude_growth,
                                   critical_speed, simulate_vehicle, state_matrix)
 from railcontact.dynamics.vehicle import G_ACC
 from railcontact.dynamics.wheel_rail import patch_forces, python_patch_forces
@@ -15,7 +15,7 @@ from railcontact.core.errors import InputError
 from railcontact.core.materials import STEEL
 from railcontact.core.hertz_theory import hertz_ellipse
 from railcontact.tangential import get_tangential_model
-from railcontact.tangential.kalker import kalker_coefficients
+from railcontact.tangential.kalker import Creepage, KalkerCoefficients, kalker_coefficients
 from railcontact.tangential.polach import polach_forces, polach_kernel
 
 G, NU = STEEL.shear_modulus, STEEL.poisson_ratio
@@ -56,7 +56,8 @@ def test_compiled_laws_linear_limit_and_saturation():
         assert fx == pytest.approx(-mu * N, rel=0.02)
     # Polach compiled kernel = Polach's function
     ref = polach_forces(N, mu, a, b, G, NU, 2e-3, -1e-3, 0.3, 0.8, 0.5)
-    got = polach_kernel(N, mu, a, b, G, *C, 2e-3, -1e-3, 0.3, 0.8, 0.5)
+    got = polach_kernel(N, mu, a, b, G, KalkerCoefficients(*C), Creepage(2e-3, -1e-3, 0.3),
+                        0.8, 0.5)
     np.testing.assert_allclose(got, ref, rtol=1e-12)
 
 
@@ -65,7 +66,8 @@ def test_klingel_with_the_vehicle_simulator(gamma):
     m = VehicleModel.single_wheelset(k_y=0.0, k_yaw=0.0, wheel_load=60e3)
     tab = WheelRailTable.conical(gamma, reference_load=60e3)
     ds = simulate_vehicle(m, Route.tangent(500), tab, 2.0, 80.0, "linear",
-                          initial_lateral_shift=2e-3, sample_rate=50, rtol=1e-9)
+                          initial_lateral_shift=2e-3,
+                          integration=Integration(sample_rate=50, rtol=1e-9))
     y, x = ds["lateral_displacement"].values[:, 0], ds["distance"].values
     s = np.flatnonzero((y[:-1] < 0) & (y[1:] >= 0))
     xc = x[s] - y[s] * (x[s + 1] - x[s]) / (y[s + 1] - y[s])
@@ -129,7 +131,8 @@ def test_steady_curving_force_balance(s1002_table, R, V):
     route = Route.from_segments([{"type": "tangent", "length": 30},
                                  {"type": "transition", "length": 60},
                                  {"type": "curve", "radius": R, "cant": h, "length": 600}])
-    ds = simulate_vehicle(m, route, s1002_table, V, (90 + 300) / V, "fastsim", sample_rate=20)
+    ds = simulate_vehicle(m, route, s1002_table, V, (90 + 300) / V, "fastsim",
+                          integration=Integration(sample_rate=20))
     last = ds.isel(time=-1)
     phi = math.asin(h / 1.5)
     au = V * V / R * math.cos(phi) - G_ACC * math.sin(phi)
@@ -164,8 +167,10 @@ def test_python_tangential_model_online(s1002_table, monkeypatch):
     for u in states:
         compiled.rhs(0.1, u)
         python.rhs(0.1, u)
-        np.testing.assert_allclose(python.pout[..., :2], compiled.pout[..., :2], atol=0.01 * mu_n)
-    ds = simulate_vehicle(m, route, s1002_table, 10.0, 0.2, "fastrip", sample_rate=20)
+        for force in ("Fx", "Fy"):
+            np.testing.assert_allclose(python.pout[force], compiled.pout[force], atol=0.01 * mu_n)
+    ds = simulate_vehicle(m, route, s1002_table, 10.0, 0.2, "fastrip",
+                          integration=Integration(sample_rate=20))
     assert ds.attrs["tangential"] == "fastrip"
     assert np.all(np.isfinite(ds["Y"].values))
     assert float(np.abs(ds["longitudinal_force"][-1]).max()) > 0.05 * mu_n
@@ -192,13 +197,14 @@ def test_rk4_equals_lsoda(s1002_table):
     route = Route.from_segments([{"type": "tangent", "length": 20},
                                  {"type": "curve", "radius": 1000.0, "cant": 0.05,
                                   "length": 300}], Irregularities.from_psd(400, "ERRI-high"))
-    runs = [simulate_vehicle(m, route, s1002_table, 40.0, 3.0, "fastsim", integrator=i,
-                             rtol=1e-8) for i in ("rk4", "lsoda")]
+    runs = [simulate_vehicle(m, route, s1002_table, 40.0, 3.0, "fastsim",
+                             integration=Integration(i, rtol=1e-8)) for i in ("rk4", "lsoda")]
     assert runs[0].attrs["integrator"] == "rk4" and runs[0].attrs["step_s"] <= 1e-3
     y = [r["lateral_displacement"].values for r in runs]
     assert np.abs(y[0]).max() > 1e-3
     np.testing.assert_allclose(y[0], y[1], atol=1e-5)
     with pytest.raises(InputError, match="compiled creep law"):
-        simulate_vehicle(m, route, s1002_table, 40.0, 0.1, "fastrip", integrator="rk4")
+        simulate_vehicle(m, route, s1002_table, 40.0, 0.1, "fastrip",
+                         integration=Integration("rk4"))
     with pytest.raises(InputError, match="integrator"):
-        simulate_vehicle(m, route, s1002_table, 40.0, 0.1, integrator="euler")
+        simulate_vehicle(m, route, s1002_table, 40.0, 0.1, integration=Integration("euler"))

@@ -32,3 +32,27 @@ def test_same_grid():
     assert not same_grid(x, y, x2, y2)                    # 1e-4 of the extent apart
     assert not same_grid(x, y, x[:-1], y)                 # one element fewer
     assert not same_grid(x, y, x, y + 1e-8)               # shifted by 1e-4 elements
+
+
+def test_an_element_size_changed_from_the_request_is_a_warning_of_the_result():
+    """1e-7 m elements over a Hertzian patch of about 10 mm would need 10^5 per
+    direction: the grid is coarsened to MAX_ELEMENTS per direction and the solution
+    says so; the requested size itself gives no warning."""
+    import railcontact as rc
+    from railcontact.geometry import ContactGeometry
+    from railcontact.normal import get_normal_model
+    from railcontact.normal.base import MAX_ELEMENTS, resized_elements
+    assert resized_elements(None, 1e-4, 1e-4) == ""
+    assert resized_elements((1e-4, 1e-4), 1e-4, 1e-4) == ""
+    assert "changed from the requested 0.0001 x 0.0001 mm to 0.06 x 0.03 mm" in \
+        resized_elements((1e-7, 1e-7), 6e-5, 3e-5)
+    g = ContactGeometry(curvatures=(1.0, 4.0))
+    for model in ("exact", "kpec"):
+        ns = get_normal_model(model).solve(g, rc.Material(), normal_force=1e5,
+                                           element_size=(1e-7, 1e-7))
+        (w,) = [w for w in ns.status.warnings if "element size" in w]
+        assert "changed from the requested 0.0001 x 0.0001 mm" in w
+        assert max(ns.x.size, ns.y.size) <= MAX_ELEMENTS + 2
+        ok = get_normal_model(model).solve(g, rc.Material(), normal_force=1e5,
+                                           element_size=(5e-4, 5e-4))
+        assert not any("element size" in w for w in ok.status.warnings)

@@ -45,3 +45,16 @@ def test_bad_names():
         get_profile("no_such_rail.prr", "rail")
     with pytest.raises(ProfileError, match="built in"):
         get_profile("60E1", "rail", options=object())
+
+
+def test_builtin_profile_scaled_for_a_scaled_model():
+    """A built-in profile takes the ``scale`` option alone (a 1:5 running gear on a
+    roller rig): its coordinates times the scale; any other option is refused."""
+    from railcontact.profiles.processing import ProfileOptions
+    full = get_profile("60E1", "rail", inclination=0.025)
+    small = get_profile("60E1", "rail", inclination=0.025, options=ProfileOptions(scale=0.2))
+    assert small.y == pytest.approx(full.y * 0.2) and small.z == pytest.approx(full.z * 0.2)
+    w = get_profile("S1002", "wheel", options=ProfileOptions(scale=0.2))
+    assert w.y.min() == pytest.approx(0.2 * get_profile("S1002", "wheel").y.min())
+    with pytest.raises(ProfileError, match="built in"):
+        get_profile("S1002", "wheel", options=ProfileOptions(scale=0.2, mirror_y=True))

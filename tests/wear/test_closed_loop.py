@@ -7,7 +7,7 @@ import numpy as np
 import pytest
 
 from railcontact.core.errors import CaseFileError, InputError
-from railcontact.wear import scenario_from_dict
+from railcontact.inputs import wear_scenario_from_dict
 from railcontact.wear.closed_loop import ClosedLoopWear
 
 # a bogie on a short tight curve and a short irregular tangent: seconds per step
@@ -28,7 +28,7 @@ TINY = {
 def tiny(**wear):
     raw = copy.deepcopy(TINY)
     raw["wear"].update(wear)
-    sc = scenario_from_dict(raw)
+    sc = wear_scenario_from_dict(raw)
     sc.scheduler = "sync"
     return sc
 
@@ -174,7 +174,7 @@ def test_bad_scenarios(patch, match):
         else:
             raw[key] = value
     with pytest.raises(InputError, match=match):
-        scenario_from_dict(raw)
+        wear_scenario_from_dict(raw)
 
 
 def _write_tiny(tmp_path, steps=1):
@@ -200,7 +200,7 @@ def test_cli_wear_exact_exact(tmp_path, capsys):
     ds = xr.open_dataset(out / "wear.nc")
     assert ds.attrs["normal"] == "exact" and ds.attrs["tangential"] == "exact"
     assert float(ds["wear_depth_wheel"].max()) == pytest.approx(1e-4, rel=0.02)
-    for f in ("wear.png", "measures.png", "checkpoint.npz", "records/step001_R300.nc"):
+    for f in ("wear.png", "measures.png", "checkpoint.nc", "records/step001_R300.nc"):
         assert (out / f).is_file()
     assert main(["wear", str(path), "--normal", "nonsense", "--out", str(out)]) == 2
     assert "nonsense" in capsys.readouterr().err
@@ -264,7 +264,7 @@ def test_conicity_grows_as_the_tread_hollows():
     raw["route"] = [{"name": "tangent", "speed": 40.0, "length": 60.0}]
     raw["wear"].update(steps=3, wheels="vehicle", max_depth_per_step=5e-5)
     raw["dynamics"]["initial_lateral_shift"] = 1e-3
-    sc = scenario_from_dict(raw)
+    sc = wear_scenario_from_dict(raw)
     sc.scheduler = "sync"
     ds = ClosedLoopWear(sc, None, progress=False).run(resume=False)
     y = ds["y_wheel"].values
@@ -281,7 +281,7 @@ def test_documented_scenario_parses():
     from pathlib import Path
     text = (Path(__file__).resolve().parents[2] / "docs" / "wear.md").read_text()
     block = text.split("## Closed loop")[1].split("```toml")[1].split("```")[0]
-    sc = scenario_from_dict(tomllib.loads(block))
+    sc = wear_scenario_from_dict(tomllib.loads(block))
     assert [r.name for r in sc.routes] == ["tangent", "R300", "S-curve"]
     assert sc.routes[1].route.curvature.max() == pytest.approx(1 / 300.0)
     assert sc.routes[2].length == pytest.approx(350.0 - 2 * (9.5 + 1.28))   # wheelsets

@@ -7,8 +7,8 @@ import numpy as np
 import pytest
 
 from railcontact.core.errors import CaseFileError, InputError
-from railcontact.wear import (WearSimulation, get_wear_law, load_scenario, removed_area,
-                              scenario_from_dict)
+from railcontact.inputs import load_wear_scenario, wear_scenario_from_dict
+from railcontact.wear import WearSimulation, get_wear_law, removed_area
 
 BASE = {"friction": {"coefficient": 0.3}, "wheel": {"profile": "S1002"},
         "rail": {"profile": "60E1"}, "wheelset": {"vertical_force": 75e3, "velocity": 30.0},
@@ -19,8 +19,10 @@ def scenario(conditions, **wear):
     raw = copy.deepcopy(BASE)
     raw["wear"] = {"law": "frictional-power", "parameters": {"k": 1e-13}, "steps": 2,
                    "max_depth_per_step": 1e-4, "smoothing": 2e-3, **wear}
+    if "step_distance" in wear:                 # one of the two step rules, not both
+        del raw["wear"]["max_depth_per_step"]
     raw["condition"] = conditions
-    return scenario_from_dict(raw)
+    return wear_scenario_from_dict(raw)
 
 
 SYMMETRIC = [{"lateral_shift": 0.003, "yaw": 0.003, "weight": 1.0},
@@ -109,7 +111,7 @@ def test_bad_scenarios():
 
 def test_demo_scenario_file():
     from pathlib import Path
-    sc = load_scenario(Path(__file__).resolve().parents[2] / "examples" / "wear_demo.toml")
+    sc = load_wear_scenario(Path(__file__).resolve().parents[2] / "examples" / "wear_demo.toml")
     assert sc.steps == 3 and len(sc.conditions) == 3
 
 
@@ -123,7 +125,7 @@ def test_time_history_conditions(tmp_path):
     raw = copy.deepcopy(BASE)
     raw["wear"] = {"law": "frictional-power", "parameters": {"k": 1e-13}, "steps": 1,
                    "history": "run.csv", "history_stride": 4}
-    sc = scenario_from_dict(raw, tmp_path)
+    sc = wear_scenario_from_dict(raw, tmp_path)
     assert len(sc.conditions) == 6
     assert sum(c["weight"] for c in sc.conditions) == pytest.approx(40.0, rel=0.06)
     assert sc.conditions[1]["vertical_force"][1] > sc.conditions[1]["vertical_force"][0]
@@ -133,7 +135,7 @@ def test_time_history_conditions(tmp_path):
     bad.write_text("time,lateral_shift\n0,0\n1,0\n")
     raw["wear"]["history"] = "bad.csv"
     with pytest.raises(CaseFileError, match="missing column"):
-        scenario_from_dict(raw, tmp_path)
+        wear_scenario_from_dict(raw, tmp_path)
 
 
 @pytest.mark.parametrize("body", ["rail", "both"])
@@ -156,6 +158,5 @@ def test_curve_radius_condition():
                          progress=False)
     ds = sim.run(resume=False)
     assert float(ds["distance"][0]) > 0
-    with pytest.raises(CaseFileError, match="curve_radius"):
-        from railcontact.wear.simulation import _condition_raw
-        _condition_raw(scenario(SYMMETRIC), {"curve_radius": 1.0}, None)
+    with pytest.raises(CaseFileError, match="curve_radius = 1.0: expected"):
+        scenario([{"lateral_shift": 0.0, "curve_radius": 1.0}])
