@@ -104,6 +104,21 @@ def _module1_deviations(rows, ref, cases=None):
     return n, worst, npatch_diff, small
 
 
+def _ranges(numbers) -> str:
+    """Case numbers as CONTACT's --case list: 1-30,61-90,92."""
+    out, run = [], []
+    for k in numbers:
+        if run and k == run[-1] + 1:
+            run.append(k)
+            continue
+        if run:
+            out.append(f"{run[0]}-{run[-1]}" if len(run) > 1 else str(run[0]))
+        run = [k]
+    if run:
+        out.append(f"{run[0]}-{run[-1]}" if len(run) > 1 else str(run[0]))
+    return ",".join(out)
+
+
 def _fmt(worst):
     return ", ".join(f"{k} {100 * v:.2f} %" + ("" if v <= TOL[k] else " (over)")
                      for k, v in worst.items())
@@ -156,7 +171,7 @@ def run_file(path: Path, root: Path, quick: bool):
     status = f"runs ({len(mapped)} cases, {t:.1f} s" + (f", {bad} rows not converged" if bad
                                                          else "") + ")"
     if subset is not None:
-        status = (f"partly: cases {subset[0]} of {subset[1]} run (`--case`, {t:.1f} s; the others "
+        status = (f"partly: cases {_ranges(subset[0])} of {subset[1]} run (`--case`, {t:.1f} s; the others "
                   "stop, "
                   f"first: {subset[2]})")
     ref_path = path.with_suffix(".ref_out")

@@ -700,7 +700,7 @@ def _check_fastsim(case: InpCase) -> None:
     Hertzian case (IPOTCN = -1, -2, -3) with the creepages given (F = 0), the
     normal force (N = 1), Coulomb friction, rolling along +-x."""
     d = case.digits
-    allowed = {"T": (3,), "N": (1,), "F": (0,), "S": (0,), "L": (0, 1), "H": (0,),
+    allowed = {"T": (3,), "N": (1,), "F": (0,), "S": (0,), "L": (0, 1, 2, 3, 4), "H": (0,),
                "M2": (0, 1), "E": (0, 1), "C3": (0, 1, 2)}
     names = {"T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS", "L": "FRCLAW",
              "H": "HEAT", "M2": "MATER2", "E": "EXRHS", "C3": "INFLCF"}
@@ -722,6 +722,27 @@ def _check_fastsim(case: InpCase) -> None:
                            "expected them left out")
     for k in ("K0_MF", "ALFAMF", "BETAMF") + (("FLX",) if d["M"] == 2 else ()):
         _need(case, k)
+    if case.values.get("FRICTION_LAW", 0) not in (0, 2, 3, 4):
+        raise _unsupported(case, f"FRCLAW = {case.values['FRICTION_LAW']} with modified "
+                                 "FASTSIM", "expected 0 (Coulomb) or 2-4 (slip-velocity "
+                                 "dependent)")
+
+
+def _fastsim_friction(case) -> float:
+    """The friction coefficient of modified FASTSIM: FKIN (Coulomb), or a slip-velocity
+    dependent law's steady value at the slip velocity VELOC |(CKSI, CETA)| of the
+    whole patch (CONTACT's "f_eff"; a friction memory MEMDST plays no part in steady
+    rolling)."""
+    v = case.values
+    law = v.get("FRICTION_LAW", 0)
+    if law == 0:
+        return _need(case, "FKIN")
+    name = {2: "FLIN", 3: "FRAT", 4: "FEXP"}[law]
+    kind = {2: "linear", 3: "rational", 4: "exponential"}[law]
+    f = SlipVelocityFriction(kind, _need(case, "FKIN"), (v[f"{name}1"], v[f"{name}2"]),
+                             (v["SABSH1"] * MM, v["SABSH2"] * MM))
+    w = _need(case, "VELOC") * MM * math.hypot(_need(case, "CKSI"), _need(case, "CETA"))
+    return float(f(np.array([w]))[0])
 
 
 def solve_fastsim(case: InpCase) -> CaseResult:
@@ -763,7 +784,7 @@ def solve_fastsim(case: InpCase) -> CaseResult:
                             0.0)
     else:
         pressure = np.where(contact, 2.0 * fn / (math.pi * a * b) * r, 0.0)
-    mu = _need(case, "FKIN")
+    mu = _fastsim_friction(case)
     cphi = _need(case, "CPHI") / MM
     creep = (_need(case, "CKSI"), _need(case, "CETA"), cphi)
     mod = (v["K0_MF"], v["ALFAMF"], v["BETAMF"])
