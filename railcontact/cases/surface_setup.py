@@ -15,7 +15,7 @@ from dataclasses import dataclass
 
 from ..core.checks import shown
 from ..core.errors import CaseFileError
-from .keys import CaseKeys
+from .keys import PROFILE_OPTIONS, CaseKeys
 from .wheel_rail_setup import ProfileSource
 
 #: keys of one rail (``[rail]`` or an entry of ``[[rails]]``) in a surface case
@@ -42,8 +42,10 @@ class RailSpec:
     ``{s, profile}``), its ``name`` (None: the surface's), ``lateral_position`` [m]
     of its profile origin in the track frame (None: placed by the track's gauge),
     ``vertical_position`` [m], ``slice_spacing`` [m] (None: the slices' default),
-    ``lateral_range`` (y_min, y_max) [m] in rail-profile coordinates (None: all)
-    and the file's length ``units``; ``where`` names it in messages."""
+    ``lateral_range`` (y_min, y_max) [m] in rail-profile coordinates (None: all),
+    the file's length ``units`` and CONTACT's profile processing of every slice
+    (``options``: :class:`~railcontact.profiles.ProfileOptions`, None: none);
+    ``where`` names it in messages."""
 
     where: str
     profile: ProfileSource | None = None
@@ -54,6 +56,7 @@ class RailSpec:
     slice_spacing: float | None = None
     lateral_range: tuple | None = None
     units: str = "auto"
+    options: object = None
 
 
 @dataclass(frozen=True)
@@ -82,7 +85,9 @@ class SurfaceCaseSetup:
     ``yaw_rate``.
 
     Search: ``search_length`` [m] (None: the default), ``contact_angle`` ("local" or
-    "wheelset") and ``rigid_slip`` ("planar" or "surfaces").
+    "wheelset"), ``rigid_slip`` ("planar" or "surfaces") and ``combine_distance``
+    [m]: interpenetration regions on one rail laterally closer than this are one
+    patch (CONTACT's D_SEP; 0: every region its own patch).
     """
 
     wheel: ProfileSource
@@ -107,6 +112,7 @@ class SurfaceCaseSetup:
     search_length: float | None = None
     contact_angle: str = "local"
     rigid_slip: str = "planar"
+    combine_distance: float = 0.0
 
 
 def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
@@ -141,7 +147,7 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
     if side not in ("left", "right"):
         raise CaseFileError(f"wheelset.side = {shown(side)}: a case on rail surfaces solves one "
                             "wheel; expected 'left' or 'right'")
-    z = _optional(case, "wheelset.vertical_position", -0.05, 0.05, "m")
+    z = _optional(case, "wheelset.vertical_position", -0.2, 0.2, "m")
     loads = case.wheel_loads()
     inc = case.get("solver.contact_angle", "local")
     if inc not in ("local", "wheelset"):
@@ -167,14 +173,15 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         gauge_height=case.number("track.gauge_height", 0.014, 0.0, 0.05, "m"),
         position=case.number("wheelset.position", 0.0, -1e5, 1e5, "m"),
         lateral_shift=case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m"),
-        roll=case.number("wheelset.roll", 0.0, -0.1, 0.1, "rad"),
+        roll=case.number("wheelset.roll", 0.0, -0.5, 0.5, "rad"),
         yaw=case.number("wheelset.yaw", 0.0, -0.5, 0.5, "rad"),
         velocity=case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s"),
         pitch_velocity=_optional(case, "wheelset.pitch_velocity", -1e4, 1e4, "rad/s"),
         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0, -10.0, 10.0, "m/s"),
         yaw_rate=case.number("wheelset.yaw_rate", 0.0, -10.0, 10.0, "rad/s"),
         search_length=_optional(case, "solver.search_length", 1e-3, 1.0, "m"),
-        contact_angle=inc, rigid_slip=slip)
+        contact_angle=inc, rigid_slip=slip,
+        combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m"))
 
 
 def _optional(case: CaseKeys, key: str, lo: float, hi: float, unit: str):
@@ -185,10 +192,10 @@ def _rail_spec(r: dict, where: str) -> RailSpec:
     """One rail's keys checked and parsed."""
     if not isinstance(r, dict):
         raise CaseFileError(f"[{where}] must be a table")
-    bad = set(r) - RAIL_KEYS - {"profile_left"}
+    bad = set(r) - RAIL_KEYS - PROFILE_OPTIONS - {"profile_left"}
     if bad:
         raise CaseFileError(f"unknown key {where}.{sorted(bad)[0]}; expected one of "
-                            f"{sorted(RAIL_KEYS)}")
+                            f"{sorted(RAIL_KEYS | PROFILE_OPTIONS)}")
     if ("profile" in r) == ("slices" in r):
         raise CaseFileError(f"[{where}]: give either profile or slices")
     if "slices" in r and "lateral_position" not in r:
@@ -208,14 +215,15 @@ def _rail_spec(r: dict, where: str) -> RailSpec:
         raise CaseFileError(f"{where}.slices = {shown(sl)}: expected a .slcs file or a list of "
                             "{s, profile}")
     keys = CaseKeys({where: r})
+    options, _ = CaseKeys({"rail": r}).profile_options("rail")
     inc = _optional(keys, f"{where}.inclination", -0.1, 0.1, "rad")
     spacing = _optional(keys, f"{where}.slice_spacing", 1e-5, 10.0, "m")
     return RailSpec(
         where=where,
         profile=None if sl is not None else ProfileSource(r["profile"], units=units,
-                                                          inclination=inc),
+                                                          inclination=inc, options=options),
         slices=sl, name=None if r.get("name") is None else str(r["name"]),
         lateral_position=_optional(keys, f"{where}.lateral_position", -2.0, 2.0, "m"),
         vertical_position=keys.number(f"{where}.vertical_position", 0.0, -0.5, 0.5, "m"),
         slice_spacing=spacing, lateral_range=None if lr is None else (float(lr[0]), float(lr[1])),
-        units=units)
+        units=units, options=options)

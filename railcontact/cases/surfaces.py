@@ -52,10 +52,18 @@ def _rail_surface(spec: RailSpec, base_dir):
     """The surface of one parsed rail (profile or slices), files relative to
     ``base_dir``."""
     if spec.slices is not None:
+        opts = spec.options
+        kw = {} if opts is None else {"options": opts, "mirror_y": bool(opts.mirror_y)}
+        if opts is not None and opts.mirror_z is not None:
+            kw["z_down"] = not opts.mirror_z
         if is_slices_file(spec.slices):
             p = Path(spec.slices)
-            slices = read_slices(p if p.is_absolute() else base_dir / p, units=spec.units)
+            slices = read_slices(p if p.is_absolute() else base_dir / p, units=spec.units, **kw)
         elif isinstance(spec.slices, list):
+            if kw:
+                raise CaseFileError(f"[{spec.where}]: CONTACT's profile processing (mirror_y, "
+                                    "scale, smoothing, ...) applies to a .slcs file's slices; "
+                                    "expected slices = 'FILE.slcs' with these keys")
             slices = slices_from_list(spec.slices, base_dir, units=spec.units,
                                       name=spec.name or spec.where)
         else:
@@ -80,6 +88,7 @@ class SurfaceScene:
     search_length: float | None = None
     inclination: str = "local"
     rigid_slip: str = "planar"
+    combine_distance: float = 0.0
 
 
 def build_surface_case(case: Case) -> SurfaceScene:
@@ -125,7 +134,25 @@ def build_surface_case(case: Case) -> SurfaceScene:
     motion = Motion(0.0 if s.roller is not None else s.velocity, pv, s.lateral_velocity,
                     0.0, 0.0, s.yaw_rate)
     return SurfaceScene(wheel, rails, s.side, pose, motion, s.load, s.search_length,
-                        s.contact_angle, s.rigid_slip)
+                        s.contact_angle, s.rigid_slip, s.combine_distance)
+
+
+def beyond_slices(setup: SurfaceScene) -> list:
+    """One line per rail given by slices whose range of s the wheelset's position
+    lies outside (the wheel beyond the first or the last slice): such a rail has
+    no surface under the wheel's axle, and a patch is found on it only where the
+    search reaches back into its slices."""
+    out = []
+    s = setup.pose.s
+    for rail in setup.rails:
+        surf = rail.surface
+        if isinstance(surf, SlicedSurface):
+            lo, hi = surf.s_range()
+            if not lo <= s <= hi:
+                out.append(f"the wheel at s = {s:.6g} m lies beyond the "
+                           f"{'last' if s > hi else 'first'} slice of the rail {rail.name!r} "
+                           f"(its slices cover s = [{lo:.6g}, {hi:.6g}] m)")
+    return out
 
 
 @dataclass
@@ -247,24 +274,37 @@ def solve_on_surfaces(case: Case, normal: str | None = None, tangential: str | N
     setup = setup or build_surface_case(case)
     nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
     previous = warm_start.patches if warm_start is not None else None
+    beyond = beyond_slices(setup)
+    for line in beyond:
+        log.warning("%s", line)
 
     def at(z, tang=True, prev=None):
         pose = SurfacePose(setup.pose.s, setup.pose.lateral, z, setup.pose.roll, setup.pose.yaw)
         c = search(setup.wheel, setup.rails, pose, setup.side, setup.motion,
-                   x_range=setup.search_length, inclination=setup.inclination)
+                   x_range=setup.search_length, inclination=setup.inclination,
+                   combine_distance=setup.combine_distance)
         return c, _solve_patches(case, c, nmodel, tmodel, kw, prev, tang, setup)
 
     balance = None
     if setup.load is None:
         contact, results = at(setup.pose.vertical, prev=previous)
     else:
-        contact, results, balance = _vertical_balance(case, setup, at, warm_start, previous)
+        try:
+            contact, results, balance = _vertical_balance(case, setup, at, warm_start,
+                                                          previous)
+        except ContactNotFoundError as exc:
+            if not beyond:
+                raise
+            raise ContactNotFoundError(f"{exc}; " + "; ".join(beyond)) from None
     if not results:
         raise ContactNotFoundError(
             f"no contact of the {setup.side} wheel with the rails at s = {setup.pose.s:.4f} m "
             f"(vertical position {contact.pose.vertical * 1e3:.4f} mm; smallest vertical gap "
-            f"{contact.min_gap * 1e3:.4f} mm)")
+            f"{contact.min_gap * 1e3:.4f} mm)" + "".join(f"; {b}" for b in beyond))
     results = [_validity(r, setup) for r in results]
+    for r in results:
+        if beyond:
+            r.validity = r.validity.with_warnings(*beyond)
     res = SurfaceResult(results, nname, tname, time.perf_counter() - t0, case.title,
                         contact.pose, None, balance, surface_contact=contact)
     return res

@@ -165,7 +165,11 @@ def curvature_from_axis_ratio(A: float, aob: float) -> float:
 
 def _map_module3(case: InpCase) -> MappedCase:
     d, v = case.digits, case.values
-    normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
+    if d["B"] == 2 and d["M"] == 5 and (v.get("IPOTCN") or 0) in (-1, -2, -3):
+        # FaStrip with the elliptical traction bound: the Hertzian pressure
+        normal = "hertz"
+    else:
+        normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
     _digit(case, "N", {1: "normal force FN prescribed"}, "NORM")
     _digit(case, "F", {0: "creepages prescribed"}, "FORCE")
     _digit(case, "E", {0: "no extra rigid slip", 1: "kept"}, "EXRHS")
@@ -207,9 +211,9 @@ def _map_module3(case: InpCase) -> MappedCase:
 
 
 # ------------------------------------------------------------------ module 1
-def _profile_path(case: InpCase, name: str, dirs) -> str:
+def _profile_path(case: InpCase, name: str, dirs, slices: bool = False) -> str:
     p = Path(name.replace("\\", "/"))
-    if p.suffix.lower() in (".slcs", ".slcw"):
+    if p.suffix.lower() == ".slcw" or (p.suffix.lower() == ".slcs" and not slices):
         raise _unsupported(case, f"the variable profile {name!r} (slices file)",
                            "expected one profile file per rail and wheel (.prr, .prw, .ban, .whl, "
                            "or 2 columns)")
@@ -277,13 +281,19 @@ def _rail_frame(raw: dict, base_dir: Path) -> dict:
 
 def _map_module1(case: InpCase, dirs) -> MappedCase:
     d, v = case.digits, case.values
+    if d["E"] == 0 and "Y_WS" not in v:
+        raise InpError(f"{case.where()}: EWHEEL = 0 in the first case: no wheelset data")
+    sgn = -1.0 if d["C"] in (0, 4) else 1.0
+    if Path(str(_need(case, "R_FNAME"))).suffix.lower() == ".slcs" or d["C"] in (4, 5) or (
+            d["C"] in (0, 1) and _need(case, "GAUGHT") <= 0
+            and not 250.0 <= sgn * _need(case, "RAILY0") <= 1000.0):
+        # a switch or crossing, a roller rig, a test rig's rail near the centre
+        return _map_surfaces(case, dirs)
     side = _digit(case, "C", {0: "left", 1: "right"}, "CONFIG")
     normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
     force = _digit(case, "N", {0: "position", 1: "force"}, "NORM")
     _digit(case, "F", {0: "pitch velocity prescribed"}, "FORCE")
     _digit(case, "D", {0: "kept", 1: "kept", 2: "planar contact, contact locus"}, "DISCNS")
-    if d["E"] == 0 and "Y_WS" not in v:
-        raise InpError(f"{case.where()}: EWHEEL = 0 in the first case: no wheelset data")
     tang, topt = _tangential_model(case)
     sgn = 1.0 if side == "right" else -1.0
     track = {}
@@ -365,4 +375,130 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
         raw["wheelset"]["vertical_position"] = _need(case, "Z_WS") * MM + frame["z_top"]
     meta = {"module": 1, "side": side, "nominal_radius": v["NOMRADW"] * MM,
             "wheel_offset": (v["FBDIST"] / 2 - v["FBPOS"]) * MM, **frame}
+    return MappedCase(case.number, 1, raw, meta)
+
+
+# ------------------------------- module 1 on rail surfaces: slices (S&C), roller rigs
+def _map_surfaces(case: InpCase, dirs) -> MappedCase:
+    """A module 1 case as a case on rail surfaces (:mod:`railcontact.cases.surfaces`):
+    a rail given by slices (``.slcs``: a switch or crossing), a roller rig (CONFIG
+    = 4, 5: the rail profile turned about the roller's axis, NOMRAD_R and
+    VPITCH_ROL in the places of CANT and VS) or a rail placed at RAILY0 closer to
+    the track centre than 250 mm (a test rig).  The rail's profile origin at
+    (RAILY0, RAILZ0) in the track frame (GAUGHT <= 0), the wheelset at S_WS along
+    the track, the contact angle by CONTACT's rule (the rail's inclination on the
+    cross-section at the wheelset: ``solver.contact_angle = "wheelset"``) for D =
+    2 (contact locus) and D = 5 (brute-force search) alike (railcontact searches
+    the surfaces once, on a 3-D grid), D = 3 the rigid slip on the actual surfaces
+    (``solver.rigid_slip = "surfaces"``), the patch separation distance D_SEP, and
+    CONTACT's profile processing (MIRRORY, SCALE, SMOOTH) applied to every
+    slice."""
+    d, v = case.digits, case.values
+    side = _digit(case, "C", {0: "left", 1: "right", 4: "left", 5: "right"}, "CONFIG")
+    roller = d["C"] in (4, 5)
+    fname = _need(case, "R_FNAME")
+    slices = Path(str(fname)).suffix.lower() == ".slcs"
+    what = "rail slices" if slices else ("a roller rig" if roller else "a rail at RAILY0")
+    normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
+    force = _digit(case, "N", {0: "position", 1: "force"}, "NORM")
+    _digit(case, "F", {0: "pitch velocity prescribed"}, "FORCE")
+    allowed_d = {0: "kept", 1: "kept", 2: "planar contact, contact locus",
+                 5: "brute-force contact search"}
+    if not slices:
+        allowed_d[3] = "planar contact with rigid slip on the actual surfaces"
+    _digit(case, "D", allowed_d, f"DISCNS ({what})")
+    # D = 0, 1 keep the search of the case that set it
+    discns = d["D"] if d["D"] >= 2 else (v.get("DISCNS") or 2)
+    tang, topt = _tangential_model(case)
+    if _need(case, "GAUGHT") > 0:
+        raise _unsupported(case, f"GAUGHT = {v['GAUGHT']:g} mm with {what} (a rail placed "
+                                 "by its gauge face)",
+                           "expected GAUGHT <= 0: the rail's origin at RAILY0, RAILZ0")
+    if v.get("RAILZ0"):
+        raise _unsupported(case, f"RAILZ0 = {v['RAILZ0']:g} mm with {what}",
+                           "expected 0 (the rail's heights as given)")
+    if v.get("CANT") and not roller:
+        raise _unsupported(case, f"CANT = {v['CANT']:g} with {what}",
+                           "expected 0 (the rail as mounted)")
+    for name in ("CURV", "DYRAIL", "DZRAIL", "DROLLR", "VYRAIL", "VZRAIL", "VROLLR", "DXWHL",
+                 "DYWHL", "DZWHL", "DROLLW", "DYAWW", "DPITCHW", "VXWHL", "VYWHL", "VZWHL",
+                 "VROLLW", "VYAWW", "VPITCHW", "VZ_WS", "VROLL"):
+        if v.get(name):
+            raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0")
+    if v.get("G_MISS") is not None and v["G_MISS"] >= 0:
+        raise _unsupported(case, f"G_MISS = {v['G_MISS']:g} mm (near-miss patches)",
+                           "expected it left out or negative")
+    if _need(case, "A_SEP") < math.pi / 2 - 1e-9:
+        raise _unsupported(case, f"A_SEP = {v['A_SEP']:.4f} rad", "expected at least pi/2: "
+                                                                   "regions are combined by "
+                                                                   "their distance alone")
+    place = {"lateral_position": (1.0 if side == "right" else -1.0) * _need(case, "RAILY0") * MM,
+             "vertical_position": 0.0}
+    if _need(case, "VS_WS") <= 0 and not roller:
+        raise _unsupported(case, f"VS = {v['VS_WS']:g} mm/s with {what} (rolling towards -x)",
+                           "expected VS > 0")
+    if not slices:
+        return _surface_case(case, dirs, side, normal, force, tang, topt,
+                             {**_profile_table(case, "R_", dirs), **place}, roller, discns)
+    rail = {"slices": _profile_path(case, fname, dirs, slices=True), **place}
+    g = lambda k: v.get("R_" + k)   # noqa: E731
+    if g("MIRRORY") not in (-1, 0) or g("MIRRORZ") not in (-1, 0):
+        raise _unsupported(case, f"MIRRORY = {g('MIRRORY')}, MIRRORZ = {g('MIRRORZ')} for "
+                                 f"the slices {fname!r}", "expected -1 or 0 (slices as given, "
+                                                          "z down)")
+    scale = g("SCALE") or 1.0
+    # CONTACT's SCALE converts the slice files' unit to mm
+    if abs(scale - 1000.0) < 1e-9:
+        rail["units"] = "m"
+    else:
+        rail["units"] = "mm"
+        if abs(scale - 1.0) > 1e-12:
+            rail["scale"] = scale
+    smooth, ismooth = g("SMOOTH"), g("ISMOOTH")
+    if smooth and smooth > 0:
+        if ismooth not in (0, 1, None):
+            raise _unsupported(case, f"ISMOOTH = {ismooth} (B-spline smoothing) of {fname!r}",
+                               "expected 0 (lambda) or 1 (L_filt)")
+        rail["smoothing"] = ({"method": "weighted", "length": smooth * MM} if ismooth == 1
+                             else {"method": "unweighted", "lambda": smooth * MM ** 3})
+    return _surface_case(case, dirs, side, normal, force, tang, topt, rail, False, discns)
+
+
+def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
+                  discns) -> MappedCase:
+    """The surface case of :func:`_map_surfaces` with its ``rail`` table."""
+    d, v = case.digits, case.values
+    wheel = {**_profile_table(case, "W_", dirs), "nominal_radius": _need(case, "NOMRADW") * MM}
+    ws = {"side": side, "position": (v.get("S_WS") or 0.0) * MM,
+          "lateral_shift": _need(case, "Y_WS") * MM, "yaw": _need(case, "YAW"),
+          "roll": _need(case, "ROLL"),
+          "pitch_velocity": _need(case, "VPITCH"),
+          "lateral_velocity": (v.get("VY_WS") or 0.0) * MM, "yaw_rate": v.get("VYAW") or 0.0,
+          "flange_back_distance": _need(case, "FBDIST") * MM,
+          "flange_back_position": _need(case, "FBPOS") * MM,
+          "combine_distance": _need(case, "D_SEP") * MM}
+    if force == "force":
+        ws["vertical_force"] = _need(case, "FZ_WS")
+    else:
+        ws["vertical_position"] = _need(case, "Z_WS") * MM
+    raw = {"title": f"{case.path.name} case {case.number}", "material": _material(case),
+           "friction": _friction(case), "wheel": wheel, "rail": rail, "wheelset": ws,
+           "solver": {"normal": normal, "tangential": tang,
+                      "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
+                      "contact_angle": "wheelset", "tangential_options": topt}}
+    if roller:
+        # CONTACT's roller rig: NOMRAD_R and VPITCH_ROL read in the places of CANT
+        # and VS; the wheelset does not travel
+        raw["roller"] = {"radius": _need(case, "CANT") * MM,
+                         "angular_velocity": _need(case, "VS_WS")}
+    else:
+        ws["velocity"] = _need(case, "VS_WS") * MM
+    if discns == 3:
+        if tang != "exact":
+            raise _unsupported(case, f"DISCNS = 3 with MATER = {d['M']}",
+                               "expected MATER = 0 (the exact tangential model)")
+        raw["solver"]["rigid_slip"] = "surfaces"
+    meta = {"module": 1, "side": side, "nominal_radius": v["NOMRADW"] * MM,
+            "wheel_offset": (v["FBDIST"] / 2 - v["FBPOS"]) * MM, "cant": 0.0,
+            "origin_shift": (0.0, 0.0), "z_top": 0.0, "surfaces": True}
     return MappedCase(case.number, 1, raw, meta)

@@ -18,7 +18,13 @@ railcontact case file:
   (F = 0) or the relative forces FX/(FSTAT FN) (F = 1, with CETA; F = 2, with
   FY) given; a force is met by Brent's method on the creepage (or shift);
   falling friction by a fixed point of the coefficients (:func:`friction_law`);
-* temperatures: :mod:`railcontact.tangential.temperature` (steady rolling).
+* temperatures: :mod:`railcontact.tangential.temperature` (steady rolling);
+* dissimilar materials (K != 0) in steady rolling: the normal and tangential
+  problems solved in turn, the pressure's tangential displacements a rigid slip,
+  the tractions' normal ones a gap (:mod:`railcontact.cases.coupling`), until
+  neither changes (bentall.inp);
+* modified FASTSIM (M = 2, 3) with the elliptical or parabolic traction bound
+  (B = 2, 3) of a Hertzian case: :func:`solve_fastsim`.
 
 What carries over from case to case follows CONTACT's PVTIME digit (user guide,
 "P - PVTIME"): the tractions that a case leaves are the next case's previous time
@@ -56,6 +62,7 @@ from ..tangential.friction import SlipVelocityFriction
 from ..tangential.temperature import ThermalProperties, flash_temperatures
 from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
                                 steady_rolling, transient_step)
+from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
 from .mapping import curvature_from_axis_ratio
 from .reader import InpCase, InpError
 
@@ -74,7 +81,8 @@ def handles(case: InpCase) -> bool:
     area (IPOTCN > 0), a transient tangential problem (T = 1, 2), a prescribed
     tangential force (F = 1, 2), the approach prescribed (N = 0), surface
     temperatures (H = 1, 3) or a slip-velocity dependent friction law (L = 2-6)."""
-    return case.module == 3 and (case.digits["T"] in (1, 2) or case.digits["F"] in (1, 2)
+    return case.module == 3 and (is_fastsim_grid(case) or case.digits["T"] in (1, 2)
+                                 or case.digits["F"] in (1, 2)
                                  or case.digits["N"] == 0 or case.digits["H"] in (1, 3)
                                  or case.values.get("FRICTION_LAW", 0) not in (0, 1)
                                  or (case.values.get("IPOTCN") or -1) > 0)
@@ -91,9 +99,18 @@ def _need(case, name):
     return v
 
 
+def is_fastsim_grid(case: InpCase) -> bool:
+    """Modified FASTSIM (M = 2, 3) with the elliptical or parabolic traction bound
+    (B = 2, 3) of a Hertzian case: solved on CONTACT's grid (:func:`solve_fastsim`)."""
+    return case.module == 3 and case.digits["M"] in (2, 3) and case.digits["B"] in (2, 3)
+
+
 def check(case: InpCase) -> None:
     """The one-line InpError of an option this path does not support."""
     d = case.digits
+    if is_fastsim_grid(case):
+        _check_fastsim(case)
+        return
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
                "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
@@ -130,10 +147,27 @@ def check(case: InpCase) -> None:
             _need(case, k)
     g1, g2 = _need(case, "GG1"), _need(case, "GG2")
     n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
-    if abs((1 - 2 * n1) / g1 - (1 - 2 * n2) / g2) > 1e-9 * (1 / g1 + 1 / g2) and d["T"] != 0:
-        raise _unsupported(case, "dissimilar materials (K != 0) with a tangential problem on "
-                                 "the grid-given or transient path", "expected quasi-identical "
-                                 "materials ((1 - 2 nu)/G equal for both bodies)")
+    if _dissimilar(case) and d["T"] in (1, 2):
+        raise _unsupported(case, "dissimilar materials (K != 0) with a transient tangential "
+                                 "problem", "expected quasi-identical materials ((1 - 2 nu)/G "
+                                 "equal for both bodies) or steady rolling (T = 3)")
+    if _dissimilar(case) and d["T"] == 3 and d["L"] not in (0, 1):
+        raise _unsupported(case, f"dissimilar materials with FRCLAW = {d['L']}",
+                           "expected Coulomb friction (L = 0, 1)")
+
+
+def _dissimilar(case) -> bool:
+    """Whether the bodies' materials couple the normal and tangential problems
+    (Kalker's difference parameter K != 0)."""
+    g1, g2 = _need(case, "GG1"), _need(case, "GG2")
+    n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    return abs((1 - 2 * n1) / g1 - (1 - 2 * n2) / g2) > 1e-9 * (1 / g1 + 1 / g2)
+
+
+#: the alternation between the normal and tangential problems of dissimilar bodies
+#: stops when both change by less than this (relative to p_max, mu p_max)
+COUPLING_TOL = 1e-7
+COUPLING_ITERATIONS = 50
 
 
 @dataclass
@@ -279,6 +313,10 @@ class Sequence:
 
     def run(self, case: InpCase) -> dict:
         check(case)
+        if is_fastsim_grid(case):
+            # steady rolling with the simplified theory: no memory between cases
+            self.last, self.last_previous = None, None
+            return solve_fastsim(case).row
         prev = self._previous(case)
         start = None
         if self.last is not None and self.last.row.get("T") == case.digits["T"]:
@@ -340,7 +378,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     fn = float(pressure.sum() * dA)
     zero = np.zeros(shape)
     px, py, stick, ok_t, creep = zero, zero, np.zeros(shape, bool), True, (0.0, 0.0)
-    state = {"mu": None}
+    state = {"mu": None, "w_extra": None}
     message = "" if ok_n else "normal problem not converged"
     if t:
         u_prev, p_start = (zero, zero), None
@@ -399,12 +437,13 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 p0 = None if p0 is None else (-f(p0[0]), f(p0[1]))
                 out = steady_rolling(-grid.x[::-1], yt, f(ct), f(bt),
                                      (-cx, cy, -_need(case, "CPHI") / MM), G, nu,
-                                     TANGENTIAL_TOL, 200, p0=p0)
+                                     TANGENTIAL_TOL, 200, p0=p0, w_extra=state["w_extra"])
                 px_, py_, sx_, sy_, st_, it_, ok_ = out
                 return -f(px_), f(py_), -f(sx_), f(sy_), f(st_), it_, ok_
             if t == 3:
                 return steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
-                                      G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
+                                      G, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
+                                      w_extra=state["w_extra"])
             w = _rigid_shift(case, grid, (cx, cy))
             return transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),
                                                        widen(np.array(w[1]))),
@@ -422,6 +461,40 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 out = tuple(o[:, :1] if isinstance(o, np.ndarray) else o for o in out)
             return out
 
+        state["w_extra"] = None
+        coupled = t == 3 and _dissimilar(case)
+        if coupled:
+            # dissimilar bodies: the pressure's tangential displacements add a rigid
+            # slip, the tractions' normal displacements a gap; the two problems are
+            # solved in turn until neither changes (Kalker 1990, sec. 5.2)
+            mat = _body_material(case)
+            xs = -grid.x[::-1].copy() if backwards else grid.x
+            fm = (lambda a: np.ascontiguousarray(a[::-1])) if backwards else (lambda a: a)
+            opx, opy = None, None
+            # (on the solver's grid: a 2-D problem's second, empty strip included)
+            for it in range(COUPLING_ITERATIONS):
+                state["w_extra"] = slip_from_pressure(xs, yt, widen(fm(pressure)), mat)
+                creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G,
+                                                start)
+                gap = normal_gap_from_tractions(grid.x, yt, widen(out[0]), widen(out[1]),
+                                                mat)[:, :grid.y.size]
+                p_new, approach, ok_n = _normal(case, grid, h + gap, es)
+                pm = max(float(p_new.max()), 1e-300)
+                dp = float(np.max(np.abs(p_new - pressure))) / pm
+                dt = 0.0 if opx is None else float(np.max(np.hypot(
+                    out[0] - opx, out[1] - opy))) / (max(mu, 1e-300) * pm)
+                opx, opy = out[0], out[1]
+                pressure = p_new
+                contact = np.ascontiguousarray(pressure > 0)
+                bound = np.ascontiguousarray(mu * pressure)
+                ct, bt = widen(contact), widen(bound)
+                fn = float(pressure.sum() * dA)
+                if dp <= COUPLING_TOL and it > 0 and dt <= COUPLING_TOL:
+                    break
+            else:
+                message = (message + "; " if message else "") + \
+                    f"normal-tangential alternation not converged in {COUPLING_ITERATIONS}"
+            state["w_extra"] = slip_from_pressure(xs, yt, widen(fm(pressure)), mat)
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, sx, sy, stick, _, ok_t = out
         if not ok_t:
@@ -455,6 +528,15 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
            "converged": bool(ok_n and ok_t), "message": message}
     return CaseResult(grid, pressure, px, py, stick, row,
                       state["mu"] if t and law is not None else None)
+
+
+def _body_material(case):
+    """CONTACT's two bodies as a railcontact Material (body 1 the rail, body 2 the
+    wheel: :attr:`~railcontact.core.materials.Material.difference_parameter`)."""
+    from ..core.materials import Material
+    g1, g2 = _need(case, "GG1") * 1e6, _need(case, "GG2") * 1e6
+    n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    return Material(2 * g1 * (1 + n1), n1, 2 * g2 * (1 + n2), n2)
 
 
 def _thermal(case, body):
@@ -615,3 +697,133 @@ def _root(fun, start, step):
         lo, flo = hi, fhi
         s *= 4.0
     raise InpError("prescribed tangential force: no creepage found that carries it")
+
+
+# ----------------------------------------------- modified FASTSIM on CONTACT's grid
+def _check_fastsim(case: InpCase) -> None:
+    """What modified FASTSIM on CONTACT's grid supports: steady rolling (T = 3) of a
+    Hertzian case (IPOTCN = -1, -2, -3) with the creepages given (F = 0), the
+    normal force (N = 1), Coulomb friction, rolling along +-x."""
+    d = case.digits
+    allowed = {"T": (3,), "N": (1,), "F": (0,), "S": (0,), "L": (0, 1, 2, 3, 4), "H": (0,),
+               "M2": (0, 1), "E": (0, 1), "C3": (0, 1, 2)}
+    names = {"T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS", "L": "FRCLAW",
+             "H": "HEAT", "M2": "MATER2", "E": "EXRHS", "C3": "INFLCF"}
+    for k, vals in allowed.items():
+        if d[k] not in vals:
+            raise _unsupported(case, f"{names[k]} = {d[k]} with modified FASTSIM (M = "
+                                     f"{d['M']}, B = {d['B']})", f"expected {names[k]} in {vals}")
+    ipotcn = _need(case, "IPOTCN")
+    if ipotcn not in (-1, -2, -3):
+        raise _unsupported(case, f"IPOTCN = {ipotcn} with the traction bound B = {d['B']}",
+                           "expected a Hertzian case, IPOTCN = -1, -2 or -3")
+    chi = _need(case, "CHI")
+    if abs(math.sin(chi)) > 1e-9:
+        raise _unsupported(case, f"CHI = {chi:g} rad", "expected 0 or 180d (pi)")
+    if case.values.get("NVF", 0):
+        raise _unsupported(case, "friction variation (VARFRC)", "expected V = 0")
+    if (case.values.get("SPINXO") or 0.0) or (case.values.get("SPINYO") or 0.0):
+        raise _unsupported(case, "SPINXO, SPINYO (a spin centre off the origin)",
+                           "expected them left out")
+    for k in ("K0_MF", "ALFAMF", "BETAMF") + (("FLX",) if d["M"] == 2 else ()):
+        _need(case, k)
+    if case.values.get("FRICTION_LAW", 0) not in (0, 2, 3, 4):
+        raise _unsupported(case, f"FRCLAW = {case.values['FRICTION_LAW']} with modified "
+                                 "FASTSIM", "expected 0 (Coulomb) or 2-4 (slip-velocity "
+                                 "dependent)")
+
+
+def _fastsim_friction(case) -> float:
+    """The friction coefficient of modified FASTSIM: FKIN (Coulomb), or a slip-velocity
+    dependent law's steady value at the slip velocity VELOC |(CKSI, CETA)| of the
+    whole patch (CONTACT's "f_eff"; a friction memory MEMDST plays no part in steady
+    rolling)."""
+    v = case.values
+    law = v.get("FRICTION_LAW", 0)
+    if law == 0:
+        return _need(case, "FKIN")
+    name = {2: "FLIN", 3: "FRAT", 4: "FEXP"}[law]
+    kind = {2: "linear", 3: "rational", 4: "exponential"}[law]
+    f = SlipVelocityFriction(kind, _need(case, "FKIN"), (v[f"{name}1"], v[f"{name}2"]),
+                             (v["SABSH1"] * MM, v["SABSH2"] * MM))
+    w = _need(case, "VELOC") * MM * math.hypot(_need(case, "CKSI"), _need(case, "CETA"))
+    return float(f(np.array([w]))[0])
+
+
+def solve_fastsim(case: InpCase) -> CaseResult:
+    """CONTACT's modified FASTSIM (M = 2: one given flexibility FLX; M = 3: three,
+    :func:`railcontact.tangential.fastsim.contact_flexibilities`) in steady rolling
+    on CONTACT's grid of a Hertzian case (SCALE times the ellipse in MX x MY
+    elements), with the traction bound mu p of the Hertzian pressure (B = 2,
+    elliptical: 3 F_n/(2 pi a b) sqrt(1 - x^2/a^2 - y^2/b^2)) or Kalker's parabolic
+    one (B = 3: 2 F_n/(pi a b) (1 - x^2/a^2 - y^2/b^2)) at the element centres, the
+    contact the elements whose centres lie inside the ellipse; each row marched
+    from its leading element, one element per step, the spin's lever taken dq/6
+    ahead (:func:`railcontact.tangential.fastsim.fastsim_grid`; CONTACT's user
+    guide, "Flexibilities of the simplified theory")."""
+    from ..core.hertz_theory import hertz_ellipse as _ellipse
+    from ..tangential.fastsim import contact_flexibilities, fastsim_grid, \
+        modification_factor
+    from ..tangential.kalker import kalker_coefficients
+    d, v = case.digits, case.values
+    es, G, nu = _materials(case)
+    fn = _need(case, "FN")
+    ipotcn = v["IPOTCN"]
+    if ipotcn == -3:
+        a, b = v["AA"] * MM, v["BB"] * MM
+    else:
+        A = v["A1"] / MM
+        B = v["B1"] / MM if ipotcn == -1 else curvature_from_axis_ratio(A, v["AOB"])
+        h = _ellipse(A, B, es, force=fn)
+        a, b = h.a, h.b
+    mx, my, s = int(v["MX"]), int(v["MY"]), v["SCALE"]
+    if mx < 2:
+        raise InpError(f"{case.where()}: MX = {mx} with FASTSIM; expected MX >= 2")
+    dx, dy = 2 * s * a / mx, 2 * s * b / my
+    x = -s * a + (np.arange(mx) + 0.5) * dx
+    y = -s * b + (np.arange(my) + 0.5) * dy
+    r = 1.0 - (x[:, None] / a) ** 2 - (y[None, :] / b) ** 2
+    contact = r > 0
+    if d["B"] == 2:
+        pressure = np.where(contact, 1.5 * fn / (math.pi * a * b) * np.sqrt(np.maximum(r, 0)),
+                            0.0)
+    else:
+        pressure = np.where(contact, 2.0 * fn / (math.pi * a * b) * r, 0.0)
+    mu = _fastsim_friction(case)
+    cphi = _need(case, "CPHI") / MM
+    creep = (_need(case, "CKSI"), _need(case, "CETA"), cphi)
+    mod = (v["K0_MF"], v["ALFAMF"], v["BETAMF"])
+    if d["M"] == 2:
+        C11 = kalker_coefficients(a / b, nu)[0]
+        k = modification_factor(mod, a, b, G, C11, creep, mu, fn)
+        flex = np.full(3, v["FLX"] * MM ** 3 / k)        # mm^3/N -> m^3/N
+    else:
+        flex = np.array(contact_flexibilities(a, b, G, nu, creep, mu, fn, mod))
+    backwards = math.cos(_need(case, "CHI")) < 0
+    dq = dx
+    # rolling towards -x (CHI = 180 deg): the problem mirrored in x (x' = -x: CKSI,
+    # CPHI and p_x change sign), marched towards +x', mirrored back
+    f = (lambda q: np.ascontiguousarray(q[::-1])) if backwards else np.ascontiguousarray
+    xs = -x[::-1].copy() if backwards else x
+    cr = np.array([-creep[0], creep[1], -creep[2]] if backwards else creep, float)
+    bound = f(mu * pressure)
+    px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
+    stick = np.zeros((mx, my), dtype=np.bool_)
+    fastsim_grid(xs, y, bound, flex, cr, dq / 6.0, px, py, sx, sy, stick)
+    if backwards:
+        px, py, sx, sy, stick = -f(px), f(py), -f(sx), f(sy), f(stick)
+    dA = dx * dy
+    ncon = int(np.count_nonzero(contact))
+    nadh = int(np.count_nonzero(contact & stick))
+    X, Y = x[:, None], y[None, :]
+    row = {"case": case.number, "module": 3, "patch": 1, "npatch": 1, "T": 3,
+           "cksi": float(creep[0]), "ceta": float(creep[1]),
+           "cphi_per_mm": float(v.get("CPHI") or 0.0),
+           "veloc_mm_s": float(v.get("VELOC") or 1.0), "mu": float(mu),
+           "fn_N": float(fn), "fx_N": float(px.sum() * dA),
+           "fs_N": float(py.sum() * dA), "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3,
+           "approach_mm": None, "pmax_MPa": float(pressure.max()) * 1e-6,
+           "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh, "nslip": ncon - nadh,
+           "mx": mx, "my": my, "dx_mm": dx / MM, "ds_mm": dy / MM, "tmax_C": None,
+           "converged": True, "message": "", "flexibilities": tuple(float(q) for q in flex)}
+    return CaseResult(Grid(x, y, dx, dy), pressure, px, py, stick, row)

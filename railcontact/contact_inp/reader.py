@@ -276,6 +276,8 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
     if m1:
         _read_materials(lines, case, d)
         if d["D"] >= 2:
+            # the contact search in force (D = 0, 1 keep it for later cases)
+            put("DISCNS", [d["D"]])
             put("DX, DS, DQREL, A_SEP, D_SEP, D_COMB, D_TURN, G_MISS",
                 lines.group("dddddd", "DX, DS, DQREL, A_SEP, D_SEP, D_COMB", "dd"))
         _read_track(lines, case, d)

@@ -83,12 +83,14 @@ def rows(result, mapped) -> list:
     pose = result.pose
     z_top = meta["z_top"]
     r0 = meta["nominal_radius"]
-    common.update(side=side, npatch=len(result.patches), y_ws_mm=pose.lateral_shift * 1e3,
+    # a wheel-rail case's WheelsetPose or a surface case's SurfacePose
+    lateral = pose.lateral_shift if hasattr(pose, "lateral_shift") else pose.lateral
+    common.update(side=side, npatch=len(result.patches), y_ws_mm=lateral * 1e3,
                   z_ws_mm=(pose.vertical - z_top) * 1e3, roll_rad=pose.roll, yaw_rad=pose.yaw,
                   vpitch_rad_s=ws["pitch_velocity"])
     # the wheelset's axes and centre in the side frame: wheel-profile x of a point
     R = rotation(sgn * pose.yaw, sgn * pose.roll)
-    O = np.array([0.0, sgn * pose.lateral_shift, pose.vertical - r0])
+    O = np.array([0.0, sgn * lateral, pose.vertical - r0])
     out, tot = [], np.zeros(3)
     for k, p in enumerate(result.patches, 1):
         g = p.geometry

@@ -280,7 +280,7 @@ def _wheel_span(wheel: SurfaceWheel, pose: SurfacePose):
 def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "right",
            motion: Motion | None = None, x_range: float | None = None,
            coarse=COARSE, fine=FINE, min_cells: int = 1,
-           inclination: str = "local") -> SurfaceContact:
+           inclination: str = "local", combine_distance: float = 0.0) -> SurfaceContact:
     """All contact patches of a wheel on the rails at the wheelset pose ``pose``.
 
     Parameters
@@ -309,11 +309,17 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
         inclination on the rail profile at s_ws; the cell's own where that
         section has no surface, an interrupted rail; how far the two differ:
         docs/tuning.md, section "Geometry search").
+    combine_distance : float
+        Interpenetration regions on one rail whose lateral extents lie closer
+        than this [m] (their gap in y, wherever they lie in x) are one patch, as
+        CONTACT combines regions closer than D_SEP; 0 (default): every region
+        its own patch.
 
     Returns
     -------
-    SurfaceContact with the patches (:class:`SurfacePatch`), ordered by rail, then
-    by x.
+    SurfaceContact with the patches (:class:`SurfacePatch`), numbered as CONTACT
+    numbers them: from the field side towards the gauge side (by their reference
+    points' lateral position), then by x.
     """
     if side not in ("left", "right"):
         raise InputError(f"wheelset.side = {side!r}: expected 'left' or 'right' for a "
@@ -339,7 +345,11 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
         if not cand.any():
             continue
         lab, nlab = ndimage.label(cand, structure=np.ones((3, 3)))
+        if combine_distance > 0 and nlab > 1:
+            lab = _combine_labels(lab, nlab, ys, combine_distance)
         for sl in ndimage.find_objects(lab):
+            if sl is None:
+                continue
             i0, i1 = max(sl[0].start - 1, 0), min(sl[0].stop + 1, xs.size)
             j0, j1 = max(sl[1].start - 1, 0), min(sl[1].stop + 1, ys.size)
             fx = np.arange(xs[i0], xs[i1 - 1] + 0.5 * fine[0], fine[0])
@@ -355,13 +365,18 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
             if not inside.any():
                 continue
             lab2, n2 = ndimage.label(inside, structure=np.ones((3, 3)))
+            if combine_distance > 0 and n2 > 1:
+                lab2 = _combine_labels(lab2, n2, fy, combine_distance)
             for k in range(1, n2 + 1):
                 cells = lab2 == k
                 if cells.sum() < min_cells:
                     continue
                 patches.append(_make_patch(wheel, rail, ir, sp, side, mo,
                                            _FineGrid(fx, fy, gf, zr, dz, fine), cells))
-    patches.sort(key=lambda p: (p.rail_index, p.position[0]))
+    # CONTACT's numbering: from the field side towards the gauge side (the side
+    # frame's y falling), then along x
+    fs = 1.0 if side == "right" else -1.0
+    patches.sort(key=lambda p: (-round(fs * float(p.position[1]), 9), p.position[0]))
     patches = _unique(patches)
     return SurfaceContact(pose, side, patches, gmin, grids)
 
@@ -402,6 +417,25 @@ def surface_slip(patch: "SurfacePatch", wheel: SurfaceWheel, rail, motion: Motio
         v_r = np.zeros_like(v_w)
     dv = (v_r - v_w) / patch.velocity
     return dv[..., 0], gap.sign * (dv @ gap.t)
+
+
+def _combine_labels(lab, n: int, y, distance: float):
+    """Labelled regions (``lab``: 1..n on an x-by-y grid with lateral positions
+    ``y``) relabelled so that regions whose lateral extents [y_min, y_max] lie
+    closer than ``distance`` [m] carry one label (transitively); labels that no
+    longer occur leave gaps in 1..n."""
+    cols = [np.flatnonzero((lab == k).any(axis=0)) for k in range(1, n + 1)]
+    ext = np.array([(y[c[0]], y[c[-1]]) for c in cols])
+    order = np.argsort(ext[:, 0])
+    new = np.arange(n + 1)
+    head, hi = order[0], ext[order[0], 1]
+    for k in order[1:]:
+        if ext[k, 0] - hi < distance:
+            new[k + 1] = head + 1
+            hi = max(hi, ext[k, 1])
+        else:
+            head, hi = k, ext[k, 1]
+    return new[lab]
 
 
 def _unique(patches):

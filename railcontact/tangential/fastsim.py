@@ -172,6 +172,106 @@ def _fastsim_strips(y, dy, x_lead, x_trail, bound, L, creepage, xgrid, grid):
 
 
 @njit(cache=True, nogil=True)
+def fastsim_grid(x, y, bound, flex, creep, xofs, px, py, sx, sy, stick):
+    """FASTSIM on a fixed grid of elements (CONTACT's M = 2, 3 on its own grid):
+    every row of elements (fixed y) is marched from its leading element (largest
+    x; rolling towards +x) to its trailing one, one element (dq = dx) per step,
+    the displacement entering at zero: u_k = u_(k+1) - dx w_k, p_k = u_k / L,
+    scaled back to the bound where it exceeds it (slip), with the rigid slip
+    w = (xi - phi y, eta + phi (x + xofs)) per flexibility (the spin over L3).
+    ``bound`` [Pa] is mu p_n per element (0 outside the contact: no traction,
+    the march restarts from zero where contact resumes); ``flex`` = (L1, L2, L3)
+    [m/Pa]; ``creep`` = (xi, eta, phi [1/m]); ``xofs`` [m] the offset of the
+    spin's lever (CONTACT: dq/6 along the rolling direction).  Fills the
+    tractions on body 1 (px, py [Pa]), the slip (sx, sy) [-] and the stick mask
+    (all (mx, my)); returns nothing."""
+    mx, my = bound.shape
+    dx = x[1] - x[0]
+    L1, L2, L3 = flex[0], flex[1], flex[2]
+    xi, eta, phi = creep[0], creep[1], creep[2]
+    for j in range(my):
+        tx = 0.0
+        ty = 0.0
+        for k in range(mx - 1, -1, -1):
+            g = bound[k, j]
+            if g <= 0.0:
+                tx = 0.0
+                ty = 0.0
+                px[k, j] = 0.0
+                py[k, j] = 0.0
+                sx[k, j] = 0.0
+                sy[k, j] = 0.0
+                stick[k, j] = False
+                continue
+            xmid = x[k] + xofs
+            hx = tx - dx * (xi / L1 - phi * y[j] / L3)
+            hy = ty - dx * (eta / L2 + phi * xmid / L3)
+            mag = math.sqrt(hx * hx + hy * hy)
+            if mag > g:
+                sc = g / mag
+                tx = hx * sc
+                ty = hy * sc
+                sx[k, j] = L1 * (tx - hx) / dx
+                sy[k, j] = L2 * (ty - hy) / dx
+                stick[k, j] = False
+            else:
+                tx = hx
+                ty = hy
+                sx[k, j] = 0.0
+                sy[k, j] = 0.0
+                stick[k, j] = True
+            px[k, j] = tx
+            py[k, j] = ty
+
+
+def contact_flexibilities(a: float, b: float, G: float, nu: float, creepage, mu: float,
+                          fn: float, modification=(1.0, 1.0, 1.0)):
+    """CONTACT's three flexibilities of modified FASTSIM (M = 3) for an ellipse with
+    semi-axes a (rolling), b [m]: Kalker's L1 = 8a/(3 C11 G), L2 = 8a/(3 C22 G),
+    L3 = pi a sqrt(a/b)/(4 C23 G), blended towards one combined flexibility
+    L_c = (xi^2 + eta^2 + (phi f4/f3)^2) / (xi^2/L1 + eta^2/L2 + (phi f4/f3)^2/L3)
+    (f3 = 8a/3, f4 = pi a^2/4) with the weight w = min(1, f/3), f = sqrt((xi^2 +
+    eta^2) / (xi_c^2 + eta_c^2)), xi_c = mu F_n/(c^2 G C11), eta_c = mu F_n/(c^2 G
+    C22), c^2 = a b (Vollebregt & Voltr 2023, VSD 61; CONTACT's user guide, "The
+    flexibilities of the simplified theory"); then divided by Spiryagin's
+    reduction factor k = k0 (alpha + (1 - alpha)/(1 + beta eps)), eps = G pi a b
+    k0 C11 w_rel / (4 mu F_n), w_rel = |(xi, eta + phi a)| (``modification`` =
+    (k0, alpha, beta): CONTACT's K0_MF, ALFAMF, BETAMF; (1, 1, 1): the original
+    FASTSIM; Spiryagin et al. 2013, Wear 303).  Returns (L1, L2, L3) [m/Pa]."""
+    xi, eta, phi = (float(v) for v in creepage)
+    C11, C22, C23 = kalker_coefficients(a / b, nu)
+    L = [8 * a / (3 * C11 * G), 8 * a / (3 * C22 * G),
+         math.pi * a * math.sqrt(a / b) / (4 * C23 * G)]
+    c2 = a * b
+    xc, ec = mu * fn / (c2 * G * C11), mu * fn / (c2 * G * C22)
+    f3, f4 = 8 * a / 3, math.pi * a * a / 4
+    num = xi * xi + eta * eta + (phi * f4 / f3) ** 2
+    den = xi * xi / L[0] + eta * eta / L[1] + (phi * f4 / f3) ** 2 / L[2]
+    lc = num / max(den, 1e-14 * num / L[0]) if num > 0 else L[0]
+    f = max(1e-10, math.sqrt((xi * xi + eta * eta) / (xc * xc + ec * ec)))
+    w = min(1.0, f / 3.0)
+    L = [(1 - w) * v + w * lc for v in L]
+    k = modification_factor(modification, a, b, G, C11, creepage, mu, fn)
+    return tuple(v / k for v in L)
+
+
+def modification_factor(modification, a, b, G, C11, creepage, mu, fn) -> float:
+    """Spiryagin's reduction factor k of modified FASTSIM (CONTACT's K0_MF, ALFAMF,
+    BETAMF; :func:`contact_flexibilities`)."""
+    k0, alpha, beta = (float(v) for v in modification)
+    if not (0 < k0 <= 1 and 0 <= alpha <= 1 and beta >= 0):
+        raise InputError(f"modified FASTSIM (K0_MF, ALFAMF, BETAMF) = {modification!r}: "
+                         "expected 0 < k0 <= 1, 0 <= alpha <= 1, beta >= 0")
+    xi, eta, phi = (float(v) for v in creepage)
+    nu_phi = eta + phi * a
+    if abs(nu_phi) < abs(eta):
+        nu_phi = eta
+    eps = G * math.pi * a * b * k0 * C11 * math.hypot(xi, nu_phi) / (4 * mu * fn) \
+        if mu * fn > 0 else 0.0
+    return k0 * (alpha + (1 - alpha) / (1 + beta * eps))
+
+
+@njit(cache=True, nogil=True)
 def fastsim_ellipse(a, b, fn, mu, G, C, creepage, nx, ny):
     """Forces only, for online use (vehicle dynamics): FASTSIM with blended
     flexibilities and the Hertzian traction bound on an ellipse with semi-axes a

@@ -39,7 +39,7 @@ def test_is_surface_case(raw, surface):
     ({"rail": SLICED, "solver": {"rigid_slip": "surfaces", "tangential": "fastsim"}},
      "needs solver.tangential = 'exact'"),
     ({"rail": SLICED, "solver": {"rigid_slip": "wheel"}}, "rigid_slip"),
-    ({"rail": SLICED, "wheelset": {"roll": 0.5}}, "roll"),
+    ({"rail": SLICED, "wheelset": {"roll": 0.6}}, "roll"),
 ])
 def test_surface_key_errors(change, match):
     with pytest.raises(CaseFileError, match=match):

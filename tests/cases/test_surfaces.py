@@ -375,3 +375,56 @@ def test_profile_options_reach_the_surfaces(testbank):
                        options=ProfileOptions.from_table({"scale": 1.05}, "wheel"))
     np.testing.assert_allclose(got.z_at(want.y[5:-5]), want.z[5:-5], atol=1e-12)
     assert np.ptp(got.y) == pytest.approx(1.05 * np.ptp(plain.y), rel=1e-9)
+
+
+def test_wheel_beyond_the_last_slice(testbank):
+    """A wheel beyond the last slice of a rail (cross_nose.slcs covers s = -0.1 to
+    0.1 m) is named: a warning in the result's status where the search still
+    reaches back into the slices (s = 0.12 m, the wheel lowered onto the nose's
+    end: the patch lies at s <= 0.1 m), the
+    error's message where nothing is left under the wheel (s = 0.3 m)."""
+    from railcontact.core.errors import ContactNotFoundError
+    res = rc.solve(_case(testbank, "cross_nose.slcs", 0.12, z=-9.3e-3))
+    assert any("beyond the last slice of the rail 'cross_nose'" in w
+               for w in res.status.warnings)
+    assert all(p.geometry.s <= 0.1 + 1e-9 for p in res.patches)
+    ok = rc.solve(_case(testbank, "cross_nose.slcs", 0.0, z=-2.1275e-3))
+    assert not any("beyond" in w for w in ok.status.warnings)
+    with pytest.raises(ContactNotFoundError, match=r"s = 0\.3 m lies beyond the last slice "
+                                                   r"of the rail 'cross_nose'"):
+        rc.solve(_case(testbank, "cross_nose.slcs", 0.3, fz=1e4))
+
+
+def test_patch_separation_distance_on_rail_surfaces(testbank):
+    """wheelset.combine_distance (CONTACT's D_SEP) on rail surfaces: mbench_brute's
+    case 10 has a wing-rail patch and a nose patch 67 mm apart laterally (two
+    patches at D_SEP = 8 mm, CONTACT's); at 80 mm they are one patch, which
+    carries what the two carried together (the same interpenetration, 1 %)."""
+    ref = read_ref_out(testbank / "examples_s+c" / "mbench_brute.ref_out")[9]
+    case = _case(testbank, "uk_crossing.slcs", ref["s"] * 1e-3, y=ref["y"] * 1e-3,
+                 z=ref["z"] * 1e-3, ds=0.2e-3)
+    two = rc.solve(case_from_dict(dict(case.raw, wheelset=dict(
+        case.raw["wheelset"], combine_distance=8e-3)), testbank / "examples_s+c"))
+    one = rc.solve(case_from_dict(dict(case.raw, wheelset=dict(
+        case.raw["wheelset"], combine_distance=80e-3)), testbank / "examples_s+c"))
+    assert len(two.patches) == 2 and len(one.patches) == 1
+    # numbered from the field side: the wing rail's patch first
+    assert two.patches[0].geometry.position[1] > two.patches[1].geometry.position[1]
+    assert sum(p.normal.normal_force for p in two.patches) == pytest.approx(
+        sum(q["fn"] for q in ref["patches"]), rel=0.01)
+
+
+def test_profile_processing_of_slices(testbank):
+    """CONTACT's profile processing keys on a rail given by slices reach every
+    slice: a scale of 1.05 widens each slice's lateral extent by 5 %."""
+    from railcontact.cases.surfaces import build_surface_case
+    base = _case(testbank, "cross_nose.slcs", 0.0, z=-2.1275e-3).raw
+    plain = build_surface_case(case_from_dict(base, testbank / "examples_s+c"))
+    raw = dict(base, rail=dict(base["rail"], scale=1.05))
+    scaled = build_surface_case(case_from_dict(raw, testbank / "examples_s+c"))
+    a = plain.rails[0].surface.slices.profiles[3]
+    b = scaled.rails[0].surface.slices.profiles[3]
+    assert np.ptp(b.y) == pytest.approx(1.05 * np.ptp(a.y), rel=1e-9)
+    with pytest.raises(CaseFileError, match="unknown key rail.smooth"):
+        case_from_dict(dict(base, rail=dict(base["rail"], smooth=1.0)),
+                       testbank / "examples_s+c")

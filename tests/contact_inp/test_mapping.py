@@ -44,7 +44,7 @@ def test_mapping_to_a_case_in_si_units(files):
     ("0022033    V-L-D-C-M-Z-E", "0042033    V-L-D-C-M-Z-E", r"DISCNS = 4 \(conformal contact\)"),
     ("0022033    V-L-D-C-M-Z-E", "0023033    V-L-D-C-M-Z-E", r"INFLCF = 3 \(bilinear"),
     ("1203100    C-P-B-T-N-F-S   comment", "5203100    C-P-B-T-N-F-S   comment",
-     r"CONFIG = 5 \(roller rig"),
+     r"GAUGHT = 14 mm with a roller rig \(a rail placed by its gauge face\)"),
     ("1435.0   0.000", "1435.0   0.025 1e-5", r"CURV = 1e-05 1/mm \(curved track\)"),
     ("     0.0    0.0   0.000          % DY", "     0.5    0.0   0.000   % DY",
      r"DYRAIL = 0.5 \(rail deviations\)"),
