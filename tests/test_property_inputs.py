@@ -15,7 +15,10 @@ from railcontact.cases.case import _ALLOWED, case_from_dict, load_case
 from railcontact.contact_inp import map_case, read_inp
 from railcontact.profiles import read_profile
 
-FAST = settings(max_examples=60, deadline=None, database=None,
+#: derandomized: the same examples on every run, so that the suite's result does not
+#: hang on a random draw (a longer random search: pytest --hypothesis-seed=N with
+#: derandomize off found the unchecked solver options, now in tests/cases/test_case.py)
+FAST = settings(max_examples=60, deadline=None, database=None, derandomize=True,
                 suppress_health_check=[HealthCheck.function_scoped_fixture,
                                        HealthCheck.too_slow])
 

@@ -168,7 +168,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         check_grid_size(grid, "solver.grid", allow_large)
     if keys.get("material.yield_stress") is not None:
         keys.number("material.yield_stress", None, 1e6, 1e11, "Pa")
-    normal_options = dict(sol.get("normal_options", {}))
+    normal_options = _options(sol, "normal_options")
     if "plasticity" in raw:
         if "pressure_limit" in normal_options:
             raise CaseFileError("pressure limit given both in [plasticity] and in "
@@ -179,7 +179,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
         friction_variation=_friction_variation(keys), normal=normal, tangential=tangential,
         normal_options=normal_options,
-        tangential_options=dict(sol.get("tangential_options", {})), grid=grid,
+        tangential_options=_options(sol, "tangential_options"), grid=grid,
         element_size=element_size,
         force_tolerance=keys.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)"),
         creepage=None if "creepage" not in raw else (
@@ -217,6 +217,16 @@ def _material(keys: CaseKeys) -> Material:
                         None if wnu is None else keys.number("material.wheel_poisson_ratio"))
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
+
+
+def _options(sol: dict, key: str) -> dict:
+    """``solver.normal_options`` or ``solver.tangential_options``: a table of a model's
+    options (checked by the model when it is built)."""
+    v = sol.get(key, {})
+    if not isinstance(v, dict):
+        raise CaseFileError(f"solver.{key} = {shown(v)}: expected a table of the model's "
+                            "options")
+    return dict(v)
 
 
 def _grid(sol: dict) -> tuple:

@@ -81,7 +81,17 @@ def test_vertical_position_prescribed(refdir):
     assert solve(case_from_dict(raw)).patches == []
     raw["wheelset"]["vertical_force"] = 1e4
     with pytest.raises(CaseFileError, match="either vertical_force or vertical_position"):
-        case_from_dict(raw)
+        rc.case_from_dict(raw)
     del raw["wheelset"]["roll"], raw["wheelset"]["vertical_force"]
     with pytest.raises(CaseFileError, match="give wheelset.roll"):
-        case_from_dict(raw)
+        rc.case_from_dict(raw)
+
+
+@pytest.mark.parametrize("key", ["normal_options", "tangential_options"])
+@pytest.mark.parametrize("value", [0, "0", [1, 2]])
+def test_solver_options_must_be_a_table(key, value):
+    """Found by the property tests with random seeds: a model's options that are not
+    a table were a raw TypeError/ValueError."""
+    raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"}, "solver": {key: value}}
+    with pytest.raises(CaseFileError, match=f"solver.{key} = .*expected a table"):
+        rc.case_from_dict(raw)
