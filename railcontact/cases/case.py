@@ -65,6 +65,8 @@ class Case(CaseKeys):
     grid: tuple | None = None
     element_size: tuple | None = None
     force_tolerance: float = 1e-4
+    #: ``material.yield_stress`` [Pa] (None: not given), for the elastic pressure limit
+    yield_stress: float | None = None
     #: ``friction.variation``: (angles [rad], coefficients) or None
     friction_variation: tuple | None = None
     creepage: tuple | None = None
@@ -166,8 +168,8 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         raise CaseFileError(f"solver.allow_large = {shown(allow_large)}: expected true or false")
     if grid:
         check_grid_size(grid, "solver.grid", allow_large)
-    if keys.get("material.yield_stress") is not None:
-        keys.number("material.yield_stress", None, 1e6, 1e11, "Pa")
+    yield_stress = (None if keys.get("material.yield_stress") is None
+                    else keys.number("material.yield_stress", None, 1e6, 1e11, "Pa"))
     normal_options = _options(sol, "normal_options")
     if "plasticity" in raw:
         if "pressure_limit" in normal_options:
@@ -178,6 +180,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         title=str(raw.get("title", "")), material=_material(keys),
         friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
         friction_variation=_friction_variation(keys), normal=normal, tangential=tangential,
+        yield_stress=yield_stress,
         normal_options=normal_options,
         tangential_options=_options(sol, "tangential_options"), grid=grid,
         element_size=element_size,

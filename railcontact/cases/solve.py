@@ -86,8 +86,8 @@ def _check_pressure(res: SolveResult, case: Case) -> SolveResult:
     :data:`DEFAULT_PRESSURE_LIMIT`; none where ``[plasticity]`` bounds the pressure."""
     if "pressure_limit" in case.normal_options:
         return res
-    ys = case.get("material.yield_stress")
-    limit = 3.0 * float(ys) if ys is not None else DEFAULT_PRESSURE_LIMIT
+    ys = case.yield_stress
+    limit = 3.0 * ys if ys is not None else DEFAULT_PRESSURE_LIMIT
     for p in res.patches:
         if p.normal is not None and p.normal.pmax > limit * (1 + 1e-9):
             p.validity = p.validity.with_warnings(
