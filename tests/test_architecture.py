@@ -107,15 +107,9 @@ def test_every_module_has_its_test_file():
     assert not missing, sorted(missing)
 
 
-#: at most this many parameters per function, compiled kernels included (HELPER
-#: rules, docs/architecture.md): a longer list takes a parameter object
+#: at most this many parameters per function, compiled kernels included
+#: (docs/architecture.md): a longer list takes a parameter object
 MAX_PARAMETERS = 12
-
-#: functions over the limit that issue 30 rewrites ("module:function", as
-#: reported below): empty since find_contact (19), search._make_patch (15) and
-#: batch._forces (13) take parameter objects; the test fails on an entry that no
-#: longer exceeds the limit, so it cannot go stale.
-PENDING_ISSUE_30: set = set()
 
 
 def _parameter_count(node) -> int:
@@ -143,10 +137,7 @@ def test_no_function_takes_more_than_twelve_parameters():
     found = {}
     for module, path in _modules().items():
         found.update(_long_signatures(path.read_text(encoding="utf-8"), module))
-    over = {k: v for k, v in found.items() if k not in PENDING_ISSUE_30}
-    assert not over, f"functions with more than {MAX_PARAMETERS} parameters: {over}"
-    stale = PENDING_ISSUE_30 - set(found)
-    assert not stale, f"no longer over the limit, remove from PENDING_ISSUE_30: {sorted(stale)}"
+    assert not found, f"functions with more than {MAX_PARAMETERS} parameters: {found}"
 
 
 def test_the_parameter_check_catches_long_signatures():
