@@ -29,26 +29,10 @@ import railcontact as rc
 from railcontact.cases import balance as balance_module
 from railcontact.cases.case import case_from_dict
 from railcontact.cases.compiled_case import solve_case_forces
+from run_all import sweep_raws
 
 HERE = Path(__file__).resolve().parent
 REF = Path(os.environ.get("RAILCONTACT_REFERENCE", HERE.parent.parent / "shared" / "reference"))
-
-
-def sweep_raws(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3), load=7e4):
-    """The 1000-case sweep: S1002 on 60E1 1:40, shift -4..9 mm, yaw 0..6 mrad,
-    creepages varying along the sweep, ``load`` per wheel, 40 x 40 grid."""
-    raws = []
-    for iy, yaw in enumerate(yaws):
-        for k, y in enumerate(np.linspace(-4e-3, 9e-3, n_shift)):
-            j = iy * n_shift + k
-            raws.append({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-                         "wheelset": {"lateral_shift": float(y), "yaw": yaw,
-                                      "vertical_force": load, "velocity": 30.0},
-                         "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
-                                      "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
-                                      "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
-                         "solver": {"grid": [40, 40]}})
-    return raws
 
 
 def _stats(t, ok):

@@ -358,6 +358,23 @@ def time_split(cases, warm=False):
     return total / n, {k: (v[0] / n, v[1] / n) for k, v in spent.items()}
 
 
+def sweep_raws(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3), load=7e4):
+    """The 1000-case sweep: S1002 on 60E1 1:40, shift -4..9 mm, yaw 0..6 mrad,
+    creepages varying along the sweep, ``load`` per wheel, 40 x 40 grid."""
+    raws = []
+    for iy, yaw in enumerate(yaws):
+        for k, y in enumerate(np.linspace(-4e-3, 9e-3, n_shift)):
+            j = iy * n_shift + k
+            raws.append({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+                         "wheelset": {"lateral_shift": float(y), "yaw": yaw,
+                                      "vertical_force": load, "velocity": 30.0},
+                         "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
+                                      "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
+                                      "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
+                         "solver": {"grid": [40, 40]}})
+    return raws
+
+
 def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     """Exact normal + exact steady rolling on a 40x40 grid against Hertz + FASTSIM,
     cold and warm-started, on ~1000 wheel-rail cases with the vertical force given;
@@ -365,17 +382,7 @@ def bench_exact_sweep(n_shift=250, yaws=(0.0, 2e-3, 4e-3, 6e-3)):
     n = n_shift * len(yaws)
     out(f"\n## Exact solvers on a {n}-case sweep (S1002 on 60E1 1:40, shift -4..9 mm, "
         "yaw 0..6 mrad, creepages varying along the sweep, 60 kN per wheel, 40x40 grid)")
-    raws = []
-    for iy, yaw in enumerate(yaws):
-        for k, y in enumerate(np.linspace(-4e-3, 9e-3, n_shift)):
-            j = iy * n_shift + k
-            raws.append({"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
-                         "wheelset": {"lateral_shift": float(y), "yaw": yaw,
-                                      "vertical_force": 6e4, "velocity": 30.0},
-                         "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
-                                      "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
-                                      "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
-                         "solver": {"grid": [40, 40]}})
+    raws = sweep_raws(n_shift, yaws, 6e4)
     from railcontact.cases.case import case_from_dict
     from railcontact.cases.bodies import contact_search
     cases = [case_from_dict(r) for r in raws]
