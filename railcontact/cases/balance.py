@@ -12,7 +12,7 @@ from .bodies import build_wheelset_track, contact_search
 from .compiled_case import case_contact, compiled_unsupported, solve_case_forces
 from .equilibrium import balance as solve_balance
 from ..core.errors import ContactNotFoundError, RailContactError
-from ..geometry.locus import min_gap
+from ..geometry.locus import depth_at
 from ..geometry.search import WheelsetContact
 from ..geometry.track import WheelsetPose
 from .patches import (add_tangential, coupled_models, lateral_ratio, nearest_patch,
@@ -34,13 +34,8 @@ def solve_at_position(case, nmodel, tmodel, kw):
     ws, tr = bodies
     s = case.wheel_rail
     side, y, yaw, roll, z = s.side, s.lateral_shift, s.yaw, s.roll, s.vertical_position
-    # the deepest interpenetration: the wheel lowered from where it touches (gap g0
-    # at z = 0) to z
-    g0 = min_gap(ws, tr, side, y, 0.0, roll, yaw)
-    if not math.isfinite(g0):
-        raise ContactNotFoundError(f"no wheel-rail overlap found on the {side} side at lateral "
-                                   f"shift {y * 1e3:.3f} mm")
-    depth = z - g0
+    # the deepest interpenetration: the wheel lowered from where it touches to z
+    depth = depth_at(ws, tr, side, y, z, roll, yaw)
     if not depth > 0:
         log.info("the %s wheel at z = %.4f mm does not reach the rail (gap %.4f mm)", side,
                  z * 1e3, -depth * 1e3)

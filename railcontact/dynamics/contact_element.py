@@ -13,7 +13,7 @@ Two ways to give the vertical state (``docs/multibody.md``):
 * **position** (elastic contact, the multibody use): the wheelset's vertical
   position z and roll φ are inputs.  Each wheel's deepest interpenetration follows
   from the pose (the wheel lowered from where it touches at z = 0,
-  :func:`railcontact.geometry.locus.min_gap`), each of its patches is solved with
+  :func:`railcontact.geometry.locus.depth_at`), each of its patches is solved with
   the normal model at its own approach and the tangential model at its kinematic
   creepages.  A wheel that does not reach its rail carries nothing.
 * **load** (quasi-static): the vertical wheel loads are inputs; the wheelset's
@@ -52,8 +52,8 @@ from ..cases.balance import solve_wheel_rail
 from ..cases.bodies import build_wheelset_track
 from ..cases.case import Case
 from ..cases.patches import case_models, coupled_models, solve_case_patches
-from ..core.errors import ContactNotFoundError, InputError
-from ..geometry.locus import min_gap
+from ..core.errors import InputError
+from ..geometry.locus import depth_at
 from ..geometry.search import PatchRules, WheelsetMotion, find_contact
 from ..geometry.track import SIDES, WheelsetPose
 
@@ -253,11 +253,7 @@ class ContactElement:
         centre = np.array([0.0, y, z - self.nominal_radius])
         results = []
         for side in SIDES:
-            g0 = min_gap(ws, tr, side, y, 0.0, roll, yaw)
-            if not math.isfinite(g0):
-                raise ContactNotFoundError(f"no wheel-rail overlap found on the {side} side at "
-                                           f"lateral shift {y * 1e3:.3f} mm")
-            depth = z - g0
+            depth = depth_at(ws, tr, side, y, z, roll, yaw)
             if not depth > 0:
                 continue                  # the wheel is off its rail
             contact = find_contact(ws, tr, y, yaw, material=self.case.material,

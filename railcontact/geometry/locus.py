@@ -21,6 +21,7 @@ from functools import lru_cache
 import numpy as np
 from numba import njit
 
+from ..core.errors import ContactNotFoundError
 from ..profiles.profile import ppoly_at
 from .track import Track, Wheelset, rotation
 
@@ -215,3 +216,16 @@ def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, v
     return float(_min_gap_kernel(eta, rho, R, O,
                                  track.rail_offset(side), rail._breaks, rail._coefs, stride,
                                  2e-6))
+
+
+def depth_at(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, vertical: float,
+             roll: float, yaw: float) -> float:
+    """The deepest interpenetration [m] of one side with the wheelset at the vertical
+    position ``vertical`` [m] (CONTACT's Z_WS): how far it stands below where that
+    side touches (negative: off its rail).  No overlap anywhere along the profiles is
+    a :class:`~railcontact.core.errors.ContactNotFoundError`."""
+    g0 = min_gap(wheelset, track, side, lateral_shift, 0.0, roll, yaw)
+    if not math.isfinite(g0):
+        raise ContactNotFoundError(f"no wheel-rail overlap found on the {side} side at lateral "
+                                   f"shift {lateral_shift * 1e3:.3f} mm")
+    return vertical - g0

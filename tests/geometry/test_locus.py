@@ -7,7 +7,7 @@ import pytest
 from scipy.optimize import minimize_scalar
 
 from railcontact.geometry import Track, Wheelset
-from railcontact.geometry.locus import compute_locus, min_gap, side_pose
+from railcontact.geometry.locus import compute_locus, depth_at, min_gap, side_pose
 from railcontact.geometry.track import rotation
 from railcontact.profiles import rail_profile, s1002
 
@@ -86,3 +86,14 @@ def test_locus_gap_is_the_lowest_point_of_each_wheel_circle():
             checked += 1
         assert loc.gap.min() == pytest.approx(-1e-4, abs=1e-9)
     assert checked > 100
+
+
+def test_depth_at_a_vertical_position():
+    """The interpenetration at a prescribed vertical position is that position less
+    the touching one (the gap at z = 0), on either side; negative off the rail."""
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    for side in ("left", "right"):
+        g0 = min_gap(ws, tr, side, 0.002, 0.0, 0.0, 0.001)
+        assert depth_at(ws, tr, side, 0.002, 1e-4, 0.0, 0.001) == pytest.approx(1e-4 - g0,
+                                                                                abs=1e-15)
+        assert depth_at(ws, tr, side, 0.002, g0 - 1e-4, 0.0, 0.001) == pytest.approx(-1e-4)
