@@ -14,6 +14,7 @@ from ..core.checks import shown
 from ..core.registry import Registry
 from ..core.status import SolverStatus
 
+
 def _check_solve(geometry=None, material=None, *args, **kwargs):
     """The inputs every normal model's ``solve`` takes, checked first."""
     if not hasattr(geometry, "curvatures"):

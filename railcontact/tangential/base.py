@@ -12,6 +12,7 @@ from ..core.checks import shown
 from ..core.registry import Registry
 from ..core.status import SolverStatus
 
+
 def _check_solve(normal=None, geometry=None, material=None, *args, **kwargs):
     """The inputs every tangential model's ``solve`` takes, checked first."""
     if not hasattr(normal, "pressure"):

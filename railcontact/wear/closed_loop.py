@@ -194,7 +194,6 @@ class ClosedLoopWear(WearDriver):
                                 max(p.y_max for p in self.initial_rails) + step / 2, step)
         w = np.array([r.weight for r in scenario.routes], dtype=float)
         self.weights = w / w.sum()
-        self._damage: list = []          # the step's _DamageRate, from loads to record
 
     # ------------------------------------------------------------ profiles
     def slots(self) -> list:
@@ -347,7 +346,9 @@ class ClosedLoopWear(WearDriver):
             self._write_records(results)
         rec = self._route_record(wheels0, grid_of, tables, results)
         rec.update(self._fatigue_record(wheels0, rails0, grid_of, results))
-        self._damage = self._damage_rates(wheels0, rails0, grid_of, results)
+        # the step's damage rates (_DamageRate), turned into damage by record() once the
+        # step's distance and wear are known
+        rec["_damage_rates"] = self._damage_rates(wheels0, rails0, grid_of, results)
         return StepLoads(bodies, rec)
 
     def _damage_rates(self, wheels0, rails0, grid_of, results) -> list:
@@ -438,7 +439,7 @@ class ClosedLoopWear(WearDriver):
         dist = rec["distance"]
         added = {"wheel": np.zeros((self.nw, 2, self.y_wheel.size)),
                  "rail": np.zeros((self.nr, 2, self.y_rail.size))}
-        for d in self._damage:
+        for d in rec.pop("_damage_rates", []):
             added[d.kind][d.slot] = d.added(dist)
         prev = self.steps[-1] if self.steps else {}
         for kind, add in added.items():
@@ -446,7 +447,6 @@ class ClosedLoopWear(WearDriver):
             rec[f"rcf_damage_{kind}"] = accumulate(before, add, rec[f"wear_depth_{kind}"],
                                                    self.sc.rcf.layer_depth)
             rec[f"rcf_added_{kind}"] = add
-        self._damage = []
 
     def finish(self) -> None:
         """The measures of the final profiles (their tables, without a run)."""
