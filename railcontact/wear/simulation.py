@@ -34,6 +34,7 @@ import numpy as np
 from ..cases.bodies import build_wheelset_track
 from ..cases.case import Case
 from ..cases.solve import solve
+from ..core.checks import shown
 from ..core.errors import CaseFileError, InputError
 from ..core.parallel import compute
 from ..core.progress import TqdmCallback
@@ -110,7 +111,7 @@ def scenario_from_sections(sections: dict, base_dir, read_base) -> WearScenario:
         if conds:
             raise CaseFileError("give either [[condition]] tables or wear.history, not both")
         conds = read_history(Path(base_dir or Path.cwd()) / str(wear["history"]),
-                             int(wear.get("history_stride", 1)))
+                             wear.get("history_stride", 1))
     unknown = set(wear) - _WEAR_KEYS
     if unknown:
         raise CaseFileError(f"unknown key(s) wear.{sorted(unknown)}; expected {sorted(_WEAR_KEYS)}")
@@ -147,8 +148,8 @@ def read_history(path: Path, stride: int = 1) -> list:
     """
     if not path.is_file():
         raise CaseFileError(f"wear.history {str(path)!r} does not exist")
-    if stride < 1:
-        raise CaseFileError(f"wear.history_stride = {stride}: expected an integer >= 1")
+    if isinstance(stride, bool) or not isinstance(stride, int) or stride < 1:
+        raise CaseFileError(f"wear.history_stride = {shown(stride)}: expected an integer >= 1")
     try:
         data = np.genfromtxt(path, delimiter=",", names=True, dtype=float, encoding="utf-8")
     except ValueError as exc:

@@ -160,3 +160,16 @@ def test_curve_radius_condition():
     assert float(ds["distance"][0]) > 0
     with pytest.raises(CaseFileError, match="curve_radius = 1.0: expected"):
         scenario([{"lateral_shift": 0.0, "curve_radius": 1.0}])
+
+
+@pytest.mark.parametrize("stride", ["x", 0, 2.5, True])
+def test_bad_history_stride_named(tmp_path, stride):
+    """wear.history_stride not an integer >= 1: one CaseFileError naming it (a string
+    was a raw ValueError)."""
+    (tmp_path / "run.csv").write_text(
+        "time,lateral_shift,yaw,vertical_force_left,vertical_force_right,velocity\n"
+        "0,0,0,7e4,7e4,20\n0.1,0,0,7e4,7e4,20\n")
+    raw = copy.deepcopy(BASE)
+    raw["wear"] = {"law": "frictional-power", "history": "run.csv", "history_stride": stride}
+    with pytest.raises(CaseFileError, match="wear.history_stride = .*expected an integer >= 1"):
+        wear_scenario_from_dict(raw, tmp_path)
