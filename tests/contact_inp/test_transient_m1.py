@@ -1,0 +1,246 @@
+"""CONTACT's module 1 (wheel-rail) transient inputs (``examples_trans``: T = 1
+shifts on the measured site_b profiles, T = 2 transient rolling after steady
+rolling) against their ``.ref_out``, and the carrying of tractions from one
+patch grid to another.
+
+Tolerances (issue 34): F_x, F_s within 1 % of mu F_n, F_n within 1 %, the contact
+area (elements in contact) within 3 %, p_max within 3 %, on every patch that
+carries at least a tenth of the case's load (the smaller flange-flank patches:
+``test_small_flange_patch``).  The normal problem is that of the steady cases
+(test_testbank.py); where its F_n misses by more than 1 % on a position-
+controlled case a test names it.
+"""
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from railcontact.contact_inp import InpError, load_inp, read_inp, solve_inp
+from railcontact.contact_inp.transient_m1 import PatchState, carried_tractions, handles
+
+from .test_testbank import ref_out
+
+
+def _ncon(path) -> dict:
+    """NCON per case and patch of a CONTACT output file."""
+    text = Path(path).read_text()
+    parts = re.split(r"\n Case +(\d+)\n", text)
+    out = {}
+    for num, body in zip(parts[1::2], parts[2::2]):
+        out[int(num)] = [int(m.group(1)) for m in re.finditer(
+            r"NPOT\s+NCON\s+NADH\s+NSLIP.*\n\s*\d+\s+(\d+)", body)]
+    return out
+
+
+def _deviations(rows, path, cases):
+    """Per patch of the given cases: (case, y_tr [mm], big, deviations), ``big`` where
+    the patch carries at least a tenth of the case's vertical load; F_x, F_s
+    relative to mu F_n."""
+    ref = ref_out(path.with_suffix(".ref_out"))
+    ncon = _ncon(path.with_suffix(".ref_out"))
+    out = []
+    for case in cases:
+        mine = [r for r in rows if r["case"] == case]
+        assert mine[0]["converged"], mine[0]["message"]
+        c = ref[case]
+        assert len(mine) == len(c["patches"]), case
+        for p, n in zip(c["patches"], ncon[case]):
+            r = min(mine, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp_tr_mm"]))
+            assert abs(r["ycp_tr_mm"] - p["ycp_tr_mm"]) < 0.05
+            mu_fn = p["mu"] * p["fn_N"] if "mu" in p else r["mu"] * p["fn_N"]
+            dev = {"fn": r["fn_N"] / p["fn_N"] - 1, "fx": (r["fx_N"] - p["fx_N"]) / mu_fn,
+                   "fs": (r["fs_N"] - p["fs_N"]) / mu_fn,
+                   "pmax": r["pmax_MPa"] / p["pmax_MPa"] - 1, "area": r["ncon"] / n - 1}
+            out.append((case, p["ycp_tr_mm"], p["fn_N"] >= 0.1 * c["fz"], dev))
+    return out
+
+
+TOL = {"fn": 0.01, "fx": 0.01, "fs": 0.01, "pmax": 0.03, "area": 0.03}
+
+
+def _assert_within(devs, keys=tuple(TOL), skip=()):
+    """Every large patch's deviations within :data:`TOL` (``skip``: (case, y_tr)
+    of patches left to another test)."""
+    checked = 0
+    for case, y, big, dev in devs:
+        if not big or any(case == c and abs(y - yy) < 0.05 for c, yy in skip):
+            continue
+        for k in keys:
+            assert abs(dev[k]) <= TOL[k], (case, y, k, dev[k])
+        checked += 1
+    assert checked
+
+
+@pytest.fixture(scope="module")
+def bank(testbank):
+    return testbank / "examples_trans"
+
+
+def test_handles():
+    """Module 1 with T = 1 or 2 is solved here; steady (T = 3) module 1 is not."""
+    from railcontact.contact_inp.reader import InpCase
+    case = lambda m, t: InpCase(Path("x.inp"), 1, m, 1, {"T": t})   # noqa: E731
+    assert handles(case(1, 1)) and handles(case(1, 2))
+    assert not handles(case(1, 3)) and not handles(case(3, 1))
+
+
+def test_shifts_from_rest(bank):
+    """t1_zws: five shifts from the unloaded state (P = 2, contact formation:
+    Cattaneo) at 23 to 555 kN, the wheelset's height given.  Measured: F_x, F_s
+    within 0.03 % of mu F_n, p_max within 1.7 %, on every patch above a tenth of
+    the load; F_n within 0.5 %, the area within 1.1 %, except case 2's gauge-corner
+    patch (test below)."""
+    path = bank / "t1_zws.inp"
+    devs = _deviations(solve_inp(path, cases=[2, 3, 4, 5]), path, [2, 3, 4, 5])
+    _assert_within(devs, skip=[(2, 723.39)])
+    _assert_within(devs, keys=("fx", "fs", "pmax"))
+
+
+@pytest.mark.xfail(strict=True, reason="normal problem: F_n -3.1 %, area -3.8 % of "
+                   "CONTACT's at 12 kN under a given height (the steady solver's)")
+def test_shift_light_patch_normal_force(bank):
+    """t1_zws case 2: the gauge-corner patch of 12 kN (of 23 kN) under a given
+    wheelset height: F_n -3.1 %, area -3.8 %; its F_x, F_s agree within 0.03 % of
+    mu F_n (the normal problem is the steady cases', independent of the transient
+    one)."""
+    path = bank / "t1_zws.inp"
+    devs = _deviations(solve_inp(path, cases=[2]), path, [2])
+    _assert_within(devs, keys=("fn", "area"))
+
+
+def test_shift_independent_of_earlier_cases(bank):
+    """P = 2 starts a new sequence: a case solved alone equals the same case after
+    others."""
+    path = bank / "t1_zws.inp"
+    alone = solve_inp(path, cases=[3])
+    after = [r for r in solve_inp(path, cases=[2, 3]) if r["case"] == 3]
+    assert [r["fx_N"] for r in alone] == pytest.approx([r["fx_N"] for r in after], rel=1e-9)
+
+
+def test_merging_patches(bank):
+    """t1_merge_cp: a shift from rest with three patches (tread 754 mm, gauge corner
+    723 mm, flange flank 714 mm), then a continued shift (P = 0, S_WS + 0.4 mm,
+    one element) in which tread and gauge corner merge into one patch: it starts
+    from both patches' tractions.  Measured on the merged patch: F_x -0.36 %, F_s
+    -0.01 % of mu F_n, F_n -0.5 %, p_max -0.8 %; without the carried tractions its
+    F_x would be a hundredth of CONTACT's."""
+    path = bank / "t1_merge_cp.inp"
+    rows = solve_inp(path)
+    devs = _deviations(rows, path, [1, 2])
+    _assert_within(devs, skip=[(1, 723.39)])
+    merged = [r for r in rows if r["case"] == 2 and abs(r["ycp_tr_mm"] - 745.65) < 0.05]
+    assert merged and merged[0]["fx_N"] > 2.4e4          # the carried tractions
+
+
+@pytest.mark.xfail(strict=True, reason="normal problem: F_n -1.5 % of CONTACT's on the "
+                   "gauge-corner patch under a given height")
+def test_merging_patches_gauge_corner_normal_force(bank):
+    """t1_merge_cp (and t1_npotmax) case 1, gauge-corner patch of 48 kN: F_n -1.5 %;
+    F_x, F_s within 0.13 % of mu F_n."""
+    path = bank / "t1_merge_cp.inp"
+    devs = _deviations(solve_inp(path, cases=[1]), path, [1])
+    _assert_within(devs, keys=("fn",))
+
+
+def test_splitting_patch(bank):
+    """t1_split_cp: one combined patch (745 mm) split into tread and gauge-corner
+    patches in the continued shift.  Measured: the gauge-corner patch F_x -0.41 %,
+    F_s +0.24 % of mu F_n; the tread patch's F_x in the test below."""
+    path = bank / "t1_split_cp.inp"
+    devs = _deviations(solve_inp(path), path, [1, 2])
+    _assert_within(devs, keys=("fx", "fs", "pmax", "area"), skip=[(2, 754.66)])
+
+
+@pytest.mark.xfail(strict=True, reason="split patch: tread F_x -2.6 % of mu F_n")
+def test_splitting_patch_tread(bank):
+    """t1_split_cp case 2, the tread patch (79 kN) split from the combined patch:
+    F_x -2.6 %, F_s +0.9 % of mu F_n.  CONTACT's new patch holds more of the
+    combined patch's tractions than the share that falls on railcontact's grid
+    (each new patch takes the old tractions in its own band, halfway to the other
+    patch)."""
+    path = bank / "t1_split_cp.inp"
+    devs = _deviations(solve_inp(path), path, [2])
+    _assert_within(devs, keys=("fx",))
+
+
+def test_force_control_shift(bank):
+    """t1_force_cp: the vertical force prescribed (N = 1) in a shift from rest and
+    its continuation: the balance takes the transient tangential forces'
+    vertical share.  Measured on the 127 kN patch: F_n -0.08 %, F_x +0.08 %, F_s
+    0.00 % of mu F_n, p_max -0.8 %."""
+    path = bank / "t1_force_cp.inp"
+    _assert_within(_deviations(solve_inp(path), path, [1, 2]))
+
+
+def test_steady_then_shift(bank):
+    """t3_t1_force: steady rolling (T = 3, 137 kN, mu 0.9 on the head), then a shift
+    of 0.4 mm (T = 1, P = 0) from the steady tractions.  Measured in the shift: F_x,
+    F_s within 0.6 % of mu F_n, F_n within 0.7 %, p_max 0.6 % on the tread and
+    gauge-corner patches."""
+    path = bank / "t3_t1_force.inp"
+    _assert_within(_deviations(solve_inp(path), path, [2]))
+
+
+def test_steady_then_transient_rolling(bank):
+    """t3_t2_force: steady rolling, then transient rolling (T = 2, DQ = DX = 0.4 mm)
+    from it: the state stays the steady one.  Measured (cases 2-6): F_x, F_s within
+    0.61 % of mu F_n, F_n 0.63 %, p_max 0.58 %."""
+    path = bank / "t3_t2_force.inp"
+    _assert_within(_deviations(solve_inp(path, cases=[1, 2, 3]), path, [2, 3]))
+
+
+@pytest.mark.xfail(strict=True, reason="flange-flank patches of 4-5 kN: F_n +2.5 to +5.9 %")
+def test_small_flange_patch(bank):
+    """The flange-flank patch (714 mm, 3-4 % of the load) of t3_t1_force and
+    t1_force_cp: F_n +2.6 % and +5.9 % (the normal problem's, as in
+    test_testbank.py), F_x up to -4.4 % of mu F_n with it."""
+    path = bank / "t1_force_cp.inp"
+    devs = _deviations(solve_inp(path, cases=[1]), path, [1])
+    for case, y, big, dev in devs:
+        assert abs(dev["fn"]) <= 0.01, (case, y)
+
+
+def test_transient_options_stop_with_one_line(bank, tmp_path):
+    """What the transient path does not support stops before any work, naming the
+    option: dissimilar materials, a rail on surfaces (m1_trans_dqrel)."""
+    src = (bank / "t1_zws.inp").read_text()
+    bad = src.replace("0.8200E+05  0.8200E+05", "0.8200E+05  0.9000E+05", 1)
+    assert bad != src
+    f = tmp_path / "t1_zws_dissimilar.inp"
+    f.write_text(bad.replace("'../profiles/", f"'{bank.parent / 'profiles'}/"))
+    with pytest.raises(InpError, match=r"case 1 \(line 4\): TANG = 1 with dissimilar "
+                                        r"materials is not supported") as err:
+        load_inp(f)
+    assert "\n" not in str(err.value)
+    with pytest.raises(InpError, match=r"TANG = 2 on rail surfaces") as err:
+        load_inp(bank / "m1_trans_dqrel.inp")
+    assert "\n" not in str(err.value)
+
+
+def test_carried_tractions_exact_on_coinciding_grids():
+    """Tractions carried to a grid whose elements coincide with the old ones (moved
+    by whole elements) arrive unchanged; on a grid offset by part of an element the
+    total force and its first moment are kept."""
+    dx = 1e-3
+    x = (np.arange(6) - 2.5) * dx
+    y = (np.arange(5) - 2.0) * dx
+    rng = np.random.default_rng(1)
+    px, py = rng.normal(size=(6, 5)), rng.normal(size=(6, 5))
+    state = PatchState(0.0, y.copy(), x, y, px, py)
+    m_of = lambda q: np.asarray(q, dtype=float)                    # noqa: E731
+    # the new patch's reference point 2 elements ahead: its element i is old i + 2
+    xe, ye, qx, qy = carried_tractions([state], 2 * dx, m_of, x, y)
+    i = int(round((x[0] - xe[0]) / dx))
+    assert np.allclose(qx[i:i + 4, :5], px[2:, :]) and np.allclose(qy[i:i + 4, :5], py[2:, :])
+    assert qx.sum() == pytest.approx(px.sum())
+    # a third of an element across: force and moment kept
+    xe, ye, qx, qy = carried_tractions([state], dx / 3, m_of, x, y + 0.25 * dx)
+    assert qx.sum() == pytest.approx(px.sum())
+    X = xe[:, None] + dx / 3
+    assert (qx * X).sum() == pytest.approx((px * x[:, None]).sum(), abs=1e-12)
+    # T = 2: the material moved back by one element
+    xe, ye, qx, _ = carried_tractions([state], 0.0, m_of, x, y, back=dx)
+    i = int(round((x[0] - xe[0]) / dx))
+    assert np.allclose(qx[i:i + 5, :5], px[1:, :])
