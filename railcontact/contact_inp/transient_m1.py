@@ -127,7 +127,8 @@ def check(case: InpCase, profile_dirs=()) -> None:
     if mapped.meta.get("surfaces"):
         raise _unsupported(case, f"TANG = {d['T']} on rail surfaces (rail slices, a roller "
                                  "rig or a rail placed at RAILY0)", "expected a rail profile "
-                                 "placed by its gauge face (GAUGHT > 0)")
+                                 "placed by its gauge face (GAUGHT > 0) or at RAILY0 250-1000 "
+                                 "mm from the track centre")
     if d["M"] != 0:
         raise _unsupported(case, f"TANG = {d['T']} with MATER = {d['M']}",
                            "expected MATER = 0 (the exact tangential model)")
@@ -299,13 +300,19 @@ class WheelRailSequence:
         """A module 1 case solved elsewhere (steady rolling; ``raw`` its case
         dictionary): its tractions become the previous time instance of a
         following transient case."""
-        if case is None or case.module != 1 or raw is None or result is None or not result.patches \
-                or "rail" not in raw:
+        if case is None or case.module != 1 or raw is None or result is None \
+                or not result.patches or "rail" not in raw or "slices" in raw["rail"] \
+                or "roller" in raw:
             self.reset()
             return
-        frames = _Frames(case_from_dict(raw, case.path.parent),
-                         (case.values.get("S_WS") or 0.0) * MM)
-        self.last = [_state(p, frames) for p in result.patches if p.tangential is not None]
+        try:
+            frames = _Frames(case_from_dict(raw, case.path.parent),
+                             (case.values.get("S_WS") or 0.0) * MM)
+            self.last = [_state(p, frames) for p in result.patches
+                         if p.tangential is not None]
+        except RailContactError as exc:     # a case this path cannot continue from
+            log.debug("no transient state kept from %s: %s", case.where(), exc)
+            self.last = None
         self.last_previous = None
 
     def _previous(self, case) -> list:
