@@ -8,7 +8,9 @@ contact search, the patches, the vertical position or force), and each patch's
 tangential problem by one time step of the exact solver
 (:class:`railcontact.tangential.exact.ExactTangentialModel`, mode
 ``"transient"``: the same semi-smooth Newton iteration and influence
-coefficients as steady rolling) from the previous time instance.
+coefficients as steady rolling) from the previous time instance.  A rail placed
+at RAILY0 near the track centre (a case on rail surfaces,
+:func:`railcontact.cases.surfaces.solve_on_surfaces`) takes the same model.
 
 The kinematics (CONTACT's user guide, "Wheelset position and velocity" and
 "Identification of contact patches"):
@@ -61,6 +63,7 @@ from ..cases.bodies import build_wheelset_track
 from ..cases.case import case_from_dict
 from ..cases.patches import case_models
 from ..cases.results import PatchResult, SolveResult
+from ..cases.surfaces import solve_on_surfaces
 from ..core.errors import RailContactError
 from ..tangential.exact import ExactTangentialModel
 from .mapping import map_case
@@ -121,14 +124,13 @@ def check(case: InpCase, profile_dirs=()) -> None:
     """The one-line InpError of an option a transient module 1 case does not
     support (the mapping's checks of its steady counterpart, then these): the
     exact tangential model (M = 0), identical materials, a rail profile (not
-    slices, a roller or a rail placed at RAILY0: cases on rail surfaces)."""
+    slices or a roller rig)."""
     mapped = map_case(_steady(case), profile_dirs)
     d = case.digits
-    if mapped.meta.get("surfaces"):
-        raise _unsupported(case, f"TANG = {d['T']} on rail surfaces (rail slices, a roller "
-                                 "rig or a rail placed at RAILY0)", "expected a rail profile "
-                                 "placed by its gauge face (GAUGHT > 0) or at RAILY0 250-1000 "
-                                 "mm from the track centre")
+    raw = mapped.raw
+    if mapped.meta.get("surfaces") and ("slices" in raw["rail"] or "roller" in raw):
+        raise _unsupported(case, f"TANG = {d['T']} with rail slices or a roller rig",
+                           "expected a rail profile (placed by its gauge face or at RAILY0)")
     if d["M"] != 0:
         raise _unsupported(case, f"TANG = {d['T']} with MATER = {d['M']}",
                            "expected MATER = 0 (the exact tangential model)")
@@ -251,6 +253,22 @@ class _Frames:
         return float(geom.position[0]) + self.s_ws, m_of
 
 
+class _SurfaceFrames:
+    """:class:`_Frames` of a case on rail surfaces (a rail profile placed at RAILY0,
+    :mod:`railcontact.cases.surfaces`): a patch's track position is its ``s``
+    (S_WS included), its lateral material coordinate the rail-profile position of
+    its reference point plus y (signed to increase with y)."""
+
+    def __call__(self, geom):
+        sgn = 1.0 if geom.side == "right" else -1.0
+        y_ref = sgn * float(geom.y_rail)
+
+        def m_of(y):
+            return y_ref + np.asarray(y, dtype=float)
+
+        return float(geom.s), m_of
+
+
 class TransientStep:
     """The tangential model of a transient module 1 case: one time step of the
     exact solver (:class:`ExactTangentialModel`, ``mode="transient"``) per patch,
@@ -306,8 +324,8 @@ class WheelRailSequence:
             self.reset()
             return
         try:
-            frames = _Frames(case_from_dict(raw, case.path.parent),
-                             (case.values.get("S_WS") or 0.0) * MM)
+            frames = _SurfaceFrames() if "lateral_position" in raw["rail"] else _Frames(
+                case_from_dict(raw, case.path.parent), (case.values.get("S_WS") or 0.0) * MM)
             self.last = [_state(p, frames) for p in result.patches
                          if p.tangential is not None]
         except RailContactError as exc:     # a case this path cannot continue from
@@ -330,19 +348,25 @@ class WheelRailSequence:
         mapped = map_case(_steady(case), profile_dirs)
         c = case_from_dict(mapped.raw, case.path.parent)
         t = case.digits["T"]
-        frames = _Frames(c, (case.values.get("S_WS") or 0.0) * MM)
+        surfaces = bool(mapped.meta.get("surfaces"))
+        frames = _SurfaceFrames() if surfaces else _Frames(c, (case.values.get("S_WS")
+                                                               or 0.0) * MM)
         dq = (case.values["DQREL"] * case.values["DX"] * MM) if t == 2 else 0.0
         scale = shift_scale(case) if t == 1 else 1.0
         tmodel = TransientStep(prev, frames, dq, scale)
-        nname, _, nmodel, _, kw = case_models(c)
-        balance = None
-        if c.wheel_rail.vertical_position is not None:
-            results, contact = solve_at_position(c, nmodel, tmodel, kw)
+        if surfaces:
+            res = solve_on_surfaces(c, tangential_model=tmodel)
+            results = res.patches
         else:
-            results, contact, balance = solve_wheel_rail(c, nmodel, tmodel, kw,
-                                                         rtol=c.force_tolerance)
-        res = SolveResult(results, nname, "exact", time.perf_counter() - t0, c.title,
-                          contact.pose, contact, balance)
+            nname, _, nmodel, _, kw = case_models(c)
+            balance = None
+            if c.wheel_rail.vertical_position is not None:
+                results, contact = solve_at_position(c, nmodel, tmodel, kw)
+            else:
+                results, contact, balance = solve_wheel_rail(c, nmodel, tmodel, kw,
+                                                             rtol=c.force_tolerance)
+            res = SolveResult(results, nname, "exact", time.perf_counter() - t0, c.title,
+                              contact.pose, contact, balance)
         self.last_previous = prev
         self.last = [_state(p, frames) for p in results]
         table = rows(res, mapped)
