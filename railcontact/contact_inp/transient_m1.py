@@ -31,18 +31,22 @@ case's tractions (a steady-rolling case's too) are the previous instance; P = 1
 and P = 2 start from zero tangential tractions; P = 3 repeats the last case's
 step from its previous instance.
 
-The previous instance is kept per patch as tractions on element centres in the
-track frame (each patch in its own tangent plane).  A new patch takes the
-tractions of every previous patch that lie on its grid: a point P of an old
-patch's plane sits at x' = P_x - X_ref (along the track) and y' = (P - C) . t
-(C the new patch's reference point, t its lateral tangent) of the new patch, so
-that patches that merge (t1_merge_cp), split (t1_split_cp) or move take the old
-tractions where they act.  The tractions are carried to the new grid by area
-weighting (each old element's force shared among the four new elements around
-its centre, in proportion to their overlap with an element-sized cell: the
-total force and moment are kept; where the grids coincide, as CONTACT's
-super-grid makes them, the transfer is exact); their displacement difference at
-the new elements is then that of the previous time step
+The previous instance is kept per patch as tractions on its element centres,
+each placed in the materials along the track (x_tr, S_WS included) and along
+the rail profile (the arc length of the rail point across the track from it;
+CONTACT's transient grids are based on the rail profile's arc length).  A new
+patch takes its predecessors' tractions (:func:`carried_tractions`): a previous
+patch with loaded elements on its grid within its own band (halfway to the other
+patches of its wheel); where the band holds at least half of that patch's
+traction, the new one continues it with all of its tractions, on its grid
+extended over them (CONTACT extends a continued patch's potential contact area
+over the previous contact area), else (the lesser part of a split) those on its
+own grid.  Patches that merge (t1_merge_cp), split (t1_split_cp) or move so take
+the old tractions where they acted.  The tractions are carried to the new grid
+by area weighting (each old element's force shared among the four new elements
+around its centre: total force and moment kept; where the grids coincide, as
+CONTACT's super-grid makes them, the transfer is exact); their displacement
+difference at the new elements is then that of the previous time step
 (:func:`railcontact.tangential.exact.previous_displacement`).
 
 Units: CONTACT's (mm, N) at the boundary, SI inside.
@@ -165,45 +169,64 @@ class PatchState:
     py: np.ndarray
 
 
+#: a new patch continues a previous one whose traction lies in its band by at
+#: least this share (:func:`carried_tractions`)
+INHERIT = 0.5
+
+
 def carried_tractions(states, x0, m_of, x, y, back: float = 0.0,
                       bounds=(-math.inf, math.inf)):
-    """The tractions [Pa] of the previous patches ``states`` on the grid (x, y) [m]
-    of a patch whose reference point lies at ``x0`` along the track, ``m_of(y)``
-    the arc length along the rail profile of its lateral coordinate y (see
-    :class:`PatchState`), the material moved ``back`` [m] towards -x since (T = 2:
-    DQ).  Each old element's force goes to the four elements around its centre by
-    area weighting, on the new grid extended (same spacing and alignment) until it
-    holds every old traction: those outside the new grid act on it through their
-    displacements.  Returns the extended grid's centres (xe, ye) [m] and the
-    tractions on it."""
+    """The tractions [Pa] of the previous patches ``states`` that a patch takes: the
+    patch's reference point at ``x0`` along the track, ``m_of(y)`` the arc length
+    along the rail profile of its lateral coordinate y (see :class:`PatchState`),
+    the material moved ``back`` [m] towards -x since (T = 2: DQ).
+
+    A previous patch is the new one's predecessor where some of its loaded
+    elements lie on the new grid within the patch's own band ``bounds`` (patch
+    coordinate y [m], halfway to the other patches of its wheel).  Where the band
+    holds at least :data:`INHERIT` of the predecessor's traction (the sum of
+    |p| over its elements), the new patch continues it: all its tractions are
+    carried, on the new grid extended (same spacing and alignment) until it holds
+    them, as CONTACT extends a continued patch's potential contact area over its
+    predecessor's contact area (patches that merge continue several).  Another
+    patch split from it takes its tractions on its own grid and band only.  Each old element's force goes
+    to the four elements around its centre by area weighting (force and moment
+    kept; exact where the grids coincide).  Returns the extended grid's centres
+    (xe, ye) [m] and the tractions on it."""
     mx, my = x.size, y.size
     dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+    span = float(np.ptp(m_of(y[[0, -1]])))
+    for s in states:
+        span += float(np.ptp(s.m))
+    # the new grid's columns along the rail profile, far enough to hold every old
+    # traction (the arc length grows about as y)
+    extra = int(min(math.ceil(span / dy) + 2, 2000))
+    cols = np.arange(-extra, my + extra)
+    m_cols = m_of(y[0] + cols * dy)
     pts = []
     for s in states:
         keep = (s.px != 0.0) | (s.py != 0.0)
-        if keep.any():
-            da = float((s.x[1] - s.x[0]) * (s.y[1] - s.y[0]))
-            X, M = np.broadcast_arrays(s.x[:, None], s.m[None, :])
-            pts.append(((X[keep] + s.x0 - back - x0 - x[0]) / dx, M[keep],
-                        s.px[keep] * da, s.py[keep] * da))
+        if not keep.any():
+            continue
+        da = float((s.x[1] - s.x[0]) * (s.y[1] - s.y[0]))
+        X, M = np.broadcast_arrays(s.x[:, None], s.m[None, :])
+        fi = (X[keep] + s.x0 - back - x0 - x[0]) / dx
+        fj = np.interp(M[keep], m_cols, cols)
+        yy = y[0] + fj * dy
+        band = (yy >= bounds[0]) & (yy <= bounds[1])
+        on = band & (fi > -0.5) & (fi < mx - 0.5) & (fj > -0.5) & (fj < my - 0.5)
+        if not on.any():
+            continue
+        fx, fy = s.px[keep] * da, s.py[keep] * da
+        mag = np.hypot(fx, fy)
+        if mag[band].sum() < INHERIT * mag.sum():
+            # a patch split from it that holds the lesser part: the tractions on
+            # its own grid and band only
+            fi, fj, fx, fy = fi[on], fj[on], fx[on], fy[on]
+        pts.append((fi, fj, fx, fy))
     if not pts:
         return x, y, np.zeros((mx, my)), np.zeros((mx, my))
-    fi = np.concatenate([q[0] for q in pts])
-    mm = np.concatenate([q[1] for q in pts])
-    fx = np.concatenate([q[2] for q in pts])
-    fy = np.concatenate([q[3] for q in pts])
-    # the new grid's columns along the rail profile, far enough to hold every old
-    # traction (the arc length grows about as y: a margin of the old grids' span)
-    span = float(mm.max() - mm.min()) + float(np.ptp(m_of(y[[0, -1]])))
-    extra = int(min(math.ceil(span / dy) + 2, 2000))
-    cols = np.arange(-extra, my + extra)
-    fj = np.interp(mm, m_of(y[0] + cols * dy), cols)
-    # the patch's own band (between its neighbours on the wheel): the tractions
-    # beyond belong to another patch
-    own = (y[0] + fj * dy >= bounds[0]) & (y[0] + fj * dy <= bounds[1])
-    if not own.any():
-        return x, y, np.zeros((mx, my)), np.zeros((mx, my))
-    fi, fj, fx, fy = fi[own], fj[own], fx[own], fy[own]
+    fi, fj, fx, fy = (np.concatenate([q[k] for q in pts]) for k in range(4))
     i0, j0 = np.floor(fi).astype(int), np.floor(fj).astype(int)
     lo_i, hi_i = min(0, int(i0.min())), max(mx, int(i0.max()) + 2)
     lo_j, hi_j = min(0, int(j0.min())), max(my, int(j0.max()) + 2)
