@@ -138,6 +138,11 @@ def check(case: InpCase, profile_dirs=()) -> None:
     if d["M"] != 0:
         raise _unsupported(case, f"TANG = {d['T']} with MATER = {d['M']}",
                            "expected MATER = 0 (the exact tangential model)")
+    discns = d["D"] if d["D"] >= 2 else case.values.get("DISCNS")
+    if discns not in (None, 2) and not mapped.meta.get("surfaces"):
+        # D = 0, 1 keep an earlier case's contact search (t3_t1_conformal: D = 4)
+        raise _unsupported(case, f"TANG = {d['T']} with DISCNS = {discns} kept from an earlier "
+                                 "case", "expected DISCNS = 2 (planar contact, contact locus)")
     mat = mapped.raw["material"]
     if "wheel_young_modulus" in mat:
         raise _unsupported(case, f"TANG = {d['T']} with dissimilar materials",

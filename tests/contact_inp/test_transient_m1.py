@@ -222,7 +222,8 @@ def test_transient_rolling_from_rest_force(bank):
 
 def test_transient_options_stop_with_one_line(bank, tmp_path):
     """What the transient path does not support stops before any work, naming the
-    option: dissimilar materials, rail slices."""
+    option: dissimilar materials, conformal contact kept from an earlier case, rail
+    slices."""
     src = (bank / "t1_zws.inp").read_text()
     bad = src.replace("0.8200E+05  0.8200E+05", "0.8200E+05  0.9000E+05", 1)
     assert bad != src
@@ -232,6 +233,12 @@ def test_transient_options_stop_with_one_line(bank, tmp_path):
                                         r"materials is not supported") as err:
         load_inp(f)
     assert "\n" not in str(err.value)
+    # t3_t1_conformal's shifts keep (D = 1) the conformal contact of its first case
+    (case2,) = [c for c in read_inp(bank / "t3_t1_conformal.inp") if c.number == 2]
+    from railcontact.contact_inp.transient_m1 import check
+    with pytest.raises(InpError, match=r"case 2 \(line \d+\): TANG = 1 with DISCNS = 4 kept "
+                                       r"from an earlier case is not supported"):
+        check(case2)
     src = (bank.parent / "examples_s+c" / "cross_brute.inp").read_text()
     digits = re.search(r"\n *(\d)(\d)(\d)(\d)(\d{3}) +C-P-B-T-N-F-S", src)
     assert digits and digits.group(4) == "3"
