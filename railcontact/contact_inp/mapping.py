@@ -129,7 +129,8 @@ def _tangential_model(case) -> tuple:
 def _check_common(case) -> None:
     d = case.digits
     _digit(case, "T", {0: "frictionless compression", 3: "steady rolling"}, "TANG")
-    _digit(case, "S", {0: "no subsurface stresses"}, "STRESS")
+    _digit(case, "S", {0: "no subsurface stresses", 1: "subsurface stresses",
+                       2: "subsurface stresses", 3: "subsurface stresses"}, "STRESS")
     _digit(case, "M2", {0: "no damping", 1: "kept"}, "MATER2")
     _digit(case, "H", {0: "no temperatures"}, "HEAT")
     _digit(case, "C3", {0: "kept", 1: "kept", 2: "elastic half-space"}, "INFLCF")
@@ -143,9 +144,9 @@ def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
     railcontact does not support.  Profile files are looked up next to the input
     file, in the working directory, then in ``profile_dirs``."""
     _check_common(case)
-    if case.module == 3:
-        return _map_module3(case)
-    return _map_module1(case, profile_dirs)
+    m = _map_module3(case) if case.module == 3 else _map_module1(case, profile_dirs)
+    m.meta["inp_case"] = case           # its subsurface points (contact_inp.subsurface)
+    return m
 
 
 # ------------------------------------------------------------------ module 3
