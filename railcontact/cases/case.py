@@ -33,7 +33,7 @@ _ALLOWED = {
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",
                  "vertical_force", "vertical_position", "velocity", "pitch_velocity",
-                 "lateral_velocity", "yaw_rate",
+                 "lateral_velocity", "yaw_rate", "wheel_deviation",
                  "combine_distance", "full_interaction_distance", "turn_distance",
                  "separation_angle", "position"},
     "creepage": {"longitudinal", "lateral", "spin"},

@@ -50,6 +50,12 @@ def _need(case, name):
     return v
 
 
+#: CONTACT's deviations by flexibility: the rail's (Z = 2, 3) and the wheel's (E = 4,
+#: 5), positions first, then velocities
+RAIL_FLEX = ("DYRAIL", "DZRAIL", "DROLLR", "VYRAIL", "VZRAIL", "VROLLR")
+WHEEL_FLEX = ("DXWHL", "DYWHL", "DZWHL", "DROLLW", "DYAWW", "DPITCHW", "VXWHL", "VYWHL",
+              "VZWHL", "VROLLW", "VYAWW", "VPITCHW")
+
 #: what the unsupported values of the control digits ask for (for the error message)
 MEANINGS = {
     "T": {1: "transient shift or rolling, material-fixed grid", 2: "transient rolling"},
@@ -421,11 +427,11 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     if v.get("CANT") and not roller:
         raise _unsupported(case, f"CANT = {v['CANT']:g} with {what}",
                            "expected 0 (the rail as mounted)")
-    for name in ("CURV", "DYRAIL", "DZRAIL", "DROLLR", "VYRAIL", "VZRAIL", "VROLLR", "DXWHL",
-                 "DYWHL", "DZWHL", "DROLLW", "DYAWW", "DPITCHW", "VXWHL", "VYWHL", "VZWHL",
-                 "VROLLW", "VYAWW", "VPITCHW", "VZ_WS", "VROLL"):
+    for name in ("CURV", "VZ_WS", "VROLL") + RAIL_FLEX[2:] + WHEEL_FLEX[6:]:
         if v.get(name):
-            raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0")
+            raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0" + (
+                " (the rail's and wheel's deviations by flexibility: positions DYRAIL, DZRAIL "
+                "and DXWHL .. DPITCHW)" if name in RAIL_FLEX + WHEEL_FLEX else ""))
     if v.get("G_MISS") is not None and v["G_MISS"] >= 0:
         raise _unsupported(case, f"G_MISS = {v['G_MISS']:g} mm (near-miss patches)",
                            "expected it left out or negative")
@@ -433,8 +439,11 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
         raise _unsupported(case, f"A_SEP = {v['A_SEP']:.4f} rad", "expected at least pi/2: "
                                                                    "regions are combined by "
                                                                    "their distance alone")
-    place = {"lateral_position": (1.0 if side == "right" else -1.0) * _need(case, "RAILY0") * MM,
-             "vertical_position": 0.0}
+    # the rail's deviation by flexibility (Z = 2, 3): DYRAIL in track coordinates,
+    # DZRAIL down, as the rail's placement
+    place = {"lateral_position": (1.0 if side == "right" else -1.0) * (
+        _need(case, "RAILY0") + (v.get("DYRAIL") or 0.0)) * MM,
+             "vertical_position": (v.get("DZRAIL") or 0.0) * MM}
     if _need(case, "VS_WS") <= 0 and not roller:
         raise _unsupported(case, f"VS = {v['VS_WS']:g} mm/s with {what} (rolling towards -x)",
                            "expected VS > 0")
@@ -478,6 +487,10 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
           "flange_back_distance": _need(case, "FBDIST") * MM,
           "flange_back_position": _need(case, "FBPOS") * MM,
           "combine_distance": _need(case, "D_SEP") * MM}
+    dev = [(v.get(k) or 0.0) * (MM if i < 3 else 1.0) for i, k in enumerate(WHEEL_FLEX[:6])]
+    if any(dev):
+        # the wheel's deviation by flexibility (E = 4, 5) about its profile origin
+        ws["wheel_deviation"] = dev
     if force == "force":
         ws["vertical_force"] = _need(case, "FZ_WS")
     else:

@@ -86,3 +86,29 @@ def test_module3_hertzian_case(refdir):
     h = hertz_ellipse(0.5 / rad["wheel_rolling"], 0.5 / rad["wheel_lateral"],
                       Material(**r["material"]).contact_modulus, force=52359.8776)
     assert (h.a, h.b) == pytest.approx((5e-3, 5e-3), rel=1e-9)
+
+
+def test_deviations_by_flexibility(testbank, tmp_path):
+    """CONTACT's deviations by flexibility on a roller rig or a test rig: the wheel's
+    (E = 4, 5: DXWHL .. DPITCHW, mm and rad) become ``wheelset.wheel_deviation`` in m
+    and rad; the rail's DYRAIL, DZRAIL (Z = 2, 3) its placement; its roll and the
+    deviations' velocities stop with one line."""
+    path = testbank / "examples_conformal" / "test-rollers3.inp"
+    two, five = load_inp(path, cases=[2, 5])
+    assert two.raw["wheelset"]["wheel_deviation"] == [0.0, 0.0, 0.0, 0.0, -0.3, 0.0]
+    assert five.raw["wheelset"]["wheel_deviation"] == pytest.approx(
+        [0.0, 0.0, -0.4996e-3, 0.1, 0.0, 0.0])
+    (one,) = load_inp(path, cases=[1])
+    assert "wheel_deviation" not in one.raw["wheelset"]
+    text = path.read_text().replace("     0.0    0.0   0.000   0.0    0.0   0.000    DY, DZ, "
+                                    "ROLL, VY, VZ, VROLL",
+                                    "     1.5   -0.2   0.000   0.0    0.0   0.000    DY, DZ, "
+                                    "ROLL, VY, VZ, VROLL", 1)
+    moved = tmp_path / "moved_rail.inp"
+    moved.write_text(text)
+    (m,) = load_inp(moved, cases=[1], profile_dirs=[testbank / "profiles"])
+    assert m.raw["rail"]["lateral_position"] == pytest.approx(0.2015)
+    assert m.raw["rail"]["vertical_position"] == pytest.approx(-0.2e-3)
+    with pytest.raises(InpError, match=r"case 9 .*DROLLR = 0.1 with a roller rig is not "
+                                       r"supported; expected 0 \(the rail's and wheel's"):
+        load_inp(path, cases=[9])
