@@ -15,6 +15,8 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ..cases.case import case_from_dict
 from ..geometry.turning import default_turn_distance
 from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
@@ -108,10 +110,14 @@ def _friction(case) -> dict:
         raise _unsupported(case, f"FRCLAW = {law} (friction depending on slip velocity or "
                                  "temperature)", "expected L = 0 (Coulomb) or 1 (kept)")
     if case.values.get("NVF", 0):
-        if case.digits["V"] == 2:
-            raise _unsupported(case, "VARFRC = 2 (friction varying along the track)",
-                               "expected V = 0 or 1 (varying across the rail profile)")
         rows = case.values["VARFRC_ROWS"]
+        if case.digits["V"] == 2:
+            # along the track at SVF [mm]: x from the wheelset at S_WS, every element
+            # of a patch its own coefficient (FKIN)
+            s0 = case.values.get("S_WS") or 0.0
+            x = [(r[0] - s0) * MM for r in rows]
+            return {"coefficient": float(np.interp(0.0, x, [r[2] for r in rows])),
+                    "variation": {"x": x, "coefficient": [r[2] for r in rows]}}
         # Coulomb friction: CONTACT uses the kinetic coefficient (FKIN) throughout
         return {"coefficient": rows[0][2],
                 "variation": {"angle": [r[0] for r in rows],

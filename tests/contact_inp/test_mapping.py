@@ -112,3 +112,23 @@ def test_deviations_by_flexibility(testbank, tmp_path):
     with pytest.raises(InpError, match=r"case 9 .*DROLLR = 0.1 with a roller rig is not "
                                        r"supported; expected 0 \(the rail's and wheel's"):
         load_inp(path, cases=[9])
+
+
+def test_friction_along_the_track(testbank):
+    """mbench_a22_varfric.inp, case 6 (VARFRC = 2: 0.2 at SVF = 0, 0.3 at 100 mm, the
+    wheelset at S_WS = 60 mm): the friction of each element at its place along the
+    track (``friction.variation.x`` from the wheelset), 0.26 at the reference point
+    as CONTACT prints.  The gradient across the patch gives F_x 20.6 N where a
+    uniform 0.26 gives 0.3 N: CONTACT's 19.71 N (0.04 % of mu F_n), F_s -249.44
+    against -249.5 N, 901 elements in adhesion as CONTACT's."""
+    path = testbank / "examples_basic" / "mbench_a22_varfric.inp"
+    (m,) = load_inp(path, cases=[6])
+    assert m.raw["friction"]["variation"]["x"] == pytest.approx([-0.06, 0.04])
+    assert m.raw["friction"]["coefficient"] == pytest.approx(0.26)
+    from railcontact.contact_inp import solve_inp
+    (r,) = solve_inp(path, cases=[6])
+    assert r["mu"] == pytest.approx(0.26)
+    mu_fn = 0.26 * 9997.0
+    assert abs(r["fx_N"] - 19.71) <= 0.01 * mu_fn and r["fx_N"] > 15.0
+    assert abs(r["fs_N"] + 249.5) <= 0.01 * mu_fn
+    assert r["fn_N"] == pytest.approx(9997.0, rel=1e-3) and r["nadh"] == 901
