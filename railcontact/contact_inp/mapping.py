@@ -433,11 +433,14 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     if v.get("CANT") and not roller:
         raise _unsupported(case, f"CANT = {v['CANT']:g} with {what}",
                            "expected 0 (the rail as mounted)")
-    for name in ("CURV", "VZ_WS", "VROLL") + RAIL_FLEX[2:] + WHEEL_FLEX[6:]:
+    # a roller's deviations would move its surface off the axis it turns about
+    rail_flex = RAIL_FLEX if roller else RAIL_FLEX[2:]
+    for name in ("CURV", "VZ_WS", "VROLL") + rail_flex + WHEEL_FLEX[6:]:
         if v.get(name):
             raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0" + (
-                " (the rail's and wheel's deviations by flexibility: positions DYRAIL, DZRAIL "
-                "and DXWHL .. DPITCHW)" if name in RAIL_FLEX + WHEEL_FLEX else ""))
+                " (the wheel's deviations by flexibility DXWHL .. DPITCHW, and a rail's "
+                "DYRAIL, DZRAIL on a track or test rig)" if name in RAIL_FLEX + WHEEL_FLEX
+                else ""))
     if v.get("G_MISS") is not None and v["G_MISS"] >= 0:
         raise _unsupported(case, f"G_MISS = {v['G_MISS']:g} mm (near-miss patches)",
                            "expected it left out or negative")

@@ -321,7 +321,7 @@ def test_roller_rig_inputs(testbank):
     (E = 4): the sphere yawed by DYAWW = -0.3 rad about its profile origin (case 2,
     its geometry unchanged) and rolled by DROLLW = 0.1 rad and lifted by DZWHL
     (case 5: the contact 9.98 mm aside, at y = 209.983 mm as CONTACT's).  The
-    roller's roll deviation (Z = 3: DROLLR, case 9) stops with one line."""
+    roller's deviations (Z = 3: DZRAIL, DROLLR, case 9) stop with one line."""
     from tests.conftest import read_ref_out
     path = testbank / "examples_conformal" / "test-rollers2.inp"
     rows = {r["case"]: r for r in solve_inp(path, cases=[1, 2, 5, 6, 10])}
@@ -338,7 +338,7 @@ def test_roller_rig_inputs(testbank):
             assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], (case, k)
     assert rows[10]["fs_N"] == pytest.approx(refs[9]["patches"][0]["fs"], rel=1e-3)
     assert rows[5]["ycp_w_mm"] == pytest.approx(9.983, abs=1e-3)
-    with pytest.raises(InpError, match=r"case 9 .*DROLLR = 0.1 .* is not supported") as e:
+    with pytest.raises(InpError, match=r"case 9 .*DZRAIL = 0.4996 .* is not supported") as e:
         load_inp(path, cases=[9])
     assert "\n" not in str(e.value)
 
