@@ -102,7 +102,12 @@ def build_surface_case(case: Case) -> SurfaceScene:
     base = case.base_dir
     wheel_p = load_profiles(s.wheel, "wheel", base)[0]
     r0 = s.nominal_radius
-    wheel = SurfaceWheel(wheel_p, r0, s.flange_back_distance / 2.0 - s.flange_back_position)
+    dev = s.wheel_deviation
+    if dev is not None and s.side == "left":
+        # wheelset coordinates (y to the right) -> the left wheel's side frame
+        dev = (dev[0], -dev[1], dev[2], -dev[3], -dev[4], dev[5])
+    wheel = SurfaceWheel(wheel_p, r0, s.flange_back_distance / 2.0 - s.flange_back_position,
+                         deviation=dev if dev is not None and any(dev) else None)
     pv = -s.velocity / r0 if s.pitch_velocity is None else s.pitch_velocity
     rails = []
     shared = {}           # rails naming one slices file share its surface (and cache)
