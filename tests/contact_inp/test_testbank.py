@@ -153,7 +153,6 @@ def test_position_control(testbank):
 
 
 @pytest.mark.parametrize("name, match", [
-    ("m1_trans_roll", r"DROLLW = 0.0872665 with a rail at RAILY0 is not supported"),
     ("t3_t2_conformal", r"DISCNS = 4 \(conformal contact\)"),
 ])
 def test_unsupported_inputs(testbank, name, match):

@@ -209,6 +209,18 @@ def test_transient_rolling_on_a_rail_at_railyo(bank):
                                                       rel=1e-3)
 
 
+def test_cattaneo_to_carter_on_a_rolled_wheel(bank):
+    """m1_trans_roll: a flat wheel rolled by DROLLW = 5 deg on a circular rail,
+    shifted from rest (T = 1) case after case until Carter's steady state; all 81
+    cases within the issue's tolerances of CONTACT's .ref_out (the wheel's roll
+    deviation and the carried tractions together)."""
+    path = bank / "m1_trans_roll.inp"
+    rows = solve_inp(path)
+    cases = sorted({r["case"] for r in rows})
+    assert len(cases) == 81
+    _assert_within(_deviations(rows, path, cases))
+
+
 @pytest.mark.xfail(strict=True, reason="m1_trans_dqrel: F_x +2.1 to +2.2 % of mu F_n")
 def test_transient_rolling_from_rest_force(bank):
     """m1_trans_dqrel's first step from rest (a shift of DQ CKSI = 0.0327 mm over
