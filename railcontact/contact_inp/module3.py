@@ -60,8 +60,9 @@ from ..normal.influence import normal_operator
 from ..normal.polonsky_keer import polonsky_keer
 from ..tangential.friction import SlipVelocityFriction
 from ..tangential.temperature import ThermalProperties, flash_temperatures
-from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
-                                steady_rolling, transient_step)
+from ..core.materials import InterfaceLayer
+from ..tangential.exact import (grid_offset, layer_bound, plastic_flow, previous_displacement,
+                                shifted_tractions, steady_rolling, transient_step)
 from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
 from .mapping import curvature_from_axis_ratio
 from .reader import InpCase, InpError
@@ -80,8 +81,10 @@ def handles(case: InpCase) -> bool:
     """Whether the case is solved here: module 3 with a grid-given potential contact
     area (IPOTCN > 0), a transient tangential problem (T = 1, 2), a prescribed
     tangential force (F = 1, 2), the approach prescribed (N = 0), surface
-    temperatures (H = 1, 3) or a slip-velocity dependent friction law (L = 2-6)."""
+    temperatures (H = 1, 3), a slip-velocity dependent friction law (L = 2-6) or
+    an interfacial layer (M = 4)."""
     return case.module == 3 and (is_fastsim_grid(case) or case.digits["T"] in (1, 2)
+                                 or case.digits["M"] == 4
                                  or case.digits["F"] in (1, 2)
                                  or case.digits["N"] == 0 or case.digits["H"] in (1, 3)
                                  or case.values.get("FRICTION_LAW", 0) not in (0, 1)
@@ -112,7 +115,7 @@ def check(case: InpCase) -> None:
         _check_fastsim(case)
         return
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
-               "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
+               "L": (0, 1, 2, 3, 4), "M": (0, 4), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
              "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
@@ -147,6 +150,8 @@ def check(case: InpCase) -> None:
             _need(case, k)
     g1, g2 = _need(case, "GG1"), _need(case, "GG2")
     n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    if d["M"] == 4:
+        interface_layer(case)
     if _dissimilar(case) and d["T"] in (1, 2):
         raise _unsupported(case, "dissimilar materials (K != 0) with a transient tangential "
                                  "problem", "expected quasi-identical materials ((1 - 2 nu)/G "
@@ -186,11 +191,28 @@ class Grid:
 
 @dataclass
 class Instance:
-    """Tangential tractions [Pa] on body 1 of a time instance and their grid."""
+    """Tangential tractions [Pa] on body 1 of a time instance and their grid (and
+    an interfacial layer's accumulated plastic displacement u*_pl [m], M = 4)."""
 
     px: np.ndarray
     py: np.ndarray
     grid: Grid
+    ustar: np.ndarray | None = None
+
+
+def interface_layer(case) -> InterfaceLayer | None:
+    """The interfacial layer of MATER = 4 (GG3 [N/mm^2], LAYTHK [mm], TAU_C0
+    [N/mm^2], K_TAU [N/mm^3]; TAU_C0 <= 0: no plasticity), or None."""
+    if case.digits["M"] != 4:
+        return None
+    g3, h3 = _need(case, "GG3"), _need(case, "LAYTHK")
+    tau, k = _need(case, "TAU_C0"), _need(case, "K_TAU")
+    try:
+        return InterfaceLayer(h3 * MM, g3 * 1e6, tau * 1e6 if tau > 0 else math.inf,
+                              k * 1e9)
+    except Exception as exc:
+        raise InpError(f"{case.where()}: GG3, LAYTHK, TAU_C0, K_TAU = {g3:g}, {h3:g}, "
+                       f"{tau:g}, {k:g}: {exc}") from None
 
 
 def _materials(case):
@@ -284,6 +306,7 @@ class CaseResult:
     stick: np.ndarray
     row: dict
     mu: np.ndarray | None = None       # a slip-velocity dependent law's coefficients
+    ustar: np.ndarray | None = None    # an interfacial layer's plastic displacement [m]
 
 
 class Sequence:
@@ -309,7 +332,7 @@ class Sequence:
             return None
         # a steady rolling case's tractions are a time instance too (the steady
         # state of transient rolling on its grid)
-        return Instance(self.last.px, self.last.py, self.last.grid)
+        return Instance(self.last.px, self.last.py, self.last.grid, self.last.ustar)
 
     def run(self, case: InpCase) -> dict:
         check(case)
@@ -380,6 +403,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     px, py, stick, ok_t, creep = zero, zero, np.zeros(shape, bool), True, (0.0, 0.0)
     state = {"mu": None, "w_extra": None}
     message = "" if ok_n else "normal problem not converged"
+    layer = interface_layer(case)
+    ustar_prev, ustar = None, None
     if t:
         u_prev, p_start = (zero, zero), None
         if t in (1, 2) and prev is not None:
@@ -395,18 +420,38 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                                            G, nu)
             # the start of the iteration: the previous tractions where the material is
             p_start = shifted_tractions(prev.px, prev.py, off, shape)
+            if layer is not None:
+                # the layer's own displacement of the previous tractions, and the
+                # plastic displacement the material has accumulated
+                f = layer.flexibility
+                u_prev = (u_prev[0] + f * p_start[0], u_prev[1] + f * p_start[1])
+                if prev.ustar is not None:
+                    ustar_prev = shifted_tractions(prev.ustar, zero, off, shape)[0]
 
-        if grid.x.size < 2:
-            raise InpError(f"{case.where()}: MX = 1 with a tangential problem; expected MX "
-                           ">= 2 (the rolling direction)")
-        # one strip (MY = 1, a 2-D problem): the solver's grid gets an empty second
-        # strip, outside the contact (no traction there, no effect)
-        pad = grid.y.size == 1
+        if grid.x.size < 2 and t != 1:
+            raise InpError(f"{case.where()}: MX = 1 with TANG = {t}; expected MX >= 2 (the "
+                           "rolling direction)")
+        # one strip (MY = 1, a 2-D problem) or one element along x (a shift, T = 1):
+        # the solver's grid gets an empty second strip (row), outside the contact (no
+        # traction there, no effect)
+        pad, padx = grid.y.size == 1, grid.x.size == 1
         yt = np.array([grid.y[0], grid.y[0] + grid.dy]) if pad else grid.y
-        widen = (lambda a: np.ascontiguousarray(np.c_[a, np.zeros(a.shape[0], a.dtype)])
-                 ) if pad else (lambda a: a)
+        xt = np.array([grid.x[0], grid.x[0] + grid.dx]) if padx else grid.x
+
+        def widen(a):
+            if pad:
+                a = np.c_[a, np.zeros(a.shape[0], a.dtype)]
+            if padx:
+                a = np.r_[a, np.zeros((1, a.shape[1]), a.dtype)]
+            return np.ascontiguousarray(a)
         ct, bt = widen(contact), widen(bound)
         u_t = (widen(u_prev[0]), widen(u_prev[1]))
+        us_t = None if ustar_prev is None else widen(ustar_prev)
+
+        def lb(b, mirror=lambda a: a):
+            # the traction bound: an interfacial layer's (M = 4) with the friction's
+            return b if layer is None else layer_bound(
+                layer, b, None if us_t is None else mirror(us_t))
         state["p0"] = None if p_start is None else (widen(p_start[0]), widen(p_start[1]))
 
         # the absolute slip velocity [m/s] of a slip of the solver: steady rolling,
@@ -435,17 +480,17 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 f = lambda a: np.ascontiguousarray(a[::-1])                 # noqa: E731
                 p0 = state["p0"]
                 p0 = None if p0 is None else (-f(p0[0]), f(p0[1]))
-                out = steady_rolling(-grid.x[::-1], yt, f(ct), f(bt),
+                out = steady_rolling(-grid.x[::-1], yt, f(ct), lb(f(bt), f),
                                      (-cx, cy, -_need(case, "CPHI") / MM), G, nu,
                                      TANGENTIAL_TOL, 200, p0=p0, w_extra=state["w_extra"])
                 px_, py_, sx_, sy_, st_, it_, ok_ = out
                 return -f(px_), f(py_), -f(sx_), f(sy_), f(st_), it_, ok_
             if t == 3:
-                return steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
+                return steady_rolling(grid.x, yt, ct, lb(bt), (cx, cy, _need(case, "CPHI") / MM),
                                       G, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
                                       w_extra=state["w_extra"])
             w = _rigid_shift(case, grid, (cx, cy))
-            return transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),
+            return transient_step(xt, yt, ct, lb(bt), (widen(np.array(w[0])),
                                                        widen(np.array(w[1]))),
                                   u_t, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
 
@@ -457,8 +502,9 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                                         per_slip, state)
             if out[-1]:
                 state["p0"] = (out[0], out[1])
-            if pad:
-                out = tuple(o[:, :1] if isinstance(o, np.ndarray) else o for o in out)
+            if pad or padx:
+                out = tuple(o[:shape[0], :shape[1]] if isinstance(o, np.ndarray) else o
+                            for o in out)
             return out
 
         state["w_extra"] = None
@@ -497,6 +543,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             state["w_extra"] = slip_from_pressure(xs, yt, widen(fm(pressure)), mat)
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, sx, sy, stick, _, ok_t = out
+        if layer is not None:
+            ustar = _plastic_state(case, layer, grid, bound, (sx, sy), ustar_prev)
         if not ok_t:
             what = "tangential problem not converged"
             if state.get("friction", 0.0) > FRICTION_TOL:
@@ -527,7 +575,22 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
            "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM, "tmax_C": tmax,
            "converged": bool(ok_n and ok_t), "message": message}
     return CaseResult(grid, pressure, px, py, stick, row,
-                      state["mu"] if t and law is not None else None)
+                      state["mu"] if t and law is not None else None, ustar)
+
+
+def _plastic_state(case, layer, grid, bound, slip, ustar_prev):
+    """The plastic displacement u*_pl [m] the material has accumulated after the
+    case (M = 4): the previous instance's plus the step's flow (T = 1, 2), or
+    summed along the strips from the leading edge (T = 3; towards +x for CHI = 180
+    degrees)."""
+    t = case.digits["T"]
+    sx, sy = slip
+    if t in (1, 2):
+        inc, _ = plastic_flow(layer_bound(layer, bound, ustar_prev), sx, sy, grid.dx, False)
+        return inc if ustar_prev is None else ustar_prev + inc
+    f = (lambda a: a[::-1]) if math.cos(_need(case, "CHI")) < 0 else (lambda a: a)
+    _, acc = plastic_flow(layer_bound(layer, f(bound)), f(sx), f(sy), grid.dx, True)
+    return np.ascontiguousarray(f(acc))
 
 
 def _body_material(case):

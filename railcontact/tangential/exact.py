@@ -39,17 +39,18 @@ import math
 import time
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.materials import Material, STEEL
+from ..core.materials import InterfaceLayer, Material, STEEL
 from ..normal.base import bilinear, same_grid
 from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
 from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
-from .semi_smooth_newton import SlipOperator, initial_march, ssn_solve
+from .semi_smooth_newton import SlipOperator, TractionBound, initial_march, ssn_solve
 
 log = logging.getLogger(__name__)
 
@@ -59,6 +60,12 @@ log = logging.getLogger(__name__)
 #: the discretisation, with the same continuum limit [element lengths dx]
 #: (docs/tuning.md, section "Tangential: exact")
 SPIN_OFFSET = 1.0 / 6.0
+
+#: rolling with a hardening or softening interfacial layer: the yield limits of
+#: the elements are iterated until none changes by more than this (relative to the
+#: largest friction bound), at most LAYER_ITERATIONS times
+LAYER_TOL = 1e-9
+LAYER_ITERATIONS = 400
 
 
 @lru_cache(maxsize=32)
@@ -93,6 +100,93 @@ def _block_operator(mx, my, dx, dy, G, nu, ms, ns):
     return TangentialOperator(tuple(k[cut] for k in kernels), ms, ns, rows=1)
 
 
+class LayerBound(NamedTuple):
+    """The traction bound of :func:`steady_rolling` with an interfacial layer
+    (:class:`~railcontact.core.materials.InterfaceLayer`, CONTACT's M = 4): in
+    place of the friction bound's array.
+
+    Slip then is the frictional slip plus the layer's plastic flow, both against
+    the traction; the flow takes over where the yield limit lies under the
+    friction bound, and the yield limit grows (k > 0) or falls (k < 0) with it.
+    Rolling: ``tau`` the yield limit of the material entering the contact
+    (tau_c0), the plastic displacement accumulated along each strip towards the
+    trailing edge; shift and transient steps: ``tau`` the yield limit each
+    element has before the step (tau_c0 + k u*_pl of the previous instance)."""
+
+    #: friction bound mu p_n [Pa] per element
+    g: np.ndarray
+    #: yield limit [Pa] per element (inf: none)
+    tau: np.ndarray
+    #: hardening rate k_tau [Pa/m] of the yield limit with the plastic displacement
+    k: float
+    #: the layer's flexibility h3/G3 [m/Pa]
+    flexibility: float
+
+
+def layer_bound(layer: InterfaceLayer | None, g, ustar=None) -> LayerBound:
+    """The :class:`LayerBound` of ``layer`` for the friction bound g [Pa] (array),
+    with the yield limit tau_c0 + k_tau u* where the material has accumulated the
+    plastic displacement ``ustar`` [m] (None: fresh material)."""
+    g = np.ascontiguousarray(g, dtype=float)
+    if layer is None or not layer.plastic:
+        tau = np.full(g.shape, np.inf)
+    else:
+        tau = np.full(g.shape, float(layer.yield_stress))
+        if ustar is not None:
+            tau = tau + layer.hardening * np.asarray(ustar, dtype=float)
+    return LayerBound(g, tau, 0.0 if layer is None else float(layer.hardening),
+                      0.0 if layer is None else layer.flexibility)
+
+
+def _bound_at(g, tau, k, S):
+    """The traction bound of each element at slip magnitude S (NumPy;
+    :class:`~railcontact.tangential.semi_smooth_newton.TractionBound`)."""
+    return np.where(tau >= g, g, np.clip(tau + k * S, 0.0, g))
+
+
+def _plastic_part(g, tau, k, S):
+    """The part of each element's slip magnitude S that is plastic flow of the layer
+    (the rest slides): all of it where the yield limit lies under the friction bound,
+    up to the slip at which a hardening limit reaches that bound."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cap = np.where(k > 0, (g - tau) / np.where(k > 0, k, 1.0), np.inf)
+    return np.where(tau < g, np.minimum(S, cap), 0.0)
+
+
+def plastic_flow(bound: LayerBound, sx, sy, dx, rolling):
+    """The layer's plastic flow of a solution of :func:`steady_rolling` with a
+    :class:`LayerBound`: (increment [m] per element over the step or, rolling,
+    while the material passes the element; accumulated displacement u*_pl [m]
+    after the element, rolling: summed from the leading edge, else the increment).
+    ``sx, sy`` the solution's slip, ``dx`` [m] the element length."""
+    S = np.hypot(sx, sy)
+    if not rolling:
+        d = _plastic_part(bound.g, bound.tau, bound.k, S)
+        return d, d
+    d, acc, _ = _rolling_flow(bound, S, dx)
+    return d, acc
+
+
+def _rolling_flow(bound, S, dx):
+    """Rolling: the plastic increments d [m] of each element, the displacement
+    accumulated after it and the yield limit each element starts from, with the
+    material entering at the leading edge (+x, the highest index) at ``bound.tau``."""
+    tau0 = bound.tau
+    # marched towards the trailing edge: an element's yield limit follows the flow
+    # upstream of it
+    mx = S.shape[0]
+    d = np.zeros(S.shape)
+    acc = np.zeros(S.shape)
+    tau = np.array(tau0, dtype=float, copy=True)
+    u = np.zeros(S.shape[1:])
+    for i in range(mx - 1, -1, -1):
+        tau[i] = tau0[i] + bound.k * u
+        d[i] = _plastic_part(bound.g[i], tau[i], bound.k * dx, S[i]) * dx
+        u = u + d[i]
+        acc[i] = u
+    return d, acc, tau
+
+
 def _operators(mx, my, dx, dy, G, nu):
     """FFT operator of the whole mx x my grid and the self terms (dxx, dyy)."""
     return _sub_operator(mx, my, dx, dy, G, nu, mx, my), _kernels(mx, my, dx, dy, G, nu)[1]
@@ -111,6 +205,13 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     ``w_extra``: an additional rigid slip (s_x, s_y) per element (the pressure's
     share for dissimilar materials).
 
+    ``bound``: the friction bound mu p_n [Pa] per element, or a
+    :class:`LayerBound`: an interfacial layer's flexibility and yield limit
+    (CONTACT's M = 4).  Rolling with a hardening or softening layer, the yield
+    limit of each element follows from the plastic flow upstream of it: the
+    problem is solved again with the limits of the last solution until they
+    settle (:data:`LAYER_TOL`).
+
     Returns p (on body 1), slip, stick mask, Newton iterations and a convergence
     flag.  Convergence: max |F| <= tol * max bound, with F the complementarity
     residual p - Proj(p - rho s).
@@ -121,6 +222,14 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     if mode == "shift":
         kx, ky = _self_terms(mx, my, dx, dy, G, nu)
         dxx, dyy = kx, ky
+    layer = bound if isinstance(bound, LayerBound) else None
+    flex = 0.0
+    if layer is not None:
+        bound = np.ascontiguousarray(layer.g)
+        flex = float(layer.flexibility)
+        # the layer's own displacement f p: rolling, -(f p_I+ - f p_I)/dx
+        dxx, dyy = dxx + (flex if mode == "shift" else flex / dx), \
+            dyy + (flex if mode == "shift" else flex / dx)
     xi, eta, phi = creepage
     wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
     x_spin = x + SPIN_OFFSET * dx if mode == "rolling" else x
@@ -135,7 +244,8 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     elif mode == "shift":
         px, py = np.zeros((mx, my)), np.zeros((mx, my))
     else:
-        px, py = initial_march(wx, wy, contact, bound, dxx, dyy)
+        g0 = bound if layer is None else np.ascontiguousarray(np.minimum(bound, layer.tau))
+        px, py = initial_march(wx, wy, contact, g0, dxx, dyy)
     shift = mode == "shift"
     # the problem lives on the contact's bounding box: tractions are zero outside the
     # contact and the slip is needed only inside it, so the FFT products run on the
@@ -144,17 +254,47 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     ms, ns = contact[box].shape
     op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
     cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
+    sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex)
+    if layer is None:
+        tb = TractionBound(gb, gb, np.zeros_like(gb))
+    else:
+        tb = TractionBound(gb, np.ascontiguousarray(layer.tau[box]),
+                           np.full(gb.shape, layer.k * (1.0 if shift else dx)))
     # the iteration returns the slip's linear part and the stick mask of its last
     # iterate (C p accumulated from its products, no product more)
     qx, qy, cx, cy, sb, it, nprod, converged = ssn_solve(
-        *q, SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift), cb, gb, rho, (dxx, dyy),
-        float(tol), int(maxiter))
+        *q, sop, cb, tb, rho, (dxx, dyy), float(tol), int(maxiter))
+    if layer is not None and not shift and layer.k != 0.0 and np.isfinite(layer.tau).any():
+        # rolling with a hardening (softening) layer: each element's yield limit from
+        # the flow upstream of it, the problem solved again until the limits settle
+        sub = LayerBound(gb, np.ascontiguousarray(layer.tau[box]), layer.k, flex)
+        gmax = max(float(gb.max()), 1e-300)
+        for _ in range(LAYER_ITERATIONS):
+            S = np.hypot(q[2] + cx, q[3] + cy) * ~sb
+            tau = _rolling_flow(sub, S, dx)[2]
+            change = float(np.max(np.abs(np.minimum(tau, gb) - np.minimum(tb.tau, gb))
+                                  * cb)) / gmax
+            if change <= LAYER_TOL:
+                break
+            tb = TractionBound(gb, np.ascontiguousarray(tau), tb.k)
+            qx, qy, cx, cy, sb, it2, nprod, converged = ssn_solve(
+                qx, qy, q[2], q[3], sop, cb, tb, rho, (dxx, dyy), float(tol), int(maxiter))
+            it += it2
+        else:
+            converged = False
     log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
     sbx, sby = q[2] + cx, q[3] + cy
     px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
     stick = np.zeros((mx, my), dtype=bool)
     px[box], py[box], stick[box], sx[box], sy[box] = qx, qy, sb, sbx, sby
     slip = contact & ~stick
+    if layer is not None:
+        # the bound at the slip found (a hardening or softening yield limit)
+        tau = np.full((mx, my), np.inf)
+        tau[box] = tb.tau
+        kk = np.zeros((mx, my))
+        kk[box] = tb.k
+        bound = _bound_at(bound, tau, kk, np.hypot(sx, sy))
     # in slip elements the traction lies on the bound: report it there exactly
     mag = np.hypot(px, py)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -243,15 +383,19 @@ def transient_step(x, y, contact, bound, rigid_shift, u_prev, G, nu, tol=1e-7, m
     iteration and influence coefficients), with the rigid shift and -u' as its
     extra slip.
 
+    ``bound``: as in :func:`steady_rolling` (an array, or a :class:`LayerBound`,
+    whose layer's own displacement f p' the caller includes in ``u_prev``).
+
     Returns px, py [Pa] (body 1), slip sx, sy [m] per step, stick mask, Newton
     iterations, converged.
     """
     wx = np.asarray(rigid_shift[0], dtype=float) - u_prev[0]
     wy = np.asarray(rigid_shift[1], dtype=float) - u_prev[1]
     if p0 is not None:
+        g = np.minimum(bound.g, bound.tau) if isinstance(bound, LayerBound) else bound
         mag = np.hypot(p0[0], p0[1])
         with np.errstate(invalid="ignore", divide="ignore"):
-            scale = np.where(mag > bound, bound / np.where(mag > 0, mag, 1.0), 1.0)
+            scale = np.where(mag > g, g / np.where(mag > 0, mag, 1.0), 1.0)
         p0 = (np.ascontiguousarray(np.where(contact, p0[0] * scale, 0.0)),
               np.ascontiguousarray(np.where(contact, p0[1] * scale, 0.0)))
     return steady_rolling(x, y, contact, bound, (0.0, 0.0, 0.0), G, nu, tol, maxiter, p0=p0,
