@@ -269,13 +269,21 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
         # the flow upstream of it, the problem solved again until the limits settle
         sub = LayerBound(gb, np.ascontiguousarray(layer.tau[box]), layer.k, flex)
         gmax = max(float(gb.max()), 1e-300)
+        # the update relaxed by omega, halved where it turns against the last one (an
+        # oscillation: a stiff hardening) and grown by half (up to 1) where it does not
+        omega, last = 1.0, None
         for _ in range(LAYER_ITERATIONS):
             S = np.hypot(q[2] + cx, q[3] + cy) * ~sb
             tau = _rolling_flow(sub, S, dx)[2]
-            change = float(np.max(np.abs(np.minimum(tau, gb) - np.minimum(tb.tau, gb))
-                                  * cb)) / gmax
+            step = (np.minimum(tau, gb) - np.minimum(tb.tau, gb)) * cb
+            change = float(np.max(np.abs(step))) / gmax
+            log.debug("layer's yield limits: change %.3e (omega %.3f)", change, omega)
             if change <= LAYER_TOL:
                 break
+            if last is not None:
+                omega = 0.5 * omega if float(np.sum(step * last)) < 0 else min(1.0, 1.5 * omega)
+            last = step
+            tau = np.where(np.isfinite(tb.tau), tb.tau + omega * (tau - tb.tau), tau)
             tb = TractionBound(gb, np.ascontiguousarray(tau), tb.k)
             qx, qy, cx, cy, sb, it2, nprod, converged = ssn_solve(
                 qx, qy, q[2], q[3], sop, cb, tb, rho, (dxx, dyy), float(tol), int(maxiter))
