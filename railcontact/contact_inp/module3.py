@@ -404,7 +404,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     state = {"mu": None, "w_extra": None}
     message = "" if ok_n else "normal problem not converged"
     layer = interface_layer(case)
-    ustar_prev, ustar = None, None
+    ustar_prev, ustar, nplast = None, None, 0
     if t:
         u_prev, p_start = (zero, zero), None
         if t in (1, 2) and prev is not None:
@@ -544,7 +544,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, sx, sy, stick, _, ok_t = out
         if layer is not None:
-            ustar = _plastic_state(case, layer, grid, bound, (sx, sy), ustar_prev)
+            ustar, plast = _plastic_state(case, layer, grid, bound, (sx, sy), ustar_prev)
+            nplast = int(np.count_nonzero(plast & contact))
         if not ok_t:
             what = "tangential problem not converged"
             if state.get("friction", 0.0) > FRICTION_TOL:
@@ -571,9 +572,11 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
            "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3, "fric_power_W": fric,
            "approach_mm": approach / MM, "pmax_MPa": float(pressure.max()) * 1e-6,
            "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh,
-           "nslip": ncon - nadh if t else 0, "mx": shape[0], "my": shape[1],
+           "nslip": ncon - nadh - nplast if t else 0, "mx": shape[0], "my": shape[1],
            "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM, "tmax_C": tmax,
            "converged": bool(ok_n and ok_t), "message": message}
+    if layer is not None:
+        row["nplast"] = nplast
     return CaseResult(grid, pressure, px, py, stick, row,
                       state["mu"] if t and law is not None else None, ustar)
 
@@ -582,15 +585,16 @@ def _plastic_state(case, layer, grid, bound, slip, ustar_prev):
     """The plastic displacement u*_pl [m] the material has accumulated after the
     case (M = 4): the previous instance's plus the step's flow (T = 1, 2), or
     summed along the strips from the leading edge (T = 3; towards +x for CHI = 180
-    degrees)."""
+    degrees), and the mask of the elements in plastic flow."""
     t = case.digits["T"]
     sx, sy = slip
     if t in (1, 2):
-        inc, _ = plastic_flow(layer_bound(layer, bound, ustar_prev), sx, sy, grid.dx, False)
-        return inc if ustar_prev is None else ustar_prev + inc
+        inc, _, plast = plastic_flow(layer_bound(layer, bound, ustar_prev), sx, sy, grid.dx,
+                                     False)
+        return (inc if ustar_prev is None else ustar_prev + inc), plast
     f = (lambda a: a[::-1]) if math.cos(_need(case, "CHI")) < 0 else (lambda a: a)
-    _, acc = plastic_flow(layer_bound(layer, f(bound)), f(sx), f(sy), grid.dx, True)
-    return np.ascontiguousarray(f(acc))
+    _, acc, plast = plastic_flow(layer_bound(layer, f(bound)), f(sx), f(sy), grid.dx, True)
+    return np.ascontiguousarray(f(acc)), f(plast)
 
 
 def _body_material(case):

@@ -98,6 +98,11 @@ class Material:
 STEEL = Material()
 
 
+#: a softening interfacial layer's yield limit stays above this fraction of its
+#: initial value tau_c0 (CONTACT's lower limit)
+YIELD_FLOOR = 0.1
+
+
 @dataclass(frozen=True)
 class InterfaceLayer:
     """An interfacial (third-body) layer between rail and wheel with a plastic
@@ -113,7 +118,9 @@ class InterfaceLayer:
 
     it flows plastically (u*_pl the plastic displacement accumulated by the
     material on its way through the contact, fresh material entering with 0).
-    The traction is bounded by min(mu p_n, tau_c).
+    The traction is bounded by min(mu p_n, tau_c); a softening limit (k_tau < 0)
+    that the material carries on falls no lower than :data:`YIELD_FLOOR` tau_c0
+    (as in CONTACT: the flow of the step itself may take the traction lower).
 
     Parameters
     ----------
@@ -152,6 +159,13 @@ class InterfaceLayer:
     def flexibility(self) -> float:
         """The layer's tangential flexibility h3/G3 [m/Pa]."""
         return self.thickness / self.shear_modulus
+
+    @property
+    def yield_floor(self) -> float:
+        """The lowest yield limit [Pa] a softening layer (k_tau < 0) carries from one
+        step (element) to the next: a tenth of tau_c0, as CONTACT bounds it (0
+        without plasticity)."""
+        return YIELD_FLOOR * self.yield_stress if self.plastic else 0.0
 
     @property
     def plastic(self) -> bool:

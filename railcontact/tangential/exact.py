@@ -121,6 +121,9 @@ class LayerBound(NamedTuple):
     k: float
     #: the layer's flexibility h3/G3 [m/Pa]
     flexibility: float
+    #: the lowest yield limit [Pa] a softening layer keeps from element to element
+    #: (the element's own flow may take its traction bound lower, as in CONTACT)
+    floor: float = 0.0
 
 
 def layer_bound(layer: InterfaceLayer | None, g, ustar=None) -> LayerBound:
@@ -128,14 +131,16 @@ def layer_bound(layer: InterfaceLayer | None, g, ustar=None) -> LayerBound:
     with the yield limit tau_c0 + k_tau u* where the material has accumulated the
     plastic displacement ``ustar`` [m] (None: fresh material)."""
     g = np.ascontiguousarray(g, dtype=float)
+    floor = 0.0
     if layer is None or not layer.plastic:
         tau = np.full(g.shape, np.inf)
     else:
+        floor = layer.yield_floor
         tau = np.full(g.shape, float(layer.yield_stress))
         if ustar is not None:
-            tau = tau + layer.hardening * np.asarray(ustar, dtype=float)
+            tau = np.maximum(tau + layer.hardening * np.asarray(ustar, dtype=float), floor)
     return LayerBound(g, tau, 0.0 if layer is None else float(layer.hardening),
-                      0.0 if layer is None else layer.flexibility)
+                      0.0 if layer is None else layer.flexibility, floor)
 
 
 def _bound_at(g, tau, k, S):
@@ -157,14 +162,15 @@ def plastic_flow(bound: LayerBound, sx, sy, dx, rolling):
     """The layer's plastic flow of a solution of :func:`steady_rolling` with a
     :class:`LayerBound`: (increment [m] per element over the step or, rolling,
     while the material passes the element; accumulated displacement u*_pl [m]
-    after the element, rolling: summed from the leading edge, else the increment).
+    after the element, rolling: summed from the leading edge, else the increment;
+    the mask of the elements in plastic flow, CONTACT's "plasticity area").
     ``sx, sy`` the solution's slip, ``dx`` [m] the element length."""
     S = np.hypot(sx, sy)
     if not rolling:
         d = _plastic_part(bound.g, bound.tau, bound.k, S)
-        return d, d
-    d, acc, _ = _rolling_flow(bound, S, dx)
-    return d, acc
+        return d, d, (S > 0) & (bound.tau < bound.g)
+    d, acc, tau = _rolling_flow(bound, S, dx)
+    return d, acc, (S > 0) & (tau < bound.g)
 
 
 def _rolling_flow(bound, S, dx):
@@ -180,7 +186,7 @@ def _rolling_flow(bound, S, dx):
     tau = np.array(tau0, dtype=float, copy=True)
     u = np.zeros(S.shape[1:])
     for i in range(mx - 1, -1, -1):
-        tau[i] = tau0[i] + bound.k * u
+        tau[i] = np.maximum(tau0[i] + bound.k * u, bound.floor)
         d[i] = _plastic_part(bound.g[i], tau[i], bound.k * dx, S[i]) * dx
         u = u + d[i]
         acc[i] = u
@@ -267,7 +273,7 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     if layer is not None and not shift and layer.k != 0.0 and np.isfinite(layer.tau).any():
         # rolling with a hardening (softening) layer: each element's yield limit from
         # the flow upstream of it, the problem solved again until the limits settle
-        sub = LayerBound(gb, np.ascontiguousarray(layer.tau[box]), layer.k, flex)
+        sub = LayerBound(gb, np.ascontiguousarray(layer.tau[box]), layer.k, flex, layer.floor)
         gmax = max(float(gb.max()), 1e-300)
         # the update relaxed by omega, halved where it turns against the last one (an
         # oscillation: a stiff hardening) and grown by half (up to 1) where it does not
