@@ -283,7 +283,7 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
             tau = _rolling_flow(sub, S, dx)[2]
             step = (np.minimum(tau, gb) - np.minimum(tb.tau, gb)) * cb
             change = float(np.max(np.abs(step))) / gmax
-            log.debug("layer's yield limits: change %.3e (omega %.3f)", change, omega)
+            log.debug("layer's yield limits: change %.3e (omega %.3f, inner %s)", change, omega, converged)
             if change <= LAYER_TOL:
                 break
             if last is not None:

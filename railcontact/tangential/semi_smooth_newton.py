@@ -162,7 +162,7 @@ def _ssn_blocks(px, py, sx, sy, contact, bound, rho):
     (|v| <= b, v = p - rho s): F = rho s, row rho C (M = I, Q = rho I).  Slip:
     F = p - b v/|v|, row I - M + Q C with M = b/|v| (I - e e^T), e = v/|v|, and
     Q = rho M - b' e s^T/|s| (b' the bound's slope in |s|: a hardening or softening
-    yield limit).  Returned: F (mx, my, 2), M and Q (mx, my, 2, 2), the stick mask.
+    yield limit; rho + b' in place of rho where the limit hardens).  Returned: F (mx, my, 2), M and Q (mx, my, 2, 2), the stick mask.
     """
     mx, my = px.shape
     F = np.zeros((mx, my, 2))
@@ -175,19 +175,26 @@ def _ssn_blocks(px, py, sx, sy, contact, bound, rho):
                 F[i, j, 0] = px[i, j]
                 F[i, j, 1] = py[i, j]
                 continue
-            vx = px[i, j] - rho * sx[i, j]
-            vy = py[i, j] - rho * sy[i, j]
+            # a hardening yield limit (slope k in the slip): the element's scaling
+            # rho + k, which makes the stick and flow branches of F meet with the same
+            # slope in one element's own problem (a stiff hardening otherwise cycles
+            # between them); any rho > 0 has the same solutions
+            r = rho
+            if bound.tau[i, j] < bound.g[i, j] and bound.k[i, j] > 0.0:
+                r = rho + bound.k[i, j]
+            vx = px[i, j] - r * sx[i, j]
+            vy = py[i, j] - r * sy[i, j]
             nv = math.sqrt(vx * vx + vy * vy)
             ns = math.sqrt(sx[i, j] * sx[i, j] + sy[i, j] * sy[i, j])
             g, slope = bound_at(bound.g[i, j], bound.tau[i, j], bound.k[i, j], ns)
             if nv <= g:
                 stick[i, j] = True
-                F[i, j, 0] = rho * sx[i, j]
-                F[i, j, 1] = rho * sy[i, j]
+                F[i, j, 0] = r * sx[i, j]
+                F[i, j, 1] = r * sy[i, j]
                 M[i, j, 0, 0] = 1.0
                 M[i, j, 1, 1] = 1.0
-                Q[i, j, 0, 0] = rho
-                Q[i, j, 1, 1] = rho
+                Q[i, j, 0, 0] = r
+                Q[i, j, 1, 1] = r
             else:
                 F[i, j, 0] = px[i, j] - g * vx / nv
                 F[i, j, 1] = py[i, j] - g * vy / nv
@@ -200,7 +207,7 @@ def _ssn_blocks(px, py, sx, sy, contact, bound, rho):
                 M[i, j, 1, 1] = f * (1.0 - ey * ey)
                 for a in range(2):
                     for b in range(2):
-                        Q[i, j, a, b] = rho * M[i, j, a, b]
+                        Q[i, j, a, b] = r * M[i, j, a, b]
                 if slope != 0.0 and ns > 0.0:
                     tx = sx[i, j] / ns
                     ty = sy[i, j] / ns
