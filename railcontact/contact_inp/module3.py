@@ -60,11 +60,12 @@ from ..normal.influence import normal_operator
 from ..normal.polonsky_keer import polonsky_keer
 from ..tangential.friction import SlipVelocityFriction
 from ..tangential.temperature import ThermalProperties, flash_temperatures
+from ..core.errors import RailContactError
 from ..core.materials import InterfaceLayer
 from ..tangential.exact import (grid_offset, layer_bound, plastic_flow, previous_displacement,
                                 shifted_tractions, steady_rolling, transient_step)
 from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
-from .mapping import curvature_from_axis_ratio
+from .mapping import curvature_from_axis_ratio, layer_options
 from .reader import InpCase, InpError
 
 log = logging.getLogger(__name__)
@@ -205,14 +206,12 @@ def interface_layer(case) -> InterfaceLayer | None:
     [N/mm^2], K_TAU [N/mm^3]; TAU_C0 <= 0: no plasticity), or None."""
     if case.digits["M"] != 4:
         return None
-    g3, h3 = _need(case, "GG3"), _need(case, "LAYTHK")
-    tau, k = _need(case, "TAU_C0"), _need(case, "K_TAU")
     try:
-        return InterfaceLayer(h3 * MM, g3 * 1e6, tau * 1e6 if tau > 0 else math.inf,
-                              k * 1e9)
-    except Exception as exc:
-        raise InpError(f"{case.where()}: GG3, LAYTHK, TAU_C0, K_TAU = {g3:g}, {h3:g}, "
-                       f"{tau:g}, {k:g}: {exc}") from None
+        return InterfaceLayer(**layer_options(case))
+    except RailContactError as exc:
+        raise InpError(f"{case.where()}: GG3, LAYTHK, TAU_C0, K_TAU = "
+                       f"{_need(case, 'GG3'):g}, {_need(case, 'LAYTHK'):g}, "
+                       f"{_need(case, 'TAU_C0'):g}, {_need(case, 'K_TAU'):g}: {exc}") from None
 
 
 def _materials(case):

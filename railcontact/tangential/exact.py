@@ -470,12 +470,21 @@ class ExactTangentialModel:
     step : float
         Rolling distance [m] per time step of the ``"transient"`` mode (0: a
         shift); a whole number of elements.
+    layer : InterfaceLayer or dict, optional
+        An interfacial (third-body) layer between the bodies with a plastic yield
+        limit (CONTACT's M = 4, :class:`~railcontact.core.materials.InterfaceLayer`;
+        a dict of its fields ``thickness`` [m], ``shear_modulus`` [Pa],
+        ``yield_stress`` [Pa], ``hardening`` [Pa/m]): its flexibility adds to each
+        element's own, and the traction is bounded by the yield limit where that
+        lies under the friction bound (:class:`LayerBound`).  In the
+        ``"transient"`` mode the plastic displacement accumulated so far comes
+        with ``previous`` (its ``options["plastic_displacement"]``).
     """
 
     capabilities = frozenset({"warm-start", "coupled", "lazy"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
-                 step: float = 0.0):
+                 step: float = 0.0, layer: InterfaceLayer | dict | None = None):
         if not 0 < tol < 1e-2:
             raise InputError(f"exact tangential tol {tol!r}: expected a value in (0, 0.01)")
         if mode not in ("rolling", "shift", "transient"):
@@ -486,9 +495,23 @@ class ExactTangentialModel:
             raise InputError(f"exact tangential step {step!r} m: expected a rolling distance "
                              ">= 0 (0: a shift)")
         self.tol, self.maxiter, self.mode, self.step = tol, int(maxiter), mode, float(step)
+        if isinstance(layer, dict):
+            known = {"thickness", "shear_modulus", "yield_stress", "hardening"}
+            if set(layer) - known:
+                raise InputError(f"exact tangential layer keys {sorted(set(layer) - known)}: "
+                                 f"expected some of {sorted(known)}")
+            layer = InterfaceLayer(**{k: float(v) if isinstance(v, int) and
+                                      not isinstance(v, bool) else v
+                                      for k, v in layer.items()})
+        elif layer is not None and not isinstance(layer, InterfaceLayer):
+            raise InputError(f"exact tangential layer {layer!r}: expected an InterfaceLayer or "
+                             "a dict of its fields")
+        self.layer = layer
 
     def _transient(self, x, y, contact, bound, creepage, material, previous):
-        """One step of the ``"transient"`` mode: px, py, sx, sy, stick, it, ok."""
+        """One step of the ``"transient"`` mode: (px, py, sx, sy, stick, it, ok) and
+        the options it adds to the solution (an interfacial layer's plastic
+        displacement)."""
         xi, eta, phi = creepage
         dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
         X, Y = x[:, None], y[None, :]
@@ -500,7 +523,7 @@ class ExactTangentialModel:
         w = tuple(np.broadcast_to(c, contact.shape) for c in w)
         G, nu = material.shear_modulus, material.nu
         zero = np.zeros(contact.shape)
-        u, p0 = (zero, zero), None
+        u, p0, ustar = (zero, zero), None, None
         if previous is not None:
             if previous.x.size < 2 or previous.y.size < 2 or \
                     abs(float(previous.x[1] - previous.x[0]) - dx) > 1e-9 * dx or \
@@ -512,7 +535,21 @@ class ExactTangentialModel:
             qx, qy = -previous.traction_x, -previous.traction_y       # on the rail
             u = previous_displacement(qx, qy, off, contact.shape, dx, dy, G, nu)
             p0 = shifted_tractions(qx, qy, off, contact.shape)
-        return transient_step(x, y, contact, bound, w, u, G, nu, self.tol, self.maxiter, p0=p0)
+            if self.layer is not None:
+                f = self.layer.flexibility
+                u = (u[0] + f * p0[0], u[1] + f * p0[1])
+                prev_u = previous.options.get("plastic_displacement")
+                if prev_u is not None:
+                    ustar = shifted_tractions(np.asarray(prev_u), zero, off, contact.shape)[0]
+        if self.layer is not None:
+            bound = layer_bound(self.layer, bound, ustar)
+        out = transient_step(x, y, contact, bound, w, u, G, nu, self.tol, self.maxiter, p0=p0)
+        extra = {}
+        if self.layer is not None:
+            # the plastic displacement the material has accumulated [m], for the next step
+            inc = plastic_flow(bound, out[2], out[3], dx, False)[0]
+            extra["plastic_displacement"] = inc if ustar is None else ustar + inc
+        return out, extra
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
@@ -539,11 +576,11 @@ class ExactTangentialModel:
             if extra_slip is not None:
                 raise InputError("the 'transient' mode takes no extra slip (dissimilar "
                                  "materials); expected identical materials")
-            px, py, sx, sy, stick, it, ok = self._transient(x, y, contact, bound,
-                                                            (xi, eta, phi), material, previous)
+            (px, py, sx, sy, stick, it, ok), extra = self._transient(
+                x, y, contact, bound, (xi, eta, phi), material, previous)
             return self._solution(x, y, (px, py, sx, sy, stick), contact,
                                   _Iteration(it, ok, False), velocity, (xi, eta, phi),
-                                  friction, t0)
+                                  friction, t0, extra)
         p0 = None
         if warm_start is None and self.mode == "rolling" and normal.strips is not None \
                 and normal.pressure_at is not None:
@@ -555,8 +592,11 @@ class ExactTangentialModel:
                                                   friction, velocity)
             except Exception as exc:                      # pragma: no cover - fallback
                 log.debug("no FASTSIM initial estimate: %s", exc)
+        if self.layer is not None:
+            bound = layer_bound(self.layer, bound)
+        g0 = bound if self.layer is None else np.minimum(bound.g, bound.tau)
         if warm_start is not None:
-            p0 = _initial_tractions(warm_start, x, y, contact, bound)
+            p0 = _initial_tractions(warm_start, x, y, contact, g0)
         args = (x, y, contact, bound, (xi, eta, phi), material.shear_modulus,
                 material.nu, self.tol)
         px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode,
@@ -566,8 +606,8 @@ class ExactTangentialModel:
             # fall back: restart from zero traction with damped steps and more iterations
             log.info("exact tangential solver: no convergence in %d iterations; restarting "
                      "from zero traction with %d iterations", it, 4 * self.maxiter)
-            q = steady_rolling(*args, 4 * self.maxiter, p0=(np.zeros_like(bound),
-                                                               np.zeros_like(bound)),
+            q = steady_rolling(*args, 4 * self.maxiter, p0=(np.zeros_like(g0),
+                                                               np.zeros_like(g0)),
                                mode=self.mode, w_extra=extra_slip)
             fallback = True
             if q[-1] or not ok:
@@ -577,10 +617,11 @@ class ExactTangentialModel:
                               t0)
 
     def _solution(self, x, y, fields, contact, iteration, velocity, creepage, friction,
-                  t0) -> TangentialSolution:
+                  t0, extra=None) -> TangentialSolution:
         """The TangentialSolution of tractions (px, py) on the rail: ``fields`` (px,
         py [Pa], sx, sy [-], stick) on the grid (x, y) [m], ``iteration`` how the
-        solver ended (:class:`_Iteration`), ``t0`` its start (``time.perf_counter``)."""
+        solver ended (:class:`_Iteration`), ``t0`` its start (``time.perf_counter``),
+        ``extra`` further entries of its options."""
         px, py, sx, sy, stick = fields
         it, ok, fallback = iteration.iterations, iteration.converged, iteration.fallback
         if not ok:
@@ -594,6 +635,7 @@ class ExactTangentialModel:
         options = {"iterations": it, "fallback": fallback, "mode": self.mode}
         if self.mode == "transient":
             options["step"] = self.step
+        options.update(extra or {})
         return TangentialSolution("exact", x, y, -px, -py, sx, sy, stick, contact, -fx, -fy,
                                   -mz, velocity, creepage, friction,
                                   time.perf_counter() - t0, options, status)
