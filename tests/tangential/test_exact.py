@@ -390,3 +390,80 @@ def test_transient_mode_of_the_model():
         get_tangential_model("exact").solve(ns, None, mat, (1e-3, 0, 0), mu, previous=r)
     with pytest.raises(InputError, match="step"):
         get_tangential_model("exact", mode="transient", step=-1.0)
+
+
+# ------------------------------------------ interfacial layer (CONTACT's M = 4)
+def _one_element(mu_pn=1e9):
+    """A 3 x 3 grid of 1 mm elements with only the centre one in contact, its
+    friction bound ``mu_pn`` [Pa], and its own flexibility c [m/Pa] (shift)."""
+    from railcontact.tangential.exact import _self_terms
+    d = 1e-3
+    x = (np.arange(3) - 1.0) * d
+    contact = np.zeros((3, 3), bool)
+    contact[1, 1] = True
+    bound = np.where(contact, mu_pn, 0.0)
+    c = _self_terms(3, 3, d, d, G, 0.28)[0]
+    return x, contact, bound, c
+
+
+def test_layer_of_zero_thickness_without_yield_is_the_elastic_solution():
+    """A layer of zero thickness that never yields changes nothing: the tractions
+    equal the elastic solver's to the last bit (steady rolling, 24 x 24 Hertz)."""
+    from railcontact.core.materials import InterfaceLayer
+    mat = Material(2.1e11, 0.28)
+    ns = hertz_on_grid(4e-3, 3e-3, 24, 24, 3.6e-4, 2.7e-4, 3e4, mat)
+    plain = get_tangential_model("exact").solve(ns, None, mat, (1e-3, 5e-4, 0.2), 0.3)
+    layered = get_tangential_model("exact", layer=InterfaceLayer()).solve(
+        ns, None, mat, (1e-3, 5e-4, 0.2), 0.3)
+    assert np.array_equal(plain.traction_x, layered.traction_x)
+    assert np.array_equal(plain.traction_y, layered.traction_y)
+
+
+def test_layer_flexibility_and_hardening_of_one_element():
+    """One element shifted by W (CONTACT's plastic_3bl): without yield its traction
+    is W / (c + f), the bodies' own flexibility c and the layer's f = h3/G3 in
+    series; past the yield limit tau_c0 it hardens, |p| = (tau_c0 + k W) /
+    (1 + k (c + f)) (the flow W - (c + f)|p| raising the limit by k per metre);
+    a yield limit above the friction bound leaves Coulomb's mu p_n."""
+    from railcontact.core.materials import InterfaceLayer
+    from railcontact.tangential.exact import layer_bound, transient_step
+    x, contact, bound, c = _one_element()
+    zero = np.zeros((3, 3))
+    f = 0.02e-3 / 106.25e6                                  # 20 um of clay, G3 = 106 MPa
+
+    def shift(layer, W):
+        lb = layer_bound(layer, bound)
+        px, *_ , ok = transient_step(x, x, contact, lb, (W, 0.0), (zero, zero), G, 0.28,
+                                     1e-12, 100)
+        assert ok
+        return -px[1, 1]
+
+    W = 5e-6
+    assert shift(InterfaceLayer(0.02e-3, 106.25e6), W) == pytest.approx(W / (c + f), rel=1e-9)
+    clay = InterfaceLayer(0.02e-3, 106.25e6, 200e6, 435e9)
+    W = 60e-6                                                # past the yield at 40 um
+    expected = (200e6 + 435e9 * W) / (1 + 435e9 * (c + f))
+    assert shift(clay, W) == pytest.approx(expected, rel=1e-9)
+    assert shift(InterfaceLayer(0.02e-3, 106.25e6, 2e9, 435e9), 1e-3) == pytest.approx(
+        1e9, rel=1e-12)
+
+
+def test_perfectly_plastic_layer_in_full_sliding():
+    """In full sliding the traction lies on min(mu p_n, tau_c0): a perfectly plastic
+    layer (k_tau = 0) caps the friction bound where mu p_n exceeds the yield limit,
+    and the creep force is the sum of the caps (steady rolling, 24 x 24 Hertz)."""
+    from railcontact.core.materials import InterfaceLayer
+    mat = Material(2.1e11, 0.28)
+    ns = hertz_on_grid(4e-3, 3e-3, 24, 24, 3.6e-4, 2.7e-4, 3e4, mat)
+    tau, mu = 150e6, 0.3
+    layer = InterfaceLayer(0.0, 1e9, tau, 0.0)
+    t = get_tangential_model("exact", layer=layer).solve(ns, None, mat, (0.05, 0, 0), mu)
+    cap = np.minimum(mu * ns.pressure, tau) * ns.contact
+    dA = (ns.x[1] - ns.x[0]) * (ns.y[1] - ns.y[0])
+    assert t.converged and not t.stick[ns.contact].any()
+    assert np.abs(np.hypot(t.traction_x, t.traction_y) - cap).max() <= 1e-6 * tau
+    # the slip turns from x by the lateral displacements (up to 2.4 mrad here): F_x
+    # (on the wheel) within 1e-5 of the caps' sum (measured 1.9e-6)
+    assert t.fx == pytest.approx(cap.sum() * dA, rel=1e-5)
+    # the cap binds: well under Coulomb's full sliding force
+    assert t.fx < 0.8 * mu * ns.pressure.sum() * dA
