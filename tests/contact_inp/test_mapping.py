@@ -86,3 +86,22 @@ def test_module3_hertzian_case(refdir):
     h = hertz_ellipse(0.5 / rad["wheel_rolling"], 0.5 / rad["wheel_lateral"],
                       Material(**r["material"]).contact_modulus, force=52359.8776)
     assert (h.a, h.b) == pytest.approx((5e-3, 5e-3), rel=1e-9)
+
+
+def test_interfacial_layer_maps_to_the_exact_models_layer(testbank):
+    """MATER = 4 in module 1 (examples_plast/mbench_a22_left.inp): the exact
+    tangential model with the layer in SI (GG3 820 N/mm^2, LAYTHK 0.02 mm, TAU_C0
+    60 N/mm^2, K_TAU 1000 N/mm^3); TAU_C0 <= 0 is a layer without yield."""
+    import math
+    path = testbank / "examples_plast" / "mbench_a22_left.inp"
+    (m,) = load_inp(path, profile_dirs=[testbank / "profiles"])
+    s = m.raw["solver"]
+    assert s["tangential"] == "exact"
+    layer = s["tangential_options"]["layer"]
+    assert layer == pytest.approx({"thickness": 2e-5, "shear_modulus": 8.2e8,
+                                   "yield_stress": 6e7, "hardening": 1e12})
+    from railcontact.contact_inp.mapping import layer_options
+    from railcontact.contact_inp import read_inp
+    (case,) = read_inp(path)
+    case.values["TAU_C0"] = 0.0
+    assert layer_options(case)["yield_stress"] == math.inf

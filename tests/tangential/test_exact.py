@@ -467,3 +467,17 @@ def test_perfectly_plastic_layer_in_full_sliding():
     assert t.fx == pytest.approx(cap.sum() * dA, rel=1e-5)
     # the cap binds: well under Coulomb's full sliding force
     assert t.fx < 0.8 * mu * ns.pressure.sum() * dA
+
+
+def test_layer_option_from_a_case_file():
+    """``tangential_options = {layer = {...}}`` (a case file's table) builds the
+    InterfaceLayer; an unknown key or value stops with one line naming it."""
+    from railcontact.core.errors import InputError
+    from railcontact.core.materials import InterfaceLayer
+    m = get_tangential_model("exact", layer={"thickness": 2e-5, "shear_modulus": 8.2e8,
+                                             "yield_stress": 6e7, "hardening": 1e12})
+    assert m.layer == InterfaceLayer(2e-5, 8.2e8, 6e7, 1e12)
+    with pytest.raises(InputError, match="layer keys.*'yield'"):
+        get_tangential_model("exact", layer={"yield": 6e7})
+    with pytest.raises(InputError, match="layer.shear_modulus"):
+        get_tangential_model("exact", layer={"shear_modulus": -1.0})
