@@ -65,7 +65,7 @@ SPIN_OFFSET = 1.0 / 6.0
 #: the elements are iterated until none changes by more than this (relative to the
 #: largest friction bound), at most LAYER_ITERATIONS times
 LAYER_TOL = 1e-9
-LAYER_ITERATIONS = 400
+LAYER_ITERATIONS = 200
 
 
 @lru_cache(maxsize=32)
@@ -283,11 +283,16 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
             tau = _rolling_flow(sub, S, dx)[2]
             step = (np.minimum(tau, gb) - np.minimum(tb.tau, gb)) * cb
             change = float(np.max(np.abs(step))) / gmax
-            log.debug("layer's yield limits: change %.3e (omega %.3f, inner %s)", change, omega, converged)
+            log.debug("layer's yield limits: change %.3e (omega %.3f)", change, omega)
             if change <= LAYER_TOL:
                 break
             if last is not None:
                 omega = 0.5 * omega if float(np.sum(step * last)) < 0 else min(1.0, 1.5 * omega)
+            if omega < 1e-4:
+                # stalled (a very stiff hardening, k_tau dx of several times the
+                # element's stiffness): flagged not converged
+                converged = False
+                break
             last = step
             tau = np.where(np.isfinite(tb.tau), tb.tau + omega * (tau - tb.tau), tau)
             tb = TractionBound(gb, np.ascontiguousarray(tau), tb.k)
