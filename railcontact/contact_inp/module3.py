@@ -471,6 +471,13 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             state["mu"] = mu_start.copy()
 
         backwards = t == 3 and math.cos(_need(case, "CHI")) < 0
+        memdst = (v.get("MEMDST") or 0.0) * MM if law is not None else 0.0
+        # friction memory in steady rolling (user guide, "Friction memory"): the
+        # material's coefficient relaxes towards mu_s(s_a) over the distance MEMDST,
+        # from the static coefficient at the leading edge; one element per time step
+        # DX / VELOC
+        state["memory"] = None if memdst <= 0 else (
+            memdst, (v.get("MEM_S0") or 0.0) * MM, grid.dx / veloc, backwards)
 
         def solve_once(cx, cy, bt):
             if t == 3 and backwards:
@@ -638,17 +645,19 @@ FRICTION_ITERATIONS = 300
 
 def friction_law(case):
     """The case's slip-velocity dependent friction law (FRCLAW 2-4), or None for
-    Coulomb friction (L = 0); InpError for friction memory (MEMDST > 0) and the
-    laws not supported here (L = 5, 6)."""
+    Coulomb friction (L = 0); InpError for friction memory (MEMDST > 0) in
+    transient problems and the laws not supported here (L = 5, 6)."""
     law = case.values.get("FRICTION_LAW", 0)
     if law == 0:
         return None
     if law not in (2, 3, 4):
         raise _unsupported(case, f"FRCLAW = {law}", "expected 0 (Coulomb) or 2-4 (slip-"
                                                     "velocity dependent, without memory)")
-    if (case.values.get("MEMDST") or 0.0) > 0:
-        raise _unsupported(case, f"MEMDST = {case.values['MEMDST']:g} mm (friction memory)",
-                           "expected MEMDST = 0 (an instantaneous friction law)")
+    if (case.values.get("MEMDST") or 0.0) > 0 and case.digits["T"] != 3:
+        raise _unsupported(case, f"MEMDST = {case.values['MEMDST']:g} mm (friction memory) "
+                                 f"with TANG = {case.digits['T']}",
+                           "expected MEMDST = 0 (an instantaneous friction law) or steady "
+                           "rolling (T = 3)")
     v = case.values
     name = {2: "FLIN", 3: "FRAT", 4: "FEXP"}[law]
     kind = {2: "linear", 3: "rational", 4: "exponential"}[law]
@@ -671,7 +680,10 @@ def _falling_friction(solve_once, cx, cy, law, pressure, contact, per_slip, stat
     for _ in range(FRICTION_ITERATIONS):
         out = solve_once(cx, cy, np.ascontiguousarray(mu * pressure))
         sa = np.hypot(out[2], out[3]) * per_slip
-        step = np.where(contact, law(sa), law.static) - mu
+        target = np.where(contact, law(sa), law.static)
+        if state.get("memory") is not None:
+            target = _friction_memory(target, sa, law.static, state["memory"])
+        step = target - mu
         change = float(np.max(np.abs(step)))
         if change <= FRICTION_TOL:
             break
@@ -684,6 +696,25 @@ def _falling_friction(solve_once, cx, cy, law, pressure, contact, per_slip, stat
     if change > FRICTION_TOL:
         out = (*out[:-1], False)
     return out
+
+
+def _friction_memory(target, sa, static, memory):
+    """Steady rolling with friction memory (MEMDST = d_c > 0): the coefficient each
+    element's material carries, marched from the leading edge (entering with the
+    static coefficient) with CONTACT's implicit step over the time dt of one
+    element, mu_I = theta mu_I+ + (1 - theta) mu_s(s_a,I), theta = d_c / (d_c + dt
+    max(s_a,I, s_0)) (user guide, "Friction memory").  ``memory`` (d_c [m], s_0
+    [m/s], dt [s], rolling towards -x)."""
+    dc, s0, dt, backwards = memory
+    f = (lambda a: a) if backwards else (lambda a: a[::-1])
+    tg, sv = f(target), f(sa)
+    theta = dc / (dc + dt * np.maximum(sv, s0))
+    mu = np.empty_like(tg)
+    prev = np.full(tg.shape[1:], static)
+    for i in range(tg.shape[0]):                 # rows from the leading edge
+        prev = theta[i] * prev + (1.0 - theta[i]) * tg[i]
+        mu[i] = prev
+    return f(mu)
 
 
 def _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start=None):
