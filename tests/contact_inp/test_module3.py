@@ -426,3 +426,21 @@ def test_plastic_traction_curve_softening(testbank):
     _check(rows, ref, [236, 238, 240], mu=0.33, force_tol=5e-4)
     for r in rows:
         assert r["nslip"] == ref[r["case"]]["nslip"]
+
+
+def test_layer_with_falling_friction_and_memory(testbank):
+    """tractcurv.inp cases 31-60 (the user guide's "reduced initial slope and
+    falling friction"): an elastic layer (GG3 8200 N/mm^2, LAYTHK 1.25 mm, no
+    yield) and exponential falling friction with memory (MEMDST 3 um, MEM_S0 1
+    mm/s) on a 44 x 44 Hertzian grid.  F_x within 0.05 % of CONTACT's along the
+    curve (its rise, peak at 33260 N and fall; measured 0.014 % over the 30 cases)
+    and its elements in adhesion.  Without the memory (the instantaneous law) F_x
+    is 0.2 % under CONTACT's at the peak (case 47: -33198 N against -33260 N),
+    outside this test's 0.05 %."""
+    path = testbank / "examples_basic" / "tractcurv.inp"
+    cases = [31, 36, 41, 47, 53, 60]
+    rows = solve_inp(path, cases=cases)
+    ref = read_out(path.with_suffix(".ref_out"))
+    _check(rows, ref, cases, mu=0.33, force_tol=5e-4)
+    for r in rows:
+        assert r["nadh"] == ref[r["case"]]["nadh"], r["case"]
