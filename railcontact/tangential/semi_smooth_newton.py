@@ -162,7 +162,8 @@ def _ssn_blocks(px, py, sx, sy, contact, bound, rho):
     (|v| <= b, v = p - rho s): F = rho s, row rho C (M = I, Q = rho I).  Slip:
     F = p - b v/|v|, row I - M + Q C with M = b/|v| (I - e e^T), e = v/|v|, and
     Q = rho M - b' e s^T/|s| (b' the bound's slope in |s|: a hardening or softening
-    yield limit; rho + b' in place of rho where the limit hardens).  Returned: F (mx, my, 2), M and Q (mx, my, 2, 2), the stick mask.
+    yield limit; rho + b' in place of rho where the limit hardens).
+    Returned: F (mx, my, 2), M and Q (mx, my, 2, 2), the stick mask.
     """
     mx, my = px.shape
     F = np.zeros((mx, my, 2))
