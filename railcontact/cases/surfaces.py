@@ -256,7 +256,8 @@ def _nearest(previous, g, distance: float = 3e-3):
 
 
 def solve_on_surfaces(case: Case, normal: str | None = None, tangential: str | None = None,
-                      setup: SurfaceScene | None = None, warm_start=None) -> SurfaceResult:
+                      setup: SurfaceScene | None = None, warm_start=None,
+                      tangential_model=None) -> SurfaceResult:
     """Solve a case on rail surfaces (see the module notes).
 
     Parameters
@@ -269,10 +270,15 @@ def solve_on_surfaces(case: Case, normal: str | None = None, tangential: str | N
     warm_start : SurfaceResult, optional
         A neighbouring case's result (a sweep's previous position): its vertical
         position starts the iteration and its patches warm-start the models.
+    tangential_model : object, optional
+        A tangential model instance used in place of the case's (a transient time
+        step of CONTACT's module 1, :mod:`railcontact.contact_inp.transient_m1`).
     """
     t0 = time.perf_counter()
     setup = setup or build_surface_case(case)
     nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
+    if tangential_model is not None:
+        tname, tmodel = tangential_model.name, tangential_model
     previous = warm_start.patches if warm_start is not None else None
     beyond = beyond_slices(setup)
     for line in beyond:

@@ -21,7 +21,7 @@ from ..cases.case import case_from_dict
 from ..cases.solve import solve
 from ..cases.sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
 from ..core.errors import RailContactError
-from . import module3
+from . import module3, transient_m1
 from .mapping import MappedCase, map_case
 from .reader import InpCase, InpError, read_inp
 from .table import COLUMNS, rows, to_csv, to_json, to_text
@@ -95,7 +95,15 @@ def _map(case, profile_dirs):
     if module3.handles(case):
         module3.check(case)
         return MappedCase(case.number, 3, None, {"module": 3, "inp": case})
-    return map_case(case, profile_dirs)
+    if transient_m1.handles(case):
+        # module 1, transient (T = 1, 2): :mod:`.transient_m1`
+        transient_m1.check(case, profile_dirs)
+        return MappedCase(case.number, 1, None, {"module": 1, "inp": case,
+                                                 "profile_dirs": profile_dirs})
+    mapped = map_case(case, profile_dirs)
+    if mapped.module == 1:
+        mapped.meta["inp"] = case        # its tractions may start a transient case
+    return mapped
 
 
 def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
@@ -103,8 +111,12 @@ def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
     ``warm``); returns each case's rows, or its one-line error."""
     out, prev = [], None
     seq = module3.Sequence()        # the transient state of module 3 cases
+    seq1 = transient_m1.WheelRailSequence()     # ... and of module 1 cases
     for m in items:
         try:
+            if m.raw is None and m.module == 1:
+                out.append(seq1.run(m.meta["inp"], m.meta["profile_dirs"]))
+                continue
             if m.raw is None:
                 out.append([seq.run(m.meta["inp"])])
                 continue
@@ -114,9 +126,13 @@ def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
                         warm_start=prev if warm else None)
             prev = res
             out.append(rows(res, m))
+            if m.module == 1:
+                # a steady case's tractions: a following transient case's start
+                seq1.remember(m.meta.get("inp"), m.raw, res)
         except RailContactError as exc:
             prev = None
             seq.reset()
+            seq1.reset()
             out.append([{"case": m.number, "module": m.module, "patch": 0, "npatch": 0,
                          "converged": False, "message": f"error: {exc}"}])
     return out
