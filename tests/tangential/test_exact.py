@@ -481,3 +481,26 @@ def test_layer_option_from_a_case_file():
         get_tangential_model("exact", layer={"yield": 6e7})
     with pytest.raises(InputError, match="layer.shear_modulus"):
         get_tangential_model("exact", layer={"shear_modulus": -1.0})
+
+
+def test_transient_mode_carries_the_plastic_displacement():
+    """``mode="transient"`` with a hardening layer: the plastic displacement of a
+    step comes with its solution (``options["plastic_displacement"]``) and the next
+    step's yield limit starts from it, so two shifts W1, W2 in one direction give
+    one shift W1 + W2's traction, (tau_c0 + k (W1 + W2)) / (1 + k (c + f))."""
+    from railcontact.core.materials import InterfaceLayer
+    x, contact, bound, c = _one_element()
+    mu = 0.5
+    ns = NormalSolution("exact", x, x, bound / mu, contact, 0.0, float(bound.max() / mu),
+                        0.0, float(bound.sum() / mu * 1e-6))
+    clay = InterfaceLayer(0.02e-3, 106.25e6, 200e6, 435e9)
+    model = get_tangential_model("exact", mode="transient", tol=1e-9, layer=clay)
+    mat = Material.from_shear_modulus(G, 0.28)
+    s1 = model.solve(ns, None, mat, (50e-6, 0, 0), mu)
+    s2 = model.solve(ns, None, mat, (30e-6, 0, 0), mu, previous=s1)
+    k, ct = 435e9, c + clay.flexibility
+    u1 = s1.options["plastic_displacement"][1, 1]
+    # (the solution's tractions act on the wheel: + where the rail's are -)
+    assert s1.traction_x[1, 1] == pytest.approx((200e6 + k * 50e-6) / (1 + k * ct), rel=1e-9)
+    assert u1 == pytest.approx(50e-6 - ct * s1.traction_x[1, 1], rel=1e-9)
+    assert s2.traction_x[1, 1] == pytest.approx((200e6 + k * 80e-6) / (1 + k * ct), rel=1e-9)
