@@ -129,13 +129,25 @@ def _tangential_model(case) -> tuple:
     """(tangential model, options) from the TANG and MATER digits."""
     if case.digits["T"] == 0:
         return "none", {}
-    m = _digit(case, "M", {0: "exact", 3: "fastsim", 5: "fastrip"}, "MATER")
+    m = _digit(case, "M", {0: "exact", 3: "fastsim", 4: "exact", 5: "fastrip"}, "MATER")
+    if case.digits["M"] == 4:
+        return m, {"layer": layer_options(case)}
     if m in ("fastsim", "fastrip"):
         k0, alpha = case.values.get("K0_MF"), case.values.get("ALFAMF")
         if k0 is not None and (abs(k0 - 1.0) > 1e-12 or abs(alpha - 1.0) > 1e-12):
             raise _unsupported(case, f"K0_MF = {k0:g}, ALFAMF = {alpha:g} (slope reduction of "
                                      "the modified FASTSIM)", "expected K0_MF = ALFAMF = 1")
     return m, {}
+
+
+def layer_options(case) -> dict:
+    """The interfacial layer of MATER = 4 in SI, the exact tangential model's
+    ``layer`` (:class:`~railcontact.core.materials.InterfaceLayer`): GG3 [N/mm^2],
+    LAYTHK [mm], TAU_C0 [N/mm^2] (<= 0: no plasticity), K_TAU [N/mm^3]."""
+    tau = _need(case, "TAU_C0")
+    return {"thickness": _need(case, "LAYTHK") * 1e-3, "shear_modulus": _need(case, "GG3") * 1e6,
+            "yield_stress": tau * 1e6 if tau > 0 else math.inf,
+            "hardening": _need(case, "K_TAU") * 1e9}
 
 
 def _check_common(case) -> None:

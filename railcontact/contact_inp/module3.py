@@ -61,10 +61,12 @@ from ..normal.influence import normal_operator
 from ..normal.polonsky_keer import polonsky_keer
 from ..tangential.friction import SlipVelocityFriction
 from ..tangential.temperature import ThermalProperties, flash_temperatures
-from ..tangential.exact import (grid_offset, previous_displacement, shifted_tractions,
-                                steady_rolling, transient_step)
+from ..core.errors import RailContactError
+from ..core.materials import InterfaceLayer
+from ..tangential.exact import (grid_offset, layer_bound, plastic_flow, previous_displacement,
+                                shifted_tractions, steady_rolling, transient_step)
 from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
-from .mapping import curvature_from_axis_ratio
+from .mapping import curvature_from_axis_ratio, layer_options
 from .reader import InpCase, InpError
 
 log = logging.getLogger(__name__)
@@ -81,8 +83,10 @@ def handles(case: InpCase) -> bool:
     """Whether the case is solved here: module 3 with a grid-given potential contact
     area (IPOTCN > 0), a transient tangential problem (T = 1, 2), a prescribed
     tangential force (F = 1, 2), the approach prescribed (N = 0), surface
-    temperatures (H = 1, 3) or a slip-velocity dependent friction law (L = 2-6)."""
+    temperatures (H = 1, 3), a slip-velocity dependent friction law (L = 2-6) or
+    an interfacial layer (M = 4)."""
     return case.module == 3 and (is_fastsim_grid(case) or case.digits["T"] in (1, 2)
+                                 or case.digits["M"] == 4
                                  or case.digits["F"] in (1, 2)
                                  or case.digits["N"] == 0 or case.digits["H"] in (1, 3)
                                  or case.values.get("FRICTION_LAW", 0) not in (0, 1)
@@ -113,7 +117,7 @@ def check(case: InpCase) -> None:
         _check_fastsim(case)
         return
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0, 1, 2, 3),
-               "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
+               "L": (0, 1, 2, 3, 4), "M": (0, 4), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
              "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
@@ -148,6 +152,8 @@ def check(case: InpCase) -> None:
             _need(case, k)
     g1, g2 = _need(case, "GG1"), _need(case, "GG2")
     n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    if d["M"] == 4:
+        interface_layer(case)
     if _dissimilar(case) and d["T"] == 2:
         raise _unsupported(case, "dissimilar materials (K != 0) with transient rolling (T = 2)",
                            "expected quasi-identical materials ((1 - 2 nu)/G equal for both "
@@ -187,7 +193,8 @@ class Grid:
 
 @dataclass
 class Instance:
-    """Tangential tractions [Pa] on body 1 of a time instance and their grid."""
+    """Tangential tractions [Pa] on body 1 of a time instance and their grid (and
+    an interfacial layer's accumulated plastic displacement u*_pl [m], M = 4)."""
 
     px: np.ndarray
     py: np.ndarray
@@ -195,6 +202,21 @@ class Instance:
     #: the pressure [Pa] of that instance (dissimilar bodies: its tangential
     #: displacements are the previous ones of the shift)
     pn: np.ndarray | None = None
+    #: the interfacial layer's accumulated plastic displacement [m] (M = 4)
+    ustar: np.ndarray | None = None
+
+
+def interface_layer(case) -> InterfaceLayer | None:
+    """The interfacial layer of MATER = 4 (GG3 [N/mm^2], LAYTHK [mm], TAU_C0
+    [N/mm^2], K_TAU [N/mm^3]; TAU_C0 <= 0: no plasticity), or None."""
+    if case.digits["M"] != 4:
+        return None
+    try:
+        return InterfaceLayer(**layer_options(case))
+    except RailContactError as exc:
+        raise InpError(f"{case.where()}: GG3, LAYTHK, TAU_C0, K_TAU = "
+                       f"{_need(case, 'GG3'):g}, {_need(case, 'LAYTHK'):g}, "
+                       f"{_need(case, 'TAU_C0'):g}, {_need(case, 'K_TAU'):g}: {exc}") from None
 
 
 def _materials(case):
@@ -288,6 +310,7 @@ class CaseResult:
     stick: np.ndarray
     row: dict
     mu: np.ndarray | None = None       # a slip-velocity dependent law's coefficients
+    ustar: np.ndarray | None = None    # an interfacial layer's plastic displacement [m]
 
 
 class Sequence:
@@ -313,7 +336,8 @@ class Sequence:
             return None
         # a steady rolling case's tractions are a time instance too (the steady
         # state of transient rolling on its grid)
-        return Instance(self.last.px, self.last.py, self.last.grid, self.last.pressure)
+        return Instance(self.last.px, self.last.py, self.last.grid, self.last.pressure,
+                        self.last.ustar)
 
     def run(self, case: InpCase) -> dict:
         check(case)
@@ -372,9 +396,10 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     grid, h = _grid_and_gap(case, es)
     t = d["T"]
     mx_given = grid.x.size
-    if mx_given == 1 and t == 3:
-        # one column in steady rolling: the solver's grid gets an empty second
-        # column ahead of it, kept out of contact (no traction there, no effect)
+    if mx_given == 1 and t in (1, 3):
+        # one element along x (a shift, or one column in steady rolling): the solver's
+        # grid gets an empty second column ahead of it, kept out of contact (no
+        # traction there, no effect)
         grid = Grid(np.array([grid.x[0], grid.x[0] + grid.dx]), grid.y, grid.dx, grid.dy)
         h = np.r_[h, np.full((1, h.shape[1]), 1.0)]
     pressure, approach, ok_n = _normal(case, grid, h, es)
@@ -390,6 +415,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     px, py, stick, ok_t, creep = zero, zero, np.zeros(shape, bool), True, (0.0, 0.0)
     state = {"mu": None, "w_extra": None}
     message = "" if ok_n else "normal problem not converged"
+    layer = interface_layer(case)
+    ustar_prev, ustar, nplast = None, None, 0
     if t:
         u_prev, p_start, pn_prev = (zero, zero), None, None
         if t in (1, 2) and prev is not None:
@@ -407,10 +434,17 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             p_start = shifted_tractions(prev.px, prev.py, off, shape)
             if prev.pn is not None:
                 pn_prev = shifted_tractions(prev.pn, prev.pn, off, shape)[0]
+            if layer is not None:
+                # the layer's own displacement of the previous tractions, and the
+                # plastic displacement the material has accumulated
+                f = layer.flexibility
+                u_prev = (u_prev[0] + f * p_start[0], u_prev[1] + f * p_start[1])
+                if prev.ustar is not None:
+                    ustar_prev = shifted_tractions(prev.ustar, zero, off, shape)[0]
 
         if grid.x.size < 2:
-            raise InpError(f"{case.where()}: MX = 1 with a tangential problem; expected MX "
-                           ">= 2 (the rolling direction)")
+            raise InpError(f"{case.where()}: MX = 1 with TANG = {t}; expected MX >= 2 (the "
+                           "rolling direction)")
         # one strip (MY = 1, a 2-D problem): the solver's grid gets an empty second
         # strip, outside the contact (no traction there, no effect)
         pad = grid.y.size == 1
@@ -419,6 +453,12 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                  ) if pad else (lambda a: a)
         ct, bt = widen(contact), widen(bound)
         u_t = (widen(u_prev[0]), widen(u_prev[1]))
+        us_t = None if ustar_prev is None else widen(ustar_prev)
+
+        def lb(b, mirror=lambda a: a):
+            # the traction bound: an interfacial layer's (M = 4) with the friction's
+            return b if layer is None else layer_bound(
+                layer, b, None if us_t is None else mirror(us_t))
         state["p0"] = None if p_start is None else (widen(p_start[0]), widen(p_start[1]))
 
         # the absolute slip velocity [m/s] of a slip of the solver: steady rolling,
@@ -439,6 +479,13 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             state["mu"] = mu_start.copy()
 
         backwards = t == 3 and math.cos(_need(case, "CHI")) < 0
+        memdst = (v.get("MEMDST") or 0.0) * MM if law is not None else 0.0
+        # friction memory in steady rolling (user guide, "Friction memory"): the
+        # material's coefficient relaxes towards mu_s(s_a) over the distance MEMDST,
+        # from the static coefficient at the leading edge; one element per time step
+        # DX / VELOC
+        state["memory"] = None if memdst <= 0 else (
+            memdst, (v.get("MEM_S0") or 0.0) * MM, grid.dx / veloc, backwards)
 
         def solve_once(cx, cy, bt):
             if t == 3 and backwards:
@@ -447,13 +494,13 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 f = lambda a: np.ascontiguousarray(a[::-1])                 # noqa: E731
                 p0 = state["p0"]
                 p0 = None if p0 is None else (-f(p0[0]), f(p0[1]))
-                out = steady_rolling(-grid.x[::-1], yt, f(ct), f(bt),
+                out = steady_rolling(-grid.x[::-1], yt, f(ct), lb(f(bt), f),
                                      (-cx, cy, -_need(case, "CPHI") / MM), G, nu,
                                      TANGENTIAL_TOL, 200, p0=p0, w_extra=state["w_extra"])
                 px_, py_, sx_, sy_, st_, it_, ok_ = out
                 return -f(px_), f(py_), -f(sx_), f(sy_), f(st_), it_, ok_
             if t == 3:
-                return steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
+                return steady_rolling(grid.x, yt, ct, lb(bt), (cx, cy, _need(case, "CPHI") / MM),
                                       G, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
                                       w_extra=state["w_extra"])
             w = _rigid_shift(case, grid, (cx, cy))
@@ -462,7 +509,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 # dissimilar bodies: the pressure's tangential displacements of this
                 # step less those of the previous instance
                 wx, wy = wx + state["w_extra"][0], wy + state["w_extra"][1]
-            return transient_step(grid.x, yt, ct, bt, (wx, wy),
+            return transient_step(grid.x, yt, ct, lb(bt), (wx, wy),
                                   u_t, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
 
         def tangential(cx, cy):
@@ -474,7 +521,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             if out[-1]:
                 state["p0"] = (out[0], out[1])
             if pad:
-                out = tuple(o[:, :1] if isinstance(o, np.ndarray) else o for o in out)
+                out = tuple(o[:shape[0], :shape[1]] if isinstance(o, np.ndarray) else o
+                            for o in out)
             return out
 
         state["w_extra"] = None
@@ -523,6 +571,9 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             state["w_extra"] = pressure_slip(pressure)
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, sx, sy, stick, _, ok_t = out
+        if layer is not None:
+            ustar, plast = _plastic_state(case, layer, grid, bound, (sx, sy), ustar_prev)
+            nplast = int(np.count_nonzero(plast & contact))
         if not ok_t:
             what = "tangential problem not converged"
             if state.get("friction", 0.0) > FRICTION_TOL:
@@ -549,11 +600,29 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
            "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3, "fric_power_W": fric,
            "approach_mm": approach / MM, "pmax_MPa": float(pressure.max()) * 1e-6,
            "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh,
-           "nslip": ncon - nadh if t else 0, "mx": mx_given, "my": shape[1],
+           "nslip": ncon - nadh - nplast if t else 0, "mx": mx_given, "my": shape[1],
            "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM, "tmax_C": tmax,
            "converged": bool(ok_n and ok_t), "message": message}
+    if layer is not None:
+        row["nplast"] = nplast
     return CaseResult(grid, pressure, px, py, stick, row,
-                      state["mu"] if t and law is not None else None)
+                      state["mu"] if t and law is not None else None, ustar)
+
+
+def _plastic_state(case, layer, grid, bound, slip, ustar_prev):
+    """The plastic displacement u*_pl [m] the material has accumulated after the
+    case (M = 4): the previous instance's plus the step's flow (T = 1, 2), or
+    summed along the strips from the leading edge (T = 3; towards +x for CHI = 180
+    degrees), and the mask of the elements in plastic flow."""
+    t = case.digits["T"]
+    sx, sy = slip
+    if t in (1, 2):
+        inc, _, plast = plastic_flow(layer_bound(layer, bound, ustar_prev), sx, sy, grid.dx,
+                                     False)
+        return (inc if ustar_prev is None else ustar_prev + inc), plast
+    f = (lambda a: a[::-1]) if math.cos(_need(case, "CHI")) < 0 else (lambda a: a)
+    _, acc, plast = plastic_flow(layer_bound(layer, f(bound)), f(sx), f(sy), grid.dx, True)
+    return np.ascontiguousarray(f(acc)), f(plast)
 
 
 def _body_material(case):
@@ -598,17 +667,19 @@ FRICTION_ITERATIONS = 300
 
 def friction_law(case):
     """The case's slip-velocity dependent friction law (FRCLAW 2-4), or None for
-    Coulomb friction (L = 0); InpError for friction memory (MEMDST > 0) and the
-    laws not supported here (L = 5, 6)."""
+    Coulomb friction (L = 0); InpError for friction memory (MEMDST > 0) in
+    transient problems and the laws not supported here (L = 5, 6)."""
     law = case.values.get("FRICTION_LAW", 0)
     if law == 0:
         return None
     if law not in (2, 3, 4):
         raise _unsupported(case, f"FRCLAW = {law}", "expected 0 (Coulomb) or 2-4 (slip-"
                                                     "velocity dependent, without memory)")
-    if (case.values.get("MEMDST") or 0.0) > 0:
-        raise _unsupported(case, f"MEMDST = {case.values['MEMDST']:g} mm (friction memory)",
-                           "expected MEMDST = 0 (an instantaneous friction law)")
+    if (case.values.get("MEMDST") or 0.0) > 0 and case.digits["T"] != 3:
+        raise _unsupported(case, f"MEMDST = {case.values['MEMDST']:g} mm (friction memory) "
+                                 f"with TANG = {case.digits['T']}",
+                           "expected MEMDST = 0 (an instantaneous friction law) or steady "
+                           "rolling (T = 3)")
     v = case.values
     name = {2: "FLIN", 3: "FRAT", 4: "FEXP"}[law]
     kind = {2: "linear", 3: "rational", 4: "exponential"}[law]
@@ -631,7 +702,10 @@ def _falling_friction(solve_once, cx, cy, law, pressure, contact, per_slip, stat
     for _ in range(FRICTION_ITERATIONS):
         out = solve_once(cx, cy, np.ascontiguousarray(mu * pressure))
         sa = np.hypot(out[2], out[3]) * per_slip
-        step = np.where(contact, law(sa), law.static) - mu
+        target = np.where(contact, law(sa), law.static)
+        if state.get("memory") is not None:
+            target = _friction_memory(target, sa, law.static, state["memory"])
+        step = target - mu
         change = float(np.max(np.abs(step)))
         if change <= FRICTION_TOL:
             break
@@ -644,6 +718,25 @@ def _falling_friction(solve_once, cx, cy, law, pressure, contact, per_slip, stat
     if change > FRICTION_TOL:
         out = (*out[:-1], False)
     return out
+
+
+def _friction_memory(target, sa, static, memory):
+    """Steady rolling with friction memory (MEMDST = d_c > 0): the coefficient each
+    element's material carries, marched from the leading edge (entering with the
+    static coefficient) with CONTACT's implicit step over the time dt of one
+    element, mu_I = theta mu_I+ + (1 - theta) mu_s(s_a,I), theta = d_c / (d_c + dt
+    max(s_a,I, s_0)) (user guide, "Friction memory").  ``memory`` (d_c [m], s_0
+    [m/s], dt [s], rolling towards -x)."""
+    dc, s0, dt, backwards = memory
+    f = (lambda a: a) if backwards else (lambda a: a[::-1])
+    tg, sv = f(target), f(sa)
+    theta = dc / (dc + dt * np.maximum(sv, s0))
+    mu = np.empty_like(tg)
+    prev = np.full(tg.shape[1:], static)
+    for i in range(tg.shape[0]):                 # rows from the leading edge
+        prev = theta[i] * prev + (1.0 - theta[i]) * tg[i]
+        mu[i] = prev
+    return f(mu)
 
 
 def _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start=None):

@@ -96,3 +96,78 @@ class Material:
 
 
 STEEL = Material()
+
+
+#: a softening interfacial layer's yield limit stays above this fraction of its
+#: initial value tau_c0 (CONTACT's lower limit)
+YIELD_FLOOR = 0.1
+
+
+@dataclass(frozen=True)
+class InterfaceLayer:
+    """An interfacial (third-body) layer between rail and wheel with a plastic
+    yield limit that hardens or softens with the accumulated plastic flow
+    (CONTACT's material model M = 4; Vollebregt, CONTACT user guide, "Interfacial
+    layer of contaminants", after the rheometer data of Hou et al. 1997).
+
+    The layer shears elastically, u_el = (h3 / G3) p_t, adding the flexibility
+    h3/G3 [m/Pa] to each element's own displacement; where the tangential
+    traction reaches the yield limit
+
+        tau_c = tau_c0 + k_tau u*_pl,    u*_pl = integral of |du_pl|,
+
+    it flows plastically (u*_pl the plastic displacement accumulated by the
+    material on its way through the contact, fresh material entering with 0).
+    The traction is bounded by min(mu p_n, tau_c); a softening limit (k_tau < 0)
+    that the material carries on falls no lower than :data:`YIELD_FLOOR` tau_c0
+    (as in CONTACT: the flow of the step itself may take the traction lower).
+
+    Parameters
+    ----------
+    thickness : float
+        Layer thickness h3 [m], >= 0 (0: no layer flexibility; the yield limit
+        then acts at the surface of the softer body).
+    shear_modulus : float
+        Shear modulus G3 [Pa] of the layer, > 0.
+    yield_stress : float
+        Initial yield limit tau_c0 [Pa]; ``math.inf`` (or <= 0 in CONTACT's
+        input) for none: an elastic layer.
+    hardening : float
+        Rate k_tau [Pa/m] of the yield limit with the accumulated plastic
+        displacement: > 0 work-hardening, < 0 softening, 0 perfectly plastic.
+    """
+
+    thickness: float = 0.0
+    shear_modulus: float = 1e9
+    yield_stress: float = math.inf
+    hardening: float = 0.0
+
+    def __post_init__(self) -> None:
+        for name, v, ok, want in (
+                ("thickness", self.thickness, lambda v: math.isfinite(v) and v >= 0,
+                 "a layer thickness in m >= 0"),
+                ("shear_modulus", self.shear_modulus, lambda v: math.isfinite(v) and v > 0,
+                 "a shear modulus in Pa > 0"),
+                ("yield_stress", self.yield_stress, lambda v: not math.isnan(v) and v > 0,
+                 "a yield limit in Pa > 0 (inf: none)"),
+                ("hardening", self.hardening, math.isfinite,
+                 "a finite hardening rate in Pa/m")):
+            if not (isinstance(v, (int, float)) and not isinstance(v, bool) and ok(v)):
+                raise InputError(f"layer.{name} = {shown(v)}: expected {want}")
+
+    @property
+    def flexibility(self) -> float:
+        """The layer's tangential flexibility h3/G3 [m/Pa]."""
+        return self.thickness / self.shear_modulus
+
+    @property
+    def yield_floor(self) -> float:
+        """The lowest yield limit [Pa] a softening layer (k_tau < 0) carries from one
+        step (element) to the next: a tenth of tau_c0, as CONTACT bounds it (0
+        without plasticity)."""
+        return YIELD_FLOOR * self.yield_stress if self.plastic else 0.0
+
+    @property
+    def plastic(self) -> bool:
+        """Whether the layer yields (a finite yield limit)."""
+        return math.isfinite(self.yield_stress)

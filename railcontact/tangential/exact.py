@@ -39,17 +39,18 @@ import math
 import time
 from dataclasses import dataclass
 from functools import lru_cache
+from typing import NamedTuple
 
 import numpy as np
 
 from ..core.errors import InputError
-from ..core.materials import Material, STEEL
+from ..core.materials import InterfaceLayer, Material, STEEL
 from ..normal.base import bilinear, same_grid
 from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
 from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
-from .semi_smooth_newton import SlipOperator, initial_march, ssn_solve
+from .semi_smooth_newton import SlipOperator, TractionBound, initial_march, ssn_solve
 
 log = logging.getLogger(__name__)
 
@@ -59,6 +60,12 @@ log = logging.getLogger(__name__)
 #: the discretisation, with the same continuum limit [element lengths dx]
 #: (docs/tuning.md, section "Tangential: exact")
 SPIN_OFFSET = 1.0 / 6.0
+
+#: rolling with a hardening or softening interfacial layer: the yield limits of
+#: the elements are iterated until none changes by more than this (relative to the
+#: largest friction bound), at most LAYER_ITERATIONS times
+LAYER_TOL = 1e-9
+LAYER_ITERATIONS = 200
 
 
 @lru_cache(maxsize=32)
@@ -93,6 +100,99 @@ def _block_operator(mx, my, dx, dy, G, nu, ms, ns):
     return TangentialOperator(tuple(k[cut] for k in kernels), ms, ns, rows=1)
 
 
+class LayerBound(NamedTuple):
+    """The traction bound of :func:`steady_rolling` with an interfacial layer
+    (:class:`~railcontact.core.materials.InterfaceLayer`, CONTACT's M = 4): in
+    place of the friction bound's array.
+
+    Slip then is the frictional slip plus the layer's plastic flow, both against
+    the traction; the flow takes over where the yield limit lies under the
+    friction bound, and the yield limit grows (k > 0) or falls (k < 0) with it.
+    Rolling: ``tau`` the yield limit of the material entering the contact
+    (tau_c0), the plastic displacement accumulated along each strip towards the
+    trailing edge; shift and transient steps: ``tau`` the yield limit each
+    element has before the step (tau_c0 + k u*_pl of the previous instance)."""
+
+    #: friction bound mu p_n [Pa] per element
+    g: np.ndarray
+    #: yield limit [Pa] per element (inf: none)
+    tau: np.ndarray
+    #: hardening rate k_tau [Pa/m] of the yield limit with the plastic displacement
+    k: float
+    #: the layer's flexibility h3/G3 [m/Pa]
+    flexibility: float
+    #: the lowest yield limit [Pa] a softening layer keeps from element to element
+    #: (the element's own flow may take its traction bound lower, as in CONTACT)
+    floor: float = 0.0
+
+
+def layer_bound(layer: InterfaceLayer | None, g, ustar=None) -> LayerBound:
+    """The :class:`LayerBound` of ``layer`` for the friction bound g [Pa] (array),
+    with the yield limit tau_c0 + k_tau u* where the material has accumulated the
+    plastic displacement ``ustar`` [m] (None: fresh material)."""
+    g = np.ascontiguousarray(g, dtype=float)
+    floor = 0.0
+    if layer is None or not layer.plastic:
+        tau = np.full(g.shape, np.inf)
+    else:
+        floor = layer.yield_floor
+        tau = np.full(g.shape, float(layer.yield_stress))
+        if ustar is not None:
+            tau = np.maximum(tau + layer.hardening * np.asarray(ustar, dtype=float), floor)
+    return LayerBound(g, tau, 0.0 if layer is None else float(layer.hardening),
+                      0.0 if layer is None else layer.flexibility, floor)
+
+
+def _bound_at(g, tau, k, S):
+    """The traction bound of each element at slip magnitude S (NumPy;
+    :class:`~railcontact.tangential.semi_smooth_newton.TractionBound`)."""
+    return np.where(tau >= g, g, np.clip(tau + k * S, 0.0, g))
+
+
+def _plastic_part(g, tau, k, S):
+    """The part of each element's slip magnitude S that is plastic flow of the layer
+    (the rest slides): all of it where the yield limit lies under the friction bound,
+    up to the slip at which a hardening limit reaches that bound."""
+    with np.errstate(invalid="ignore", divide="ignore"):
+        cap = np.where(k > 0, (g - tau) / np.where(k > 0, k, 1.0), np.inf)
+    return np.where(tau < g, np.minimum(S, cap), 0.0)
+
+
+def plastic_flow(bound: LayerBound, sx, sy, dx, rolling):
+    """The layer's plastic flow of a solution of :func:`steady_rolling` with a
+    :class:`LayerBound`: (increment [m] per element over the step or, rolling,
+    while the material passes the element; accumulated displacement u*_pl [m]
+    after the element, rolling: summed from the leading edge, else the increment;
+    the mask of the elements in plastic flow, CONTACT's "plasticity area").
+    ``sx, sy`` the solution's slip, ``dx`` [m] the element length."""
+    S = np.hypot(sx, sy)
+    if not rolling:
+        d = _plastic_part(bound.g, bound.tau, bound.k, S)
+        return d, d, (S > 0) & (bound.tau < bound.g)
+    d, acc, tau = _rolling_flow(bound, S, dx)
+    return d, acc, (S > 0) & (tau < bound.g)
+
+
+def _rolling_flow(bound, S, dx):
+    """Rolling: the plastic increments d [m] of each element, the displacement
+    accumulated after it and the yield limit each element starts from, with the
+    material entering at the leading edge (+x, the highest index) at ``bound.tau``."""
+    tau0 = bound.tau
+    # marched towards the trailing edge: an element's yield limit follows the flow
+    # upstream of it
+    mx = S.shape[0]
+    d = np.zeros(S.shape)
+    acc = np.zeros(S.shape)
+    tau = np.array(tau0, dtype=float, copy=True)
+    u = np.zeros(S.shape[1:])
+    for i in range(mx - 1, -1, -1):
+        tau[i] = np.maximum(tau0[i] + bound.k * u, bound.floor)
+        d[i] = _plastic_part(bound.g[i], tau[i], bound.k * dx, S[i]) * dx
+        u = u + d[i]
+        acc[i] = u
+    return d, acc, tau
+
+
 def _operators(mx, my, dx, dy, G, nu):
     """FFT operator of the whole mx x my grid and the self terms (dxx, dyy)."""
     return _sub_operator(mx, my, dx, dy, G, nu, mx, my), _kernels(mx, my, dx, dy, G, nu)[1]
@@ -111,6 +211,13 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     ``w_extra``: an additional rigid slip (s_x, s_y) per element (the pressure's
     share for dissimilar materials).
 
+    ``bound``: the friction bound mu p_n [Pa] per element, or a
+    :class:`LayerBound`: an interfacial layer's flexibility and yield limit
+    (CONTACT's M = 4).  Rolling with a hardening or softening layer, the yield
+    limit of each element follows from the plastic flow upstream of it: the
+    problem is solved again with the limits of the last solution until they
+    settle (:data:`LAYER_TOL`).
+
     Returns p (on body 1), slip, stick mask, Newton iterations and a convergence
     flag.  Convergence: max |F| <= tol * max bound, with F the complementarity
     residual p - Proj(p - rho s).
@@ -121,6 +228,14 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     if mode == "shift":
         kx, ky = _self_terms(mx, my, dx, dy, G, nu)
         dxx, dyy = kx, ky
+    layer = bound if isinstance(bound, LayerBound) else None
+    flex = 0.0
+    if layer is not None:
+        bound = np.ascontiguousarray(layer.g)
+        flex = float(layer.flexibility)
+        # the layer's own displacement f p: rolling, -(f p_I+ - f p_I)/dx
+        dxx, dyy = dxx + (flex if mode == "shift" else flex / dx), \
+            dyy + (flex if mode == "shift" else flex / dx)
     xi, eta, phi = creepage
     wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
     x_spin = x + SPIN_OFFSET * dx if mode == "rolling" else x
@@ -135,7 +250,8 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     elif mode == "shift":
         px, py = np.zeros((mx, my)), np.zeros((mx, my))
     else:
-        px, py = initial_march(wx, wy, contact, bound, dxx, dyy)
+        g0 = bound if layer is None else np.ascontiguousarray(np.minimum(bound, layer.tau))
+        px, py = initial_march(wx, wy, contact, g0, dxx, dyy)
     shift = mode == "shift"
     # the problem lives on the contact's bounding box: tractions are zero outside the
     # contact and the slip is needed only inside it, so the FFT products run on the
@@ -144,17 +260,60 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     ms, ns = contact[box].shape
     op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
     cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
+    sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex)
+    if layer is None:
+        tb = TractionBound(gb, gb, np.zeros_like(gb))
+    else:
+        tb = TractionBound(gb, np.ascontiguousarray(layer.tau[box]),
+                           np.full(gb.shape, layer.k * (1.0 if shift else dx)))
     # the iteration returns the slip's linear part and the stick mask of its last
     # iterate (C p accumulated from its products, no product more)
     qx, qy, cx, cy, sb, it, nprod, converged = ssn_solve(
-        *q, SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift), cb, gb, rho, (dxx, dyy),
-        float(tol), int(maxiter))
+        *q, sop, cb, tb, rho, (dxx, dyy), float(tol), int(maxiter))
+    if layer is not None and not shift and layer.k != 0.0 and np.isfinite(layer.tau).any():
+        # rolling with a hardening (softening) layer: each element's yield limit from
+        # the flow upstream of it, the problem solved again until the limits settle
+        sub = LayerBound(gb, np.ascontiguousarray(layer.tau[box]), layer.k, flex, layer.floor)
+        gmax = max(float(gb.max()), 1e-300)
+        # the update relaxed by omega, halved where it turns against the last one (an
+        # oscillation: a stiff hardening) and grown by half (up to 1) where it does not
+        omega, last = 1.0, None
+        for _ in range(LAYER_ITERATIONS):
+            S = np.hypot(q[2] + cx, q[3] + cy) * ~sb
+            tau = _rolling_flow(sub, S, dx)[2]
+            step = (np.minimum(tau, gb) - np.minimum(tb.tau, gb)) * cb
+            change = float(np.max(np.abs(step))) / gmax
+            log.debug("layer's yield limits: change %.3e (omega %.3f)", change, omega)
+            if change <= LAYER_TOL:
+                break
+            if last is not None:
+                omega = 0.5 * omega if float(np.sum(step * last)) < 0 else min(1.0, 1.5 * omega)
+            if omega < 1e-4:
+                # stalled (a very stiff hardening, k_tau dx of several times the
+                # element's stiffness): flagged not converged
+                converged = False
+                break
+            last = step
+            tau = np.where(np.isfinite(tb.tau), tb.tau + omega * (tau - tb.tau), tau)
+            tb = TractionBound(gb, np.ascontiguousarray(tau), tb.k)
+            qx, qy, cx, cy, sb, it2, nprod, converged = ssn_solve(
+                qx, qy, q[2], q[3], sop, cb, tb, rho, (dxx, dyy), float(tol), int(maxiter))
+            it += it2
+        else:
+            converged = False
     log.debug("semi-smooth Newton: %d iterations, %d products with the Jacobian", it, nprod)
     sbx, sby = q[2] + cx, q[3] + cy
     px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
     stick = np.zeros((mx, my), dtype=bool)
     px[box], py[box], stick[box], sx[box], sy[box] = qx, qy, sb, sbx, sby
     slip = contact & ~stick
+    if layer is not None:
+        # the bound at the slip found (a hardening or softening yield limit)
+        tau = np.full((mx, my), np.inf)
+        tau[box] = tb.tau
+        kk = np.zeros((mx, my))
+        kk[box] = tb.k
+        bound = _bound_at(bound, tau, kk, np.hypot(sx, sy))
     # in slip elements the traction lies on the bound: report it there exactly
     mag = np.hypot(px, py)
     with np.errstate(invalid="ignore", divide="ignore"):
@@ -243,15 +402,19 @@ def transient_step(x, y, contact, bound, rigid_shift, u_prev, G, nu, tol=1e-7, m
     iteration and influence coefficients), with the rigid shift and -u' as its
     extra slip.
 
+    ``bound``: as in :func:`steady_rolling` (an array, or a :class:`LayerBound`,
+    whose layer's own displacement f p' the caller includes in ``u_prev``).
+
     Returns px, py [Pa] (body 1), slip sx, sy [m] per step, stick mask, Newton
     iterations, converged.
     """
     wx = np.asarray(rigid_shift[0], dtype=float) - u_prev[0]
     wy = np.asarray(rigid_shift[1], dtype=float) - u_prev[1]
     if p0 is not None:
+        g = np.minimum(bound.g, bound.tau) if isinstance(bound, LayerBound) else bound
         mag = np.hypot(p0[0], p0[1])
         with np.errstate(invalid="ignore", divide="ignore"):
-            scale = np.where(mag > bound, bound / np.where(mag > 0, mag, 1.0), 1.0)
+            scale = np.where(mag > g, g / np.where(mag > 0, mag, 1.0), 1.0)
         p0 = (np.ascontiguousarray(np.where(contact, p0[0] * scale, 0.0)),
               np.ascontiguousarray(np.where(contact, p0[1] * scale, 0.0)))
     return steady_rolling(x, y, contact, bound, (0.0, 0.0, 0.0), G, nu, tol, maxiter, p0=p0,
@@ -312,12 +475,21 @@ class ExactTangentialModel:
     step : float
         Rolling distance [m] per time step of the ``"transient"`` mode (0: a
         shift); a whole number of elements.
+    layer : InterfaceLayer or dict, optional
+        An interfacial (third-body) layer between the bodies with a plastic yield
+        limit (CONTACT's M = 4, :class:`~railcontact.core.materials.InterfaceLayer`;
+        a dict of its fields ``thickness`` [m], ``shear_modulus`` [Pa],
+        ``yield_stress`` [Pa], ``hardening`` [Pa/m]): its flexibility adds to each
+        element's own, and the traction is bounded by the yield limit where that
+        lies under the friction bound (:class:`LayerBound`).  In the
+        ``"transient"`` mode the plastic displacement accumulated so far comes
+        with ``previous`` (its ``options["plastic_displacement"]``).
     """
 
     capabilities = frozenset({"warm-start", "coupled", "lazy", "friction-field"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
-                 step: float = 0.0):
+                 step: float = 0.0, layer: InterfaceLayer | dict | None = None):
         if not 0 < tol < 1e-2:
             raise InputError(f"exact tangential tol {tol!r}: expected a value in (0, 0.01)")
         if mode not in ("rolling", "shift", "transient"):
@@ -328,9 +500,23 @@ class ExactTangentialModel:
             raise InputError(f"exact tangential step {step!r} m: expected a rolling distance "
                              ">= 0 (0: a shift)")
         self.tol, self.maxiter, self.mode, self.step = tol, int(maxiter), mode, float(step)
+        if isinstance(layer, dict):
+            known = {"thickness", "shear_modulus", "yield_stress", "hardening"}
+            if set(layer) - known:
+                raise InputError(f"exact tangential layer keys {sorted(set(layer) - known)}: "
+                                 f"expected some of {sorted(known)}")
+            layer = InterfaceLayer(**{k: float(v) if isinstance(v, int) and
+                                      not isinstance(v, bool) else v
+                                      for k, v in layer.items()})
+        elif layer is not None and not isinstance(layer, InterfaceLayer):
+            raise InputError(f"exact tangential layer {layer!r}: expected an InterfaceLayer or "
+                             "a dict of its fields")
+        self.layer = layer
 
     def _transient(self, x, y, contact, bound, creepage, material, previous):
-        """One step of the ``"transient"`` mode: px, py, sx, sy, stick, it, ok."""
+        """One step of the ``"transient"`` mode: (px, py, sx, sy, stick, it, ok) and
+        the options it adds to the solution (an interfacial layer's plastic
+        displacement)."""
         xi, eta, phi = creepage
         dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
         X, Y = x[:, None], y[None, :]
@@ -342,7 +528,7 @@ class ExactTangentialModel:
         w = tuple(np.broadcast_to(c, contact.shape) for c in w)
         G, nu = material.shear_modulus, material.nu
         zero = np.zeros(contact.shape)
-        u, p0 = (zero, zero), None
+        u, p0, ustar = (zero, zero), None, None
         if previous is not None:
             if previous.x.size < 2 or previous.y.size < 2 or \
                     abs(float(previous.x[1] - previous.x[0]) - dx) > 1e-9 * dx or \
@@ -354,7 +540,21 @@ class ExactTangentialModel:
             qx, qy = -previous.traction_x, -previous.traction_y       # on the rail
             u = previous_displacement(qx, qy, off, contact.shape, dx, dy, G, nu)
             p0 = shifted_tractions(qx, qy, off, contact.shape)
-        return transient_step(x, y, contact, bound, w, u, G, nu, self.tol, self.maxiter, p0=p0)
+            if self.layer is not None:
+                f = self.layer.flexibility
+                u = (u[0] + f * p0[0], u[1] + f * p0[1])
+                prev_u = previous.options.get("plastic_displacement")
+                if prev_u is not None:
+                    ustar = shifted_tractions(np.asarray(prev_u), zero, off, contact.shape)[0]
+        if self.layer is not None:
+            bound = layer_bound(self.layer, bound, ustar)
+        out = transient_step(x, y, contact, bound, w, u, G, nu, self.tol, self.maxiter, p0=p0)
+        extra = {}
+        if self.layer is not None:
+            # the plastic displacement the material has accumulated [m], for the next step
+            inc = plastic_flow(bound, out[2], out[3], dx, False)[0]
+            extra["plastic_displacement"] = inc if ustar is None else ustar + inc
+        return out, extra
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
@@ -391,11 +591,11 @@ class ExactTangentialModel:
             if extra_slip is not None:
                 raise InputError("the 'transient' mode takes no extra slip (dissimilar "
                                  "materials); expected identical materials")
-            px, py, sx, sy, stick, it, ok = self._transient(x, y, contact, bound,
-                                                            (xi, eta, phi), material, previous)
+            (px, py, sx, sy, stick, it, ok), extra = self._transient(
+                x, y, contact, bound, (xi, eta, phi), material, previous)
             return self._solution(x, y, (px, py, sx, sy, stick), contact,
                                   _Iteration(it, ok, False), velocity, (xi, eta, phi),
-                                  friction, t0)
+                                  friction, t0, extra)
         p0 = None
         if warm_start is None and self.mode == "rolling" and normal.strips is not None \
                 and normal.pressure_at is not None:
@@ -407,8 +607,11 @@ class ExactTangentialModel:
                                                   friction, velocity)
             except Exception as exc:                      # pragma: no cover - fallback
                 log.debug("no FASTSIM initial estimate: %s", exc)
+        if self.layer is not None:
+            bound = layer_bound(self.layer, bound)
+        g0 = bound if self.layer is None else np.minimum(bound.g, bound.tau)
         if warm_start is not None:
-            p0 = _initial_tractions(warm_start, x, y, contact, bound)
+            p0 = _initial_tractions(warm_start, x, y, contact, g0)
         args = (x, y, contact, bound, (xi, eta, phi), material.shear_modulus,
                 material.nu, self.tol)
         px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode,
@@ -418,8 +621,8 @@ class ExactTangentialModel:
             # fall back: restart from zero traction with damped steps and more iterations
             log.info("exact tangential solver: no convergence in %d iterations; restarting "
                      "from zero traction with %d iterations", it, 4 * self.maxiter)
-            q = steady_rolling(*args, 4 * self.maxiter, p0=(np.zeros_like(bound),
-                                                               np.zeros_like(bound)),
+            q = steady_rolling(*args, 4 * self.maxiter, p0=(np.zeros_like(g0),
+                                                               np.zeros_like(g0)),
                                mode=self.mode, w_extra=extra_slip)
             fallback = True
             if q[-1] or not ok:
@@ -429,10 +632,11 @@ class ExactTangentialModel:
                               t0)
 
     def _solution(self, x, y, fields, contact, iteration, velocity, creepage, friction,
-                  t0) -> TangentialSolution:
+                  t0, extra=None) -> TangentialSolution:
         """The TangentialSolution of tractions (px, py) on the rail: ``fields`` (px,
         py [Pa], sx, sy [-], stick) on the grid (x, y) [m], ``iteration`` how the
-        solver ended (:class:`_Iteration`), ``t0`` its start (``time.perf_counter``)."""
+        solver ended (:class:`_Iteration`), ``t0`` its start (``time.perf_counter``),
+        ``extra`` further entries of its options."""
         px, py, sx, sy, stick = fields
         it, ok, fallback = iteration.iterations, iteration.converged, iteration.fallback
         if not ok:
@@ -446,6 +650,7 @@ class ExactTangentialModel:
         options = {"iterations": it, "fallback": fallback, "mode": self.mode}
         if self.mode == "transient":
             options["step"] = self.step
+        options.update(extra or {})
         return TangentialSolution("exact", x, y, -px, -py, sx, sy, stick, contact, -fx, -fy,
                                   -mz, velocity, creepage, friction,
                                   time.perf_counter() - t0, options, status)

@@ -36,19 +36,41 @@ class SlipOperator(NamedTuple):
     dx: float
     #: a shift (True) or steady rolling (False: the slip has the upstream difference)
     shift: bool
+    #: flexibility h3/G3 [m/Pa] of an interfacial layer (CONTACT's M = 4; 0: none),
+    #: its displacement difference f p added to the bodies' B p
+    layer: float = 0.0
+
+
+class TractionBound(NamedTuple):
+    """The bound on the tangential traction of each element: the friction bound g,
+    or where an interfacial layer yields first, its yield limit, which may harden
+    with the plastic flow of the step (CONTACT's M = 4; user guide, "Interfacial
+    layer of contaminants"): per element
+
+        bound(S) = min(g, max(0, tau + k S))   where tau < g,   g elsewhere,
+
+    with S = |s| the element's slip (a plastic flow where the yield limit binds)."""
+
+    #: friction bound mu p_n [Pa]
+    g: np.ndarray
+    #: the layer's yield limit before this step's plastic flow [Pa] (>= g: none)
+    tau: np.ndarray
+    #: the yield limit's rate with the element's slip [Pa per unit of slip]
+    k: np.ndarray
 
 
 class Jacobian(NamedTuple):
-    """The Newton iteration's linearisation at an iterate (:func:`_ssn_blocks`)."""
+    """The Newton iteration's linearisation at an iterate (:func:`_ssn_blocks`):
+    per contact element J z = z - M z + Q (C z)."""
 
     #: (mx, my) the contact elements
     contact: np.ndarray
     #: (mx, my) the elements in adhesion
     stick: np.ndarray
-    #: (mx, my, 2, 2) the blocks of the residual's derivative
+    #: (mx, my, 2, 2) the blocks M of the residual's derivative in the tractions
     M: np.ndarray
-    #: the scaling [m/Pa] of the tractions in the residual
-    rho: float
+    #: (mx, my, 2, 2) the blocks Q of the residual's derivative in the slip
+    Q: np.ndarray
 
 
 @njit(cache=True, nogil=True)
@@ -119,16 +141,34 @@ def initial_march(wx, wy, contact, bound, dxx, dyy):
 
 
 @njit(cache=True, nogil=True)
-def _ssn_blocks(px, py, sx, sy, contact, bound, rho):
-    """Residual F and the 2x2 blocks M of the generalised Jacobian.
+def bound_at(g, tau, k, S):
+    """An element's traction bound at slip magnitude S (:class:`TractionBound`) and
+    its slope in S."""
+    if tau >= g:
+        return g, 0.0
+    val = tau + k * S
+    if val >= g:
+        return g, 0.0
+    if val <= 0.0:
+        return 0.0, 0.0
+    return val, k
 
-    F = p - Proj(p - rho s).  Stick (|v| <= g, v = p - rho s): F = rho s, row
-    rho C.  Slip: F = p - g v/|v|, row I - M (I - rho C), M = g/|v| (I - v v^T/|v|^2).
-    Returned: F (mx, my, 2), M (mx, my, 2, 2) and the stick mask.
+
+@njit(cache=True, nogil=True)
+def _ssn_blocks(px, py, sx, sy, contact, bound, rho):
+    """Residual F and the 2x2 blocks M, Q of the generalised Jacobian.
+
+    F = p - Proj(p - rho s) on the bound b(|s|) (:class:`TractionBound`).  Stick
+    (|v| <= b, v = p - rho s): F = rho s, row rho C (M = I, Q = rho I).  Slip:
+    F = p - b v/|v|, row I - M + Q C with M = b/|v| (I - e e^T), e = v/|v|, and
+    Q = rho M - b' e s^T/|s| (b' the bound's slope in |s|: a hardening or softening
+    yield limit; rho + b' in place of rho where the limit hardens).
+    Returned: F (mx, my, 2), M and Q (mx, my, 2, 2), the stick mask.
     """
     mx, my = px.shape
     F = np.zeros((mx, my, 2))
     M = np.zeros((mx, my, 2, 2))
+    Q = np.zeros((mx, my, 2, 2))
     stick = np.zeros((mx, my), dtype=np.bool_)
     for i in range(mx):
         for j in range(my):
@@ -136,14 +176,26 @@ def _ssn_blocks(px, py, sx, sy, contact, bound, rho):
                 F[i, j, 0] = px[i, j]
                 F[i, j, 1] = py[i, j]
                 continue
-            vx = px[i, j] - rho * sx[i, j]
-            vy = py[i, j] - rho * sy[i, j]
+            # a hardening yield limit (slope k in the slip): the element's scaling
+            # rho + k, which makes the stick and flow branches of F meet with the same
+            # slope in one element's own problem (a stiff hardening otherwise cycles
+            # between them); any rho > 0 has the same solutions
+            r = rho
+            if bound.tau[i, j] < bound.g[i, j] and bound.k[i, j] > 0.0:
+                r = rho + bound.k[i, j]
+            vx = px[i, j] - r * sx[i, j]
+            vy = py[i, j] - r * sy[i, j]
             nv = math.sqrt(vx * vx + vy * vy)
-            g = bound[i, j]
+            ns = math.sqrt(sx[i, j] * sx[i, j] + sy[i, j] * sy[i, j])
+            g, slope = bound_at(bound.g[i, j], bound.tau[i, j], bound.k[i, j], ns)
             if nv <= g:
                 stick[i, j] = True
-                F[i, j, 0] = rho * sx[i, j]
-                F[i, j, 1] = rho * sy[i, j]
+                F[i, j, 0] = r * sx[i, j]
+                F[i, j, 1] = r * sy[i, j]
+                M[i, j, 0, 0] = 1.0
+                M[i, j, 1, 1] = 1.0
+                Q[i, j, 0, 0] = r
+                Q[i, j, 1, 1] = r
             else:
                 F[i, j, 0] = px[i, j] - g * vx / nv
                 F[i, j, 1] = py[i, j] - g * vy / nv
@@ -154,12 +206,22 @@ def _ssn_blocks(px, py, sx, sy, contact, bound, rho):
                 M[i, j, 0, 1] = -f * ex * ey
                 M[i, j, 1, 0] = -f * ex * ey
                 M[i, j, 1, 1] = f * (1.0 - ey * ey)
-    return F, M, stick
+                for a in range(2):
+                    for b in range(2):
+                        Q[i, j, a, b] = r * M[i, j, a, b]
+                if slope != 0.0 and ns > 0.0:
+                    tx = sx[i, j] / ns
+                    ty = sy[i, j] / ns
+                    Q[i, j, 0, 0] -= slope * ex * tx
+                    Q[i, j, 0, 1] -= slope * ex * ty
+                    Q[i, j, 1, 0] -= slope * ey * tx
+                    Q[i, j, 1, 1] -= slope * ey * ty
+    return F, M, Q, stick
 
 
 @njit(cache=True, nogil=True)
-def _ssn_apply(zx, zy, cx, cy, contact, stick, M, rho):
-    """J z from z and C z (both fields)."""
+def _ssn_apply(zx, zy, cx, cy, contact, M, Q):
+    """J z from z and C z (both fields): z - M z + Q C z in the contact, z outside."""
     mx, my = zx.shape
     ox = np.zeros((mx, my))
     oy = np.zeros((mx, my))
@@ -168,19 +230,16 @@ def _ssn_apply(zx, zy, cx, cy, contact, stick, M, rho):
             if not contact[i, j]:
                 ox[i, j] = zx[i, j]
                 oy[i, j] = zy[i, j]
-            elif stick[i, j]:
-                ox[i, j] = rho * cx[i, j]
-                oy[i, j] = rho * cy[i, j]
             else:
-                ax = zx[i, j] - rho * cx[i, j]
-                ay = zy[i, j] - rho * cy[i, j]
-                ox[i, j] = zx[i, j] - (M[i, j, 0, 0] * ax + M[i, j, 0, 1] * ay)
-                oy[i, j] = zy[i, j] - (M[i, j, 1, 0] * ax + M[i, j, 1, 1] * ay)
+                ox[i, j] = zx[i, j] - (M[i, j, 0, 0] * zx[i, j] + M[i, j, 0, 1] * zy[i, j]) \
+                    + Q[i, j, 0, 0] * cx[i, j] + Q[i, j, 0, 1] * cy[i, j]
+                oy[i, j] = zy[i, j] - (M[i, j, 1, 0] * zx[i, j] + M[i, j, 1, 1] * zy[i, j]) \
+                    + Q[i, j, 1, 0] * cx[i, j] + Q[i, j, 1, 1] * cy[i, j]
     return ox, oy
 
 
 @njit(cache=True, nogil=True)
-def _ssn_precond(rx, ry, contact, stick, M, rho, dxx, dyy, upstream):
+def _ssn_precond(rx, ry, contact, M, Q, dxx, dyy, upstream):
     """Solve P z = r, P the Jacobian with C replaced by its self and upstream part
     (C z)_I ~ D (z_I - z_I+): block lower-bidiagonal along each strip.  Without
     ``upstream`` (the shift problem) C is replaced by its self term D only."""
@@ -197,19 +256,18 @@ def _ssn_precond(rx, ry, contact, stick, M, rho, dxx, dyy, upstream):
                 ux = 0.0
                 uy = 0.0
                 continue
-            if stick[i, j]:
-                # rho D (z - u) = r
-                zx[i, j] = rx[i, j] / (rho * dxx) + ux
-                zy[i, j] = ry[i, j] / (rho * dyy) + uy
+            # z - M z + Q D (z - u) = r  ->  (I - M + Q D) z = r + Q D u
+            a00 = 1.0 - M[i, j, 0, 0] + Q[i, j, 0, 0] * dxx
+            a01 = -M[i, j, 0, 1] + Q[i, j, 0, 1] * dyy
+            a10 = -M[i, j, 1, 0] + Q[i, j, 1, 0] * dxx
+            a11 = 1.0 - M[i, j, 1, 1] + Q[i, j, 1, 1] * dyy
+            bx = rx[i, j] + Q[i, j, 0, 0] * dxx * ux + Q[i, j, 0, 1] * dyy * uy
+            by = ry[i, j] + Q[i, j, 1, 0] * dxx * ux + Q[i, j, 1, 1] * dyy * uy
+            det = a00 * a11 - a01 * a10
+            if det == 0.0:
+                zx[i, j] = rx[i, j]
+                zy[i, j] = ry[i, j]
             else:
-                # z - M (z - rho D (z - u)) = r  ->  (I - M + rho M D) z = r + rho M D u
-                a00 = 1.0 - M[i, j, 0, 0] + rho * M[i, j, 0, 0] * dxx
-                a01 = -M[i, j, 0, 1] + rho * M[i, j, 0, 1] * dyy
-                a10 = -M[i, j, 1, 0] + rho * M[i, j, 1, 0] * dxx
-                a11 = 1.0 - M[i, j, 1, 1] + rho * M[i, j, 1, 1] * dyy
-                bx = rx[i, j] + rho * (M[i, j, 0, 0] * dxx * ux + M[i, j, 0, 1] * dyy * uy)
-                by = ry[i, j] + rho * (M[i, j, 1, 0] * dxx * ux + M[i, j, 1, 1] * dyy * uy)
-                det = a00 * a11 - a01 * a10
                 zx[i, j] = (a11 * bx - a01 * by) / det
                 zy[i, j] = (-a10 * bx + a00 * by) / det
             if upstream:
@@ -219,9 +277,13 @@ def _ssn_precond(rx, ry, contact, stick, M, rho, dxx, dyy, upstream):
 
 
 @njit(cache=True, nogil=True)
-def _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift):
+def _c_of(px, py, op, bx, by):
     """The linear part of the slip, s - w, from tractions (px, py): rolling
-    -(u_I+ - u_I)/dx, shift u_I (FFT products; bx, by the zero-padded work arrays)."""
+    -(u_I+ - u_I)/dx, shift u_I, with u = B p + f p (FFT products of the
+    :class:`SlipOperator` ``op``, f its layer's flexibility; bx, by the zero-padded
+    work arrays)."""
+    kxx, kxy, kyy, shape, dx, shift, f = op.kxx, op.kxy, op.kyy, op.shape, op.dx, \
+        op.shift, op.layer
     mx, my = px.shape
     bx[:mx, :my] = px
     by[:mx, :my] = py
@@ -239,6 +301,11 @@ def _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift):
     uy = np.fft.irfft2(fy, s=shape)
     cx = np.empty((mx, my))
     cy = np.empty((mx, my))
+    if f != 0.0:
+        for i in range(mx):
+            for j in range(my):
+                ux[i, j] += f * px[i, j]
+                uy[i, j] += f * py[i, j]
     for i in range(mx):
         for j in range(my):
             if shift:
@@ -284,9 +351,8 @@ def _jacobian_times(v, cidx, mx, my, op, buffers, jac):
     Newton iteration accumulates).  ``op`` the :class:`SlipOperator`, ``buffers`` its
     two padded work arrays, ``jac`` the :class:`Jacobian`."""
     zx, zy = _unpack(v, cidx, mx, my)
-    cx, cy = _c_of(zx, zy, op.kxx, op.kxy, op.kyy, op.shape, buffers[0], buffers[1], op.dx,
-                   op.shift)
-    ox, oy = _ssn_apply(zx, zy, cx, cy, jac.contact, jac.stick, jac.M, jac.rho)
+    cx, cy = _c_of(zx, zy, op, buffers[0], buffers[1])
+    ox, oy = _ssn_apply(zx, zy, cx, cy, jac.contact, jac.M, jac.Q)
     return _pack(ox, oy, cidx), _pack(cx, cy, cidx)
 
 
@@ -295,8 +361,8 @@ def _precond_times(v, cidx, mx, my, jac, self_terms, shift):
     """P^-1 v for the stacked vector v of the unknowns at the contact elements;
     ``self_terms`` (dxx, dyy) [m/Pa] the elements' own influence."""
     zx, zy = _unpack(v, cidx, mx, my)
-    ox, oy = _ssn_precond(zx, zy, jac.contact, jac.stick, jac.M, jac.rho, self_terms[0],
-                          self_terms[1], not shift)
+    ox, oy = _ssn_precond(zx, zy, jac.contact, jac.M, jac.Q, self_terms[0], self_terms[1],
+                          not shift)
     return _pack(ox, oy, cidx)
 
 
@@ -388,8 +454,8 @@ def _newton_step(b, rtol, restart, maxcycles, cidx, mx, my, op, buffers, jac, se
 def _ssn_state(px, py, wx, wy, cx, cy, contact, bound, rho):
     """Residual, Jacobian blocks, stick mask and merit |F|^2 at tractions (px, py)
     with C p = (cx, cy) (needed in the contact only)."""
-    F, M, stick = _ssn_blocks(px, py, wx + cx, wy + cy, contact, bound, rho)
-    return F, M, stick, np.sum(F * F)
+    F, M, Q, stick = _ssn_blocks(px, py, wx + cx, wy + cy, contact, bound, rho)
+    return F, M, Q, stick, np.sum(F * F)
 
 
 @njit(cache=True, nogil=True)
@@ -397,25 +463,26 @@ def ssn_solve(px, py, wx, wy, op, contact, bound, rho, self_terms, tol, maxiter)
     """Semi-smooth Newton iteration of :func:`steady_rolling`, compiled.
 
     (px, py) the initial tractions [Pa], (wx, wy) the rigid slip [-] in the
-    ``contact``, ``op`` the :class:`SlipOperator`, ``bound`` the traction bound [Pa],
+    ``contact``, ``op`` the :class:`SlipOperator`, ``bound`` the traction bound
+    (:class:`TractionBound`),
     ``rho`` the scaling of the tractions in the residual [m/Pa], ``self_terms`` (dxx,
     dyy) [m/Pa] the elements' own influence (the preconditioner), ``tol`` relative to
     the largest bound and ``maxiter`` Newton iterations at most.
     Returns px, py, the linear part of their slip C p (cx, cy; in the contact), the
     stick mask, Newton iterations, products with J, converged."""
-    kxx, kxy, kyy, shape, dx, shift = op.kxx, op.kxy, op.kyy, op.shape, op.dx, op.shift
+    shape = op.shape
     mx, my = px.shape
     cidx = np.flatnonzero(contact.ravel())    # the unknowns: tractions in the contact
     bx = np.zeros(shape)
     by = np.zeros(shape)
-    gmax = max(np.max(bound), 1e-300)
+    gmax = max(np.max(bound.g), 1e-300)
     # C p by a product once; then it follows each step from the linear solve's
     # products (C d = sum of y_k C z_k), with no further product for the step and
     # its line search
-    cx, cy = _c_of(px, py, kxx, kxy, kyy, shape, bx, by, dx, shift)
+    cx, cy = _c_of(px, py, op, bx, by)
     cp = _pack(cx, cy, cidx)
     pp = _pack(px, py, cidx)                  # the unknowns, stacked
-    F, M, stick, phi2 = _ssn_state(px, py, wx, wy, cx, cy, contact, bound, rho)
+    F, M, Q, stick, phi2 = _ssn_state(px, py, wx, wy, cx, cy, contact, bound, rho)
     converged = False
     forcing = 0.3
     phi_prev = phi2
@@ -443,7 +510,7 @@ def ssn_solve(px, py, wx, wy, op, contact, bound, rho, self_terms, tol, maxiter)
                 forcing = min(0.3, max(0.3 * tol * gmax / rmax, 1e-3))
         phi_prev = phi2
         d, cd, k = _newton_step(rhs, forcing, 60, 10, cidx, mx, my, op, (bx, by),
-                                Jacobian(contact, stick, M, rho), self_terms)
+                                Jacobian(contact, stick, M, Q), self_terms)
         nprod += k
         # backtracking on the merit function |F|^2
         alpha = 1.0
@@ -452,10 +519,10 @@ def ssn_solve(px, py, wx, wy, op, contact, bound, rho, self_terms, tol, maxiter)
             ct = cp + alpha * cd
             tx, ty = _unpack(pt, cidx, mx, my)
             cx, cy = _unpack(ct, cidx, mx, my)
-            Fn, Mn, sn, phin = _ssn_state(tx, ty, wx, wy, cx, cy, contact, bound, rho)
+            Fn, Mn, Qn, sn, phin = _ssn_state(tx, ty, wx, wy, cx, cy, contact, bound, rho)
             if phin <= (1.0 - 1e-4 * alpha) * phi2:
                 break
             alpha *= 0.5
-        pp, px, py, cp, F, M, stick, phi2 = pt, tx, ty, ct, Fn, Mn, sn, phin
+        pp, px, py, cp, F, M, Q, stick, phi2 = pt, tx, ty, ct, Fn, Mn, Qn, sn, phin
     cx, cy = _unpack(cp, cidx, mx, my)
     return px, py, cx, cy, stick, it, nprod, converged

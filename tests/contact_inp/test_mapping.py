@@ -130,3 +130,22 @@ def test_friction_along_the_track(testbank):
     assert abs(r["fx_N"] - 19.71) <= 0.01 * mu_fn and r["fx_N"] > 15.0
     assert abs(r["fs_N"] + 249.5) <= 0.01 * mu_fn
     assert r["fn_N"] == pytest.approx(9997.0, rel=1e-3) and r["nadh"] == 901
+
+
+def test_interfacial_layer_maps_to_the_exact_models_layer(testbank):
+    """MATER = 4 in module 1 (examples_plast/mbench_a22_left.inp): the exact
+    tangential model with the layer in SI (GG3 820 N/mm^2, LAYTHK 0.02 mm, TAU_C0
+    60 N/mm^2, K_TAU 1000 N/mm^3); TAU_C0 <= 0 is a layer without yield."""
+    import math
+    path = testbank / "examples_plast" / "mbench_a22_left.inp"
+    (m,) = load_inp(path, profile_dirs=[testbank / "profiles"])
+    s = m.raw["solver"]
+    assert s["tangential"] == "exact"
+    layer = s["tangential_options"]["layer"]
+    assert layer == pytest.approx({"thickness": 2e-5, "shear_modulus": 8.2e8,
+                                   "yield_stress": 6e7, "hardening": 1e12})
+    from railcontact.contact_inp.mapping import layer_options
+    from railcontact.contact_inp import read_inp
+    (case,) = read_inp(path)
+    case.values["TAU_C0"] = 0.0
+    assert layer_options(case)["yield_stress"] == math.inf

@@ -387,3 +387,95 @@ def test_one_column_steady_rolling(testbank):
     assert rows[1]["fx_N"] == pytest.approx(0.999, rel=1e-6)
     assert rows[1]["approach_mm"] == pytest.approx(0.807984, abs=1e-6)
     assert (rows[1]["mx"], rows[1]["my"], rows[1]["ncon"], rows[1]["nadh"]) == (1, 1, 1, 1)
+
+
+# ------------------------------------------ interfacial layer, plasticity (M = 4)
+def _plast(testbank, name, cases=None, folder="examples_plast"):
+    path = testbank / folder / f"{name}.inp"
+    return solve_inp(path, cases=cases), read_out(path.with_suffix(".ref_out"))
+
+
+def test_plastic_3bl_rheometer(testbank):
+    """plastic_3bl.inp (the user guide's "Shearing of interfacial layers"): one
+    element of 1 mm^2 under 900 N shifted (T = 1) through four layers of Hou et al.
+    (magnetite, clay, sand, MoS2: elastic, then yielding, hardening, softening and
+    unloading).  All 57 cases: F_x within 0.05 % of CONTACT's (its 4 printed
+    digits; measured 0.016 %), the element in adhesion or flow as CONTACT has it."""
+    rows, ref = _plast(testbank, "plastic_3bl", folder="examples_basic")
+    assert len(rows) == 57
+    worst = _check(rows, ref, range(1, 58), mu=0.5, force_tol=5e-4)
+    assert worst["fx"] < 2e-4
+    assert [r["nadh"] for r in rows] == [ref[r["case"]]["nadh"] for r in rows]
+
+
+def test_plastic_one_shift(testbank):
+    """plastic_one_shift.inp: one element shifted back and forth and sideways (T = 1,
+    k_tau > 0, the plastic displacement carried from case to case): F_x, F_y within
+    0.05 % of CONTACT's (its 4 printed digits; measured 0.017 %)."""
+    rows, ref = _plast(testbank, "plastic_one_shift")
+    _check(rows, ref, range(1, 28), mu=0.5, force_tol=5e-4)
+
+
+def test_plastic_cattaneo_to_carter(testbank):
+    """catt2d_plast.inp: a 2-D shift at F_x = 0.6 mu F_n (F = 1) from the unloaded
+    state, then 49 steps of transient rolling (T = 2, DQ = DX) into Carter's steady
+    state, with a hardening layer (tau_c0 = 35 N/mm^2, k_tau = 123000 N/mm^3) whose
+    plastic displacement travels with the material.  Every case within 0.05 % of
+    CONTACT's F_x (its 4 printed digits; measured 0.044 %, p_max 0.023 %), its
+    adhesion elements CONTACT's."""
+    rows, ref = _plast(testbank, "catt2d_plast")
+    _check(rows, ref, range(1, 51), mu=0.5, force_tol=5e-4)
+    assert [r["nadh"] for r in rows] == [ref[r["case"]]["nadh"] for r in rows]
+
+
+def test_plastic_3d_sequence(testbank):
+    """catt3d_plast.inp: a 3-D steady state, shift and transient rolling sequence
+    with the layer: every case within 0.05 % of CONTACT (measured F_x 0.036 %,
+    p_max 0.027 %)."""
+    rows, ref = _plast(testbank, "catt3d_plast")
+    _check(rows, ref, [r["case"] for r in rows if r["case"] in ref], mu=0.5,
+           force_tol=5e-4)
+
+
+def test_plastic_carter_steady_rolling(testbank):
+    """carter_plast.inp, 2-D steady rolling at CKSI = -4e-4 on 30 elements with
+    k_tau = 123000, 0 and -20500 N/mm^3 (work-hardening, perfectly plastic,
+    softening): F_x within 0.05 % of CONTACT's (measured 0.034 %), the elements in
+    adhesion and slip CONTACT's."""
+    rows, ref = _plast(testbank, "carter_plast", cases=[2, 3, 4])
+    _check(rows, ref, [2, 3, 4], mu=0.5, force_tol=5e-4)
+    for r in rows:
+        assert (r["nadh"], r["nslip"]) == (ref[r["case"]]["nadh"], ref[r["case"]]["nslip"])
+    # more flow, less force: hardening > perfectly plastic > softening
+    assert rows[0]["fx_N"] > rows[1]["fx_N"] > rows[2]["fx_N"] and \
+        rows[0]["nplast"] < rows[1]["nplast"] < rows[2]["nplast"]
+
+
+def test_plastic_traction_curve_softening(testbank):
+    """tractcurve_plast.inp, the softening layer (k_tau = -81.9 N/mm^3) at CKSI = 2 %
+    to 25 % on a 44 x 44 Hertzian grid: F_x within 0.05 % of CONTACT's (measured
+    0.009 %), with CONTACT's slip elements; beyond 20 % creepage the yield limit
+    carried on stops at a tenth of tau_c0 (CONTACT's floor; without it F_x is 0.9 %
+    off at 25 %)."""
+    rows, ref = _plast(testbank, "tractcurve_plast", cases=[236, 238, 240])
+    _check(rows, ref, [236, 238, 240], mu=0.33, force_tol=5e-4)
+    for r in rows:
+        assert r["nslip"] == ref[r["case"]]["nslip"]
+
+
+def test_layer_with_falling_friction_and_memory(testbank):
+    """tractcurv.inp cases 31-60 (the user guide's "reduced initial slope and
+    falling friction"): an elastic layer (GG3 8200 N/mm^2, LAYTHK 1.25 mm, no
+    yield) and exponential falling friction with memory (MEMDST 3 um, MEM_S0 1
+    mm/s) on a 44 x 44 Hertzian grid.  F_x within 0.05 % of CONTACT's along the
+    curve (its rise, peak at 33260 N and fall; measured 0.014 % over the 30 cases)
+    and its elements in adhesion.  Without the memory (the instantaneous law) F_x
+    is 0.2 % under CONTACT's at the peak (case 47: -33198 N against -33260 N),
+    outside this test's 0.05 %."""
+    path = testbank / "examples_basic" / "tractcurv.inp"
+    cases = [31, 36, 41, 47, 53, 60]
+    rows = solve_inp(path, cases=cases)
+    ref = read_out(path.with_suffix(".ref_out"))
+    _check(rows, ref, cases, mu=0.33, force_tol=5e-4)
+    for r in rows:
+        assert r["nadh"] == ref[r["case"]]["nadh"], r["case"]

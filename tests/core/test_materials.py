@@ -45,3 +45,21 @@ def test_from_shear_modulus():
 def test_bad_constants(kw, name):
     with pytest.raises(InputError, match=name):
         Material(**kw)
+
+
+def test_interface_layer():
+    """CONTACT's M = 4 layer: flexibility h3/G3, a yield limit or none, the floor
+    of a softening limit at a tenth of tau_c0, and one-line errors naming the field."""
+    import math
+    from railcontact.core.materials import InterfaceLayer
+    layer = InterfaceLayer(2e-5, 1.0625e8, 2e8, 4.35e11)
+    assert layer.flexibility == pytest.approx(2e-5 / 1.0625e8)
+    assert layer.plastic and layer.yield_floor == pytest.approx(2e7)
+    elastic = InterfaceLayer(1.25e-3, 8.2e9)
+    assert not elastic.plastic and elastic.yield_floor == 0.0
+    assert InterfaceLayer().flexibility == 0.0 and InterfaceLayer().yield_stress == math.inf
+    for kw, name in (({"thickness": -1e-3}, "thickness"), ({"shear_modulus": 0.0},
+                     "shear_modulus"), ({"yield_stress": 0.0}, "yield_stress"),
+                     ({"hardening": math.nan}, "hardening")):
+        with pytest.raises(InputError, match=f"layer.{name}"):
+            InterfaceLayer(**kw)

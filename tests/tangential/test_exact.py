@@ -414,3 +414,117 @@ def test_friction_varying_across_the_patch():
     assert slid.friction == 0.25
     with pytest.raises(InputError, match="friction_scale of shape"):
         ex.solve(ns, None, mat, (-1e-3, 0, 0), 0.3, friction_scale=np.ones(3))
+
+
+# ------------------------------------------ interfacial layer (CONTACT's M = 4)
+def _one_element(mu_pn=1e9):
+    """A 3 x 3 grid of 1 mm elements with only the centre one in contact, its
+    friction bound ``mu_pn`` [Pa], and its own flexibility c [m/Pa] (shift)."""
+    from railcontact.tangential.exact import _self_terms
+    d = 1e-3
+    x = (np.arange(3) - 1.0) * d
+    contact = np.zeros((3, 3), bool)
+    contact[1, 1] = True
+    bound = np.where(contact, mu_pn, 0.0)
+    c = _self_terms(3, 3, d, d, G, 0.28)[0]
+    return x, contact, bound, c
+
+
+def test_layer_of_zero_thickness_without_yield_is_the_elastic_solution():
+    """A layer of zero thickness that never yields changes nothing: the tractions
+    equal the elastic solver's to the last bit (steady rolling, 24 x 24 Hertz)."""
+    from railcontact.core.materials import InterfaceLayer
+    mat = Material(2.1e11, 0.28)
+    ns = hertz_on_grid(4e-3, 3e-3, 24, 24, 3.6e-4, 2.7e-4, 3e4, mat)
+    plain = get_tangential_model("exact").solve(ns, None, mat, (1e-3, 5e-4, 0.2), 0.3)
+    layered = get_tangential_model("exact", layer=InterfaceLayer()).solve(
+        ns, None, mat, (1e-3, 5e-4, 0.2), 0.3)
+    assert np.array_equal(plain.traction_x, layered.traction_x)
+    assert np.array_equal(plain.traction_y, layered.traction_y)
+
+
+def test_layer_flexibility_and_hardening_of_one_element():
+    """One element shifted by W (CONTACT's plastic_3bl): without yield its traction
+    is W / (c + f), the bodies' own flexibility c and the layer's f = h3/G3 in
+    series; past the yield limit tau_c0 it hardens, |p| = (tau_c0 + k W) /
+    (1 + k (c + f)) (the flow W - (c + f)|p| raising the limit by k per metre);
+    a yield limit above the friction bound leaves Coulomb's mu p_n."""
+    from railcontact.core.materials import InterfaceLayer
+    from railcontact.tangential.exact import layer_bound, transient_step
+    x, contact, bound, c = _one_element()
+    zero = np.zeros((3, 3))
+    f = 0.02e-3 / 106.25e6                                  # 20 um of clay, G3 = 106 MPa
+
+    def shift(layer, W):
+        lb = layer_bound(layer, bound)
+        px, *_ , ok = transient_step(x, x, contact, lb, (W, 0.0), (zero, zero), G, 0.28,
+                                     1e-12, 100)
+        assert ok
+        return -px[1, 1]
+
+    W = 5e-6
+    assert shift(InterfaceLayer(0.02e-3, 106.25e6), W) == pytest.approx(W / (c + f), rel=1e-9)
+    clay = InterfaceLayer(0.02e-3, 106.25e6, 200e6, 435e9)
+    W = 60e-6                                                # past the yield at 40 um
+    expected = (200e6 + 435e9 * W) / (1 + 435e9 * (c + f))
+    assert shift(clay, W) == pytest.approx(expected, rel=1e-9)
+    assert shift(InterfaceLayer(0.02e-3, 106.25e6, 2e9, 435e9), 1e-3) == pytest.approx(
+        1e9, rel=1e-12)
+
+
+def test_perfectly_plastic_layer_in_full_sliding():
+    """In full sliding the traction lies on min(mu p_n, tau_c0): a perfectly plastic
+    layer (k_tau = 0) caps the friction bound where mu p_n exceeds the yield limit,
+    and the creep force is the sum of the caps (steady rolling, 24 x 24 Hertz)."""
+    from railcontact.core.materials import InterfaceLayer
+    mat = Material(2.1e11, 0.28)
+    ns = hertz_on_grid(4e-3, 3e-3, 24, 24, 3.6e-4, 2.7e-4, 3e4, mat)
+    tau, mu = 150e6, 0.3
+    layer = InterfaceLayer(0.0, 1e9, tau, 0.0)
+    t = get_tangential_model("exact", layer=layer).solve(ns, None, mat, (0.05, 0, 0), mu)
+    cap = np.minimum(mu * ns.pressure, tau) * ns.contact
+    dA = (ns.x[1] - ns.x[0]) * (ns.y[1] - ns.y[0])
+    assert t.converged and not t.stick[ns.contact].any()
+    assert np.abs(np.hypot(t.traction_x, t.traction_y) - cap).max() <= 1e-6 * tau
+    # the slip turns from x by the lateral displacements (up to 2.4 mrad here): F_x
+    # (on the wheel) within 1e-5 of the caps' sum (measured 1.9e-6)
+    assert t.fx == pytest.approx(cap.sum() * dA, rel=1e-5)
+    # the cap binds: well under Coulomb's full sliding force
+    assert t.fx < 0.8 * mu * ns.pressure.sum() * dA
+
+
+def test_layer_option_from_a_case_file():
+    """``tangential_options = {layer = {...}}`` (a case file's table) builds the
+    InterfaceLayer; an unknown key or value stops with one line naming it."""
+    from railcontact.core.errors import InputError
+    from railcontact.core.materials import InterfaceLayer
+    m = get_tangential_model("exact", layer={"thickness": 2e-5, "shear_modulus": 8.2e8,
+                                             "yield_stress": 6e7, "hardening": 1e12})
+    assert m.layer == InterfaceLayer(2e-5, 8.2e8, 6e7, 1e12)
+    with pytest.raises(InputError, match="layer keys.*'yield'"):
+        get_tangential_model("exact", layer={"yield": 6e7})
+    with pytest.raises(InputError, match="layer.shear_modulus"):
+        get_tangential_model("exact", layer={"shear_modulus": -1.0})
+
+
+def test_transient_mode_carries_the_plastic_displacement():
+    """``mode="transient"`` with a hardening layer: the plastic displacement of a
+    step comes with its solution (``options["plastic_displacement"]``) and the next
+    step's yield limit starts from it, so two shifts W1, W2 in one direction give
+    one shift W1 + W2's traction, (tau_c0 + k (W1 + W2)) / (1 + k (c + f))."""
+    from railcontact.core.materials import InterfaceLayer
+    x, contact, bound, c = _one_element()
+    mu = 0.5
+    ns = NormalSolution("exact", x, x, bound / mu, contact, 0.0, float(bound.max() / mu),
+                        0.0, float(bound.sum() / mu * 1e-6))
+    clay = InterfaceLayer(0.02e-3, 106.25e6, 200e6, 435e9)
+    model = get_tangential_model("exact", mode="transient", tol=1e-9, layer=clay)
+    mat = Material.from_shear_modulus(G, 0.28)
+    s1 = model.solve(ns, None, mat, (50e-6, 0, 0), mu)
+    s2 = model.solve(ns, None, mat, (30e-6, 0, 0), mu, previous=s1)
+    k, ct = 435e9, c + clay.flexibility
+    u1 = s1.options["plastic_displacement"][1, 1]
+    # (the solution's tractions act on the wheel: + where the rail's are -)
+    assert s1.traction_x[1, 1] == pytest.approx((200e6 + k * 50e-6) / (1 + k * ct), rel=1e-9)
+    assert u1 == pytest.approx(50e-6 - ct * s1.traction_x[1, 1], rel=1e-9)
+    assert s2.traction_x[1, 1] == pytest.approx((200e6 + k * 80e-6) / (1 + k * ct), rel=1e-9)

@@ -10,7 +10,8 @@ import numpy as np
 import pytest
 
 from railcontact.tangential.exact import _operators
-from railcontact.tangential.semi_smooth_newton import _c_of, _local_slip
+from railcontact.tangential.semi_smooth_newton import (SlipOperator, _c_of, _local_slip,
+                                                      bound_at)
 
 
 def test_local_problem_sticks_within_the_bound():
@@ -46,8 +47,38 @@ def test_compiled_slip_operator_equals_the_fft_operator():
     ux, uy = op(px, py)
     for shift, (ex, ey) in ((False, (-(ux[1:] - ux[:-1]) / dx, -(uy[1:] - uy[:-1]) / dx)),
                             (True, (ux[:-1], uy[:-1]))):
-        cx, cy = _c_of(px, py, op.kxx, op.kxy, op.kyy, op.shape, np.zeros(op.shape),
-                       np.zeros(op.shape), dx, shift)
+        sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, 0.0)
+        cx, cy = _c_of(px, py, sop, np.zeros(op.shape), np.zeros(op.shape))
         scale = np.abs(ex).max() + np.abs(ey).max()
         assert np.abs(cx - ex).max() <= 1e-12 * scale
         assert np.abs(cy - ey).max() <= 1e-12 * scale
+
+
+def test_layer_flexibility_in_the_slip_operator():
+    """An interfacial layer (CONTACT's M = 4) adds its own displacement f p to the
+    bodies' u = B p: shift u_I + f p_I, rolling -(U_I+ - U_I)/dx with U = u + f p."""
+    mx, my, dx, dy, f = 13, 9, 2e-4, 3e-4, 3.7e-15
+    op, _ = _operators(mx, my, dx, dy, 8e10, 0.28)
+    rng = np.random.default_rng(7)
+    px, py = rng.normal(size=(mx, my)), rng.normal(size=(mx, my))
+    ux, uy = op(px, py)                                   # mx + 1 rows
+    zero = np.zeros((1, my))
+    Ux, Uy = ux + f * np.vstack([px, zero]), uy + f * np.vstack([py, zero])
+    for shift, (ex, ey) in ((False, (-(Ux[1:] - Ux[:-1]) / dx, -(Uy[1:] - Uy[:-1]) / dx)),
+                            (True, (Ux[:-1], Uy[:-1]))):
+        sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, f)
+        cx, cy = _c_of(px, py, sop, np.zeros(op.shape), np.zeros(op.shape))
+        scale = np.abs(ex).max() + np.abs(ey).max()
+        assert np.abs(cx - ex).max() <= 1e-12 * scale
+        assert np.abs(cy - ey).max() <= 1e-12 * scale
+
+
+def test_traction_bound_of_a_yielding_layer():
+    """bound(S) = min(g, max(0, tau + k S)) where the yield limit tau lies under the
+    friction bound g, with its slope k; g (slope 0) elsewhere."""
+    assert bound_at(5.0, 7.0, 3.0, 0.4) == (5.0, 0.0)          # friction: tau >= g
+    assert bound_at(5.0, 2.0, 3.0, 0.5) == (3.5, 3.0)          # hardening flow
+    assert bound_at(5.0, 2.0, 3.0, 2.0) == (5.0, 0.0)          # hardened up to g: slides
+    assert bound_at(5.0, 2.0, -3.0, 0.5) == (0.5, -3.0)        # softening
+    assert bound_at(5.0, 2.0, -3.0, 1.0) == (0.0, 0.0)         # softened to nothing
+    assert bound_at(5.0, 2.0, 0.0, 9.0) == (2.0, 0.0)          # perfectly plastic
