@@ -64,6 +64,7 @@ from ..tangential.exact import (grid_offset, previous_displacement, shifted_trac
                                 steady_rolling, transient_step)
 from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
 from .mapping import curvature_from_axis_ratio
+from .viscoelastic import check_viscoelastic, viscoelastic_normal_operator, viscoelastic_pair
 from .reader import InpCase, InpError
 
 log = logging.getLogger(__name__)
@@ -112,7 +113,7 @@ def check(case: InpCase) -> None:
         _check_fastsim(case)
         return
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
-               "L": (0, 1, 2, 3, 4), "M": (0,), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
+               "L": (0, 1, 2, 3, 4), "M": (0, 1), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
              "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
@@ -147,6 +148,8 @@ def check(case: InpCase) -> None:
             _need(case, k)
     g1, g2 = _need(case, "GG1"), _need(case, "GG2")
     n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
+    if d["M"] == 1:
+        check_viscoelastic(case)
     if _dissimilar(case) and d["T"] in (1, 2):
         raise _unsupported(case, "dissimilar materials (K != 0) with a transient tangential "
                                  "problem", "expected quasi-identical materials ((1 - 2 nu)/G "
@@ -330,7 +333,11 @@ class Sequence:
 def _normal(case, grid, h, es):
     """Pressure [Pa], approach [m], converged."""
     dA = grid.dx * grid.dy
-    op = normal_operator(grid.x.size, grid.y.size, grid.dx, grid.dy, es)
+    if case.digits["M"] == 1:
+        op = viscoelastic_normal_operator(grid.x.size, grid.y.size, grid.dx, grid.dy,
+                                          viscoelastic_pair(case))
+    else:
+        op = normal_operator(grid.x.size, grid.y.size, grid.dx, grid.dy, es)
     if case.digits["N"] == 1:
         fn = _need(case, "FN")
         p, app, _, ok = polonsky_keer(op, h, dA, force=fn, tol=NORMAL_TOL, maxiter=20000)
@@ -365,6 +372,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     case's friction coefficients on its solver grid (INISLP = 0)."""
     d, v = case.digits, case.values
     es, G, nu = _materials(case)
+    # the tangential kernels: the elastic pair's, or M = 1's viscoelastic ones
+    G_t = viscoelastic_pair(case) if d["M"] == 1 else G
     grid, h = _grid_and_gap(case, es)
     pressure, approach, ok_n = _normal(case, grid, h, es)
     shape = pressure.shape
@@ -436,13 +445,13 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 p0 = state["p0"]
                 p0 = None if p0 is None else (-f(p0[0]), f(p0[1]))
                 out = steady_rolling(-grid.x[::-1], yt, f(ct), f(bt),
-                                     (-cx, cy, -_need(case, "CPHI") / MM), G, nu,
+                                     (-cx, cy, -_need(case, "CPHI") / MM), G_t, nu,
                                      TANGENTIAL_TOL, 200, p0=p0, w_extra=state["w_extra"])
                 px_, py_, sx_, sy_, st_, it_, ok_ = out
                 return -f(px_), f(py_), -f(sx_), f(sy_), f(st_), it_, ok_
             if t == 3:
                 return steady_rolling(grid.x, yt, ct, bt, (cx, cy, _need(case, "CPHI") / MM),
-                                      G, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
+                                      G_t, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
                                       w_extra=state["w_extra"])
             w = _rigid_shift(case, grid, (cx, cy))
             return transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),

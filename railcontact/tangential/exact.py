@@ -46,6 +46,7 @@ from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from ..normal.base import bilinear, same_grid
 from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
+from ..normal.viscoelastic import Viscoelastic, viscoelastic_tangential_kernels
 from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
@@ -70,8 +71,13 @@ def _self_terms(mx, my, dx, dy, G, nu):
 @lru_cache(maxsize=32)
 def _kernels(mx, my, dx, dy, G, nu):
     """Tangential kernels of an mx x my grid (offsets in x up to mx: one extra row
-    for the rolling difference) and the self terms (dxx, dyy) of the operator."""
-    kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, G, nu, extra_rows=1)
+    for the rolling difference) and the self terms (dxx, dyy) of the operator.
+    ``G`` a :class:`~railcontact.normal.viscoelastic.Viscoelastic` pair: its
+    steady-rolling kernels (``nu`` unused)."""
+    if isinstance(G, Viscoelastic):
+        kxx, kxy, kyy = viscoelastic_tangential_kernels(mx, my, dx, dy, G, extra_rows=1)
+    else:
+        kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, G, nu, extra_rows=1)
     ox, oy = mx - 1, my - 1
     dxx = (kxx[ox, oy] - kxx[ox + 1, oy]) / dx
     dyy = (kyy[ox, oy] - kyy[ox + 1, oy]) / dx
@@ -111,12 +117,19 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     ``w_extra``: an additional rigid slip (s_x, s_y) per element (the pressure's
     share for dissimilar materials).
 
+    ``G``, ``nu``: the combined shear modulus [Pa] and Poisson's ratio, or ``G`` a
+    :class:`~railcontact.normal.viscoelastic.Viscoelastic` pair (steady rolling
+    towards +x of viscoelastic bodies, CONTACT's M = 1; ``mode="rolling"`` only).
+
     Returns p (on body 1), slip, stick mask, Newton iterations and a convergence
     flag.  Convergence: max |F| <= tol * max bound, with F the complementarity
     residual p - Proj(p - rho s).
     """
     mx, my = x.size, y.size
     dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+    if isinstance(G, Viscoelastic) and mode != "rolling":
+        raise InputError(f"viscoelastic materials with mode {mode!r}: expected steady "
+                         "rolling ('rolling')")
     _, (dxx, dyy) = _kernels(mx, my, dx, dy, G, nu)
     if mode == "shift":
         kx, ky = _self_terms(mx, my, dx, dy, G, nu)

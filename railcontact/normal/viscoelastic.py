@@ -1,0 +1,260 @@
+"""Influence coefficients of viscoelastic bodies in steady rolling (CONTACT's M = 1).
+
+Material: the standard linear solid (SLS) per body, given as CONTACT gives it (user
+guide, "Viscoelastic materials"): the initial ("glassy") shear modulus G_g, Poisson's
+ratio nu (constant in time), the spring ratio f_g = (E_g - E_r)/E_r (so that the final
+modulus is G_r = G_g / (1 + f_g)) and the creep relaxation time tau_c of the creep
+compliance
+
+    C(t) = C_g [1 + f_g (1 - exp(-t / tau_c))].
+
+Steady rolling towards +x at speed V: a material point at x passed the points x + s
+(s >= 0) a time s / V earlier.  With nu constant the correspondence principle turns
+every elastic displacement u_g (of the glassy modulus) into the hereditary integral
+(Kalker 1990, appendix D; Wang & Knothe 1993)
+
+    u(x) = u_g(x) + f_g / L * int_0^inf exp(-s / L) u_g(x + s) ds,   L = V tau_c,
+
+the relaxation length L of the body.  The discrete influence coefficient of a
+uniform load on an element at the offset X (observation minus source) is then
+
+    C(X) = A(X) + f_g int_0^inf exp(-s / L) / L A(X + s) ds,
+
+A the elastic element coefficient at any offset (closed form, Love 1929 /
+Cerruti).  The matrix is still a convolution (block Toeplitz) but no longer
+symmetric: it depends on the rolling direction.  Limits: L -> 0 (tau_c -> 0) gives
+(1 + f_g) A, elastic with the final modulus G_r; L -> inf gives A plus a constant
+(a rigid approach), elastic with G_g.
+
+Evaluation: on the grid's offsets X = di dx the integral is split into element
+lengths, ``C_f(di) = B(di) + q C_f(di + 1)``, q = exp(-dx / L), with
+``B(m) = int_0^dx exp(-s/L)/L A(m dx + s) ds`` by Gauss-Legendre in
+u = exp(-s/L) (exact weights for the exponential, the element edge at s = dx/2 a
+panel boundary), and the part beyond the last row of offsets by composite
+Gauss-Legendre on geometric panels (the kernel smooth there); the recursion runs
+as a linear filter (:func:`scipy.signal.lfilter`).  Computed once per grid and
+material (cached).
+"""
+
+from __future__ import annotations
+
+import math
+from dataclasses import dataclass
+from functools import lru_cache
+
+import numpy as np
+from scipy.signal import lfilter
+
+from ..core.errors import InputError
+from .influence import Convolution, _log_sum
+
+#: Gauss-Legendre points per panel of the element integrals B(m) (two panels)
+ELEMENT_POINTS = 16
+#: Gauss-Legendre points per geometric panel of the tail beyond the grid
+TAIL_POINTS = 12
+#: the tail is integrated out to this many relaxation lengths
+TAIL_LENGTHS = 60.0
+
+
+@dataclass(frozen=True)
+class ViscoelasticBody:
+    """One body's standard linear solid (CONTACT's GG, POISS, FG, TC).
+
+    Parameters
+    ----------
+    shear_modulus : float     initial (glassy) shear modulus G_g [Pa]
+    poisson_ratio : float     nu [-], constant in time
+    spring_ratio : float      f_g = C_v / C_g = (E_g - E_r) / E_r >= 0 [-]
+    relaxation_time : float   creep relaxation time tau_c >= 0 [s]
+    """
+
+    shear_modulus: float
+    poisson_ratio: float
+    spring_ratio: float = 0.0
+    relaxation_time: float = 0.0
+
+    def __post_init__(self):
+        G, nu, f, tc = (self.shear_modulus, self.poisson_ratio, self.spring_ratio,
+                        self.relaxation_time)
+        if not (isinstance(G, (int, float)) and math.isfinite(G) and G > 0):
+            raise InputError(f"viscoelastic shear_modulus = {G!r} Pa: expected a value > 0")
+        if not (isinstance(nu, (int, float)) and 0.0 <= nu < 0.5):
+            raise InputError(f"viscoelastic poisson_ratio = {nu!r}: expected a value in [0, 0.5)")
+        if not (isinstance(f, (int, float)) and math.isfinite(f) and f >= 0):
+            raise InputError(f"viscoelastic spring_ratio (FG) = {f!r}: expected a value >= 0")
+        if not (isinstance(tc, (int, float)) and math.isfinite(tc) and tc >= 0):
+            raise InputError(f"viscoelastic relaxation_time (TC) = {tc!r} s: expected a "
+                             "time >= 0")
+
+    @property
+    def final_shear_modulus(self) -> float:
+        """G_r = G_g / (1 + f_g) [Pa], the modulus of very slow loading."""
+        return self.shear_modulus / (1.0 + self.spring_ratio)
+
+
+@dataclass(frozen=True)
+class Viscoelastic:
+    """The viscoelastic pair in steady rolling towards +x at ``velocity`` [m/s]
+    (body 1 the rail, body 2 the wheel); hashable, so that kernels are cached."""
+
+    body1: ViscoelasticBody
+    body2: ViscoelasticBody
+    velocity: float
+
+    def __post_init__(self):
+        v = self.velocity
+        if not (isinstance(v, (int, float)) and math.isfinite(v) and v > 0):
+            raise InputError(f"viscoelastic rolling velocity = {v!r} m/s: expected a speed > 0 "
+                             "(the relaxation length is velocity x relaxation time)")
+
+    @property
+    def bodies(self):
+        return self.body1, self.body2
+
+    @property
+    def shear_modulus(self) -> float:
+        """Combined initial shear modulus, 1/G = (1/G1 + 1/G2)/2 [Pa]."""
+        return 2.0 / sum(1.0 / b.shear_modulus for b in self.bodies)
+
+    @property
+    def nu(self) -> float:
+        """Combined Poisson's ratio, nu = G (nu1/G1 + nu2/G2)/2."""
+        return 0.5 * self.shear_modulus * sum(b.poisson_ratio / b.shear_modulus
+                                              for b in self.bodies)
+
+    @property
+    def contact_modulus(self) -> float:
+        """Combined initial contact modulus E*, 1/E* = sum (1 - nu_a)/(2 G_a) [Pa]."""
+        return 1.0 / sum((1 - b.poisson_ratio) / (2 * b.shear_modulus) for b in self.bodies)
+
+    def relaxation_length(self, body) -> float:
+        """L = V tau_c [m] of a body."""
+        return self.velocity * body.relaxation_time
+
+
+# ---------------------------------------------------------------- element integrals
+def _corner_sum(F, X, Y, hx, hy):
+    return F(X + hx, Y + hy) - F(X - hx, Y + hy) - F(X + hx, Y - hy) + F(X - hx, Y - hy)
+
+
+def _Lx(x, y):
+    """x ln(y + r): antiderivative of y^2 / r^3 over a rectangle."""
+    r = np.hypot(x, y)
+    return np.where(x != 0, x * _log_sum(y, x, r), 0.0)
+
+
+def _Ly(x, y):
+    return _Lx(y, x)
+
+
+def _R(x, y):
+    return -np.hypot(x, y)
+
+
+def _element_kernels(X, Y, dx, dy, body, normal):
+    """The elastic element coefficients of one body [m/Pa] at offsets (X, Y) [m]
+    (any, not only the grid's): the normal one, or the tangential (xx, xy, yy).
+    One body's share: the two-body kernels of
+    :mod:`railcontact.normal.influence` are the sum of both bodies' shares."""
+    hx, hy = 0.5 * dx, 0.5 * dy
+    G, nu = body.shear_modulus, body.poisson_ratio
+    with np.errstate(divide="ignore", invalid="ignore"):
+        lx = _corner_sum(_Lx, X, Y, hx, hy)
+        ly = _corner_sum(_Ly, X, Y, hx, hy)
+        if normal:
+            # Boussinesq: (1 - nu) / (2 pi G) times the integral of 1/r
+            return ((1 - nu) / (2 * np.pi * G) * (lx + ly),)
+        rr = _corner_sum(_R, X, Y, hx, hy)
+    c = 1.0 / (2 * np.pi * G)
+    return (c * ((1 - nu) * (lx + ly) + nu * ly), c * nu * rr,
+            c * ((1 - nu) * (lx + ly) + nu * lx))
+
+
+def _gauss(n):
+    t, w = np.polynomial.legendre.leggauss(n)
+    return 0.5 * (t + 1.0), 0.5 * w                     # on [0, 1]
+
+
+def _memory(di, dj, dx, dy, body, L, normal):
+    """The hereditary part int_0^inf exp(-s/L)/L A(di dx + s, dj dy) ds of each
+    kernel at the offsets di (ascending, consecutive) x dj: a list of arrays."""
+    t, w = _gauss(ELEMENT_POINTS)
+    q = math.exp(-dx / L)
+    qh = math.exp(-0.5 * dx / L)
+    wa, wb = -math.expm1(-0.5 * dx / L), qh * -math.expm1(-0.5 * dx / L)   # 1 - qh, qh - q
+    # u = exp(-s/L) in [qh, 1] (s in [0, dx/2]) and [q, qh] (s in [dx/2, dx])
+    u = np.concatenate([1.0 - wa * t, q + wb * t])
+    wu = np.concatenate([wa * w, wb * w])
+    s = -L * np.log(np.maximum(u, 1e-300))
+    X = di[:, None, None] * dx + s[None, None, :] + 0.0 * dj[None, :, None]
+    Y = np.broadcast_to((dj * dy)[None, :, None], X.shape)
+    B = [np.einsum("ijk,k->ij", k, wu) for k in _element_kernels(X, Y, dx, dy, body, normal)]
+    # the tail: s from (di_max + 1 - di) dx on, i.e. X from X0 = (di_max + 1) dx;
+    # int_{X0}^inf exp(-(X - X0)/L)/L A(X) dX on geometric panels
+    X0 = (di[-1] + 1) * dx
+    s0 = min(dx, L) / 4.0
+    edges = [0.0]
+    e = s0
+    while edges[-1] < TAIL_LENGTHS * L:
+        edges.append(e)
+        e *= 2.0
+    edges = np.asarray(edges)
+    tt, ww = _gauss(TAIL_POINTS)
+    a, b = edges[:-1, None], edges[1:, None]
+    sv = (a + (b - a) * tt[None, :]).ravel()
+    wv = ((b - a) * ww[None, :]).ravel() * np.exp(-sv / L) / L
+    Xt = np.broadcast_to(X0 + sv[None, :], (dj.size, sv.size))
+    Yt = np.broadcast_to((dj * dy)[:, None], Xt.shape)
+    T = [k @ wv for k in _element_kernels(Xt, Yt, dx, dy, body, normal)]
+    out = []
+    for Bk, Tk in zip(B, T):
+        # C(di) = B(di) + q C(di + 1), C(di_max + 1) = T: a first-order filter run
+        # from the last row backwards
+        y, _ = lfilter([1.0], [1.0, -q], Bk[::-1], axis=0, zi=(q * Tk)[None, :])
+        out.append(y[::-1])
+    return out
+
+
+def _viscoelastic(mx, my, dx, dy, visc, normal, extra_rows):
+    di = np.arange(-(mx - 1), mx + extra_rows).astype(float)
+    dj = np.arange(-(my - 1), my).astype(float)
+    X, Y = di[:, None] * dx, dj[None, :] * dy
+    total = None
+    for body in visc.bodies:
+        parts = list(_element_kernels(X, Y, dx, dy, body, normal))
+        L = visc.relaxation_length(body)
+        f = body.spring_ratio
+        if f > 0 and L == 0.0:
+            parts = [(1.0 + f) * k for k in parts]
+        elif f > 0:
+            parts = [k + f * m for k, m in zip(parts, _memory(di, dj, dx, dy, body, L,
+                                                              normal))]
+        total = parts if total is None else [a + b for a, b in zip(total, parts)]
+    return tuple(np.ascontiguousarray(k) for k in total)
+
+
+@lru_cache(maxsize=32)
+def viscoelastic_normal_kernel(mx: int, my: int, dx: float, dy: float,
+                               visc: Viscoelastic) -> np.ndarray:
+    """Normal kernel C[di, dj] [m/Pa], offsets di in [-(mx-1), mx-1], dj in
+    [-(my-1), my-1] (observation minus source), of the viscoelastic pair rolling
+    towards +x; replaces :func:`railcontact.normal.influence.normal_kernel`."""
+    return _viscoelastic(mx, my, float(dx), float(dy), visc, True, 0)[0]
+
+
+@lru_cache(maxsize=32)
+def viscoelastic_tangential_kernels(mx: int, my: int, dx: float, dy: float,
+                                    visc: Viscoelastic, extra_rows: int = 0):
+    """Tangential kernels (xx, xy, yy) [m/Pa] of the viscoelastic pair, offsets in x
+    over [-(mx-1), mx-1+extra_rows]; replaces
+    :func:`railcontact.normal.influence.tangential_kernels`."""
+    if extra_rows not in (0, 1):
+        raise ValueError(f"extra_rows = {extra_rows!r}: expected 0 or 1")
+    return _viscoelastic(mx, my, float(dx), float(dy), visc, False, extra_rows)
+
+
+@lru_cache(maxsize=32)
+def viscoelastic_normal_operator(mx: int, my: int, dx: float, dy: float,
+                                 visc: Viscoelastic) -> Convolution:
+    """Cached convolution operator p -> C p of the viscoelastic pair (not symmetric)."""
+    return Convolution(viscoelastic_normal_kernel(mx, my, dx, dy, visc), mx, my)
