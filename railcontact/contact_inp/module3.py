@@ -64,7 +64,8 @@ from ..tangential.exact import (grid_offset, previous_displacement, shifted_trac
                                 steady_rolling, transient_step)
 from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
 from .mapping import curvature_from_axis_ratio
-from .viscoelastic import check_viscoelastic, viscoelastic_normal_operator, viscoelastic_pair
+from .viscoelastic import (active_set_normal, check_viscoelastic, viscoelastic_normal_operator,
+                           viscoelastic_pair)
 from .reader import InpCase, InpError
 
 log = logging.getLogger(__name__)
@@ -342,8 +343,13 @@ def _normal(case, grid, h, es):
         fn = _need(case, "FN")
         p, app, _, ok = polonsky_keer(op, h, dA, force=fn, tol=NORMAL_TOL, maxiter=20000)
     else:
-        app = _need(case, "PEN") * MM
+        fn, app = None, _need(case, "PEN") * MM
         p, _, _, ok = polonsky_keer(op, h - app, dA, None, tol=NORMAL_TOL, maxiter=20000)
+    if case.digits["M"] == 1:
+        # the viscoelastic operator is not symmetric: the conjugate gradients' result
+        # is the start of an active-set solve
+        p, app1, _, ok = active_set_normal(op, h if fn is not None else h - app, dA, fn, p)
+        app = app1 if fn is not None else app
     return p, app, ok
 
 

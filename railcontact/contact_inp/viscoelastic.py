@@ -11,10 +11,12 @@ from __future__ import annotations
 
 import math
 
-from ..normal.viscoelastic import Viscoelastic, ViscoelasticBody, viscoelastic_normal_operator
+from ..normal.viscoelastic import (Viscoelastic, ViscoelasticBody, active_set_normal,
+                                   viscoelastic_normal_operator)
 from .reader import InpCase, InpError
 
-__all__ = ["check_viscoelastic", "viscoelastic_pair", "viscoelastic_normal_operator"]
+__all__ = ["active_set_normal", "check_viscoelastic", "viscoelastic_pair",
+           "viscoelastic_normal_operator"]
 
 MM = 1e-3
 

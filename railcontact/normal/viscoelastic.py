@@ -258,3 +258,75 @@ def viscoelastic_normal_operator(mx: int, my: int, dx: float, dy: float,
                                  visc: Viscoelastic) -> Convolution:
     """Cached convolution operator p -> C p of the viscoelastic pair (not symmetric)."""
     return Convolution(viscoelastic_normal_kernel(mx, my, dx, dy, visc), mx, my)
+
+
+def _dense_block(kernel, idx, shape):
+    """The influence matrix C[I, K] between the grid elements ``idx`` (flat indices
+    into ``shape``) from the kernel (offsets centred at its middle)."""
+    my = shape[1]
+    ci, cj = (kernel.shape[0] - 1) // 2, (kernel.shape[1] - 1) // 2
+    i, j = idx // my, idx % my
+    return kernel[ci + i[:, None] - i[None, :], cj + j[:, None] - j[None, :]]
+
+
+#: the active-set iteration solves its equations densely up to this many elements
+DENSE_LIMIT = 4000
+
+
+def active_set_normal(op, h, dA, force=None, p0=None, maxiter=200):
+    """The normal contact problem p >= 0, e = h + C p - delta >= 0, p e = 0 for an
+    influence operator that need not be symmetric (viscoelastic rolling), by an
+    active set: on the set S of loaded elements the gap is closed exactly
+    (C_SS p_S = delta - h_S, with sum p_S dA = ``force`` where the force is given:
+    delta the unknown approach; else ``h`` holds h - delta), then elements with
+    p < 0 leave S and elements with an overlap (e < 0) join it, until S settles.
+
+    Parameters
+    ----------
+    op : Convolution   the operator (its ``kernel``, offsets centred)
+    h : ndarray        undeformed distance [m] (less the approach, force None)
+    dA : float         element area [m^2]
+    force : float      total force [N], or None (the approach given)
+    p0 : ndarray       a start [Pa] (its loaded elements the first S)
+
+    Returns p [Pa], approach [m] (force given; else 0), iterations, converged.
+    The equations on S are solved densely (up to ``DENSE_LIMIT`` elements)."""
+    h = np.asarray(h, dtype=float)
+    shape = h.shape
+    hf = h.ravel()
+    S = (p0 > 0).ravel() if p0 is not None and np.any(p0 > 0) else hf <= np.min(hf) + \
+        0.25 * (np.median(hf) - np.min(hf))
+    p = np.zeros(hf.size)
+    delta = 0.0
+    seen = set()
+    for it in range(1, maxiter + 1):
+        idx = np.flatnonzero(S)
+        if idx.size > DENSE_LIMIT:
+            raise InputError(f"viscoelastic normal problem: {idx.size} loaded elements; "
+                             f"expected at most {DENSE_LIMIT} (a coarser grid)")
+        A = _dense_block(op.kernel, idx, shape)
+        if force is not None:
+            n = idx.size
+            M = np.zeros((n + 1, n + 1))
+            M[:n, :n] = A
+            M[:n, n] = -1.0
+            M[n, :n] = dA
+            sol = np.linalg.solve(M, np.concatenate([-hf[idx], [force]]))
+            ps, delta = sol[:n], float(sol[n])
+        else:
+            ps = np.linalg.solve(A, -hf[idx])
+        p[:] = 0.0
+        p[idx] = ps
+        e = op(p.reshape(shape)).ravel() + hf - delta
+        neg = S & (p < 0)
+        over = ~S & (e < 0)
+        if not neg.any() and not over.any():
+            return p.reshape(shape), delta, it, True
+        key = idx.tobytes()
+        if key in seen:                     # a cycle: drop only the most negative
+            break
+        seen.add(key)
+        S = (S & ~neg) | over
+        if not S.any():
+            return np.zeros(shape), delta, it, force is None
+    return np.maximum(p, 0.0).reshape(shape), delta, it, False
