@@ -46,6 +46,7 @@ import numpy as np
 from scipy.signal import lfilter
 
 from ..core.errors import InputError
+from ..core.materials import Material
 from .influence import Convolution, _log_sum
 
 #: Gauss-Legendre points per panel of the element integrals B(m) (two panels)
@@ -330,3 +331,71 @@ def active_set_normal(op, h, dA, force=None, p0=None, maxiter=200):
         if not S.any():
             return np.zeros(shape), delta, it, force is None
     return np.maximum(p, 0.0).reshape(shape), delta, it, False
+
+
+@dataclass(frozen=True)
+class ViscoelasticOption:
+    """The viscoelastic option of the exact models (``viscoelastic=`` of
+    :class:`~railcontact.normal.exact.ExactNormalModel` and
+    :class:`~railcontact.tangential.exact.ExactTangentialModel`): the standard
+    linear solid's creep beside the elastic ``Material``, whose moduli are the
+    initial (glassy) ones.
+
+    Parameters
+    ----------
+    spring_ratio : (float, float)      f_g of the rail and the wheel (CONTACT's FG)
+    relaxation_time : (float, float)   tau_c [s] of the rail and the wheel (TC)
+    velocity : float                   rolling speed V [m/s] (towards +x)
+    """
+
+    spring_ratio: tuple
+    relaxation_time: tuple
+    velocity: float = 1.0
+
+    @classmethod
+    def from_value(cls, value) -> "ViscoelasticOption | None":
+        """From an option value: None, an instance, or a table with ``spring_ratio``,
+        ``relaxation_time`` (a number for both bodies, or [rail, wheel]) and
+        ``velocity`` [m/s]."""
+        if value is None or isinstance(value, cls):
+            return value
+        if not isinstance(value, dict) or set(value) - {"spring_ratio", "relaxation_time",
+                                                        "velocity"} \
+                or not {"spring_ratio", "relaxation_time"} <= set(value):
+            raise InputError(f"viscoelastic = {value!r}: expected a table with spring_ratio, "
+                             "relaxation_time [s] (a number, or [rail, wheel]) and velocity "
+                             "[m/s]")
+
+        def pair(v, name):
+            v = [v, v] if isinstance(v, (int, float)) and not isinstance(v, bool) else v
+            if not (isinstance(v, (list, tuple)) and len(v) == 2
+                    and all(isinstance(a, (int, float)) and not isinstance(a, bool)
+                            for a in v)):
+                raise InputError(f"viscoelastic.{name} = {v!r}: expected a number or two "
+                                 "[rail, wheel]")
+            return (float(v[0]), float(v[1]))
+
+        return cls(pair(value["spring_ratio"], "spring_ratio"),
+                   pair(value["relaxation_time"], "relaxation_time"),
+                   float(value.get("velocity", 1.0)))
+
+    def pair(self, material) -> Viscoelastic:
+        """The viscoelastic pair of an elastic ``Material`` (its moduli the initial
+        ones; quasi-identical bodies only: the kernels do not couple the normal and
+        tangential problems)."""
+        if material.is_dissimilar:
+            raise InputError("viscoelastic materials with dissimilar elastic constants "
+                             "(K != 0): expected quasi-identical bodies ((1 - 2 nu)/G equal)")
+        bodies = [ViscoelasticBody(E / (2.0 * (1.0 + nu)), nu, f, t)
+                  for (E, nu), f, t in zip(material.bodies, self.spring_ratio,
+                                           self.relaxation_time)]
+        return Viscoelastic(bodies[0], bodies[1], self.velocity)
+
+
+def final_material(visc: Viscoelastic):
+    """The elastic ``Material`` of the pair's final (relaxed) moduli G_r = G_g / (1 + f)
+    (the softest response: the largest contact, the potential area's estimate)."""
+    (b1, b2) = visc.bodies
+    E1 = 2.0 * b1.final_shear_modulus * (1.0 + b1.poisson_ratio)
+    E2 = 2.0 * b2.final_shear_modulus * (1.0 + b2.poisson_ratio)
+    return Material(E1, b1.poisson_ratio, E2, b2.poisson_ratio)

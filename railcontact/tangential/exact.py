@@ -46,7 +46,8 @@ from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from ..normal.base import bilinear, same_grid
 from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
-from ..normal.viscoelastic import Viscoelastic, viscoelastic_tangential_kernels
+from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
+                                   viscoelastic_tangential_kernels)
 from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
@@ -325,12 +326,18 @@ class ExactTangentialModel:
     step : float
         Rolling distance [m] per time step of the ``"transient"`` mode (0: a
         shift); a whole number of elements.
+    viscoelastic : dict or ViscoelasticOption, optional
+        Steady rolling (``"rolling"``) of viscoelastic bodies (the standard linear
+        solid, CONTACT's M = 1): ``spring_ratio``, ``relaxation_time`` [s] and
+        ``velocity`` [m/s] (:class:`~railcontact.normal.viscoelastic.ViscoelasticOption`;
+        the material's moduli the initial ones): the hereditary influence
+        coefficients of :mod:`railcontact.normal.viscoelastic` replace the elastic ones.
     """
 
     capabilities = frozenset({"warm-start", "coupled", "lazy"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
-                 step: float = 0.0):
+                 step: float = 0.0, viscoelastic=None):
         if not 0 < tol < 1e-2:
             raise InputError(f"exact tangential tol {tol!r}: expected a value in (0, 0.01)")
         if mode not in ("rolling", "shift", "transient"):
@@ -341,6 +348,10 @@ class ExactTangentialModel:
             raise InputError(f"exact tangential step {step!r} m: expected a rolling distance "
                              ">= 0 (0: a shift)")
         self.tol, self.maxiter, self.mode, self.step = tol, int(maxiter), mode, float(step)
+        self.viscoelastic = ViscoelasticOption.from_value(viscoelastic)
+        if self.viscoelastic is not None and mode != "rolling":
+            raise InputError(f"exact tangential mode {mode!r} with viscoelastic materials: "
+                             "expected steady rolling ('rolling'), as CONTACT solves them")
 
     def _transient(self, x, y, contact, bound, creepage, material, previous):
         """One step of the ``"transient"`` mode: px, py, sx, sy, stick, it, ok."""
@@ -412,8 +423,13 @@ class ExactTangentialModel:
                 log.debug("no FASTSIM initial estimate: %s", exc)
         if warm_start is not None:
             p0 = _initial_tractions(warm_start, x, y, contact, bound)
-        args = (x, y, contact, bound, (xi, eta, phi), material.shear_modulus,
-                material.nu, self.tol)
+        G = material.shear_modulus
+        if self.viscoelastic is not None:
+            if extra_slip is not None:
+                raise InputError("viscoelastic materials with dissimilar elastic constants: "
+                                 "expected quasi-identical bodies")
+            G = self.viscoelastic.pair(material)     # its steady-rolling kernels
+        args = (x, y, contact, bound, (xi, eta, phi), G, material.nu, self.tol)
         px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode,
                                                        w_extra=extra_slip)
         fallback = False
