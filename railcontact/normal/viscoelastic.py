@@ -38,6 +38,7 @@ material (cached).
 
 from __future__ import annotations
 
+import logging
 import math
 from dataclasses import dataclass
 from functools import lru_cache
@@ -48,6 +49,8 @@ from scipy.signal import lfilter
 from ..core.errors import InputError
 from ..core.materials import Material
 from .influence import Convolution, _log_sum
+
+log = logging.getLogger(__name__)
 
 #: Gauss-Legendre points per panel of the element integrals B(m) (two panels)
 ELEMENT_POINTS = 16
@@ -271,7 +274,54 @@ def _dense_block(kernel, idx, shape):
 
 
 #: the active-set iteration solves its equations densely up to this many elements
-DENSE_LIMIT = 4000
+#: (beyond, by GMRES with FFT products)
+DENSE_LIMIT = 3000
+
+
+def _closed_gap_dense(kernel, hf, idx, shape, dA, force):
+    """p_S (and the approach, force given) closing the gap on the elements ``idx``:
+    C_SS p_S - delta = -h_S with sum p_S dA = force (or delta = 0 with h less it)."""
+    A = _dense_block(kernel, idx, shape)
+    if force is None:
+        return np.linalg.solve(A, -hf[idx]), 0.0
+    n = idx.size
+    M = np.zeros((n + 1, n + 1))
+    M[:n, :n] = A
+    M[:n, n] = -1.0
+    M[n, :n] = dA
+    sol = np.linalg.solve(M, np.concatenate([-hf[idx], [force]]))
+    return sol[:n], float(sol[n])
+
+
+def _closed_gap_iterative(op, hf, idx, shape, dA, force, start):
+    """As :func:`_closed_gap_dense`, by GMRES on the same (bordered) system with the
+    operator's FFT products (restricted to ``idx``); the force row scaled to the
+    kernel's diagonal."""
+    from scipy.sparse.linalg import LinearOperator, gmres
+
+    n = idx.size
+    full = np.zeros(int(np.prod(shape)))
+    d0 = float(op.diag)
+    k = 0 if force is None else 1
+    w = d0 / dA / n                 # scales the force row to the others
+
+    def matvec(v):
+        full[:] = 0.0
+        full[idx] = v[:n]
+        u = op(full.reshape(shape)).ravel()[idx]
+        if force is None:
+            return u
+        return np.concatenate([u - v[n], [w * dA * v[:n].sum()]])
+
+    rhs = -hf[idx] if force is None else np.concatenate([-hf[idx], [w * force]])
+    x0 = None
+    if start is not None:
+        x0 = np.concatenate([start, [0.0] * k]) if k else start
+    M = LinearOperator((n + k, n + k), matvec=matvec, dtype=float)
+    sol, info = gmres(M, rhs, x0=x0, rtol=1e-12, atol=0.0, restart=200, maxiter=50)
+    if info != 0:
+        log.info("viscoelastic active set: GMRES ended with info %d on %d elements", info, n)
+    return (sol, 0.0) if force is None else (sol[:n], float(sol[n]))
 
 
 def active_set_normal(op, h, dA, force=None, p0=None, maxiter=200):
@@ -291,7 +341,8 @@ def active_set_normal(op, h, dA, force=None, p0=None, maxiter=200):
     p0 : ndarray       a start [Pa] (its loaded elements the first S)
 
     Returns p [Pa], approach [m] (force given; else 0), iterations, converged.
-    The equations on S are solved densely (up to ``DENSE_LIMIT`` elements)."""
+    The equations on S are solved densely up to ``DENSE_LIMIT`` elements, beyond by
+    GMRES with the operator's FFT products."""
     h = np.asarray(h, dtype=float)
     shape = h.shape
     hf = h.ravel()
@@ -303,19 +354,10 @@ def active_set_normal(op, h, dA, force=None, p0=None, maxiter=200):
     for it in range(1, maxiter + 1):
         idx = np.flatnonzero(S)
         if idx.size > DENSE_LIMIT:
-            raise InputError(f"viscoelastic normal problem: {idx.size} loaded elements; "
-                             f"expected at most {DENSE_LIMIT} (a coarser grid)")
-        A = _dense_block(op.kernel, idx, shape)
-        if force is not None:
-            n = idx.size
-            M = np.zeros((n + 1, n + 1))
-            M[:n, :n] = A
-            M[:n, n] = -1.0
-            M[n, :n] = dA
-            sol = np.linalg.solve(M, np.concatenate([-hf[idx], [force]]))
-            ps, delta = sol[:n], float(sol[n])
+            start = p[idx] if it > 1 else (None if p0 is None else np.ravel(p0)[idx])
+            ps, delta = _closed_gap_iterative(op, hf, idx, shape, dA, force, start)
         else:
-            ps = np.linalg.solve(A, -hf[idx])
+            ps, delta = _closed_gap_dense(op.kernel, hf, idx, shape, dA, force)
         p[:] = 0.0
         p[idx] = ps
         e = op(p.reshape(shape)).ravel() + hf - delta
@@ -324,7 +366,7 @@ def active_set_normal(op, h, dA, force=None, p0=None, maxiter=200):
         if not neg.any() and not over.any():
             return p.reshape(shape), delta, it, True
         key = idx.tobytes()
-        if key in seen:                     # a cycle: drop only the most negative
+        if key in seen:                     # a cycle: stop, flagged not converged
             break
         seen.add(key)
         S = (S & ~neg) | over

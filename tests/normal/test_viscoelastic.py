@@ -153,3 +153,19 @@ def test_inputs_checked():
         ViscoelasticBody(G, NU, 1.0, -0.1)
     with pytest.raises(InputError, match="velocity"):
         _pair(1.0, 0.1, velocity=0.0)
+
+
+def test_iterative_equations_match_dense(monkeypatch):
+    """Beyond DENSE_LIMIT loaded elements the equations on the active set are solved
+    by GMRES with FFT products: the same pressure (1e-8 of p_max) and approach."""
+    import railcontact.normal.viscoelastic as ve
+
+    x = (np.arange(36) - 17.5) * 1e-4
+    y = (np.arange(30) - 14.5) * 1e-4
+    h = x[:, None] ** 2 / 0.2 + y[None, :] ** 2 / 0.3
+    op = viscoelastic_normal_operator(36, 30, 1e-4, 1e-4, _pair(1.0, 5e-4))
+    p1, d1, _, ok1 = active_set_normal(op, h, 1e-8, 2e3)
+    monkeypatch.setattr(ve, "DENSE_LIMIT", 50)
+    p2, d2, _, ok2 = active_set_normal(op, h, 1e-8, 2e3)
+    assert ok1 and ok2 and np.count_nonzero(p1 > 0) > 200
+    assert np.max(np.abs(p2 - p1)) < 1e-8 * p1.max() and d2 == pytest.approx(d1, rel=1e-9)
