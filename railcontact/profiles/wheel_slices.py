@@ -18,7 +18,8 @@ with respect to the nominal radius).  The surface is defined on theta_wc in
 [-pi, pi) and extended periodically; where the slices cover a smaller interval
 [theta_0, theta_1] (a local defect such as a wheel flat) the surface is constant
 outside it.  :meth:`WheelSlices.radial_deviation` gives the difference of the
-profile at theta from a reference profile on that rule (linear between slices).
+profile at theta from a reference profile on that rule (CONTACT's approximating
+spline along theta, or linear between slices).
 """
 
 from __future__ import annotations
@@ -29,6 +30,7 @@ from dataclasses import dataclass
 from pathlib import Path
 
 import numpy as np
+from scipy.interpolate import BSpline
 
 from ..core.errors import ProfileError
 from .io import read_profile
@@ -47,11 +49,17 @@ class WheelSlices:
     theta : array    angles theta_wc [rad] of the slices, increasing
     profiles : tuple of Profile   the wheel profile of each slice
     name : str
+    approximating : bool
+        Along theta, CONTACT's approximating spline (TH_INTPOL = 2): the cubic
+        B-spline with knots at the slices whose control points are the slices'
+        heights (a little smoothing: at a slice (z_(k-1) + 4 z_k + z_(k+1)) / 6 for
+        equal spacing); else linear between the slices.
     """
 
     theta: np.ndarray
     profiles: tuple
     name: str = "wheel slices"
+    approximating: bool = False
 
     def __post_init__(self):
         th = np.asarray(self.theta, dtype=float)
@@ -94,6 +102,8 @@ class WheelSlices:
         th, y = np.broadcast_arrays(np.asarray(theta, float), np.asarray(y, float))
         t = np.mod(th + math.pi, 2 * math.pi) - math.pi
         t = np.clip(t, self.theta[0], self.theta[-1])
+        if self.approximating:
+            return self._approximated(t, y) - reference.z_at(y)
         k = np.clip(np.searchsorted(self.theta, t, side="right") - 1, 0, len(self) - 2)
         w = (t - self.theta[k]) / (self.theta[k + 1] - self.theta[k])
         out = np.empty(th.shape)
@@ -106,16 +116,24 @@ class WheelSlices:
         return out
 
 
-def read_wheel_slices(path, units: str = "auto", **options) -> WheelSlices:
-    """Read a CONTACT wheel slices file (``.slcw``) into :class:`WheelSlices`.
+    def _approximated(self, t, y):
+        """z at (t, y) of the approximating B-spline along theta (control points
+        the slices, the end ones doubled: the spline ends at the end slices)."""
+        th = self.theta
+        knots = np.concatenate([[th[0]] * 4, th[1:-1], [th[-1]] * 4])
+        D = BSpline.design_matrix(t.ravel(), knots, 3).tocsc()
+        ctrl = np.concatenate([[0], np.arange(len(self)), [len(self) - 1]])
+        yf = y.ravel()
+        out = np.zeros(yf.size)
+        for col in np.flatnonzero(np.diff(D.indptr)):   # the few splines near t
+            rows = D.indices[D.indptr[col]:D.indptr[col + 1]]
+            w = D.data[D.indptr[col]:D.indptr[col + 1]]
+            out[rows] += w * self.profiles[ctrl[col]].z_at(yf[rows])
+        return out.reshape(t.shape)
 
-    The angles are theta = TH_SCALE (TH_OFFSET + TH_SLC) [rad]; each slice is read by
-    :func:`railcontact.profiles.io.read_profile` as a wheel profile (``options``:
-    its ``z_down``, ``mirror_y``, ``options`` as for the wheel's WFNAME).
-    ``TH_INTPOL = 2`` (CONTACT's approximating spline) is read as linear
-    interpolation between the slices (logged); features (NFEAT > 1) are not
-    supported (error)."""
-    path = Path(path)
+
+def _parse(path: Path):
+    """(theta [rad], slice files) of a wheel slices file."""
     if not path.is_file():
         raise ProfileError(f"wheel slices file {str(path)!r} does not exist")
     groups = _tokens(path)
@@ -140,8 +158,8 @@ def read_wheel_slices(path, units: str = "auto", **options) -> WheelSlices:
     intpol = int(_numbers(path, ln, t, 1, "TH_INTPOL")[0])
     if intpol not in (1, 2):
         raise ProfileError(f"{path}: line {ln}: TH_INTPOL = {intpol}: expected 1 or 2")
-    if intpol == 2:
-        log.info("%s: TH_INTPOL = 2 (approximating spline) read as linear interpolation",
+    if intpol == 1:
+        log.info("%s: TH_INTPOL = 1 (interpolating spline) read as linear interpolation",
                  path.name)
     th, names = [], []
     for _ in range(nslc):
@@ -154,11 +172,30 @@ def read_wheel_slices(path, units: str = "auto", **options) -> WheelSlices:
         th.append(_leading(t)[0])
         names.append(t[1])
     theta = th_scale * (th_offset + np.asarray(th))
-    profiles = []
+    files = []
     for name in names:
         p = Path(name.replace("\\", "/"))
-        profiles.append(read_profile(p if p.is_absolute() else path.parent / p, kind="wheel",
-                                     units=units, **options))
-    log.info("%s: %d wheel slices, theta = [%.4g, %.4g] rad", path.name, nslc, theta[0],
-             theta[-1])
-    return WheelSlices(theta, profiles, path.name)
+        files.append(p if p.is_absolute() else path.parent / p)
+    return theta, files, intpol == 2
+
+
+def slice_files(path) -> list:
+    """The slice profile files [Path] a wheel slices file names, in its order."""
+    return _parse(Path(path))[1]
+
+
+def read_wheel_slices(path, units: str = "auto", **options) -> WheelSlices:
+    """Read a CONTACT wheel slices file (``.slcw``) into :class:`WheelSlices`.
+
+    The angles are theta = TH_SCALE (TH_OFFSET + TH_SLC) [rad]; each slice is read by
+    :func:`railcontact.profiles.io.read_profile` as a wheel profile (``options``:
+    its ``z_down``, ``mirror_y``, ``options`` as for the wheel's WFNAME).
+    ``TH_INTPOL = 2``: CONTACT's approximating spline along theta; ``TH_INTPOL =
+    1`` (its interpolating spline) is read as linear interpolation between the
+    slices (logged); features (NFEAT > 1) are not supported (error)."""
+    path = Path(path)
+    theta, files, approx = _parse(path)
+    profiles = [read_profile(f, kind="wheel", units=units, **options) for f in files]
+    log.info("%s: %d wheel slices, theta = [%.4g, %.4g] rad", path.name, len(files),
+             theta[0], theta[-1])
+    return WheelSlices(theta, profiles, path.name, approx)

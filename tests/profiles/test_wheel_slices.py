@@ -8,6 +8,8 @@ import math
 import numpy as np
 import pytest
 
+from scipy.interpolate import BSpline
+
 from railcontact.core.errors import ProfileError
 from railcontact.profiles.wheel_slices import WheelSlices, read_wheel_slices
 
@@ -40,18 +42,32 @@ def test_the_flat_where_the_user_guide_puts_it(flat):
 
 
 def test_radial_deviation_rules(flat):
-    """Linear between slices, periodic in 2 pi, constant beyond the slices."""
+    """TH_INTPOL = 2: CONTACT's approximating spline along theta (the cubic B-spline
+    with knots at the slices and their heights its control points, the end ones
+    doubled); periodic in 2 pi, the end slices' profiles beyond them; linear
+    between slices otherwise."""
+    assert flat.approximating
     ref = flat.profiles[int(np.argmin(np.abs(flat.theta)))]
     k = int(np.argmin(np.abs(flat.theta - 0.649)))
+    y = 0.005
+    zs = np.array([float(p.z_at(y) - ref.z_at(y)) for p in flat.profiles])
+    th = flat.theta
+    spline = BSpline(np.r_[[th[0]] * 4, th[1:-1], [th[-1]] * 4], np.r_[zs[0], zs, zs[-1]], 3)
+    t = np.linspace(th[k - 3], th[k + 3], 13)
+    assert flat.radial_deviation(t, np.full(t.size, y), ref) == pytest.approx(spline(t),
+                                                                             abs=1e-12)
+    d = float(flat.radial_deviation(th[k], y, ref))
+    z = zs[k - 1:k + 2]
+    assert min(z) - 1e-9 <= d <= max(z) + 1e-9           # a smoothing, not an overshoot
+    assert float(flat.radial_deviation(flat.theta[k] + 2 * math.pi, y, ref)) == \
+        pytest.approx(d, rel=1e-12)
+    last = float(flat.radial_deviation(3.14, y, ref))
+    assert last == pytest.approx(float(flat.profiles[-1].z_at(y) - ref.z_at(y)), abs=1e-12)
+    lin = WheelSlices(flat.theta, flat.profiles, "linear", approximating=False)
     t0, t1 = flat.theta[k], flat.theta[k + 1]
-    y = np.full(3, 0.005)
-    d = flat.radial_deviation(np.array([t0, t1, 0.5 * (t0 + t1)]), y, ref)
-    assert d[2] == pytest.approx(0.5 * (d[0] + d[1]), rel=1e-12)
-    assert flat.radial_deviation(t0 + 2 * math.pi, 0.005, ref) == pytest.approx(d[0], rel=1e-12)
-    # beyond the last slice (3.1224 rad) up to pi: the last slice's profile
-    last = flat.radial_deviation(3.14, 0.005, ref)
-    assert last == pytest.approx(float(flat.profiles[-1].z_at(0.005) - ref.z_at(0.005)),
-                                 abs=1e-15)
+    d3 = lin.radial_deviation(np.array([t0, t1, 0.5 * (t0 + t1)]), np.full(3, y), ref)
+    assert d3[0] == pytest.approx(z[1], rel=1e-12)
+    assert d3[2] == pytest.approx(0.5 * (d3[0] + d3[1]), rel=1e-12)
 
 
 def test_bad_slices(flat, tmp_path):
