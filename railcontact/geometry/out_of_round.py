@@ -32,9 +32,9 @@ from ..profiles.profile import Profile
 from ..profiles.wheel_slices import WheelSlices
 
 #: the deviation is tabulated this far [rad] either side of the contact's angle
-#: -pitch, in steps (angle [rad], lateral [m]) (0.1 mm and 0.5 mm on a 0.49 m wheel)
+#: -pitch, in steps (angle [rad], lateral [m]) (0.1 mm and 0.25 mm on a 0.49 m wheel)
 TABLE_ANGLE = 0.15
-TABLE_STEPS = (2e-4, 5e-4)
+TABLE_STEPS = (2e-4, 2.5e-4)
 #: the locus looks for an out-of-round wheel's lowest point this far [m] either side
 #: of the round wheel's, in steps [m]
 LOCUS_REACH = 0.05
