@@ -89,15 +89,24 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
                          "input file")
     if out is not None:
         check_output(out)
+    subs = Path(args.subsurface) if getattr(args, "subsurface", None) else None
+    if subs is not None:
+        if subs.suffix.lower() not in (".csv", ".nc"):
+            raise InputError(f"--subsurface {shown(args.subsurface)}: expected a .csv or .nc "
+                             "file")
+        check_output(subs)
     _check_models(args.normal, args.tangential)
     table = solve_inp(args.case, cases=_parse_cases(args.cases), profile_dirs=args.profiles or (),
                       scheduler=scheduler, warm=warm, normal=args.normal,
-                      tangential=args.tangential,
+                      tangential=args.tangential, subsurface=subs is not None,
                       progress=sys.stderr.isatty() and scheduler != "sync")
+    blocks = [b for r in table for b in r.pop("subsurface", [])]
     if args.json:
         sys.stdout.write(to_json(table, args.case) + "\n")
     else:
         print(to_text(table))
+    if subs is not None:
+        _write_subsurface(subs, blocks, quiet=args.json)
     if out is not None:
         text = to_csv(table) if out.suffix.lower() == ".csv" else to_json(table, args.case)
         write_text(out, text + ("" if text.endswith("\n") else "\n"))
@@ -110,6 +119,19 @@ def _run_inp(args, scheduler: str, warm: bool = False) -> int:
     return status
 
 
+def _write_subsurface(path: Path, blocks: list, quiet: bool) -> None:
+    """The subsurface stresses of a CONTACT input file's cases (S >= 1) to .csv or
+    .nc, CONTACT's units (mm, N/mm^2); their maxima per block on the terminal."""
+    from .contact_inp import subsurface as subs
+    if path.suffix.lower() == ".csv":
+        write_text(path, subs.to_csv(blocks))
+    else:
+        write_netcdf(subs.to_dataset(blocks), path)
+    if not quiet:
+        print(subs.maxima_text(blocks) if blocks else
+              "no case of the file asks for subsurface stresses (STRESS S = 0)")
+
+
 def cmd_solve(args):
     from .cases.case import load_case
     from .cases.solve import solve
@@ -117,6 +139,8 @@ def cmd_solve(args):
         return _run_inp(args, "sync")
     if args.cases or args.profiles:
         raise InputError("--case and --profiles apply to CONTACT input files (.inp)")
+    if args.subsurface:
+        raise InputError("--subsurface applies to CONTACT input files (.inp)")
     if args.out:
         check_output(args.out)
     _check_models(args.normal, args.tangential)
@@ -160,6 +184,8 @@ def cmd_sweep(args):
                          "input file (.inp)")
     if args.cases or args.profiles or args.out:
         raise InputError("--case, --profiles and --out apply to CONTACT input files (.inp)")
+    if args.subsurface:
+        raise InputError("--subsurface applies to CONTACT input files (.inp)")
     _check_models(args.normal, args.tangential)
     vary = dict(parse_vary(v, allow_large=args.allow_large) for v in args.vary)
     case = load_case(args.case)
@@ -379,6 +405,9 @@ def _inp_arguments(p):
                    help=".inp: solve these cases only (numbered from 1 in file order)")
     p.add_argument("--profiles", action="append", metavar="DIR",
                    help=".inp: another folder with the profile files it names")
+    p.add_argument("--subsurface", metavar="FILE",
+                   help=".inp: write the subsurface stresses of the cases with STRESS "
+                        "S >= 1 to FILE (.csv or .nc; mm, N/mm^2)")
 
 
 def build_parser():

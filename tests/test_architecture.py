@@ -158,7 +158,8 @@ def test_the_parameter_check_catches_long_signatures():
 #: other module takes parsed, typed objects (docs/architecture.md, "Data flow")
 CASE_PARSER_USERS = {"railcontact", "railcontact.cli", "railcontact.demo", "railcontact.inputs",
                      "railcontact.fmu", "railcontact.cases.case", "railcontact.cases.sweep",
-                     "railcontact.contact_inp", "railcontact.contact_inp.mapping"}
+                     "railcontact.contact_inp", "railcontact.contact_inp.mapping",
+                     "railcontact.contact_inp.transient_m1"}
 
 
 def test_only_front_ends_parse_case_files():

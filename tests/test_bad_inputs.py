@@ -302,8 +302,8 @@ INP_CASES = [
     ("inp-friction-law", " 0022033 ", " 0922033 ", 1, "FRCLAW = 9: expected 0 .. 6", "0922033"),
     ("inp-integer", "    999     100", "    9x9     100", 1, "MAXGS = '9x9': expected an integer",
      "9x9"),
-    ("inp-stresses", " 1203100 ", " 1203101 ", 1, "STRESS = 1 (subsurface stresses) is not",
-     "1203101"),
+    ("inp-stresses", " 1203100 ", " 1203101 ", 1, "STRESS = 1 (subsurface stresses at the "
+     "points kept) without points", "1203101"),
     ("inp-profile-missing", "MBench_UIC60_v3.prr", "nope.prr", 1,
      "profile file", "nope.prr"),
     ("inp-module-two", "", "", 0, None, None),

@@ -246,3 +246,29 @@ def test_warnings_in_one_format(tmp_path, capsys):
     f.write_text(text.replace("[material]", "[material]\nyield_stress = 5e9"))
     code, out, err = run_cli(["solve", str(f), "--json"], capsys)
     assert code == 0 and not json.loads(out)["warnings"]
+
+
+def test_inp_subsurface_file(capsys, tmp_path, testbank):
+    """``railcontact solve FILE.inp --subsurface out.csv|.nc``: the subsurface
+    stresses of the cases with STRESS >= 1 beside the table (subsurf.inp: 2 cases x
+    (15 + 6615) points), CONTACT's maxima per block on the terminal; the JSON table
+    without them."""
+    import xarray as xr
+    inp = str(testbank / "examples_basic" / "subsurf.inp")
+    out = tmp_path / "subs.csv"
+    code, text, err = run_cli(["solve", inp, "--subsurface", str(out)], capsys)
+    assert code == 0, err
+    assert "SUBSURFACE STRESSES BLOCK  2" in text and "MAX SIGVM =     2.179" in text
+    lines = out.read_text().splitlines()
+    assert lines[0].startswith("case,patch,block,x_mm,y_mm,z_mm,sighyd,sigvm")
+    assert len(lines) == 1 + 2 * (15 + 21 * 21 * 15)
+    nc = tmp_path / "subs.nc"
+    code, text, err = run_cli(["solve", inp, "--case", "2", "--json", "--subsurface", str(nc)],
+                              capsys)
+    assert code == 0, err
+    assert "subsurface" not in json.loads(text)["rows"][0]
+    with xr.open_dataset(nc, engine="h5netcdf") as ds:
+        assert ds.sizes["point"] == 15 + 21 * 21 * 15
+        assert float(ds["sigzz"][0]) == pytest.approx(-1.0, abs=1e-6)
+    code, _, err = run_cli(["solve", inp, "--subsurface", str(tmp_path / "s.txt")], capsys)
+    assert code == 2 and "expected a .csv or .nc file" in err

@@ -34,7 +34,7 @@ _ALLOWED = {
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",
                  "vertical_force", "vertical_position", "velocity", "pitch_velocity", "pitch",
-                 "lateral_velocity", "yaw_rate",
+                 "lateral_velocity", "yaw_rate", "wheel_deviation",
                  "combine_distance", "full_interaction_distance", "turn_distance",
                  "separation_angle", "position"},
     "creepage": {"longitudinal", "lateral", "spin"},
@@ -71,6 +71,9 @@ class Case(CaseKeys):
     yield_stress: float | None = None
     #: ``friction.variation``: (angles [rad], coefficients) or None
     friction_variation: tuple | None = None
+    #: ``friction.variation`` along the track: (x [m] from the wheelset centre,
+    #: coefficients) or None (CONTACT's VARFRC = 2)
+    friction_along_track: tuple | None = None
     creepage: tuple | None = None
     base_dir: Path = field(default_factory=Path.cwd)
     #: the wheel-rail keys parsed (None for bodies cases and cases on rail surfaces)
@@ -186,7 +189,9 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     values = dict(
         title=str(raw.get("title", "")), material=_material(keys),
         friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
-        friction_variation=_friction_variation(keys), normal=normal, tangential=tangential,
+        friction_variation=_friction_variation(keys),
+        friction_along_track=_friction_variation(keys, "x"), normal=normal,
+        tangential=tangential,
         yield_stress=yield_stress,
         normal_options=normal_options,
         tangential_options=tangential_options, grid=grid,
@@ -213,6 +218,11 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         values["surfaces"] = parse_surface_case(keys, tangential)
     else:
         values["wheel_rail"] = parse_wheel_rail(keys)
+    if values["friction_along_track"] is not None and (
+            "wheel_rail" not in values or values["material"].is_dissimilar):
+        raise CaseFileError("friction.variation.x (friction along the track) applies to a "
+                            "wheel-rail case on a track of identical materials; expected "
+                            "friction.variation.angle or friction.coefficient")
     return Case(raw=raw, base_dir=Path(base_dir or Path.cwd()), **values)
 
 
@@ -283,29 +293,40 @@ def _pressure_limit(keys: CaseKeys, normal: str) -> float:
         raise CaseFileError(str(exc)) from None
 
 
-def _friction_variation(case: CaseKeys) -> tuple | None:
+def _friction_variation(case: CaseKeys, axis: str = "angle") -> tuple | None:
     """``friction.variation = {angle = [...], coefficient = [...]}``: friction
-    coefficients at rail surface inclinations [rad], increasing; returned as
-    (angles, coefficients) tuples of floats, None where not given."""
+    coefficients at rail surface inclinations [rad], increasing; or ``{x = [...],
+    coefficient = [...]}`` (``axis = "x"``): along the track, at x [m] from the
+    wheelset centre (CONTACT's VARFRC = 2), each element of a patch its own (the
+    exact tangential model).  Returned as (angles or x, coefficients) tuples of
+    floats, None where not given or given along the other axis."""
     var = case.get("friction.variation")
     if var is None:
         return None
-    ok = isinstance(var, dict) and set(var) == {"angle", "coefficient"}
+    if isinstance(var, dict) and set(var) == {"x", "coefficient"}:
+        if axis != "x":
+            return None
+        if str(case.get("solver.tangential", "fastsim")).lower() != "exact":
+            raise CaseFileError("friction.variation.x (friction along the track, varying across "
+                                "a patch) needs solver.tangential = 'exact'")
+    elif axis == "x":
+        return None
+    ok = isinstance(var, dict) and set(var) == {axis, "coefficient"}
     if ok:
-        a, c = var["angle"], var["coefficient"]
+        a, c = var[axis], var["coefficient"]
         ok = (isinstance(a, list) and isinstance(c, list) and len(a) == len(c) >= 1
               and all(isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
                       for v in a + c))
     if not ok:
         raise CaseFileError(f"friction.variation = {shown(var)}: expected a table with lists angle "
-                            "[rad] and coefficient of equal length")
-    if any(b <= a for a, b in zip(var["angle"], var["angle"][1:])):
-        raise CaseFileError(f"friction.variation.angle = {shown(var['angle'])}: expected increasing "
-                            "angles [rad]")
+                            "[rad] (or x [m]) and coefficient of equal length")
+    if any(b <= a for a, b in zip(var[axis], var[axis][1:])):
+        raise CaseFileError(f"friction.variation.{axis} = {shown(var[axis])}: expected increasing "
+                            + ("angles [rad]" if axis == "angle" else "positions [m]"))
     if any(not 0.0 <= c <= 5.0 for c in var["coefficient"]):
         raise CaseFileError(f"friction.variation.coefficient = {shown(var['coefficient'])}: expected "
                             "values in [0, 5]")
-    return (tuple(float(a) for a in var["angle"]), tuple(float(c) for c in var["coefficient"]))
+    return (tuple(float(a) for a in var[axis]), tuple(float(c) for c in var["coefficient"]))
 
 
 def load_case(path) -> Case:

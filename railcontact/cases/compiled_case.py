@@ -494,7 +494,7 @@ def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
         return "patch turning (wheelset.turn_distance)"
     if s.wheel.left is not None or s.rail.left is not None:
         return "different profiles on the two sides"
-    if case.friction_variation is not None:
+    if case.friction_variation is not None or case.friction_along_track is not None:
         return "friction.variation"
     if case.material.is_dissimilar:
         return "dissimilar materials"

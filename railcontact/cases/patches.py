@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import logging
 
+import numpy as np
+
 from .coupling import solve_coupled
 from ..geometry.validity import HALF_SPACE_LIMIT, contact_size, patch_validity
 from ..normal import get_normal_model
@@ -105,6 +107,11 @@ def add_tangential(case, results, tmodel, previous=None):
             best = nearest_patch(previous, r.geometry) if warm else None
             if best is not None and best.tangential is not None:
                 extra["warm_start"] = best.tangential
+            if case.friction_along_track is not None and \
+                    "friction-field" in tmodel.capabilities:
+                # (a stand-in model of the balance's early passes takes the
+                # patch's coefficient at its reference point)
+                extra["friction_scale"] = friction_along_track(case, r.geometry, r.normal)
             ts = tmodel.solve(r.normal, r.geometry, case.material, r.creepage,
                               patch_friction(case, r.geometry), r.geometry.velocity, **extra)
             r = PatchResult(r.geometry, r.normal, ts, r.creepage)
@@ -126,6 +133,9 @@ def patch_friction(case, geom) -> float:
     ``friction.variation`` at the inclination of its rail surface in rail-profile
     coordinates (the contact angle in the side frame plus the rail's inclination;
     CONTACT's VARFRC = 1)."""
+    if case.friction_along_track is not None:
+        xs, cs = case.friction_along_track
+        return float(np.interp(float(geom.position[0]), xs, cs))
     if case.friction_variation is None:
         return case.friction
     sgn = 1.0 if geom.side == "right" else -1.0
@@ -134,6 +144,19 @@ def patch_friction(case, geom) -> float:
     if incl is None:
         incl = DEFAULT_INCLINATION if str(rail.name).upper() in RAIL_PROFILES else 0.0
     return case.friction_at(sgn * geom.contact_angle + float(incl))
+
+
+
+def friction_along_track(case, geom, normal) -> np.ndarray:
+    """Friction along the track (``friction.variation.x``, CONTACT's VARFRC = 2): the
+    coefficient of each element of a patch's grid at its position along the track
+    (x from the wheelset centre: the patch's reference point plus the element's x),
+    over the patch's coefficient at its reference point (:func:`patch_friction`)."""
+    xs, cs = case.friction_along_track
+    mu = np.interp(float(geom.position[0]) + np.asarray(normal.x, float), xs, cs)
+    ref = patch_friction(case, geom)
+    scale = mu / ref if ref > 0 else np.ones_like(mu)
+    return np.ascontiguousarray(np.broadcast_to(scale[:, None], np.shape(normal.pressure)))
 
 
 

@@ -10,7 +10,7 @@ validated and parsed once into a typed :class:`SurfaceCaseSetup`
 
 from __future__ import annotations
 
-
+import math
 from dataclasses import dataclass
 
 from ..core.checks import shown
@@ -32,7 +32,7 @@ def is_surface_case(case: CaseKeys) -> bool:
     raw = case.raw
     placed = RAIL_KEYS - {"profile", "inclination", "units"}
     return ("rails" in raw or "roller" in raw or bool(placed & set(raw.get("rail", {})))
-            or "position" in raw.get("wheelset", {}))
+            or bool({"position", "wheel_deviation"} & set(raw.get("wheelset", {}))))
 
 
 @dataclass(frozen=True)
@@ -82,7 +82,9 @@ class SurfaceCaseSetup:
     State: ``side`` (one wheel), ``position`` s along the track, ``lateral_shift``,
     ``roll``, ``yaw``; ``vertical_position`` (None: the ``load`` [N] is met);
     ``velocity``, ``pitch_velocity`` (None: rolling), ``lateral_velocity``,
-    ``yaw_rate``.
+    ``yaw_rate``; ``wheel_deviation`` (None, or the wheel's deviation by flexibility
+    (dx, dy, dz [m], roll, yaw, pitch [rad]) about its profile origin in wheelset
+    coordinates: :class:`~railcontact.geometry.surface_search.SurfaceWheel`).
 
     Search: ``search_length`` [m] (None: the default), ``contact_angle`` ("local" or
     "wheelset"), ``rigid_slip`` ("planar" or "surfaces") and ``combine_distance``
@@ -113,6 +115,7 @@ class SurfaceCaseSetup:
     contact_angle: str = "local"
     rigid_slip: str = "planar"
     combine_distance: float = 0.0
+    wheel_deviation: tuple | None = None
 
 
 def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
@@ -181,7 +184,24 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         yaw_rate=case.number("wheelset.yaw_rate", 0.0, -10.0, 10.0, "rad/s"),
         search_length=_optional(case, "solver.search_length", 1e-3, 1.0, "m"),
         contact_angle=inc, rigid_slip=slip,
-        combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m"))
+        combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m"),
+        wheel_deviation=_wheel_deviation(case))
+
+
+def _wheel_deviation(case: CaseKeys):
+    """``wheelset.wheel_deviation = [dx, dy, dz, roll, yaw, pitch]`` (m, rad): the
+    wheel's deviation by flexibility (CONTACT's DXWHL .. DPITCHW), or None."""
+    dev = case.get("wheelset.wheel_deviation")
+    if dev is None:
+        return None
+    if not (isinstance(dev, list) and len(dev) == 6 and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            for v in dev)) or max(abs(v) for v in dev[:3]) > 0.05 or \
+            max(abs(v) for v in dev[3:]) > 0.5:
+        raise CaseFileError(f"wheelset.wheel_deviation = {shown(dev)}: expected [dx, dy, dz, "
+                            "roll, yaw, pitch], displacements within 0.05 m and angles within "
+                            "0.5 rad")
+    return tuple(float(v) for v in dev)
 
 
 def _optional(case: CaseKeys, key: str, lo: float, hi: float, unit: str):

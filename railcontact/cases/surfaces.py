@@ -102,7 +102,12 @@ def build_surface_case(case: Case) -> SurfaceScene:
     base = case.base_dir
     wheel_p = load_profiles(s.wheel, "wheel", base)[0]
     r0 = s.nominal_radius
-    wheel = SurfaceWheel(wheel_p, r0, s.flange_back_distance / 2.0 - s.flange_back_position)
+    dev = s.wheel_deviation
+    if dev is not None and s.side == "left":
+        # wheelset coordinates (y to the right) -> the left wheel's side frame
+        dev = (dev[0], -dev[1], dev[2], -dev[3], -dev[4], dev[5])
+    wheel = SurfaceWheel(wheel_p, r0, s.flange_back_distance / 2.0 - s.flange_back_position,
+                         deviation=dev if dev is not None and any(dev) else None)
     pv = -s.velocity / r0 if s.pitch_velocity is None else s.pitch_velocity
     rails = []
     shared = {}           # rails naming one slices file share its surface (and cache)
@@ -256,7 +261,8 @@ def _nearest(previous, g, distance: float = 3e-3):
 
 
 def solve_on_surfaces(case: Case, normal: str | None = None, tangential: str | None = None,
-                      setup: SurfaceScene | None = None, warm_start=None) -> SurfaceResult:
+                      setup: SurfaceScene | None = None, warm_start=None,
+                      tangential_model=None) -> SurfaceResult:
     """Solve a case on rail surfaces (see the module notes).
 
     Parameters
@@ -269,10 +275,15 @@ def solve_on_surfaces(case: Case, normal: str | None = None, tangential: str | N
     warm_start : SurfaceResult, optional
         A neighbouring case's result (a sweep's previous position): its vertical
         position starts the iteration and its patches warm-start the models.
+    tangential_model : object, optional
+        A tangential model instance used in place of the case's (a transient time
+        step of CONTACT's module 1, :mod:`railcontact.contact_inp.transient_m1`).
     """
     t0 = time.perf_counter()
     setup = setup or build_surface_case(case)
     nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
+    if tangential_model is not None:
+        tname, tmodel = tangential_model.name, tangential_model
     previous = warm_start.patches if warm_start is not None else None
     beyond = beyond_slices(setup)
     for line in beyond:

@@ -21,7 +21,7 @@ from ..cases.case import case_from_dict
 from ..cases.solve import solve
 from ..cases.sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
 from ..core.errors import RailContactError
-from . import module3
+from . import module3, subsurface as _subs, transient_m1
 from .mapping import MappedCase, map_case
 from .reader import InpCase, InpError, read_inp
 from .table import COLUMNS, rows, to_csv, to_json, to_text
@@ -95,28 +95,52 @@ def _map(case, profile_dirs):
     if module3.handles(case):
         module3.check(case)
         return MappedCase(case.number, 3, None, {"module": 3, "inp": case})
+    if transient_m1.handles(case):
+        # module 1, transient (T = 1, 2): :mod:`.transient_m1`
+        transient_m1.check(case, profile_dirs)
+        return MappedCase(case.number, 1, None, {"module": 1, "inp": case,
+                                                 "profile_dirs": profile_dirs})
     return map_case(case, profile_dirs)
 
 
-def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
+def _solve_inp_chain(items, warm=False, normal=None, tangential=None, subsurface=False):
     """Solve mapped cases in order (each warm-started from the previous one where
-    ``warm``); returns each case's rows, or its one-line error."""
+    ``warm``); returns each case's rows, or its one-line error.  ``subsurface``:
+    the first row of a case with S >= 1 gets its blocks of subsurface stresses
+    (``row["subsurface"]``, :mod:`.subsurface`)."""
     out, prev = [], None
     seq = module3.Sequence()        # the transient state of module 3 cases
+    seq1 = transient_m1.WheelRailSequence()     # ... and of module 1 cases
     for m in items:
         try:
+            if m.raw is None and m.module == 1:
+                out.append(seq1.run(m.meta["inp"], m.meta["profile_dirs"]))
+                continue
             if m.raw is None:
-                out.append([seq.run(m.meta["inp"])])
+                case_rows = [seq.run(m.meta["inp"])]
+                if subsurface and _subs.wanted(m.meta["inp"]):
+                    case_rows[0]["subsurface"] = _subs.case_blocks(
+                        m.meta["inp"], [_subs.grid_loads(seq.last)])
+                out.append(case_rows)
                 continue
             if m.module == 3:
                 seq.reset()
             res = solve(case_from_dict(m.raw), normal, tangential,
                         warm_start=prev if warm else None)
             prev = res
-            out.append(rows(res, m))
+            case_rows = rows(res, m)
+            inp = m.meta.get("inp")
+            if subsurface and inp is not None and _subs.wanted(inp) and res.patches:
+                case_rows[0]["subsurface"] = _subs.case_blocks(
+                    inp, [_subs.patch_loads(p) for p in res.patches])
+            out.append(case_rows)
+            if m.module == 1:
+                # a steady case's tractions: a following transient case's start
+                seq1.remember(inp, m.raw, res)
         except RailContactError as exc:
             prev = None
             seq.reset()
+            seq1.reset()
             out.append([{"case": m.number, "module": m.module, "patch": 0, "npatch": 0,
                          "converged": False, "message": f"error: {exc}"}])
     return out
@@ -124,7 +148,7 @@ def _solve_inp_chain(items, warm=False, normal=None, tangential=None):
 
 def solve_inp(path, cases=None, profile_dirs=(), scheduler: str = "sync",
               progress: bool = False, warm: bool = False, normal: str | None = None,
-              tangential: str | None = None) -> list:
+              tangential: str | None = None, subsurface: bool = False) -> list:
     """Solve the cases of a CONTACT input file; returns the rows of
     :mod:`.table` (one per contact patch, CONTACT's units and frames), cases in
     file order.
@@ -133,14 +157,18 @@ def solve_inp(path, cases=None, profile_dirs=(), scheduler: str = "sync",
     solve``), "auto", "processes", "threads" or a Dask address in parallel
     (``railcontact sweep``; see :func:`railcontact.sweep`).  ``warm``: chains of
     consecutive cases, each warm-started from the previous one.  ``normal``,
-    ``tangential``: models overriding the file's.
+    ``tangential``: models overriding the file's.  ``subsurface``: the cases with
+    STRESS S >= 1 get their subsurface stresses, a list of blocks in the first
+    row's ``"subsurface"`` (:func:`railcontact.contact_inp.subsurface.case_blocks`;
+    written by :func:`~railcontact.contact_inp.subsurface.to_csv`).
     """
     mapped = load_inp(path, cases, profile_dirs)
     case_files = [m for m in mapped if m.raw is not None]
     names = {m.raw["solver"]["normal"] for m in case_files} | \
         {m.raw["solver"]["tangential"] for m in case_files} | {"exact"}
     expected = len(mapped) * max(CASE_SECONDS.get(n, OTHER_CASE_SECONDS) for n in names)
-    chain = functools.partial(_solve_inp_chain, normal=normal, tangential=tangential)
+    chain = functools.partial(_solve_inp_chain, normal=normal, tangential=tangential,
+                              subsurface=subsurface)
     # module 3 cases on their own grid carry state from case to case (transient
     # problems): the file is then solved as one chain, in order
     sequential = len(case_files) < len(mapped)

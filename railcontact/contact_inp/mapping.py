@@ -15,6 +15,8 @@ import math
 from dataclasses import dataclass, field
 from pathlib import Path
 
+import numpy as np
+
 from ..cases.case import case_from_dict
 from ..geometry.turning import default_turn_distance
 from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
@@ -50,6 +52,12 @@ def _need(case, name):
         raise InpError(f"{case.where()}: {name} is not set (no earlier case gave it)")
     return v
 
+
+#: CONTACT's deviations by flexibility: the rail's (Z = 2, 3) and the wheel's (E = 4,
+#: 5), positions first, then velocities
+RAIL_FLEX = ("DYRAIL", "DZRAIL", "DROLLR", "VYRAIL", "VZRAIL", "VROLLR")
+WHEEL_FLEX = ("DXWHL", "DYWHL", "DZWHL", "DROLLW", "DYAWW", "DPITCHW", "VXWHL", "VYWHL",
+              "VZWHL", "VROLLW", "VYAWW", "VPITCHW")
 
 #: what the unsupported values of the control digits ask for (for the error message)
 MEANINGS = {
@@ -103,10 +111,14 @@ def _friction(case) -> dict:
         raise _unsupported(case, f"FRCLAW = {law} (friction depending on slip velocity or "
                                  "temperature)", "expected L = 0 (Coulomb) or 1 (kept)")
     if case.values.get("NVF", 0):
-        if case.digits["V"] == 2:
-            raise _unsupported(case, "VARFRC = 2 (friction varying along the track)",
-                               "expected V = 0 or 1 (varying across the rail profile)")
         rows = case.values["VARFRC_ROWS"]
+        if case.digits["V"] == 2:
+            # along the track at SVF [mm]: x from the wheelset at S_WS, every element
+            # of a patch its own coefficient (FKIN)
+            s0 = case.values.get("S_WS") or 0.0
+            x = [(r[0] - s0) * MM for r in rows]
+            return {"coefficient": float(np.interp(0.0, x, [r[2] for r in rows])),
+                    "variation": {"x": x, "coefficient": [r[2] for r in rows]}}
         # Coulomb friction: CONTACT uses the kinetic coefficient (FKIN) throughout
         return {"coefficient": rows[0][2],
                 "variation": {"angle": [r[0] for r in rows],
@@ -130,7 +142,8 @@ def _tangential_model(case) -> tuple:
 def _check_common(case) -> None:
     d = case.digits
     _digit(case, "T", {0: "frictionless compression", 3: "steady rolling"}, "TANG")
-    _digit(case, "S", {0: "no subsurface stresses"}, "STRESS")
+    _digit(case, "S", {0: "no subsurface stresses", 1: "subsurface stresses",
+                       2: "subsurface stresses", 3: "subsurface stresses"}, "STRESS")
     _digit(case, "M2", {0: "no damping", 1: "kept"}, "MATER2")
     _digit(case, "H", {0: "no temperatures"}, "HEAT")
     _digit(case, "C3", {0: "kept", 1: "kept", 2: "elastic half-space"}, "INFLCF")
@@ -144,9 +157,9 @@ def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
     railcontact does not support.  Profile files are looked up next to the input
     file, in the working directory, then in ``profile_dirs``."""
     _check_common(case)
-    if case.module == 3:
-        return _map_module3(case)
-    return _map_module1(case, profile_dirs)
+    m = _map_module3(case) if case.module == 3 else _map_module1(case, profile_dirs)
+    m.meta["inp"] = case    # its subsurface points (.subsurface), its tractions (.transient_m1)
+    return m
 
 
 # ------------------------------------------------------------------ module 3
@@ -423,11 +436,14 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     if v.get("CANT") and not roller:
         raise _unsupported(case, f"CANT = {v['CANT']:g} with {what}",
                            "expected 0 (the rail as mounted)")
-    for name in ("CURV", "DYRAIL", "DZRAIL", "DROLLR", "VYRAIL", "VZRAIL", "VROLLR", "DXWHL",
-                 "DYWHL", "DZWHL", "DROLLW", "DYAWW", "DPITCHW", "VXWHL", "VYWHL", "VZWHL",
-                 "VROLLW", "VYAWW", "VPITCHW", "VZ_WS", "VROLL"):
+    # a roller's deviations would move its surface off the axis it turns about
+    rail_flex = RAIL_FLEX if roller else RAIL_FLEX[2:]
+    for name in ("CURV", "VZ_WS", "VROLL") + rail_flex + WHEEL_FLEX[6:]:
         if v.get(name):
-            raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0")
+            raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0" + (
+                " (the wheel's deviations by flexibility DXWHL .. DPITCHW, and a rail's "
+                "DYRAIL, DZRAIL on a track or test rig)" if name in RAIL_FLEX + WHEEL_FLEX
+                else ""))
     if v.get("G_MISS") is not None and v["G_MISS"] >= 0:
         raise _unsupported(case, f"G_MISS = {v['G_MISS']:g} mm (near-miss patches)",
                            "expected it left out or negative")
@@ -435,8 +451,11 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
         raise _unsupported(case, f"A_SEP = {v['A_SEP']:.4f} rad", "expected at least pi/2: "
                                                                    "regions are combined by "
                                                                    "their distance alone")
-    place = {"lateral_position": (1.0 if side == "right" else -1.0) * _need(case, "RAILY0") * MM,
-             "vertical_position": 0.0}
+    # the rail's deviation by flexibility (Z = 2, 3): DYRAIL in track coordinates,
+    # DZRAIL down, as the rail's placement
+    place = {"lateral_position": (1.0 if side == "right" else -1.0) * (
+        _need(case, "RAILY0") + (v.get("DYRAIL") or 0.0)) * MM,
+             "vertical_position": (v.get("DZRAIL") or 0.0) * MM}
     if _need(case, "VS_WS") <= 0 and not roller:
         raise _unsupported(case, f"VS = {v['VS_WS']:g} mm/s with {what} (rolling towards -x)",
                            "expected VS > 0")
@@ -480,6 +499,10 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
           "flange_back_distance": _need(case, "FBDIST") * MM,
           "flange_back_position": _need(case, "FBPOS") * MM,
           "combine_distance": _need(case, "D_SEP") * MM}
+    dev = [(v.get(k) or 0.0) * (MM if i < 3 else 1.0) for i, k in enumerate(WHEEL_FLEX[:6])]
+    if any(dev):
+        # the wheel's deviation by flexibility (E = 4, 5) about its profile origin
+        ws["wheel_deviation"] = dev
     if force == "force":
         ws["vertical_force"] = _need(case, "FZ_WS")
     else:

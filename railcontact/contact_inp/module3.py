@@ -19,10 +19,11 @@ railcontact case file:
   FY) given; a force is met by Brent's method on the creepage (or shift);
   falling friction by a fixed point of the coefficients (:func:`friction_law`);
 * temperatures: :mod:`railcontact.tangential.temperature` (steady rolling);
-* dissimilar materials (K != 0) in steady rolling: the normal and tangential
-  problems solved in turn, the pressure's tangential displacements a rigid slip,
+* dissimilar materials (K != 0) in steady rolling and in a shift (T = 1): the
+  normal and tangential problems solved in turn, the pressure's tangential
+  displacements a rigid slip (in a shift, those of the step: u_t(p) - u_t(p')),
   the tractions' normal ones a gap (:mod:`railcontact.cases.coupling`), until
-  neither changes (bentall.inp);
+  neither changes (bentall.inp, spence35.inp);
 * modified FASTSIM (M = 2, 3) with the elliptical or parabolic traction bound
   (B = 2, 3) of a Hertzian case: :func:`solve_fastsim`.
 
@@ -113,7 +114,7 @@ def check(case: InpCase) -> None:
     if is_fastsim_grid(case):
         _check_fastsim(case)
         return
-    allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0,),
+    allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0, 1, 2, 3),
                "L": (0, 1, 2, 3, 4), "M": (0, 1), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
@@ -151,10 +152,10 @@ def check(case: InpCase) -> None:
     n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
     if d["M"] == 1:
         check_viscoelastic(case)
-    if _dissimilar(case) and d["T"] in (1, 2):
-        raise _unsupported(case, "dissimilar materials (K != 0) with a transient tangential "
-                                 "problem", "expected quasi-identical materials ((1 - 2 nu)/G "
-                                 "equal for both bodies) or steady rolling (T = 3)")
+    if _dissimilar(case) and d["T"] == 2:
+        raise _unsupported(case, "dissimilar materials (K != 0) with transient rolling (T = 2)",
+                           "expected quasi-identical materials ((1 - 2 nu)/G equal for both "
+                           "bodies), a shift (T = 1) or steady rolling (T = 3)")
     if _dissimilar(case) and d["T"] == 3 and d["L"] not in (0, 1):
         raise _unsupported(case, f"dissimilar materials with FRCLAW = {d['L']}",
                            "expected Coulomb friction (L = 0, 1)")
@@ -195,6 +196,9 @@ class Instance:
     px: np.ndarray
     py: np.ndarray
     grid: Grid
+    #: the pressure [Pa] of that instance (dissimilar bodies: its tangential
+    #: displacements are the previous ones of the shift)
+    pn: np.ndarray | None = None
 
 
 def _materials(case):
@@ -313,7 +317,7 @@ class Sequence:
             return None
         # a steady rolling case's tractions are a time instance too (the steady
         # state of transient rolling on its grid)
-        return Instance(self.last.px, self.last.py, self.last.grid)
+        return Instance(self.last.px, self.last.py, self.last.grid, self.last.pressure)
 
     def run(self, case: InpCase) -> dict:
         check(case)
@@ -381,9 +385,15 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     # the tangential kernels: the elastic pair's, or M = 1's viscoelastic ones
     G_t = viscoelastic_pair(case) if d["M"] == 1 else G
     grid, h = _grid_and_gap(case, es)
+    t = d["T"]
+    mx_given = grid.x.size
+    if mx_given == 1 and t == 3:
+        # one column in steady rolling: the solver's grid gets an empty second
+        # column ahead of it, kept out of contact (no traction there, no effect)
+        grid = Grid(np.array([grid.x[0], grid.x[0] + grid.dx]), grid.y, grid.dx, grid.dy)
+        h = np.r_[h, np.full((1, h.shape[1]), 1.0)]
     pressure, approach, ok_n = _normal(case, grid, h, es)
     shape = pressure.shape
-    t = d["T"]
     law = friction_law(case) if t else None
     mu = (law.static if law is not None else _need(case, "FKIN")) if t else 0.0
     fstat = (law.static if law is not None else _need(case, "FSTAT")) if t else 0.0
@@ -396,7 +406,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     state = {"mu": None, "w_extra": None}
     message = "" if ok_n else "normal problem not converged"
     if t:
-        u_prev, p_start = (zero, zero), None
+        u_prev, p_start, pn_prev = (zero, zero), None, None
         if t in (1, 2) and prev is not None:
             shift = (0.0, 0.0)
             if t == 2:
@@ -410,6 +420,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                                            G, nu)
             # the start of the iteration: the previous tractions where the material is
             p_start = shifted_tractions(prev.px, prev.py, off, shape)
+            if prev.pn is not None:
+                pn_prev = shifted_tractions(prev.pn, prev.pn, off, shape)[0]
 
         if grid.x.size < 2:
             raise InpError(f"{case.where()}: MX = 1 with a tangential problem; expected MX "
@@ -460,8 +472,12 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                                       G_t, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
                                       w_extra=state["w_extra"])
             w = _rigid_shift(case, grid, (cx, cy))
-            return transient_step(grid.x, yt, ct, bt, (widen(np.array(w[0])),
-                                                       widen(np.array(w[1]))),
+            wx, wy = widen(np.array(w[0])), widen(np.array(w[1]))
+            if state["w_extra"] is not None:
+                # dissimilar bodies: the pressure's tangential displacements of this
+                # step less those of the previous instance
+                wx, wy = wx + state["w_extra"][0], wy + state["w_extra"][1]
+            return transient_step(grid.x, yt, ct, bt, (wx, wy),
                                   u_t, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
 
         def tangential(cx, cy):
@@ -477,7 +493,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             return out
 
         state["w_extra"] = None
-        coupled = t == 3 and _dissimilar(case)
+        coupled = t in (1, 3) and _dissimilar(case)
         if coupled:
             # dissimilar bodies: the pressure's tangential displacements add a rigid
             # slip, the tractions' normal displacements a gap; the two problems are
@@ -485,10 +501,20 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             mat = _body_material(case)
             xs = -grid.x[::-1].copy() if backwards else grid.x
             fm = (lambda a: np.ascontiguousarray(a[::-1])) if backwards else (lambda a: a)
+
+            def pressure_slip(p):
+                if t == 3:
+                    return slip_from_pressure(xs, yt, widen(fm(p)), mat)
+                # a shift (T = 1): u_t(p) - u_t(p') over the step
+                ux, uy = slip_from_pressure(grid.x, yt, widen(p), mat, mode="shift")
+                if pn_prev is not None:
+                    vx, vy = slip_from_pressure(grid.x, yt, widen(pn_prev), mat, mode="shift")
+                    ux, uy = ux - vx, uy - vy
+                return np.ascontiguousarray(ux), np.ascontiguousarray(uy)
             opx, opy = None, None
             # (on the solver's grid: a 2-D problem's second, empty strip included)
             for it in range(COUPLING_ITERATIONS):
-                state["w_extra"] = slip_from_pressure(xs, yt, widen(fm(pressure)), mat)
+                state["w_extra"] = pressure_slip(pressure)
                 creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G,
                                                 start)
                 gap = normal_gap_from_tractions(grid.x, yt, widen(out[0]), widen(out[1]),
@@ -509,7 +535,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             else:
                 message = (message + "; " if message else "") + \
                     f"normal-tangential alternation not converged in {COUPLING_ITERATIONS}"
-            state["w_extra"] = slip_from_pressure(xs, yt, widen(fm(pressure)), mat)
+            state["w_extra"] = pressure_slip(pressure)
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, sx, sy, stick, _, ok_t = out
         if not ok_t:
@@ -538,7 +564,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
            "mn_Nmm": float((X * py - Y * px).sum() * dA) * 1e3, "fric_power_W": fric,
            "approach_mm": approach / MM, "pmax_MPa": float(pressure.max()) * 1e-6,
            "area_mm2": ncon * dA * 1e6, "ncon": ncon, "nadh": nadh,
-           "nslip": ncon - nadh if t else 0, "mx": shape[0], "my": shape[1],
+           "nslip": ncon - nadh if t else 0, "mx": mx_given, "my": shape[1],
            "dx_mm": grid.dx / MM, "ds_mm": grid.dy / MM, "tmax_C": tmax,
            "converged": bool(ok_n and ok_t), "message": message}
     return CaseResult(grid, pressure, px, py, stick, row,
@@ -720,7 +746,7 @@ def _check_fastsim(case: InpCase) -> None:
     Hertzian case (IPOTCN = -1, -2, -3) with the creepages given (F = 0), the
     normal force (N = 1), Coulomb friction, rolling along +-x."""
     d = case.digits
-    allowed = {"T": (3,), "N": (1,), "F": (0,), "S": (0,), "L": (0, 1, 2, 3, 4), "H": (0,),
+    allowed = {"T": (3,), "N": (1,), "F": (0,), "S": (0, 1, 2, 3), "L": (0, 1, 2, 3, 4), "H": (0,),
                "M2": (0, 1), "E": (0, 1), "C3": (0, 1, 2)}
     names = {"T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS", "L": "FRCLAW",
              "H": "HEAT", "M2": "MATER2", "E": "EXRHS", "C3": "INFLCF"}

@@ -304,6 +304,10 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
         case.values.update(CHI=0.0, DQ=1.0, VELOC=1.0)
     if d["S"] in (2, 3):
         _read_subsurface(lines, case, d["S"])
+    if d["S"] in (1, 2) and not case.values.get("SUBSURFACE_BLOCKS"):
+        raise InpError(f"{case.where(WORDS[case.module][0])}: STRESS = {d['S']} (subsurface "
+                       "stresses at the points kept) without points read by an earlier case; "
+                       "expected S = 3 (new points) first")
 
 
 def _read_subsurface(lines, case, s_digit):
@@ -333,8 +337,12 @@ def _read_subsurface(lines, case, s_digit):
             b["z"] = lines.group("d" * nz, ", ".join(["Z"] * nz))
         else:
             if isubs in (2, 6):
-                xl, xinc, xh, yl, yinc, yh = lines.group("iiiiii", "IXL, IXINC, IXH, IYL, "
-                                                         "IYINC, IYH")
+                if _leading_integers(lines) >= 6:
+                    xl, xinc, xh, yl, yinc, yh = lines.group("iiiiii", "IXL, IXINC, IXH, "
+                                                             "IYL, IYINC, IYH")
+                else:       # a line each (CONTACT's examples: each with its comment)
+                    xl, xinc, xh = lines.group("iii", "IXL, IXINC, IXH")
+                    yl, yinc, yh = lines.group("iii", "IYL, IYINC, IYH")
                 if xinc < 1 or yinc < 1:
                     raise lines.error(f"IXINC, IYINC = {xinc}, {yinc}: expected >= 1")
                 b["ix"], b["iy"] = list(range(xl, xh + 1, xinc)), list(range(yl, yh + 1, yinc))
@@ -351,6 +359,18 @@ def _read_subsurface(lines, case, s_digit):
         blocks.append(b)
     case.values["SUBSURFACE_BLOCKS"] = blocks
     case.read.add("SUBSURFACE_BLOCKS")
+
+
+def _leading_integers(lines) -> int:
+    """How many integers open the next line of input (before any comment text)."""
+    if lines.i >= len(lines.lines):
+        return 0
+    n = 0
+    for tok in lines._tokens(lines.lines[lines.i][1]):
+        if _parse("i", tok) is None:
+            break
+        n += 1
+    return n
 
 
 def _read_undeformed_distance(lines, case):

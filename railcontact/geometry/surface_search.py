@@ -127,11 +127,19 @@ class SurfaceWheel:
     nominal_radius : float   radius [m] at the profile origin
     offset : float      lateral distance [m] from the wheelset centre to the profile
                         origin (flange-back distance / 2 - flange-back position)
+    deviation : tuple of 6 floats, optional
+        The wheel's deviation by flexibility from its design place in the wheelset
+        (CONTACT's DXWHL, DYWHL, DZWHL [m], DROLLW, DYAWW, DPITCHW [rad]; side
+        frame): the wheel turned about its profile origin by Rz(yaw) Rx(roll)
+        Ry(pitch), then displaced.  It moves the wheel's surface only: the wheel's
+        velocities stay those of the wheelset's motion about the design axle (the
+        deviations' own velocities are not modelled), as CONTACT takes them.
     """
 
     profile: Profile
     nominal_radius: float = 0.46
     offset: float = 0.75
+    deviation: tuple | None = None
 
     def __post_init__(self):
         if self.profile.kind != "wheel":
@@ -146,11 +154,25 @@ class SurfaceWheel:
         O = np.array([0.0, pose.lateral, pose.vertical - self.nominal_radius])
         return O, rotation(pose.yaw, pose.roll)
 
+    def shape_frame(self, pose: SurfacePose):
+        """Centre and rotation of the wheel's body of revolution (side frame): the
+        wheelset's :meth:`frame`, with the :attr:`deviation` where given (a point p
+        of the design wheel, wheelset coordinates, lies at P0 + d + D (p - P0), P0 =
+        (0, offset, nominal radius) the profile origin)."""
+        O, R = self.frame(pose)
+        if not self.deviation:
+            return O, R
+        dx, dy, dz, droll, dyaw, dpitch = self.deviation
+        cp, sp = math.cos(dpitch), math.sin(dpitch)
+        D = rotation(dyaw, droll) @ np.array([[cp, 0.0, sp], [0.0, 1.0, 0.0], [-sp, 0.0, cp]])
+        P0 = np.array([0.0, self.offset, self.nominal_radius])
+        return O + R @ (P0 + np.array([dx, dy, dz]) - D @ P0), R @ D
+
     def intersect(self, pose: SurfacePose, Q0, n, iterations: int = 30):
         """Where the lines Q0 + lam n (Q0 (..., 3), n (3,) or (..., 3), side frame)
         leave the wheel downwards: lam [m] with the point on the wheel surface (the
         intersection below the axle), NaN where a line misses the profile."""
-        O, R = self.frame(pose)
+        O, R = self.shape_frame(pose)
         p0 = (np.asarray(Q0, float) - O) @ R              # wheelset coordinates
         m = np.broadcast_to(np.asarray(n, float) @ R, p0.shape)
         r0, off, prof = self.nominal_radius, self.offset, self.profile
@@ -179,7 +201,7 @@ class SurfaceWheel:
 
     def profile_coordinates(self, pose: SurfacePose, P):
         """Wheel-profile coordinates (y_w, radius) [m] of side-frame points P (3,)."""
-        O, R = self.frame(pose)
+        O, R = self.shape_frame(pose)
         p = (np.asarray(P, float) - O) @ R
         return float(p[1] - self.offset), float(math.hypot(p[0], p[2]))
 
@@ -269,7 +291,7 @@ def _grid_gap(wheel, rail, pose, xs, ys):
 def _wheel_span(wheel: SurfaceWheel, pose: SurfacePose):
     """Lateral range [m] of the wheel (side frame) and the x of its lowest line at
     both ends (a yawed wheel's bottom line runs obliquely)."""
-    O, R = wheel.frame(pose)
+    O, R = wheel.shape_frame(pose)
     ends = []
     for yw in (wheel.profile.y_min, wheel.profile.y_max):
         r = wheel.nominal_radius + float(wheel.profile.z_at(yw))
@@ -400,23 +422,31 @@ def surface_slip(patch: "SurfacePatch", wheel: SurfaceWheel, rail, motion: Motio
     x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
     Q0 = gap.C + x[..., None] * np.array([1.0, 0.0, 0.0]) + (gap.sign * y)[..., None] * gap.t
     O, R = wheel.frame(sp)
-    p = (Q0 - O) @ R                                  # wheelset coordinates
-    m = gap.n @ R                                     # the normal there: the section's
+    Os, Rs = wheel.shape_frame(sp)                    # the wheel's surface (deviated)
+    p = (Q0 - Os) @ Rs                                # wheel coordinates
+    m = gap.n @ Rs                                    # the normal there: the section's
     mm = math.hypot(m[0], m[2])                       # point nearest the rail
     r = wheel.nominal_radius + wheel.profile.z_at(p[..., 1] - wheel.offset)
     pb = np.stack((r * m[0] / mm, p[..., 1], r * m[2] / mm), axis=-1)
     om_w = R @ np.array([mo.roll_rate, mo.pitch_velocity, 0.0]) + np.array([0, 0, mo.yaw_rate])
     v_w = np.array([mo.velocity, mo.lateral_velocity, mo.vertical_velocity]) \
-        + np.cross(om_w, pb @ R.T)
+        + np.cross(om_w, Os + pb @ Rs.T - O)
+    # a point at x off its section's apex moves across the plane by the body's
+    # rotation about the normal (the spin): (omega x d) . t = a (omega . n) for the
+    # in-plane offset d = a e_x + b t from the apex
+    a_w = Q0[..., 0] - (Os + pb @ Rs.T)[..., 0]
+    turn = -a_w * float(om_w @ gap.n)
     if rail.is_roller:
         surf = rail.surface
         rho = surf.rolling_radius(Q0[..., 1] - rail.lateral_position)
         apex = np.stack((np.zeros_like(rho), np.zeros_like(rho), -rho), axis=-1)
-        v_r = np.cross(np.array([0.0, rail.angular_velocity, 0.0]), apex)
+        om_r = np.array([0.0, rail.angular_velocity, 0.0])
+        v_r = np.cross(om_r, apex)
+        turn = turn + (Q0[..., 0] - surf.position) * float(om_r @ gap.n)
     else:
         v_r = np.zeros_like(v_w)
     dv = (v_r - v_w) / patch.velocity
-    return dv[..., 0], gap.sign * (dv @ gap.t)
+    return dv[..., 0], gap.sign * (dv @ gap.t + turn / patch.velocity)
 
 
 def _combine_labels(lab, n: int, y, distance: float):

@@ -60,6 +60,8 @@ TANGENTIAL_CAPABILITIES = {
                "displacements enter the slip)",
     "lazy": "costly: the vertical balance lets FASTSIM stand in for it until its last "
             "passes (railcontact.cases.equilibrium)",
+    "friction-field": "solve(..., friction_scale=array) varies the friction coefficient "
+                      "across the patch, element by element (friction along the track)",
 }
 
 

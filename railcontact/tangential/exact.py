@@ -334,7 +334,7 @@ class ExactTangentialModel:
         coefficients of :mod:`railcontact.normal.viscoelastic` replace the elastic ones.
     """
 
-    capabilities = frozenset({"warm-start", "coupled", "lazy"})
+    capabilities = frozenset({"warm-start", "coupled", "lazy", "friction-field"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
                  step: float = 0.0, viscoelastic=None):
@@ -383,21 +383,31 @@ class ExactTangentialModel:
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
               warm_start: TangentialSolution | None = None,
-              extra_slip=None, previous: TangentialSolution | None = None
-              ) -> TangentialSolution:
+              extra_slip=None, previous: TangentialSolution | None = None,
+              friction_scale=None) -> TangentialSolution:
         """Creep forces for creepages (xi [-], eta [-], phi [1/m]) on the normal
         solution's grid.  ``warm_start``: a previous solution (e.g. of a neighbouring
         case, on this grid or interpolated from its own) used as the initial
         estimate; without it, FASTSIM's solution is.  ``previous``: the last time
         step's solution (``"transient"`` mode), whose tractions enter the slip at
-        the same material points."""
+        the same material points.  ``friction_scale``: friction varying across the
+        patch, each element's coefficient ``friction`` times this array's value
+        (on the normal solution's grid; CONTACT's friction along the track)."""
         t0 = time.perf_counter()
         xi, eta, phi = check_inputs(creepage, friction)
         x, y = normal.x, normal.y
         if x.size < 2 or y.size < 2:
             raise InputError("exact tangential solver needs a grid of at least 2 x 2 elements")
         contact = np.ascontiguousarray(normal.contact & (normal.pressure > 0))
-        bound = np.ascontiguousarray(friction * np.where(contact, normal.pressure, 0.0))
+        mu = friction
+        if friction_scale is not None:
+            scale = np.asarray(friction_scale, float)
+            if scale.shape != contact.shape or not np.all(np.isfinite(scale)) or \
+                    np.any(scale < 0):
+                raise InputError(f"friction_scale of shape {scale.shape}: expected finite "
+                                 f"values >= 0 on the normal solution's grid {contact.shape}")
+            mu = friction * scale
+        bound = np.ascontiguousarray(mu * np.where(contact, normal.pressure, 0.0))
         if previous is not None and self.mode != "transient":
             raise InputError(f"a previous time step's solution is used by the 'transient' "
                              f"mode; this model's mode is {self.mode!r}")

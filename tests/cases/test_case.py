@@ -95,3 +95,24 @@ def test_solver_options_must_be_a_table(key, value):
     raw = {"wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"}, "solver": {key: value}}
     with pytest.raises(CaseFileError, match=f"solver.{key} = .*expected a table"):
         rc.case_from_dict(raw)
+
+
+def test_friction_along_the_track_keys(refdir):
+    """friction.variation = {x, coefficient} (CONTACT's VARFRC = 2): coefficients at x
+    [m] from the wheelset centre, parsed once; it needs the exact tangential model
+    and a wheel-rail case on a track."""
+    from railcontact import case_from_dict
+    var = {"x": [-0.06, 0.04], "coefficient": [0.2, 0.3]}
+    raw = _mbench_raw(refdir)
+    raw["friction"]["variation"] = var
+    case = case_from_dict(raw)
+    assert case.friction_along_track == ((-0.06, 0.04), (0.2, 0.3))
+    assert case.friction_variation is None
+    with pytest.raises(CaseFileError, match="needs solver.tangential = 'exact'"):
+        case_from_dict({**raw, "solver": {"tangential": "fastsim"}})
+    with pytest.raises(CaseFileError, match="friction.variation.x = .*increasing"):
+        case_from_dict({**raw, "friction": {"variation": {"x": [0.1, 0.0],
+                                                           "coefficient": [0.2, 0.3]}}})
+    roller = {**raw, "roller": {"radius": 0.5}}
+    with pytest.raises(CaseFileError, match="applies to a wheel-rail case on a track"):
+        case_from_dict(roller)

@@ -71,3 +71,17 @@ def test_half_space_validity_of_a_bodies_patch(case, monkeypatch):
     monkeypatch.setattr(patches, "HALF_SPACE_LIMIT", p.halfspace_ratio / 2)
     p = patches.bodies_validity(case, p)
     assert res.converged and len(res.warnings) == 1 and "half-space" in res.warnings[0]
+
+
+def test_friction_along_the_track_per_element():
+    """Friction along the track: each element's coefficient at the patch's reference
+    x plus its own, over the coefficient at the reference point (the patch's
+    ``friction``)."""
+    import numpy as np
+    case = NS(friction_along_track=((-0.06, 0.04), (0.2, 0.3)), friction_variation=None)
+    geom = NS(position=(0.01, 0.7, 0.0))
+    normal = NS(x=np.array([-0.002, 0.0, 0.002]), pressure=np.zeros((3, 2)))
+    assert patches.patch_friction(case, geom) == pytest.approx(0.27)
+    scale = patches.friction_along_track(case, geom, normal)
+    assert scale.shape == (3, 2)
+    np.testing.assert_allclose(scale[:, 1] * 0.27, [0.268, 0.27, 0.272])

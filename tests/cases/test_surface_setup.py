@@ -83,3 +83,19 @@ def test_parsed_once_into_typed_values():
 def test_values_checked_once_where_read(change, match):
     with pytest.raises(CaseFileError, match=match):
         _check({"wheel": WHEEL, **change})
+
+
+def test_wheel_deviation_key():
+    """``wheelset.wheel_deviation = [dx, dy, dz, roll, yaw, pitch]`` (CONTACT's DXWHL ..
+    DPITCHW in m and rad) makes a surface case and is parsed into a tuple; a list of
+    another length, or a displacement or an angle out of range, is an error."""
+    raw = {"wheel": WHEEL, "rail": {"profile": "60E1"},
+           "wheelset": {"wheel_deviation": [0.0, 1e-3, 0.0, 0.1, 0.0, 0.0]}}
+    assert is_surface_case(case_from_dict(raw))
+    s = _check(raw)
+    assert s.wheel_deviation == (0.0, 1e-3, 0.0, 0.1, 0.0, 0.0)
+    assert _check({"wheel": WHEEL, "rail": SLICED}).wheel_deviation is None
+    for bad in ([0.0] * 5, [0.1, 0, 0, 0, 0, 0], [0, 0, 0, 0, 0.6, 0], [0, 0, 0, "x", 0, 0]):
+        with pytest.raises(CaseFileError, match="wheelset.wheel_deviation = .*expected"):
+            _check({"wheel": WHEEL, "rail": {"profile": "60E1"},
+                    "wheelset": {"wheel_deviation": bad}})

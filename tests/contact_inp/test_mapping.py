@@ -39,8 +39,6 @@ def test_mapping_to_a_case_in_si_units(files):
 
 
 @pytest.mark.parametrize("old, new, match", [
-    ("1203100    C-P-B-T-N-F-S   comment", "1201100    C-P-B-T-N-F-S   comment",
-     r"case 1 \(line 4\): TANG = 1 \(transient shift or rolling"),
     ("0022033    V-L-D-C-M-Z-E", "0042033    V-L-D-C-M-Z-E", r"DISCNS = 4 \(conformal contact\)"),
     ("0022033    V-L-D-C-M-Z-E", "0023033    V-L-D-C-M-Z-E", r"INFLCF = 3 \(bilinear"),
     ("1203100    C-P-B-T-N-F-S   comment", "5203100    C-P-B-T-N-F-S   comment",
@@ -86,3 +84,49 @@ def test_module3_hertzian_case(refdir):
     h = hertz_ellipse(0.5 / rad["wheel_rolling"], 0.5 / rad["wheel_lateral"],
                       Material(**r["material"]).contact_modulus, force=52359.8776)
     assert (h.a, h.b) == pytest.approx((5e-3, 5e-3), rel=1e-9)
+
+
+def test_deviations_by_flexibility(testbank, tmp_path):
+    """CONTACT's deviations by flexibility on a roller rig or a test rig: the wheel's
+    (E = 4, 5: DXWHL .. DPITCHW, mm and rad) become ``wheelset.wheel_deviation`` in m
+    and rad; a rail's DYRAIL, DZRAIL (Z = 2, 3) its placement; its roll, a roller's
+    deviations and the deviations' velocities stop with one line."""
+    path = testbank / "examples_conformal" / "test-rollers3.inp"
+    two, five = load_inp(path, cases=[2, 5])
+    assert two.raw["wheelset"]["wheel_deviation"] == [0.0, 0.0, 0.0, 0.0, -0.3, 0.0]
+    assert five.raw["wheelset"]["wheel_deviation"] == pytest.approx(
+        [0.0, 0.0, -0.4996e-3, 0.1, 0.0, 0.0])
+    (one,) = load_inp(path, cases=[1])
+    assert "wheel_deviation" not in one.raw["wheelset"]
+    text = path.read_text().replace("     0.0    0.0   0.000   0.0    0.0   0.000    DY, DZ, "
+                                    "ROLL, VY, VZ, VROLL",
+                                    "     1.5   -0.2   0.000   0.0    0.0   0.000    DY, DZ, "
+                                    "ROLL, VY, VZ, VROLL", 1)
+    moved = tmp_path / "moved_rail.inp"
+    moved.write_text(text)
+    (m,) = load_inp(moved, cases=[1], profile_dirs=[testbank / "profiles"])
+    assert m.raw["rail"]["lateral_position"] == pytest.approx(0.2015)
+    assert m.raw["rail"]["vertical_position"] == pytest.approx(-0.2e-3)
+    with pytest.raises(InpError, match=r"case 9 .*DZRAIL = 0.4996 with a roller rig is not "
+                                       r"supported; expected 0 \(the wheel's deviations"):
+        load_inp(path, cases=[9])
+
+
+def test_friction_along_the_track(testbank):
+    """mbench_a22_varfric.inp, case 6 (VARFRC = 2: 0.2 at SVF = 0, 0.3 at 100 mm, the
+    wheelset at S_WS = 60 mm): the friction of each element at its place along the
+    track (``friction.variation.x`` from the wheelset), 0.26 at the reference point
+    as CONTACT prints.  The gradient across the patch gives F_x 20.6 N where a
+    uniform 0.26 gives 0.3 N: CONTACT's 19.71 N (0.04 % of mu F_n), F_s -249.44
+    against -249.5 N, 901 elements in adhesion as CONTACT's."""
+    path = testbank / "examples_basic" / "mbench_a22_varfric.inp"
+    (m,) = load_inp(path, cases=[6])
+    assert m.raw["friction"]["variation"]["x"] == pytest.approx([-0.06, 0.04])
+    assert m.raw["friction"]["coefficient"] == pytest.approx(0.26)
+    from railcontact.contact_inp import solve_inp
+    (r,) = solve_inp(path, cases=[6])
+    assert r["mu"] == pytest.approx(0.26)
+    mu_fn = 0.26 * 9997.0
+    assert abs(r["fx_N"] - 19.71) <= 0.01 * mu_fn and r["fx_N"] > 15.0
+    assert abs(r["fs_N"] + 249.5) <= 0.01 * mu_fn
+    assert r["fn_N"] == pytest.approx(9997.0, rel=1e-3) and r["nadh"] == 901

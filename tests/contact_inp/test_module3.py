@@ -352,3 +352,38 @@ def test_modified_fastsim_traction_curve(testbank):
         assert r["fx_N"] == pytest.approx(q["fx_N"], rel=1.5e-3), case
         assert r["pmax_MPa"] == pytest.approx(q["pmax_MPa"], rel=2e-3)
     assert rows[106]["fx_N"] < rows[97]["fx_N"] and rows[120]["fx_N"] > rows[106]["fx_N"]
+
+
+def test_spence_compression_dissimilar_shift(testbank):
+    """spence35.inp: Spence's compression of dissimilar bodies (G1 = 0.5, nu1 = 0
+    on a rigid body, K = 0.5), F_n = (k/45)^3 in stages k, each a shift (T = 1)
+    from the last stage's tractions (P = 0) with the normal and tangential problems
+    coupled (the pressure's tangential displacements of the step as a rigid shift,
+    the tractions' normal ones as a gap).  The first 15 stages (the whole sequence
+    and its subsurface stresses: tests/contact_inp/test_subsurface.py): approach
+    and p_max within 0.1 % of CONTACT's 4 printed digits (measured 0.03 %, 0.02 %);
+    F_x, F_y (zero but for round-off) within 1 % of mu F_n of CONTACT's."""
+    path = testbank / "examples_basic" / "spence35.inp"
+    rows = {r["case"]: r for r in solve_inp(path, cases=range(1, 16))}
+    ref = read_out(path.with_suffix(".ref_out"))
+    for case, r in rows.items():
+        q = ref[case]
+        assert r["converged"], r["message"]
+        assert r["approach_mm"] == pytest.approx(q["approach_mm"], rel=1e-3)
+        assert r["pmax_MPa"] == pytest.approx(q["pmax_MPa"], rel=1e-3)
+        assert abs(r["fx_N"] - q["fx_N"]) <= 0.01 * 0.2986 * q["fn_N"]
+        assert abs(r["fs_N"] - q["fy_N"]) <= 0.01 * 0.2986 * q["fn_N"]
+    # the elements in contact and adhesion where CONTACT prints them (case 6)
+    assert (rows[6]["ncon"], rows[6]["nadh"]) == (ref[6]["ncon"], ref[6]["nadh"])
+
+
+def test_one_column_steady_rolling(testbank):
+    """subsurf.inp, case 2: steady rolling on CONTACT's one element (MX = MY = 1) with
+    FX = 0.999 FSTAT FN prescribed; the solver's grid gets an empty column ahead.
+    CONTACT's CREEP X -0.6430 and approach 0.807984 mm."""
+    path = testbank / "examples_basic" / "subsurf.inp"
+    rows = solve_inp(path)
+    assert rows[1]["cksi"] == pytest.approx(-0.6430, abs=6e-5)
+    assert rows[1]["fx_N"] == pytest.approx(0.999, rel=1e-6)
+    assert rows[1]["approach_mm"] == pytest.approx(0.807984, abs=1e-6)
+    assert (rows[1]["mx"], rows[1]["my"], rows[1]["ncon"], rows[1]["nadh"]) == (1, 1, 1, 1)

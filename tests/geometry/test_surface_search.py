@@ -43,3 +43,55 @@ def test_local_contact_angle_on_the_shifting_wing_rail(testbank):
     assert p.geometry.contact_angle == pytest.approx(-0.0526, abs=2e-3)
     assert p.normal.normal_force == pytest.approx(ref["fn"], rel=0.01)
     assert p.normal.area / (0.2e-3 * 0.05e-3) == pytest.approx(ref["ncon"], rel=0.03)
+
+
+def test_wheel_deviation_moves_the_surface_only():
+    """A wheel's deviation by flexibility (CONTACT's DXWHL .. DPITCHW): the wheel
+    turned about its profile origin P0 = (0, offset, r0) and displaced.  A sphere
+    (circular profile of radius r0 about the axle) rolled by 0.1 rad about its
+    lowest point has its centre moved by r0 sin 0.1 sideways; lifted by r0 (1 -
+    cos 0.1) it touches the plane there again (test-rollers 1e: y = 209.98 mm).
+    Its velocities stay those of the design axle (no spin from the roll)."""
+    import math
+
+    import numpy as np
+
+    from railcontact.geometry.surface_search import SurfacePose, SurfaceWheel
+    from railcontact.profiles import Profile
+    y = np.linspace(-0.09, 0.09, 361)
+    prof = Profile(y, np.sqrt(0.1 ** 2 - y ** 2) - 0.1, kind="wheel", name="sphere")
+    pose = SurfacePose(lateral=0.2 - 0.1, vertical=0.0)
+    plain = SurfaceWheel(prof, 0.1, 0.1)
+    dev = SurfaceWheel(prof, 0.1, 0.1, deviation=(0.0, 0.0, -0.1 * (1 - math.cos(0.1)), 0.1,
+                                                 0.0, 0.0))
+    O, R = plain.shape_frame(pose)
+    assert np.allclose(O, plain.frame(pose)[0]) and np.allclose(R, plain.frame(pose)[1])
+    Od, Rd = dev.shape_frame(pose)
+    centre = Od + Rd @ np.array([0.0, 0.1, 0.0])           # the sphere's centre
+    assert centre[1] == pytest.approx(0.2 + 0.1 * math.sin(0.1), abs=1e-12)
+    assert centre[2] == pytest.approx(-0.1, abs=1e-12)
+    # the lowest point of the deviated sphere lies under its centre, on the plane
+    q0 = np.array([[0.0, centre[1], -0.05]])
+    lam = dev.intersect(pose, q0, np.array([0.0, 0.0, 1.0]))
+    assert q0[0, 2] + lam[0] == pytest.approx(0.0, abs=1e-9)
+    # the design rotation is kept for the kinematics
+    assert np.allclose(dev.frame(pose)[1], plain.frame(pose)[1])
+
+
+def test_rigid_slip_on_the_surfaces_keeps_the_spin(testbank):
+    """D = 3 (the rigid slip on the actual surfaces, test-rollers3): each body's
+    velocity is taken at its section's apex, and a point at x off the apex moves
+    across the plane by the body's rotation about the normal, x (omega . n): the
+    spin's lateral slip phi x.  An ellipsoid on a roller coned by 0.2 rad (case 10,
+    spin 2e-3 /mm): F_s 14179 N against CONTACT's 13930 N (0.85 % of mu F_n; without
+    the term 674 N, -45 %); the ellipsoid rolled on the cone (case 12) F_s -102.3 N
+    against -100.1."""
+    from railcontact.contact_inp import solve_inp
+    path = testbank / "examples_conformal" / "test-rollers3.inp"
+    rows = {r["case"]: r for r in solve_inp(path, cases=[10, 12])}
+    refs = read_ref_out(path.with_suffix(".ref_out"))
+    for case, r in rows.items():
+        (q,) = refs[case - 1]["patches"]
+        for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
+            assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], (case, k, r[k], q[c])
+    assert rows[10]["fs_N"] == pytest.approx(13930, rel=0.02)

@@ -390,3 +390,27 @@ def test_transient_mode_of_the_model():
         get_tangential_model("exact").solve(ns, None, mat, (1e-3, 0, 0), mu, previous=r)
     with pytest.raises(InputError, match="step"):
         get_tangential_model("exact", mode="transient", step=-1.0)
+
+
+def test_friction_varying_across_the_patch():
+    """``friction_scale``: each element's coefficient friction times the array.
+    Ones give the uniform solution; in full sliding each element carries its own
+    mu p, so that a coefficient rising along x (0.2 at the rear to 0.3 at the front
+    of the patch) gives F = sum mu_i p_i dA; a bad array is refused."""
+    from railcontact.core.errors import InputError
+    mat = Material(2.1e11, 0.28)
+    d = 2.2 * 5e-3 / 30
+    ns = hertz_on_grid(5e-3, 5e-3, 30, 30, d, d, 5e4, mat)
+    ex = get_tangential_model("exact")
+    assert "friction-field" in ex.capabilities
+    plain = ex.solve(ns, None, mat, (-1e-3, 0, 0), 0.3)
+    ones = ex.solve(ns, None, mat, (-1e-3, 0, 0), 0.3, friction_scale=np.ones_like(ns.pressure))
+    assert ones.fx == pytest.approx(plain.fx, rel=1e-9)
+    scale = np.broadcast_to(np.interp(ns.x, [ns.x[0], ns.x[-1]], [0.2, 0.3])[:, None] / 0.25,
+                            ns.pressure.shape)
+    slid = ex.solve(ns, None, mat, (-0.05, 0, 0), 0.25, friction_scale=scale)
+    dA = (ns.x[1] - ns.x[0]) * (ns.y[1] - ns.y[0])
+    assert slid.fx == pytest.approx(-(0.25 * scale * ns.pressure).sum() * dA, rel=1e-4)
+    assert slid.friction == 0.25
+    with pytest.raises(InputError, match="friction_scale of shape"):
+        ex.solve(ns, None, mat, (-1e-3, 0, 0), 0.3, friction_scale=np.ones(3))

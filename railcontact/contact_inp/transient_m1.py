@@ -1,0 +1,426 @@
+"""CONTACT's module 1 (wheel-rail) transient problems: T = 1 (shift, material-fixed
+grid) and T = 2 (transient rolling, contact-fixed grid), case after case.
+
+A module 1 case with T = 1 or 2 is mapped as its steady counterpart
+(:func:`railcontact.contact_inp.mapping.map_case`, with T = 3), its normal problem
+solved by the wheel-rail case (:func:`railcontact.cases.solve.solve`: the
+contact search, the patches, the vertical position or force), and each patch's
+tangential problem by one time step of the exact solver
+(:class:`railcontact.tangential.exact.ExactTangentialModel`, mode
+``"transient"``: the same semi-smooth Newton iteration and influence
+coefficients as steady rolling) from the previous time instance.  A rail placed
+at RAILY0 near the track centre (a case on rail surfaces,
+:func:`railcontact.cases.surfaces.solve_on_surfaces`) takes the same model.
+
+The kinematics (CONTACT's user guide, "Wheelset position and velocity" and
+"Identification of contact patches"):
+
+* T = 1: the wheelset's velocities are the distances moved per time step (the
+  time step taken as 1 s): VS the forward shift, VPITCH the pitch angle turned,
+  ... .  The rigid shift of the rail against the wheel over the step is the
+  relative velocity of the contact point times 1 s: the patch's kinematic
+  creepages (xi, eta, phi) times its rolling velocity V.  The grid is fixed in
+  the rail's material: the previous tractions act at the same track positions
+  x_tr = S_WS + x (S_WS, the wheelset's position along the track of each case).
+* T = 2: the grid moves with the contact; per step the contact rolls DQ = DQREL
+  DX over the rail, the rigid shift is DQ (xi - phi y, eta + phi (x + DQ/6)), and
+  the previous tractions act DQ behind (towards -x) where they were.
+
+What carries over follows the P digit (user guide, "P - PVTIME"): P = 0 the last
+case's tractions (a steady-rolling case's too) are the previous instance; P = 1
+and P = 2 start from zero tangential tractions; P = 3 repeats the last case's
+step from its previous instance.
+
+The previous instance is kept per patch as tractions on its element centres,
+each placed in the materials along the track (x_tr, S_WS included) and along
+the rail profile (the arc length of the rail point across the track from it;
+CONTACT's transient grids are based on the rail profile's arc length).  A new
+patch takes its predecessors' tractions (:func:`carried_tractions`): a previous
+patch with loaded elements on its grid within its own band (halfway to the other
+patches of its wheel); where the band holds at least half of that patch's
+traction, the new one continues it with all of its tractions, on its grid
+extended over them (CONTACT extends a continued patch's potential contact area
+over the previous contact area), else (the lesser part of a split) those on its
+own grid.  Patches that merge (t1_merge_cp), split (t1_split_cp) or move so take
+the old tractions where they acted.  The tractions are carried to the new grid
+by area weighting (each old element's force shared among the four new elements
+around its centre: total force and moment kept; where the grids coincide, as
+CONTACT's super-grid makes them, the transfer is exact); their displacement
+difference at the new elements is then that of the previous time step
+(:func:`railcontact.tangential.exact.previous_displacement`).
+
+Units: CONTACT's (mm, N) at the boundary, SI inside.
+"""
+
+from __future__ import annotations
+
+import dataclasses
+import logging
+import math
+import time
+from dataclasses import dataclass
+
+import numpy as np
+
+from ..cases.balance import solve_at_position, solve_wheel_rail
+from ..cases.bodies import build_wheelset_track
+from ..cases.case import case_from_dict
+from ..cases.patches import case_models
+from ..cases.results import PatchResult, SolveResult
+from ..cases.surfaces import solve_on_surfaces
+from ..core.errors import RailContactError
+from ..tangential.exact import ExactTangentialModel
+from .mapping import map_case
+from .reader import InpCase, InpError
+from .table import rows
+
+log = logging.getLogger(__name__)
+
+MM = 1e-3
+#: the exact solver's tolerance in a time step (largest complementarity residual
+#: over the largest traction bound)
+TANGENTIAL_TOL = 1e-8
+TANGENTIAL_MAXITER = 200
+
+
+def handles(case: InpCase) -> bool:
+    """Whether a case is solved here: module 1 with a transient tangential problem
+    (T = 1, 2)."""
+    return case.module == 1 and case.digits["T"] in (1, 2)
+
+
+#: T = 1 reads the distances moved per step in the places of the velocities
+SHIFTS = {"SHFT_SWS": "VS_WS", "SHFT_YWS": "VY_WS", "SHFT_ZWS": "VZ_WS", "SHFT_ROL": "VROLL",
+          "SHFT_YAW": "VYAW", "SHFT_WPIT": "VPITCH"}
+
+
+def shift_scale(case: InpCase) -> float:
+    """T = 1: the factor on the shifts per step that makes the forward one 1 m
+    (its kinematic creepages are ratios of the velocities, unchanged; the shifts
+    are the creepages times the rolling velocity over this factor)."""
+    vs = case.values.get("SHFT_SWS", case.values.get("VS_WS"))
+    if vs is None or not vs > 0:
+        raise _unsupported(case, f"SHFT_SWS = {vs!r} mm with TANG = 1", "expected a forward "
+                                 "shift per step > 0")
+    return 1000.0 / vs
+
+
+def _steady(case: InpCase) -> InpCase:
+    """The case with T = 3: what the mapping onto a wheel-rail case checks; for T = 1
+    the shifts per step as the velocities (a time step of 1 s)."""
+    values = dict(case.values)
+    if case.digits["T"] == 1:
+        for shift, velocity in SHIFTS.items():
+            if shift in values:
+                values[velocity] = values[shift]
+        k = shift_scale(case)
+        for velocity in SHIFTS.values():
+            if values.get(velocity) is not None:
+                values[velocity] = values[velocity] * k
+    return dataclasses.replace(case, digits={**case.digits, "T": 3}, values=values)
+
+
+def _unsupported(case, what, expected):
+    return InpError(f"{case.where()}: {what} is not supported; {expected}")
+
+
+def check(case: InpCase, profile_dirs=()) -> None:
+    """The one-line InpError of an option a transient module 1 case does not
+    support (the mapping's checks of its steady counterpart, then these): the
+    exact tangential model (M = 0), identical materials, a rail profile (not
+    slices or a roller rig)."""
+    mapped = map_case(_steady(case), profile_dirs)
+    d = case.digits
+    raw = mapped.raw
+    if mapped.meta.get("surfaces") and ("slices" in raw["rail"] or "roller" in raw):
+        raise _unsupported(case, f"TANG = {d['T']} with rail slices or a roller rig",
+                           "expected a rail profile (placed by its gauge face or at RAILY0)")
+    if d["M"] != 0:
+        raise _unsupported(case, f"TANG = {d['T']} with MATER = {d['M']}",
+                           "expected MATER = 0 (the exact tangential model)")
+    discns = d["D"] if d["D"] >= 2 else case.values.get("DISCNS")
+    if discns not in (None, 2) and not mapped.meta.get("surfaces"):
+        # D = 0, 1 keep an earlier case's contact search (t3_t1_conformal: D = 4)
+        raise _unsupported(case, f"TANG = {d['T']} with DISCNS = {discns} kept from an earlier "
+                                 "case", "expected DISCNS = 2 (planar contact, contact locus)")
+    mat = mapped.raw["material"]
+    if "wheel_young_modulus" in mat:
+        raise _unsupported(case, f"TANG = {d['T']} with dissimilar materials",
+                           "expected GG1 = GG2 and POISS1 = POISS2")
+    if d["T"] == 2:
+        dq = case.values.get("DQREL")
+        if dq is None or not dq > 0 or abs(dq - round(dq)) > 1e-9:
+            raise _unsupported(case, f"DQREL = {dq!r} with TANG = 2", "expected a whole "
+                                     "number of elements per step (>= 1)")
+    vs = case.values.get("VS_WS") or 0.0
+    if d["T"] == 2 and not vs > 0:
+        raise _unsupported(case, f"VS = {vs:g} mm/s with TANG = 2", "expected VS > 0")
+
+
+@dataclass
+class PatchState:
+    """A patch's tangential tractions on the rail [Pa] at the end of a time step on
+    its grid's element centres ``x``, ``y`` [m], with where the grid lies in the
+    materials: ``x0`` [m] the track position of its reference point (the rail's
+    material coordinate, S_WS included), ``m`` [m] per grid column the arc length
+    along the rail profile where the column lies (:class:`_Frames`), signed to
+    increase with y."""
+
+    x0: float
+    m: np.ndarray
+    x: np.ndarray
+    y: np.ndarray
+    px: np.ndarray
+    py: np.ndarray
+
+
+#: a new patch continues a previous one whose traction lies in its band by at
+#: least this share (:func:`carried_tractions`)
+INHERIT = 0.5
+
+
+def carried_tractions(states, x0, m_of, x, y, back: float = 0.0,
+                      bounds=(-math.inf, math.inf)):
+    """The tractions [Pa] of the previous patches ``states`` that a patch takes: the
+    patch's reference point at ``x0`` along the track, ``m_of(y)`` the arc length
+    along the rail profile of its lateral coordinate y (see :class:`PatchState`),
+    the material moved ``back`` [m] towards -x since (T = 2: DQ).
+
+    A previous patch is the new one's predecessor where some of its loaded
+    elements lie on the new grid within the patch's own band ``bounds`` (patch
+    coordinate y [m], halfway to the other patches of its wheel).  Where the band
+    holds at least :data:`INHERIT` of the predecessor's traction (the sum of
+    |p| over its elements), the new patch continues it: all its tractions are
+    carried, on the new grid extended (same spacing and alignment) until it holds
+    them, as CONTACT extends a continued patch's potential contact area over its
+    predecessor's contact area (patches that merge continue several).  Another
+    patch split from it takes its tractions on its own grid and band only.  Each old element's force goes
+    to the four elements around its centre by area weighting (force and moment
+    kept; exact where the grids coincide).  Returns the extended grid's centres
+    (xe, ye) [m] and the tractions on it."""
+    mx, my = x.size, y.size
+    dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+    span = float(np.ptp(m_of(y[[0, -1]])))
+    for s in states:
+        span += float(np.ptp(s.m))
+    # the new grid's columns along the rail profile, far enough to hold every old
+    # traction (the arc length grows about as y)
+    extra = int(min(math.ceil(span / dy) + 2, 2000))
+    cols = np.arange(-extra, my + extra)
+    m_cols = m_of(y[0] + cols * dy)
+    pts = []
+    for s in states:
+        keep = (s.px != 0.0) | (s.py != 0.0)
+        if not keep.any():
+            continue
+        da = float((s.x[1] - s.x[0]) * (s.y[1] - s.y[0]))
+        X, M = np.broadcast_arrays(s.x[:, None], s.m[None, :])
+        fi = (X[keep] + s.x0 - back - x0 - x[0]) / dx
+        fj = np.interp(M[keep], m_cols, cols)
+        yy = y[0] + fj * dy
+        band = (yy >= bounds[0]) & (yy <= bounds[1])
+        on = band & (fi > -0.5) & (fi < mx - 0.5) & (fj > -0.5) & (fj < my - 0.5)
+        if not on.any():
+            continue
+        fx, fy = s.px[keep] * da, s.py[keep] * da
+        mag = np.hypot(fx, fy)
+        if mag[band].sum() < INHERIT * mag.sum():
+            # a patch split from it that holds the lesser part: the tractions on
+            # its own grid and band only
+            fi, fj, fx, fy = fi[on], fj[on], fx[on], fy[on]
+        pts.append((fi, fj, fx, fy))
+    if not pts:
+        return x, y, np.zeros((mx, my)), np.zeros((mx, my))
+    fi, fj, fx, fy = (np.concatenate([q[k] for q in pts]) for k in range(4))
+    i0, j0 = np.floor(fi).astype(int), np.floor(fj).astype(int)
+    lo_i, hi_i = min(0, int(i0.min())), max(mx, int(i0.max()) + 2)
+    lo_j, hi_j = min(0, int(j0.min())), max(my, int(j0.max()) + 2)
+    qx, qy = np.zeros((hi_i - lo_i, hi_j - lo_j)), np.zeros((hi_i - lo_i, hi_j - lo_j))
+    wi, wj = fi - i0, fj - j0
+    for di, wx in ((0, 1.0 - wi), (1, wi)):
+        for dj, wy in ((0, 1.0 - wj), (1, wj)):
+            at = (i0 + di - lo_i, j0 + dj - lo_j)
+            np.add.at(qx, at, wx * wy * fx)
+            np.add.at(qy, at, wx * wy * fy)
+    xe = x[0] + dx * np.arange(lo_i, hi_i)
+    ye = y[0] + dy * np.arange(lo_j, hi_j)
+    return xe, ye, qx / (dx * dy), qy / (dx * dy)
+
+
+@dataclass
+class _Previous:
+    """The previous time instance as :meth:`ExactTangentialModel.solve` reads it:
+    a grid and tractions on the wheel (the rail's negated)."""
+
+    x: np.ndarray
+    y: np.ndarray
+    traction_x: np.ndarray
+    traction_y: np.ndarray
+
+
+class _Frames:
+    """Where a patch's grid lies in the materials for the case's rails and wheelset
+    position S_WS [m]: ``frames(geom)`` gives the track position of its reference
+    point (S_WS included) and the function y -> m, the arc length along the rail
+    profile [m] of the rail point below the patch's lateral coordinate y (the
+    plane's point taken to the profile across the track), signed to increase with
+    y (CONTACT's lateral grid follows the rail profile's arc length)."""
+
+    def __init__(self, case, s_ws: float):
+        self.track, self.s_ws = build_wheelset_track(case)[1], s_ws
+
+    def __call__(self, geom):
+        sgn = 1.0 if geom.side == "right" else -1.0
+        rail = self.track.rail(geom.side)
+        c = math.cos(float(geom.contact_angle))
+        y_ref = float(geom.y_rail)
+
+        def m_of(y):
+            return sgn * rail.arc_length(y_ref + sgn * np.asarray(y, dtype=float) * c)
+
+        return float(geom.position[0]) + self.s_ws, m_of
+
+
+class _SurfaceFrames:
+    """:class:`_Frames` of a case on rail surfaces (a rail profile placed at RAILY0,
+    :mod:`railcontact.cases.surfaces`): a patch's track position is its ``s``
+    (S_WS included), its lateral material coordinate the rail-profile position of
+    its reference point plus y (signed to increase with y)."""
+
+    def __call__(self, geom):
+        sgn = 1.0 if geom.side == "right" else -1.0
+        y_ref = sgn * float(geom.y_rail)
+
+        def m_of(y):
+            return y_ref + np.asarray(y, dtype=float)
+
+        return float(geom.s), m_of
+
+
+class TransientStep:
+    """The tangential model of a transient module 1 case: one time step of the
+    exact solver (:class:`ExactTangentialModel`, ``mode="transient"``) per patch,
+    from the previous instance's tractions carried onto the patch's grid
+    (:func:`carried_tractions`).  T = 1 (``dq = 0``): the rigid shift over the step
+    is the patch's creepages times its rolling velocity over ``scale``
+    (:func:`shift_scale`); T = 2: rolling over ``dq`` [m]."""
+
+    name = "exact"
+    capabilities = frozenset({"lazy"})
+
+    def __init__(self, previous, frames, dq: float, scale: float):
+        self.previous, self.frames, self.dq, self.scale = previous, frames, dq, scale
+        self.model = ExactTangentialModel(tol=TANGENTIAL_TOL, maxiter=TANGENTIAL_MAXITER,
+                                          mode="transient", step=dq)
+
+    def solve(self, normal, geometry, material, creepage, friction, velocity, **_):
+        x, y = np.asarray(normal.x), np.asarray(normal.y)
+        prev = None
+        if self.previous:
+            x0, m_of = self.frames(geometry)
+            xe, ye, qx, qy = carried_tractions(self.previous, x0, m_of, x, y, self.dq,
+                                               geometry.bounds)
+            # on the grid that the model's step maps onto this one (dq ahead)
+            prev = _Previous(xe + self.dq, ye, -qx, -qy)
+        if self.dq == 0.0:
+            v = velocity / self.scale
+            creepage = tuple(c * v for c in creepage)
+        return self.model.solve(normal, geometry, material, creepage, friction, velocity,
+                                previous=prev)
+
+
+class WheelRailSequence:
+    """Module 1 cases solved in file order with CONTACT's state rules for the
+    transient ones (see the module's text).  ``run(case, profile_dirs)`` returns the
+    case's rows (:mod:`.table`); ``remember(case, raw, result)`` keeps a steady
+    case's tractions as a time instance."""
+
+    def __init__(self):
+        self.last: list | None = None           # PatchState of the last case
+        self.last_previous: list | None = None  # the instance it started from
+
+    def reset(self):
+        self.last, self.last_previous = None, None
+
+    def remember(self, case: InpCase | None, raw: dict | None, result) -> None:
+        """A module 1 case solved elsewhere (steady rolling; ``raw`` its case
+        dictionary): its tractions become the previous time instance of a
+        following transient case."""
+        if case is None or case.module != 1 or raw is None or result is None \
+                or not result.patches or "rail" not in raw or "slices" in raw["rail"] \
+                or "roller" in raw:
+            self.reset()
+            return
+        try:
+            frames = _SurfaceFrames() if "lateral_position" in raw["rail"] else _Frames(
+                case_from_dict(raw, case.path.parent), (case.values.get("S_WS") or 0.0) * MM)
+            self.last = [_state(p, frames) for p in result.patches
+                         if p.tangential is not None]
+        except RailContactError as exc:     # a case this path cannot continue from
+            log.debug("no transient state kept from %s: %s", case.where(), exc)
+            self.last = None
+        self.last_previous = None
+
+    def _previous(self, case) -> list:
+        p = case.digits["P"]
+        if p in (1, 2):
+            return []
+        if p == 3:
+            return self.last_previous or []
+        return self.last or []
+
+    def run(self, case: InpCase, profile_dirs=()) -> list:
+        check(case, profile_dirs)
+        t0 = time.perf_counter()
+        prev = self._previous(case)
+        mapped = map_case(_steady(case), profile_dirs)
+        c = case_from_dict(mapped.raw, case.path.parent)
+        t = case.digits["T"]
+        surfaces = bool(mapped.meta.get("surfaces"))
+        frames = _SurfaceFrames() if surfaces else _Frames(c, (case.values.get("S_WS")
+                                                               or 0.0) * MM)
+        dq = (case.values["DQREL"] * case.values["DX"] * MM) if t == 2 else 0.0
+        scale = shift_scale(case) if t == 1 else 1.0
+        tmodel = TransientStep(prev, frames, dq, scale)
+        if surfaces:
+            res = solve_on_surfaces(c, tangential_model=tmodel)
+            results = res.patches
+        else:
+            nname, _, nmodel, _, kw = case_models(c)
+            balance = None
+            if c.wheel_rail.vertical_position is not None:
+                results, contact = solve_at_position(c, nmodel, tmodel, kw)
+            else:
+                results, contact, balance = solve_wheel_rail(c, nmodel, tmodel, kw,
+                                                             rtol=c.force_tolerance)
+            res = SolveResult(results, nname, "exact", time.perf_counter() - t0, c.title,
+                              contact.pose, contact, balance)
+        self.last_previous = prev
+        self.last = [_state(p, frames) for p in results]
+        table = rows(res, mapped)
+        if t == 1:
+            # CONTACT prints a shift's CKSI, CETA [mm] and CPHI [rad], VELOC 1
+            for r, p in zip(table, results):
+                v = p.geometry.velocity / scale
+                r.update(cksi=p.creepage[0] * v / MM, ceta=p.creepage[1] * v / MM,
+                         cphi_per_mm=p.creepage[2] * v, veloc_mm_s=1.0)
+        for r in table:
+            r["T"] = t
+        return table
+
+
+def _state(p: PatchResult, frames) -> PatchState:
+    x0, m_of = frames(p.geometry)
+    ts = p.tangential
+    y = np.asarray(ts.y)
+    return PatchState(x0, m_of(y), np.asarray(ts.x), y, -ts.traction_x, -ts.traction_y)
+
+
+def run_case(seq: WheelRailSequence, case: InpCase, profile_dirs=()) -> list:
+    """:meth:`WheelRailSequence.run` with a solver error as the case's one row."""
+    try:
+        return seq.run(case, profile_dirs)
+    except RailContactError as exc:
+        seq.reset()
+        return [{"case": case.number, "module": 1, "patch": 0, "npatch": 0,
+                 "converged": False, "message": f"error: {exc}"}]

@@ -1,0 +1,312 @@
+"""CONTACT's module 1 (wheel-rail) transient inputs (``examples_trans``: T = 1
+shifts on the measured site_b profiles, T = 2 transient rolling after steady
+rolling) against their ``.ref_out``, and the carrying of tractions from one
+patch grid to another.
+
+Tolerances (issue 34): F_x, F_s within 1 % of mu F_n, F_n within 1 %, the contact
+area (elements in contact) within 3 %, p_max within 3 %, on every patch that
+carries at least a tenth of the case's load (the smaller flange-flank patches:
+``test_small_flange_patch``).  The normal problem is that of the steady cases
+(test_testbank.py); where its F_n misses by more than 1 % on a position-
+controlled case a test names it.
+"""
+
+import re
+from pathlib import Path
+
+import numpy as np
+import pytest
+
+from railcontact.contact_inp import InpError, load_inp, read_inp, solve_inp
+from railcontact.contact_inp.transient_m1 import PatchState, carried_tractions, handles
+
+from .test_testbank import ref_out
+
+
+def _ncon(path) -> dict:
+    """NCON per case and patch of a CONTACT output file."""
+    text = Path(path).read_text()
+    parts = re.split(r"\n Case +(\d+)\n", text)
+    out = {}
+    for num, body in zip(parts[1::2], parts[2::2]):
+        out[int(num)] = [int(m.group(1)) for m in re.finditer(
+            r"NPOT\s+NCON\s+NADH\s+NSLIP.*\n\s*\d+\s+(\d+)", body)]
+    return out
+
+
+def _deviations(rows, path, cases):
+    """Per patch of the given cases: (case, y_tr [mm], big, deviations), ``big`` where
+    the patch carries at least a tenth of the case's vertical load; F_x, F_s
+    relative to mu F_n."""
+    ref = ref_out(path.with_suffix(".ref_out"))
+    ncon = _ncon(path.with_suffix(".ref_out"))
+    out = []
+    for case in cases:
+        mine = [r for r in rows if r["case"] == case]
+        assert mine[0]["converged"], mine[0]["message"]
+        c = ref[case]
+        assert len(mine) == len(c["patches"]), case
+        for p, n in zip(c["patches"], ncon[case]):
+            r = min(mine, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp_tr_mm"]))
+            assert abs(r["ycp_tr_mm"] - p["ycp_tr_mm"]) < 0.05
+            mu_fn = p["mu"] * p["fn_N"] if "mu" in p else r["mu"] * p["fn_N"]
+            dev = {"fn": r["fn_N"] / p["fn_N"] - 1, "fx": (r["fx_N"] - p["fx_N"]) / mu_fn,
+                   "fs": (r["fs_N"] - p["fs_N"]) / mu_fn,
+                   "pmax": r["pmax_MPa"] / p["pmax_MPa"] - 1, "area": r["ncon"] / n - 1}
+            out.append((case, p["ycp_tr_mm"], p["fn_N"] >= 0.1 * c["fz"], dev))
+    return out
+
+
+TOL = {"fn": 0.01, "fx": 0.01, "fs": 0.01, "pmax": 0.03, "area": 0.03}
+
+
+def _assert_within(devs, keys=tuple(TOL), skip=()):
+    """Every large patch's deviations within :data:`TOL` (``skip``: (case, y_tr)
+    of patches left to another test)."""
+    checked = 0
+    for case, y, big, dev in devs:
+        if not big or any(case == c and abs(y - yy) < 0.05 for c, yy in skip):
+            continue
+        for k in keys:
+            assert abs(dev[k]) <= TOL[k], (case, y, k, dev[k])
+        checked += 1
+    assert checked
+
+
+@pytest.fixture(scope="module")
+def bank(testbank):
+    return testbank / "examples_trans"
+
+
+def test_handles():
+    """Module 1 with T = 1 or 2 is solved here; steady (T = 3) module 1 is not."""
+    from railcontact.contact_inp.reader import InpCase
+    case = lambda m, t: InpCase(Path("x.inp"), 1, m, 1, {"T": t})   # noqa: E731
+    assert handles(case(1, 1)) and handles(case(1, 2))
+    assert not handles(case(1, 3)) and not handles(case(3, 1))
+
+
+def test_shifts_from_rest(bank):
+    """t1_zws: five shifts from the unloaded state (P = 2, contact formation:
+    Cattaneo) at 23 to 555 kN, the wheelset's height given.  Measured: F_x, F_s
+    within 0.03 % of mu F_n, p_max within 1.7 %, on every patch above a tenth of
+    the load; F_n within 0.5 %, the area within 1.1 %, except case 2's gauge-corner
+    patch (test below)."""
+    path = bank / "t1_zws.inp"
+    devs = _deviations(solve_inp(path, cases=[2, 3, 4, 5]), path, [2, 3, 4, 5])
+    _assert_within(devs, skip=[(2, 723.39)])
+    _assert_within(devs, keys=("fx", "fs", "pmax"))
+
+
+@pytest.mark.xfail(strict=True, reason="normal problem: F_n -3.1 %, area -3.8 % of "
+                   "CONTACT's at 12 kN under a given height (the steady solver's)")
+def test_shift_light_patch_normal_force(bank):
+    """t1_zws case 2: the gauge-corner patch of 12 kN (of 23 kN) under a given
+    wheelset height: F_n -3.1 %, area -3.8 %; its F_x, F_s agree within 0.03 % of
+    mu F_n (the normal problem is the steady cases', independent of the transient
+    one)."""
+    path = bank / "t1_zws.inp"
+    devs = _deviations(solve_inp(path, cases=[2]), path, [2])
+    _assert_within(devs, keys=("fn", "area"))
+
+
+def test_shift_independent_of_earlier_cases(bank):
+    """P = 2 starts a new sequence: a case solved alone equals the same case after
+    others."""
+    path = bank / "t1_zws.inp"
+    alone = solve_inp(path, cases=[3])
+    after = [r for r in solve_inp(path, cases=[2, 3]) if r["case"] == 3]
+    assert [r["fx_N"] for r in alone] == pytest.approx([r["fx_N"] for r in after], rel=1e-9)
+
+
+def test_merging_patches(bank):
+    """t1_merge_cp: a shift from rest with three patches (tread 754 mm, gauge corner
+    723 mm, flange flank 714 mm), then a continued shift (P = 0, S_WS + 0.4 mm,
+    one element) in which tread and gauge corner merge into one patch: it starts
+    from both patches' tractions.  Measured on the merged patch: F_x -0.36 %, F_s
+    -0.01 % of mu F_n, F_n -0.5 %, p_max -0.8 %; without the carried tractions its
+    F_x would be a hundredth of CONTACT's."""
+    path = bank / "t1_merge_cp.inp"
+    rows = solve_inp(path)
+    devs = _deviations(rows, path, [1, 2])
+    _assert_within(devs, skip=[(1, 723.39)])
+    merged = [r for r in rows if r["case"] == 2 and abs(r["ycp_tr_mm"] - 745.65) < 0.05]
+    assert merged and merged[0]["fx_N"] > 2.4e4          # the carried tractions
+
+
+@pytest.mark.xfail(strict=True, reason="normal problem: F_n -1.5 % of CONTACT's on the "
+                   "gauge-corner patch under a given height")
+def test_merging_patches_gauge_corner_normal_force(bank):
+    """t1_merge_cp (and t1_npotmax) case 1, gauge-corner patch of 48 kN: F_n -1.5 %;
+    F_x, F_s within 0.13 % of mu F_n."""
+    path = bank / "t1_merge_cp.inp"
+    devs = _deviations(solve_inp(path, cases=[1]), path, [1])
+    _assert_within(devs, keys=("fn",))
+
+
+def test_splitting_patch(bank):
+    """t1_split_cp: one combined patch (745 mm) split into tread and gauge-corner
+    patches in the continued shift.  The tread patch, which holds most of the
+    combined patch's traction, continues it (all of its tractions, on its grid
+    extended over them); the gauge-corner patch takes those on its own grid.
+    Measured in case 2: tread F_x -0.20 %, F_s +0.07 %, gauge corner F_x -0.41 %,
+    F_s +0.24 % of mu F_n (taking only the tractions on the tread's own grid gave
+    F_x -2.6 %, taking all of them on the gauge corner's +7.1 %); F_n as in
+    t1_merge_cp case 1 (-1.5 % on the gauge corner: the normal problem's)."""
+    path = bank / "t1_split_cp.inp"
+    devs = _deviations(solve_inp(path), path, [1, 2])
+    _assert_within(devs, skip=[(2, 723.39)])
+    _assert_within(devs, keys=("fx", "fs", "pmax", "area"))
+
+
+def test_force_control_shift(bank):
+    """t1_force_cp: the vertical force prescribed (N = 1) in a shift from rest and
+    its continuation: the balance takes the transient tangential forces'
+    vertical share.  Measured on the 127 kN patch: F_n -0.08 %, F_x +0.08 %, F_s
+    0.00 % of mu F_n, p_max -0.8 %."""
+    path = bank / "t1_force_cp.inp"
+    _assert_within(_deviations(solve_inp(path), path, [1, 2]))
+
+
+def test_steady_then_shift(bank):
+    """t3_t1_force: steady rolling (T = 3, 137 kN, mu 0.9 on the head), then a shift
+    of 0.4 mm (T = 1, P = 0) from the steady tractions.  Measured in the shift: F_x,
+    F_s within 0.6 % of mu F_n, F_n within 0.7 %, p_max 0.6 % on the tread and
+    gauge-corner patches."""
+    path = bank / "t3_t1_force.inp"
+    _assert_within(_deviations(solve_inp(path), path, [2]))
+
+
+def test_steady_then_transient_rolling(bank):
+    """t3_t2_force: steady rolling, then transient rolling (T = 2, DQ = DX = 0.4 mm)
+    from it: the state stays the steady one.  Measured (cases 2-6): F_x, F_s within
+    0.61 % of mu F_n, F_n 0.63 %, p_max 0.58 %."""
+    path = bank / "t3_t2_force.inp"
+    _assert_within(_deviations(solve_inp(path, cases=[1, 2, 3]), path, [2, 3]))
+
+
+@pytest.mark.xfail(strict=True, reason="flange-flank patches of 4-5 kN: F_n +2.5 to +5.9 %")
+def test_small_flange_patch(bank):
+    """The flange-flank patch (714 mm, 3-4 % of the load) of t3_t1_force and
+    t1_force_cp: F_n +2.6 % and +5.9 % (the normal problem's, as in
+    test_testbank.py), F_x up to -4.4 % of mu F_n with it."""
+    path = bank / "t1_force_cp.inp"
+    devs = _deviations(solve_inp(path, cases=[1]), path, [1])
+    for case, y, big, dev in devs:
+        assert abs(dev["fn"]) <= 0.01, (case, y)
+
+
+def test_transient_rolling_on_a_rail_at_railyo(bank):
+    """m1_trans_dqrel: a flat wheel (R 100 mm) on a rail of 100 mm crown radius placed
+    at RAILY0 (a case on rail surfaces), transient rolling from rest with DQ = 4 DX
+    (T = 2, P = 2), then two steps at a tenth of the creepage.  Measured: F_n
+    +0.01 %, p_max 0.00 %, elements in contact CONTACT's 1273; F_x: test below."""
+    path = bank / "m1_trans_dqrel.inp"
+    rows = solve_inp(path)
+    devs = _deviations(rows, path, [1, 2, 3])
+    _assert_within(devs, keys=("fn", "fs", "pmax", "area"))
+    assert [r["cksi"] for r in rows] == pytest.approx([-4.082e-2, -4.008e-3, -4.008e-3],
+                                                      rel=1e-3)
+
+
+def test_cattaneo_to_carter_on_a_rolled_wheel(bank):
+    """m1_trans_roll: a flat wheel rolled by DROLLW = 5 deg on a circular rail,
+    shifted from rest (T = 1) case after case until Carter's steady state; all 81
+    cases within the issue's tolerances of CONTACT's .ref_out (the wheel's roll
+    deviation and the carried tractions together)."""
+    path = bank / "m1_trans_roll.inp"
+    rows = solve_inp(path)
+    cases = sorted({r["case"] for r in rows})
+    assert len(cases) == 81
+    _assert_within(_deviations(rows, path, cases))
+
+
+@pytest.mark.xfail(strict=True, reason="m1_trans_dqrel: F_x +2.1 to +2.2 % of mu F_n")
+def test_transient_rolling_from_rest_force(bank):
+    """m1_trans_dqrel's first step from rest (a shift of DQ CKSI = 0.0327 mm over
+    the patch): F_x 53.72 N against CONTACT's 51.71 (+2.1 % of mu F_n), 729
+    adhesion elements against 696; the two following steps add 1.48 and 0.95 N
+    (CONTACT 1.43 and 0.89).  The shifts from rest of t1_zws agree within 0.03 %;
+    what CONTACT does differently in a rolling step from rest is not found."""
+    path = bank / "m1_trans_dqrel.inp"
+    _assert_within(_deviations(solve_inp(path), path, [1, 2, 3]), keys=("fx",))
+
+
+def test_transient_options_stop_with_one_line(bank, tmp_path):
+    """What the transient path does not support stops before any work, naming the
+    option: dissimilar materials, conformal contact kept from an earlier case, rail
+    slices."""
+    src = (bank / "t1_zws.inp").read_text()
+    bad = src.replace("0.8200E+05  0.8200E+05", "0.8200E+05  0.9000E+05", 1)
+    assert bad != src
+    f = tmp_path / "t1_zws_dissimilar.inp"
+    f.write_text(bad.replace("'../profiles/", f"'{bank.parent / 'profiles'}/"))
+    with pytest.raises(InpError, match=r"case 1 \(line 4\): TANG = 1 with dissimilar "
+                                        r"materials is not supported") as err:
+        load_inp(f)
+    assert "\n" not in str(err.value)
+    # t3_t1_conformal's shifts keep (D = 1) the conformal contact of its first case
+    (case2,) = [c for c in read_inp(bank / "t3_t1_conformal.inp") if c.number == 2]
+    from railcontact.contact_inp.transient_m1 import check
+    with pytest.raises(InpError, match=r"case 2 \(line \d+\): TANG = 1 with DISCNS = 4 kept "
+                                       r"from an earlier case is not supported"):
+        check(case2)
+    src = (bank.parent / "examples_s+c" / "cross_brute.inp").read_text()
+    digits = re.search(r"\n *(\d)(\d)(\d)(\d)(\d{3}) +C-P-B-T-N-F-S", src)
+    assert digits and digits.group(4) == "3"
+    bad = src[:digits.start(4)] + "1" + src[digits.end(4):]
+    f = bank.parent / "examples_s+c" / "cross_brute.inp"
+    g = tmp_path / "cross_brute_t1.inp"
+    g.write_text(bad.replace("'../", f"'{f.parent.parent}/"))
+    with pytest.raises(InpError, match=r"TANG = 1 with rail slices or a roller rig is not "
+                                       r"supported") as err:
+        load_inp(g)
+    assert "\n" not in str(err.value)
+
+
+def test_carried_tractions_exact_on_coinciding_grids():
+    """Tractions carried to a grid whose elements coincide with the old ones (moved
+    by whole elements) arrive unchanged; on a grid offset by part of an element the
+    total force and its first moment are kept."""
+    dx = 1e-3
+    x = (np.arange(6) - 2.5) * dx
+    y = (np.arange(5) - 2.0) * dx
+    rng = np.random.default_rng(1)
+    px, py = rng.normal(size=(6, 5)), rng.normal(size=(6, 5))
+    state = PatchState(0.0, y.copy(), x, y, px, py)
+    m_of = lambda q: np.asarray(q, dtype=float)                    # noqa: E731
+    # the new patch's reference point 2 elements ahead: its element i is old i + 2
+    xe, ye, qx, qy = carried_tractions([state], 2 * dx, m_of, x, y)
+    i = int(round((x[0] - xe[0]) / dx))
+    assert np.allclose(qx[i:i + 4, :5], px[2:, :]) and np.allclose(qy[i:i + 4, :5], py[2:, :])
+    assert qx.sum() == pytest.approx(px.sum())
+    # a third of an element across: force and moment kept
+    xe, ye, qx, qy = carried_tractions([state], dx / 3, m_of, x, y + 0.25 * dx)
+    assert qx.sum() == pytest.approx(px.sum())
+    X = xe[:, None] + dx / 3
+    assert (qx * X).sum() == pytest.approx((px * x[:, None]).sum(), abs=1e-12)
+    # T = 2: the material moved back by one element
+    xe, ye, qx, _ = carried_tractions([state], 0.0, m_of, x, y, back=dx)
+    i = int(round((x[0] - xe[0]) / dx))
+    assert np.allclose(qx[i:i + 5, :5], px[1:, :])
+
+
+def test_carried_tractions_split():
+    """A previous patch split in two: the new patch whose band holds most of its
+    traction takes all of it (its grid extended); the other only what lies on its
+    own grid and band."""
+    dx = 1e-3
+    x = (np.arange(4) - 1.5) * dx
+    y_old = (np.arange(10) - 4.5) * dx
+    px = np.ones((4, 10))
+    state = PatchState(0.0, y_old.copy(), x, y_old, px, np.zeros((4, 10)))
+    m_of = lambda q: np.asarray(q, dtype=float)                    # noqa: E731
+    y_big = (np.arange(4) - 1.5) * dx + 2.0 * dx    # old columns 5-8, band y >= 0
+    xe, ye, qx, _ = carried_tractions([state], 0.0, lambda q: m_of(q), x, y_big,
+                                      bounds=(-2.0 * dx, np.inf))
+    assert qx.sum() * dx * dx == pytest.approx(px.sum() * dx * dx)
+    assert ye[0] == pytest.approx(y_old[0]) and ye[-1] >= y_old[-1]
+    y_small = (np.arange(3) - 1.0) * dx - 3.5 * dx  # old columns 0-2, band y < -2 mm
+    xe, ye, qx, _ = carried_tractions([state], 0.0, m_of, x, y_small,
+                                      bounds=(-np.inf, -2.0 * dx))
+    assert ye.size == 3 and qx.sum() == pytest.approx(4 * 3)
