@@ -6,6 +6,7 @@ from __future__ import annotations
 
 from .case import Case
 from .wheel_rail_setup import ProfileSource, WheelRailSetup
+from .wheel_slices_setup import out_of_round_wheel
 from ..core.errors import CaseFileError
 from ..geometry.search import (PatchRules, SearchStart, WheelsetContact, WheelsetMotion,
                                find_contact)
@@ -42,7 +43,9 @@ def build_wheelset_track(case: Case):
     rail, rail_left = load_profiles(s.rail, "rail", case.base_dir)
     ws = Wheelset(wheel, wheel_left, nominal_radius=s.nominal_radius,
                   flange_back_distance=s.flange_back_distance,
-                  flange_back_position=s.flange_back_position)
+                  flange_back_position=s.flange_back_position,
+                  out_of_round=out_of_round_wheel(s.wheel, s.wheel_slices, s.pitch, wheel,
+                                                  case.base_dir))
     tr = Track(rail, rail_left, gauge=s.gauge, gauge_height=s.gauge_height,
                rail_offsets=None if s.rail_offset is None else {
                    side: s.rail_offset for side in SIDES})

@@ -10,6 +10,7 @@ from pathlib import Path
 from .bodies_setup import RADII, BodiesSetup, parse_bodies
 from .keys import PROFILE_OPTIONS, CaseKeys
 from .surface_setup import SurfaceCaseSetup, is_surface_case, parse_surface_case
+from .viscoelastic_setup import VISCOELASTIC_KEYS, viscoelastic_option
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
 from ..core.checks import check_grid_size, shown
 from ..core.errors import CaseFileError, InputError, RailContactError
@@ -24,7 +25,7 @@ _ALLOWED = {
     "material": {"young_modulus", "poisson_ratio", "wheel_young_modulus",
                  "wheel_poisson_ratio", "yield_stress"},
     "friction": {"coefficient", "variation"},
-    "wheel": {"profile", "nominal_radius", "profile_left", "units"} | PROFILE_OPTIONS,
+    "wheel": {"profile", "nominal_radius", "profile_left", "units", "slices"} | PROFILE_OPTIONS,
     "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
              "lateral_position", "vertical_position", "slice_spacing"} | PROFILE_OPTIONS,
     "rails": None,
@@ -32,7 +33,7 @@ _ALLOWED = {
     "track": {"gauge", "gauge_height", "rail_offset"},
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",
-                 "vertical_force", "vertical_position", "velocity", "pitch_velocity",
+                 "vertical_force", "vertical_position", "velocity", "pitch_velocity", "pitch",
                  "lateral_velocity", "yaw_rate", "wheel_deviation",
                  "combine_distance", "full_interaction_distance", "turn_distance",
                  "separation_angle", "position"},
@@ -43,6 +44,7 @@ _ALLOWED = {
                "contact_angle", "rigid_slip", "allow_large"},
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
+    "viscoelastic": VISCOELASTIC_KEYS,
 }
 
 
@@ -179,6 +181,11 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
             raise CaseFileError("pressure limit given both in [plasticity] and in "
                                 "solver.normal_options; give it once")
         normal_options["pressure_limit"] = _pressure_limit(keys, normal)
+    tangential_options = _options(sol, "tangential_options")
+    if "viscoelastic" in raw:       # an option of both exact models
+        normal_options["viscoelastic"] = viscoelastic_option(keys, normal, tangential)
+        if tangential != "none":
+            tangential_options["viscoelastic"] = normal_options["viscoelastic"]
     values = dict(
         title=str(raw.get("title", "")), material=_material(keys),
         friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
@@ -187,7 +194,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         tangential=tangential,
         yield_stress=yield_stress,
         normal_options=normal_options,
-        tangential_options=_options(sol, "tangential_options"), grid=grid,
+        tangential_options=tangential_options, grid=grid,
         element_size=element_size,
         force_tolerance=keys.number("solver.force_tolerance", 1e-4, 1e-8, 0.05, "(relative)"),
         creepage=None if "creepage" not in raw else (
@@ -199,7 +206,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         get_normal_model(normal, **normal_options)
         if tangential != "none":
             get_tangential_model(tangential, **values["tangential_options"])
-    except TypeError as exc:
+    except (TypeError, InputError) as exc:
         raise CaseFileError(f"solver options: {exc}") from None
     if "force" in raw and "bodies" not in raw:
         raise CaseFileError("[force] (prescribed tangential forces) needs a [bodies] case; "

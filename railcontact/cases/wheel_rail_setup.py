@@ -80,6 +80,10 @@ class WheelRailSetup:
     full_interaction_distance: float | None
     turn_distance: float
     separation_angle: float
+    #: an out-of-round wheel: its slices file (``wheel.slices``, ``.slcw``; None:
+    #: round) and the wheelset's pitch angle [rad] (``wheelset.pitch``)
+    wheel_slices: str | None = None
+    pitch: float = 0.0
 
     @property
     def balanced_sides(self) -> tuple:
@@ -145,4 +149,17 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
                                             combine, "m (at most wheelset.combine_distance)"),
         turn_distance=turn,
         separation_angle=case.number("wheelset.separation_angle", math.pi / 2, 0.0, math.pi,
-                                     "rad"))
+                                     "rad"),
+        wheel_slices=_wheel_slices(case),
+        pitch=case.number("wheelset.pitch", 0.0, -100.0, 100.0, "rad"))
+
+
+def _wheel_slices(case: CaseKeys):
+    """``wheel.slices``: a wheel slices file (``.slcw``) of an out-of-round wheel."""
+    v = case.get("wheel.slices")
+    if v is None:
+        return None
+    if not (isinstance(v, str) and v.lower().endswith(".slcw")):
+        raise CaseFileError(f"wheel.slices = {shown(v)}: expected a wheel slices file "
+                            "(.slcw, CONTACT's format)")
+    return v

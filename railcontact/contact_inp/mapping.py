@@ -23,6 +23,7 @@ from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
 from ..core.materials import Material
 from ..profiles import get_profile
 from .reader import WORDS, InpCase, InpError
+from .wheel_slices import wheel_table
 
 MM = 1e-3
 
@@ -238,7 +239,7 @@ def _map_module3(case: InpCase) -> MappedCase:
 # ------------------------------------------------------------------ module 1
 def _profile_path(case: InpCase, name: str, dirs, slices: bool = False) -> str:
     p = Path(name.replace("\\", "/"))
-    if p.suffix.lower() == ".slcw" or (p.suffix.lower() == ".slcs" and not slices):
+    if p.suffix.lower() in (".slcw", ".slcs") and not slices:
         raise _unsupported(case, f"the variable profile {name!r} (slices file)",
                            "expected one profile file per rail and wheel (.prr, .prw, .ban, .whl, "
                            "or 2 columns)")
@@ -254,13 +255,13 @@ def _profile_path(case: InpCase, name: str, dirs, slices: bool = False) -> str:
                    "give its folder with --profiles DIR")
 
 
-def _profile_table(case: InpCase, prefix: str, dirs) -> dict:
+def _profile_table(case: InpCase, prefix: str, dirs, slices: bool = False) -> dict:
     """The case file's profile table ([wheel] or [rail]) of CONTACT's profile
     inputs: MIRRORY, SCALE, SMOOTH, MIRRORZ and PRFOPT's ISMOOTH, ZIGTHRS,
     KINKHIGH, KINKLOW, KINKWID."""
     g = lambda k: case.values.get(prefix + k)   # noqa: E731
     fname = _need(case, prefix + "FNAME")
-    path = _profile_path(case, fname, dirs)
+    path = _profile_path(case, fname, dirs, slices)
     t = {"profile": path, "mirror_y": g("MIRRORY") == 1,
          "mirror_z": {1: True, -1: False}.get(g("MIRRORZ"), "auto"), "scale": g("SCALE")}
     suffix = Path(path).suffix.lower()
@@ -372,7 +373,7 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
     base = case.path.parent
     raw = {"title": f"{case.path.name} case {case.number}", "material": _material(case),
            "friction": _friction(case),
-           "wheel": {**_profile_table(case, "W_", dirs),
+           "wheel": {**wheel_table(_profile_table(case, "W_", dirs, slices=True)),
                      "nominal_radius": _need(case, "NOMRADW") * MM},
            "rail": {**_profile_table(case, "R_", dirs), "inclination": _need(case, "CANT")},
            "track": track,
@@ -398,6 +399,8 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
         raw["wheelset"]["vertical_force"] = _need(case, "FZ_WS")
     else:
         raw["wheelset"]["vertical_position"] = _need(case, "Z_WS") * MM + frame["z_top"]
+    if "slices" in raw["wheel"]:
+        raw["wheelset"]["pitch"] = _need(case, "PITCH")       # the out-of-round wheel's
     meta = {"module": 1, "side": side, "nominal_radius": v["NOMRADW"] * MM,
             "wheel_offset": (v["FBDIST"] / 2 - v["FBPOS"]) * MM, **frame}
     return MappedCase(case.number, 1, raw, meta)

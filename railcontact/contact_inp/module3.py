@@ -67,6 +67,8 @@ from ..tangential.exact import (grid_offset, layer_bound, plastic_flow, previous
                                 shifted_tractions, steady_rolling, transient_step)
 from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
 from .mapping import curvature_from_axis_ratio, layer_options
+from .viscoelastic import (active_set_normal, check_viscoelastic, viscoelastic_normal_operator,
+                           viscoelastic_pair)
 from .reader import InpCase, InpError
 
 log = logging.getLogger(__name__)
@@ -117,7 +119,7 @@ def check(case: InpCase) -> None:
         _check_fastsim(case)
         return
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0, 1, 2, 3),
-               "L": (0, 1, 2, 3, 4), "M": (0, 4), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
+               "L": (0, 1, 2, 3, 4), "M": (0, 1, 4), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
                "C3": (0, 1, 2)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
              "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
@@ -154,6 +156,8 @@ def check(case: InpCase) -> None:
     n1, n2 = _need(case, "POISS1"), _need(case, "POISS2")
     if d["M"] == 4:
         interface_layer(case)
+    if d["M"] == 1:
+        check_viscoelastic(case)
     if _dissimilar(case) and d["T"] == 2:
         raise _unsupported(case, "dissimilar materials (K != 0) with transient rolling (T = 2)",
                            "expected quasi-identical materials ((1 - 2 nu)/G equal for both "
@@ -358,13 +362,22 @@ class Sequence:
 def _normal(case, grid, h, es):
     """Pressure [Pa], approach [m], converged."""
     dA = grid.dx * grid.dy
-    op = normal_operator(grid.x.size, grid.y.size, grid.dx, grid.dy, es)
+    if case.digits["M"] == 1:
+        op = viscoelastic_normal_operator(grid.x.size, grid.y.size, grid.dx, grid.dy,
+                                          viscoelastic_pair(case))
+    else:
+        op = normal_operator(grid.x.size, grid.y.size, grid.dx, grid.dy, es)
     if case.digits["N"] == 1:
         fn = _need(case, "FN")
         p, app, _, ok = polonsky_keer(op, h, dA, force=fn, tol=NORMAL_TOL, maxiter=20000)
     else:
-        app = _need(case, "PEN") * MM
+        fn, app = None, _need(case, "PEN") * MM
         p, _, _, ok = polonsky_keer(op, h - app, dA, None, tol=NORMAL_TOL, maxiter=20000)
+    if case.digits["M"] == 1:
+        # the viscoelastic operator is not symmetric: the conjugate gradients' result
+        # is the start of an active-set solve
+        p, app1, _, ok = active_set_normal(op, h if fn is not None else h - app, dA, fn, p)
+        app = app1 if fn is not None else app
     return p, app, ok
 
 
@@ -393,6 +406,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     case's friction coefficients on its solver grid (INISLP = 0)."""
     d, v = case.digits, case.values
     es, G, nu = _materials(case)
+    # the tangential kernels: the elastic pair's, or M = 1's viscoelastic ones
+    G_t = viscoelastic_pair(case) if d["M"] == 1 else G
     grid, h = _grid_and_gap(case, es)
     t = d["T"]
     mx_given = grid.x.size
@@ -495,13 +510,13 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 p0 = state["p0"]
                 p0 = None if p0 is None else (-f(p0[0]), f(p0[1]))
                 out = steady_rolling(-grid.x[::-1], yt, f(ct), lb(f(bt), f),
-                                     (-cx, cy, -_need(case, "CPHI") / MM), G, nu,
+                                     (-cx, cy, -_need(case, "CPHI") / MM), G_t, nu,
                                      TANGENTIAL_TOL, 200, p0=p0, w_extra=state["w_extra"])
                 px_, py_, sx_, sy_, st_, it_, ok_ = out
                 return -f(px_), f(py_), -f(sx_), f(sy_), f(st_), it_, ok_
             if t == 3:
                 return steady_rolling(grid.x, yt, ct, lb(bt), (cx, cy, _need(case, "CPHI") / MM),
-                                      G, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
+                                      G_t, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
                                       w_extra=state["w_extra"])
             w = _rigid_shift(case, grid, (cx, cy))
             wx, wy = widen(np.array(w[0])), widen(np.array(w[1]))

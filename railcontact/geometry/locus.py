@@ -183,7 +183,8 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
         if gap.size:
             edge = float(np.min(gap)) + window
             if (i0 == 0 or gap[0] > edge) and (i1 == yw.size or gap[-1] > edge):
-                return Locus(yw[sl], zw[sl], theta, P, yr, gap, s, O, R, (i0, i1))
+                return _out_of_round(wheelset, Locus(yw[sl], zw[sl], theta, P, yr, gap, s, O,
+                                                     R, (i0, i1)))
     _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride], R, O, y_off, rail._breaks,
                                    rail._coefs)
     near = np.flatnonzero(gc <= np.min(gc) + window)
@@ -194,7 +195,14 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
         sl = slice(i0, i1)
         yw, zw, eta, rho = yw[sl], zw[sl], eta[sl], rho[sl]
     theta, P, yr, gap, s = _locus_kernel(eta, rho, R, O, y_off, rail._breaks, rail._coefs)
-    return Locus(yw, zw, theta, P, yr, gap, s, O, R, (i0, i1))
+    return _out_of_round(wheelset, Locus(yw, zw, theta, P, yr, gap, s, O, R, (i0, i1)))
+
+
+def _out_of_round(wheelset: Wheelset, loc: Locus) -> Locus:
+    """The locus of an out-of-round wheel (``wheelset.out_of_round``), else ``loc``."""
+    if wheelset.out_of_round is None:
+        return loc
+    return wheelset.out_of_round.locus(loc, wheelset.nominal_radius)
 
 
 def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, vertical: float,

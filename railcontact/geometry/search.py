@@ -404,6 +404,11 @@ def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
     y_w = float(L[1] - wheelset.wheel_offset)
     z_w = float(wheelset.wheel(side).z_at(y_w))
     rolling_radius = wheelset.nominal_radius + z_w
+    if wheelset.out_of_round is not None:
+        # an out-of-round wheel: its radial deviation at its pitch angle
+        # (the patch's origin x_ref along the track; the locus already the wheel's)
+        gapf = wheelset.out_of_round.patch_gap(gapf, y_w, rolling_radius, a_ref,
+                                               x_ref - float(loc.origin[0]))
     # curvatures at the deepest point, in the patch's tangent-plane coordinates
     sgn = 1.0 if side == "right" else -1.0
     Pm = np.array([loc.point[0, im], y_off + loc.y_rail[im], float(rail.z_at(loc.y_rail[im]))])

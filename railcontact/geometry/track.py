@@ -121,6 +121,9 @@ class Wheelset:
     flange_back_position : float
         Lateral position [m] of the flange back in wheel-profile coordinates
         (default -0.070: S1002 tape circle 70 mm from the flange back).
+    out_of_round : OutOfRoundWheel, optional
+        The wheels' deviation from revolution at their pitch angle
+        (:mod:`railcontact.geometry.out_of_round`).
     """
 
     wheel_right: Profile
@@ -128,6 +131,9 @@ class Wheelset:
     nominal_radius: float = 0.46
     flange_back_distance: float = 1.360
     flange_back_position: float = -0.070
+    #: an out-of-round wheel (``railcontact.geometry.out_of_round.OutOfRoundWheel``,
+    #: both wheels alike): its radial deviation enters each patch's gap; None: round
+    out_of_round: object | None = None
     #: memo of the contact search by (lateral shift, yaw): its track, the minimum gaps
     #: of both wheels by roll, the last loci's wheel-sample ranges and the last roll
     #: slope, so that successive searches of one case, each starting where the last

@@ -31,6 +31,8 @@ from ..core.status import SolverStatus
 from .base import NormalSolution, bilinear, make_grid, register, resized_elements, same_grid
 from .influence import bounding_box, normal_operator, normal_operator_block
 from .polonsky_keer import polonsky_keer
+from .viscoelastic import (ViscoelasticOption, active_set_normal, final_material,
+                           viscoelastic_normal_operator)
 from .potential_area import (AREA_SAMPLES, FORCE_BOX, GROWTH_STEPS, crossings, cut_regions,
                              edge_sides, fits, grown_box, own_gap, plausible_growth,
                              strip_edges, subregions)
@@ -59,10 +61,18 @@ class ExactNormalModel:
                        ``pressure_limit(yield_stress)``); default none (elastic).
                        With the force given, the approach that carries it is
                        found by Brent's method on displacement-controlled solves.
+    viscoelastic : dict or ViscoelasticOption, optional
+                       steady rolling of viscoelastic bodies (the standard linear
+                       solid, CONTACT's M = 1; :mod:`railcontact.normal.viscoelastic`):
+                       ``spring_ratio``, ``relaxation_time`` [s] (per body or both)
+                       and ``velocity`` [m/s]; the material's moduli are the initial
+                       ones.  The influence matrix is then not symmetric: the
+                       elastic solution with the final moduli is the start of an
+                       active-set solve with the viscoelastic operator.
     """
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 3000, margin: float = 0.25,
-                 pressure_limit: float | None = None):
+                 pressure_limit: float | None = None, viscoelastic=None):
         if not (0 < tol < 1e-2):
             raise InputError(f"exact tol {tol!r}: expected a value in (0, 0.01)")
         self.tol, self.maxiter, self.margin = tol, int(maxiter), margin
@@ -73,6 +83,10 @@ class ExactNormalModel:
             raise InputError(f"exact pressure_limit = {pressure_limit!r} Pa: expected a "
                              "pressure > 0 (or none: elastic)")
         self.pressure_limit = float(pressure_limit)
+        self.viscoelastic = ViscoelasticOption.from_value(viscoelastic)
+        if self.viscoelastic is not None and math.isfinite(self.pressure_limit):
+            raise InputError("exact normal model: a pressure limit with viscoelastic "
+                             "materials is not supported; expected one of them")
 
     def _potential_area(self, geometry, material, normal_force, penetration,
                         continuous=False):
@@ -265,6 +279,16 @@ class ExactNormalModel:
 
     capabilities = frozenset({"force-control", "warm-start", "grid-reuse", "coupled"})
 
+    @staticmethod
+    def _viscoelastic(grid_key, visc, h0, force, p0):
+        """The viscoelastic pressure on the grid (``grid_key``'s sizes) by the active
+        set with the steady-rolling operator of ``visc``, from the elastic pressure
+        ``p0`` with the final moduli; ``force`` [N] given, or None with ``h0`` less the
+        approach.  Returns p, approach (force given), iterations, converged."""
+        mx, my, dx, dy, _ = grid_key
+        op = viscoelastic_normal_operator(mx, my, dx, dy, visc)
+        return active_set_normal(op, h0, dx * dy, force, p0)
+
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
               penetration: float | None = None, grid=None, element_size=None,
               warm_start: NormalSolution | None = None,
@@ -281,9 +305,15 @@ class ExactNormalModel:
         or ``extra_gap`` on it, fixes the area)."""
         t0 = time.perf_counter()
         box, sol = None, None
+        visc = None
+        if self.viscoelastic is not None:
+            # the elastic problem with the final (softest) moduli sizes the area and
+            # starts the viscoelastic solve (:meth:`_viscoelastic`)
+            visc = self.viscoelastic.pair(material)
+            material = final_material(visc)
         for _ in range(GROWTH_STEPS + 1):
             new = self._solve(geometry, material, normal_force, penetration, grid,
-                              element_size, warm_start, extra_gap, reuse_grid, box)
+                              element_size, warm_start, extra_gap, reuse_grid, box, visc)
             if sol is not None and not plausible_growth(sol, new, normal_force is None):
                 # the enlarged area reached other parts of the surfaces (the tangent
                 # plane's normals meet them far from the patch): keep the last one
@@ -307,7 +337,7 @@ class ExactNormalModel:
         return sol
 
     def _solve(self, geometry, material, normal_force, penetration, grid, element_size,
-               warm_start, extra_gap, reuse_grid, box) -> NormalSolution:
+               warm_start, extra_gap, reuse_grid, box, visc=None) -> NormalSolution:
         """Solve for a given normal force [N] or approach [m] on one potential area.
 
         ``extra_gap``: a displacement difference [m] added to the undeformed distance
@@ -331,6 +361,10 @@ class ExactNormalModel:
 
         ``box``: centre and half-extents [m] of the potential contact area instead of
         the model's choice (:meth:`solve` enlarging it).
+
+        ``visc``: a :class:`~railcontact.normal.viscoelastic.Viscoelastic` pair
+        (``material`` then its final moduli): the elastic solution starts the
+        viscoelastic one (:meth:`_viscoelastic`).
         """
         t0 = time.perf_counter()
         if (normal_force is None) == (penetration is None):
@@ -388,6 +422,11 @@ class ExactNormalModel:
             p, it, ok = self._displacement_controlled(grid_key, h0 - penetration, dA, p0,
                                                       regions)
             app = penetration
+        if visc is not None:
+            given = normal_force is not None
+            p, app_v, it_v, ok = self._viscoelastic(grid_key, visc, h0 if given else
+                                                    h0 - penetration, normal_force, p)
+            it, app = it + it_v, app_v if given else app
         status = SolverStatus(True, "", int(it)) if ok else SolverStatus.failed(
             f"exact normal solver: no convergence in {it} iterations", it)
         if not ok:

@@ -47,6 +47,8 @@ from ..core.errors import InputError
 from ..core.materials import InterfaceLayer, Material, STEEL
 from ..normal.base import bilinear, same_grid
 from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
+from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
+                                   viscoelastic_tangential_kernels)
 from ..core.status import SolverStatus
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
@@ -77,8 +79,13 @@ def _self_terms(mx, my, dx, dy, G, nu):
 @lru_cache(maxsize=32)
 def _kernels(mx, my, dx, dy, G, nu):
     """Tangential kernels of an mx x my grid (offsets in x up to mx: one extra row
-    for the rolling difference) and the self terms (dxx, dyy) of the operator."""
-    kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, G, nu, extra_rows=1)
+    for the rolling difference) and the self terms (dxx, dyy) of the operator.
+    ``G`` a :class:`~railcontact.normal.viscoelastic.Viscoelastic` pair: its
+    steady-rolling kernels (``nu`` unused)."""
+    if isinstance(G, Viscoelastic):
+        kxx, kxy, kyy = viscoelastic_tangential_kernels(mx, my, dx, dy, G, extra_rows=1)
+    else:
+        kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, G, nu, extra_rows=1)
     ox, oy = mx - 1, my - 1
     dxx = (kxx[ox, oy] - kxx[ox + 1, oy]) / dx
     dyy = (kyy[ox, oy] - kyy[ox + 1, oy]) / dx
@@ -218,12 +225,20 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     problem is solved again with the limits of the last solution until they
     settle (:data:`LAYER_TOL`).
 
+    With viscoelastic bodies, ``G`` is a
+    :class:`~railcontact.normal.viscoelastic.Viscoelastic` pair instead of the combined
+    shear modulus [Pa] (steady rolling towards +x, CONTACT's M = 1; ``mode="rolling"``
+    only).
+
     Returns p (on body 1), slip, stick mask, Newton iterations and a convergence
     flag.  Convergence: max |F| <= tol * max bound, with F the complementarity
     residual p - Proj(p - rho s).
     """
     mx, my = x.size, y.size
     dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+    if isinstance(G, Viscoelastic) and mode != "rolling":
+        raise InputError(f"viscoelastic materials with mode {mode!r}: expected steady "
+                         "rolling ('rolling')")
     _, (dxx, dyy) = _kernels(mx, my, dx, dy, G, nu)
     if mode == "shift":
         kx, ky = _self_terms(mx, my, dx, dy, G, nu)
@@ -484,12 +499,19 @@ class ExactTangentialModel:
         lies under the friction bound (:class:`LayerBound`).  In the
         ``"transient"`` mode the plastic displacement accumulated so far comes
         with ``previous`` (its ``options["plastic_displacement"]``).
+    viscoelastic : dict or ViscoelasticOption, optional
+        Steady rolling (``"rolling"``) of viscoelastic bodies (the standard linear
+        solid, CONTACT's M = 1): ``spring_ratio``, ``relaxation_time`` [s] and
+        ``velocity`` [m/s] (:class:`~railcontact.normal.viscoelastic.ViscoelasticOption`;
+        the material's moduli the initial ones): the hereditary influence
+        coefficients of :mod:`railcontact.normal.viscoelastic` replace the elastic ones.
     """
 
     capabilities = frozenset({"warm-start", "coupled", "lazy", "friction-field"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
-                 step: float = 0.0, layer: InterfaceLayer | dict | None = None):
+                 step: float = 0.0, layer: InterfaceLayer | dict | None = None,
+                 viscoelastic=None):
         if not 0 < tol < 1e-2:
             raise InputError(f"exact tangential tol {tol!r}: expected a value in (0, 0.01)")
         if mode not in ("rolling", "shift", "transient"):
@@ -512,6 +534,14 @@ class ExactTangentialModel:
             raise InputError(f"exact tangential layer {layer!r}: expected an InterfaceLayer or "
                              "a dict of its fields")
         self.layer = layer
+        self.viscoelastic = ViscoelasticOption.from_value(viscoelastic)
+        if self.viscoelastic is not None and mode != "rolling":
+            raise InputError(f"exact tangential mode {mode!r} with viscoelastic materials: "
+                             "expected steady rolling ('rolling'), as CONTACT solves them")
+        if self.viscoelastic is not None and self.layer is not None:
+            raise InputError("exact tangential model with both an interfacial layer and "
+                             "viscoelastic materials: expected one of them (CONTACT's M = 4 "
+                             "or M = 1)")
 
     def _transient(self, x, y, contact, bound, creepage, material, previous):
         """One step of the ``"transient"`` mode: (px, py, sx, sy, stick, it, ok) and
@@ -612,8 +642,13 @@ class ExactTangentialModel:
         g0 = bound if self.layer is None else np.minimum(bound.g, bound.tau)
         if warm_start is not None:
             p0 = _initial_tractions(warm_start, x, y, contact, g0)
-        args = (x, y, contact, bound, (xi, eta, phi), material.shear_modulus,
-                material.nu, self.tol)
+        G = material.shear_modulus
+        if self.viscoelastic is not None:
+            if extra_slip is not None:
+                raise InputError("viscoelastic materials with dissimilar elastic constants: "
+                                 "expected quasi-identical bodies")
+            G = self.viscoelastic.pair(material)     # its steady-rolling kernels
+        args = (x, y, contact, bound, (xi, eta, phi), G, material.nu, self.tol)
         px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode,
                                                        w_extra=extra_slip)
         fallback = False

@@ -1,0 +1,60 @@
+"""CONTACT's wheel flat through ``.inp``: ``wheelflat.inp`` (Chalmers' measured flat
+on S1002, ``S1002_flat.slcw``, 125 kN, pitch -25 .. -50 deg) against CONTACT's
+``.ref_out``.  Measured on all 26 cases (benchmark command in the report):
+F_n within 0.04 %, F_x within 0.7 % (0.35 % of mu F_n), the contact elements
+within 1.4 %, p_max within 2.8 % (case 15; the others 1.9 %), F_s within 1 % of
+mu F_n but case 15 (-2.2 %: its reference point 0.9 mm further along x than
+CONTACT's).
+Here a case away from the flat and one on its edges (2-3 GPa)."""
+
+import re
+
+import pytest
+
+from railcontact.contact_inp import load_inp, solve_inp
+
+
+def _ref(path):
+    """CONTACT's FN, FX, FS, p_max and contact elements per case of a module 1 file."""
+    text = path.read_text(errors="replace")
+    parts = re.split(r"\n Case +(\d+)\s*\n", "\n" + text)
+    out = {}
+    for num, body in zip(parts[1::2], parts[2::2]):
+        lines, r = body.splitlines(), {}
+        for k, line in enumerate(lines):
+            head = line.split()
+            if head[:3] == ["FN", "FX", "FS"]:
+                r["fn"], r["fx"], r["fs"] = (float(v) for v in lines[k + 1].split()[:3])
+            elif "APPROACH" in head and "PMAX" in head:
+                r["pmax"] = float(lines[k + 1].split()[4])
+            elif head[:2] == ["NPOT", "NCON"]:
+                r["ncon"] = int(lines[k + 1].split()[1])
+        out[int(num)] = r
+    return out
+
+
+def test_mapping(testbank):
+    m = load_inp(testbank / "examples_basic" / "wheelflat.inp", cases=[4])[0]
+    w = m.raw["wheel"]
+    assert w["slices"].endswith("S1002_flat.slcw")
+    assert w["profile"].replace("\\", "/").endswith("S1002_flat/Wheel_section_208.txt")
+    assert m.raw["wheelset"]["pitch"] == pytest.approx(-28.0 * 3.141592653589793 / 180)
+    assert w["smoothing"]["lambda"] == pytest.approx(5e-9)
+
+
+@pytest.mark.parametrize("case", [1, 13])
+def test_wheelflat_against_contact(testbank, case):
+    """Issue 34's tolerances: F_n, F_x within 1 % (and of mu F_n), F_s within 1 % of
+    mu F_n, the contact elements and p_max within 3 %.  Measured: case 1 (the flat
+    away) F_x -0.02 %, p_max -0.1 %, 1091 elements as CONTACT; case 13 (on the
+    flat's edges, 3 GPa) F_x -0.7 %, p_max -0.4 %, 443 elements against 448."""
+    path = testbank / "examples_basic" / "wheelflat.inp"
+    (r,) = solve_inp(path, cases=[case])
+    f = _ref(path.with_suffix(".ref_out"))[case]
+    mu = r["mu"]
+    assert r["converged"]
+    assert r["fn_N"] == pytest.approx(f["fn"], rel=0.01)
+    assert abs(r["fx_N"] - f["fx"]) <= 0.01 * abs(f["fx"])
+    assert abs(r["fs_N"] - f["fs"]) <= 0.01 * mu * f["fn"]
+    assert r["pmax_MPa"] == pytest.approx(f["pmax"], rel=0.03)
+    assert r["ncon"] == pytest.approx(f["ncon"], rel=0.03)
