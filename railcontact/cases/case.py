@@ -40,7 +40,7 @@ _ALLOWED = {
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options", "force_tolerance", "search_length",
-               "contact_angle", "rigid_slip", "allow_large"},
+               "contact_angle", "rigid_slip", "allow_large", "contact_surface"},
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
 }

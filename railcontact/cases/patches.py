@@ -6,6 +6,8 @@ from __future__ import annotations
 
 import logging
 
+from .conformal import (conformal_extra_slip, conformal_friction, conformal_normal,
+                        conformal_patch, conformal_tangential)
 from .coupling import solve_coupled
 from ..geometry.validity import HALF_SPACE_LIMIT, contact_size, patch_validity
 from ..normal import get_normal_model
@@ -71,6 +73,7 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
     for geom in contact.patches:
         if geom.approach <= 0:
             continue
+        geom = conformal_patch(case, geom)            # the curved surface, where asked
         creep = patch_creepage(case, geom)
         if coupled:
             ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep,
@@ -84,7 +87,8 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
             nkw["warm_start"] = best.normal
             if same_case and "grid-reuse" in nmodel.capabilities:
                 nkw["reuse_grid"] = best.normal
-        ns = nmodel.solve(geom, case.material, penetration=geom.approach, **nkw)
+        ns = conformal_normal(geom, nmodel.solve(geom, case.material,
+                                                 penetration=geom.approach, **nkw))
         out.append(PatchResult(geom, ns, None, creep))
     if normal_only or coupled:
         return out
@@ -105,9 +109,16 @@ def add_tangential(case, results, tmodel, previous=None):
             best = nearest_patch(previous, r.geometry) if warm else None
             if best is not None and best.tangential is not None:
                 extra["warm_start"] = best.tangential
+            slip = conformal_extra_slip(r.geometry, r.normal, r.creepage)
+            if slip is not None and "extra-slip" in tmodel.capabilities:
+                extra["extra_slip"] = slip
+                mu = conformal_friction(case, r.geometry, r.normal)
+                if mu is not None:
+                    extra["friction_field"] = mu
             ts = tmodel.solve(r.normal, r.geometry, case.material, r.creepage,
                               patch_friction(case, r.geometry), r.geometry.velocity, **extra)
-            r = PatchResult(r.geometry, r.normal, ts, r.creepage)
+            r = PatchResult(r.geometry, *conformal_tangential(r.geometry, r.normal, ts),
+                            r.creepage)
         out.append(r)
     return out
 

@@ -314,7 +314,7 @@ class ExactTangentialModel:
         shift); a whole number of elements.
     """
 
-    capabilities = frozenset({"warm-start", "coupled", "lazy"})
+    capabilities = frozenset({"warm-start", "coupled", "lazy", "extra-slip"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
                  step: float = 0.0):
@@ -359,14 +359,17 @@ class ExactTangentialModel:
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
               warm_start: TangentialSolution | None = None,
-              extra_slip=None, previous: TangentialSolution | None = None
-              ) -> TangentialSolution:
+              extra_slip=None, previous: TangentialSolution | None = None,
+              friction_field=None) -> TangentialSolution:
         """Creep forces for creepages (xi [-], eta [-], phi [1/m]) on the normal
         solution's grid.  ``warm_start``: a previous solution (e.g. of a neighbouring
         case, on this grid or interpolated from its own) used as the initial
         estimate; without it, FASTSIM's solution is.  ``previous``: the last time
         step's solution (``"transient"`` mode), whose tractions enter the slip at
-        the same material points."""
+        the same material points.  ``friction_field``: friction coefficients per
+        element (an array broadcast to the grid, e.g. one per column: a conformal
+        patch's coefficients by the local angle) instead of ``friction`` in the
+        traction bound (``friction`` stays the patch's reported coefficient)."""
         t0 = time.perf_counter()
         xi, eta, phi = check_inputs(creepage, friction)
         x, y = normal.x, normal.y
@@ -374,6 +377,11 @@ class ExactTangentialModel:
             raise InputError("exact tangential solver needs a grid of at least 2 x 2 elements")
         contact = np.ascontiguousarray(normal.contact & (normal.pressure > 0))
         bound = np.ascontiguousarray(friction * np.where(contact, normal.pressure, 0.0))
+        if friction_field is not None:
+            mu = np.broadcast_to(np.asarray(friction_field, dtype=float), contact.shape)
+            if not (np.all(np.isfinite(mu)) and mu.min() >= 0.0 and mu.max() <= 5.0):
+                raise InputError("friction_field: expected coefficients in [0, 5]")
+            bound = np.ascontiguousarray(mu * np.where(contact, normal.pressure, 0.0))
         if previous is not None and self.mode != "transient":
             raise InputError(f"a previous time step's solution is used by the 'transient' "
                              f"mode; this model's mode is {self.mode!r}")
