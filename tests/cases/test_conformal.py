@@ -61,10 +61,11 @@ def t3(testbank):
 def test_t3_conformal_steady_case(t3):
     """The large conformal patch (44 mm along the curve, local angles -40 to -1.4
     deg, friction varying over it), CONTACT's bar forces: measured F_n -0.05 %
-    (127339 N, CONTACT 1.274e5), F_x -0.05 % and F_s -0.07 % of mu F_n (-61166,
-    -49322 N; CONTACT -6.102e4, -4.919e4), p_max -0.12 % (1543.2 MPa), 1530 elements
-    in contact (1532), 319 in adhesion (321); the totals on the rail F_x -0.26 %,
-    F_y 0.2 %, F_z 0.004 % (of F_z)."""
+    (127339 N, CONTACT 1.274e5), F_x -0.13 % and F_s -0.12 % of mu F_n (mu = 0.9:
+    -61166, -49322 N; CONTACT -6.102e4, -4.919e4), p_max -0.12 % (1543.2 MPa), 1530
+    elements in contact (1532), 319 in adhesion (321); the totals on the rail
+    within 0.12 % of F_z (F_x -62404 N against -6.224e4, F_y -15896 against
+    -1.586e4, F_z 137006 against 1.370e5)."""
     rows, ref = t3
     assert all(r["converged"] for r in rows)
     assert len(rows) == len(ref["patches"]) == 2
