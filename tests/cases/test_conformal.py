@@ -102,30 +102,45 @@ def test_t3_conformal_flange_patch_force(t3):
     assert abs(dev["fn"]) < 0.01 and abs(dev["fx"]) < 0.01
 
 
-def test_mbench_conf_runs(testbank):
+@pytest.fixture(scope="module")
+def mbench(testbank):
+    path = testbank / "examples_conformal" / "mbench_conf.inp"
+    return solve_inp(path), _ref(path.with_suffix(".ref_out"))
+
+
+def test_mbench_conf(mbench):
     """mbench_conf.inp (S1002 on UIC60 1:40 with cant, y_ws 6.25 mm, yaw 24 mrad,
-    z_ws given): its flange-root patch on the curved surface, 321 elements in
-    contact as CONTACT's patch 1, p_max 1074.4 MPa (CONTACT 1075)."""
-    path = testbank / "examples_conformal" / "mbench_conf.inp"
-    rows = solve_inp(path)
-    ref = _ref(path.with_suffix(".ref_out"))
+    z_ws given): two patches as CONTACT's, the flange contact 26 mm ahead of the
+    flange-root one (their interpenetration areas' extents apart in x, y and z by
+    more than D_SEP = 9 mm).  Measured: the flange root's 320 elements in contact
+    (CONTACT 321), p_max 1074.7 MPa (1075), F_x 0.40 % of mu F_n; the flange patch's
+    F_n 3312 N (3310), F_x 0.12 % of mu F_n, p_max -0.5 %."""
+    rows, ref = mbench
     assert all(r["converged"] for r in rows)
-    p = ref["patches"][0]
-    r = min(rows, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp"]))
-    assert r["ncon"] == pytest.approx(p["ncon"], rel=0.03)
-    assert r["pmax_MPa"] == pytest.approx(p["pmax"], rel=0.03)
+    assert len(rows) == len(ref["patches"]) == 2
+    root, flange = ([min(rows, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp"])), p]
+                    for p in ref["patches"])
+    for r, p in (root, flange):
+        assert abs(r["ycp_tr_mm"] - p["ycp"]) < 0.1
+        assert abs(_deviations(r, p, 0.2)["fx"]) < 0.01
+        assert abs(_deviations(r, p, 0.2)["pmax"]) < 0.03
+    assert abs(_deviations(*root, 0.2)["area"]) < 0.03
+    assert abs(_deviations(*flange, 0.2)["fn"]) < 0.01
 
 
-@pytest.mark.xfail(strict=True, reason="mbench_conf.inp: CONTACT keeps the flange contact "
-                   "(patch 2, -70 deg, 3310 N) apart from the flange-root patch (D_SEP = 9 "
-                   "mm); railcontact's interpenetration regions' facing ends lie closer "
-                   "than 9 mm, so it combines them into one patch whose grid holds the root "
-                   "only: 1 patch, F_z(TR) 8492 N against 1.032e4 (-17.7 %)")
-def test_mbench_conf_patches(testbank):
-    path = testbank / "examples_conformal" / "mbench_conf.inp"
-    rows = solve_inp(path)
-    ref = _ref(path.with_suffix(".ref_out"))
-    assert len(rows) == 2
+@pytest.mark.xfail(strict=True, reason="mbench_conf.inp: the flange-root patch's F_n 8576 N "
+                   "against CONTACT's 8677 (-1.16 %; the planar approach gives 8591 N), F_s "
+                   "-1651 against -1669 N (1.02 % of mu F_n); the flange patch's F_s -558 "
+                   "against -626 N (-10.3 % of mu F_n: its reference angle is -1.2031 rad "
+                   "against CONTACT's -1.2220, 0.085 mm off along the rail, which turns the "
+                   "bar force by F_n x 19 mrad) and 124 elements in contact against 129 "
+                   "(-3.9 %); F_z(TR) 10209 against 1.032e4 N (-1.08 %)")
+def test_mbench_conf_forces(mbench):
+    rows, ref = mbench
+    for p in ref["patches"]:
+        r = min(rows, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp"]))
+        dev = _deviations(r, p, 0.2)
+        assert abs(dev["fn"]) < 0.01 and abs(dev["fs"]) < 0.01 and abs(dev["area"]) < 0.03
     assert rows[0]["fz_tr_N"] == pytest.approx(ref["fz"], rel=0.01)
 
 
