@@ -206,6 +206,9 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         values["surfaces"] = parse_surface_case(keys, tangential)
     else:
         values["wheel_rail"] = parse_wheel_rail(keys)
+    if "wheel_rail" not in values and sol.get("contact_surface", "planar") != "planar":
+        raise CaseFileError(f"solver.contact_surface = {shown(sol['contact_surface'])}: the "
+                            "conformal surface is for wheel-rail cases; expected 'planar'")
     return Case(raw=raw, base_dir=Path(base_dir or Path.cwd()), **values)
 
 

@@ -192,3 +192,12 @@ def test_discns_4_maps_to_the_conformal_surface(testbank):
     (m,) = load_inp(path)
     assert m.raw["solver"]["contact_surface"] == "conformal"
     assert math.isfinite(m.raw["wheelset"]["vertical_position"])
+
+
+def test_contact_surface_only_for_wheel_rail_cases():
+    from railcontact.core.errors import CaseFileError
+    raw = {"bodies": {"radii": {"wheel_rolling": 0.46, "rail_lateral": 0.3},
+                      "normal_force": 1e4},
+           "solver": {"normal": "exact", "contact_surface": "conformal"}}
+    with pytest.raises(CaseFileError, match="solver.contact_surface.*wheel-rail"):
+        case_from_dict(raw)
