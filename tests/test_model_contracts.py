@@ -201,3 +201,14 @@ def test_coupled_models_declare_their_mode(name):
     cls = tangential_model_class(name)
     model = get_tangential_model(name)
     assert ("coupled" in cls.capabilities) == isinstance(getattr(model, "mode", None), str)
+
+
+@pytest.mark.parametrize("name", tangential_models())
+def test_extra_slip_models_take_it(name):
+    """A model declaring "extra-slip" takes extra_slip and friction_field in solve
+    (the conformal patches pass them only to such models)."""
+    import inspect
+    cls = tangential_model_class(name)
+    params = inspect.signature(cls.solve).parameters
+    takes = "extra_slip" in params and "friction_field" in params
+    assert ("extra-slip" in cls.capabilities) == takes

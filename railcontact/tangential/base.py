@@ -60,6 +60,9 @@ TANGENTIAL_CAPABILITIES = {
                "displacements enter the slip)",
     "lazy": "costly: the vertical balance lets FASTSIM stand in for it until its last "
             "passes (railcontact.cases.equilibrium)",
+    "extra-slip": "solve(..., extra_slip=(w_x, w_y), friction_field=mu) takes a rigid slip "
+                  "per element beside the creepages and friction coefficients per element "
+                  "(conformal patches, railcontact.cases.conformal)",
 }
 
 
