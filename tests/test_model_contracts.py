@@ -201,3 +201,15 @@ def test_coupled_models_declare_their_mode(name):
     cls = tangential_model_class(name)
     model = get_tangential_model(name)
     assert ("coupled" in cls.capabilities) == isinstance(getattr(model, "mode", None), str)
+
+
+@pytest.mark.parametrize("name", tangential_models())
+def test_extra_slip_models_take_it(name):
+    """A model declaring "extra-slip" takes extra_slip in solve, one declaring
+    "friction-field" takes friction_scale (the conformal patches and friction along
+    the track pass them only to such models)."""
+    import inspect
+    cls = tangential_model_class(name)
+    params = inspect.signature(cls.solve).parameters
+    assert ("extra-slip" in cls.capabilities) == ("extra_slip" in params)
+    assert ("friction-field" in cls.capabilities) == ("friction_scale" in params)

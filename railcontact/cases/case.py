@@ -41,7 +41,7 @@ _ALLOWED = {
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options", "force_tolerance", "search_length",
-               "contact_angle", "rigid_slip", "allow_large"},
+               "contact_angle", "rigid_slip", "allow_large", "contact_surface"},
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
     "viscoelastic": VISCOELASTIC_KEYS,
@@ -223,6 +223,9 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         raise CaseFileError("friction.variation.x (friction along the track) applies to a "
                             "wheel-rail case on a track of identical materials; expected "
                             "friction.variation.angle or friction.coefficient")
+    if "wheel_rail" not in values and sol.get("contact_surface", "planar") != "planar":
+        raise CaseFileError(f"solver.contact_surface = {shown(sol['contact_surface'])}: the "
+                            "conformal surface is for wheel-rail cases; expected 'planar'")
     return Case(raw=raw, base_dir=Path(base_dir or Path.cwd()), **values)
 
 

@@ -8,6 +8,8 @@ import logging
 
 import numpy as np
 
+from .conformal import (conformal_extra_slip, conformal_friction, conformal_normal,
+                        conformal_patch, conformal_tangential)
 from .coupling import solve_coupled
 from ..geometry.validity import HALF_SPACE_LIMIT, contact_size, patch_validity
 from ..normal import get_normal_model
@@ -73,6 +75,7 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
     for geom in contact.patches:
         if geom.approach <= 0:
             continue
+        geom = conformal_patch(case, geom)            # the curved surface, where asked
         creep = patch_creepage(case, geom)
         if coupled:
             ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep,
@@ -86,7 +89,8 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
             nkw["warm_start"] = best.normal
             if same_case and "grid-reuse" in nmodel.capabilities:
                 nkw["reuse_grid"] = best.normal
-        ns = nmodel.solve(geom, case.material, penetration=geom.approach, **nkw)
+        ns = conformal_normal(geom, nmodel.solve(geom, case.material,
+                                                 penetration=geom.approach, **nkw))
         out.append(PatchResult(geom, ns, None, creep))
     if normal_only or coupled:
         return out
@@ -107,14 +111,27 @@ def add_tangential(case, results, tmodel, previous=None):
             best = nearest_patch(previous, r.geometry) if warm else None
             if best is not None and best.tangential is not None:
                 extra["warm_start"] = best.tangential
-            if case.friction_along_track is not None and \
-                    "friction-field" in tmodel.capabilities:
-                # (a stand-in model of the balance's early passes takes the
-                # patch's coefficient at its reference point)
-                extra["friction_scale"] = friction_along_track(case, r.geometry, r.normal)
+            slip = conformal_extra_slip(r.geometry, r.normal, r.creepage)
+            if slip is not None and "extra-slip" in tmodel.capabilities:
+                extra["extra_slip"] = slip
+            mu = patch_friction(case, r.geometry)
+            if "friction-field" in tmodel.capabilities:
+                # friction varying across the patch, relative to the patch's
+                # coefficient: along the track, and over a conformal patch's columns
+                # by their local angle (a stand-in model of the balance's early
+                # passes takes the patch's coefficient at its reference point)
+                scale = None
+                if case.friction_along_track is not None:
+                    scale = friction_along_track(case, r.geometry, r.normal)
+                local = conformal_friction(case, r.geometry, r.normal)
+                if local is not None and mu > 0:
+                    scale = local / mu if scale is None else scale * (local / mu)
+                if scale is not None:
+                    extra["friction_scale"] = scale
             ts = tmodel.solve(r.normal, r.geometry, case.material, r.creepage,
                               patch_friction(case, r.geometry), r.geometry.velocity, **extra)
-            r = PatchResult(r.geometry, r.normal, ts, r.creepage)
+            r = PatchResult(r.geometry, *conformal_tangential(r.geometry, r.normal, ts),
+                            r.creepage)
         out.append(r)
     return out
 

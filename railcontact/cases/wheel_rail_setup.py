@@ -84,6 +84,9 @@ class WheelRailSetup:
     #: round) and the wheelset's pitch angle [rad] (``wheelset.pitch``)
     wheel_slices: str | None = None
     pitch: float = 0.0
+    #: ``solver.contact_surface = "conformal"``: each patch on its curved reference
+    #: surface (:mod:`railcontact.cases.conformal`; CONTACT's DISCNS = 4)
+    conformal: bool = False
 
     @property
     def balanced_sides(self) -> tuple:
@@ -128,7 +131,13 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
             case.get(f"{body}.profile", default), case.get(f"{body}.profile_left"),
             options, units,
             _optional(case, "rail.inclination", -0.1, 0.1, "rad") if body == "rail" else None)
+    surface = case.get("solver.contact_surface", "planar")
+    if surface not in ("planar", "conformal"):
+        raise CaseFileError(f"solver.contact_surface = {shown(surface)}: expected 'planar' (a "
+                            "tangent plane per patch) or 'conformal' (a curved reference "
+                            "surface, CONTACT's DISCNS = 4)")
     return WheelRailSetup(
+        conformal=surface == "conformal",
         wheel=profiles["wheel"], rail=profiles["rail"],
         nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.02, 1.5, "m"),
         flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.1, 2.5, "m"),

@@ -319,7 +319,9 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
     normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
     force = _digit(case, "N", {0: "position", 1: "force"}, "NORM")
     _digit(case, "F", {0: "pitch velocity prescribed"}, "FORCE")
-    _digit(case, "D", {0: "kept", 1: "kept", 2: "planar contact, contact locus"}, "DISCNS")
+    _digit(case, "D", {0: "kept", 1: "kept", 2: "planar contact, contact locus",
+                       4: "conformal contact"}, "DISCNS")
+    conformal = (d["D"] if d["D"] >= 2 else v.get("DISCNS")) == 4
     tang, topt = _tangential_model(case)
     sgn = 1.0 if side == "right" else -1.0
     track = {}
@@ -391,6 +393,8 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
                       "tangential_options": topt}}
+    if conformal:
+        raw["solver"]["contact_surface"] = "conformal"
     frame = _rail_frame(raw, base)
     if "rail_offset" in track:
         # CONTACT's rail origin at z = RAILZ0; railcontact's in the track plane

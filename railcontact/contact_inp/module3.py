@@ -119,8 +119,8 @@ def check(case: InpCase) -> None:
         _check_fastsim(case)
         return
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0, 1, 2, 3),
-               "L": (0, 1, 2, 3, 4), "M": (0, 1, 4), "H": (0, 1, 3), "M2": (0, 1), "E": (0, 1),
-               "C3": (0, 1, 2)}
+               "L": (0, 1, 2, 3, 4), "M": (0, 1, 4), "H": (0, 1, 3), "M2": (0, 1),
+               "E": (0, 1, 9), "C3": (0, 1, 2, 9)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
              "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
              "C3": "INFLCF"}
@@ -273,9 +273,49 @@ def _grid_and_gap(case, es):
                        f"{dx:g}, {dy:g} mm: expected positive sizes")
     xm, ym = x0 + np.arange(mx) * dx, y0 + np.arange(my) * dy
     X, Y = xm[:, None], ym[None, :]
-    h = undeformed_distance(v["IBASE"], v["B"], X, Y)
+    if v["IBASE"] == 9:
+        h = per_element(case, v["B"], 1)[..., 0]
+    else:
+        h = undeformed_distance(v["IBASE"], v["B"], X, Y)
     h = np.broadcast_to(h, (mx, my)).copy()
     return Grid(xm * MM, ym * MM, dx * MM, dy * MM), h * MM
+
+
+def per_element(case, values, k: int) -> np.ndarray:
+    """``k`` values per element in CONTACT's element order (I = ix + (iy - 1) MX, x
+    fastest; IBASE = 9, EXRHS) as an (MX, MY, k) array; an InpError where their
+    number is not the grid's."""
+    mx, my = int(case.values["MX"]), int(case.values["MY"])
+    a = np.asarray(values, dtype=float)
+    if a.size != k * mx * my:
+        raise InpError(f"{case.where()}: {a.size // k} values per element given for a grid "
+                       f"of MX x MY = {mx} x {my}; expected {mx * my} (the grid changed?)")
+    return a.reshape(my, mx, k).transpose(1, 0, 2)
+
+
+def extra_slip(case) -> tuple | None:
+    """CONTACT's EXRHS (E = 9, or kept by E = 1) as the extra rigid slip per element
+    (x, y components, (MX, MY) each): relative slip in steady rolling (T = 3) and
+    T = 2 (times DQ there), a shift [m] for T = 1 (user guide, equations of the
+    rigid shift); None where there is none."""
+    ex = case.values.get("EXRHS")
+    if ex is None or case.digits["E"] == 0:
+        return None
+    a = per_element(case, ex, 2)
+    scale = MM if case.digits["T"] == 1 else 1.0
+    return a[..., 0] * scale, a[..., 1] * scale
+
+
+def _numerical_influence(case) -> None:
+    """Numerical influence coefficients (INFLCF = 9, file CFNAME) are not supported:
+    the case's error names the file (and whether it is there), so that the other
+    cases of its file run."""
+    name = str(case.values.get("CFNAME") or "")
+    path = case.path.parent / name.replace("\\", "/")
+    where = "not found" if not path.is_file() else "found, but such files are not read"
+    raise InpError(f"{case.where('CFNAME')}: numerical influence coefficients (INFLCF = 9) "
+                   f"from {name!r} ({where}) are not supported; expected INFLCF = 2 "
+                   "(the elastic half-space)")
 
 
 def undeformed_distance(ibase, b, X, Y):
@@ -405,6 +445,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     search for a prescribed force starts (the last case's); ``mu_start``: the last
     case's friction coefficients on its solver grid (INISLP = 0)."""
     d, v = case.digits, case.values
+    if (v.get("INFLCF") or d["C3"]) == 9:
+        _numerical_influence(case)
     es, G, nu = _materials(case)
     # the tangential kernels: the elastic pair's, or M = 1's viscoelastic ones
     G_t = viscoelastic_pair(case) if d["M"] == 1 else G
@@ -519,6 +561,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                                       G_t, nu, TANGENTIAL_TOL, 200, p0=state["p0"],
                                       w_extra=state["w_extra"])
             w = _rigid_shift(case, grid, (cx, cy))
+            if exrhs is not None:
+                w = (w[0] + exrhs[0], w[1] + exrhs[1])
             wx, wy = widen(np.array(w[0])), widen(np.array(w[1]))
             if state["w_extra"] is not None:
                 # dissimilar bodies: the pressure's tangential displacements of this
@@ -540,7 +584,16 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                             for o in out)
             return out
 
-        state["w_extra"] = None
+        exrhs = extra_slip(case)
+        if exrhs is not None and t == 2:
+            exrhs = tuple(e * _need(case, "DQ") * MM for e in exrhs)
+        if exrhs is not None and backwards:
+            # the problem mirrored in x (below): x' = -x, the slip's x component too
+            exrhs = (-exrhs[0][::-1], exrhs[1][::-1])
+        # (steady rolling: the extra slip with the solver's w_extra; transient: with
+        # the rigid shift)
+        state["w_extra"] = None if exrhs is None or t != 3 else tuple(
+            np.ascontiguousarray(widen(e)) for e in exrhs)
         coupled = t in (1, 3) and _dissimilar(case)
         if coupled:
             # dissimilar bodies: the pressure's tangential displacements add a rigid
@@ -562,7 +615,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             opx, opy = None, None
             # (on the solver's grid: a 2-D problem's second, empty strip included)
             for it in range(COUPLING_ITERATIONS):
-                state["w_extra"] = pressure_slip(pressure)
+                state["w_extra"] = _plus(pressure_slip(pressure), exrhs if t == 3 else None,
+                                         widen)
                 creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G,
                                                 start)
                 gap = normal_gap_from_tractions(grid.x, yt, widen(out[0]), widen(out[1]),
@@ -583,7 +637,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             else:
                 message = (message + "; " if message else "") + \
                     f"normal-tangential alternation not converged in {COUPLING_ITERATIONS}"
-            state["w_extra"] = pressure_slip(pressure)
+            state["w_extra"] = _plus(pressure_slip(pressure), exrhs if t == 3 else None,
+                                     widen)
         creep, out = _tangential_forces(case, tangential, fn, fstat, dA, contact, G, start)
         px, py, sx, sy, stick, _, ok_t = out
         if layer is not None:
@@ -638,6 +693,14 @@ def _plastic_state(case, layer, grid, bound, slip, ustar_prev):
     f = (lambda a: a[::-1]) if math.cos(_need(case, "CHI")) < 0 else (lambda a: a)
     _, acc, plast = plastic_flow(layer_bound(layer, f(bound)), f(sx), f(sy), grid.dx, True)
     return np.ascontiguousarray(f(acc)), f(plast)
+
+
+def _plus(w, extra, widen):
+    """The rigid slip ``w`` (x, y) plus CONTACT's extra term ``extra`` (already in the
+    solver's orientation; None: none) on the solver's grid."""
+    if extra is None:
+        return w
+    return (w[0] + widen(extra[0]), w[1] + widen(extra[1]))
 
 
 def _body_material(case):

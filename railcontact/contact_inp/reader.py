@@ -298,6 +298,7 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
             put(spec, lines.group(kinds, spec))
         if d["Z"] > 1 and case.values.get("IPOTCN", -1) > 0:
             _read_undeformed_distance(lines, case)
+        _read_extra_slip(lines, case, d["E"])
     if not m1 and d["T"] <= 1:
         # no rolling: CONTACT sets CHI = 0, DQ = 1 mm, VELOC = 1 mm/s (user guide,
         # "Tangential quantities in case of a shift")
@@ -378,9 +379,10 @@ def _read_undeformed_distance(lines, case):
     undeformed distance (IBASE = 1: B1 .. B6) on an unrestricted planform (IPLAN =
     1) is read; the other forms stop with the line naming them."""
     ibase, iplan = lines.group("ii", "IBASE, IPLAN")
-    if ibase not in (1, 2, 3):
+    if ibase not in (1, 2, 3, 9):
         raise lines.error(f"IBASE = {ibase}: expected 1 (quadratic), 2 (circular in x, a "
-                          "profile in y) or 3 (quadratic and two sines)")
+                          "profile in y), 3 (quadratic and two sines) or 9 (a value per "
+                          "element)")
     if iplan != 1:
         raise lines.error(f"IPLAN = {iplan}: only the unrestricted planform (IPLAN = 1) is "
                           "supported")
@@ -389,6 +391,9 @@ def _read_undeformed_distance(lines, case):
         case.values["B"] = lines.group("dddddd", "B1, B2, B3, B4, B5, B6")
     elif ibase == 3:
         case.values["B"] = lines.group("dddddddd", "B1, B2, B3, B4, B5, B6, B7, B8")
+    elif ibase == 9:
+        # H(I) [mm] at every element's centre, I = ix + (iy - 1) MX (x fastest)
+        case.values["B"] = lines.group("d" * _elements(lines, case), "H(I)")
     else:
         nn, xm, rm, y1, dy1 = lines.group("idddd", "NN, XM, RM, Y1, DY1")
         if nn < 1:
@@ -396,6 +401,33 @@ def _read_undeformed_distance(lines, case):
         heights = lines.group("d" * nn, ", ".join(f"B({k + 1})" for k in range(nn)))
         case.values["B"] = [nn, xm, rm, y1, dy1, heights]
     case.read.add("B")
+
+
+def _elements(lines, case) -> int:
+    """MX MY, the number of elements of the potential contact area (module 3)."""
+    mx, my = case.values.get("MX"), case.values.get("MY")
+    if not (isinstance(mx, int) and isinstance(my, int) and mx >= 1 and my >= 1):
+        raise lines.error(f"MX, MY = {mx}, {my}: a value per element needs the potential "
+                          "contact area (D = 2) first")
+    return mx * my
+
+
+def _read_extra_slip(lines, case, e):
+    """The EXRHS digit of module 3 (user guide, "E3 - EXRHS"): 9 reads the extra term
+    of the rigid slip, (x, y) per element in CONTACT's element order (x fastest),
+    kept in ``values["EXRHS"]`` as the flat list of the 2 MX MY values read; 0 clears
+    it; 1 keeps it.  The spin-discarding options 2 and 3 are left to the digit (the
+    solvers refuse them)."""
+    if e == 0:
+        case.values["EXRHS"] = None
+    elif e == 9:
+        n = _elements(lines, case)
+        vals = lines.group("d" * (2 * n), "EXRHS(I,:)")
+        case.values["EXRHS"] = vals
+        case.read.add("EXRHS")
+        source = getattr(case, "_source", None)
+        if source is not None:
+            case.value_lines["EXRHS"] = source.last_line
 
 
 def _read_friction(lines, case, d):
@@ -432,6 +464,7 @@ def _read_materials(lines, case, d):
     put = lambda names, vals: _put(case, names, vals)   # noqa: E731
     c3, m = d["C3"], d["M"]
     if c3 >= 2:
+        case.values["INFLCF"] = c3              # in force until a case sets another
         _read_elastic(lines, case, d, put)
     if d["M2"] == 2:
         put("CDAMPN, CDAMPT, DFNMAX, DFTMAX", lines.group("dddd", "CDAMPN, CDAMPT, DFNMAX, "

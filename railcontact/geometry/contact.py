@@ -72,6 +72,12 @@ class ContactGeometry:
         The patch's own band of its tangent plane [m] (patch coordinate y): halfway
         to the interpenetration regions of the other patches on its wheel, whose
         overlap a grid reaching across would count twice (unbounded by default).
+    surface : ConformalPatch or None
+        The curved reference surface of a conformal patch
+        (:mod:`railcontact.geometry.conformal`, ``solver.contact_surface =
+        "conformal"``): then the lateral patch coordinate is the arc length s along
+        it and ``gap_function`` measures along its normals; None for the planar
+        approach (the tangent plane).
     """
 
     curvatures: tuple
@@ -93,6 +99,7 @@ class ContactGeometry:
     local_contact_angle: Callable | None = field(default=None, repr=False)
     bounds: tuple = (-math.inf, math.inf)
     interaction: tuple = ()
+    surface: object | None = field(default=None, repr=False)
 
     def foreign(self, y) -> np.ndarray:
         """Whether the points at patch coordinate ``y`` [m] lie outside the patch's

@@ -32,14 +32,43 @@ def _end_point(loc: Locus, i: int, k: int):
 
 
 
-def end_distance(loc: Locus, i: int, j: int) -> float:
+def x_extent(loc: Locus, i0: int, i1: int):
+    """The extent [m] along the track of the interpenetration of locus samples i0 ..
+    i1: each wheel circle's chord through the rail, x_i -+ sqrt(2 rho_i (-g_i))
+    (rho_i its radius, g_i its vertical gap), at the samples that interpenetrate."""
+    g = loc.gap[i0:i1 + 1]
+    inside = np.isfinite(g) & (g < 0.0)
+    if not inside.any():
+        x = loc.point[0, i0:i1 + 1]
+        return float(x.min()), float(x.max())
+    P = loc.point[:, i0:i1 + 1][:, inside]
+    d = P - np.asarray(loc.origin, dtype=float)[:, None]
+    axle = np.asarray(loc.axes, dtype=float)[:, 1]
+    rho = np.linalg.norm(d - axle[:, None] * (axle @ d)[None, :], axis=0)
+    half = np.sqrt(2.0 * rho * (-g[inside]))
+    return float((P[0] - half).min()), float((P[0] + half).max())
+
+
+
+def end_distance(loc: Locus, i: int, j: int, first: int | None = None,
+                 last: int | None = None) -> float:
     """Distance [m] between the facing ends of two interpenetration regions, the
     one ending at locus sample i and the one starting at sample j > i, on the rail
     surface: CONTACT measures it in y and z, so that a region on the flange flank,
     below one on the gauge corner, lies apart from it however close their lateral
-    positions (its ends interpolated, :func:`_end_point`)."""
+    positions (its ends interpolated, :func:`_end_point`).  With the regions'
+    other ends ``first`` (of the one ending at i) and ``last`` (of the one starting
+    at j) also along the track: the gap between their extents in x
+    (:func:`x_extent`; CONTACT measures distances on the interpenetration areas'
+    extents in x, y and z, user guide, "potential contact area"), which parts a
+    yawed wheelset's flange contact, far ahead of its flange-root contact, from it."""
     (yi, zi), (yj, zj) = _end_point(loc, i, i + 1), _end_point(loc, j, j - 1)
-    return float(math.hypot(yj - yi, zj - zi))
+    dx = 0.0
+    if first is not None and last is not None:
+        a0, a1 = x_extent(loc, first, i)
+        b0, b1 = x_extent(loc, j, last)
+        dx = max(0.0, b0 - a1, a0 - b1)
+    return float(math.sqrt((yj - yi) ** 2 + (zj - zi) ** 2 + dx * dx))
 
 
 
@@ -64,7 +93,7 @@ def contact_regions(loc: Locus, rigid: bool, combine_distance: float):
     merged = [runs[0] + [[]]]
     for a, b in runs[1:]:
         end = merged[-1][1]
-        dist = end_distance(loc, end, a)
+        dist = end_distance(loc, end, a, merged[-1][0], b)
         if dist < combine_distance:
             merged[-1][1] = b
             merged[-1][2].append((0.5 * float(loc.y_rail[a] + loc.y_rail[end]), float(dist)))

@@ -348,7 +348,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         if turn_distance > combine_distance and len(regions) > 1 and loads is not None:
             aw = [weighted_angle(loc, i0, i1) for i0, i1, _ in regions]
             angles = turned_angles([a for a, _ in aw], [w for _, w in aw],
-                                   [end_distance(loc, p[1], q[0])
+                                   [end_distance(loc, p[1], q[0], p[0], q[1])
                                     for p, q in zip(regions[:-1], regions[1:])],
                                    combine_distance, turn_distance, separation_angle)
         side_patches = []

@@ -62,6 +62,8 @@ TANGENTIAL_CAPABILITIES = {
             "passes (railcontact.cases.equilibrium)",
     "friction-field": "solve(..., friction_scale=array) varies the friction coefficient "
                       "across the patch, element by element (friction along the track)",
+    "extra-slip": "solve(..., extra_slip=(w_x, w_y)) takes a rigid slip per element beside "
+                  "the creepages (conformal patches, railcontact.cases.conformal)",
 }
 
 

@@ -507,7 +507,7 @@ class ExactTangentialModel:
         coefficients of :mod:`railcontact.normal.viscoelastic` replace the elastic ones.
     """
 
-    capabilities = frozenset({"warm-start", "coupled", "lazy", "friction-field"})
+    capabilities = frozenset({"warm-start", "coupled", "lazy", "friction-field", "extra-slip"})
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 60, mode: str = "rolling",
                  step: float = 0.0, layer: InterfaceLayer | dict | None = None,
@@ -598,7 +598,9 @@ class ExactTangentialModel:
         step's solution (``"transient"`` mode), whose tractions enter the slip at
         the same material points.  ``friction_scale``: friction varying across the
         patch, each element's coefficient ``friction`` times this array's value
-        (on the normal solution's grid; CONTACT's friction along the track)."""
+        (broadcast to the normal solution's grid, e.g. one value per column;
+        CONTACT's friction along the track, a conformal patch's coefficients by the
+        local angle); ``friction`` stays the patch's reported coefficient."""
         t0 = time.perf_counter()
         xi, eta, phi = check_inputs(creepage, friction)
         x, y = normal.x, normal.y
@@ -608,10 +610,14 @@ class ExactTangentialModel:
         mu = friction
         if friction_scale is not None:
             scale = np.asarray(friction_scale, float)
-            if scale.shape != contact.shape or not np.all(np.isfinite(scale)) or \
-                    np.any(scale < 0):
-                raise InputError(f"friction_scale of shape {scale.shape}: expected finite "
-                                 f"values >= 0 on the normal solution's grid {contact.shape}")
+            try:
+                scale = np.broadcast_to(scale, contact.shape)
+            except ValueError:
+                scale = None
+            if scale is None or not np.all(np.isfinite(scale)) or np.any(scale < 0):
+                raise InputError(f"friction_scale of shape {np.shape(friction_scale)}: expected "
+                                 f"finite values >= 0 on (or broadcast to) the normal "
+                                 f"solution's grid {contact.shape}")
             mu = friction * scale
         bound = np.ascontiguousarray(mu * np.where(contact, normal.pressure, 0.0))
         if previous is not None and self.mode != "transient":

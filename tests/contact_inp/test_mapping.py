@@ -39,7 +39,8 @@ def test_mapping_to_a_case_in_si_units(files):
 
 
 @pytest.mark.parametrize("old, new, match", [
-    ("0022033    V-L-D-C-M-Z-E", "0042033    V-L-D-C-M-Z-E", r"DISCNS = 4 \(conformal contact\)"),
+    ("0022033    V-L-D-C-M-Z-E", "0032033    V-L-D-C-M-Z-E",
+     r"DISCNS = 3 \(planar contact with rigid slip on the actual surfaces\)"),
     ("0022033    V-L-D-C-M-Z-E", "0023033    V-L-D-C-M-Z-E", r"INFLCF = 3 \(bilinear"),
     ("1203100    C-P-B-T-N-F-S   comment", "5203100    C-P-B-T-N-F-S   comment",
      r"GAUGHT = 14 mm with a roller rig \(a rail placed by its gauge face\)"),

@@ -479,3 +479,78 @@ def test_layer_with_falling_friction_and_memory(testbank):
     _check(rows, ref, cases, mu=0.33, force_tol=5e-4)
     for r in rows:
         assert r["nadh"] == ref[r["case"]]["nadh"], r["case"]
+
+
+def test_conformal_undeformed_distance_and_extra_slip(testbank):
+    """examples_basic/conformal.inp (a strongly conformal flange root, R_ry = 10.0,
+    R_wy = -10.2 mm, 51 x 39 elements of 0.4 mm): case 1, the Hertzian quadratic gap
+    (F_n 100007 N, CONTACT 1.000e5; F_x 9143.8, F_y 25918 N, p_max 912.82 MPa, 1027
+    elements, as CONTACT's), case 2, the true undeformed
+    distance given per element (IBASE = 9), and case 4, with the conformal rigid
+    slip given per element (EXRHS, E = 9) and CKSI = CETA = CPHI = 0.  Measured:
+    F_n 91835.7 N (CONTACT 9.184e4), F_x 8958.5 / 10502.8 N (8959 / 1.050e4), F_y
+    24173 / 22514 N (2.417e4 / 2.251e4), p_max 1012.31 MPa (1012), 871 elements in
+    contact as CONTACT.  Cases 3 and 5 read numerical influence coefficients from a
+    file not shipped (INFLCF = 9): their rows are errors naming it, the others run."""
+    path = testbank / "examples_basic" / "conformal.inp"
+    rows = solve_inp(path, cases=[1, 2, 3, 4])
+    ref = read_out(path.with_suffix(".ref_out"))
+    worst = _check([r for r in rows if r["case"] != 3], ref, [1, 2, 4], mu=0.3)
+    assert worst["fn"] < 2e-4 and worst["fx_mu"] < 1e-3 and worst["fy_mu"] < 1e-3
+    assert worst["pmax"] < 1e-3 and worst["area"] == 0.0
+    (err,) = [r for r in rows if r["case"] == 3]
+    assert not err["converged"] and "inflcf_r10_mx51.txt" in err["message"]
+    assert "not found" in err["message"]
+
+
+def _ibase_inp(ibase9: bool, exrhs=None, cksi=-0.0004, ceta=-0.0002):
+    """A small steady-rolling module 3 case (21 x 17 elements of 0.4 mm, a Hertzian
+    gap 0.00077 x^2 + 0.00098 y^2 at the approach 0.01 mm) with the gap given by
+    IBASE = 1 or per element (IBASE = 9), and an optional extra rigid slip (EXRHS
+    (x, y), the same for every element, E = 9)."""
+    mx, my, dx = 21, 17, 0.4
+    xl, yl = -0.5 * mx * dx, -0.5 * my * dx
+    b1, b3 = 0.00076859, 0.00098039
+    e = "9" if exrhs is not None else "0"
+    text = (" 3 MODULE\n  203000  P-B-T-N-F-S\n  02202" + e + "  L-D-C-M-Z-E\n"
+            " 0001341  H-G-I-A-O-W-R\n   80   200    5    1   1e-9   MAXGS\n"
+            f"   0.01   {cksi}   {ceta}   0.0   PEN, CKSI, CETA, CPHI\n"
+            "   0.300   0.300   FSTAT, FKIN\n   0.000   0.400   30000.   CHI, DQ, VELOC\n"
+            "   0.280   0.280   82000.   82000.   POISS, GG\n    1   IPOTCN\n"
+            f"   {mx}   {my}   {xl}   {yl}   {dx}   {dx}   MX,MY,XL,YL,DX,DY\n")
+    if ibase9:
+        text += "    9    1   IBASE, IPLAN\n"
+        for j in range(my):
+            y = yl + (j + 0.5) * dx
+            for i in range(mx):
+                x = xl + (i + 0.5) * dx
+                text += f" {b1 * x * x + b3 * y * y:.12f}\n"
+    else:
+        text += f"    1    1   IBASE, IPLAN\n  {b1}  0.0  {b3}  0.0  0.0  0.0\n"
+    if exrhs is not None:
+        text += f" {exrhs[0]}  {exrhs[1]}\n" * (mx * my)
+    return text + " 0 MODULE\n"
+
+
+def test_undeformed_distance_per_element_and_extra_slip(tmp_path):
+    """IBASE = 9 with the values of an IBASE = 1 quadratic gives the same solution
+    (to the solver's tolerance), and a uniform extra rigid slip EXRHS = (a, b) is
+    the creepages (CKSI + a, CETA + b): the rigid slip of every element is
+    W = (CKSI - CPHI y + EXRHS_x, CETA + CPHI x + EXRHS_y) (user guide, E3 = 9)."""
+    out = {}
+    for name, text in {"quad": _ibase_inp(False), "table": _ibase_inp(True),
+                       "creep": _ibase_inp(False, cksi=-0.0003, ceta=-0.00015),
+                       "extra": _ibase_inp(True, exrhs=(0.0001, 0.00005))}.items():
+        f = tmp_path / f"{name}.inp"
+        f.write_text(text)
+        (out[name],) = solve_inp(f)
+        assert out[name]["converged"], out[name]["message"]
+    q, t = out["quad"], out["table"]
+    assert q["ncon"] == t["ncon"] > 50 and q["ncon"] < 0.7 * 21 * 17
+    for k in ("fn_N", "fx_N", "fs_N", "pmax_MPa"):
+        assert t[k] == pytest.approx(q[k], rel=1e-6), k
+    c, e = out["creep"], out["extra"]
+    assert 0 < c["nadh"] < c["ncon"]                  # partial slip: not trivial
+    for k in ("fn_N", "fx_N", "fs_N"):
+        assert e[k] == pytest.approx(c[k], rel=1e-6), k
+    assert e["nadh"] == c["nadh"]

@@ -153,7 +153,7 @@ def test_position_control(testbank):
 
 
 @pytest.mark.parametrize("name, match", [
-    ("t3_t2_conformal", r"DISCNS = 4 \(conformal contact\)"),
+    ("t3_t2_conformal", r"case 2 .*TANG = 2 with DISCNS = 4 kept from an earlier case"),
 ])
 def test_unsupported_inputs(testbank, name, match):
     with pytest.raises(InpError, match=match) as err:

@@ -528,3 +528,30 @@ def test_transient_mode_carries_the_plastic_displacement():
     assert s1.traction_x[1, 1] == pytest.approx((200e6 + k * 50e-6) / (1 + k * ct), rel=1e-9)
     assert u1 == pytest.approx(50e-6 - ct * s1.traction_x[1, 1], rel=1e-9)
     assert s2.traction_x[1, 1] == pytest.approx((200e6 + k * 80e-6) / (1 + k * ct), rel=1e-9)
+
+
+def test_friction_scale_per_column_and_extra_slip():
+    """``friction_scale`` per column and ``extra_slip`` (conformal patches): a uniform
+    scale of one is the scalar coefficient; full sliding saturates at the field's coefficients column
+    by column (0.2 on one half, 0.4 on the other: |F| = 0.3 F_n for a symmetric
+    pressure); a uniform extra slip (a, b) is the creepages (xi + a, eta + b)."""
+    mat = Material(2.1e11, 0.28)
+    d = 2.2 * 5e-3 / 30
+    ns = hertz_on_grid(5e-3, 5e-3, 30, 30, d, d, 5e4, mat)
+    ex = get_tangential_model("exact")
+    ref = ex.solve(ns, None, mat, (-1e-3, 0.0, 0.0), 0.3)
+    same = ex.solve(ns, None, mat, (-1e-3, 0.0, 0.0), 0.3,
+                    friction_scale=np.full((1, 30), 1.0))
+    assert same.fx == pytest.approx(ref.fx, rel=1e-9)
+    half = np.where(np.arange(30) < 15, 0.2, 0.4)[None, :] / 0.3
+    slide = ex.solve(ns, None, mat, (-0.05, 0.0, 0.0), 0.3, friction_scale=half)
+    assert -slide.fx == pytest.approx(0.3 * 5e4, rel=0.01)
+    assert slide.traction_x[:, :15].sum() == pytest.approx(0.5 * slide.traction_x[:, 15:].sum(),
+                                                           rel=0.01)
+    shifted = ex.solve(ns, None, mat, (-1e-3, 0.0, 0.0), 0.3,
+                       extra_slip=(np.full((30, 30), 4e-4), np.full((30, 30), -2e-4)))
+    moved = ex.solve(ns, None, mat, (-6e-4, -2e-4, 0.0), 0.3)
+    assert shifted.fx == pytest.approx(moved.fx, rel=1e-6)
+    assert shifted.fy == pytest.approx(moved.fy, rel=1e-6)
+    with pytest.raises(Exception, match="friction_scale"):
+        ex.solve(ns, None, mat, (-1e-3, 0.0, 0.0), 0.3, friction_scale=np.full((1, 30), -1.0))
