@@ -488,12 +488,14 @@ def _run_rk4_online(sysm: _System, u0, duration, sample_rate, step, bar):
     if written < n_samples:
         w, side = (int(v) for v in np.argwhere(status != 0)[0])
         code = int(status[w, side])
-        yq = ds["Y_over_Q"].isel(time=-1, wheelset=w, side=side).item()
+        yq = np.abs(np.nan_to_num(ds["Y_over_Q"].isel(wheelset=w, side=side).values))
+        k = int(np.argmax(yq))
         what = ("stands on its flange tip" if code == ON_FLANGE_TIP else
                 "runs off the rail" if code == OFF_RAIL else "derails")
         msg = (f"derailment at t = {t_der:.4f} s: wheelset {w + 1}, "
-               f"{('left', 'right')[side]} wheel {what} (Y/Q {yq:.2f} at the last sample; "
-               f"Nadal's limit {ds.attrs['nadal_limit']:.2f}); the run ends there")
+               f"{('left', 'right')[side]} wheel {what} (largest |Y/Q| {yq[k]:.2f} at "
+               f"t = {float(t[k]):.3f} s, {yq[-1]:.2f} at the last sample; Nadal's limit "
+               f"{ds.attrs['nadal_limit']:.2f}); the run ends there")
         log.warning("%s", msg)
         ds.attrs.update(status="derailed", derailment=msg, derailment_time_s=t_der,
                         derailment_wheelset=w + 1, derailment_side=("left", "right")[side])
