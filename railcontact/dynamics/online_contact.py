@@ -75,8 +75,10 @@ from .vehicle import G_ACC
 #: spacing [m] of the wheel samples of the online search (the case layer's loci
 #: take 25 um; the approach and curvatures do not depend on it)
 ONLINE_STEP = 2e-4
-#: contact damping [N s/m] per patch, by default
-DEFAULT_DAMPING = 1e5
+#: contact damping [N s/m] per patch, by default: about 0.3 of the critical damping
+#: of a Manchester wheelset's vertical and roll modes on its two tread springs
+#: (k = 1.5 N / d ~ 1e9 N/m per wheel at 55 kN; 2 sqrt(2 k m_w) ~ 3.8e6 N s/m)
+DEFAULT_DAMPING = 6e5
 #: a patch steeper than this [rad] is reported in the flange slot
 FLANGE_ANGLE = 0.35
 #: smallest locus window [m] (the interpenetration plus this margin is searched)

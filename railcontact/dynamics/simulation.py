@@ -113,9 +113,14 @@ class _System:
             self.online = self.wheel_rail.compiled(nw, max(self.law, 0), self.tp, ws_inertia)
             self.fext_rows = np.zeros((nw, MAX_ROWS), EXTERNAL)
             self.warm = {}
+            self.batch = False
+            self.fastsim_grid = (nx, ny)
             if self.py_model is not None:
-                from ..normal import get_normal_model
+                from ..normal import get_normal_model, normal_supports
+                from ..tangential import tangential_supports
                 self.py_normal = get_normal_model(self.wheel_rail.normal)
+                self.batch = (normal_supports(self.wheel_rail.normal, "batch")
+                              and tangential_supports(tangential, "strip-march"))
 
     @property
     def n_states(self) -> int:
@@ -169,9 +174,13 @@ class _System:
 
     def _online_python_forces(self):
         """The creep forces and normal forces of every row of the last search with
-        the Python models (the normal model at the row's approach, then the
-        tangential one), warm-started from the same wheel's patch of the last
-        evaluation where the models accept it; into ``fext_rows``."""
+        the registered models at the row's approach and creepages, into
+        ``fext_rows``: a strip model with a strip-marching tangential model
+        (``fastsim-strips``, ``fastrip``) on all patches together in compiled code
+        (:func:`railcontact.cases.batch.solve_patches`); any other pair per patch
+        through its Python ``solve`` (the normal model, then the tangential one),
+        warm-started from the same wheel's patch of the last evaluation where the
+        models accept it."""
         from ..geometry.track import WheelsetPose
         from ..geometry.wheel_pass import patch_geometry
         from .online_contact import R_DDOT
@@ -181,23 +190,37 @@ class _System:
         nwarm = "warm-start" in nmodel.capabilities
         twarm = "warm-start" in tmodel.capabilities
         damping = self.wheel_rail.damping
+        geos, where = [], []
         for w in range(on.count.size):
             shift, z, roll, yaw = on.poses[w]
             pose = WheelsetPose(float(shift), float(z), float(roll), float(yaw))
             for i in range(int(on.count[w])):
-                row = on.rows[w, i]
-                geo = patch_geometry(row[:NPF], self.wheel_rail.wheelset,
-                                     self.wheel_rail.track, pose)
-                key = (w, int(row[0]), abs(geo.contact_angle) > 0.35)
-                prev = self.warm.get(key)
-                nkw = {"warm_start": prev[0]} if (prev and nwarm) else {}
-                ns = nmodel.solve(geo, self.material, penetration=geo.approach, **nkw)
-                tkw = {"warm_start": prev[1]} if (prev and twarm) else {}
-                ts = tmodel.solve(ns, geo, self.material, geo.creepage, self.friction,
-                                  geo.velocity, **tkw)
-                self.warm[key] = (ns, ts)
-                N = max(float(ns.normal_force) + damping * float(row[R_DDOT]), 1e-9)
-                self.fext_rows[w, i] = (ts.fx, ts.fy, ts.mz, N)
+                geos.append(patch_geometry(on.rows[w, i, :NPF], self.wheel_rail.wheelset,
+                                           self.wheel_rail.track, pose))
+                where.append((w, i))
+        if self.batch and geos:
+            # the strip models on all patches together, compiled
+            # (railcontact.cases.batch.solve_patches)
+            from ..cases.batch import solve_patches
+            r = solve_patches(geos, self.wheel_rail.normal, self.tangential, self.material,
+                              self.friction, self.fastsim_grid)
+            for k, (w, i) in enumerate(where):
+                N = max(float(r.normal_force[k]) + damping * float(on.rows[w, i, R_DDOT]),
+                        1e-9)
+                self.fext_rows[w, i] = (r.Fx[k], r.Fy[k], r.Mz[k], N)
+            return
+        for geo, (w, i) in zip(geos, where):
+            row = on.rows[w, i]
+            key = (w, int(row[0]), abs(geo.contact_angle) > 0.35)
+            prev = self.warm.get(key)
+            nkw = {"warm_start": prev[0]} if (prev and nwarm) else {}
+            ns = nmodel.solve(geo, self.material, penetration=geo.approach, **nkw)
+            tkw = {"warm_start": prev[1]} if (prev and twarm) else {}
+            ts = tmodel.solve(ns, geo, self.material, geo.creepage, self.friction,
+                              geo.velocity, **tkw)
+            self.warm[key] = (ns, ts)
+            N = max(float(ns.normal_force) + damping * float(row[R_DDOT]), 1e-9)
+            self.fext_rows[w, i] = (ts.fx, ts.fy, ts.mz, N)
 
     def active(self) -> np.ndarray:
         """Indices of the states that are degrees of freedom (roll only where given;

@@ -131,8 +131,8 @@ def test_flange_climb_to_derailment(bodies):
 
 def test_strip_model_per_patch_runs_online(bodies):
     """A tangential model without a compiled law (fastsim-strips on ANALYN's
-    patches) runs online through the Python path: at rest its wheels carry the
-    axle load within 1 % (the springs are the normal model's at the approach)."""
+    patches, through the case layer's batch) runs online: at rest its wheels carry
+    the axle load within 1 % (the springs are the normal model's at the approach)."""
     ws, tr = bodies
     m = _wheelset()
     ds = simulate_vehicle(m, Route.tangent(50.0), OnlineWheelRail(ws, tr, normal="analyn"),
