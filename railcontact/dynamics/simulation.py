@@ -339,7 +339,10 @@ def simulate_vehicle(model: VehicleModel, route: Route, table,
     integrator = integration.method
     if integrator == "auto":
         integrator = "rk4" if sysm.law >= 0 or sysm.online is not None else "lsoda"
-    if integrator == "rk4" and sysm.online is not None:
+    if sysm.online is not None:
+        if integrator != "rk4":
+            raise InputError(f"integrator {integrator!r} with the online contact: expected "
+                             "'rk4' (or 'auto'), whose loop stops at a derailment")
         return _run_rk4_online(sysm, u0, duration, sample_rate, integration.step, bar)
     if integrator == "rk4":
         if sysm.law < 0:

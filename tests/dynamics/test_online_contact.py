@@ -149,6 +149,9 @@ def test_online_input_checks(bodies):
         OnlineWheelRail(ws, tr, damping=-1.0)
     with pytest.raises(InputError, match="normal model"):
         OnlineWheelRail(ws, tr, normal="nonsense")
+    with pytest.raises(InputError, match="online contact: expected 'rk4'"):
+        simulate_vehicle(_wheelset(), Route.tangent(50.0), OnlineWheelRail(ws, tr), 20.0, 0.01,
+                         integration=Integration(method="lsoda"))
 
 
 def test_scenario_contact_section():
