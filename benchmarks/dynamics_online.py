@@ -10,9 +10,12 @@ own), as multiples of real time (wall / simulated):
 
 * Hertz + FASTSIM (compiled) and Hertz + Polach (compiled), online, over
   ``--duration`` s (100 s for the issue's figure);
-* a strip model (ANALYN + ``fastsim-strips``) and ``exact`` + ``exact`` online
-  through the per-patch Python path over a short stretch (``--strip-duration``,
-  ``--exact-duration``), extrapolated per simulated second;
+* a strip model (ANALYN + ``fastsim-strips``, all patches of an evaluation in the
+  case layer's compiled batch) and ``exact`` + ``exact`` (per patch in Python,
+  warm-started) online over a short stretch (``--strip-duration``,
+  ``--exact-duration``), as multiples of real time of the rk4 loop's wall time
+  and of the whole call's CPU time (with the start: static equilibrium and the
+  step's Jacobian);
 * the difference in wheel forces between the online and the table run on the
   tangent track (the first 300 m, after the first 0.5 s): rms of Q, Y, Fx, Fy per
   wheel, as a fraction of the static wheel load and of the table run's own rms;
@@ -74,6 +77,7 @@ def main(argv=None):
     ap.add_argument("--velocity", type=float, default=50.0)
     ap.add_argument("--damping", type=float, default=6e5)
     ap.add_argument("--smooth-duration", type=float, default=10.0)
+    ap.add_argument("--out", default=str(HERE / "dynamics_online.md"))
     args = ap.parse_args(argv)
     lines.clear()
     from railcontact.dynamics.online_contact import OnlineWheelRail
@@ -113,8 +117,9 @@ def main(argv=None):
         wall, cpu = time.perf_counter() - w0, time.process_time() - c0
         loop = ds.attrs["wall_time_s"]
         calls = ds.attrs["rhs_calls"]
-        normal = c.normal
-        out(f"| {name} | {normal} + {law} (Python per patch) | {dur:g} | {wall:.1f} "
+        how = "compiled strips in a batch per evaluation" if law == "fastsim-strips" else \
+            "Python per patch, warm-started"
+        out(f"| {name} | {c.normal} + {law} ({how}) | {dur:g} | {wall:.1f} "
             f"(loop {loop:.1f}) | {cpu:.1f} | {loop / dur:.3g} (loop) | {cpu / dur:.3g} "
             f"(incl. start) | {ds.attrs['step_s'] * 1e3:.3f} | {calls} | "
             f"{1e6 * loop / max(calls, 1):.0f} (wall) |")
@@ -165,7 +170,7 @@ def main(argv=None):
         out(f"\nIn the curve (online, FASTSIM): max |Y/Q| "
             f"{float(np.nanmax(np.abs(curve['Y_over_Q'].values))):.2f} (Nadal's limit "
             f"{o_ds.attrs['nadal_limit']:.2f}); status {o_ds.attrs['status']}.")
-    (HERE / "dynamics_online.md").write_text("\n".join(lines) + "\n")
+    Path(args.out).write_text("\n".join(lines) + "\n")
     return lines
 
 

@@ -62,7 +62,7 @@ from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from ..geometry.locus import _wheel_samples
 from ..geometry.validity import TIP_ZONE, flange
-from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, MEMO_SIZE, NPF, P_A,
+from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, P_A,
                                    P_APPROACH, P_B, P_CONTACT_ANGLE, P_ETA, P_PHI,
                                    P_ROLLING_RADIUS, P_X, P_XI, P_Y, P_Y_RAIL, P_Y_WHEEL,
                                    P_Z_WHEEL, PassPose, PassProfiles, locus_regions,
