@@ -1359,6 +1359,8 @@ def main():
     frictional_power.main()
     import seed001_tables          # seed 001's Tables 1-2: benchmarks/seed001_tables.md
     seed001_tables.main()
+    import dynamics_online         # issue 30, contact online: benchmarks/dynamics_online.md
+    dynamics_online.main([])
 
 
 if __name__ == "__main__":

@@ -324,9 +324,12 @@ def cmd_simulate(args):
               f"{Path(args.out) / 'simulation.nc'} and rig_forces.png")
         return 0
     ds = run_scenario(sc, args.out)
+    vc = ds.attrs['critical_speed_m_s']
+    speed = (f"linear critical speed {vc:.1f} m/s" if ds.attrs.get("contact_mode") != "online"
+             else "contact online (no table, no linear critical speed)")
     print(f"simulated {float(ds['time'][-1]):.2f} s of {ds.attrs['model']} in "
-          f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); linear critical speed "
-          f"{ds.attrs['critical_speed_m_s']:.1f} m/s; wrote {Path(args.out) / 'simulation.nc'}")
+          f"{ds.attrs['wall_time_s']:.1f} s ({ds.attrs['tangential']}); {speed}; wrote "
+          f"{Path(args.out) / 'simulation.nc'}")
     warnings = [w for w in ds.attrs.get("warnings", "").split("; ") if w]
     return _report_status(True, "", warnings)
 

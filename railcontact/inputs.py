@@ -24,7 +24,7 @@ from .wear import simulation as open_loop
 from .wear import vehicle_scenario as closed_loop
 
 #: the sections of a dynamics scenario that are not a case's
-DYNAMICS_SECTIONS = ("title", "vehicle", "simulation", "route")
+DYNAMICS_SECTIONS = ("title", "vehicle", "simulation", "route", "contact")
 
 
 def load_dynamics_scenario(path) -> DynamicsScenario | RigScenario:

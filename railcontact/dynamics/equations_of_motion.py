@@ -79,9 +79,12 @@ PATCH_IN = np.dtype([(name, np.float64) for name in (
 PATCH_OUT = np.dtype([(name, np.float64) for name in ("Fx", "Fy", "Mz", "Y", "Q", "Tgamma")],
                      align=True)
 #: per-wheelset outputs: shift relative to the rails [m], whether it lies outside the
-#: contact table, and the quasi-static wheel loads [N]
+#: contact table, the quasi-static wheel loads [N], and with the online contact
+#: (:mod:`railcontact.dynamics.online_contact`) the vertical position [m] and roll
+#: [rad] relative to the rails (0 with a table)
 WHEELSET_OUT = np.dtype([("relative_shift", np.float64), ("outside_table", np.bool_),
-                         ("load_left", np.float64), ("load_right", np.float64)], align=True)
+                         ("load_left", np.float64), ("load_right", np.float64),
+                         ("vertical", np.float64), ("roll", np.float64)], align=True)
 #: the external creep forces of mode 1, per patch: Fx, Fy [N], Mz [N m] and the normal
 #: force [N] (0: the table's)
 EXTERNAL = np.dtype([(name, np.float64) for name in ("Fx", "Fy", "Mz", "normal_force")],
@@ -198,40 +201,17 @@ def _track_at(s, ks, kk, kc):
 
 
 @njit(cache=True, nogil=True)
-def rhs_core(t, u, system, mode, fext, out):
-    """Time derivative of the state u = (q, q') with q = (y, ψ, φ) per body.
-
-    Parameters
-    ----------
-    t : float
-        Time [s].
-    u : ndarray (6 nb,)
-        State: displacements [m, rad] then velocities [m/s, rad/s], three per body.
-    system : System
-        The vehicle, track, contact tables, speed and creep law.
-    mode : int
-        0: creep forces from the compiled law ``system.law``; 1: from ``fext``.
-    fext : ndarray (nw, 2, 2) of :data:`EXTERNAL`
-        With ``mode`` 1: the creep forces per patch given by the caller.
-    out : Outputs
-        Filled with the per-patch inputs and outputs and the per-wheelset values of
-        this evaluation (for output, and for ``mode`` 1).
-    """
+def suspension_forces(t, q, qd, system):
+    """The generalised forces (3 nb,) of everything but the wheel-rail contact at
+    displacements ``q`` and velocities ``qd``: the track frame's inertia terms
+    (uncompensated lateral acceleration, yaw acceleration of the track tangent), the
+    gravity pendulum term of rolling bodies and the suspension elements."""
     V, s0 = system.velocity, system.s0
     bodies, elems = system.vehicle.bodies, system.vehicle.elements
-    bx, bf, wsets = system.vehicle.bump_deflection, system.vehicle.bump_force, \
-        system.vehicle.wheelsets
+    bx, bf = system.vehicle.bump_deflection, system.vehicle.bump_force
     ks, kk, kc = system.track.s_knots, system.track.curvature, system.track.cant
-    irs, ira, irc = system.track.irregularity_s, system.track.alignment, \
-        system.track.cross_level
-    shift, tables = system.contact.shift, system.contact.data
-    qrefs, r0 = system.contact.reference_loads, system.contact.nominal_radius
-    law, tp = system.law, system.law_params
-    pin, pout, wout = out.patch_in, out.patch_out, out.wheelset_out
     nb = bodies.shape[0]
     nd = 3 * nb
-    q = u[:nd]
-    qd = u[nd:]
     F = np.zeros(nd)
     kap = np.empty(nb)
     dkap = np.empty(nb)
@@ -278,6 +258,43 @@ def rhs_core(t, u, system, mode, fext, out):
             F[3 * j] -= f
             F[3 * j + 1] -= aj * f + m
             F[3 * j + 2] -= -dj * f + mr
+    return F
+
+
+@njit(cache=True, nogil=True)
+def rhs_core(t, u, system, mode, fext, out):
+    """Time derivative of the state u = (q, q') with q = (y, ψ, φ) per body.
+
+    Parameters
+    ----------
+    t : float
+        Time [s].
+    u : ndarray (6 nb,)
+        State: displacements [m, rad] then velocities [m/s, rad/s], three per body.
+    system : System
+        The vehicle, track, contact tables, speed and creep law.
+    mode : int
+        0: creep forces from the compiled law ``system.law``; 1: from ``fext``.
+    fext : ndarray (nw, 2, 2) of :data:`EXTERNAL`
+        With ``mode`` 1: the creep forces per patch given by the caller.
+    out : Outputs
+        Filled with the per-patch inputs and outputs and the per-wheelset values of
+        this evaluation (for output, and for ``mode`` 1).
+    """
+    V, s0 = system.velocity, system.s0
+    bodies, wsets = system.vehicle.bodies, system.vehicle.wheelsets
+    ks, kk, kc = system.track.s_knots, system.track.curvature, system.track.cant
+    irs, ira, irc = system.track.irregularity_s, system.track.alignment, \
+        system.track.cross_level
+    shift, tables = system.contact.shift, system.contact.data
+    qrefs, r0 = system.contact.reference_loads, system.contact.nominal_radius
+    law, tp = system.law, system.law_params
+    pin, pout, wout = out.patch_in, out.patch_out, out.wheelset_out
+    nb = bodies.shape[0]
+    nd = 3 * nb
+    q = u[:nd]
+    qd = u[nd:]
+    F = suspension_forces(t, q, qd, system)
     vals = np.empty((2, 2, tables.shape[4]))
     hs = 0.5 * (irs[1] - irs[0])
     for w in range(wsets.shape[0]):

@@ -21,6 +21,7 @@ from ..core.materials import Material
 from ..core.parallel import compute
 from ..geometry.track import Track, Wheelset
 from ..tangential import tangential_models
+from .online_contact import DEFAULT_DAMPING, OnlineWheelRail
 from .route import Irregularities, Route
 from .simulation import Integration, critical_speed, simulate_vehicle
 from .vehicle import G_ACC, MANCHESTER, VehicleModel
@@ -32,6 +33,10 @@ _SIM = {"velocity", "duration", "initial_lateral_shift", "sample_rate", "table_r
         "table_step", "tangential", "tangential_options", "fastsim_grid", "rtol",
         "history_wheelset", "integrator", "step", "contact", "alpha"}
 _IRR = {"spectrum", "seed", "wavelengths", "step", "file"}
+_CONTACT = {"mode", "damping", "normal", "roll_inertia"}
+#: how the dynamics finds the wheel-rail contact (``contact.mode``): a table over the
+#: lateral shift built before the run, or a search at every evaluation
+CONTACT_MODES = ("table", "online")
 
 
 def _num(sec, name, key, default, lo, hi):
@@ -175,6 +180,11 @@ class DynamicsScenario:
     ``table_range`` and ``table_step`` [m] of lateral shift, ``contact``
     ("multi-hertz" or "quasi-elastic": Arnold's, regularisation ``alpha`` [m]).  Output:
     ``history_wheelset``, the wheelset (1-based) whose time history is written.
+    Online contact (``[contact]``): ``contact_mode`` ("table" or "online": the
+    contact searched at every evaluation, :mod:`railcontact.dynamics.online_contact`),
+    ``contact_damping`` [N s/m] per patch, ``contact_normal`` (the normal model of
+    a tangential model without a compiled law) and ``wheelset_roll_inertia``
+    [kg m²] (0: the wheelset's yaw inertia).
     """
 
     model: VehicleModel
@@ -199,6 +209,10 @@ class DynamicsScenario:
     title: str = ""
     contact: str = "multi-hertz"
     alpha: float = 3e-5
+    contact_mode: str = "table"
+    contact_damping: float = DEFAULT_DAMPING
+    contact_normal: str = "hertz"
+    wheelset_roll_inertia: float = 0.0
 
 
 def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsScenario:
@@ -227,6 +241,7 @@ def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsSc
     options = sim.get("tangential_options", {})
     if not isinstance(options, dict):
         raise CaseFileError(f"simulation.tangential_options = {options!r}: expected a table")
+    cmode, cdamp, cnormal, croll = _contact_section(sections.get("contact", {}))
     wheelset, track, material, friction = bodies()
     return DynamicsScenario(
         model=model, route=rt, wheelset=wheelset, track=track, material=material,
@@ -241,7 +256,26 @@ def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsSc
         table_step=_num(sim, "simulation", "table_step", 2e-4, 1e-5, 1e-3),
         history_wheelset=hw, title=str(sections.get("title", "")),
         contact=_contact_model(sim),
-        alpha=_num(sim, "simulation", "alpha", 3e-5, 1e-7, 1e-3))
+        alpha=_num(sim, "simulation", "alpha", 3e-5, 1e-7, 1e-3),
+        contact_mode=cmode, contact_damping=cdamp, contact_normal=cnormal,
+        wheelset_roll_inertia=croll)
+
+
+def _contact_section(con: dict) -> tuple:
+    """The ``[contact]`` table: mode, damping [N s/m], normal model, wheelset roll
+    inertia [kg m²] (0: the yaw inertia), checked."""
+    from ..normal.base import normal_models
+    bad = set(con) - _CONTACT
+    if bad:
+        raise CaseFileError(f"unknown key(s) contact.{sorted(bad)}; expected {sorted(_CONTACT)}")
+    mode = con.get("mode", "table")
+    if mode not in CONTACT_MODES:
+        raise CaseFileError(f"contact.mode = {mode!r}: expected one of {CONTACT_MODES}")
+    normal = con.get("normal", "hertz")
+    if normal not in normal_models():
+        raise CaseFileError(f"contact.normal = {normal!r}: expected one of {normal_models()}")
+    return (mode, _num(con, "contact", "damping", DEFAULT_DAMPING, 0.0, 1e8), normal,
+            _num(con, "contact", "roll_inertia", 0.0, 0.0, 1e5))
 
 
 #: the contact of the dynamics' tables (``simulation.contact``)
@@ -269,15 +303,22 @@ def build_table(sc: DynamicsScenario, progress: bool = False) -> WheelRailTable:
 
 def run_scenario(sc: DynamicsScenario, out=None, progress: bool = True):
     """Run a dynamics scenario; returns the dataset (written to ``out/simulation.nc``
-    with ``simulation.png`` and ``history.csv`` when ``out`` is given)."""
-    table = build_table(sc, progress)
+    with ``simulation.png`` and ``history.csv`` when ``out`` is given).  With
+    ``contact.mode = "online"`` no table is built, and the linear critical speed
+    (an analysis of the table) is not computed (NaN)."""
+    online = sc.contact_mode == "online"
+    if online:
+        table = OnlineWheelRail(sc.wheelset, sc.track, sc.material, sc.contact_damping,
+                                sc.wheelset_roll_inertia or None, sc.contact_normal)
+    else:
+        table = build_table(sc, progress)
     ds = simulate_vehicle(sc.model, sc.route, table, sc.velocity, sc.duration,
                           sc.tangential, sc.friction, sc.material,
                           sc.initial_lateral_shift, sc.tangential_options, sc.fastsim_grid,
                           Integration(sc.integrator, sc.sample_rate, sc.rtol, step=sc.step,
                                       progress=progress))
     try:
-        vc = critical_speed(sc.model, table, material=sc.material)
+        vc = math.nan if online else critical_speed(sc.model, table, material=sc.material)
     except (InputError, ValueError):           # no crossing in the bracket
         vc = math.nan
     ds.attrs.update(title=sc.title, critical_speed_m_s=vc, contact=sc.contact,

@@ -20,6 +20,8 @@ from ..tangential import get_tangential_model
 from ..tangential.polach import PRESETS
 from .equations_of_motion import (EXTERNAL, NORMAL_PASSES, ContactTables, Outputs, System,
                                   Track, Vehicle, rhs_core, rk4_run)
+from .online_contact import (MAX_ROWS, NPF, OFF_RAIL, ON_FLANGE_TIP, OnlineWheelRail,
+                             rhs_online, rk4_online)
 from .route import Route
 from .vehicle import VehicleModel
 from .wheel_rail import WheelRailTable, online_law, python_patch_forces
@@ -62,12 +64,22 @@ class _System:
         self.V = float(velocity)
         self.s0 = -min(b.x for b in model.bodies)
         nw = len(model.wheelsets)
-        self.tables = _per_wheelset(table, nw)
-        self.table = self.tables[0]
-        self.contact = ContactTables(
-            self.table.shift, np.ascontiguousarray(np.stack([tb.data for tb in self.tables])),
-            np.array([tb.reference_load for tb in self.tables], dtype=float),
-            float(self.table.nominal_radius))
+        self.wheel_rail = table if isinstance(table, OnlineWheelRail) else None
+        if self.wheel_rail is not None:           # online: a placeholder table
+            self.tables = []
+            self.table = None
+            self.flange_angle = self.wheel_rail.flange_angle
+            self.contact = ContactTables(np.array([-1.0, 1.0]), np.zeros((nw, 2, 2, 2, 13)),
+                                         np.ones(nw), self.wheel_rail.nominal_radius)
+        else:
+            self.tables = _per_wheelset(table, nw)
+            self.table = self.tables[0]
+            angles = [t.flange_angle for t in self.tables if math.isfinite(t.flange_angle)]
+            self.flange_angle = min(angles) if angles else math.nan
+            self.contact = ContactTables(
+                self.table.shift, np.ascontiguousarray(np.stack([tb.data for tb in self.tables])),
+                np.array([tb.reference_load for tb in self.tables], dtype=float),
+                float(self.table.nominal_radius))
         self.out = Outputs.empty(nw)
         self.fext = np.zeros((nw, 2, 2), EXTERNAL)
         self.tangential = tangential
@@ -95,6 +107,26 @@ class _System:
         self.system = System(self.V, self.s0, Vehicle(*model.packed()), Track(*route.packed()),
                              self.contact, max(self.law, 0), self.tp)
         self.calls = 0
+        self.online = None
+        if self.wheel_rail is not None:
+            ws_inertia = model.bodies[model.wheelsets[0][0]].yaw_inertia
+            self.online = self.wheel_rail.compiled(nw, max(self.law, 0), self.tp, ws_inertia)
+            self.fext_rows = np.zeros((nw, MAX_ROWS), EXTERNAL)
+            self.warm = {}
+            self.batch = False
+            self.fastsim_grid = (nx, ny)
+            if self.py_model is not None:
+                from ..normal import get_normal_model, normal_supports
+                from ..tangential import tangential_supports
+                self.py_normal = get_normal_model(self.wheel_rail.normal)
+                self.batch = (normal_supports(self.wheel_rail.normal, "batch")
+                              and tangential_supports(tangential, "strip-march"))
+
+    @property
+    def n_states(self) -> int:
+        """Length of the state: (q, q') and, online, each wheelset's (z, z')."""
+        n = 6 * len(self.model.bodies)
+        return n + (2 * len(self.model.wheelsets) if self.online is not None else 0)
 
     @property
     def pin(self) -> np.ndarray:
@@ -113,6 +145,12 @@ class _System:
 
     def rhs(self, t, u):
         self.calls += 1
+        if self.online is not None:
+            if self.law >= 0:
+                return rhs_online(t, u, self.system, self.online, 0, self.fext_rows, self.out)
+            rhs_online(t, u, self.system, self.online, 2, self.fext_rows, self.out)
+            self._online_python_forces()
+            return rhs_online(t, u, self.system, self.online, 1, self.fext_rows, self.out)
         if self.law >= 0:
             return rhs_core(t, u, self.system, 0, self.fext, self.out)
         self.fext[:] = 0.0
@@ -134,13 +172,70 @@ class _System:
             self.fext[idx] = (*f, N)
         return rhs_core(t, u, self.system, 1, self.fext, self.out)
 
+    def _online_python_forces(self):
+        """The creep forces and normal forces of every row of the last search with
+        the registered models at the row's approach and creepages, into
+        ``fext_rows``: a strip model with a strip-marching tangential model
+        (``fastsim-strips``, ``fastrip``) on all patches together in compiled code
+        (:func:`railcontact.cases.batch.solve_patches`); any other pair per patch
+        through its Python ``solve`` (the normal model, then the tangential one),
+        warm-started from the same wheel's patch of the last evaluation where the
+        models accept it."""
+        from ..geometry.track import WheelsetPose
+        from ..geometry.wheel_pass import patch_geometry
+        from .online_contact import R_DDOT
+        on = self.online
+        self.fext_rows[:] = 0.0
+        nmodel, tmodel = self.py_normal, self.py_model
+        nwarm = "warm-start" in nmodel.capabilities
+        twarm = "warm-start" in tmodel.capabilities
+        damping = self.wheel_rail.damping
+        geos, where = [], []
+        for w in range(on.count.size):
+            shift, z, roll, yaw = on.poses[w]
+            pose = WheelsetPose(float(shift), float(z), float(roll), float(yaw))
+            for i in range(int(on.count[w])):
+                geos.append(patch_geometry(on.rows[w, i, :NPF], self.wheel_rail.wheelset,
+                                           self.wheel_rail.track, pose))
+                where.append((w, i))
+        if self.batch and geos:
+            # the strip models on all patches together, compiled
+            # (railcontact.cases.batch.solve_patches)
+            from ..cases.batch import solve_patches
+            r = solve_patches(geos, self.wheel_rail.normal, self.tangential, self.material,
+                              self.friction, self.fastsim_grid)
+            for k, (w, i) in enumerate(where):
+                N = max(float(r.normal_force[k]) + damping * float(on.rows[w, i, R_DDOT]),
+                        1e-9)
+                self.fext_rows[w, i] = (r.Fx[k], r.Fy[k], r.Mz[k], N)
+            return
+        for geo, (w, i) in zip(geos, where):
+            row = on.rows[w, i]
+            key = (w, int(row[0]), abs(geo.contact_angle) > 0.35)
+            prev = self.warm.get(key)
+            nkw = {"warm_start": prev[0]} if (prev and nwarm) else {}
+            ns = nmodel.solve(geo, self.material, penetration=geo.approach, **nkw)
+            tkw = {"warm_start": prev[1]} if (prev and twarm) else {}
+            ts = tmodel.solve(ns, geo, self.material, geo.creepage, self.friction,
+                              geo.velocity, **tkw)
+            self.warm[key] = (ns, ts)
+            N = max(float(ns.normal_force) + damping * float(row[R_DDOT]), 1e-9)
+            self.fext_rows[w, i] = (ts.fx, ts.fy, ts.mz, N)
+
     def active(self) -> np.ndarray:
-        """Indices of the states that are degrees of freedom (roll only where given)."""
+        """Indices of the states that are degrees of freedom (roll only where given;
+        online, the wheelsets' roll and vertical position)."""
         nb = len(self.model.bodies)
+        online = self.online is not None
+        wsb = {w[0] for w in self.model.wheelsets}
         act = [3 * b + k for b in range(nb) for k in range(3)
-               if k < 2 or self.model.bodies[b].roll]
+               if k < 2 or self.model.bodies[b].roll or (online and b in wsb)]
         nd = 3 * nb
-        return np.array(act + [nd + i for i in act])
+        act = act + [nd + i for i in act]
+        if online:
+            nw = len(self.model.wheelsets)
+            act += list(range(2 * nd, 2 * nd + 2 * nw))
+        return np.array(act)
 
 
 @dataclass(frozen=True)
@@ -197,9 +292,12 @@ def simulate_vehicle(model: VehicleModel, route: Route, table,
 
     Parameters
     ----------
-    table : WheelRailTable or sequence of WheelRailTable
+    table : WheelRailTable, sequence of WheelRailTable or OnlineWheelRail
         The contact table of every wheelset, or one per wheelset (worn wheelsets,
-        on one shift grid).
+        on one shift grid); or the contact searched online
+        (:class:`~railcontact.dynamics.online_contact.OnlineWheelRail`: every
+        wheelset with vertical and roll freedom, starting from its static
+        equilibrium; the run ends where a wheel derails).
     tangential : str
         ``"linear"``, ``"fastsim"``, ``"polach"`` (compiled) or any registered
         tangential model (Python, slow).
@@ -220,10 +318,11 @@ def simulate_vehicle(model: VehicleModel, route: Route, table,
         raise InputError(f"initial_lateral_shift {initial_lateral_shift!r} m: expected |y| < 0.02")
     sysm = _System(model, route, table, velocity, tangential, friction, material,
                    tangential_options, fastsim_grid)
-    nb = len(model.bodies)
-    u0 = np.zeros(6 * nb)
+    u0 = np.zeros(sysm.n_states)
     for w in model.wheelsets:
         u0[3 * w[0]] = initial_lateral_shift
+    if sysm.online is not None:
+        u0 = static_contact(sysm, u0)
     t_eval = np.arange(0.0, duration + 0.5 / sample_rate, 1.0 / sample_rate)
     t_eval = t_eval[t_eval <= duration]
     bar = tqdm(total=round(duration, 3), unit="s", desc=f"simulate {model.name}",
@@ -239,7 +338,12 @@ def simulate_vehicle(model: VehicleModel, route: Route, table,
 
     integrator = integration.method
     if integrator == "auto":
-        integrator = "rk4" if sysm.law >= 0 else "lsoda"
+        integrator = "rk4" if sysm.law >= 0 or sysm.online is not None else "lsoda"
+    if sysm.online is not None:
+        if integrator != "rk4":
+            raise InputError(f"integrator {integrator!r} with the online contact: expected "
+                             "'rk4' (or 'auto'), whose loop stops at a derailment")
+        return _run_rk4_online(sysm, u0, duration, sample_rate, integration.step, bar)
     if integrator == "rk4":
         if sysm.law < 0:
             raise InputError(f"integrator 'rk4' needs a compiled creep law (linear, fastsim, "
@@ -294,6 +398,154 @@ def _run_rk4(sysm: _System, u0, duration, sample_rate, step, progress, bar):
     ds = _dataset(sysm, t, Y.T, wall)
     ds.attrs.update(integrator="rk4", step_s=dt)
     return ds
+
+
+def static_contact(sysm: _System, u0, passes: int = 8) -> np.ndarray:
+    """The state ``u0`` with every wheelset's vertical position and roll set to its
+    static equilibrium on the online contact (Newton steps on the vertical and roll
+    accelerations at rest, from the pose of the geometry layer's search at the
+    static wheel load)."""
+    from ..geometry import find_contact
+    from ..geometry.wheel_pass import new_memo
+    from .vehicle import G_ACC
+    model, on = sysm.model, sysm.online
+    nb = len(model.bodies)
+    nd = 3 * nb
+    u = u0.copy()
+    wr = sysm.wheel_rail
+    zi = [2 * nd + w for w in range(len(model.wheelsets))]
+    ri = [3 * w[0] + 2 for w in model.wheelsets]
+    trk = sysm.system.track
+    for w, ws in enumerate(model.wheelsets):
+        s = sysm.s0 + model.bodies[ws[0]].x          # relative to the rails there
+        ya = float(np.interp(s, trk.irregularity_s, trk.alignment))
+        cl = float(np.interp(s, trk.irregularity_s, trk.cross_level))
+        c = find_contact(wr.wheelset, wr.track, float(u0[3 * ws[0]]) - ya, 0.0,
+                         vertical_force=ws[1] * G_ACC / 2, material=wr.material)
+        u[zi[w]], u[ri[w]] = c.pose.vertical, c.pose.roll + cl
+        on.memo[w] = new_memo(c.pose.roll)
+    nz = len(zi)
+    for _ in range(passes):
+        r0 = sysm.rhs(0.0, u)
+        res = np.concatenate([r0[[z + nz for z in zi]], r0[[nd + i for i in ri]]])
+        log.debug("static contact: residuals %s", res)
+        if np.all(np.abs(res) < 1e-6):
+            break
+        J = np.zeros((2 * nz, 2))
+        for c_, (idx, h) in enumerate(((zi, 1e-7), (ri, 1e-7))):
+            du = u.copy()
+            du[idx] += h
+            r1 = sysm.rhs(0.0, du)
+            J[:, c_] = (np.concatenate([r1[[z + nz for z in zi]], r1[[nd + i for i in ri]]])
+                        - res) / h
+        for w in range(nz):        # each wheelset's 2 x 2 block (they do not couple)
+            A = np.array([[J[w, 0], J[w, 1]], [J[nz + w, 0], J[nz + w, 1]]])
+            try:
+                dz, dr = np.linalg.solve(A, [-res[w], -res[nz + w]])
+            except np.linalg.LinAlgError:
+                continue
+            u[zi[w]] += max(min(dz, 1e-4), -1e-4)
+            u[ri[w]] += max(min(dr, 1e-3), -1e-3)
+    return u
+
+
+def online_step(sysm: _System, u0, sample_rate: float, step: float | None = None):
+    """The rk4 step [s] of an online run: 1 / spectral radius of the Jacobian of the
+    right-hand side at the start (by central differences over the degrees of
+    freedom: the wheel-rail contact's vertical and roll modes, the creep forces),
+    at most 1 ms, ``step`` and the sampling interval, which it divides exactly.
+    Returns (step, steps per sample)."""
+    act = sysm.active()
+    J = np.empty((act.size, act.size))
+    memo = sysm.online.memo.copy()
+    for c, i in enumerate(act):
+        h = 1e-8 if i < 3 * len(sysm.model.bodies) or i >= 6 * len(sysm.model.bodies) \
+            else 1e-6
+        du = np.zeros(u0.size)
+        du[i] = h
+        J[:, c] = (sysm.rhs(0.0, u0 + du)[act] - sysm.rhs(0.0, u0 - du)[act]) / (2 * h)
+    sysm.online.memo[:] = memo
+    rho = float(np.max(np.abs(np.linalg.eigvals(J))))
+    dt = min(1.0 / rho, 1e-3, step or 1.0, 1.0 / sample_rate)
+    every = int(math.ceil(1.0 / (sample_rate * dt)))
+    return 1.0 / (sample_rate * every), every
+
+
+def _run_rk4_online(sysm: _System, u0, duration, sample_rate, step, bar):
+    """The rk4 run of the online contact: compiled (:func:`rk4_online`) with a
+    compiled law, else a Python loop of the same steps; it ends where a wheel
+    derails (the dataset's ``derailment`` attribute says when and which)."""
+    dt, every = online_step(sysm, u0, sample_rate, step)
+    n_samples = int(math.floor(duration * sample_rate + 1e-9))
+    t = np.arange(n_samples + 1) / sample_rate
+    Y = np.empty((n_samples + 1, u0.size))
+    Y[0] = u0
+    u = u0.copy()
+    chunk = max(1, n_samples // 100)
+    written = n_samples
+    wall = time.perf_counter()
+    steps = 0
+    try:
+        for k0 in range(0, n_samples, chunk):
+            k1 = min(k0 + chunk, n_samples)
+            if sysm.law >= 0:
+                u, k, n = rk4_online(u, t[k0], dt, (k1 - k0) * every, every, sysm.system,
+                                     sysm.online, sysm.fext_rows, sysm.out,
+                                     Y[k0 + 1:k1 + 1])
+            else:
+                u, k, n = _rk4_python(sysm, u, t[k0], dt, (k1 - k0) * every, every,
+                                      Y[k0 + 1:k1 + 1])
+            steps += n
+            if not np.all(np.isfinite(u)):
+                raise RailContactError(f"simulation diverged before t = {t[k1]:.4g} s (rk4 "
+                                       f"online, step {dt:.3g} s)")
+            if n < (k1 - k0) * every:                    # a wheel derailed
+                written = k0 + k
+                break
+            bar.update(max(min(round(float(t[k1]), 3), bar.total) - bar.n, 0))
+    finally:
+        bar.close()
+    wall = time.perf_counter() - wall
+    sysm.calls = 4 * steps
+    t_der = steps * dt
+    status = sysm.online.status.copy()
+    ds = _dataset(sysm, t[:written + 1], Y[:written + 1].T, wall)
+    ds.attrs.update(integrator="rk4", step_s=dt, contact_mode="online")
+    if written < n_samples:
+        w, side = (int(v) for v in np.argwhere(status != 0)[0])
+        code = int(status[w, side])
+        yq = np.abs(np.nan_to_num(ds["Y_over_Q"].isel(wheelset=w, side=side).values))
+        k = int(np.argmax(yq))
+        what = ("stands on its flange tip" if code == ON_FLANGE_TIP else
+                "runs off the rail" if code == OFF_RAIL else "derails")
+        msg = (f"derailment at t = {t_der:.4f} s: wheelset {w + 1}, "
+               f"{('left', 'right')[side]} wheel {what} (largest |Y/Q| {yq[k]:.2f} at "
+               f"t = {float(t[k]):.3f} s, {yq[-1]:.2f} at the last sample; Nadal's limit "
+               f"{ds.attrs['nadal_limit']:.2f}); the run ends there")
+        log.warning("%s", msg)
+        ds.attrs.update(status="derailed", derailment=msg, derailment_time_s=t_der,
+                        derailment_wheelset=w + 1, derailment_side=("left", "right")[side])
+        ds.attrs["warnings"] = "; ".join(x for x in (msg, ds.attrs["warnings"]) if x)
+    return ds
+
+
+def _rk4_python(sysm: _System, u, t0, dt, n_steps, every, samples):
+    """:func:`rk4_online`'s steps with the right-hand side in Python (a tangential
+    model without a compiled law: its ``solve`` per patch and evaluation)."""
+    k = 0
+    for n in range(n_steps):
+        t = t0 + n * dt
+        k1 = sysm.rhs(t, u)
+        if np.any(sysm.online.status != 0):
+            return u, k, n
+        k2 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k1)
+        k3 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k2)
+        k4 = sysm.rhs(t + dt, u + dt * k3)
+        u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        if (n + 1) % every == 0 and k < samples.shape[0]:
+            samples[k] = u
+            k += 1
+    return u, k, n_steps
 
 
 def _dataset(sysm: _System, t, Y, wall):
@@ -359,6 +611,12 @@ def _dataset(sysm: _System, t, Y, wall):
                     {"units": "m", "long_name": "contact position on the wheel profile"}),
         "semi_axis_a": (dims_p, pin["a"], {"units": "m"}),
         "semi_axis_b": (dims_p, pin["b"], {"units": "m"}),
+        "wheelset_vertical": (("time", "wheelset"), wout["vertical"],
+                              {"units": "m", "long_name": "wheelset vertical position "
+                               "relative to the rails, down (online contact; 0 with a table)"}),
+        "wheelset_roll": (("time", "wheelset"), wout["roll"],
+                          {"units": "rad", "long_name": "wheelset roll relative to the rails "
+                           "(online contact; 0 with a table)"}),
         "distance": ("time", s_first, {"units": "m", "long_name": "position of wheelset 1"}),
         "curvature": ("time", kap, {"units": "1/m"}),
         "cant": ("time", cant, {"units": "rad"}),
@@ -371,7 +629,12 @@ def _dataset(sysm: _System, t, Y, wall):
         attrs={"model": model.name, "velocity_m_s": V, "tangential": sysm.tangential,
                "friction": sysm.friction, "total_mass_kg": model.total_mass,
                "rhs_calls": calls, "wall_time_s": wall,
-               "outside_table": int(wout["outside_table"].any()) if nt else 0})
+               "outside_table": int(wout["outside_table"].any()) if nt else 0,
+               "contact_mode": "table" if sysm.online is None else "online",
+               "status": "completed", "nadal_limit": nadal_limit(sysm.flange_angle,
+                                                                 sysm.friction)
+               if math.isfinite(sysm.flange_angle) else math.nan,
+               "flange_angle_rad": sysm.flange_angle})
     warnings = _validity(sysm, t, YQ, pin["normal_force"][..., 1] > 0)
     if ds.attrs["outside_table"]:
         warnings.insert(0, "a wheelset left the contact table's range: the contact was "
@@ -384,10 +647,9 @@ def _dataset(sysm: _System, t, Y, wall):
 
 def _validity(sysm: _System, t, YQ, flange_loaded) -> list:
     """Where a run left the range of its models: Y/Q of a wheel in flange contact
-    above Nadal's flange-climb limit (the table's largest flange angle, the run's
+    above Nadal's flange-climb limit (the wheels' largest flange angle, the run's
     friction; :func:`railcontact.geometry.validity.nadal_limit`)."""
-    angles = [t.flange_angle for t in sysm.tables if math.isfinite(t.flange_angle)]
-    angle = min(angles) if angles else math.nan
+    angle = sysm.flange_angle
     if not (math.isfinite(angle) and YQ.size):
         return []
     limit = nadal_limit(angle, sysm.friction)

@@ -1,0 +1,178 @@
+"""Issue 30, "contact online in the dynamics": the Manchester vehicle at 50 m/s on
+the curved irregular route of ``run_all.bench_dynamics`` (300 m tangent, 200 m
+transition, R 2500 m with 120 mm cant, ERRI-low seed 7), with the contact
+searched online at every evaluation of the right-hand side
+(:mod:`railcontact.dynamics.online_contact`) against the contact table.
+
+Measured in one run, interleaved (table, online, table, online: the best of each
+pair counts), wall and CPU time (the machine is shared: CPU time is the process's
+own), as multiples of real time (wall / simulated):
+
+* Hertz + FASTSIM (compiled) and Hertz + Polach (compiled), online, over
+  ``--duration`` s (100 s for the issue's figure);
+* a strip model (ANALYN + ``fastsim-strips``, all patches of an evaluation in the
+  case layer's compiled batch) and ``exact`` + ``exact`` (per patch in Python,
+  warm-started) online over a short stretch (``--strip-duration``,
+  ``--exact-duration``), as multiples of real time of the rk4 loop's wall time
+  and of the whole call's CPU time (with the start: static equilibrium and the
+  step's Jacobian);
+* the difference in wheel forces between the online and the table run on the
+  tangent track (the first 300 m, after the first 0.5 s): rms of Q, Y, Fx, Fy per
+  wheel, as a fraction of the static wheel load and of the table run's own rms;
+  and on smooth tangent track (no irregularities, every wheelset let go 3 mm off
+  centre, ``--smooth-duration`` s), where neither path has a dynamic wheel load.
+
+Run alone (``python benchmarks/dynamics_online.py [--duration 100]``, writes
+``benchmarks/dynamics_online.md``) or from ``benchmarks/run_all.py``.
+"""
+
+from __future__ import annotations
+
+import argparse
+import math
+import time
+from pathlib import Path
+
+import numpy as np
+
+HERE = Path(__file__).resolve().parent
+lines: list = []
+
+
+def out(s=""):
+    print(s, flush=True)
+    lines.append(s)
+
+
+def _setup(duration, velocity):
+    from railcontact.dynamics import Route, VehicleModel, WheelRailTable
+    from railcontact.dynamics.route import Irregularities
+    from railcontact.dynamics.vehicle import G_ACC
+    from railcontact.geometry import Track, Wheelset
+    from railcontact.profiles import rail_profile, s1002
+    model = VehicleModel.vehicle()
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    table = WheelRailTable.build(ws, tr, model.wheelsets[0][1] * G_ACC / 2)
+    length = velocity * duration + 60.0
+    route = Route.from_segments(
+        [{"type": "tangent", "length": 300.0}, {"type": "transition", "length": 200.0},
+         {"type": "curve", "radius": 2500.0, "cant": 0.12, "length": max(length - 500.0, 50)}],
+        Irregularities.from_psd(max(length, 560.0), "ERRI-low", seed=7))
+    return model, ws, tr, table, route
+
+
+def _run(model, route, contact, velocity, duration, law, sample_rate=200.0):
+    from railcontact.dynamics import Integration, simulate_vehicle
+    w0, c0 = time.perf_counter(), time.process_time()
+    ds = simulate_vehicle(model, route, contact, velocity, duration, law,
+                          integration=Integration(sample_rate=sample_rate))
+    return ds, time.perf_counter() - w0, time.process_time() - c0
+
+
+def main(argv=None):
+    ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
+    ap.add_argument("--duration", type=float, default=100.0)
+    ap.add_argument("--strip-duration", type=float, default=0.02)
+    ap.add_argument("--exact-duration", type=float, default=0.004)
+    ap.add_argument("--velocity", type=float, default=50.0)
+    ap.add_argument("--damping", type=float, default=6e5)
+    ap.add_argument("--smooth-duration", type=float, default=10.0)
+    ap.add_argument("--out", default=str(HERE / "dynamics_online.md"))
+    args = ap.parse_args(argv)
+    lines.clear()
+    from railcontact.dynamics.online_contact import OnlineWheelRail
+    from railcontact.dynamics.vehicle import G_ACC
+    V, T = args.velocity, args.duration
+    model, ws, tr, table, route = _setup(T, V)
+    online = OnlineWheelRail(ws, tr, damping=args.damping)
+    online_kp = OnlineWheelRail(ws, tr, damping=args.damping, normal="analyn")
+    online_ex = OnlineWheelRail(ws, tr, damping=args.damping, normal="exact")
+    for c in (table, online):                       # compile / load the caches
+        _run(model, route, c, V, 0.05, "fastsim")
+        _run(model, route, c, V, 0.05, "polach")
+    out("# Contact online in the dynamics (issue 30)\n")
+    out(f"Manchester vehicle (4 wheelsets), {V:g} m/s, curved irregular route "
+        f"(300 m tangent, 200 m transition, R 2500 m, cant 120 mm, ERRI-low seed 7); "
+        f"online contact damping {args.damping:g} N s/m per patch.  Times in one run, "
+        "table and online interleaved; wall and this process's CPU time (the machine "
+        "is shared by other sessions).\n")
+    out("| contact | law | simulated [s] | wall [s] | CPU [s] | wall / real time | "
+        "CPU / real time | rk4 step [ms] | RHS calls | µs CPU per RHS call |")
+    out("|---|---|---|---|---|---|---|---|---|---|")
+    res = {}
+    for law in ("fastsim", "polach"):
+        for name, c in (("table", table), ("online", online)):
+            ds, wall, cpu = _run(model, route, c, V, T, law)
+            res[(name, law)] = ds
+            calls = ds.attrs["rhs_calls"]
+            out(f"| {name} | Hertz + {law} (compiled) | {T:g} | {wall:.1f} | {cpu:.1f} | "
+                f"{wall / T:.3g} | {cpu / T:.3g} | {ds.attrs['step_s'] * 1e3:.3f} | {calls} | "
+                f"{1e6 * cpu / max(calls, 1):.0f} |")
+    for name, c, law, dur in (("online", online_kp, "fastsim-strips", args.strip_duration),
+                              ("online", online_ex, "exact", args.exact_duration)):
+        from railcontact.dynamics import Integration, simulate_vehicle
+        w0, c0 = time.perf_counter(), time.process_time()
+        ds = simulate_vehicle(model, route, c, V, dur, law,
+                              integration=Integration(method="rk4", sample_rate=1000.0))
+        wall, cpu = time.perf_counter() - w0, time.process_time() - c0
+        loop = ds.attrs["wall_time_s"]
+        calls = ds.attrs["rhs_calls"]
+        how = "compiled strips in a batch per evaluation" if law == "fastsim-strips" else \
+            "Python per patch, warm-started"
+        out(f"| {name} | {c.normal} + {law} ({how}) | {dur:g} | {wall:.1f} "
+            f"(loop {loop:.1f}) | {cpu:.1f} | {loop / dur:.3g} (loop) | {cpu / dur:.3g} "
+            f"(incl. start) | {ds.attrs['step_s'] * 1e3:.3f} | {calls} | "
+            f"{1e6 * loop / max(calls, 1):.0f} (wall) |")
+    # online against table on the tangent track
+    t_ds, o_ds = res[("table", "fastsim")], res[("online", "fastsim")]
+    q0 = model.wheelsets[0][1] * G_ACC / 2
+    dist = t_ds["distance"].values
+    tangent = (t_ds["time"].values >= 0.5) & (dist <= 300.0)
+    if tangent.sum() > 10 and o_ds.sizes["time"] == t_ds.sizes["time"]:
+        out("\nOnline against table, Hertz + FASTSIM, on the tangent track "
+            f"({int(tangent.sum())} samples, t >= 0.5 s, wheelset 1 within the first "
+            "300 m), every wheel of the four wheelsets:\n")
+        out("| force | rms difference [N] | / static wheel load Q0 | / rms of the table run |")
+        out("|---|---|---|---|")
+        for v, label in (("Q", "Q (vertical)"), ("Y", "Y (lateral, track plane)"),
+                         ("longitudinal_force", "Fx (creep)"),
+                         ("lateral_creep_force", "Fy (creep)")):
+            a = t_ds[v].values[tangent]
+            b = o_ds[v].values[tangent]
+            d = float(np.sqrt(np.mean((a - b) ** 2)))
+            r = float(np.sqrt(np.mean(a ** 2)))
+            out(f"| {label} | {d:.0f} | {100 * d / q0:.2f} % | {100 * d / r:.1f} % |")
+        y_a = t_ds["lateral_displacement"].values[tangent]
+        y_b = o_ds["lateral_displacement"].values[tangent]
+        out(f"\nLateral displacement of the wheelsets: rms difference "
+            f"{1e6 * float(np.sqrt(np.mean((y_a - y_b) ** 2))):.0f} µm against an rms of "
+            f"{1e6 * float(np.sqrt(np.mean(y_a ** 2))):.0f} µm.  Static wheel load Q0 = "
+            f"{q0 / 1e3:.1f} kN.")
+    # smooth tangent track: both paths quasi-static in the vertical and roll
+    from railcontact.dynamics import Route
+    smooth = Route.tangent(V * args.smooth_duration + 60.0)
+    from railcontact.dynamics import Integration, simulate_vehicle
+    runs = [simulate_vehicle(model, smooth, c, V, args.smooth_duration, "fastsim", 0.3,
+                             initial_lateral_shift=0.003,
+                             integration=Integration(sample_rate=200.0)) for c in (table, online)]
+    out(f"\nOnline against table on smooth tangent track (no irregularities), every wheelset "
+        f"let go 3 mm off centre, {args.smooth_duration:g} s, all samples:\n")
+    out("| force | rms difference [N] | / static wheel load Q0 | / rms of the table run |")
+    out("|---|---|---|---|")
+    for v, label in (("Q", "Q"), ("Y", "Y"), ("longitudinal_force", "Fx"),
+                     ("lateral_creep_force", "Fy")):
+        a, b = runs[0][v].values, runs[1][v].values
+        d = float(np.sqrt(np.mean((a - b) ** 2)))
+        r = float(np.sqrt(np.mean(a ** 2)))
+        out(f"| {label} | {d:.0f} | {100 * d / q0:.2f} % | {100 * d / r:.1f} % |")
+    curve = o_ds.where(o_ds["curvature"] > 0.99 / 2500.0, drop=True)
+    if curve.sizes["time"]:
+        out(f"\nIn the curve (online, FASTSIM): max |Y/Q| "
+            f"{float(np.nanmax(np.abs(curve['Y_over_Q'].values))):.2f} (Nadal's limit "
+            f"{o_ds.attrs['nadal_limit']:.2f}); status {o_ds.attrs['status']}.")
+    Path(args.out).write_text("\n".join(lines) + "\n")
+    return lines
+
+
+if __name__ == "__main__":
+    main()

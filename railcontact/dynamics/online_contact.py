@@ -1,0 +1,494 @@
+"""Wheel-rail contact searched online in the vehicle dynamics: every wheelset on
+elastic contact, with vertical and roll freedom, its patches searched at every
+evaluation of the right-hand side at the actual lateral shift, yaw, roll and
+vertical position (no table, no clamp).
+
+The contact is the *equivalent elastic* contact of multibody codes (Shabana,
+Zaazaa & Sugiyama, *Railroad Vehicle Dynamics: A Computational Approach*, 2008,
+ch. 5; Pombo, Ambrósio & Silva, Veh. Syst. Dyn. 45 (2007) 165): the wheel and the
+rail interpenetrate as rigid bodies, and each interpenetration region is a patch
+whose normal force is Hertz's non-linear spring of its approach δ along the normal,
+
+    N = K δ^(3/2) + c δ'        (Hertz 1882; K from the patch's curvatures A, B and
+                                  the contact modulus, as :func:`railcontact.cases.
+                                  compiled_case.hertz_patch` tabulates it),
+
+with a viscous term c δ' (``damping`` [N s/m], only while the spring is loaded)
+that damps the stiff wheel-rail vertical mode.  The patches come from the
+geometry layer's compiled search (:mod:`railcontact.geometry.wheel_pass`): each
+side's locus at the pose (:func:`~railcontact.geometry.wheel_pass.side_locus`),
+its interpenetration regions and each region's patch (CONTACT's weighted
+reference point and contact angle, the curvatures of the undeformed distance at
+the deepest point, the approach, the kinematic creepages of the wheelset's
+motion; :func:`~railcontact.geometry.wheel_pass.make_patch`).  The wheel's
+samples are spaced ``ONLINE_STEP`` [m] instead of the case layer's 25 um: the
+approach and curvatures are computed at the deepest point by the exact gap, so
+that the spacing only moves the patch's weighted reference point (measured in
+tests/dynamics/test_online_contact.py).
+
+Creep forces: the compiled law of the run (FASTSIM, Polach or Kalker's linear
+theory; :func:`railcontact.tangential.online.patch_forces`) in compiled code, or
+any registered pair per patch in Python (``mode`` 1 of :func:`rhs_online`, the
+forces given by the caller).
+
+The wheelset's vertical position z (down) and roll φ (right wheel down) are
+degrees of freedom; the suspension carries the quasi-static wheel loads of the
+table path (the supported mass M and first moment H,
+:mod:`railcontact.dynamics.equations_of_motion`) as vertical forces P_l, P_r at
+±``LOAD_BASE`` from the wheelset's centre:
+
+    m_w z'' = P_l + P_r − Σ Q_k,       I_w φ'' = b0 (P_r − P_l) − Σ Q_k y_k
+
+with Q_k the vertical force of patch k on the wheel (up) at lateral position y_k.
+The moment of the lateral contact forces about the axle is taken by the axle
+boxes (quasi-static, as the table path's load transfer taken at rail level), so
+that both paths distribute the same loads.
+
+A wheel whose loaded contact reaches ``TIP_ZONE`` of its flange tip's radius
+stands on its flange: the wheelset is derailing, and the run ends there
+(:func:`rk4_online`), reporting the time, wheel and Y/Q.
+"""
+
+from __future__ import annotations
+
+import math
+from typing import NamedTuple
+
+import numpy as np
+from numba import njit
+
+from ..cases.compiled_case import PassModel, _tables, hertz_patch
+from ..core.errors import InputError
+from ..core.materials import Material, STEEL
+from ..geometry.locus import _wheel_samples
+from ..geometry.validity import TIP_ZONE, flange
+from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, P_A,
+                                   P_APPROACH, P_B, P_CONTACT_ANGLE, P_ETA, P_PHI,
+                                   P_ROLLING_RADIUS, P_X, P_XI, P_Y, P_Y_RAIL, P_Y_WHEEL,
+                                   P_Z_WHEEL, PassPose, PassProfiles, locus_regions,
+                                   make_patch, new_memo, side_locus)
+from ..tangential.kalker import _TAB_AB, _TAB_BA, _coefficients_kernel
+from ..tangential.online import patch_forces
+from .equations_of_motion import LOAD_BASE, _track_at, suspension_forces
+from .vehicle import G_ACC
+
+#: spacing [m] of the wheel samples of the online search (the case layer's loci
+#: take 25 um; the approach and curvatures do not depend on it)
+ONLINE_STEP = 2e-4
+#: contact damping [N s/m] per patch, by default: about 0.3 of the critical damping
+#: of a Manchester wheelset's vertical and roll modes on its two tread springs
+#: (k = 1.5 N / d ~ 1e9 N/m per wheel at 55 kN; 2 sqrt(2 k m_w) ~ 3.8e6 N s/m)
+DEFAULT_DAMPING = 6e5
+#: a patch steeper than this [rad] is reported in the flange slot
+FLANGE_ANGLE = 0.35
+#: smallest locus window [m] (the interpenetration plus this margin is searched)
+WINDOW_FLOOR = 1e-4
+
+#: the fields of the ``frame`` array of :class:`OnlineContact`
+FRAME_FIELDS = ("y_off_left", "y_off_right", "wheel_offset", "nominal_radius", "combine",
+                "damping", "tip_z", "tip_zone")
+(G_YOFF_L, G_YOFF_R, G_E, G_R0, G_COMBINE, G_DAMPING, G_TIP_Z, G_TIP_ZONE) = range(8)
+
+#: per row of :attr:`OnlineContact.rows` after the patch geometry: normal force N
+#: [N] (Hertz spring and damper), Hertz semi-axes a, b [m], creep forces Fx, Fy [N],
+#: spin moment Mz [N m] on the wheel, lateral Y and vertical Q force of the rail on
+#: the wheel [N] (track plane), the lateral position of the patch relative to the
+#: wheelset centre [m] and the approach rate [m/s]
+ROW_EXTRA = ("normal_force", "a", "b", "fx", "fy", "mz", "Y", "Q", "y_contact",
+             "approach_rate", "C11", "C22", "C23")
+(R_N, R_AA, R_BB, R_FX, R_FY, R_MZ, R_YF, R_QF, R_YC, R_DDOT, R_C11, R_C22,
+ R_C23) = range(NPF, NPF + len(ROW_EXTRA))
+NROW = NPF + len(ROW_EXTRA)
+#: rows per wheelset
+MAX_ROWS = 2 * MAX_PATCHES
+
+#: derailment codes of :attr:`OnlineContact.status` per wheelset and side
+ON_TRACK, ON_FLANGE_TIP, OFF_RAIL = 0, 1, 2
+
+
+class OnlineContact(NamedTuple):
+    """The online contact's compiled inputs and its state between evaluations."""
+
+    #: the wheel samples and splines (:class:`~railcontact.geometry.wheel_pass.PassProfiles`)
+    profiles: PassProfiles
+    #: :data:`FRAME_FIELDS`: rail offsets, wheel-profile offset, r0 [m], combine distance
+    #: [m], contact damping [N s/m], the flange tip's profile height and the tip zone [m]
+    frame: np.ndarray
+    #: Hertz and the creep law (:class:`~railcontact.cases.compiled_case.PassModel`)
+    model: PassModel
+    #: (nw,) roll inertia of the wheelsets [kg m²]
+    roll_inertia: np.ndarray
+    #: (nw, MEMO_SIZE) the searches' memos (loci windows), one per wheelset
+    memo: np.ndarray
+    #: (nw,) locus window [m] of each wheelset's next search
+    window: np.ndarray
+    #: (nw, MAX_ROWS, NROW) the last evaluation's patches
+    rows: np.ndarray
+    #: (nw,) number of rows of each wheelset
+    count: np.ndarray
+    #: (nw, 2) derailment code per wheel (:data:`ON_TRACK`, ...), set by an evaluation
+    status: np.ndarray
+    #: (nw, 4) the last evaluation's pose of each wheelset relative to the rails:
+    #: lateral shift [m], vertical position [m], roll [rad], yaw [rad]
+    poses: np.ndarray
+
+
+def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL,
+                   law: int = 1, law_params=None, damping: float = DEFAULT_DAMPING,
+                   roll_inertia: float = 1120.0) -> OnlineContact:
+    """The :class:`OnlineContact` of a wheelset (its profiles) on a track for
+    ``n_wheelsets`` wheelsets: the compiled creep law ``law`` with parameters
+    ``law_params`` (:func:`railcontact.tangential.online.patch_forces`), the contact
+    ``damping`` [N s/m] per patch and the wheelsets' ``roll_inertia`` [kg m²]."""
+    wheel, rail = wheelset.wheel("right"), track.rail("right")
+    if wheelset.wheel("left") is not wheel or track.rail("left") is not rail:
+        raise InputError("online contact: expected the same wheel and rail profile on both "
+                         "sides (mirrored)")
+    if not (math.isfinite(damping) and damping >= 0):
+        raise InputError(f"contact damping {damping!r} N s/m: expected >= 0")
+    if not (math.isfinite(roll_inertia) and roll_inertia > 0):
+        raise InputError(f"wheelset roll inertia {roll_inertia!r} kg m^2: expected > 0")
+    yw, zw, eta, rho = _wheel_samples(wheel, ONLINE_STEP, wheelset.wheel_offset,
+                                      wheelset.nominal_radius)
+    prof = PassProfiles(eta, rho, yw, zw, rail._breaks, rail._coefs, wheel._breaks,
+                        wheel._coefs)
+    fl = flange(wheel)
+    frame = np.array([track.rail_offset("left"), track.rail_offset("right"),
+                      wheelset.wheel_offset, wheelset.nominal_radius, 0.0, float(damping),
+                      fl.tip_z if fl is not None else math.inf, TIP_ZONE])
+    tp = np.array(law_params if law_params is not None else
+                  [0.3, material.shear_modulus, 12, 12, 1.0, 1.0, 1.0, 0.0], float)
+    dt, tab = _tables()
+    model = PassModel(material.contact_modulus, material.shear_modulus, material.nu,
+                      int(law), tp, np.full(3, np.nan), dt, tab, _TAB_AB, _TAB_BA)
+    memo = np.stack([new_memo() for _ in range(n_wheelsets)])
+    return OnlineContact(prof, frame, model, np.full(n_wheelsets, float(roll_inertia)), memo,
+                         np.full(n_wheelsets, WINDOW_FLOOR),
+                         np.zeros((n_wheelsets, MAX_ROWS, NROW)),
+                         np.zeros(n_wheelsets, np.int64), np.zeros((n_wheelsets, 2), np.int64),
+                         np.zeros((n_wheelsets, 4)))
+
+
+@njit(cache=True, nogil=True)
+def _zero_crossing(gap, yr, i, k):
+    """The rail coordinate [m] where the gap crosses zero between the region's end
+    sample i (gap < 0) and its neighbour k outside (linear); yr[i] where k has no
+    finite gap."""
+    gi, gk = gap[i], gap[k]
+    if not (math.isfinite(gk) and gk >= 0.0 > gi and yr[k] == yr[k]):
+        return yr[i]
+    return yr[i] + gi / (gi - gk) * (yr[k] - yr[i])
+
+
+@njit(cache=True, nogil=True)
+def region_curvature(loc, i0, i1):
+    """Half the lateral curvature B [1/m] of the Hertzian gap with the region's
+    depth and width: B = d / w² cos³(θ), with d the deepest vertical
+    interpenetration of region [i0, i1] of a locus, w half its width between the
+    gap's zero crossings (interpolated between the samples) and θ the rail's slope
+    angle at the deepest sample (the vertical gap turned to the contact plane, as
+    :func:`railcontact.geometry.wheel_pass.locus_curvatures`).  For a Hertzian gap,
+    g = -d + B y², it is B itself.  NaN where the region has no finite ends.
+
+    Why: the finite-difference curvature of
+    :func:`~railcontact.geometry.wheel_pass.make_patch` is that of the deepest
+    point.  In the near-conformal tread contact of S1002 on 60E1 the gap across a
+    region 20 mm wide is flat within a micrometre and has two minima; as the
+    deepest point jumps from one to the other, B jumps (measured: 3.95 to
+    0.28 1/m), and Hertz's force at the same approach with it, by a factor of
+    two, for one evaluation of the dynamics.  The region's width changes
+    continuously with the pose."""
+    gap, yr, slope = loc[5], loc[4], loc[6]
+    n = gap.size
+    if i0 < 1 or i1 > n - 2:
+        return math.nan
+    im = i0
+    for i in range(i0, i1 + 1):
+        if gap[i] < gap[im]:
+            im = i
+    d = -gap[im]
+    lo = _zero_crossing(gap, yr, i0, i0 - 1)
+    hi = _zero_crossing(gap, yr, i1, i1 + 1)
+    w = 0.5 * abs(hi - lo)
+    if not (d > 0.0 and w > 0.0 and math.isfinite(w)):
+        return math.nan
+    return d / (w * w) * math.cos(math.atan(slope[im])) ** 3
+
+
+@njit(cache=True, nogil=True)
+def search_wheelset(online, w, pose, z, roll):
+    """Wheelset w's patches at the pose (lateral shift and yaw in ``pose``, vertical
+    position z [m] and roll [rad] relative to the rails) into ``online.rows[w]``,
+    their Hertz springs solved; the derailment codes into ``online.status[w]``.
+    Returns the number of rows."""
+    prof, g = online.profiles, online.frame
+    rows = online.rows[w]
+    m = 0
+    deepest = 0.0
+    for s in range(2):
+        loc = side_locus(prof, pose, s, z, roll, online.window[w], online.memo[w], False)
+        gap = loc[5]
+        online.status[w, s] = ON_TRACK
+        if gap.size == 0 or not math.isfinite(np.min(gap)):
+            online.status[w, s] = OFF_RAIL
+            continue
+        regions = locus_regions(gap, loc[3], loc[4], g[G_COMBINE])
+        for r in range(min(regions.shape[0], MAX_PATCHES)):
+            row = rows[m]
+            row[:] = 0.0
+            make_patch(prof, pose, s, loc, regions[r, 0], regions[r, 1], z, roll, row)
+            d = row[P_APPROACH]
+            if not d > 0.0:
+                continue
+            # the spring: Hertz with the region's lateral curvature; the
+            # ellipse (semi-axes for the creep law): Hertz with the deepest point's
+            # curvatures at the spring's force, as the table path has it
+            a, b, F = hertz_patch(row[P_A], row[P_B], d, online.model)
+            bf = region_curvature(loc, regions[r, 0], regions[r, 1])
+            if bf > 0.0:
+                _, _, Fs = hertz_patch(row[P_A], bf, d, online.model)
+                if F > 0.0 and Fs > 0.0:
+                    scale = (Fs / F) ** (1.0 / 3.0)
+                    a, b, F = a * scale, b * scale, Fs
+            row[R_N] = F
+            row[R_AA] = a
+            row[R_BB] = b
+            row[R_YC] = row[P_Y] - pose.shift
+            if F > 0.0 and row[P_Z_WHEEL] >= g[G_TIP_Z] - g[G_TIP_ZONE]:
+                online.status[w, s] = ON_FLANGE_TIP
+            m += 1
+    online.window[w] = max(1.5 * deepest + LOCUS_MARGIN, WINDOW_FLOOR)
+    online.count[w] = m
+    return m
+
+
+@njit(cache=True, nogil=True)
+def row_forces(row, online, mode, fe, rates):
+    """The forces of one row: the normal force with the damper at the approach rate
+    (``rates``: lateral velocity of the wheelset centre relative to the rail [m/s],
+    vertical velocity [m/s], roll rate [rad/s]), the creep forces of the compiled
+    law (mode 0) or ``fe`` (mode 1: an :data:`~.equations_of_motion.EXTERNAL`
+    record; mode 2: none), and their lateral and vertical resultants (track plane)."""
+    delta = row[P_CONTACT_ANGLE]
+    cd, sd = math.cos(delta), math.sin(delta)
+    yc = row[R_YC]
+    r = row[P_ROLLING_RADIUS]
+    vy = rates[0] - r * rates[2]
+    vz = rates[1] + rates[2] * yc
+    ddot = vz * cd - vy * sd
+    row[R_DDOT] = ddot
+    F = row[R_N]
+    N = max(F + online.frame[G_DAMPING] * ddot, 0.0) if F > 0.0 else 0.0
+    row[R_N] = N
+    fx = fy = mz = 0.0
+    if N > 0.0:           # the ellipse at the damped force (Hertz: a, b ~ N^(1/3))
+        scale = (N / F) ** (1.0 / 3.0)
+        row[R_AA] *= scale
+        row[R_BB] *= scale
+    a, b = row[R_AA], row[R_BB]
+    if N > 0.0 and a > 0.0 and b > 0.0:
+        c = np.empty((3, 1))
+        _coefficients_kernel(np.array([a / b]), online.model.nu, online.model.kalker_ab,
+                             online.model.kalker_ba, c)
+        row[R_C11], row[R_C22], row[R_C23] = c[0, 0], c[1, 0], c[2, 0]
+        if mode == 0:
+            fx, fy, mz = patch_forces(online.model.law, online.model.tp, N, a, b, c[0, 0],
+                                      c[1, 0], c[2, 0], row[P_XI], row[P_ETA], row[P_PHI],
+                                      rates[3])
+        elif mode == 1:
+            fx, fy, mz = fe.Fx, fe.Fy, fe.Mz
+            if fe.normal_force > 0.0:
+                row[R_N] = N = fe.normal_force
+    row[R_FX], row[R_FY], row[R_MZ] = fx, fy, mz
+    row[R_YF] = N * sd + fy * cd
+    row[R_QF] = N * cd - fy * sd
+    return row[R_YF], row[R_QF]
+
+
+@njit(cache=True, nogil=True)
+def _record(rows, m, w, out, V):
+    """The rows of wheelset w into the outputs' two slots per side (tread, flange):
+    forces summed over the patches of a slot, the geometry of its most loaded."""
+    pin, pout = out.patch_in, out.patch_out
+    for sd in range(2):
+        for sl in range(2):
+            p = pin[w, sd, sl]
+            p.normal_force = 0.0
+            p.velocity = V
+            o = pout[w, sd, sl]
+            o.Fx = o.Fy = o.Mz = o.Y = o.Q = o.Tgamma = 0.0
+    best = np.zeros((2, 2))
+    for i in range(m):
+        row = rows[i]
+        sd = int(row[0])
+        sl = 1 if abs(row[P_CONTACT_ANGLE]) > FLANGE_ANGLE else 0
+        N = row[R_N]
+        o = pout[w, sd, sl]
+        o.Fx += row[R_FX]
+        o.Fy += row[R_FY]
+        o.Mz += row[R_MZ]
+        o.Y += row[R_YF]
+        o.Q += row[R_QF]
+        o.Tgamma += abs(row[R_FX] * row[P_XI]) + abs(row[R_FY] * row[P_ETA])
+        p = pin[w, sd, sl]
+        if N >= best[sd, sl]:
+            best[sd, sl] = N
+            p.a, p.b = row[R_AA], row[R_BB]
+            p.C11, p.C22, p.C23 = row[R_C11], row[R_C22], row[R_C23]
+            p.xi, p.eta, p.phi = row[P_XI], row[P_ETA], row[P_PHI]
+            p.contact_angle, p.y_contact = row[P_CONTACT_ANGLE], row[R_YC]
+            p.A, p.B = row[P_A], row[P_B]
+            p.y_rail, p.y_wheel = row[P_Y_RAIL], row[P_Y_WHEEL]
+        p.normal_force += N
+
+
+@njit(cache=True, nogil=True)
+def rhs_online(t, u, system, online, mode, fext, out):
+    """Time derivative of the state u = (q, q', z, z') with q = (y, ψ, φ) per body
+    and the vertical position z [m] (down) of every wheelset, the wheelsets' roll a
+    degree of freedom; the contact searched at the pose (module notes).
+
+    ``mode`` 0: the creep forces of the compiled law ``online.model.law``; 1: those
+    of ``fext`` (nw, MAX_ROWS) :data:`~.equations_of_motion.EXTERNAL` records per
+    row (given by the caller after a ``mode`` 2 evaluation: the search, the normal
+    forces and no creep forces).  ``out``
+    (:class:`~.equations_of_motion.Outputs`) takes the patches (two slots per side)
+    and the wheelsets' loads, vertical position and roll."""
+    V, s0 = system.velocity, system.s0
+    bodies, wsets = system.vehicle.bodies, system.vehicle.wheelsets
+    ks, kk, kc = system.track.s_knots, system.track.curvature, system.track.cant
+    irs, ira, irc = system.track.irregularity_s, system.track.alignment, \
+        system.track.cross_level
+    g = online.frame
+    nb = bodies.shape[0]
+    nw = wsets.shape[0]
+    nd = 3 * nb
+    q = u[:nd]
+    qd = u[nd:2 * nd]
+    zs = u[2 * nd:2 * nd + nw]
+    zd = u[2 * nd + nw:]
+    F = suspension_forces(t, q, qd, system)
+    acc_z = np.zeros(nw)
+    mom = np.zeros(nw)
+    hs = 0.5 * (irs[1] - irs[0])
+    wout = out.wheelset_out
+    rates = np.empty(4)
+    for w in range(nw):
+        ws = wsets[w]
+        b = ws.body
+        s = s0 + V * t + bodies[b].x
+        k, dk, ct = _track_at(s, ks, kk, kc)
+        ya = np.interp(s, irs, ira)
+        yad = (np.interp(s + hs, irs, ira) - np.interp(s - hs, irs, ira)) / (2 * hs)
+        cl = np.interp(s, irs, irc)
+        y, psi, phi = q[3 * b], q[3 * b + 1], q[3 * b + 2]
+        yd, psid, phid = qd[3 * b], qd[3 * b + 1], qd[3 * b + 2]
+        yrel = y - ya
+        pose = PassPose(yrel, psi - yad, g[G_YOFF_L], g[G_YOFF_R], g[G_E], g[G_R0], V,
+                        -V / g[G_R0], yd - V * yad, psid + V * k, g[G_COMBINE])
+        m = search_wheelset(online, w, pose, zs[w], phi - cl)
+        online.poses[w, 0], online.poses[w, 1] = yrel, zs[w]
+        online.poses[w, 2], online.poses[w, 3] = phi - cl, psi - yad
+        rates[0], rates[1], rates[2], rates[3] = yd - V * yad, zd[w], phid, V
+        Qt = ws.mass * (G_ACC * math.cos(ct) + V * V * k * math.sin(ct))
+        dQ = ws.moment * (V * V * k * math.cos(ct) - G_ACC * math.sin(ct)) / (2 * LOAD_BASE)
+        pl, pr = 0.5 * Qt + dQ, 0.5 * Qt - dQ
+        fz = Qt
+        mx = LOAD_BASE * (pr - pl)
+        for i in range(m):
+            row = online.rows[w, i]
+            Yk, Qk = row_forces(row, online, mode, fext[w, i], rates)
+            F[3 * b] += Yk
+            F[3 * b + 1] += row[P_X] * Yk - row[R_YC] * row[R_FX] + \
+                row[R_MZ] * math.cos(row[P_CONTACT_ANGLE])
+            fz -= Qk
+            mx -= Qk * row[R_YC]
+        F[3 * b] += Qt * cl
+        acc_z[w] = fz / bodies[b].mass
+        mom[w] = mx
+        _record(online.rows[w], m, w, out, V)
+        wo = wout[w]
+        wo.relative_shift = yrel
+        wo.outside_table = False
+        wo.load_left = pl
+        wo.load_right = pr
+        wo.vertical = zs[w]
+        wo.roll = phi - cl
+    du = np.empty(u.size)
+    du[:nd] = qd
+    du[2 * nd:2 * nd + nw] = zd
+    du[2 * nd + nw:] = acc_z
+    for b in range(nb):
+        body = bodies[b]
+        du[nd + 3 * b] = F[3 * b] / body.mass
+        du[nd + 3 * b + 1] = F[3 * b + 1] / body.yaw_inertia
+        du[nd + 3 * b + 2] = F[3 * b + 2] / body.roll_inertia if body.roll else 0.0
+    for w in range(nw):
+        b = wsets[w].body
+        du[nd + 3 * b + 2] = mom[w] / online.roll_inertia[w]
+    return du
+
+
+@njit(cache=True, nogil=True)
+def _derailed(online):
+    for w in range(online.status.shape[0]):
+        for s in range(2):
+            if online.status[w, s] != ON_TRACK:
+                return True
+    return False
+
+
+@njit(cache=True, nogil=True)
+def rk4_online(u, t0, dt, n_steps, every, system, online, fext, out, samples):
+    """Classical fixed-step Runge-Kutta (4th order) of :func:`rhs_online` with the
+    compiled creep law: ``n_steps`` steps of ``dt`` [s] from (t0 [s], u); every
+    ``every`` steps the state goes to the next row of ``samples``.  Stops at the
+    first step that starts with a wheel on its flange tip or off the rail
+    (``online.status``).  Returns (state, samples written, steps made)."""
+    k = 0
+    for n in range(n_steps):
+        t = t0 + n * dt
+        k1 = rhs_online(t, u, system, online, 0, fext, out)
+        if _derailed(online):
+            return u, k, n
+        k2 = rhs_online(t + 0.5 * dt, u + 0.5 * dt * k1, system, online, 0, fext, out)
+        k3 = rhs_online(t + 0.5 * dt, u + 0.5 * dt * k2, system, online, 0, fext, out)
+        k4 = rhs_online(t + dt, u + dt * k3, system, online, 0, fext, out)
+        u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        if (n + 1) % every == 0 and k < samples.shape[0]:
+            samples[k] = u
+            k += 1
+    return u, k, n_steps
+
+
+
+class OnlineWheelRail:
+    """The online contact as a run's contact (instead of a
+    :class:`~railcontact.dynamics.wheel_rail.WheelRailTable`): the wheelset and the
+    track (their profiles as placed), the material, the contact ``damping`` [N s/m]
+    per patch, the wheelsets' ``roll_inertia`` [kg m²] (None: their yaw inertia, as
+    of an axisymmetric body) and the normal model of the Python path (``normal``:
+    any registered normal model; the compiled laws run on Hertz's spring)."""
+
+    def __init__(self, wheelset, track, material: Material = STEEL,
+                 damping: float = DEFAULT_DAMPING, roll_inertia: float | None = None,
+                 normal: str = "hertz"):
+        from ..normal.base import normal_models
+        if normal not in normal_models():
+            raise InputError(f"online contact normal model {normal!r}: expected one of "
+                             f"{normal_models()}")
+        if not (isinstance(damping, (int, float)) and math.isfinite(damping) and damping >= 0):
+            raise InputError(f"contact damping {damping!r} N s/m: expected >= 0")
+        self.wheelset, self.track, self.material = wheelset, track, material
+        self.damping, self.roll_inertia, self.normal = float(damping), roll_inertia, normal
+        fl = flange(wheelset.wheel("right"))
+        #: the wheels' largest flange angle [rad] (NaN without a flange)
+        self.flange_angle = fl.max_angle if fl is not None else math.nan
+        #: nominal rolling radius r0 [m]
+        self.nominal_radius = float(wheelset.nominal_radius)
+
+    def compiled(self, n_wheelsets: int, law: int, law_params, roll_inertia: float):
+        """The :class:`OnlineContact` of a run."""
+        return online_contact(self.wheelset, self.track, n_wheelsets, self.material, law,
+                              law_params, self.damping,
+                              self.roll_inertia if self.roll_inertia else roll_inertia)

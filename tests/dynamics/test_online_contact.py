@@ -1,0 +1,166 @@
+"""The contact searched online in the dynamics (railcontact.dynamics.online_contact):
+the Hertz springs' static equilibrium, the region curvature on a Hertzian gap, the
+online run against the table run on tangent track, Nadal's limit in the results,
+a flange climb to derailment, the scenario option and a strip model per patch."""
+
+import math
+
+import numpy as np
+import pytest
+
+from railcontact.core.errors import CaseFileError, InputError
+from railcontact.dynamics import Integration, Route, VehicleModel, WheelRailTable, simulate_vehicle
+from railcontact.dynamics.online_contact import OnlineWheelRail, region_curvature
+from railcontact.dynamics.vehicle import G_ACC
+from railcontact.geometry.validity import flange, nadal_limit
+from railcontact.core.materials import STEEL
+
+from pathlib import Path
+
+ROOT = Path(__file__).resolve().parents[2]
+
+
+@pytest.fixture(scope="module")
+def bodies():
+    """S1002 on 60E1 1:40 (the wheel and rail of examples/dynamics_online.toml)."""
+    from railcontact.inputs import load_dynamics_scenario
+    sc = load_dynamics_scenario(ROOT / "examples" / "dynamics_online.toml")
+    return sc.wheelset, sc.track
+
+
+def _wheelset(**kw):
+    return VehicleModel.from_parameters("wheelset", kw.pop("parameters", None))
+
+
+def test_region_curvature_of_a_hertzian_gap():
+    """For the gap g = -d + B y² sampled every 0.2 mm, the region's depth and width
+    between its interpolated zero crossings give B cos³(θ) exactly (to the linear
+    interpolation of the crossings: below 1 % with 50 samples across)."""
+    d, B, theta = 8e-5, 3.5, 0.05
+    y = np.arange(-0.01, 0.01 + 1e-9, 2e-4) + 3e-5           # not centred on a sample
+    gap = -d + B * y * y
+    neg = np.flatnonzero(gap < 0)
+    loc = (0, y.size, None, None, y, gap, np.full(y.size, math.tan(theta)))
+    got = region_curvature(loc, int(neg[0]), int(neg[-1]))
+    assert got == pytest.approx(B * math.cos(theta) ** 3, rel=1e-2)
+
+
+def test_static_equilibrium_on_tangent_track(bodies):
+    """A wheelset at rest on the centre of tangent track, on its Hertz springs: each
+    wheel carries half the axle load (the supported mass times g) to 1e-4, and the
+    wheelset sits at the geometry layer's vertical position for that load within
+    the springs' difference (region against point curvature: 20 um)."""
+    ws, tr = bodies
+    m = _wheelset()
+    ds = simulate_vehicle(m, Route.tangent(100.0), OnlineWheelRail(ws, tr), 20.0, 0.05,
+                          "fastsim", 0.3, STEEL, 0.0, integration=Integration(sample_rate=200))
+    axle = m.wheelsets[0][1] * G_ACC
+    Q = ds["Q"].isel(time=-1, wheelset=0).values
+    assert Q == pytest.approx([axle / 2, axle / 2], rel=1e-4)
+    assert ds.attrs["contact_mode"] == "online" and ds.attrs["status"] == "completed"
+    assert abs(float(ds["wheelset_roll"].isel(time=-1, wheelset=0))) < 1e-6
+    from railcontact.geometry import find_contact
+    c = find_contact(ws, tr, 0.0, 0.0, vertical_force=axle / 2)
+    assert float(ds["wheelset_vertical"].isel(time=-1, wheelset=0)) == pytest.approx(
+        c.pose.vertical, abs=2e-5)
+
+
+def test_online_against_the_table_on_tangent_track(bodies):
+    """The single wheelset let go 3 mm off centre on smooth tangent track, online
+    against the contact table (built at yaw 0 at the static load): the wheel forces
+    Q, Y, Fx, Fy differ by under 2 % of the static wheel load Q0 rms (measured
+    0.45, 0.78, 0.52, 0.80 %), the lateral displacement by under 3 % of the table
+    run's rms (measured 2.6 %).  Against their own rms the lateral forces differ
+    more (Y 14 %): in the near-conformal tread contact the two paths' deepest
+    points, and so the Hertz ellipses, differ (a, b = 4.55, 9.1 mm online against
+    4.05, 8.2 mm in the table at rest), and with them the spin creep force
+    (docs/dynamics.md, "Online contact")."""
+    ws, tr = bodies
+    m = _wheelset()
+    load = m.wheelsets[0][1] * G_ACC / 2
+    table = WheelRailTable.build(ws, tr, load, shift_range=0.006, step=2e-4)
+    runs = [simulate_vehicle(m, Route.tangent(100.0), c, 30.0, 0.4, "fastsim", 0.3, STEEL,
+                             0.003, integration=Integration(sample_rate=500))
+            for c in (table, OnlineWheelRail(ws, tr, damping=6e5))]
+    t, o = runs
+
+    def rms(v):
+        return float(np.sqrt(np.mean(v ** 2)))
+    y_t, y_o = t["lateral_displacement"].values, o["lateral_displacement"].values
+    assert rms(y_o - y_t) < 0.03 * rms(y_t)
+    for name in ("Q", "Y", "longitudinal_force", "lateral_creep_force"):
+        assert rms(o[name].values - t[name].values) < 0.02 * load, name
+
+
+def test_nadal_limit_in_the_results(bodies):
+    """Nadal's limit (tan b - mu) / (1 + mu tan b): 1.2 for EN 14363's 70 deg and
+    mu = 0.36; the run's attribute is that of S1002's flange angle and its friction."""
+    assert nadal_limit(math.radians(70.0), 0.36) == pytest.approx(1.2, abs=5e-3)
+    ws, tr = bodies
+    ds = simulate_vehicle(_wheelset(), Route.tangent(50.0), OnlineWheelRail(ws, tr), 20.0,
+                          0.01, "fastsim", 0.4, STEEL, 0.0,
+                          integration=Integration(sample_rate=200))
+    beta = flange(ws.wheel("right")).max_angle
+    t = math.tan(beta)
+    assert ds.attrs["nadal_limit"] == pytest.approx((t - 0.4) / (1 + 0.4 * t), rel=1e-12)
+    assert math.degrees(beta) == pytest.approx(70.0, abs=0.5)
+
+
+def test_flange_climb_to_derailment(bodies):
+    """A lightly loaded wheelset (20 kN per wheel) free laterally, into a 60 m
+    curve without cant at 40 m/s (27 m/s² uncompensated), friction 0.5: the outer
+    (left) wheel's Y/Q passes Nadal's limit (0.95), the wheel climbs its flange and
+    stands on its tip; the run ends there and says so."""
+    ws, tr = bodies
+    m = VehicleModel.single_wheelset(k_y=0.0, k_yaw=20e6, wheel_load=20e3)
+    route = Route.from_segments([{"type": "tangent", "length": 5.0},
+                                 {"type": "transition", "length": 10.0},
+                                 {"type": "curve", "radius": 60.0, "length": 200.0}])
+    ds = simulate_vehicle(m, route, OnlineWheelRail(ws, tr, damping=6e5), 40.0, 1.5,
+                          "fastsim", 0.5, STEEL, 0.0, integration=Integration(sample_rate=500))
+    assert ds.attrs["status"] == "derailed"
+    assert ds.attrs["derailment_wheelset"] == 1 and ds.attrs["derailment_side"] == "left"
+    assert 0.2 < ds.attrs["derailment_time_s"] < 1.5
+    assert float(ds["time"][-1]) <= ds.attrs["derailment_time_s"] + 2e-3
+    assert "derailment at t = " in ds.attrs["warnings"] and "left wheel" in ds.attrs["warnings"]
+    yq = float(np.nanmax(np.abs(ds["Y_over_Q"].sel(wheelset=1, side="left").values)))
+    assert yq > ds.attrs["nadal_limit"]
+    # the climbing wheel rose: the wheelset rolled, its left side up, by over 3 mm
+    assert float(ds["wheelset_roll"].isel(time=-1, wheelset=0)) * 0.75 > 3e-3
+
+
+def test_strip_model_per_patch_runs_online(bodies):
+    """A tangential model without a compiled law (fastsim-strips on ANALYN's
+    patches, through the case layer's batch) runs online: at rest its wheels carry
+    the axle load within 1 % (the springs are the normal model's at the approach)."""
+    ws, tr = bodies
+    m = _wheelset()
+    ds = simulate_vehicle(m, Route.tangent(50.0), OnlineWheelRail(ws, tr, normal="analyn"),
+                          20.0, 2e-3, "fastsim-strips", 0.3, STEEL, 0.0,
+                          integration=Integration(method="rk4", sample_rate=1000))
+    axle = m.wheelsets[0][1] * G_ACC
+    assert float(ds["Q"].isel(time=-1).sum()) == pytest.approx(axle, rel=1e-2)
+    assert ds.attrs["tangential"] == "fastsim-strips"
+
+
+def test_online_input_checks(bodies):
+    ws, tr = bodies
+    with pytest.raises(InputError, match="damping"):
+        OnlineWheelRail(ws, tr, damping=-1.0)
+    with pytest.raises(InputError, match="normal model"):
+        OnlineWheelRail(ws, tr, normal="nonsense")
+    with pytest.raises(InputError, match="online contact: expected 'rk4'"):
+        simulate_vehicle(_wheelset(), Route.tangent(50.0), OnlineWheelRail(ws, tr), 20.0, 0.01,
+                         integration=Integration(method="lsoda"))
+
+
+def test_scenario_contact_section():
+    """``[contact] mode = "online"`` in a dynamics scenario; a wrong mode names the key."""
+    from railcontact.inputs import load_dynamics_scenario
+    sc = load_dynamics_scenario(ROOT / "examples" / "dynamics_online.toml")
+    assert sc.contact_mode == "online" and sc.contact_damping == 6e5
+    from railcontact.dynamics.scenario import _contact_section
+    with pytest.raises(CaseFileError, match="contact.mode"):
+        _contact_section({"mode": "sometimes"})
+    with pytest.raises(CaseFileError, match="contact"):
+        _contact_section({"dampin": 1.0})
