@@ -40,7 +40,6 @@ over +0.4 to +4.7 %.
 from __future__ import annotations
 
 import dataclasses
-import math
 import re
 import sys
 from pathlib import Path
@@ -51,9 +50,9 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE.parent))
 
 from railcontact import solve  # noqa: E402
-from railcontact.cases.bodies import build_wheelset_track  # noqa: E402
 from railcontact.cases.case import case_from_dict  # noqa: E402
 from railcontact.contact_inp import load_inp  # noqa: E402
+from railcontact.geometry.gap import SampledWheelGap  # noqa: E402
 from railcontact.normal.exact import ExactNormalModel  # noqa: E402
 
 BANK = HERE.parent.parent / "shared" / "contact_testbank"
@@ -79,83 +78,26 @@ def reference(path: Path) -> dict:
     return out
 
 
-class SampledWheel:
-    """A patch's undeformed distance with the wheel surface taken as CONTACT takes it:
-    linear in the lateral coordinate between wheel-profile samples every ``ds`` [m]
-    of arc length from the wheel point at the contact reference's wheel coordinate
-    (``geometry.y_wheel``), each sample at the grid line's x on its wheel circle;
-    the rail exact.  ``shift`` [m]: the grid moved by (x, y) against the surfaces."""
+def normal(geometry, material, element_size, gap=None):
+    """F_n [N], elements in contact and p_max [MPa] at the patch's approach
+    (``gap``: another undeformed distance than the patch's exact one)."""
+    g = geometry if gap is None else dataclasses.replace(geometry, gap_function=gap)
+    s = ExactNormalModel(wheel_sampling="exact").solve(
+        g, material, penetration=geometry.approach, element_size=element_size)
+    return s.normal_force, int(np.count_nonzero(s.pressure > 0)), float(s.pressure.max()) * 1e-6
 
-    def __init__(self, geometry, wheel, ds: float, shift=(0.0, 0.0)):
-        self.g, self.gf, self.ds, self.shift = geometry, geometry.gap_function, ds, shift
-        gf = self.gf
-        # the rail's normal coordinate along the plane's lateral axis (patch y)
-        yr = np.linspace(gf.y_ref - 8e-3, gf.y_ref + 8e-3, 32001)
-        dy, dz = yr + gf.y_off - gf.C[1], gf.rail.z_at(yr) - gf.C[2]
-        yp = gf.sign * (dy * gf.t[1] + dz * gf.t[2])
-        order = np.argsort(yp)
-        self._yp, self._np = yp[order], (dy * gf.n[1] + dz * gf.n[2])[order]
-        # the wheel samples: profile points every ds of arc length from y_wheel
-        yw = np.linspace(wheel.y_min, wheel.y_max, 200001)
-        arc = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(yw), np.diff(wheel.z_at(yw))))))
-        s0 = float(np.interp(geometry.y_wheel, yw, arc))
-        k = np.arange(-40, 41)
-        s = s0 + k * ds
-        s = s[(s >= arc[0]) & (s <= arc[-1])]
-        self._yw = np.interp(s, arc, yw)
-        self._rho = gf.r0 + wheel.z_at(self._yw)
+
+class Shifted:
+    """A gap evaluated on a grid moved laterally by ``dy`` [m] against the surfaces."""
+
+    def __init__(self, gap, dy):
+        self.gap, self.dy = gap, dy
 
     def __getattr__(self, name):
-        return getattr(self.gf, name)
-
-    def _rail_n(self, y):
-        return np.interp(y, self._yp, self._np)
-
-    def _nodes(self, x):
-        """Patch y [m] of the wheel samples on the circle points at track x (per x)."""
-        gf = self.gf
-        R, O = gf.R, gf.O
-        eta = gf.e + self._yw
-        X = gf.C[0] + np.asarray(x, dtype=float)[:, None]
-        st = np.zeros((X.shape[0], eta.size))
-        for _ in range(3):                   # the circle angle where the point is at X
-            ct = np.sqrt(1.0 - st * st)
-            px = O[0] + eta * R[0, 1] + self._rho * (st * R[0, 0] + ct * R[0, 2])
-            st = st + (X - px) / (self._rho * R[0, 0])
-        ct = np.sqrt(1.0 - st * st)
-        py = O[1] + eta * R[1, 1] + self._rho * (st * R[1, 0] + ct * R[1, 2])
-        pz = O[2] + eta * R[2, 1] + self._rho * (st * R[2, 0] + ct * R[2, 2])
-        ys = (py - gf.C[1]) * gf.t[1] + (pz - gf.C[2]) * gf.t[2]
-        return np.sort(gf.sign * ys, axis=1)
+        return getattr(self.gap, name)
 
     def __call__(self, x, y):
-        x = np.asarray(x, dtype=float) + self.shift[0]
-        y = np.asarray(y, dtype=float) + self.shift[1]
-        X, Y = np.broadcast_arrays(x, y)
-        xs = np.unique(X)
-        nodes = self._nodes(xs)
-        row = np.searchsorted(xs, X)
-        out = np.empty(X.shape)
-        for i in range(xs.size):             # one grid line at a time (benchmark only)
-            sel = row == i
-            yy = Y[sel]
-            nd = nodes[i]
-            j = np.clip(np.searchsorted(nd, yy) - 1, 0, nd.size - 2)
-            ya, yb = nd[j], nd[j + 1]
-            xa = np.full(yy.shape, xs[i])
-            wa = self._rail_n(ya) - self.gf.points(xa, ya)     # wheel's normal coordinate
-            wb = self._rail_n(yb) - self.gf.points(xa, yb)
-            lam = (yy - ya) / (yb - ya)
-            out[sel] = self._rail_n(yy) - ((1.0 - lam) * wa + lam * wb)
-        return out
-
-
-def normal(geometry, material, element_size, gap=None):
-    """F_n [N], elements in contact and p_max [MPa] at the patch's approach."""
-    g = geometry if gap is None else dataclasses.replace(geometry, gap_function=gap)
-    s = ExactNormalModel().solve(g, material, penetration=geometry.approach,
-                                 element_size=element_size)
-    return s.normal_force, int(np.count_nonzero(s.pressure > 0)), float(s.pressure.max()) * 1e-6
+        return self.gap(x, np.asarray(y, dtype=float) + self.dy)
 
 
 def main():
@@ -166,7 +108,9 @@ def main():
     print(f"{'case':>4} {'CONTACT':>22} {'exact h':>30} {'CONTACT wheel sampling':>30}")
     keep = None
     for case in range(14, 22):
-        case_obj = case_from_dict(mapped[case].raw)
+        raw = mapped[case].raw
+        raw["solver"]["normal_options"] = {"wheel_sampling": "exact"}
+        case_obj = case_from_dict(raw)
         res = solve(case_obj)
         ds = float(mapped[case].raw["solver"]["element_size"][1])
         size = tuple(mapped[case].raw["solver"]["element_size"])
@@ -176,19 +120,20 @@ def main():
                 continue
             y = g.position[1] * 1e3
             _, fn, nc, pm = min(ref[case], key=lambda q: abs(q[0] - y))
-            ws, _ = build_wheelset_track(case_obj)
             ex = normal(g, case_obj.material, size)
-            sm = normal(g, case_obj.material, size, SampledWheel(g, ws.wheel(g.side), ds))
+            sm = normal(g, case_obj.material, size,
+                        SampledWheelGap(g.gap_function, g.y_wheel, ds))
             print(f"{case:4d} {fn:9.1f} {nc:4d} {pm:7.1f} "
                   f"{ex[0]:9.1f} ({100 * (ex[0] / fn - 1):+5.2f} %) {ex[1]:4d} {ex[2]:7.1f} "
                   f"{sm[0]:9.1f} ({100 * (sm[0] / fn - 1):+5.2f} %) {sm[1]:4d} {sm[2]:7.1f}")
             if case == 18:
-                keep = (g, ws.wheel(g.side), case_obj.material, size, ds, fn)
-    g, wheel, mat, size, ds, fn = keep
+                keep = (g, case_obj.material, size, ds, fn)
+    g, mat, size, ds, fn = keep
     print("\ncase 18, the grid shifted laterally against the wheel samples (as a T = 1 grid "
           "based at s_r = 0 can be): F_n deviation from CONTACT's steady case")
     for f in np.arange(0.0, 1.0, 0.125):
-        sm = normal(g, mat, size, SampledWheel(g, wheel, ds, (0.0, f * ds)))
+        sm = normal(g, mat, size, Shifted(SampledWheelGap(g.gap_function, g.y_wheel, ds),
+                                          f * ds))
         print(f"  offset {f:5.3f} DS: F_n {sm[0]:9.1f} ({100 * (sm[0] / fn - 1):+5.2f} %), "
               f"{sm[1]} elements")
 
