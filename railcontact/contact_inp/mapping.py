@@ -364,10 +364,6 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                         "separation_angle": min(a_sep, math.pi)},
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
-                      # CONTACT's planar undeformed distance: the wheel linear between
-                      # profile samples DS apart (railcontact.geometry.gap.SampledWheelGap)
-                      "normal_options": {"wheel_sampling": "contact"} if normal == "exact"
-                      else {},
                       "tangential_options": topt}}
     frame = _rail_frame(raw, base)
     if "rail_offset" in track:

@@ -307,8 +307,10 @@ class TransientStep:
 
     Not "lazy": a vertical balance solves the step at every evaluation, since
     FASTSIM's steady-rolling lateral forces, the stand-in of a lazy model, are not a
-    shift's (t1_force_cp: 0.6 % of the load in the vertical balance, enough to
-    send it to the root where tread and gauge corner form separate patches)."""
+    shift's (t1_force_cp: 0.6 % of the load in the vertical balance; with CONTACT's
+    wheel sampling, ``wheel_sampling = "contact"``, enough to send the balance to
+    a second root 2.4 um higher, where tread and gauge corner form separate
+    patches)."""
 
     name = "exact"
     capabilities = frozenset()

@@ -68,7 +68,7 @@ class ExactNormalModel:
                        :class:`railcontact.geometry.gap.SampledWheelGap`: about 1 um
                        deeper interpenetration between the samples on a worn
                        flange root, up to some per cent of a gauge-corner patch's
-                       force).  CONTACT ``.inp`` files of module 1 take "contact".
+                       force; docs/contact_users.md, "Known differences").
     """
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 3000, margin: float = 0.25,

@@ -21,9 +21,7 @@ def test_mapping_to_a_case_in_si_units(files):
     r = m1.raw
     assert r["material"]["young_modulus"] == pytest.approx(2 * 82e9 * 1.28)
     assert r["solver"] == {"normal": "exact", "tangential": "exact",
-                           "element_size": [2e-4, 2.5e-4],
-                           "normal_options": {"wheel_sampling": "contact"},
-                           "tangential_options": {}}
+                           "element_size": [2e-4, 2.5e-4], "tangential_options": {}}
     ws = r["wheelset"]
     assert ws["side"] == "right" and ws["roll"] == 0.0001 and ws["yaw"] == 0.0024
     assert ws["lateral_shift"] == pytest.approx(1.5e-3) and ws["vertical_force"] == 1e4

