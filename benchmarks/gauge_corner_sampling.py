@@ -31,10 +31,13 @@ samples (the spread of a T = 1 grid).
 
     python benchmarks/gauge_corner_sampling.py
 
-Measured (2026-11-27): the exact h misses CONTACT's F_n by -0.7 to -1.3 % (the
-contact areas agree element for element); with CONTACT's wheel sampling every case
-with at least 2 % of the load within 0.3 %; the grid offset spreads case 18's F_n
-over +0.4 to +4.7 %.
+Measured (2026-11-27): the exact h misses CONTACT's F_n by -0.7 to -1.3 % from
+2.8 kN on (-2.3 % at 330 N) on the same elements in contact; with CONTACT's wheel
+sampling within 0.06 % from 6 kN on (-0.13 % at 2.8 kN, -0.47 % at 330 N), the
+elements in contact CONTACT's, p_max within 0.15 %; the grid offset spreads case
+18's F_n over -0.05 to +3.8 %.  (.inp files keep the exact h by default: on the
+Manchester sweep's S1002 flange flank the sampling moves z_ws 0.7 um off CONTACT's,
+docs/contact_users.md.)
 """
 
 from __future__ import annotations

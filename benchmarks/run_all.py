@@ -1359,6 +1359,8 @@ def main():
     frictional_power.main()
     import seed001_tables          # seed 001's Tables 1-2: benchmarks/seed001_tables.md
     seed001_tables.main()
+    import gauge_corner_sampling   # issue 34: CONTACT's wheel sampling (prints)
+    gauge_corner_sampling.main()
 
 
 if __name__ == "__main__":
