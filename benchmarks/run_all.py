@@ -1361,6 +1361,8 @@ def main():
     seed001_tables.main()
     import dynamics_online         # issue 30, contact online: benchmarks/dynamics_online.md
     dynamics_online.main([])
+    import gauge_corner_sampling   # issue 34: CONTACT's wheel sampling (prints)
+    gauge_corner_sampling.main()
 
 
 if __name__ == "__main__":

@@ -303,10 +303,17 @@ class TransientStep:
     from the previous instance's tractions carried onto the patch's grid
     (:func:`carried_tractions`).  T = 1 (``dq = 0``): the rigid shift over the step
     is the patch's creepages times its rolling velocity over ``scale``
-    (:func:`shift_scale`); T = 2: rolling over ``dq`` [m]."""
+    (:func:`shift_scale`); T = 2: rolling over ``dq`` [m].
+
+    Not "lazy": a vertical balance solves the step at every evaluation, since
+    FASTSIM's steady-rolling lateral forces, the stand-in of a lazy model, are not a
+    shift's (t1_force_cp: 0.6 % of the load in the vertical balance; with CONTACT's
+    wheel sampling, ``wheel_sampling = "contact"``, enough to send the balance to
+    a second root 2.4 um higher, where tread and gauge corner form separate
+    patches)."""
 
     name = "exact"
-    capabilities = frozenset({"lazy"})
+    capabilities = frozenset()
 
     def __init__(self, previous, frames, dq: float, scale: float):
         self.previous, self.frames, self.dq, self.scale = previous, frames, dq, scale

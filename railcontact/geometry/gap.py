@@ -354,3 +354,124 @@ def curvatures_fd(gapf, x0, y0):
     A = (h[1] + h[2] - 2 * h[0]) / (2 * hx * hx)
     B = (h[3] + h[4] - 2 * h[0]) / (2 * hy * hy)
     return float(A), float(B), float(h[0])
+
+
+
+@njit(cache=True, nogil=True)
+def _rail_distances(ys, frame, rail):
+    """Distances [m] along the normal from the tangent-plane points C + ys t (ys in
+    the side's lateral sense) to the rail surface (:func:`_rail_distance`)."""
+    out = np.empty(ys.size)
+    k = -1
+    for i in range(ys.size):
+        tr, k = _rail_distance(ys[i], frame.C, frame.t, frame.n, frame.y_off, rail.breaks,
+                               rail.coefs, 0.0, k)
+        out[i] = tr
+    return out
+
+
+
+class SampledWheelGap:
+    """A patch's undeformed distance with the wheel surface taken as CONTACT's planar
+    contact takes it: linear across the patch between wheel-profile samples every
+    ``ds`` [m] of the profile's arc length, counted from the wheel point at the
+    contact reference's lateral wheel coordinate ``y_wheel`` [m]; the rail and the
+    rolling direction exact.
+
+    CONTACT (module 1, planar contact; user guide, "Potential contact area and
+    discretisation", and its undeformed-distance routine) resamples the wheel
+    profile every DS of its arc length from that point, revolves the samples into
+    slices every DX, and interpolates the wheel's normal coordinate linearly onto
+    the grid points.  Where the wheel's profile is concave (the flange root of a
+    worn wheel, lateral radius R of 10-20 mm) a chord lies on the rail side of the
+    arc by up to DS^2 / (8 R): about 1 um at 0.4 mm elements, some per cent of the
+    force of a gauge-corner patch; on the tread the chords and the arc coincide.
+    The slices' chords in x (DX^2 / (8 r), r the wheel radius) are below 0.1 um and
+    left out: each sample lies on its wheel circle at the point's x.
+
+    ``evaluator``: the patch's exact :class:`GapEvaluator`, whose attributes this
+    object shares; called as it is, on patch coordinates (x, y) [m].  Points beyond
+    the samples, or whose neighbouring samples miss a surface, keep the exact gap.
+    """
+
+    def __init__(self, evaluator: GapEvaluator, y_wheel: float, ds: float):
+        if not (math.isfinite(ds) and ds > 0):
+            raise ValueError(f"wheel sample spacing {ds!r} m: expected a length > 0")
+        self.evaluator, self.ds = evaluator, float(ds)
+        ys, s = evaluator.wheel._arc_table
+        self._ytab, self._stab = ys, s
+        self._s0 = float(np.interp(y_wheel, ys, s))
+
+    def __getattr__(self, name):
+        return getattr(self.evaluator, name)
+
+    def _samples(self, span: float):
+        """Wheel-profile samples (y_w, radius) covering +-``span`` [m] of arc length."""
+        kmax = int(math.ceil(span / self.ds)) + 4
+        s = self._s0 + np.arange(-kmax, kmax + 1) * self.ds
+        s = s[(s >= self._stab[0]) & (s <= self._stab[-1])]
+        yw = np.interp(s, self._stab, self._ytab)
+        return yw, self.evaluator.r0 + self.evaluator.wheel.z_at(yw)
+
+    def _nodes(self, xs, yw, rho):
+        """Patch y [m] of the samples (columns) on their wheel circles at the track x
+        of the patch coordinates ``xs`` (rows), sorted along each row."""
+        ev = self.evaluator
+        R, O = ev.R, ev.O
+        eta = ev.e + yw
+        X = ev.C[0] + xs[:, None]
+        st = np.zeros((xs.size, yw.size))
+        for _ in range(3):          # Newton on the circle angle (sin) where x = X
+            ct = np.sqrt(1.0 - st * st)
+            px = O[0] + eta * R[0, 1] + rho * (st * R[0, 0] + ct * R[0, 2])
+            st = np.clip(st + (X - px) / (rho * R[0, 0]), -0.5, 0.5)
+        ct = np.sqrt(1.0 - st * st)
+        py = O[1] + eta * R[1, 1] + rho * (st * R[1, 0] + ct * R[1, 2])
+        pz = O[2] + eta * R[2, 1] + rho * (st * R[2, 0] + ct * R[2, 2])
+        return np.sort(ev.sign * ((py - ev.C[1]) * ev.t[1] + (pz - ev.C[2]) * ev.t[2]), axis=1)
+
+    def __call__(self, x, y):
+        ev = self.evaluator
+        X, Y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
+        shape = X.shape
+        X, Y = X.ravel(), Y.ravel()
+        h = ev.points(np.ascontiguousarray(X), np.ascontiguousarray(Y))
+        if X.size == 0:
+            return h.reshape(shape)
+        xs, row = np.unique(X, return_inverse=True)
+        yw, rho = self._samples(2.0 * float(np.max(np.abs(Y))))
+        if yw.size < 2:
+            return h.reshape(shape)
+        nodes = self._nodes(xs, yw, rho)
+        nk = yw.size
+        # one sorted array of every row's nodes, each row lifted above the last
+        lift = 10.0 + 2.0 * float(np.max(np.abs(nodes)))
+        j = np.searchsorted((nodes + lift * np.arange(xs.size)[:, None]).ravel(),
+                            Y + lift * row) - 1 - row * nk
+        ok = (j >= 0) & (j <= nk - 2)
+        jl = np.clip(j, 0, nk - 2)
+        ya, yb = nodes[row, jl], nodes[row, jl + 1]
+        Xc = np.ascontiguousarray(X)
+        ha = ev.points(Xc, np.ascontiguousarray(ya))
+        hb = ev.points(Xc, np.ascontiguousarray(yb))
+        ok &= (ha < 0.5) & (hb < 0.5) & (h < 0.5)
+        rail = Spline(ev.rail._breaks, ev.rail._coefs)
+        tr = _rail_distances(np.ascontiguousarray(ev.sign * np.concatenate((Y, ya, yb))),
+                             ev.patch_frame, rail)
+        n = Y.size
+        tr0, tra, trb = tr[:n], tr[n:2 * n], tr[2 * n:]
+        lam = (Y - ya) / np.where(yb > ya, yb - ya, 1.0)
+        sampled = tr0 - ((1.0 - lam) * (tra - ha) + lam * (trb - hb))
+        return np.where(ok & np.isfinite(sampled), sampled, h).reshape(shape)
+
+
+def sampled_wheel_geometry(geometry, ds: float):
+    """``geometry`` (a :class:`~railcontact.geometry.contact.ContactGeometry`) with
+    its wheel-rail gap taken as CONTACT's planar contact takes it
+    (:class:`SampledWheelGap`, wheel samples every ``ds`` [m]); unchanged where its
+    gap is not a wheel-rail :class:`GapEvaluator` (surfaces, bodies)."""
+    import dataclasses
+    if not isinstance(geometry.gap_function, GapEvaluator):
+        return geometry
+    return dataclasses.replace(geometry, gap_function=SampledWheelGap(
+        geometry.gap_function, geometry.y_wheel, ds))

@@ -28,6 +28,7 @@ from ..core.errors import InputError
 from ..core.hertz_theory import hertz_ellipse
 from ..core.materials import STEEL, Material
 from ..core.status import SolverStatus
+from ..geometry.gap import sampled_wheel_geometry
 from .base import NormalSolution, bilinear, make_grid, register, resized_elements, same_grid
 from .influence import bounding_box, normal_operator, normal_operator_block
 from .polonsky_keer import polonsky_keer
@@ -69,10 +70,24 @@ class ExactNormalModel:
                        ones.  The influence matrix is then not symmetric: the
                        elastic solution with the final moduli is the start of an
                        active-set solve with the viscoelastic operator.
+    wheel_sampling : {"exact", "contact"}
+                       the wheel surface of a wheel-rail patch: exact (default), or
+                       as CONTACT's planar contact takes it, linear across the patch
+                       between wheel-profile samples one lateral element size
+                       apart along the profile (needs ``element_size``;
+                       :class:`railcontact.geometry.gap.SampledWheelGap`: about 1 um
+                       deeper interpenetration between the samples on a worn
+                       flange root, up to some per cent of a gauge-corner patch's
+                       force; docs/contact_users.md, "Known differences").
     """
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 3000, margin: float = 0.25,
-                 pressure_limit: float | None = None, viscoelastic=None):
+                 pressure_limit: float | None = None, viscoelastic=None,
+                 wheel_sampling: str = "exact"):
+        if wheel_sampling not in ("exact", "contact"):
+            raise InputError(f"exact wheel_sampling = {wheel_sampling!r}: expected 'exact' or "
+                             "'contact'")
+        self.wheel_sampling = wheel_sampling
         if not (0 < tol < 1e-2):
             raise InputError(f"exact tol {tol!r}: expected a value in (0, 0.01)")
         self.tol, self.maxiter, self.margin = tol, int(maxiter), margin
@@ -304,6 +319,8 @@ class ExactNormalModel:
         truncated contact remains only where that does not suffice (or a kept grid,
         or ``extra_gap`` on it, fixes the area)."""
         t0 = time.perf_counter()
+        if self.wheel_sampling == "contact" and element_size is not None:
+            geometry = sampled_wheel_geometry(geometry, float(element_size[1]))
         box, sol = None, None
         visc = None
         if self.viscoelastic is not None:

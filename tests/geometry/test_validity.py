@@ -78,8 +78,8 @@ def test_a_run_over_nadals_limit_is_flagged():
     from types import SimpleNamespace
 
     from railcontact.dynamics.simulation import _validity
-    sysm = SimpleNamespace(tables=[SimpleNamespace(flange_angle=math.radians(70.0))],
-                           friction=0.36)
+    # (the system's flange angle: its tables' smallest, or the online contact's)
+    sysm = SimpleNamespace(flange_angle=math.radians(70.0), friction=0.36)
     t = np.linspace(0.0, 1.0, 11)
     YQ = np.zeros((11, 2, 2))
     YQ[4, 1, 1] = -1.5                                    # wheelset 2, right wheel
@@ -88,5 +88,5 @@ def test_a_run_over_nadals_limit_is_flagged():
     assert "wheelset 2, right wheel" in w and "1.50" in w and "t = 0.400 s" in w
     assert _validity(sysm, t, YQ, ~loaded) == []
     assert _validity(sysm, t, 0.7 * YQ, loaded) == []
-    sysm.tables[0].flange_angle = math.nan                 # a conical table: no flange
+    sysm.flange_angle = math.nan                           # a conical table: no flange
     assert _validity(sysm, t, YQ, loaded) == []

@@ -319,3 +319,36 @@ def test_potential_area_grows_to_hold_the_contact(caplog):
     assert not (c[0].any() or c[-1].any() or c[:, 0].any() or c[:, -1].any())
     assert ns.pmax == pytest.approx(hz.p0, rel=0.01)
     assert ns.penetration == pytest.approx(hz.penetration, rel=0.01)
+
+
+def test_wheel_sampling_option_is_checked():
+    with pytest.raises(rc.InputError, match="wheel_sampling"):
+        get_normal_model("exact", wheel_sampling="spline")
+
+
+def test_contact_wheel_sampling_reproduces_a_gauge_corner_patch(testbank):
+    """iestim_site_b case 18 (measured site_b rail, high-mileage worn wheel, the
+    wheelset height given): the gauge-corner patch (contact angle 0.58 rad) with
+    the exact wheel surface carries F_n -0.86 % of CONTACT's 11080 N on the same
+    120 elements; with CONTACT's wheel sampling (wheel_sampling = "contact": the
+    wheel linear between profile samples DS = 0.4 mm apart) within 0.1 %, the 120
+    elements, p_max within 0.1 % of CONTACT's 990 MPa (its APPROACH 2.802e-2 mm
+    is the patch's: both runs solve at railcontact's, 2.803e-2 mm)."""
+    from railcontact.cases.case import case_from_dict
+    from railcontact.contact_inp import load_inp
+    m = load_inp(testbank / "examples_trans" / "iestim_site_b.inp", cases=[18])[0]
+    m.raw["solver"]["normal_options"] = {"wheel_sampling": "exact"}
+    res = rc.solve(case_from_dict(m.raw))
+    g = max(res.patches, key=lambda p: abs(p.geometry.contact_angle)).geometry
+    assert g.contact_angle == pytest.approx(-0.5755, abs=2e-4)
+    assert g.approach == pytest.approx(2.802e-5, rel=1e-3)
+    size = tuple(m.raw["solver"]["element_size"])
+    out = {}
+    for mode in ("exact", "contact"):
+        ns = get_normal_model("exact", wheel_sampling=mode).solve(
+            g, case_from_dict(m.raw).material, penetration=g.approach, element_size=size)
+        out[mode] = (ns.normal_force, int(np.count_nonzero(ns.contact)), ns.pmax)
+    assert out["exact"][0] == pytest.approx(11080.0 * (1 - 0.0086), rel=1e-3)
+    assert out["contact"][0] == pytest.approx(11080.0, rel=1e-3)
+    assert out["contact"][1] == 120 and out["exact"][1] == 120
+    assert out["contact"][2] == pytest.approx(990e6, rel=1e-3)
