@@ -1359,6 +1359,8 @@ def main():
     frictional_power.main()
     import seed001_tables          # seed 001's Tables 1-2: benchmarks/seed001_tables.md
     seed001_tables.main()
+    import seed003_plastic         # issue 31: benchmarks/seed003_plastic.md
+    seed003_plastic.main()
 
 
 if __name__ == "__main__":

@@ -197,6 +197,9 @@ class ElasticPlasticResult:
     passes : dict of lists
         Per pass: ``plastic_increment`` (largest increment of alpha over the pass),
         ``mean_increment`` (its mean over the cells that yielded in the first pass),
+        ``net_increment`` (the mean there of the equivalent of the pass's net change
+        of eps_p: equal to ``mean_increment`` for ratchetting, much smaller for
+        alternating plasticity, closed cycles),
         ``max_alpha`` [-], ``max_residual_von_mises`` [Pa].
     hardening : Hardening
     status : SolverStatus
@@ -323,8 +326,8 @@ class ElasticPlasticContact:
         self.ok = True
         self.history = {k: [] for k in ("force", "x_shift", "pass", "area", "pmax",
                                         "penetration", "iterations", "plastic_increment")}
-        self.passes = {k: [] for k in ("plastic_increment", "mean_increment", "max_alpha",
-                                       "max_residual_von_mises")}
+        self.passes = {k: [] for k in ("plastic_increment", "mean_increment", "net_increment",
+                                       "max_alpha", "max_residual_von_mises")}
         self._pass = 0
         self._cpu = 0.0
 
@@ -398,15 +401,15 @@ class ElasticPlasticContact:
     def run_passes(self, force: float, passes: int, shifts=(0.0,), steps: int = 4):
         """``passes`` passes of the load: ramped to ``force`` [N] at shifts[0], moved
         through the shifts [m] along x, unloaded; per pass the largest increment of
-        the equivalent plastic strain (shakedown: it goes to zero) is recorded in
-        :attr:`passes`."""
+        the equivalent plastic strain (shakedown: it goes to zero; ratchetting: it
+        stays, and so does the net strain of a pass) is recorded in :attr:`passes`."""
         if isinstance(passes, bool) or not isinstance(passes, (int, np.integer)) or passes < 1:
             raise InputError(f"elastic-plastic passes = {passes!r}: expected an integer >= 1")
         shifts = np.atleast_1d(np.asarray(shifts, float))
         first = None
         for _ in range(int(passes)):
             self._pass += 1
-            a0 = self.alpha.copy()
+            a0, e0 = self.alpha.copy(), self.eps_p.copy()
             self.ramp(force, steps, float(shifts[0]))
             for s in shifts[1:]:
                 self.load(force, float(s))
@@ -416,6 +419,9 @@ class ElasticPlasticContact:
                 first = inc > 0
             self.passes["plastic_increment"].append(float(inc.max()))
             self.passes["mean_increment"].append(float(inc[first].mean()) if first.any() else 0.0)
+            de = self.eps_p - e0
+            net = np.sqrt(2.0 / 3.0 * np.tensordot(_W, de * de, axes=1))
+            self.passes["net_increment"].append(float(net[first].mean()) if first.any() else 0.0)
             self.passes["max_alpha"].append(float(self.alpha.max()))
             self.passes["max_residual_von_mises"].append(float(von_mises(self.residual).max()))
 
