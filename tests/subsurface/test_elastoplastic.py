@@ -145,3 +145,25 @@ def test_solve_from_a_case_and_bad_keys():
         hardening=Hardening(1e11), grid=(12, 12), layers=4, load_steps=1))
     assert r.equivalent_plastic_strain.max() == 0.0
     assert r.normal.pmax == pytest.approx(HZ.p0, rel=0.05)
+
+
+def test_case_file_end_to_end():
+    # a bodies case with [plasticity] model = "elastic-plastic": the elastic patch
+    # stays in patch.normal, the elastic-plastic one in patch.elastic_plastic and
+    # the JSON patch; a yield stress below Hertz's first yield (0.62 p0) yields
+    from railcontact.cases.solve import solve
+    raw = {"material": {"young_modulus": 2e11, "poisson_ratio": 0.3},
+           "bodies": {"radii": {"wheel_rolling": 0.1, "wheel_lateral": 0.1,
+                                "rail_rolling": math.inf, "rail_lateral": math.inf},
+                      "normal_force": 1e4},
+           "plasticity": {"model": "elastic-plastic", "yield_stress": 0.45 * HZ.p0,
+                          "grid": [12, 12], "layers": 5, "load_steps": 1},
+           "solver": {"normal": "exact", "tangential": "none"}}
+    patch = solve(case_from_dict(raw)).patches[0]
+    ep = patch.elastic_plastic
+    assert patch.normal.pmax == pytest.approx(HZ.p0, rel=0.02)
+    assert ep.status.converged and ep.equivalent_plastic_strain.max() > 0
+    assert ep.normal.pmax < 0.97 * patch.normal.pmax
+    assert ep.normal.normal_force == pytest.approx(1e4, rel=1e-6)
+    d = patch.to_dict()["elastic_plastic"]
+    assert d["pmax"] == ep.normal.pmax and d["plastic_zone_depth"] > 0
