@@ -105,11 +105,13 @@ class Hardening:
 #: Mn13 (Hadfield's austenitic manganese steel, X120Mn12) of crossing noses.  The
 #: yield stress 360 MPa is seed 003's (Wiest et al., Wear 265, 2008, Table 1; the
 #: paper states von Mises plasticity with "extremely good hardening" and gives no
-#: curve).  The hardening is an approximation of the tensile flow curve reported for
-#: Hadfield steel by Hutchinson & Ridley (Scripta Mater. 55, 2006, 299-302: a work-
-#: hardening rate of about 2 to 3 GPa to true strains beyond 0.3, the flow stress
-#: reaching about 1.2 GPa near 0.35): linear, H = 2.4 GPa, so sigma_y(0.35) = 1.20
-#: GPa.  Not a fit to a test of the seed's cast; give a measured curve where known.
+#: curve).  The hardening is linear, H = 2.4 GPa (sigma_y(0.35) = 1.20 GPa): an
+#: estimate of the high, nearly constant work-hardening rate of Hadfield steel in
+#: tension, which Hutchinson & Ridley (Scripta Mater. 55, 2006, 299-302) trace to
+#: twinning beyond true strains of about 0.15.  The value is an engineering
+#: estimate of typical Hadfield flow curves (yield 350-400 MPa, about 1.2 GPa near
+#: a true strain of 0.35), not read from that paper's figures nor fitted to a test
+#: of the seed's cast: give a measured curve (Hardening) where one is known.
 MN13 = Hardening(yield_stress=360e6, modulus=2.4e9)
 
 
