@@ -1363,6 +1363,8 @@ def main():
     dynamics_online.main([])
     import gauge_corner_sampling   # issue 34: CONTACT's wheel sampling (prints)
     gauge_corner_sampling.main()
+    import seed003_plastic         # issue 31: benchmarks/seed003_plastic.md
+    seed003_plastic.main()
 
 
 if __name__ == "__main__":

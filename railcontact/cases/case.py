@@ -18,6 +18,7 @@ from ..core.files import read_toml
 from ..core.materials import Material
 from ..normal import get_normal_model
 from ..normal.plasticity import HARDNESS_FACTOR, pressure_limit
+from ..subsurface.elastoplastic import ElasticPlasticOptions, Hardening
 from ..tangential import get_tangential_model
 
 _ALLOWED = {
@@ -43,7 +44,9 @@ _ALLOWED = {
                "tangential_options", "force_tolerance", "search_length",
                "contact_angle", "rigid_slip", "allow_large", "contact_surface"},
     "bodies": {"radii", "normal_force", "velocity"},
-    "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
+    "plasticity": {"model", "yield_stress", "pressure_factor", "pressure_limit",
+                   "hardening_modulus", "voce_saturation", "voce_rate", "grid", "layers",
+                   "extent", "depth", "load_steps", "passes"},
     "viscoelastic": VISCOELASTIC_KEYS,
 }
 
@@ -75,6 +78,8 @@ class Case(CaseKeys):
     #: coefficients) or None (CONTACT's VARFRC = 2)
     friction_along_track: tuple | None = None
     creepage: tuple | None = None
+    #: ``[plasticity] model = "elastic-plastic"``: the model's settings (None: not asked)
+    elastic_plastic: ElasticPlasticOptions | None = None
     base_dir: Path = field(default_factory=Path.cwd)
     #: the wheel-rail keys parsed (None for bodies cases and cases on rail surfaces)
     wheel_rail: WheelRailSetup | None = None
@@ -176,7 +181,10 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
     yield_stress = (None if keys.get("material.yield_stress") is None
                     else keys.number("material.yield_stress", None, 1e6, 1e11, "Pa"))
     normal_options = _options(sol, "normal_options")
-    if "plasticity" in raw:
+    elastic_plastic = None
+    if "plasticity" in raw and _plasticity_model(raw) == "elastic-plastic":
+        elastic_plastic = _elastic_plastic(keys, normal)
+    elif "plasticity" in raw:
         if "pressure_limit" in normal_options:
             raise CaseFileError("pressure limit given both in [plasticity] and in "
                                 "solver.normal_options; give it once")
@@ -192,7 +200,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         friction_variation=_friction_variation(keys),
         friction_along_track=_friction_variation(keys, "x"), normal=normal,
         tangential=tangential,
-        yield_stress=yield_stress,
+        yield_stress=yield_stress, elastic_plastic=elastic_plastic,
         normal_options=normal_options,
         tangential_options=tangential_options, grid=grid,
         element_size=element_size,
@@ -271,6 +279,75 @@ def _grid(sol: dict) -> tuple:
     if len(out) == 2:
         raise CaseFileError("solver: give either grid or element_size, not both")
     return out.get("grid"), out.get("element_size")
+
+
+#: the keys of ``[plasticity]`` that only the elastic-plastic model reads
+_EP_KEYS = ("hardening_modulus", "voce_saturation", "voce_rate", "grid", "layers", "extent",
+            "depth", "load_steps", "passes")
+
+
+def _plasticity_model(raw: dict) -> str:
+    """``plasticity.model``: "pressure-cap" (default) or "elastic-plastic"."""
+    model = raw["plasticity"].get("model", "pressure-cap")
+    if model not in ("pressure-cap", "elastic-plastic"):
+        raise CaseFileError(f"plasticity.model = {shown(model)}: expected 'pressure-cap' "
+                            "(the pressure bounded by pressure_factor x yield_stress) or "
+                            "'elastic-plastic' (plastic strains with isotropic hardening)")
+    if model == "pressure-cap":
+        extra = sorted(k for k in _EP_KEYS if k in raw["plasticity"])
+        if extra:
+            raise CaseFileError(f"[plasticity]: {', '.join(extra)} belong to model = "
+                                "'elastic-plastic'; the pressure cap reads yield_stress, "
+                                "pressure_factor or pressure_limit")
+    return model
+
+
+def _elastic_plastic(keys: CaseKeys, normal: str) -> ElasticPlasticOptions:
+    """``[plasticity] model = "elastic-plastic"``: the settings of
+    :mod:`railcontact.subsurface.elastoplastic` (its surface problem is the exact
+    normal model's).  ``yield_stress`` [Pa] is required; the hardening, linear
+    (``hardening_modulus`` [Pa]) plus Voce (``voce_saturation`` [Pa],
+    ``voce_rate``), defaults to none (perfectly plastic); the grid and load keys to
+    :class:`~railcontact.subsurface.elastoplastic.ElasticPlasticOptions`'s
+    defaults (docs/case_files.md)."""
+    pl = keys.raw["plasticity"]
+    if normal != "exact":
+        raise CaseFileError(f"[plasticity] model = 'elastic-plastic' solves the surface with "
+                            f"the exact normal model; solver.normal is {shown(normal)} "
+                            "(expected 'exact')")
+    for k in ("pressure_factor", "pressure_limit"):
+        if k in pl:
+            raise CaseFileError(f"[plasticity]: {k} belongs to model = 'pressure-cap'")
+    if "yield_stress" not in pl:
+        raise CaseFileError("[plasticity]: model = 'elastic-plastic' needs yield_stress (Pa)")
+
+    def count(name, default, hi):
+        v = pl.get(name, default)
+        if isinstance(v, bool) or not isinstance(v, int) or not 1 <= v <= hi:
+            raise CaseFileError(f"plasticity.{name} = {shown(v)}: expected an integer in "
+                                f"[1, {hi}]")
+        return v
+
+    grid = pl.get("grid", [32, 32])
+    if not (isinstance(grid, (list, tuple)) and len(grid) == 2
+            and all(isinstance(v, int) and not isinstance(v, bool) and 4 <= v <= 256
+                    for v in grid)):
+        raise CaseFileError(f"plasticity.grid = {shown(grid)}: expected [mx, my], cell counts "
+                            "in [4, 256]")
+    try:
+        hardening = Hardening(
+            yield_stress=keys.number("plasticity.yield_stress", None, 1e6, 1e11, "Pa"),
+            modulus=keys.number("plasticity.hardening_modulus", 0.0, 0.0, 1e12, "Pa"),
+            saturation=keys.number("plasticity.voce_saturation", 0.0, 0.0, 1e11, "Pa"),
+            rate=keys.number("plasticity.voce_rate", 0.0, 0.0, 1e5))
+        return ElasticPlasticOptions(
+            hardening=hardening, grid=(int(grid[0]), int(grid[1])),
+            layers=count("layers", 16, 64),
+            extent=keys.number("plasticity.extent", 2.0, 1.01, 10.0),
+            depth=keys.number("plasticity.depth", 3.0, 0.1, 20.0),
+            load_steps=count("load_steps", 4, 100), passes=count("passes", 1, 1000))
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
 
 
 def _pressure_limit(keys: CaseKeys, normal: str) -> float:

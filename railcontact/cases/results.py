@@ -42,6 +42,9 @@ class PatchResult:
     creepage: tuple
     validity: SolverStatus = field(default_factory=SolverStatus)
     halfspace_ratio: float = math.nan
+    #: the elastic-plastic solution of ``[plasticity] model = "elastic-plastic"``
+    #: (:class:`~railcontact.subsurface.elastoplastic.ElasticPlasticResult`), else None
+    elastic_plastic: object | None = None
 
     @property
     def status(self) -> SolverStatus:
@@ -51,7 +54,9 @@ class PatchResult:
             (f"{label}, {self.normal.model} normal", self.normal.status),
             (f"{label}, {self.tangential.model} tangential" if self.tangential else "",
              self.tangential.status if self.tangential is not None else None),
-            ("", self.validity)])
+            ("", self.validity),
+            (f"{label}, elastic-plastic" if self.elastic_plastic is not None else "",
+             self.elastic_plastic.status if self.elastic_plastic is not None else None)])
 
     def to_dict(self) -> dict:
         """The JSON patch contract of ``docs/architecture.md`` (SI units) plus extra keys."""
@@ -73,6 +78,14 @@ class PatchResult:
         if math.isfinite(getattr(n, "pressure_limit", math.inf)):
             d["pressure_limit"] = n.pressure_limit
             d["plastic_area"] = n.plastic_area
+        ep = self.elastic_plastic
+        if ep is not None:
+            d["elastic_plastic"] = {
+                "area": ep.normal.area, "pmax": ep.normal.pmax,
+                "penetration": ep.normal.penetration,
+                "max_equivalent_plastic_strain": float(ep.equivalent_plastic_strain.max()),
+                "plastic_zone_depth": ep.plastic_zone_depth,
+                "max_residual_displacement": float(ep.residual_displacement.max())}
         return d
 
 

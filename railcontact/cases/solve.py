@@ -80,10 +80,29 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
 DEFAULT_PRESSURE_LIMIT = 3.0e9
 
 
+def _elastic_plastic(res: SolveResult, case: Case) -> SolveResult:
+    """``[plasticity] model = "elastic-plastic"``: every loaded patch solved again
+    elastic-plastically under its normal force
+    (:func:`railcontact.subsurface.elastoplastic.solve_elastic_plastic`), the result
+    in ``patch.elastic_plastic``; the elastic solution stays in ``patch.normal``."""
+    from ..subsurface.elastoplastic import solve_elastic_plastic
+    for p in res.patches:
+        if p.normal is not None and p.normal.normal_force > 0:
+            t0 = time.perf_counter()
+            p.elastic_plastic = solve_elastic_plastic(p.geometry, case.material,
+                                                      p.normal.normal_force,
+                                                      case.elastic_plastic)
+            res.cpu_time += time.perf_counter() - t0
+    return res
+
+
 def _check_pressure(res: SolveResult, case: Case) -> SolveResult:
     """A warning on each patch whose p_max exceeds the material's pressure limit:
     ``material.yield_stress`` x 3 (Tabor's hardness) where given, else
-    :data:`DEFAULT_PRESSURE_LIMIT`; none where ``[plasticity]`` bounds the pressure."""
+    :data:`DEFAULT_PRESSURE_LIMIT`; none where ``[plasticity]`` bounds the pressure
+    (the pressure cap) or the patches are solved elastic-plastically."""
+    if case.elastic_plastic is not None:
+        return _elastic_plastic(res, case)
     if "pressure_limit" in case.normal_options:
         return res
     ys = case.yield_stress
