@@ -312,6 +312,52 @@ def conv_time(m=40, n=40, repeat=7, number=400):
     return best_of(lambda: _convolve(p, op.khat, op.shape, buf), repeat, number), op.shape
 
 
+def bench_fft_unit(sizes=(20, 40, 60)):
+    """The FFT convolution, the unit of every exact solve, in the forms available:
+    the solvers' own (rocket-fft's numpy.fft in Numba, real transforms pruned to
+    the rows that carry data, :func:`railcontact.normal.polonsky_keer._convolve`),
+    the plain 2-D real transform of the padded grid in Numba, and scipy.fft's
+    from Python; the padded size (scipy's ``next_fast_len``, real) against the
+    exact 2 m - 1 and 2 m + 2.  The kernel's spectrum is computed once per grid
+    and reused by every product of every solve on it
+    (:class:`railcontact.normal.influence.Convolution`, cached per grid)."""
+    from numba import njit
+    from scipy import fft as sfft
+    from railcontact.normal.influence import normal_operator
+    from railcontact.normal.polonsky_keer import _convolve
+
+    @njit(cache=True, nogil=True)
+    def plain(p, khat, shape, buf):
+        mx, my = p.shape
+        buf[:mx, :my] = p
+        f = np.fft.rfft2(buf)
+        f *= khat
+        return np.fft.irfft2(f, s=shape)[:mx, :my]
+
+    out("\n## The FFT convolution (the unit of the exact solvers' timings)\n")
+    out("| grid | padded | solvers' (pruned, Numba) | rfft2 (Numba) | scipy.fft (Python) "
+        "| 2m-1 | 2m+2 |")
+    out("|---|---|---|---|---|---|---|")
+    for m in sizes:
+        op = normal_operator(m, m, 1e-4, 1e-4, 2.3e11)
+        p = np.random.default_rng(1).random((m, m))
+        buf = np.zeros(op.shape)
+        _convolve(p, op.khat, op.shape, buf)
+        plain(p, op.khat, op.shape, buf)
+        t_own = best_of(lambda: _convolve(p, op.khat, op.shape, buf), 5, 400)
+        t_plain = best_of(lambda: plain(p, op.khat, op.shape, buf), 5, 400)
+        t_py = best_of(lambda: op(p), 5, 400)
+        other = []
+        for n in (2 * m - 1, 2 * m + 2):
+            b2 = np.zeros((n, n))
+            kh = np.fft.rfft2(np.ones((n, n)))
+            _convolve(p, kh, (n, n), b2)
+            other.append(best_of(lambda: _convolve(p, kh, (n, n), b2), 5, 200))
+        out(f"| {m} x {m} | {op.shape[0]} x {op.shape[1]} | {t_own * 1e6:.1f} µs | "
+            f"{t_plain * 1e6:.1f} µs | {t_py * 1e6:.1f} µs | {other[0] * 1e6:.1f} µs | "
+            f"{other[1] * 1e6:.1f} µs |")
+
+
 #: the parts of a wheel-rail case whose time :func:`time_split` reports: (label,
 #: module, attribute); nested parts are reported inside their parent
 SPLIT = [("contact search", "railcontact.cases.balance", "contact_search"),
@@ -1335,6 +1381,7 @@ def main():
     bench_contact_sweep(t)
     bench_exact_module3()
     bench_exact_wheel_rail()
+    bench_fft_unit()
     bench_exact_sweep()
     bench_tangential_accuracy()
     bench_sweep_parallel()
