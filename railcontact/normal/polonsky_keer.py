@@ -95,8 +95,9 @@ def _convolve(p, khat, shape, buf):
     complex ones along the first axis on the whole padded length, and the inverse
     real transforms on the mx output rows kept.  The same product as
     ``irfft2(rfft2(buf) * khat)[:mx, :my]`` to rounding, in 0.89 of its time on
-    the 40 x 40 grid's 80 x 80 padding (``benchmarks/run_all.py``, section
-    ``fft_unit``)."""
+    the 40 x 40 grid's 80 x 80 padding (best of 5 x 2000 products on a quiet
+    machine; under load the two are within its noise: ``benchmarks/run_all.py``,
+    ``bench_fft_unit``)."""
     mx, my = p.shape
     n1, n2 = shape
     buf[:mx, :my] = p
