@@ -8,16 +8,18 @@ import logging
 import math
 from dataclasses import dataclass
 
+import numpy as np
+
 from .bodies import build_wheelset_track, contact_search
 from .compiled_case import case_contact, compiled_unsupported, solve_case_forces
-from .equilibrium import balance as solve_balance
+from .equilibrium import VerticalBalance, balance as solve_balance
 from ..core.errors import ContactNotFoundError, RailContactError
 from ..geometry.locus import depth_at
 from ..geometry.search import WheelsetContact
 from ..geometry.track import WheelsetPose
 from .patches import (add_tangential, coupled_models, lateral_ratio, nearest_patch,
                       patch_creepage, patch_friction, solve_case_patches, wheel_rail_validity)
-from .results import vertical_force_on_rail
+from .results import PatchResult, patch_vertical_force, vertical_force_on_rail
 from ..tangential import get_tangential_model
 
 from ..core.status import SolverStatus
@@ -202,6 +204,13 @@ def _standin_lateral(standin, neighbour) -> dict:
 
 
 
+#: whether a case with the exact models whose balanced sides have one patch each
+#: is balanced force-controlled (:func:`_force_controlled`); False gives the
+#: general balance on the interpenetrations (for comparisons)
+FORCE_CONTROL = False
+
+
+
 #: whether the balance of a case the compiled pass runs starts from that pass's
 #: result (:func:`compiled_start`); False gives the geometry layer's estimate or a
 #: neighbour's interpenetrations, as before the pass (for comparisons)
@@ -253,6 +262,183 @@ class NeighbourStart:
 
 
 
+#: searches of the force-controlled balance at most (:func:`_force_controlled`)
+FORCE_CONTROL_SEARCHES = 5
+
+#: normal-tangential solves on one search's patch at most, until F_y/F_n settles
+FORCE_CONTROL_ROUNDS = 3
+
+
+
+@dataclass
+class _Side:
+    """One side's state in :func:`_force_controlled`: its last patch result (the
+    tangential solution once solved), F_y/F_n and whether that is the exact
+    model's, FASTSIM's patch result, d(ln F_n)/d(ln delta), and the
+    (interpenetration, patch approach) pairs of its searches."""
+
+    result: PatchResult | None = None
+    ratio: float = 0.0
+    exact: bool = False
+    standin: PatchResult | None = None
+    slope: float | None = None
+    path: list | None = None
+
+
+
+def _force_controlled(evaluate, rtol):
+    """The vertical balance of a case whose balanced sides each have one loaded
+    patch, with the exact models (the normal one force-controlled, the tangential
+    one lazy).
+
+    Each side's normal problem is solved for the normal force that meets its load,
+    F_n = Q / (cos d - (F_y/F_n) sin d), the approach found inside the normal
+    solver (CONTACT's NORM = 1), on the patch of the last contact search; F_y/F_n
+    is first a neighbouring case's exact one (or 0), then FASTSIM's on the solution
+    (corrected by the neighbour's exact solutions as the general balance's
+    stand-in), then the exact model's.  Where the approach under the load differs
+    from the search's patch's by more than the tolerance allows (the residual of
+    the load at the search's approach, by the contact stiffness
+    d(ln F_n)/d(ln delta) = K delta / F_n, over ``rtol``), the contact is searched
+    again at the interpenetrations of that approach (the secant of the side's
+    searches); at a search whose approaches meet the load, the exact tangential
+    problem is solved once per side (warm-started from FASTSIM's solution or the
+    neighbour's), and where its F_y/F_n moves the balance beyond ``rtol``, the
+    normal problem again and, its approach still within the tolerance, the
+    tangential one.  So the result's patches are the last search's, and the load
+    is met at their approaches to ``rtol``, as the general balance meets it.
+
+    Returns (results, contact, VerticalBalance), or None where a balanced side has
+    not one loaded patch, the searches do not settle in ``FORCE_CONTROL_SEARCHES``
+    or a solver fails: then the general balance runs."""
+    case, nmodel, kw = evaluate.case, evaluate.nmodel, evaluate.kw
+    sides, loads = evaluate.sides, evaluate.loads
+    contact, d = evaluate.first, evaluate.start()
+    previous, neighbour = evaluate.previous, evaluate.neighbour
+    state = {s: _Side(path=[]) for s in sides}
+    for search in range(1, FORCE_CONTROL_SEARCHES + 1):
+        patches = {s: [g for g in contact.patches if g.side == s and g.approach > 0]
+                   for s in sides}
+        if any(len(v) != 1 for v in patches.values()):
+            return None
+        met = True
+        for s in sides:
+            st, geom = state[s], patches[s][0]
+            st.path.append((d[s], geom.approach))
+            if st.result is None:
+                near = nearest_patch(previous, geom)
+                st.ratio, st.exact = lateral_ratio(near), False
+                start = near
+            else:
+                start = st.result
+            ok = _side_on_patch(evaluate, st, geom, loads[s], rtol, start, neighbour)
+            if ok is None:
+                return None
+            met &= ok
+        if met:
+            break
+        if search == FORCE_CONTROL_SEARCHES:
+            log.debug("force-controlled balance: the searches do not settle in %d; the "
+                      "general balance runs", search)
+            return None
+        d = {s: _next_interpenetration(state[s].path, state[s].result.normal.penetration)
+             for s in sides}
+        contact = contact_search(case, interpenetration=d, bodies=evaluate.bodies,
+                                 roll_start=contact.pose.roll)
+    results = [state[s].result for s in sides]
+    # the other side's patches (a prescribed roll: one side balanced) as the
+    # general balance leaves them: solved at their approach
+    others = [g for g in contact.patches if g.side not in sides and g.approach > 0]
+    if others:
+        results += solve_case_patches(case, WheelsetContact(contact.pose, others), nmodel,
+                                      evaluate.tmodel, kw, previous=previous)
+    residual = {s: vertical_force_on_rail(results, s) / loads[s] - 1.0 for s in sides}
+    if not all(abs(v) <= rtol for v in residual.values()):
+        return None
+    jac = np.diag([state[s].slope for s in sides]) if len(sides) > 1 else None
+    balance = VerticalBalance(True, False, search, residual, jacobian=jac)
+    balance.standin = [state[s].standin for s in sides]
+    return results, contact, balance
+
+
+def _side_on_patch(evaluate, st, geom, load, rtol, start, neighbour):
+    """One side of :func:`_force_controlled` on the patch ``geom`` of a search: the
+    normal problem under the load with the side's F_y/F_n (warm-started from
+    ``start``, on its grid where the patch keeps it), FASTSIM's F_y/F_n on it where
+    the exact one is not known, and where the approach and F_y/F_n hold to
+    ``rtol``, the exact tangential problem, up to ``FORCE_CONTROL_ROUNDS`` times.
+    Updates ``st``; returns whether the side's result meets the load at this
+    search's approach, or None where a solver fails or the patch cannot carry the
+    load upright."""
+    case, nmodel, tmodel, kw = evaluate.case, evaluate.nmodel, evaluate.tmodel, evaluate.kw
+    creep = patch_creepage(case, geom)
+    mu = patch_friction(case, geom)
+    same = start is not None and start.geometry is geom
+    nkw = dict(kw)
+    if start is not None:
+        nkw["warm_start"] = start.normal
+        if same:
+            nkw["reuse_grid"] = start.normal
+    for _ in range(FORCE_CONTROL_ROUNDS):
+        k = _load_factor(geom, st.ratio)
+        if not k > 0:
+            return None
+        ns = nmodel.solve(geom, case.material, normal_force=load / k, **nkw)
+        if not ns.status.converged or not ns.penetration > 0:
+            return None
+        nkw = dict(kw, warm_start=ns, reuse_grid=ns)
+        bare = PatchResult(geom, ns, None, creep)
+        if st.slope is None:        # d(ln F)/d(ln delta) changes slowly: the first's
+            st.slope = _log_stiffness(nmodel, case, bare)
+        if not st.exact:
+            st.standin = add_tangential(case, [bare], get_tangential_model("fastsim"))[0]
+            new = _standin_lateral([st.standin], neighbour)[id(geom)] / ns.normal_force
+            moved = abs(_load_factor(geom, new) / k - 1.0) > 0.5 * rtol
+            st.ratio = new
+            if moved:
+                continue                    # the normal problem again with it
+        tstart = st.result if st.result is not None and st.result.tangential is not None \
+            else start if start is not None and start.tangential is not None else st.standin
+        ts = tmodel.solve(ns, geom, case.material, creep, mu, geom.velocity,
+                          warm_start=tstart.tangential)
+        st.result = PatchResult(geom, ns, ts, creep)
+        st.ratio, st.exact = lateral_ratio(st.result), True
+        if abs(patch_vertical_force(st.result) / load - 1.0) <= rtol:
+            break
+    else:
+        return False if st.result is not None else None
+    # the load met on this patch: at the search's approach too (by the stiffness)?
+    return abs(st.slope * (geom.approach / st.result.normal.penetration - 1.0)) <= rtol
+
+
+def _next_interpenetration(path, approach) -> float:
+    """The interpenetration [m] of a side whose patch has the approach [m] under its
+    load: from the (interpenetration, patch approach) pairs of the side's searches,
+    the secant through the last two, or in proportion to the last one."""
+    d1, a1 = path[-1]
+    if len(path) > 1:
+        d0, a0 = path[-2]
+        if a1 != a0 and (d1 - d0) / (a1 - a0) > 0:
+            return d1 + (approach - a1) * (d1 - d0) / (a1 - a0)
+    return d1 * approach / a1
+
+
+def _log_stiffness(nmodel, case, res):
+    """d(ln F_n)/d(ln delta) of a patch result from its contact stiffness
+    (:meth:`~railcontact.normal.exact.ExactNormalModel.contact_stiffness`): the
+    Jacobian a neighbouring case's general balance starts from (1.5 where it
+    cannot be had)."""
+    k = nmodel.contact_stiffness(res.normal, case.material, res.geometry)
+    ns = res.normal
+    v = k * ns.penetration / ns.normal_force if ns.normal_force > 0 else math.nan
+    return v if math.isfinite(v) and v > 0 else 1.5
+
+
+def _load_factor(geom, ratio) -> float:
+    """F_z/F_n of a patch with lateral force ratio F_y/F_n: cos d - ratio sin d."""
+    return math.cos(geom.contact_angle) - ratio * math.sin(geom.contact_angle)
+
+
 def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
                       start=None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
@@ -268,13 +454,23 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     """
     compiled = compiled_start(case, nmodel, tmodel, start)
     evaluate = WheelRailContact(case, nmodel, tmodel, kw, start, compiled)
-    jac = start.balance.jacobian if start is not None and start.balance is not None else None
-    if compiled is not None:
-        jac = compiled.jacobian
-    ev, balance = solve_balance(evaluate, evaluate.start(), evaluate.loads, rtol, max_iter,
-                                jacobian=jac)
-    balance.standin = evaluate.standin
-    results = ev.results
+    fc = None
+    if FORCE_CONTROL and evaluate.lazy and "force-control" in nmodel.capabilities \
+            and "warm-start" in tmodel.capabilities \
+            and hasattr(nmodel, "contact_stiffness") \
+            and math.isinf(getattr(nmodel, "pressure_limit", math.inf)):
+        fc = _force_controlled(evaluate, rtol)
+    if fc is not None:
+        results, contact, balance = fc
+    else:
+        jac = start.balance.jacobian if start is not None and start.balance is not None \
+            else None
+        if compiled is not None:
+            jac = compiled.jacobian
+        ev, balance = solve_balance(evaluate, evaluate.start(), evaluate.loads, rtol,
+                                    max_iter, jacobian=jac)
+        balance.standin = evaluate.standin
+        results, contact = ev.results, ev.contact
     side = case.wheel_rail.side
     wheel_rail_validity(results, evaluate.bodies)      # both wheels: either may derail
     if side != "both":
@@ -284,7 +480,7 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
             _report_other_wheel(results[0], other)
     if not results:
         raise ContactNotFoundError("no loaded contact patch found")
-    return results, ev.contact, balance
+    return results, contact, balance
 
 
 def _report_other_wheel(first, other) -> None:

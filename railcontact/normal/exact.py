@@ -31,7 +31,7 @@ from ..core.status import SolverStatus
 from ..geometry.gap import sampled_wheel_geometry
 from .base import NormalSolution, bilinear, make_grid, register, resized_elements, same_grid
 from .influence import bounding_box, normal_operator, normal_operator_block
-from .polonsky_keer import polonsky_keer
+from .polonsky_keer import flat_punch_stiffness, polonsky_keer
 from .viscoelastic import (ViscoelasticOption, active_set_normal, final_material,
                            viscoelastic_normal_operator)
 from .potential_area import (AREA_SAMPLES, FORCE_BOX, GROWTH_STEPS, crossings, cut_regions,
@@ -303,6 +303,34 @@ class ExactNormalModel:
         mx, my, dx, dy, _ = grid_key
         op = viscoelastic_normal_operator(mx, my, dx, dy, visc)
         return active_set_normal(op, h0, dx * dy, force, p0)
+
+    def contact_stiffness(self, solution: NormalSolution, material: Material = STEEL,
+                          geometry=None) -> float:
+        """dF_n/d(delta) [N/m] of a converged solution: the stiffness of a rigid flat
+        punch on its contact area (:func:`~railcontact.normal.polonsky_keer.flat_punch_stiffness`),
+        on its own grid and influence coefficients (the sub-regions of a combined
+        patch, from ``geometry``, interacting as in the solve).  Hertz's patch:
+        3/2 F_n/delta.  0 where the solution carries no load; NaN where the
+        iteration does not converge."""
+        if not isinstance(solution, NormalSolution) or solution.model != "exact":
+            raise InputError(f"solution {type(solution).__name__}: expected the exact "
+                             "model's NormalSolution")
+        box = bounding_box(solution.contact)
+        if box is None:
+            return 0.0
+        x, y = solution.x, solution.y
+        dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+        mask = np.ascontiguousarray(solution.contact[box])
+        op = normal_operator_block(x.size, y.size, dx, dy, material.contact_modulus,
+                                   *mask.shape)
+        regions = cut_regions(subregions(geometry, y), box[1]) if geometry is not None \
+            else None
+        k, it, ok = flat_punch_stiffness(op, mask, dx * dy, regions, tol=1e-8,
+                                         maxiter=self.maxiter)
+        if not ok:
+            log.info("exact contact stiffness: no convergence in %d iterations", it)
+            return math.nan
+        return k
 
     def solve(self, geometry, material: Material = STEEL, normal_force: float | None = None,
               penetration: float | None = None, grid=None, element_size=None,

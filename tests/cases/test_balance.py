@@ -1,6 +1,9 @@
 """railcontact.cases.balance: the vertical balance of a wheel-rail case, and the
 contact at a prescribed position."""
 
+import numpy as np
+import pytest
+
 import railcontact as rc
 from railcontact.cases.patches import case_models
 from railcontact.cases.balance import WheelRailContact, solve_at_position, solve_wheel_rail
@@ -47,3 +50,56 @@ def test_solve_at_position_deeper_is_heavier():
         assert results and all(r.geometry.side == "right" for r in results)
         forces.append(sum(r.normal.normal_force for r in results))
     assert forces[1] > forces[0] > 0
+
+
+def _sweep_case(j):
+    """Case j of the benchmark's 1000-case sweep (benchmarks/run_all.py sweep_raws:
+    S1002/60E1 1:40, 70 kN, 40 x 40), built here as there."""
+    import math
+    k, iy = j % 250, j // 250
+    y = -4e-3 + 13e-3 * k / 249
+    return rc.case_from_dict({
+        "wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+        "wheelset": {"lateral_shift": y, "yaw": 2e-3 * iy, "vertical_force": 7e4,
+                     "velocity": 30.0},
+        "creepage": {"longitudinal": 1.5e-3 * math.sin(2 * math.pi * j / 97),
+                     "lateral": 1e-3 * math.cos(2 * math.pi * j / 61),
+                     "spin": 0.2 * math.sin(2 * math.pi * j / 43)},
+        "solver": {"grid": [40, 40]}})
+
+
+def test_force_controlled_balance_meets_the_load_as_the_general_one(monkeypatch):
+    """The force-controlled balance (one patch a side, exact models; off by default,
+    balance.FORCE_CONTROL) meets each load to 1e-4 with the exact F_y, its patches
+    are its last search's (whose approaches carry the load by the contact
+    stiffness), and it agrees with the general balance: F_n to 1e-4 (measured
+    <= 3.5e-5 on these tread cases), F_x and F_y within 0.6 % of mu Q (measured
+    <= 0.1 %; the general balance's own cold/warm spread below 6.2 mm is 0.57 %,
+    the 40 x 40 grid's extent following the path: benchmarks/results.md)."""
+    import railcontact.cases.balance as B
+    from railcontact.cases.results import vertical_force_on_rail
+    from railcontact.normal import get_normal_model
+    mu_q = 0.3 * 7e4
+    for j in (20, 150):
+        case = _sweep_case(j)
+        monkeypatch.setattr(B, "FORCE_CONTROL", False)
+        ref = rc.solve(case, "exact", "exact")
+        monkeypatch.setattr(B, "FORCE_CONTROL", True)
+        res = rc.solve(case, "exact", "exact")
+        assert res.converged and ref.converged
+        assert res.balance.passes <= B.FORCE_CONTROL_SEARCHES
+        for side in ("left", "right"):
+            assert vertical_force_on_rail(res.patches, side) == pytest.approx(7e4, rel=1e-4)
+        ids = {id(g) for g in res.contact.patches}
+        assert all(id(p.geometry) in ids for p in res.patches)
+        assert len(res.patches) == len(ref.patches) == 2
+        for a, b in zip(ref.patches, res.patches):
+            assert b.geometry.side == a.geometry.side
+            assert b.normal.normal_force == pytest.approx(a.normal.normal_force, rel=1e-4)
+            assert abs(b.tangential.fx - a.tangential.fx) <= 6e-3 * mu_q
+            assert abs(b.tangential.fy - a.tangential.fy) <= 6e-3 * mu_q
+            # the search's approach carries the load: within 1e-4 by the stiffness
+            slope = B._log_stiffness(get_normal_model("exact"), case, b)
+            assert abs(slope * (b.geometry.approach / b.normal.penetration - 1)) <= 1e-4
+        # its Jacobian for a neighbour: K delta / F_n, Hertz's 1.5 on the tread
+        assert np.all(np.abs(np.diag(res.balance.jacobian) - 1.5) < 0.1)

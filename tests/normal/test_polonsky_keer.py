@@ -82,3 +82,39 @@ def test_direct_displacements_of_a_few_elements_equal_the_convolution():
     expected = u + 0.7 * op(d.reshape(11, 9))
     _add_direct(u, 0.7, idx, dq, op.kernel, np.zeros(9, dtype=np.int64), np.ones((1, 1)))
     assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
+
+
+def test_flat_punch_stiffness_of_a_circle_is_twice_e_star_a():
+    """A rigid flat circular punch of radius a: K = 2 E* a (Boussinesq; Johnson
+    1985, eq. 3.36); on 41 x 41 elements with the circle's staircase edge, within
+    3 %, and the CG residual met."""
+    from railcontact.normal.polonsky_keer import flat_punch_stiffness
+    E = MAT.contact_modulus
+    a, n = 1e-3, 41
+    x = np.linspace(-1.2 * a, 1.2 * a, n)
+    dx = x[1] - x[0]
+    X, Y = np.meshgrid(x, x, indexing="ij")
+    mask = X ** 2 + Y ** 2 <= a ** 2
+    # the staircase's own area as the circle's: a_eq = sqrt(area / pi)
+    a_eq = math.sqrt(mask.sum() * dx * dx / math.pi)
+    K, it, ok = flat_punch_stiffness(normal_operator(n, n, dx, dx, E), mask, dx * dx)
+    assert ok and 0 < it < 200
+    assert K == pytest.approx(2 * E * a_eq, rel=0.03)
+
+
+def test_flat_punch_stiffness_is_the_derivative_of_the_load(sphere):
+    """On the sphere's converged contact, the stiffness equals dF/d(delta) of
+    displacement-controlled solves on the same grid (central difference of 1e-4 of
+    the approach: the contact set unchanged) to 1e-5, and Hertz's 3/2 F/delta to
+    1 %."""
+    from railcontact.normal.polonsky_keer import flat_punch_stiffness
+    a, dx, h, op = sphere
+    p, delta, _, ok = polonsky_keer(op, h, dx * dx, force=F, tol=1e-10)
+    assert ok
+    K, _, ok = flat_punch_stiffness(op, p > 0, dx * dx)
+    assert ok
+    e = 1e-4 * delta
+    loads = [polonsky_keer(op, h - (delta + s * e), dx * dx, tol=1e-12, p0=p)[0].sum() * dx * dx
+             for s in (1, -1)]
+    assert K == pytest.approx((loads[0] - loads[1]) / (2 * e), rel=1e-5)
+    assert K == pytest.approx(1.5 * F / delta, rel=0.01)
