@@ -457,8 +457,7 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     fc = None
     if FORCE_CONTROL and evaluate.lazy and "force-control" in nmodel.capabilities \
             and "warm-start" in tmodel.capabilities \
-            and hasattr(nmodel, "contact_stiffness") \
-            and math.isinf(getattr(nmodel, "pressure_limit", math.inf)):
+            and "contact-stiffness" in nmodel.capabilities:
         fc = _force_controlled(evaluate, rtol)
     if fc is not None:
         results, contact, balance = fc

@@ -51,6 +51,9 @@ def normal_supports(name: str, capability: str) -> bool:
 #: what a normal model may declare in ``capabilities``
 NORMAL_CAPABILITIES = {
     "force-control": "solve(normal_force=F) meets a given normal force",
+    "contact-stiffness": "contact_stiffness(solution, material, geometry) gives dF_n/d(delta) "
+                         "[N/m] of a converged solution (NaN where the model's options make it "
+                         "undefined: a pressure limit, viscoelastic bodies)",
     "warm-start": "solve(..., warm_start=previous solution) starts from it",
     "grid-reuse": "solve(..., reuse_grid=previous solution) keeps its grid and kernels",
     "ellipse": "the patch is Hertz's ellipse of the geometry's curvatures (semi_axes)",

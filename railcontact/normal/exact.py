@@ -292,7 +292,8 @@ class ExactNormalModel:
         k = math.sqrt(1.3 * normal_force / (self.pressure_limit * hz.area))
         return ex * max(k, 1.0), ey * max(k, 1.0)
 
-    capabilities = frozenset({"force-control", "warm-start", "grid-reuse", "coupled"})
+    capabilities = frozenset({"force-control", "warm-start", "grid-reuse", "coupled",
+                              "contact-stiffness"})
 
     @staticmethod
     def _viscoelastic(grid_key, visc, h0, force, p0):
@@ -311,10 +312,13 @@ class ExactNormalModel:
         on its own grid and influence coefficients (the sub-regions of a combined
         patch, from ``geometry``, interacting as in the solve).  Hertz's patch:
         3/2 F_n/delta.  0 where the solution carries no load; NaN where the
-        iteration does not converge."""
+        iteration does not converge, and under a pressure limit or with viscoelastic
+        bodies (where it is not the elastic punch's)."""
         if not isinstance(solution, NormalSolution) or solution.model != "exact":
             raise InputError(f"solution {type(solution).__name__}: expected the exact "
                              "model's NormalSolution")
+        if math.isfinite(self.pressure_limit) or self.viscoelastic is not None:
+            return math.nan         # the flat punch's stiffness is the elastic one's
         box = bounding_box(solution.contact)
         if box is None:
             return 0.0
