@@ -723,7 +723,8 @@ def _temperature(case, grid, px, py, out, contact):
     """The largest surface temperature of both bodies [deg C] (CONTACT's
     MAX(T1,T2)) in steady rolling: the frictional power density |p_t| |s| V
     (:mod:`railcontact.tangential.temperature`), along the material's path (towards
-    -x, or +x for CHI = 180 deg)."""
+    -x, or +x for CHI = 180 deg), with CONTACT's weight of each element's own heat
+    input (``scheme="contact"``, which gives its printed figures)."""
     v = _need(case, "VELOC") * MM
     sx, sy = out[2], out[3]
     q = np.hypot(px, py) * np.hypot(sx, sy) * v
@@ -732,7 +733,7 @@ def _temperature(case, grid, px, py, out, contact):
     # rising index (the user guide's "particles traverse the contact from left to right")
     f = (lambda a: a[::-1]) if math.cos(_need(case, "CHI")) > 0 else (lambda a: a)
     t1, t2, _ = flash_temperatures(f(q), f(contact), grid.dx, v, _thermal(case, 1),
-                                   _thermal(case, 2))
+                                   _thermal(case, 2), scheme="contact")
     c = f(contact)
     return float(max(t1[c].max(), t2[c].max())) if c.any() else None
 

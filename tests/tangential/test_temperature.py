@@ -61,9 +61,45 @@ def test_hertzian_sliding_and_different_bulk_temperatures():
     assert t1[0, 0] == 150.0 and t2[0, 0] == 0.0       # ahead of the contact
 
 
+def test_contact_scheme_and_the_dense_solve():
+    """CONTACT's scheme counts the own element twice as strongly: on a uniform band
+    its rise exceeds Jaeger's by exactly (q/2) 2 sqrt(dx/2) k at every element
+    in the band.  The compiled forward substitution equals a dense solve of the
+    equal-temperature conditions, also for unequal bodies and a gap in the strip
+    (to 1e-9)."""
+    from railcontact.tangential.temperature import _abel_matrix
+    V, m, q, dx = 30.0, 60, 2e8, 1e-4
+    contact = np.zeros((m, 2), bool)
+    contact[5:40, 0] = True
+    contact[5:20, 1] = contact[25:45, 1] = True
+    flux = np.where(contact, q, 0.0)
+    b = ThermalProperties(20.0, **STEEL)
+    tj, _, _ = flash_temperatures(flux, contact, dx, V, b, b)
+    tc, _, _ = flash_temperatures(flux, contact, dx, V, b, b, scheme="contact")
+    extra = b.jaeger_factor(V) * (q / 2) * 2 * math.sqrt(dx / 2)
+    assert (tc - tj)[contact] == pytest.approx(extra, rel=1e-9)
+    assert np.allclose(tc[~contact], tj[~contact])
+    hot = ThermalProperties(150.0, heat_capacity=500.0, conductivity=30.0, density=7000.0)
+    for scheme in ("jaeger", "contact"):
+        t1, t2, q1 = flash_temperatures(flux * np.linspace(0.5, 1.5, m)[:, None], contact,
+                                        dx, V, hot, b, scheme=scheme)
+        assert np.allclose(t1[contact], t2[contact], rtol=0, atol=1e-9)
+        A = _abel_matrix(m, dx, scheme)
+        k1, k2 = hot.jaeger_factor(V), b.jaeger_factor(V)
+        for j in range(2):
+            idx = np.flatnonzero(contact[:, j])
+            sub = A[np.ix_(idx, idx)]
+            qq = (flux * np.linspace(0.5, 1.5, m)[:, None])[idx, j]
+            dense = np.linalg.solve((k1 + k2) * sub, -130.0 + k2 * (sub @ qq))
+            assert q1[idx, j] == pytest.approx(dense, rel=1e-9)
+
+
 def test_inputs():
     with pytest.raises(InputError, match="conductivity"):
         ThermalProperties(0.0, 450.0, -1.0, 7850.0)
     b = ThermalProperties(0.0, **STEEL)
     with pytest.raises(InputError, match="equal 2-D grids"):
         flash_temperatures(np.zeros((3, 2)), np.zeros((3, 3), bool), 1e-4, 1.0, b, b)
+    with pytest.raises(InputError, match="scheme"):
+        flash_temperatures(np.zeros((3, 2)), np.zeros((3, 2), bool), 1e-4, 1.0, b, b,
+                           scheme="upwind")
