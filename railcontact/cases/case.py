@@ -19,6 +19,7 @@ from ..core.materials import Material
 from ..normal import get_normal_model
 from ..normal.plasticity import HARDNESS_FACTOR, pressure_limit
 from ..tangential import get_tangential_model
+from ..tangential.temperature import STEEL, ThermalProperties
 
 _ALLOWED = {
     "title": None,
@@ -45,6 +46,8 @@ _ALLOWED = {
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
     "viscoelastic": VISCOELASTIC_KEYS,
+    "thermal": {"rail_temperature", "wheel_temperature", "heat_capacity", "conductivity",
+                "density"},
 }
 
 
@@ -82,6 +85,9 @@ class Case(CaseKeys):
     surfaces: SurfaceCaseSetup | None = None
     #: the ``[bodies]`` (and ``[force]``) keys of a case given by curvatures parsed
     bodies: BodiesSetup | None = None
+    #: ``[thermal]``: (rail, wheel) thermal constants of the flash temperatures
+    #: (default steel at 20 deg C)
+    thermal: tuple = field(default_factory=lambda: (STEEL, STEEL))
 
     @property
     def is_bodies(self) -> bool:
@@ -187,7 +193,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         if tangential != "none":
             tangential_options["viscoelastic"] = normal_options["viscoelastic"]
     values = dict(
-        title=str(raw.get("title", "")), material=_material(keys),
+        title=str(raw.get("title", "")), material=_material(keys), thermal=_thermal(keys),
         friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
         friction_variation=_friction_variation(keys),
         friction_along_track=_friction_variation(keys, "x"), normal=normal,
@@ -238,6 +244,21 @@ def _material(keys: CaseKeys) -> Material:
                         None if wE is None else keys.number("material.wheel_young_modulus",
                                                             unit="Pa"),
                         None if wnu is None else keys.number("material.wheel_poisson_ratio"))
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
+
+
+def _thermal(keys: CaseKeys) -> tuple:
+    """``[thermal]``: bulk temperatures [deg C] of rail and wheel and the steel's
+    heat capacity [J/(kg K)], conductivity [W/(m K)] and density [kg/m^3] (both
+    bodies), for the flash temperatures (docs/case_files.md)."""
+    try:
+        c = (keys.number("thermal.heat_capacity", STEEL.heat_capacity, 1.0, 1e5, "J/(kg K)"),
+             keys.number("thermal.conductivity", STEEL.conductivity, 1e-3, 1e4, "W/(m K)"),
+             keys.number("thermal.density", STEEL.density, 1.0, 1e5, "kg/m^3"))
+        return tuple(ThermalProperties(keys.number(f"thermal.{b}_temperature",
+                                                   STEEL.bulk_temperature, -273.15, 2000.0,
+                                                   "degC"), *c) for b in ("rail", "wheel"))
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
 

@@ -137,3 +137,28 @@ def flash_temperatures(heat_flux, contact, dx, velocity, body1: ThermalPropertie
     t1 = body1.bulk_temperature + k1 * (A @ q1)
     t2 = body2.bulk_temperature + k2 * (A @ q2)
     return t1, t2, q1
+
+
+#: rail steel's thermal constants (Ertz & Knothe 2002): 450 J/(kg K), 50 W/(m K),
+#: 7850 kg/m^3, at a bulk temperature of 20 deg C
+STEEL = ThermalProperties(20.0, 450.0, 50.0, 7850.0)
+
+
+def patch_temperatures(solution, rail: ThermalProperties = STEEL,
+                       wheel: ThermalProperties = STEEL, scheme: str = "jaeger"):
+    """Surface temperatures (T_rail, T_wheel) [deg C] on the grid of a steady
+    rolling :class:`~railcontact.tangential.base.TangentialSolution`: the heat
+    flux |p_t| |s| V of its tractions and slips, the material passing the patch
+    from its leading edge (+x, the rolling direction) backwards; None where the
+    grid has fewer than two elements along x or no contact."""
+    x = np.asarray(solution.x, dtype=float)
+    if x.ndim != 1 or x.size < 2 or not np.any(solution.contact):
+        return None
+    q = (np.hypot(solution.traction_x, solution.traction_y)
+         * np.hypot(solution.slip_x, solution.slip_y) * abs(float(solution.velocity)))
+    if not abs(float(solution.velocity)) > 0:
+        return None
+    f = lambda a: np.ascontiguousarray(np.asarray(a)[::-1])      # noqa: E731
+    t1, t2, _ = flash_temperatures(f(q), f(solution.contact), float(abs(x[1] - x[0])),
+                                   abs(float(solution.velocity)), rail, wheel, scheme)
+    return f(t1), f(t2)

@@ -103,3 +103,29 @@ def test_inputs():
     with pytest.raises(InputError, match="scheme"):
         flash_temperatures(np.zeros((3, 2)), np.zeros((3, 2), bool), 1e-4, 1.0, b, b,
                            scheme="upwind")
+
+
+def test_patch_temperatures_of_a_tangential_solution():
+    """patch_temperatures reads the flux |p_t| |s| V off a TangentialSolution and
+    runs the material from the leading edge (+x) backwards: a uniform flux band
+    gives Jaeger's rise from the band's +x end (to 1e-9); no grid along x: None."""
+    from railcontact.tangential.base import TangentialSolution
+    from railcontact.tangential.temperature import STEEL, patch_temperatures
+    m, dx, V = 80, 1e-4, 30.0
+    x = (np.arange(m) - m / 2 + 0.5) * dx
+    contact = np.zeros((m, 1), bool)
+    contact[40:70] = True
+    tx = np.where(contact, 3e8, 0.0)
+    sx = np.where(contact, 0.02, 0.0)
+    z = np.zeros((m, 1))
+    sol = TangentialSolution("test", x, np.zeros(1), tx, z, sx, z, ~contact, contact,
+                             0.0, 0.0, 0.0, V)
+    t_rail, t_wheel = patch_temperatures(sol)
+    q = 3e8 * 0.02 * V
+    dist = (69 - np.arange(40, 70) + 0.5) * dx            # from the band's +x end
+    jaeger = 20.0 + STEEL.jaeger_factor(V) * (q / 2) * 2 * np.sqrt(dist)
+    assert t_rail[40:70, 0] == pytest.approx(jaeger, rel=1e-9)
+    assert np.all(t_rail[70:, 0] == 20.0)                 # ahead of the patch
+    one = TangentialSolution("test", x[:1], np.zeros(1), tx[:1], z[:1], sx[:1], z[:1],
+                             ~contact[:1], contact[:1], 0.0, 0.0, 0.0, V)
+    assert patch_temperatures(one) is None
