@@ -19,7 +19,7 @@ from ..core.materials import Material
 from ..normal import get_normal_model
 from ..normal.plasticity import HARDNESS_FACTOR, pressure_limit
 from ..tangential import get_tangential_model
-from ..tangential.temperature import STEEL, ThermalProperties
+from ..tangential.temperature import SCHEMES, STEEL, ThermalProperties
 
 _ALLOWED = {
     "title": None,
@@ -47,7 +47,7 @@ _ALLOWED = {
     "plasticity": {"yield_stress", "pressure_factor", "pressure_limit"},
     "viscoelastic": VISCOELASTIC_KEYS,
     "thermal": {"rail_temperature", "wheel_temperature", "heat_capacity", "conductivity",
-                "density"},
+                "density", "scheme"},
 }
 
 
@@ -86,8 +86,9 @@ class Case(CaseKeys):
     #: the ``[bodies]`` (and ``[force]``) keys of a case given by curvatures parsed
     bodies: BodiesSetup | None = None
     #: ``[thermal]``: (rail, wheel) thermal constants of the flash temperatures
-    #: (default steel at 20 deg C)
-    thermal: tuple = field(default_factory=lambda: (STEEL, STEEL))
+    #: (default steel at 20 deg C) and the discretisation (``"jaeger"``, or
+    #: ``"contact"``: CONTACT's own-element weight)
+    thermal: tuple = field(default_factory=lambda: (STEEL, STEEL, "jaeger"))
 
     @property
     def is_bodies(self) -> bool:
@@ -251,14 +252,18 @@ def _material(keys: CaseKeys) -> Material:
 def _thermal(keys: CaseKeys) -> tuple:
     """``[thermal]``: bulk temperatures [deg C] of rail and wheel and the steel's
     heat capacity [J/(kg K)], conductivity [W/(m K)] and density [kg/m^3] (both
-    bodies), for the flash temperatures (docs/case_files.md)."""
+    bodies), and the scheme, for the flash temperatures (docs/case_files.md)."""
+    scheme = keys.get("thermal.scheme", "jaeger")
+    if scheme not in SCHEMES:
+        raise CaseFileError(f"thermal.scheme = {shown(scheme)}: expected one of {SCHEMES}")
     try:
         c = (keys.number("thermal.heat_capacity", STEEL.heat_capacity, 1.0, 1e5, "J/(kg K)"),
              keys.number("thermal.conductivity", STEEL.conductivity, 1e-3, 1e4, "W/(m K)"),
              keys.number("thermal.density", STEEL.density, 1.0, 1e5, "kg/m^3"))
-        return tuple(ThermalProperties(keys.number(f"thermal.{b}_temperature",
-                                                   STEEL.bulk_temperature, -273.15, 2000.0,
-                                                   "degC"), *c) for b in ("rail", "wheel"))
+        return (*(ThermalProperties(keys.number(f"thermal.{b}_temperature",
+                                                STEEL.bulk_temperature, -273.15, 2000.0,
+                                                "degC"), *c) for b in ("rail", "wheel")),
+                scheme)
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
 

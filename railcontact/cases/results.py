@@ -44,8 +44,8 @@ class PatchResult:
     validity: SolverStatus = field(default_factory=SolverStatus)
     halfspace_ratio: float = math.nan
     #: (rail, wheel) :class:`~railcontact.tangential.temperature.ThermalProperties`
-    #: of the case's ``[thermal]`` (set by :func:`railcontact.cases.solve.solve`);
-    #: None: no temperatures
+    #: and the scheme of the case's ``[thermal]`` (set by
+    #: :func:`railcontact.cases.solve.solve`); None: no temperatures
     thermal: tuple | None = field(default=None, repr=False)
 
     @property
