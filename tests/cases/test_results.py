@@ -117,3 +117,5 @@ def test_thermal_keys_are_checked():
         case.with_values({"thermal.conductivity": -1.0})
     with pytest.raises(CaseFileError, match="thermal.colour"):
         case.with_values({"thermal.colour": 1.0})
+    with pytest.raises(CaseFileError, match="thermal.scheme"):
+        case.with_values({"thermal.scheme": "upwind"})
