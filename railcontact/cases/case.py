@@ -20,6 +20,7 @@ from ..normal import get_normal_model
 from ..normal.plasticity import HARDNESS_FACTOR, pressure_limit
 from ..subsurface.elastoplastic import ElasticPlasticOptions, Hardening
 from ..tangential import get_tangential_model
+from ..tangential.temperature import SCHEMES, STEEL, ThermalProperties
 
 _ALLOWED = {
     "title": None,
@@ -48,6 +49,8 @@ _ALLOWED = {
                    "hardening_modulus", "voce_saturation", "voce_rate", "grid", "layers",
                    "extent", "depth", "load_steps", "passes"},
     "viscoelastic": VISCOELASTIC_KEYS,
+    "thermal": {"rail_temperature", "wheel_temperature", "heat_capacity", "conductivity",
+                "density", "scheme"},
 }
 
 
@@ -87,6 +90,10 @@ class Case(CaseKeys):
     surfaces: SurfaceCaseSetup | None = None
     #: the ``[bodies]`` (and ``[force]``) keys of a case given by curvatures parsed
     bodies: BodiesSetup | None = None
+    #: ``[thermal]``: (rail, wheel) thermal constants of the flash temperatures
+    #: (default steel at 20 deg C) and the discretisation (``"jaeger"``, or
+    #: ``"contact"``: CONTACT's own-element weight)
+    thermal: tuple = field(default_factory=lambda: (STEEL, STEEL, "jaeger"))
 
     @property
     def is_bodies(self) -> bool:
@@ -195,7 +202,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         if tangential != "none":
             tangential_options["viscoelastic"] = normal_options["viscoelastic"]
     values = dict(
-        title=str(raw.get("title", "")), material=_material(keys),
+        title=str(raw.get("title", "")), material=_material(keys), thermal=_thermal(keys),
         friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
         friction_variation=_friction_variation(keys),
         friction_along_track=_friction_variation(keys, "x"), normal=normal,
@@ -246,6 +253,25 @@ def _material(keys: CaseKeys) -> Material:
                         None if wE is None else keys.number("material.wheel_young_modulus",
                                                             unit="Pa"),
                         None if wnu is None else keys.number("material.wheel_poisson_ratio"))
+    except InputError as exc:
+        raise CaseFileError(str(exc)) from None
+
+
+def _thermal(keys: CaseKeys) -> tuple:
+    """``[thermal]``: bulk temperatures [deg C] of rail and wheel and the steel's
+    heat capacity [J/(kg K)], conductivity [W/(m K)] and density [kg/m^3] (both
+    bodies), and the scheme, for the flash temperatures (docs/case_files.md)."""
+    scheme = keys.get("thermal.scheme", "jaeger")
+    if scheme not in SCHEMES:
+        raise CaseFileError(f"thermal.scheme = {shown(scheme)}: expected one of {SCHEMES}")
+    try:
+        c = (keys.number("thermal.heat_capacity", STEEL.heat_capacity, 1.0, 1e5, "J/(kg K)"),
+             keys.number("thermal.conductivity", STEEL.conductivity, 1e-3, 1e4, "W/(m K)"),
+             keys.number("thermal.density", STEEL.density, 1.0, 1e5, "kg/m^3"))
+        return (*(ThermalProperties(keys.number(f"thermal.{b}_temperature",
+                                                STEEL.bulk_temperature, -273.15, 2000.0,
+                                                "degC"), *c) for b in ("rail", "wheel")),
+                scheme)
     except InputError as exc:
         raise CaseFileError(str(exc)) from None
 

@@ -16,6 +16,7 @@ from ..geometry.track import WheelsetPose
 from ..normal import NormalSolution
 from ..core.status import SolverStatus
 from ..tangential import TangentialSolution
+from ..tangential.temperature import patch_temperatures
 
 __all__ = ["PatchResult", "SolveResult", "VerticalBalance", "vertical_force_on_rail",
            "geometry_dict"]
@@ -45,6 +46,33 @@ class PatchResult:
     #: the elastic-plastic solution of ``[plasticity] model = "elastic-plastic"``
     #: (:class:`~railcontact.subsurface.elastoplastic.ElasticPlasticResult`), else None
     elastic_plastic: object | None = None
+    #: (rail, wheel) :class:`~railcontact.tangential.temperature.ThermalProperties`
+    #: and the scheme of the case's ``[thermal]`` (set by
+    #: :func:`railcontact.cases.solve.solve`); None: no temperatures
+    thermal: tuple | None = field(default=None, repr=False)
+
+    @property
+    def temperatures(self):
+        """Flash temperatures (T_rail, T_wheel) [deg C] of the surfaces on the
+        tangential solution's grid (Jaeger's moving heat source,
+        :func:`~railcontact.tangential.temperature.patch_temperatures`), or None
+        (no tangential solution, no thermal constants).  Computed once."""
+        if self.thermal is None or self.tangential is None:
+            return None
+        cache = self.__dict__.setdefault("_temperatures", {})
+        if "t" not in cache:
+            cache["t"] = patch_temperatures(self.tangential, *self.thermal)
+        return cache["t"]
+
+    @property
+    def max_temperature(self) -> float | None:
+        """The largest surface temperature of both bodies in the contact [deg C]
+        (CONTACT's MAX(T1,T2)); None without temperatures."""
+        t = self.temperatures
+        if t is None:
+            return None
+        c = np.asarray(self.tangential.contact, bool)
+        return float(max(t[0][c].max(), t[1][c].max()))
 
     @property
     def status(self) -> SolverStatus:
@@ -74,6 +102,8 @@ class PatchResult:
         if t is not None:
             d["stick_fraction"] = t.stick_fraction
             d["frictional_power"] = t.frictional_power
+        if self.max_temperature is not None:
+            d["max_temperature_degC"] = self.max_temperature
         d["halfspace_ratio"] = _f(self.halfspace_ratio)
         if math.isfinite(getattr(n, "pressure_limit", math.inf)):
             d["pressure_limit"] = n.pressure_limit
@@ -160,6 +190,11 @@ class SolveResult:
         data["frictional_power"] = (
             "patch", np.array([r.get("frictional_power", 0.0) for r in rows], float),
             {"units": "W", "long_name": "frictional power dissipated in the patch"})
+        if any("max_temperature_degC" in r for r in rows):
+            data["max_temperature"] = (
+                "patch", np.array([r.get("max_temperature_degC", np.nan) for r in rows], float),
+                {"units": "degC", "long_name": "largest flash temperature of the rail and "
+                                               "wheel surfaces in the patch"})
         for c, u in (("longitudinal", "1"), ("lateral", "1"), ("spin", "m-1")):
             data[f"creepage_{c}"] = ("patch", np.array([r["creepage"][c] for r in rows]),
                                      {"units": u})

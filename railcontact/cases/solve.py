@@ -59,18 +59,18 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
     if warm_start is not None and not isinstance(warm_start, SolveResult):
         raise InputError(f"warm_start = {shown(warm_start)}: expected a SolveResult or None")
     if not case.is_bodies and is_surface_case(case):
-        return _check_pressure(solve_on_surfaces(case, normal, tangential,
-                                                 warm_start=warm_start), case)
+        return _finish(solve_on_surfaces(case, normal, tangential, warm_start=warm_start),
+                       case)
     if warm_start is not None:
         res = _solve(case, normal, tangential, warm_start)
         # a force that jumps across the load is the model's: a cold start meets it too
         if res.converged or (res.balance is not None and res.balance.force_jump):
-            return _check_pressure(res, case)
+            return _finish(res, case)
         log.info("warm-started case did not converge; solving it again cold")
         cold = _solve(case, normal, tangential, None)
         cold.cpu_time += res.cpu_time                 # the failed attempt counts
-        return _check_pressure(cold, case)
-    return _check_pressure(_solve(case, normal, tangential, None), case)
+        return _finish(cold, case)
+    return _finish(_solve(case, normal, tangential, None), case)
 
 
 #: p_max [Pa] beyond which a result is flagged where the case gives no yield stress:
@@ -94,6 +94,14 @@ def _elastic_plastic(res: SolveResult, case: Case) -> SolveResult:
                                                       case.elastic_plastic)
             res.cpu_time += time.perf_counter() - t0
     return res
+
+
+def _finish(res: SolveResult, case: Case) -> SolveResult:
+    """The pressure check, and the case's thermal constants on every patch (its
+    flash temperatures, :attr:`PatchResult.temperatures`)."""
+    for p in res.patches:
+        p.thermal = case.thermal
+    return _check_pressure(res, case)
 
 
 def _check_pressure(res: SolveResult, case: Case) -> SolveResult:

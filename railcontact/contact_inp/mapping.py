@@ -157,11 +157,26 @@ def _check_common(case) -> None:
     _digit(case, "S", {0: "no subsurface stresses", 1: "subsurface stresses",
                        2: "subsurface stresses", 3: "subsurface stresses"}, "STRESS")
     _digit(case, "M2", {0: "no damping", 1: "kept"}, "MATER2")
-    _digit(case, "H", {0: "no temperatures"}, "HEAT")
+    heat = {0: "no temperatures"} if case.module == 3 else {
+        0: "no temperatures", 1: "surface temperatures", 3: "surface temperatures"}
+    _digit(case, "H", heat, "HEAT")
     _digit(case, "C3", {0: "kept", 1: "kept", 2: "elastic half-space"}, "INFLCF")
     if d["L"] not in (0, 1):
         _friction(case)
     _digit(case, "L", {0: "Coulomb", 1: "kept"}, "FRCLAW")
+
+
+def _thermal(case) -> dict:
+    """HEAT = 1, 3 in module 1: ``[thermal]`` from BKTEMP, HEATCP, LAMBDA [W/mm C],
+    DENS [kg/mm^3] (one steel for both bodies), with CONTACT's scheme."""
+    v = [[_need(case, f"{k}{b}") for k in ("BKTEMP", "HEATCP", "LAMBDA", "DENS")]
+         for b in (1, 2)]
+    if v[0][1:] != v[1][1:]:
+        raise _unsupported(case, "different HEATCP, LAMBDA or DENS of the two bodies in "
+                                 "module 1", "expected one steel for rail and wheel")
+    return {"rail_temperature": v[0][0], "wheel_temperature": v[1][0],
+            "heat_capacity": v[0][1], "conductivity": v[0][2] * 1e3,
+            "density": v[0][3] * 1e9, "scheme": "contact"}
 
 
 def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
@@ -170,6 +185,9 @@ def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
     file, in the working directory, then in ``profile_dirs``."""
     _check_common(case)
     m = _map_module3(case) if case.module == 3 else _map_module1(case, profile_dirs)
+    if case.digits["H"] in (1, 3):
+        m.raw["thermal"] = _thermal(case)
+        m.meta["heat"] = True
     m.meta["inp"] = case    # its subsurface points (.subsurface), its tractions (.transient_m1)
     return m
 

@@ -59,7 +59,7 @@ from scipy.optimize import brentq
 from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
 from ..normal.influence import normal_operator
 from ..normal.polonsky_keer import polonsky_keer
-from ..tangential.friction import SlipVelocityFriction
+from ..tangential.friction import SlipVelocityFriction, TemperatureFriction
 from ..tangential.temperature import ThermalProperties, flash_temperatures
 from ..core.errors import RailContactError
 from ..core.materials import InterfaceLayer
@@ -119,7 +119,7 @@ def check(case: InpCase) -> None:
         _check_fastsim(case)
         return
     allowed = {"B": (0,), "T": (0, 1, 2, 3), "N": (0, 1), "F": (0, 1, 2), "S": (0, 1, 2, 3),
-               "L": (0, 1, 2, 3, 4), "M": (0, 1, 4), "H": (0, 1, 3), "M2": (0, 1),
+               "L": (0, 1, 2, 3, 4, 6), "M": (0, 1, 4), "H": (0, 1, 3), "M2": (0, 1),
                "E": (0, 1, 9), "C3": (0, 1, 2, 9)}
     names = {"B": "BOUND", "T": "TANG", "N": "NORM", "F": "FORCE", "S": "STRESS",
              "L": "FRCLAW", "M": "MATER", "H": "HEAT", "M2": "MATER2", "E": "EXRHS",
@@ -130,6 +130,10 @@ def check(case: InpCase) -> None:
                                      "module 3 problem", f"expected {names[k]} in {vals}")
     if d["T"]:
         friction_law(case)
+    if case.values.get("FRICTION_LAW", 0) == 6 and (d["T"] != 3 or d["H"] not in (1, 3)):
+        raise _unsupported(case, f"FRCLAW = 6 with TANG = {d['T']}, HEAT = {d['H']}",
+                           "expected temperature dependent friction in steady rolling (T = 3) "
+                           "with surface temperatures (H = 1, 3)")
     if case.values.get("NVF", 0):
         raise _unsupported(case, "friction variation (VARFRC)", "expected V = 0")
     ipotcn = _need(case, "IPOTCN")
@@ -355,6 +359,8 @@ class CaseResult:
     row: dict
     mu: np.ndarray | None = None       # a slip-velocity dependent law's coefficients
     ustar: np.ndarray | None = None    # an interfacial layer's plastic displacement [m]
+    #: both bodies' surface temperatures (T_1, T_2) [deg C] on the grid (H = 1, 3)
+    temperature: tuple | None = None
 
 
 class Sequence:
@@ -541,6 +547,9 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
         # material's coefficient relaxes towards mu_s(s_a) over the distance MEMDST,
         # from the static coefficient at the leading edge; one element per time step
         # DX / VELOC
+        # L = 6: body 1's surface temperature of a solution on the solver's grid
+        state["temperature"] = lambda out: surface_temperatures(
+            case, grid.dx, out[:4], ct)[0]
         state["memory"] = None if memdst <= 0 else (
             memdst, (v.get("MEM_S0") or 0.0) * MM, grid.dx / veloc, backwards)
 
@@ -650,9 +659,11 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                 what = (f"friction coefficients not settled (still changing by "
                         f"{state['friction']:.1e})")
             message = (message + "; " if message else "") + what
-    tmax = None
+    tmax, temps = None, None
     if t == 3 and d["H"] in (1, 3):
-        tmax = _temperature(case, grid, px, py, out, contact)
+        temps = surface_temperatures(case, grid.dx, (px, py, out[2], out[3]), contact)
+        tmax = float(max(temps[0][contact].max(), temps[1][contact].max())) \
+            if contact.any() else None
     ncon = int(np.count_nonzero(contact))
     nadh = int(np.count_nonzero(contact & stick)) if t else 0
     X, Y = grid.x[:, None], grid.y[None, :]
@@ -676,7 +687,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     if layer is not None:
         row["nplast"] = nplast
     return CaseResult(grid, pressure, px, py, stick, row,
-                      state["mu"] if t and law is not None else None, ustar)
+                      state["mu"] if t and law is not None else None, ustar, temps)
 
 
 def _plastic_state(case, layer, grid, bound, slip, ustar_prev):
@@ -719,22 +730,21 @@ def _thermal(case, body):
                              v[f"DENS{body}"] * 1e9)
 
 
-def _temperature(case, grid, px, py, out, contact):
-    """The largest surface temperature of both bodies [deg C] (CONTACT's
-    MAX(T1,T2)) in steady rolling: the frictional power density |p_t| |s| V
-    (:mod:`railcontact.tangential.temperature`), along the material's path (towards
-    -x, or +x for CHI = 180 deg)."""
+def surface_temperatures(case, dx, solution, contact):
+    """Both bodies' surface temperatures (T_1, T_2) [deg C] on the grid of a steady
+    rolling ``solution`` (p_x, p_y [Pa], s_x, s_y relative slips) with element
+    length ``dx`` [m]: the frictional power density |p_t| |s| V along the
+    material's path, CONTACT's scheme."""
+    px, py, sx, sy = solution
     v = _need(case, "VELOC") * MM
-    sx, sy = out[2], out[3]
     q = np.hypot(px, py) * np.hypot(sx, sy) * v
     # rolling towards +x (CHI = 0) the material enters at the leading edge, +x, and
     # moves towards -x: the path runs along falling x index; for CHI = 180 deg along
     # rising index (the user guide's "particles traverse the contact from left to right")
     f = (lambda a: a[::-1]) if math.cos(_need(case, "CHI")) > 0 else (lambda a: a)
-    t1, t2, _ = flash_temperatures(f(q), f(contact), grid.dx, v, _thermal(case, 1),
-                                   _thermal(case, 2))
-    c = f(contact)
-    return float(max(t1[c].max(), t2[c].max())) if c.any() else None
+    t1, t2, _ = flash_temperatures(f(q), f(contact), dx, v, _thermal(case, 1),
+                                   _thermal(case, 2), scheme="contact")
+    return f(t1), f(t2)
 
 
 #: the friction coefficient of a slip-velocity dependent law is iterated until no
@@ -744,21 +754,29 @@ FRICTION_ITERATIONS = 300
 
 
 def friction_law(case):
-    """The case's slip-velocity dependent friction law (FRCLAW 2-4), or None for
-    Coulomb friction (L = 0); InpError for friction memory (MEMDST > 0) in
-    transient problems and the laws not supported here (L = 5, 6)."""
+    """The case's slip-velocity dependent friction law (FRCLAW 2-4), its temperature
+    dependent one (L = 6), or None for Coulomb friction (L = 0); InpError for
+    friction memory (MEMDST > 0) in transient problems and L = 5 (Polach's inputs,
+    not in CONTACT's open release)."""
     law = case.values.get("FRICTION_LAW", 0)
     if law == 0:
         return None
-    if law not in (2, 3, 4):
-        raise _unsupported(case, f"FRCLAW = {law}", "expected 0 (Coulomb) or 2-4 (slip-"
-                                                    "velocity dependent, without memory)")
+    if law not in (2, 3, 4, 6):
+        raise _unsupported(case, f"FRCLAW = {law}", "expected 0 (Coulomb), 2-4 (slip-"
+                                                    "velocity dependent) or 6 (temperature "
+                                                    "dependent)")
     if (case.values.get("MEMDST") or 0.0) > 0 and case.digits["T"] != 3:
         raise _unsupported(case, f"MEMDST = {case.values['MEMDST']:g} mm (friction memory) "
                                  f"with TANG = {case.digits['T']}",
                            "expected MEMDST = 0 (an instantaneous friction law) or steady "
                            "rolling (T = 3)")
     v = case.values
+    if law == 6:
+        try:
+            return TemperatureFriction(_need(case, "FREF"), _need(case, "TREF"),
+                                       _need(case, "DFHEAT"), _need(case, "DTHEAT"))
+        except RailContactError as exc:
+            raise InpError(f"{case.where()}: FREF, TREF, DFHEAT, DTHEAT: {exc}") from None
     name = {2: "FLIN", 3: "FRAT", 4: "FEXP"}[law]
     kind = {2: "linear", 3: "rational", 4: "exponential"}[law]
     return SlipVelocityFriction(kind, _need(case, "FKIN"), (v[f"{name}1"], v[f"{name}2"]),
@@ -780,7 +798,9 @@ def _falling_friction(solve_once, cx, cy, law, pressure, contact, per_slip, stat
     for _ in range(FRICTION_ITERATIONS):
         out = solve_once(cx, cy, np.ascontiguousarray(mu * pressure))
         sa = np.hypot(out[2], out[3]) * per_slip
-        target = np.where(contact, law(sa), law.static)
+        # L = 6: the law of body 1's surface temperature of this solution
+        arg = state["temperature"](out) if isinstance(law, TemperatureFriction) else sa
+        target = np.where(contact, law(arg), law.static)
         if state.get("memory") is not None:
             target = _friction_memory(target, sa, law.static, state["memory"])
         step = target - mu

@@ -77,7 +77,8 @@ def rows(result, mapped) -> list:
               "message": status.message}
     if mapped.module == 3:
         p = result.patches[0]
-        return [{**common, "patch": 1, "npatch": 1, **_patch_values(p)}]
+        return [{**common, "patch": 1, "npatch": 1, **_patch_values(p),
+                 "tmax_C": p.max_temperature if meta.get("heat") else None}]
     side, ws = meta["side"], raw["wheelset"]
     sgn = 1.0 if side == "right" else -1.0
     pose = result.pose
@@ -103,7 +104,8 @@ def rows(result, mapped) -> list:
                "zcp_tr_mm": (z - z_top) * 1e3, "delta_tr_rad": float(g.contact_angle),
                "ycp_r_mm": sgn * yr, "zcp_r_mm": zr, "xcp_w_mm": xw * 1e3,
                "ycp_w_mm": sgn * yw * 1e3, "zcp_w_mm": zw * 1e3, "r_wheel_mm": (r0 + zw) * 1e3,
-               "veloc_mm_s": g.velocity * 1e3, **_patch_values(p)}
+               "veloc_mm_s": g.velocity * 1e3, **_patch_values(p),
+               "tmax_C": p.max_temperature if meta.get("heat") else None}
         d = row["delta_tr_rad"]
         tot += (row["fx_N"], row["fs_N"] * math.cos(d) - row["fn_N"] * math.sin(d),
                 row["fs_N"] * math.sin(d) + row["fn_N"] * math.cos(d))

@@ -1,4 +1,5 @@
-"""Friction laws: Coulomb and slip-velocity dependent (falling) friction.
+"""Friction laws: Coulomb, slip-velocity dependent (falling) and temperature
+dependent friction.
 
 Falling friction after Polach (2005, *Wear* 258, 992-1000), as documented in the
 CONTACT user guide ("Slip velocity dependent friction"):
@@ -99,3 +100,50 @@ class SlipVelocityFriction:
             else:
                 out += c * np.exp(-math.log(2.0) * r)
         return out
+
+
+@dataclass(frozen=True)
+class TemperatureFriction:
+    """CONTACT's temperature dependent friction (user guide, "Temperature
+    dependent friction"; FRCLAW L = 6): piecewise linear in the surface
+    temperature T [deg C],
+
+        mu(T) = mu_ref + dmu min(max(T - T_ref, 0), dT) / dT,
+
+    mu_ref below T_ref, mu_ref + dmu (the kinetic value) above T_ref + dT.  The
+    temperature is body 1's flash temperature
+    (:mod:`railcontact.tangential.temperature`), which itself depends on the
+    friction: the solvers iterate to a fixed point."""
+
+    mu_ref: float
+    t_ref: float
+    dmu: float
+    dt: float
+
+    def __post_init__(self):
+        for name in ("mu_ref", "t_ref", "dmu", "dt"):
+            v = getattr(self, name)
+            if not (isinstance(v, (int, float)) and math.isfinite(v)):
+                raise InputError(f"temperature friction {name} = {v!r}: expected a number")
+        if not self.mu_ref > 0:
+            raise InputError(f"temperature friction mu_ref = {self.mu_ref!r}: expected > 0")
+        if not self.dt > 0:
+            raise InputError(f"temperature friction dT = {self.dt!r} K: expected > 0")
+        if not self.mu_ref + self.dmu > 0:
+            raise InputError(f"temperature friction mu_ref + dmu = {self.mu_ref + self.dmu!r}:"
+                             " expected a positive kinetic coefficient")
+
+    @property
+    def static(self) -> float:
+        """The coefficient at low temperatures, mu_ref."""
+        return float(self.mu_ref)
+
+    @property
+    def mu_kin(self) -> float:
+        """The coefficient at high temperatures, mu_ref + dmu."""
+        return float(self.mu_ref + self.dmu)
+
+    def __call__(self, temperature):
+        """Friction coefficient at surface temperature ``temperature`` [deg C]."""
+        t = np.asarray(temperature, dtype=float)
+        return self.mu_ref + self.dmu * np.clip(t - self.t_ref, 0.0, self.dt) / self.dt

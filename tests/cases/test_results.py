@@ -69,3 +69,53 @@ def test_the_status_is_in_the_netcdf_attributes():
     attrs = hard.to_xarray().attrs
     assert attrs["converged"] == 1 and attrs["warnings"] == "; ".join(hard.warnings)
     assert "plasticity: p_max" in attrs["warnings"] and "[plasticity]" in attrs["warnings"]
+
+
+def test_flash_temperature_of_a_bodies_case(bodies_result):
+    """Every solve gives the patch's flash temperature (default steel at 20 C):
+    JSON ``max_temperature_degC``, NetCDF ``max_temperature`` in degC, the fields
+    on the tangential grid, rail and wheel equally hot in the contact (equal
+    steels), above the bulk temperature where there is slip."""
+    (p,) = bodies_result.patches
+    d = p.to_dict()
+    ds = bodies_result.to_xarray()
+    assert ds["max_temperature"].attrs["units"] == "degC"
+    assert float(ds["max_temperature"][0]) == d["max_temperature_degC"] == p.max_temperature
+    t_rail, t_wheel = p.temperatures
+    c = p.tangential.contact
+    assert t_rail.shape == c.shape
+    assert np.allclose(t_rail[c], t_wheel[c], atol=1e-9)
+    assert 20.0 < p.max_temperature < 100.0
+    assert np.all(t_rail[c] >= 20.0 - 1e-9)
+
+
+def test_flash_temperature_closed_forms():
+    """A [bodies] case against closed forms: without slip (zero creepages) and
+    bulk temperatures 0 and 150 C the contact is at their mean, 75 C (equal
+    effusivities); in full sliding at creepage 0.3 (rigid slip velocity 9 m/s,
+    elastic slip ~1 %) the largest temperature is Jaeger's on the Hertzian centre
+    strip, 0.5 mu v_s p0 sqrt(a) 2.1883 / sqrt(pi lambda rho c V) (the integral's
+    largest value 2.1883): measured +0.12 % (FASTSIM, 60 x 60 elements)."""
+    from railcontact.tangential.temperature import STEEL
+    case = rc.load_case(EX / "bodies.toml").with_values({
+        "creepage": {"longitudinal": 0.0, "lateral": 0.0, "spin": 0.0},
+        "thermal": {"rail_temperature": 0.0, "wheel_temperature": 150.0},
+        "solver.grid": [60, 60]})
+    (p,) = rc.solve(case, normal="hertz", tangential="fastsim").patches
+    assert p.max_temperature == pytest.approx(75.0, abs=1e-9)
+    case = case.with_values({"creepage.longitudinal": 0.3, "thermal.wheel_temperature": 0.0})
+    (p,) = rc.solve(case, normal="hertz", tangential="fastsim").patches
+    a, p0 = p.normal.semi_axes[0], p.normal.pmax
+    closed = 0.5 * STEEL.jaeger_factor(30.0) * 0.3 * 9.0 * p0 * math.sqrt(a) * 2.1883
+    assert p.max_temperature == pytest.approx(closed, rel=5e-3)
+
+
+def test_thermal_keys_are_checked():
+    from railcontact.core.errors import CaseFileError
+    case = rc.load_case(EX / "bodies.toml")
+    with pytest.raises(CaseFileError, match="thermal.conductivity"):
+        case.with_values({"thermal.conductivity": -1.0})
+    with pytest.raises(CaseFileError, match="thermal.colour"):
+        case.with_values({"thermal.colour": 1.0})
+    with pytest.raises(CaseFileError, match="thermal.scheme"):
+        case.with_values({"thermal.scheme": "upwind"})

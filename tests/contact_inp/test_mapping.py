@@ -150,3 +150,38 @@ def test_interfacial_layer_maps_to_the_exact_models_layer(testbank):
     (case,) = read_inp(path)
     case.values["TAU_C0"] = 0.0
     assert layer_options(case)["yield_stress"] == math.inf
+
+
+def _a22_with_heat(testbank, tmp_path, b1, b2, heatcp2=450.0):
+    """Manchester A-2.2's first case (right wheel, exact model) at 12 mrad yaw with
+    HEAT = 3 and the bulk temperatures ``b1`` (rail), ``b2`` (wheel)."""
+    src = (testbank / "examples_basic" / "mbench_a22_right.inp").read_text()
+    t = src.split("%  2: Lateral")[0]
+    t = t.replace(" 0000321    H-G-I-A-O-W-R", " 3000321    H-G-I-A-O-W-R")
+    t = t.replace("82000.  82000.                POISS 1,2,  GG 1,2",
+                  "82000.  82000.                POISS 1,2,  GG 1,2\n"
+                  f"  {b1}  450.0  50e-3  7.85e-6   BKTEMP, HEATCP1, LAMBDA1, DENS1\n"
+                  f"  {b2}  {heatcp2}  50e-3  7.85e-6   BKTEMP, HEATCP2, LAMBDA2, DENS2")
+    t = t.replace("10000.  0.00000000 0.0000  0.0", "10000.  0.00000000 0.0120  0.0")
+    path = tmp_path / f"a22_heat_{b2}.inp"
+    path.write_text(t + "\n 0 MODULE\n")
+    return path
+
+
+def test_module1_surface_temperatures(testbank, tmp_path):
+    """HEAT = 3 in module 1: every patch's tmax_C (CONTACT's MAX(T1,T2), its scheme)
+    from the wheel-rail solution's slip and tractions.  Equal steels make the
+    problem linear in the bulk temperatures: with the wheel at 150 C and the rail
+    at 0 C the largest temperature is the cold case's plus their mean, 75 C (to
+    1e-9; measured 4.80 C of frictional heating at 12 mrad yaw).  Different heat
+    constants of the two bodies stop with one line."""
+    from railcontact.contact_inp import solve_inp
+    dirs = [testbank / "examples_basic"]
+    (cold,) = solve_inp(_a22_with_heat(testbank, tmp_path, 0.0, 0.0), profile_dirs=dirs)
+    (hot,) = solve_inp(_a22_with_heat(testbank, tmp_path, 0.0, 150.0), profile_dirs=dirs)
+    assert cold["converged"] and hot["converged"]
+    assert cold["tmax_C"] > 1.0 and cold["nslip"] > 0
+    assert hot["tmax_C"] == pytest.approx(cold["tmax_C"] + 75.0, abs=1e-9)
+    with pytest.raises(InpError, match="HEATCP, LAMBDA or DENS of the two bodies"):
+        solve_inp(_a22_with_heat(testbank, tmp_path, 0.0, 1.0, heatcp2=500.0),
+                  profile_dirs=dirs)

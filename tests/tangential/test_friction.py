@@ -57,3 +57,16 @@ def test_slip_velocity_friction_laws():
     assert law(w) == pytest.approx(FallingFriction(A, B)(mu0, w))
     with pytest.raises(InputError, match="expected 'linear'"):
         SlipVelocityFriction("cubic", 0.2)
+
+
+def test_temperature_friction_is_piecewise_linear():
+    """CONTACT's L = 6 law: mu_ref below T_ref, linear over dT, mu_ref + dmu above."""
+    from railcontact.tangential.friction import TemperatureFriction
+    law = TemperatureFriction(0.3, 100.0, -0.1, 200.0)
+    assert law([-50.0, 100.0, 200.0, 300.0, 1000.0]) == pytest.approx(
+        [0.3, 0.3, 0.25, 0.2, 0.2], abs=1e-15)
+    assert (law.static, law.mu_kin) == pytest.approx((0.3, 0.2))
+    with pytest.raises(InputError, match="kinetic"):
+        TemperatureFriction(0.1, 0.0, -0.2, 100.0)
+    with pytest.raises(InputError, match="dT"):
+        TemperatureFriction(0.3, 0.0, -0.1, 0.0)
