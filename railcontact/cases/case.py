@@ -91,9 +91,11 @@ class Case(CaseKeys):
     #: the ``[bodies]`` (and ``[force]``) keys of a case given by curvatures parsed
     bodies: BodiesSetup | None = None
     #: ``[thermal]``: (rail, wheel) thermal constants of the flash temperatures
-    #: (default steel at 20 deg C) and the discretisation (``"jaeger"``, or
-    #: ``"contact"``: CONTACT's own-element weight)
-    thermal: tuple = field(default_factory=lambda: (STEEL, STEEL, "jaeger"))
+    #: (each key defaulting to steel at 20 deg C) and the discretisation
+    #: (``"jaeger"``, or ``"contact"``: CONTACT's own-element weight); None without
+    #: a ``[thermal]`` table: no temperatures (they cost about a millisecond per
+    #: patch, as much as a whole compiled Hertz + FASTSIM case)
+    thermal: tuple | None = None
 
     @property
     def is_bodies(self) -> bool:
@@ -257,10 +259,12 @@ def _material(keys: CaseKeys) -> Material:
         raise CaseFileError(str(exc)) from None
 
 
-def _thermal(keys: CaseKeys) -> tuple:
+def _thermal(keys: CaseKeys) -> tuple | None:
     """``[thermal]``: bulk temperatures [deg C] of rail and wheel and the steel's
     heat capacity [J/(kg K)], conductivity [W/(m K)] and density [kg/m^3] (both
     bodies), and the scheme, for the flash temperatures (docs/case_files.md)."""
+    if "thermal" not in keys.raw:
+        return None
     scheme = keys.get("thermal.scheme", "jaeger")
     if scheme not in SCHEMES:
         raise CaseFileError(f"thermal.scheme = {shown(scheme)}: expected one of {SCHEMES}")

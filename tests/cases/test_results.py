@@ -72,13 +72,20 @@ def test_the_status_is_in_the_netcdf_attributes():
 
 
 def test_flash_temperature_of_a_bodies_case(bodies_result):
-    """Every solve gives the patch's flash temperature (default steel at 20 C):
-    JSON ``max_temperature_degC``, NetCDF ``max_temperature`` in degC, the fields
-    on the tangential grid, rail and wheel equally hot in the contact (equal
-    steels), above the bulk temperature where there is slip."""
+    """A solve gives the patch's flash temperature where the case has a
+    ``[thermal]`` table (each key defaulting to steel at 20 C): JSON
+    ``max_temperature_degC``, NetCDF ``max_temperature`` in degC, the fields on the
+    tangential grid, rail and wheel equally hot in the contact (equal steels), above
+    the bulk temperature where there is slip.  Without the table, none (and no
+    cost)."""
     (p,) = bodies_result.patches
+    assert p.temperatures is None and "max_temperature_degC" not in p.to_dict()
+    assert "max_temperature" not in bodies_result.to_xarray()
+    res = rc.solve(rc.load_case(EX / "bodies.toml").with_values(
+        {"thermal": {"rail_temperature": 20.0}}))
+    (p,) = res.patches
     d = p.to_dict()
-    ds = bodies_result.to_xarray()
+    ds = res.to_xarray()
     assert ds["max_temperature"].attrs["units"] == "degC"
     assert float(ds["max_temperature"][0]) == d["max_temperature_degC"] == p.max_temperature
     t_rail, t_wheel = p.temperatures
