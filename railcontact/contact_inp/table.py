@@ -99,7 +99,8 @@ def rows(result, mapped) -> list:
         yr, zr = _rail_coordinates(g.y_rail, g.z_rail, meta)
         # the reference point (on the rail surface) in wheel-profile coordinates
         xw, yw, zw = float(L[0]), float(L[1]) - meta["wheel_offset"], float(L[2]) - r0
-        row = {**common, "patch": k, "xcp_tr_mm": x * 1e3, "ycp_tr_mm": y * 1e3,
+        row = {**common, "patch": k, "xcp_tr_mm": x * 1e3,
+               "ycp_tr_mm": (y - meta.get("translation", 0.0)) * 1e3,
                "zcp_tr_mm": (z - z_top) * 1e3, "delta_tr_rad": float(g.contact_angle),
                "ycp_r_mm": sgn * yr, "zcp_r_mm": zr, "xcp_w_mm": xw * 1e3,
                "ycp_w_mm": sgn * yw * 1e3, "zcp_w_mm": zw * 1e3, "r_wheel_mm": (r0 + zw) * 1e3,

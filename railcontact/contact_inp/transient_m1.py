@@ -144,6 +144,9 @@ def check(case: InpCase, profile_dirs=()) -> None:
     if mapped.meta.get("surfaces") and ("slices" in raw["rail"] or "roller" in raw):
         raise _unsupported(case, f"TANG = {d['T']} with rail slices or a roller rig",
                            "expected a rail profile (placed by its gauge face or at RAILY0)")
+    if d["F"] != 0:
+        raise _unsupported(case, f"TANG = {d['T']} with FORCE = {d['F']}",
+                           "expected FORCE = 0 (the pitch velocity or shift prescribed)")
     if d["M"] != 0:
         raise _unsupported(case, f"TANG = {d['T']} with MATER = {d['M']}",
                            "expected MATER = 0 (the exact tangential model)")

@@ -150,3 +150,16 @@ def test_interfacial_layer_maps_to_the_exact_models_layer(testbank):
     (case,) = read_inp(path)
     case.values["TAU_C0"] = 0.0
     assert layer_options(case)["yield_stress"] == math.inf
+
+
+def test_conformal_groove_on_a_test_rig_is_translated_onto_a_track(testbank):
+    """groove_li case 1: a rail at RAILY0 = 0 (GAUGHT < 0), conformal (D = 4), no
+    roll or yaw: the track's case with the rail 0.75 m from the centre and the
+    wheel moved with it (FBDIST 0 -> 1.5 m), y_tr moved back in the rows; FX_WS
+    prescribed (F = 1) from the nominal pitch velocity -VS/NOMRAD."""
+    (m,) = load_inp(testbank / "examples_conformal" / "groove_li.inp", cases=[1])
+    assert m.raw["track"]["rail_offset"] == pytest.approx(0.75)
+    assert m.raw["wheelset"]["flange_back_distance"] == pytest.approx(1.5)
+    assert m.raw["solver"]["contact_surface"] == "conformal"
+    assert m.meta["translation"] == pytest.approx(0.75) and m.meta["fx_ws"] == 0.0
+    assert m.raw["wheelset"]["pitch_velocity"] == pytest.approx(-1.0)
