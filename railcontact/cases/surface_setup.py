@@ -178,7 +178,7 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         lateral_shift=case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m"),
         roll=case.number("wheelset.roll", 0.0, -0.5, 0.5, "rad"),
         yaw=case.number("wheelset.yaw", 0.0, -0.5, 0.5, "rad"),
-        velocity=case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s"),
+        velocity=_speed(case),
         pitch_velocity=_optional(case, "wheelset.pitch_velocity", -1e4, 1e4, "rad/s"),
         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0, -10.0, 10.0, "m/s"),
         yaw_rate=case.number("wheelset.yaw_rate", 0.0, -10.0, 10.0, "rad/s"),
@@ -186,6 +186,16 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         contact_angle=inc, rigid_slip=slip,
         combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m"),
         wheel_deviation=_wheel_deviation(case))
+
+
+def _speed(case: CaseKeys) -> float:
+    """``wheelset.velocity`` [m/s] on rail surfaces: negative where the wheel rolls
+    towards -x (solved mirrored in x, :mod:`railcontact.cases.surfaces`)."""
+    v = case.number("wheelset.velocity", 30.0, -200.0, 200.0, "m/s")
+    if abs(v) < 1e-3:
+        raise CaseFileError(f"wheelset.velocity = {v!r}: expected a speed of at least 0.001 "
+                            "m/s, forwards (> 0) or backwards (< 0)")
+    return v
 
 
 def _wheel_deviation(case: CaseKeys):

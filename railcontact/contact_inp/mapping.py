@@ -505,9 +505,9 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     place = {"lateral_position": (1.0 if side == "right" else -1.0) * (
         _need(case, "RAILY0") + (v.get("DYRAIL") or 0.0)) * MM,
              "vertical_position": (v.get("DZRAIL") or 0.0) * MM}
-    if _need(case, "VS_WS") <= 0 and not roller:
-        raise _unsupported(case, f"VS = {v['VS_WS']:g} mm/s with {what} (rolling towards -x)",
-                           "expected VS > 0")
+    if _need(case, "VS_WS") == 0 and not roller:
+        raise _unsupported(case, f"VS = 0 mm/s with {what}", "expected VS != 0 (rolling "
+                                 "towards -x: VS < 0)")
     if not slices:
         return _surface_case(case, dirs, side, normal, force, tang, topt,
                              {**_profile_table(case, "R_", dirs), **place}, roller, discns)

@@ -329,6 +329,30 @@ def test_roller_rig_inputs(testbank):
     assert "\n" not in str(e.value)
 
 
+def test_rolling_towards_minus_x_on_a_test_rig(testbank):
+    """test-rollers2 case 4 (the sphere yawed by -0.3 rad rolling backwards, VS =
+    -95.5 mm/s, on the plane at RAILY0 = 200 mm): the steady problem mirrored in x.
+    Measured: F_n +0.065 % (97224 against 97160 N), p_max -0.43 %, the elements in
+    contact CONTACT's 1273, F_x, F_s under 0.5 N (CONTACT 0.005, 0.017 N: pure
+    rolling); test-rollers3 case 4 (D = 3, the same backwards): F_x, F_s the
+    negatives of its case 3 (1142.57, -320.55 N), as CONTACT's are of its case 3
+    (991.1, -745.2 N; that case's miss: test below)."""
+    from tests.conftest import read_ref_out
+    path = testbank / "examples_conformal" / "test-rollers2.inp"
+    (r,) = solve_inp(path, cases=[4])
+    (q,) = read_ref_out(path.with_suffix(".ref_out"))[3]["patches"]
+    assert r["converged"], r["message"]
+    assert r["fn_N"] == pytest.approx(q["fn"], rel=1e-3)
+    assert r["pmax_MPa"] == pytest.approx(q["pmax"], rel=6e-3)
+    assert r["ncon"] == q["ncon"]
+    for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
+        assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], k
+    path = testbank / "examples_conformal" / "test-rollers3.inp"
+    r3, r4 = solve_inp(path, cases=[3, 4])
+    assert (r4["fx_N"], r4["fs_N"]) == pytest.approx((-r3["fx_N"], -r3["fs_N"]), rel=1e-5)
+    assert r4["fx_N"] == pytest.approx(-1142.57, rel=1e-4)
+
+
 def test_wheel_deviation_on_a_track(testbank):
     """m1_steady_roll.inp: a cylindrical wheel rolled by DROLLW = 5 deg about its
     profile origin (E = 5) on a circular rail at the track centre.  The contact
