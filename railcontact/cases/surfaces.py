@@ -123,7 +123,13 @@ def build_surface_case(case: Case) -> SurfaceScene:
         omega = 0.0
         if s.roller is not None:
             R = s.roller.radius
-            surf = RollerSurface(surf.profile, R, s.roller.position)
+            prof = surf.profile
+            if s.roller.profile_deviation is not None:
+                # the profile turned about +x (z down: a positive roll lowers the
+                # field side) and lowered, the roller's axis where it was
+                dz, roll = s.roller.profile_deviation
+                prof = prof.rotated(-roll).shifted(0.0, dz)
+            surf = RollerSurface(prof, R, s.roller.position)
             omega = -pv * r0 / R if s.roller.angular_velocity is None else \
                 s.roller.angular_velocity
         y0 = spec.lateral_position

@@ -485,13 +485,15 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     if v.get("CANT") and not roller:
         raise _unsupported(case, f"CANT = {v['CANT']:g} with {what}",
                            "expected 0 (the rail as mounted)")
-    # a roller's deviations would move its surface off the axis it turns about
-    rail_flex = RAIL_FLEX if roller else RAIL_FLEX[2:]
+    # a roller's DZRAIL, DROLLR deviate its profile about a fixed axis; a rail's
+    # roll and the deviations' velocities are not supported
+    rail_flex = RAIL_FLEX[3:] if roller else RAIL_FLEX[2:]
     for name in ("CURV", "VZ_WS", "VROLL") + rail_flex + WHEEL_FLEX[6:]:
         if v.get(name):
             raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0" + (
-                " (the wheel's deviations by flexibility DXWHL .. DPITCHW, and a rail's "
-                "DYRAIL, DZRAIL on a track or test rig)" if name in RAIL_FLEX + WHEEL_FLEX
+                " (the wheel's deviations by flexibility DXWHL .. DPITCHW, a rail's "
+                "DYRAIL, DZRAIL on a track or test rig, a roller's DYRAIL, DZRAIL, DROLLR)"
+                if name in RAIL_FLEX + WHEEL_FLEX
                 else ""))
     if v.get("G_MISS") is not None and v["G_MISS"] >= 0:
         raise _unsupported(case, f"G_MISS = {v['G_MISS']:g} mm (near-miss patches)",
@@ -504,7 +506,7 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     # DZRAIL down, as the rail's placement
     place = {"lateral_position": (1.0 if side == "right" else -1.0) * (
         _need(case, "RAILY0") + (v.get("DYRAIL") or 0.0)) * MM,
-             "vertical_position": (v.get("DZRAIL") or 0.0) * MM}
+             "vertical_position": 0.0 if roller else (v.get("DZRAIL") or 0.0) * MM}
     if _need(case, "VS_WS") == 0 and not roller:
         raise _unsupported(case, f"VS = 0 mm/s with {what}", "expected VS != 0 (rolling "
                                  "towards -x: VS < 0)")
@@ -566,6 +568,12 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
         # and VS; the wheelset does not travel
         raw["roller"] = {"radius": _need(case, "CANT") * MM,
                          "angular_velocity": _need(case, "VS_WS")}
+        if v.get("DZRAIL") or v.get("DROLLR"):
+            # the roller's profile turned (DROLLR, track frame: mirrored on the left)
+            # and lowered (DZRAIL) about the roller's fixed axis
+            raw["roller"]["profile_deviation"] = [
+                (v.get("DZRAIL") or 0.0) * MM,
+                (1.0 if side == "right" else -1.0) * (v.get("DROLLR") or 0.0)]
     else:
         ws["velocity"] = _need(case, "VS_WS") * MM
     if discns == 3:
@@ -576,4 +584,7 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
     meta = {"module": 1, "side": side, "nominal_radius": v["NOMRADW"] * MM,
             "wheel_offset": (v["FBDIST"] / 2 - v["FBPOS"]) * MM, "cant": 0.0,
             "origin_shift": (0.0, 0.0), "z_top": 0.0, "surfaces": True}
+    if "profile_deviation" in raw.get("roller", {}):
+        # the rows' rail-profile coordinates in the profile as read (CONTACT's)
+        meta["profile_deviation"] = tuple(raw["roller"]["profile_deviation"])
     return MappedCase(case.number, 1, raw, meta)

@@ -61,6 +61,12 @@ def _patch_values(p) -> dict:
 def _rail_coordinates(y, z, meta):
     """Rail-profile coordinates [mm] of CONTACT (the file's, before the cant) from
     railcontact's mounted rail profile's."""
+    if "profile_deviation" in meta:
+        # a roller's profile turned by roll and lowered by dz: back to the profile
+        # as read
+        dz, roll = meta["profile_deviation"]
+        c, s = math.cos(roll), math.sin(roll)
+        y, z = c * y + s * (z - dz), -s * y + c * (z - dz)
     y0, z0 = meta.get("origin_shift", (0.0, 0.0))
     cant = meta.get("cant", 0.0)
     y, z = y + y0, z + z0

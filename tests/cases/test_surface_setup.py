@@ -72,6 +72,14 @@ def test_parsed_once_into_typed_values():
     assert _check({"wheel": WHEEL, "rail": SLICED, "wheelset": {"velocity": -2.0}}).velocity \
         == -2.0
     assert (r.roller.radius, r.roller.angular_velocity, r.roller.position) == (0.5, None, 0.0)
+    assert r.roller.profile_deviation is None
+    d = _check({"wheel": WHEEL, "rail": {"profile": "60E1"},
+                "roller": {"radius": 0.5, "profile_deviation": [5e-4, 0.1]}})
+    assert d.roller.profile_deviation == (5e-4, 0.1)
+    for bad in ([0.1, 0.0], [0.0, 0.6], [0.0], [0.0, "x"]):
+        with pytest.raises(CaseFileError, match="roller.profile_deviation = .*expected"):
+            _check({"wheel": WHEEL, "rail": {"profile": "60E1"},
+                    "roller": {"radius": 0.5, "profile_deviation": bad}})
 
 
 @pytest.mark.parametrize("change, match", [

@@ -307,26 +307,33 @@ def test_roller_rig_inputs(testbank):
     (E = 4): the sphere yawed by DYAWW = -0.3 rad about its profile origin (case 2,
     its geometry unchanged) and rolled by DROLLW = 0.1 rad and lifted by DZWHL
     (case 5: the contact 9.98 mm aside, at y = 209.983 mm as CONTACT's).  The
-    roller's deviations (Z = 3: DZRAIL, DROLLR, case 9) stop with one line."""
+    roller's deviations (Z = 3): its profile turned by DROLLR and lowered by
+    DZRAIL about the roller's fixed axis (case 9: the ellipsoidal roller's profile
+    turned by 0.1 rad, the contact at y = 190.0167 mm and the profile point
+    (-9.9833, 0.4996) mm as CONTACT's; case 11: the cylindrical roller turned by
+    0.2 rad, a cone, as case 10's: F_s 14175 against 14020 N, 0.53 % of mu F_n,
+    F_n +0.22 %, 1287 elements against 1281)."""
     from tests.conftest import read_ref_out
     path = testbank / "examples_conformal" / "test-rollers2.inp"
-    rows = {r["case"]: r for r in solve_inp(path, cases=[1, 2, 5, 6, 10])}
+    rows = {r["case"]: r for r in solve_inp(path, cases=[1, 2, 5, 6, 9, 10, 11])}
     refs = read_ref_out(path.with_suffix(".ref_out"))
     for case, r in rows.items():
         (q,) = refs[case - 1]["patches"]
         assert r["converged"], r["message"]
-        assert r["fn_N"] == pytest.approx(q["fn"], rel=1e-3)
+        # case 11 (CONTACT's differs from its case 10 by 0.2 % in F_n, 6 elements):
+        # the issue's tolerances
+        assert r["fn_N"] == pytest.approx(q["fn"], rel=1e-3 if case != 11 else 1e-2)
         assert r["pmax_MPa"] == pytest.approx(q["pmax"], rel=6e-3)
-        assert r["ncon"] == q["ncon"]
+        assert r["ncon"] == pytest.approx(q["ncon"], abs=0 if case != 11 else 0.03 * q["ncon"])
         assert [r["xcp_tr_mm"], r["ycp_tr_mm"], r["zcp_tr_mm"]] == pytest.approx(
             [q["xcp"], q["ycp"], q["zcp"]], abs=3e-3)
         for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
             assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], (case, k)
     assert rows[10]["fs_N"] == pytest.approx(refs[9]["patches"][0]["fs"], rel=1e-3)
     assert rows[5]["ycp_w_mm"] == pytest.approx(9.983, abs=1e-3)
-    with pytest.raises(InpError, match=r"case 9 .*DZRAIL = 0.4996 .* is not supported") as e:
-        load_inp(path, cases=[9])
-    assert "\n" not in str(e.value)
+    assert [rows[9]["ycp_r_mm"], rows[9]["zcp_r_mm"]] == pytest.approx([-9.9833, 0.4996],
+                                                                       abs=2e-4)
+    assert rows[11]["ycp_r_mm"] == pytest.approx(-20.2588, abs=3e-3)
 
 
 def test_rolling_towards_minus_x_on_a_test_rig(testbank):
@@ -383,14 +390,29 @@ def test_roller_rig_rigid_slip_on_the_surfaces(testbank):
     case 1; rolled by a deviation, case 5: 1092 N) and the cylinder on the
     ellipsoidal roller (-284.2 N, case 6), as CONTACT's within 0.2 %.  (Its yawed
     cases 3, 7, 8 are reproduced to 1.46 %, 0.85 % of mu F_n in F_s; the conical
-    roller, case 10: tests/geometry/test_surface_search.py.)"""
+    roller, case 10: tests/geometry/test_surface_search.py.)  Case 9, the roller's
+    profile turned by DROLLR = 0.1 rad and lowered by DZRAIL: -284.4 N as CONTACT's
+    -284.2."""
     from tests.conftest import read_ref_out
     path = testbank / "examples_conformal" / "test-rollers3.inp"
     (m,) = load_inp(path, cases=[6])
     assert m.raw["solver"]["rigid_slip"] == "surfaces" and m.raw["roller"]["radius"] == 0.4
-    rows = {r["case"]: r for r in solve_inp(path, cases=[1, 5, 6])}
+    rows = {r["case"]: r for r in solve_inp(path, cases=[1, 5, 6, 9])}
     refs = read_ref_out(path.with_suffix(".ref_out"))
     for case, r in rows.items():
         (q,) = refs[case - 1]["patches"]
         assert r["fx_N"] == pytest.approx(q["fx"], rel=2e-3)
         assert abs(r["fs_N"]) < 1e-3 * abs(q["fx"])
+
+
+@pytest.mark.xfail(strict=True, reason="test-rollers3 case 11 (the cylindrical roller turned by "
+                   "DROLLR = 0.2 rad, D = 3): F_s 14179 against CONTACT's 13780 N (1.36 % of "
+                   "mu F_n), F_x 50 against 204 N; railcontact's equals its case 10 on the "
+                   "conical roller, CONTACT's differs from its case 10 (13930 N) by 150 N")
+def test_roller_turned_by_its_deviation_rigid_slip_on_the_surfaces(testbank):
+    from tests.conftest import read_ref_out
+    path = testbank / "examples_conformal" / "test-rollers3.inp"
+    (r,) = solve_inp(path, cases=[11])
+    (q,) = read_ref_out(path.with_suffix(".ref_out"))[10]["patches"]
+    for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
+        assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], k
