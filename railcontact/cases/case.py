@@ -31,7 +31,7 @@ _ALLOWED = {
     "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
              "lateral_position", "vertical_position", "slice_spacing"} | PROFILE_OPTIONS,
     "rails": None,
-    "roller": {"radius", "angular_velocity", "position"},
+    "roller": {"radius", "angular_velocity", "position", "profile_deviation"},
     "track": {"gauge", "gauge_height", "rail_offset"},
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",

@@ -21,7 +21,7 @@ from .wheel_rail_setup import ProfileSource
 #: keys of one rail (``[rail]`` or an entry of ``[[rails]]``) in a surface case
 RAIL_KEYS = {"profile", "slices", "inclination", "units", "name", "lateral_position",
              "vertical_position", "slice_spacing", "lateral_range"}
-ROLLER_KEYS = {"radius", "angular_velocity", "position"}
+ROLLER_KEYS = {"radius", "angular_velocity", "position", "profile_deviation"}
 
 
 def is_surface_case(case: CaseKeys) -> bool:
@@ -63,11 +63,15 @@ class RailSpec:
 class RollerSpec:
     """A roller in place of the rail: ``radius`` [m], ``angular_velocity`` [rad/s]
     (None: rolling with the wheel) and ``position`` [m] along the track of its
-    crown."""
+    crown; ``profile_deviation`` (dz [m], roll [rad]) or None: its profile turned
+    by roll about +x about the profile origin, then lowered by dz, before it is
+    revolved about the roller's axis, which stays (CONTACT's DZRAIL, DROLLR of a
+    roller)."""
 
     radius: float
     angular_velocity: float | None = None
     position: float = 0.0
+    profile_deviation: tuple | None = None
 
 
 @dataclass(frozen=True)
@@ -141,7 +145,8 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
                                 f"{sorted(ROLLER_KEYS - {'radius'})}")
         roller = RollerSpec(case.number("roller.radius", None, 0.02, 10.0, "m"),
                             _optional(case, "roller.angular_velocity", -1e5, 1e5, "rad/s"),
-                            case.number("roller.position", 0.0, -1.0, 1.0, "m"))
+                            case.number("roller.position", 0.0, -1.0, 1.0, "m"),
+                            _profile_deviation(case))
         if len(specs) > 1:
             raise CaseFileError("[roller] replaces one rail; give one rail")
         if specs[0].slices is not None:
@@ -178,7 +183,7 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         lateral_shift=case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m"),
         roll=case.number("wheelset.roll", 0.0, -0.5, 0.5, "rad"),
         yaw=case.number("wheelset.yaw", 0.0, -0.5, 0.5, "rad"),
-        velocity=case.number("wheelset.velocity", 30.0, 1e-3, 200.0, "m/s"),
+        velocity=_speed(case),
         pitch_velocity=_optional(case, "wheelset.pitch_velocity", -1e4, 1e4, "rad/s"),
         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0, -10.0, 10.0, "m/s"),
         yaw_rate=case.number("wheelset.yaw_rate", 0.0, -10.0, 10.0, "rad/s"),
@@ -186,6 +191,29 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         contact_angle=inc, rigid_slip=slip,
         combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m"),
         wheel_deviation=_wheel_deviation(case))
+
+
+def _speed(case: CaseKeys) -> float:
+    """``wheelset.velocity`` [m/s] on rail surfaces: negative where the wheel rolls
+    towards -x (solved mirrored in x, :mod:`railcontact.cases.surfaces`)."""
+    v = case.number("wheelset.velocity", 30.0, -200.0, 200.0, "m/s")
+    if abs(v) < 1e-3:
+        raise CaseFileError(f"wheelset.velocity = {v!r}: expected a speed of at least 0.001 "
+                            "m/s, forwards (> 0) or backwards (< 0)")
+    return v
+
+
+def _profile_deviation(case: CaseKeys):
+    """``roller.profile_deviation = [dz, roll]`` (m, rad) or None."""
+    dev = case.get("roller.profile_deviation")
+    if dev is None:
+        return None
+    if not (isinstance(dev, list) and len(dev) == 2 and all(
+            isinstance(v, (int, float)) and not isinstance(v, bool) and math.isfinite(v)
+            for v in dev)) or abs(dev[0]) > 0.05 or abs(dev[1]) > 0.5:
+        raise CaseFileError(f"roller.profile_deviation = {shown(dev)}: expected [dz, roll], "
+                            "dz within 0.05 m and roll within 0.5 rad")
+    return tuple(float(v) for v in dev)
 
 
 def _wheel_deviation(case: CaseKeys):

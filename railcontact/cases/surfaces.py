@@ -21,6 +21,7 @@ rails, each with those keys and ``profile`` or ``slices``), ``[roller]``
 
 from __future__ import annotations
 
+import dataclasses
 import logging
 import math
 import time
@@ -122,7 +123,13 @@ def build_surface_case(case: Case) -> SurfaceScene:
         omega = 0.0
         if s.roller is not None:
             R = s.roller.radius
-            surf = RollerSurface(surf.profile, R, s.roller.position)
+            prof = surf.profile
+            if s.roller.profile_deviation is not None:
+                # the profile turned about +x (z down: a positive roll lowers the
+                # field side) and lowered, the roller's axis where it was
+                dz, roll = s.roller.profile_deviation
+                prof = prof.rotated(-roll).shifted(0.0, dz)
+            surf = RollerSurface(prof, R, s.roller.position)
             omega = -pv * r0 / R if s.roller.angular_velocity is None else \
                 s.roller.angular_velocity
         y0 = spec.lateral_position
@@ -225,6 +232,32 @@ def _surface_slip_field(g, ns, setup, creep):
     return sx - (xi - phi * Y), sy - (eta + phi * X)
 
 
+def _mirrored_normal(ns):
+    """A normal solution mirrored in x (x -> -x): the rolling direction reversed."""
+    flip = (lambda a: None if a is None else np.ascontiguousarray(a[::-1]))  # noqa: E731
+    return dataclasses.replace(ns, x=np.ascontiguousarray(-ns.x[::-1]), pressure=flip(ns.pressure),
+                               contact=flip(ns.contact), gap=flip(ns.gap), strips=None,
+                               pressure_at=None)
+
+
+def _unmirrored_tangential(ts, creep):
+    """The tangential solution of a problem solved mirrored in x, back in the patch's
+    frame (``creep`` its own creepages): tractions and slip along x negated."""
+    flip = lambda a: np.ascontiguousarray(np.asarray(a)[::-1])  # noqa: E731
+    return dataclasses.replace(ts, x=np.ascontiguousarray(-ts.x[::-1]),
+                               traction_x=-flip(ts.traction_x), traction_y=flip(ts.traction_y),
+                               slip_x=-flip(ts.slip_x), slip_y=flip(ts.slip_y),
+                               stick=flip(ts.stick), contact=flip(ts.contact), fx=-ts.fx,
+                               mz=-ts.mz, creepage=tuple(creep))
+
+
+def _backwards(setup) -> bool:
+    """Whether the wheel rolls towards -x over a rail at rest (VS < 0 on a track or
+    test rig): the steady rolling problem is then solved mirrored in x."""
+    return setup is not None and setup.motion.velocity < 0 and not any(
+        r.is_roller for r in setup.rails)
+
+
 def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, tangential=True,
                    setup=None):
     """Normal (and tangential) solutions of the patches of a search; ``previous``
@@ -245,6 +278,18 @@ def _solve_patches(case, contact, nmodel, tmodel, kw, previous=None, tangential=
             tkw = {}
             if setup is not None and setup.rigid_slip == "surfaces":
                 tkw["extra_slip"] = _surface_slip_field(g, ns, setup, creep)
+            if _backwards(setup) and getattr(tmodel, "mode", "rolling") == "rolling":
+                # rolling towards -x: the problem mirrored in x (x' = -x; xi, phi and
+                # the slip along x change sign), solved, and mirrored back
+                if "extra_slip" in tkw:
+                    ex, ey = tkw["extra_slip"]
+                    tkw["extra_slip"] = (-np.asarray(ex)[::-1], np.asarray(ey)[::-1])
+                mc = (-creep[0], creep[1], -creep[2])
+                ts = _unmirrored_tangential(tmodel.solve(_mirrored_normal(ns), g, case.material,
+                                                         mc, case.friction, g.velocity,
+                                                         **tkw), creep)
+                out.append(PatchResult(g, ns, ts, creep))
+                continue
             if best is not None and best.tangential is not None and \
                     "warm-start" in tmodel.capabilities:
                 tkw["warm_start"] = best.tangential

@@ -21,7 +21,7 @@ from ..cases.case import case_from_dict
 from ..cases.solve import solve
 from ..cases.sweep import CASE_SECONDS, OTHER_CASE_SECONDS, run_chains
 from ..core.errors import RailContactError
-from . import module3, subsurface as _subs, transient_m1
+from . import force_m1, module3, subsurface as _subs, transient_m1
 from .mapping import MappedCase, map_case
 from .reader import InpCase, InpError, read_inp
 from .table import COLUMNS, rows, to_csv, to_json, to_text
@@ -125,8 +125,13 @@ def _solve_inp_chain(items, warm=False, normal=None, tangential=None, subsurface
                 continue
             if m.module == 3:
                 seq.reset()
-            res = solve(case_from_dict(m.raw), normal, tangential,
-                        warm_start=prev if warm else None)
+            if m.meta.get("fx_ws") is not None:
+                # F = 1: the pitch velocity that gives FX_WS (:mod:`.force_m1`)
+                res, m = force_m1.solve_for_force(m, lambda raw, w: solve(
+                    case_from_dict(raw), normal, tangential, warm_start=w))
+            else:
+                res = solve(case_from_dict(m.raw), normal, tangential,
+                            warm_start=prev if warm else None)
             prev = res
             case_rows = rows(res, m)
             inp = m.meta.get("inp")

@@ -328,15 +328,18 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
     if d["E"] == 0 and "Y_WS" not in v:
         raise InpError(f"{case.where()}: EWHEEL = 0 in the first case: no wheelset data")
     sgn = -1.0 if d["C"] in (0, 4) else 1.0
-    if Path(str(_need(case, "R_FNAME"))).suffix.lower() == ".slcs" or d["C"] in (4, 5) or (
-            d["C"] in (0, 1) and _need(case, "GAUGHT") <= 0
+    slices = Path(str(_need(case, "R_FNAME"))).suffix.lower() == ".slcs"
+    translate = _translation(case) if not slices else 0.0
+    if slices or d["C"] in (4, 5) or (
+            d["C"] in (0, 1) and _need(case, "GAUGHT") <= 0 and not translate
             and not 250.0 <= sgn * _need(case, "RAILY0") <= 1000.0):
         # a switch or crossing, a roller rig, a test rig's rail near the centre
         return _map_surfaces(case, dirs)
     side = _digit(case, "C", {0: "left", 1: "right"}, "CONFIG")
     normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
     force = _digit(case, "N", {0: "position", 1: "force"}, "NORM")
-    _digit(case, "F", {0: "pitch velocity prescribed"}, "FORCE")
+    _digit(case, "F", {0: "pitch velocity prescribed", 1: "total force FX_WS prescribed"},
+           "FORCE")
     _digit(case, "D", {0: "kept", 1: "kept", 2: "planar contact, contact locus",
                        4: "conformal contact"}, "DISCNS")
     conformal = (d["D"] if d["D"] >= 2 else v.get("DISCNS")) == 4
@@ -345,7 +348,7 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
     track = {}
     if _need(case, "GAUGHT") <= 0:
         # absolute placement: the rail-profile origin at (RAILY0, RAILZ0)
-        offset = sgn * _need(case, "RAILY0") * MM
+        offset = sgn * _need(case, "RAILY0") * MM + translate
         if not 0.25 <= offset <= 1.0:
             raise _unsupported(case, f"RAILY0 = {v['RAILY0']:g} mm on the {side} side",
                                "expected the rail origin 250-1000 mm from the track centre "
@@ -402,7 +405,9 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                         "lateral_shift": _need(case, "Y_WS") * MM, "yaw": _need(case, "YAW"),
                         "roll": _need(case, "ROLL"), "side": side,
                         "velocity": _need(case, "VS_WS") * MM,
-                        "pitch_velocity": _need(case, "VPITCH"),
+                        # F = 1: found for FX_WS, from the nominal rolling radius
+                        "pitch_velocity": _need(case, "VPITCH") if d["F"] == 0 else
+                        -_need(case, "VS_WS") / _need(case, "NOMRADW"),
                         "lateral_velocity": (v.get("VY_WS") or 0.0) * MM,
                         "yaw_rate": v.get("VYAW") or 0.0,
                         "combine_distance": d_sep * MM, "full_interaction_distance": d_comb * MM,
@@ -413,6 +418,9 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                       "tangential_options": topt}}
     if conformal:
         raw["solver"]["contact_surface"] = "conformal"
+    if translate:
+        # the wheel moved with the rail (:func:`_translation`)
+        raw["wheelset"]["flange_back_distance"] += 2.0 * translate
     frame = _rail_frame(raw, base)
     if "rail_offset" in track:
         # CONTACT's rail origin at z = RAILZ0; railcontact's in the track plane
@@ -425,7 +433,32 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
         raw["wheelset"]["pitch"] = _need(case, "PITCH")       # the out-of-round wheel's
     meta = {"module": 1, "side": side, "nominal_radius": v["NOMRADW"] * MM,
             "wheel_offset": (v["FBDIST"] / 2 - v["FBPOS"]) * MM, **frame}
+    if translate:
+        meta.update(translation=translate, wheel_offset=meta["wheel_offset"] + translate)
+    if d["F"] == 1:
+        meta["fx_ws"] = _need(case, "FX_WS")
     return MappedCase(case.number, 1, raw, meta)
+
+
+#: where a translated test-rig case places its rail's origin [m] (:func:`_translation`)
+TRANSLATED_RAIL = 0.75
+
+
+def _translation(case: InpCase) -> float:
+    """The lateral translation [m] that takes a conformal case on a test rig's rail
+    at RAILY0 near the track centre (GAUGHT <= 0, a wheel in a groove: groove_li)
+    onto a track's rail at :data:`TRANSLATED_RAIL` from the centre, the wheel moved
+    with it (FBDIST + 2 L): the same problem where the wheelset neither rolls nor
+    yaws (ROLL = YAW = VYAW = 0, whose axes lie at the track centre); the rows'
+    y_tr are moved back (``meta["translation"]``).  0 for any other case."""
+    d, v = case.digits, case.values
+    sgn = -1.0 if d["C"] == 0 else 1.0
+    conformal = (d["D"] if d["D"] >= 2 else v.get("DISCNS")) == 4
+    if d["C"] not in (0, 1) or not conformal or (v.get("GAUGHT") or 0.0) > 0 or \
+            250.0 <= sgn * (v.get("RAILY0") or 0.0) <= 1000.0 or \
+            any(v.get(k) for k in ("ROLL", "YAW", "VYAW", "RAILZ0", "CANT")):
+        return 0.0
+    return TRANSLATED_RAIL - sgn * (v.get("RAILY0") or 0.0) * MM
 
 
 # ------------------------------- module 1 on rail surfaces: slices (S&C), roller rigs
@@ -470,13 +503,15 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     if v.get("CANT") and not roller:
         raise _unsupported(case, f"CANT = {v['CANT']:g} with {what}",
                            "expected 0 (the rail as mounted)")
-    # a roller's deviations would move its surface off the axis it turns about
-    rail_flex = RAIL_FLEX if roller else RAIL_FLEX[2:]
+    # a roller's DZRAIL, DROLLR deviate its profile about a fixed axis; a rail's
+    # roll and the deviations' velocities are not supported
+    rail_flex = RAIL_FLEX[3:] if roller else RAIL_FLEX[2:]
     for name in ("CURV", "VZ_WS", "VROLL") + rail_flex + WHEEL_FLEX[6:]:
         if v.get(name):
             raise _unsupported(case, f"{name} = {v[name]:g} with {what}", "expected 0" + (
-                " (the wheel's deviations by flexibility DXWHL .. DPITCHW, and a rail's "
-                "DYRAIL, DZRAIL on a track or test rig)" if name in RAIL_FLEX + WHEEL_FLEX
+                " (the wheel's deviations by flexibility DXWHL .. DPITCHW, a rail's "
+                "DYRAIL, DZRAIL on a track or test rig, a roller's DYRAIL, DZRAIL, DROLLR)"
+                if name in RAIL_FLEX + WHEEL_FLEX
                 else ""))
     if v.get("G_MISS") is not None and v["G_MISS"] >= 0:
         raise _unsupported(case, f"G_MISS = {v['G_MISS']:g} mm (near-miss patches)",
@@ -489,10 +524,10 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     # DZRAIL down, as the rail's placement
     place = {"lateral_position": (1.0 if side == "right" else -1.0) * (
         _need(case, "RAILY0") + (v.get("DYRAIL") or 0.0)) * MM,
-             "vertical_position": (v.get("DZRAIL") or 0.0) * MM}
-    if _need(case, "VS_WS") <= 0 and not roller:
-        raise _unsupported(case, f"VS = {v['VS_WS']:g} mm/s with {what} (rolling towards -x)",
-                           "expected VS > 0")
+             "vertical_position": 0.0 if roller else (v.get("DZRAIL") or 0.0) * MM}
+    if _need(case, "VS_WS") == 0 and not roller:
+        raise _unsupported(case, f"VS = 0 mm/s with {what}", "expected VS != 0 (rolling "
+                                 "towards -x: VS < 0)")
     if not slices:
         return _surface_case(case, dirs, side, normal, force, tang, topt,
                              {**_profile_table(case, "R_", dirs), **place}, roller, discns)
@@ -551,6 +586,12 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
         # and VS; the wheelset does not travel
         raw["roller"] = {"radius": _need(case, "CANT") * MM,
                          "angular_velocity": _need(case, "VS_WS")}
+        if v.get("DZRAIL") or v.get("DROLLR"):
+            # the roller's profile turned (DROLLR, track frame: mirrored on the left)
+            # and lowered (DZRAIL) about the roller's fixed axis
+            raw["roller"]["profile_deviation"] = [
+                (v.get("DZRAIL") or 0.0) * MM,
+                (1.0 if side == "right" else -1.0) * (v.get("DROLLR") or 0.0)]
     else:
         ws["velocity"] = _need(case, "VS_WS") * MM
     if discns == 3:
@@ -561,4 +602,7 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
     meta = {"module": 1, "side": side, "nominal_radius": v["NOMRADW"] * MM,
             "wheel_offset": (v["FBDIST"] / 2 - v["FBPOS"]) * MM, "cant": 0.0,
             "origin_shift": (0.0, 0.0), "z_top": 0.0, "surfaces": True}
+    if "profile_deviation" in raw.get("roller", {}):
+        # the rows' rail-profile coordinates in the profile as read (CONTACT's)
+        meta["profile_deviation"] = tuple(raw["roller"]["profile_deviation"])
     return MappedCase(case.number, 1, raw, meta)

@@ -61,6 +61,12 @@ def _patch_values(p) -> dict:
 def _rail_coordinates(y, z, meta):
     """Rail-profile coordinates [mm] of CONTACT (the file's, before the cant) from
     railcontact's mounted rail profile's."""
+    if "profile_deviation" in meta:
+        # a roller's profile turned by roll and lowered by dz: back to the profile
+        # as read
+        dz, roll = meta["profile_deviation"]
+        c, s = math.cos(roll), math.sin(roll)
+        y, z = c * y + s * (z - dz), -s * y + c * (z - dz)
     y0, z0 = meta.get("origin_shift", (0.0, 0.0))
     cant = meta.get("cant", 0.0)
     y, z = y + y0, z + z0
@@ -100,7 +106,8 @@ def rows(result, mapped) -> list:
         yr, zr = _rail_coordinates(g.y_rail, g.z_rail, meta)
         # the reference point (on the rail surface) in wheel-profile coordinates
         xw, yw, zw = float(L[0]), float(L[1]) - meta["wheel_offset"], float(L[2]) - r0
-        row = {**common, "patch": k, "xcp_tr_mm": x * 1e3, "ycp_tr_mm": y * 1e3,
+        row = {**common, "patch": k, "xcp_tr_mm": x * 1e3,
+               "ycp_tr_mm": (y - meta.get("translation", 0.0)) * 1e3,
                "zcp_tr_mm": (z - z_top) * 1e3, "delta_tr_rad": float(g.contact_angle),
                "ycp_r_mm": sgn * yr, "zcp_r_mm": zr, "xcp_w_mm": xw * 1e3,
                "ycp_w_mm": sgn * yw * 1e3, "zcp_w_mm": zw * 1e3, "r_wheel_mm": (r0 + zw) * 1e3,

@@ -49,6 +49,14 @@ CONTACT's super-grid makes them, the transfer is exact); their displacement
 difference at the new elements is then that of the previous time step
 (:func:`railcontact.tangential.exact.previous_displacement`).
 
+A conformal patch (DISCNS = 4, kept by D = 0, 1; :mod:`railcontact.cases.conformal`)
+takes the same step on its developed grid (x, s): its conformal part of the rigid
+slip (:func:`railcontact.geometry.conformal.conformal_slip`) is the step's extra
+slip, read as the creepages are (times 1 s for T = 1, times DQ with the spin DQ/6
+ahead for T = 2), each column's friction that of its local angle, and the patch's
+forces its bar forces; a column's place along the rail profile is the reference
+point's arc length plus s (the reference curve follows the rail profile).
+
 Units: CONTACT's (mm, N) at the boundary, SI inside.
 """
 
@@ -69,6 +77,7 @@ from ..cases.patches import case_models
 from ..cases.results import PatchResult, SolveResult
 from ..cases.surfaces import solve_on_surfaces
 from ..core.errors import RailContactError
+from ..geometry.conformal import conformal_slip
 from ..tangential.exact import ExactTangentialModel
 from .mapping import map_case
 from .reader import InpCase, InpError
@@ -135,14 +144,18 @@ def check(case: InpCase, profile_dirs=()) -> None:
     if mapped.meta.get("surfaces") and ("slices" in raw["rail"] or "roller" in raw):
         raise _unsupported(case, f"TANG = {d['T']} with rail slices or a roller rig",
                            "expected a rail profile (placed by its gauge face or at RAILY0)")
+    if d["F"] != 0:
+        raise _unsupported(case, f"TANG = {d['T']} with FORCE = {d['F']}",
+                           "expected FORCE = 0 (the pitch velocity or shift prescribed)")
     if d["M"] != 0:
         raise _unsupported(case, f"TANG = {d['T']} with MATER = {d['M']}",
                            "expected MATER = 0 (the exact tangential model)")
     discns = d["D"] if d["D"] >= 2 else case.values.get("DISCNS")
-    if discns not in (None, 2) and not mapped.meta.get("surfaces"):
+    if discns not in (None, 2, 4) and not mapped.meta.get("surfaces"):
         # D = 0, 1 keep an earlier case's contact search (t3_t1_conformal: D = 4)
-        raise _unsupported(case, f"TANG = {d['T']} with DISCNS = {discns} kept from an earlier "
-                                 "case", "expected DISCNS = 2 (planar contact, contact locus)")
+        raise _unsupported(case, f"TANG = {d['T']} with DISCNS = {discns}",
+                           "expected DISCNS = 2 (planar contact, contact locus) or 4 "
+                           "(conformal)")
     mat = mapped.raw["material"]
     if "wheel_young_modulus" in mat:
         raise _unsupported(case, f"TANG = {d['T']} with dissimilar materials",
@@ -274,9 +287,17 @@ class _Frames:
         rail = self.track.rail(geom.side)
         c = math.cos(float(geom.contact_angle))
         y_ref = float(geom.y_rail)
+        if getattr(geom, "surface", None) is not None:
+            # a conformal patch's y is the arc length s along its reference curve,
+            # which follows the rail profile: the profile's arc length from the
+            # reference point's
+            m_ref = sgn * float(rail.arc_length(y_ref))
 
-        def m_of(y):
-            return sgn * rail.arc_length(y_ref + sgn * np.asarray(y, dtype=float) * c)
+            def m_of(y):
+                return m_ref + np.asarray(y, dtype=float)
+        else:
+            def m_of(y):
+                return sgn * rail.arc_length(y_ref + sgn * np.asarray(y, dtype=float) * c)
 
         return float(geom.position[0]) + self.s_ws, m_of
 
@@ -313,14 +334,15 @@ class TransientStep:
     patches)."""
 
     name = "exact"
-    capabilities = frozenset()
+    capabilities = frozenset({"friction-field"})
 
     def __init__(self, previous, frames, dq: float, scale: float):
         self.previous, self.frames, self.dq, self.scale = previous, frames, dq, scale
         self.model = ExactTangentialModel(tol=TANGENTIAL_TOL, maxiter=TANGENTIAL_MAXITER,
                                           mode="transient", step=dq)
 
-    def solve(self, normal, geometry, material, creepage, friction, velocity, **_):
+    def solve(self, normal, geometry, material, creepage, friction, velocity,
+              friction_scale=None, **_):
         x, y = np.asarray(normal.x), np.asarray(normal.y)
         prev = None
         if self.previous:
@@ -329,11 +351,18 @@ class TransientStep:
                                                geometry.bounds)
             # on the grid that the model's step maps onto this one (dq ahead)
             prev = _Previous(xe + self.dq, ye, -qx, -qy)
+        # a conformal patch's part of the rigid slip, with the spin where the step
+        # takes it (DQ/6 ahead in rolling), read as the creepages are
+        extra = None
+        if getattr(geometry, "surface", None) is not None:
+            extra = conformal_slip(geometry, creepage, x, y, x_spin=x + self.dq / 6.0)
         if self.dq == 0.0:
             v = velocity / self.scale
             creepage = tuple(c * v for c in creepage)
+            if extra is not None:
+                extra = (extra[0] * v, extra[1] * v)
         return self.model.solve(normal, geometry, material, creepage, friction, velocity,
-                                previous=prev)
+                                previous=prev, extra_slip=extra, friction_scale=friction_scale)
 
 
 class WheelRailSequence:

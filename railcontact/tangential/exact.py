@@ -543,18 +543,20 @@ class ExactTangentialModel:
                              "viscoelastic materials: expected one of them (CONTACT's M = 4 "
                              "or M = 1)")
 
-    def _transient(self, x, y, contact, bound, creepage, material, previous):
+    def _transient(self, x, y, contact, bound, creepage, material, previous, extra_slip=None):
         """One step of the ``"transient"`` mode: (px, py, sx, sy, stick, it, ok) and
         the options it adds to the solution (an interfacial layer's plastic
-        displacement)."""
+        displacement).  ``extra_slip`` (w_x, w_y) per element adds to the creepages'
+        rigid slip as they do: times the step for rolling, a shift [m] for a shift."""
         xi, eta, phi = creepage
         dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
         X, Y = x[:, None], y[None, :]
         h = self.step
+        ex, ey = (0.0, 0.0) if extra_slip is None else extra_slip
         if h > 0:
-            w = (h * (xi - phi * Y), h * (eta + phi * (X + h / 6.0)))
+            w = (h * (xi - phi * Y + ex), h * (eta + phi * (X + h / 6.0) + ey))
         else:
-            w = (xi - phi * Y, eta + phi * X)
+            w = (xi - phi * Y + ex, eta + phi * X + ey)
         w = tuple(np.broadcast_to(c, contact.shape) for c in w)
         G, nu = material.shear_modulus, material.nu
         zero = np.zeros(contact.shape)
@@ -600,7 +602,11 @@ class ExactTangentialModel:
         patch, each element's coefficient ``friction`` times this array's value
         (broadcast to the normal solution's grid, e.g. one value per column;
         CONTACT's friction along the track, a conformal patch's coefficients by the
-        local angle); ``friction`` stays the patch's reported coefficient."""
+        local angle); ``friction`` stays the patch's reported coefficient.
+        ``extra_slip``: a rigid slip (w_x, w_y) per element beside the creepages' (a
+        conformal patch's, dissimilar materials'); in the ``"transient"`` mode it
+        is read as the creepages are (times ``step`` in rolling, a shift [m] in a
+        shift)."""
         t0 = time.perf_counter()
         xi, eta, phi = check_inputs(creepage, friction)
         x, y = normal.x, normal.y
@@ -625,10 +631,10 @@ class ExactTangentialModel:
                              f"mode; this model's mode is {self.mode!r}")
         if self.mode == "transient":
             if extra_slip is not None:
-                raise InputError("the 'transient' mode takes no extra slip (dissimilar "
-                                 "materials); expected identical materials")
+                extra_slip = tuple(np.broadcast_to(np.asarray(e, float), contact.shape)
+                                   for e in extra_slip)
             (px, py, sx, sy, stick, it, ok), extra = self._transient(
-                x, y, contact, bound, (xi, eta, phi), material, previous)
+                x, y, contact, bound, (xi, eta, phi), material, previous, extra_slip)
             return self._solution(x, y, (px, py, sx, sy, stick), contact,
                                   _Iteration(it, ok, False), velocity, (xi, eta, phi),
                                   friction, t0, extra)

@@ -68,7 +68,18 @@ def test_parsed_once_into_typed_values():
     r = _check({"wheel": WHEEL, "rail": {"profile": "60E1"}, "roller": {"radius": 0.5},
                 "wheelset": {"vertical_position": 1e-3}})
     assert r.load is None and r.vertical_position == 1e-3
+    # rolling towards -x on rail surfaces: a negative speed
+    assert _check({"wheel": WHEEL, "rail": SLICED, "wheelset": {"velocity": -2.0}}).velocity \
+        == -2.0
     assert (r.roller.radius, r.roller.angular_velocity, r.roller.position) == (0.5, None, 0.0)
+    assert r.roller.profile_deviation is None
+    d = _check({"wheel": WHEEL, "rail": {"profile": "60E1"},
+                "roller": {"radius": 0.5, "profile_deviation": [5e-4, 0.1]}})
+    assert d.roller.profile_deviation == (5e-4, 0.1)
+    for bad in ([0.1, 0.0], [0.0, 0.6], [0.0], [0.0, "x"]):
+        with pytest.raises(CaseFileError, match="roller.profile_deviation = .*expected"):
+            _check({"wheel": WHEEL, "rail": {"profile": "60E1"},
+                    "roller": {"radius": 0.5, "profile_deviation": bad}})
 
 
 @pytest.mark.parametrize("change, match", [
@@ -79,6 +90,9 @@ def test_parsed_once_into_typed_values():
     ({"rail": dict(SLICED, slices=3)}, "rail.slices = 3: expected a .slcs file"),
     ({"rail": SLICED, "roller": {"radius": 0.5}}, "roller's profile is a rail profile"),
     ({"rail": SLICED, "wheelset": {"yaw": 0.7}}, "wheelset.yaw = 0.7"),
+    ({"rail": SLICED, "wheelset": {"velocity": 0.0}}, "wheelset.velocity = 0.0: expected a "
+                                                      "speed of at least 0.001"),
+    ({"rail": SLICED, "wheelset": {"velocity": -300.0}}, "wheelset.velocity = -300"),
 ])
 def test_values_checked_once_where_read(change, match):
     with pytest.raises(CaseFileError, match=match):

@@ -90,8 +90,9 @@ def test_module3_hertzian_case(refdir):
 def test_deviations_by_flexibility(testbank, tmp_path):
     """CONTACT's deviations by flexibility on a roller rig or a test rig: the wheel's
     (E = 4, 5: DXWHL .. DPITCHW, mm and rad) become ``wheelset.wheel_deviation`` in m
-    and rad; a rail's DYRAIL, DZRAIL (Z = 2, 3) its placement; its roll, a roller's
-    deviations and the deviations' velocities stop with one line."""
+    and rad; a rail's DYRAIL, DZRAIL (Z = 2, 3) its placement; a roller's DZRAIL,
+    DROLLR its profile's deviation about its fixed axis; a rail's roll and the
+    deviations' velocities stop with one line."""
     path = testbank / "examples_conformal" / "test-rollers3.inp"
     two, five = load_inp(path, cases=[2, 5])
     assert two.raw["wheelset"]["wheel_deviation"] == [0.0, 0.0, 0.0, 0.0, -0.3, 0.0]
@@ -108,9 +109,15 @@ def test_deviations_by_flexibility(testbank, tmp_path):
     (m,) = load_inp(moved, cases=[1], profile_dirs=[testbank / "profiles"])
     assert m.raw["rail"]["lateral_position"] == pytest.approx(0.2015)
     assert m.raw["rail"]["vertical_position"] == pytest.approx(-0.2e-3)
-    with pytest.raises(InpError, match=r"case 9 .*DZRAIL = 0.4996 with a roller rig is not "
+    (nine,) = load_inp(path, cases=[9])
+    assert nine.raw["roller"]["profile_deviation"] == pytest.approx([0.4996e-3, 0.1])
+    assert nine.raw["rail"]["vertical_position"] == 0.0
+    rolled = tmp_path / "rolled_rail.inp"
+    rolled.write_text(text.replace("     1.5   -0.2   0.000   0.0    0.0   0.000    DY, DZ, ",
+                                   "     1.5   -0.2   0.100   0.0    0.0   0.000    DY, DZ, ", 1))
+    with pytest.raises(InpError, match=r"case 1 .*DROLLR = 0.1 with a rail at RAILY0 is not "
                                        r"supported; expected 0 \(the wheel's deviations"):
-        load_inp(path, cases=[9])
+        load_inp(rolled, cases=[1], profile_dirs=[testbank / "profiles"])
 
 
 def test_friction_along_the_track(testbank):
@@ -185,3 +192,16 @@ def test_module1_surface_temperatures(testbank, tmp_path):
     with pytest.raises(InpError, match="HEATCP, LAMBDA or DENS of the two bodies"):
         solve_inp(_a22_with_heat(testbank, tmp_path, 0.0, 1.0, heatcp2=500.0),
                   profile_dirs=dirs)
+
+
+def test_conformal_groove_on_a_test_rig_is_translated_onto_a_track(testbank):
+    """groove_li case 1: a rail at RAILY0 = 0 (GAUGHT < 0), conformal (D = 4), no
+    roll or yaw: the track's case with the rail 0.75 m from the centre and the
+    wheel moved with it (FBDIST 0 -> 1.5 m), y_tr moved back in the rows; FX_WS
+    prescribed (F = 1) from the nominal pitch velocity -VS/NOMRAD."""
+    (m,) = load_inp(testbank / "examples_conformal" / "groove_li.inp", cases=[1])
+    assert m.raw["track"]["rail_offset"] == pytest.approx(0.75)
+    assert m.raw["wheelset"]["flange_back_distance"] == pytest.approx(1.5)
+    assert m.raw["solver"]["contact_surface"] == "conformal"
+    assert m.meta["translation"] == pytest.approx(0.75) and m.meta["fx_ws"] == 0.0
+    assert m.raw["wheelset"]["pitch_velocity"] == pytest.approx(-1.0)

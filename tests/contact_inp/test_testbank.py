@@ -4,8 +4,8 @@ Measured profiles ``site_b_hr.prr`` and ``worn_high_mileage.prw`` (North America
 heavy haul), friction varying with the rail's inclination (0.2 on the gauge face,
 0.35 on the head; V = 1), 0.4 mm elements, patches combined within 6 mm (D_SEP)
 and turned up to 9 mm apart; force control (force_site_b, t3_*_force case 1) and
-position control (iestim_site_b).  The conformal inputs are rejected with their
-one-line error; the transient ones are test_transient_m1.py's.  benchmarks/contact_inputs.py lists every case.
+position control (iestim_site_b).  The transient ones (the conformal
+t3_*_conformal too) are test_transient_m1.py's.  benchmarks/contact_inputs.py lists every case.
 """
 
 import re
@@ -36,10 +36,12 @@ def ref_out(path) -> dict:
             p = {}
             m = re.search(r"XCP\(TR\).*\n\s*" + r"\s+".join([f"({_NUM})"] * 4), pb)
             p["ycp_tr_mm"], p["delta_tr_rad"] = float(m.group(2)), float(m.group(4))
-            m = re.search(r"FSTAT\s+FKIN\s*\n\s*(" + _NUM + ")", pb)
+            m = re.search(r"\n\s*FSTAT\s+FKIN\s*\n\s*(" + _NUM + ")", pb)
             if m:                        # printed where a case sets the friction
                 p["mu"] = float(m.group(1))
-            m = re.search(r"FN\s+FX\s+FS\s+MN.*\n\s*" + r"\s+".join([f"({_NUM})"] * 3), pb)
+            # (a conformal patch's bar forces: BAR_FN, BAR_FX, BAR_FS)
+            m = re.search(r"(?:BAR_)?FN\s+(?:BAR_)?FX\s+(?:BAR_)?FS\s+MN.*\n\s*"
+                          + r"\s+".join([f"({_NUM})"] * 3), pb)
             p["fn_N"], p["fx_N"], p["fs_N"] = (float(g) for g in m.groups())
             m = re.search(r"FRIC\.POWER\s*\n\s*" + r"\s+".join([f"({_NUM})"] * 6), pb)
             p["fric_power_W"] = float(m.group(6))
@@ -150,15 +152,6 @@ def test_position_control(testbank):
     light = [r for r in rows if r["case"] == 1][0]
     assert light["z_ws_mm"] == pytest.approx(1.13, abs=1e-9)
     assert light["fz_tr_N"] == pytest.approx(ref[1]["fz"], rel=0.03)
-
-
-@pytest.mark.parametrize("name, match", [
-    ("t3_t2_conformal", r"case 2 .*TANG = 2 with DISCNS = 4 kept from an earlier case"),
-])
-def test_unsupported_inputs(testbank, name, match):
-    with pytest.raises(InpError, match=match) as err:
-        load_inp(testbank / "examples_trans" / f"{name}.inp")
-    assert "\n" not in str(err.value)
 
 
 def test_patch_numbering(testbank):
@@ -314,26 +307,57 @@ def test_roller_rig_inputs(testbank):
     (E = 4): the sphere yawed by DYAWW = -0.3 rad about its profile origin (case 2,
     its geometry unchanged) and rolled by DROLLW = 0.1 rad and lifted by DZWHL
     (case 5: the contact 9.98 mm aside, at y = 209.983 mm as CONTACT's).  The
-    roller's deviations (Z = 3: DZRAIL, DROLLR, case 9) stop with one line."""
+    roller's deviations (Z = 3): its profile turned by DROLLR and lowered by
+    DZRAIL about the roller's fixed axis (case 9: the ellipsoidal roller's profile
+    turned by 0.1 rad, the contact at y = 190.0167 mm and the profile point
+    (-9.9833, 0.4996) mm as CONTACT's; case 11: the cylindrical roller turned by
+    0.2 rad, a cone, as case 10's: F_s 14175 against 14020 N, 0.53 % of mu F_n,
+    F_n +0.22 %, 1287 elements against 1281)."""
     from tests.conftest import read_ref_out
     path = testbank / "examples_conformal" / "test-rollers2.inp"
-    rows = {r["case"]: r for r in solve_inp(path, cases=[1, 2, 5, 6, 10])}
+    rows = {r["case"]: r for r in solve_inp(path, cases=[1, 2, 5, 6, 9, 10, 11])}
     refs = read_ref_out(path.with_suffix(".ref_out"))
     for case, r in rows.items():
         (q,) = refs[case - 1]["patches"]
         assert r["converged"], r["message"]
-        assert r["fn_N"] == pytest.approx(q["fn"], rel=1e-3)
+        # case 11 (CONTACT's differs from its case 10 by 0.2 % in F_n, 6 elements):
+        # the issue's tolerances
+        assert r["fn_N"] == pytest.approx(q["fn"], rel=1e-3 if case != 11 else 1e-2)
         assert r["pmax_MPa"] == pytest.approx(q["pmax"], rel=6e-3)
-        assert r["ncon"] == q["ncon"]
+        assert r["ncon"] == pytest.approx(q["ncon"], abs=0 if case != 11 else 0.03 * q["ncon"])
         assert [r["xcp_tr_mm"], r["ycp_tr_mm"], r["zcp_tr_mm"]] == pytest.approx(
             [q["xcp"], q["ycp"], q["zcp"]], abs=3e-3)
         for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
             assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], (case, k)
     assert rows[10]["fs_N"] == pytest.approx(refs[9]["patches"][0]["fs"], rel=1e-3)
     assert rows[5]["ycp_w_mm"] == pytest.approx(9.983, abs=1e-3)
-    with pytest.raises(InpError, match=r"case 9 .*DZRAIL = 0.4996 .* is not supported") as e:
-        load_inp(path, cases=[9])
-    assert "\n" not in str(e.value)
+    assert [rows[9]["ycp_r_mm"], rows[9]["zcp_r_mm"]] == pytest.approx([-9.9833, 0.4996],
+                                                                       abs=2e-4)
+    assert rows[11]["ycp_r_mm"] == pytest.approx(-20.2588, abs=3e-3)
+
+
+def test_rolling_towards_minus_x_on_a_test_rig(testbank):
+    """test-rollers2 case 4 (the sphere yawed by -0.3 rad rolling backwards, VS =
+    -95.5 mm/s, on the plane at RAILY0 = 200 mm): the steady problem mirrored in x.
+    Measured: F_n +0.065 % (97224 against 97160 N), p_max -0.43 %, the elements in
+    contact CONTACT's 1273, F_x, F_s under 0.5 N (CONTACT 0.005, 0.017 N: pure
+    rolling); test-rollers3 case 4 (D = 3, the same backwards): F_x, F_s the
+    negatives of its case 3 (1142.57, -320.55 N), as CONTACT's are of its case 3
+    (991.1, -745.2 N; that case's miss: test below)."""
+    from tests.conftest import read_ref_out
+    path = testbank / "examples_conformal" / "test-rollers2.inp"
+    (r,) = solve_inp(path, cases=[4])
+    (q,) = read_ref_out(path.with_suffix(".ref_out"))[3]["patches"]
+    assert r["converged"], r["message"]
+    assert r["fn_N"] == pytest.approx(q["fn"], rel=1e-3)
+    assert r["pmax_MPa"] == pytest.approx(q["pmax"], rel=6e-3)
+    assert r["ncon"] == q["ncon"]
+    for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
+        assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], k
+    path = testbank / "examples_conformal" / "test-rollers3.inp"
+    r3, r4 = solve_inp(path, cases=[3, 4])
+    assert (r4["fx_N"], r4["fs_N"]) == pytest.approx((-r3["fx_N"], -r3["fs_N"]), rel=1e-5)
+    assert r4["fx_N"] == pytest.approx(-1142.57, rel=1e-4)
 
 
 def test_wheel_deviation_on_a_track(testbank):
@@ -366,14 +390,29 @@ def test_roller_rig_rigid_slip_on_the_surfaces(testbank):
     case 1; rolled by a deviation, case 5: 1092 N) and the cylinder on the
     ellipsoidal roller (-284.2 N, case 6), as CONTACT's within 0.2 %.  (Its yawed
     cases 3, 7, 8 are reproduced to 1.46 %, 0.85 % of mu F_n in F_s; the conical
-    roller, case 10: tests/geometry/test_surface_search.py.)"""
+    roller, case 10: tests/geometry/test_surface_search.py.)  Case 9, the roller's
+    profile turned by DROLLR = 0.1 rad and lowered by DZRAIL: -284.4 N as CONTACT's
+    -284.2."""
     from tests.conftest import read_ref_out
     path = testbank / "examples_conformal" / "test-rollers3.inp"
     (m,) = load_inp(path, cases=[6])
     assert m.raw["solver"]["rigid_slip"] == "surfaces" and m.raw["roller"]["radius"] == 0.4
-    rows = {r["case"]: r for r in solve_inp(path, cases=[1, 5, 6])}
+    rows = {r["case"]: r for r in solve_inp(path, cases=[1, 5, 6, 9])}
     refs = read_ref_out(path.with_suffix(".ref_out"))
     for case, r in rows.items():
         (q,) = refs[case - 1]["patches"]
         assert r["fx_N"] == pytest.approx(q["fx"], rel=2e-3)
         assert abs(r["fs_N"]) < 1e-3 * abs(q["fx"])
+
+
+@pytest.mark.xfail(strict=True, reason="test-rollers3 case 11 (the cylindrical roller turned by "
+                   "DROLLR = 0.2 rad, D = 3): F_s 14179 against CONTACT's 13780 N (1.36 % of "
+                   "mu F_n), F_x 50 against 204 N; railcontact's equals its case 10 on the "
+                   "conical roller, CONTACT's differs from its case 10 (13930 N) by 150 N")
+def test_roller_turned_by_its_deviation_rigid_slip_on_the_surfaces(testbank):
+    from tests.conftest import read_ref_out
+    path = testbank / "examples_conformal" / "test-rollers3.inp"
+    (r,) = solve_inp(path, cases=[11])
+    (q,) = read_ref_out(path.with_suffix(".ref_out"))[10]["patches"]
+    for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
+        assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], k

@@ -17,7 +17,7 @@ from pathlib import Path
 import numpy as np
 import pytest
 
-from railcontact.contact_inp import InpError, load_inp, read_inp, solve_inp
+from railcontact.contact_inp import InpError, load_inp, solve_inp
 from railcontact.contact_inp.transient_m1 import PatchState, carried_tractions, handles
 
 from .test_testbank import ref_out
@@ -232,10 +232,72 @@ def test_transient_rolling_from_rest_force(bank):
     _assert_within(_deviations(solve_inp(path), path, [1, 2, 3]), keys=("fx",))
 
 
+@pytest.fixture(scope="module")
+def conformal_shift(bank):
+    path = bank / "t3_t1_conformal.inp"
+    return solve_inp(path, cases=[1, 2, 3, 4]), path
+
+
+def test_conformal_shift(conformal_shift):
+    """t3_t1_conformal: steady rolling on the conformal patch (D = 4), then shifts
+    of 0.4 mm (T = 1, the conformal contact kept by D = 1): the exact solver's
+    transient step with the conformal patch's extra slip (times 1 s) on its
+    developed grid, its bar forces.  Measured on the large patch (44 mm along its
+    curve, 127 kN), cases 2-4: F_n -0.12 %, F_x -0.38 %, F_s -0.41 % of mu F_n,
+    p_max -0.05 %, 1530 elements in contact (CONTACT 1528)."""
+    rows, path = conformal_shift
+    devs = _deviations(rows, path, [2, 3, 4])
+    _assert_within(devs)
+    assert sum(big for *_, big, _ in devs) == 3
+
+
+@pytest.mark.xfail(strict=True, reason="t3_t1_conformal flange patch in the shifts: F_n "
+                   "+2.3 %, F_x -2.2 % of mu F_n, p_max +3.8 % (CONTACT's loses 0.9 % of F_n "
+                   "and 4 % of p_max from the steady case, on 456 potential elements "
+                   "instead of 494)")
+def test_conformal_shift_flange_patch(conformal_shift):
+    """The flange patch (6.4 kN, -72.8 deg) is already +1.4 % in F_n in the steady
+    case 1 (tests/cases/test_conformal.py); CONTACT's drops from 6339 to 6284 N in
+    the first shift, railcontact's stays at 6428 N."""
+    rows, path = conformal_shift
+    for case, y, big, dev in _deviations(rows, path, [2, 3, 4]):
+        for k in TOL:
+            assert abs(dev[k]) <= TOL[k], (case, y, k, dev[k])
+
+
+@pytest.fixture(scope="module")
+def conformal_rolling(bank):
+    path = bank / "t3_t2_conformal.inp"
+    return solve_inp(path), path
+
+
+def test_conformal_transient_rolling(conformal_rolling):
+    """t3_t2_conformal: steady rolling, then transient rolling (T = 2, DQ = DX) on
+    the conformal patch with F_z 137, 117, 127, 137, 137 kN.  Measured on the large
+    patch of cases 2, 4, 5, 6: F_n within 0.13 %, F_x 0.76 %, F_s 0.43 % of mu F_n,
+    p_max 0.34 %, elements in contact 0.55 % (case 3: the test below)."""
+    rows, path = conformal_rolling
+    devs = _deviations(rows, path, [2, 4, 5, 6])
+    _assert_within(devs)
+    assert sum(big for *_, big, _ in devs) == 4
+
+
+@pytest.mark.xfail(strict=True, reason="t3_t2_conformal case 3 (117 kN, three patches): "
+                   "the middle patch's reference angle -27.7 deg against CONTACT's -30.1, "
+                   "its bar F_s +867 against -2011 N (19 % of mu F_n); the large patch's "
+                   "-6.0 against -5.0 deg, F_s -2.5 % of mu F_n")
+def test_conformal_transient_rolling_three_patches(conformal_rolling):
+    """At 117 kN the patch splits in three, as CONTACT's.  Their contact angles
+    differ from CONTACT's (its reference angle of a conformal patch); the bar
+    forces are turned by them (the same in a steady case: the middle patch's F_s
+    +1082 N)."""
+    rows, path = conformal_rolling
+    _assert_within(_deviations(rows, path, [3]))
+
+
 def test_transient_options_stop_with_one_line(bank, tmp_path):
     """What the transient path does not support stops before any work, naming the
-    option: dissimilar materials, conformal contact kept from an earlier case, rail
-    slices."""
+    option: dissimilar materials, rail slices."""
     src = (bank / "t1_zws.inp").read_text()
     bad = src.replace("0.8200E+05  0.8200E+05", "0.8200E+05  0.9000E+05", 1)
     assert bad != src
@@ -245,12 +307,6 @@ def test_transient_options_stop_with_one_line(bank, tmp_path):
                                         r"materials is not supported") as err:
         load_inp(f)
     assert "\n" not in str(err.value)
-    # t3_t1_conformal's shifts keep (D = 1) the conformal contact of its first case
-    (case2,) = [c for c in read_inp(bank / "t3_t1_conformal.inp") if c.number == 2]
-    from railcontact.contact_inp.transient_m1 import check
-    with pytest.raises(InpError, match=r"case 2 \(line \d+\): TANG = 1 with DISCNS = 4 kept "
-                                       r"from an earlier case is not supported"):
-        check(case2)
     src = (bank.parent / "examples_s+c" / "cross_brute.inp").read_text()
     digits = re.search(r"\n *(\d)(\d)(\d)(\d)(\d{3}) +C-P-B-T-N-F-S", src)
     assert digits and digits.group(4) == "3"
