@@ -24,8 +24,8 @@ railcontact case file:
   displacements a rigid slip (in a shift, those of the step: u_t(p) - u_t(p')),
   the tractions' normal ones a gap (:mod:`railcontact.cases.coupling`), until
   neither changes (bentall.inp, spence35.inp);
-* modified FASTSIM (M = 2, 3) with the elliptical or parabolic traction bound
-  (B = 2, 3) of a Hertzian case: :func:`solve_fastsim`.
+* modified FASTSIM (M = 2, 3) and Modified FaStrip (M = 5) with the elliptical or
+  parabolic traction bound (B = 2, 3) of a Hertzian case: :func:`solve_fastsim`.
 
 What carries over from case to case follows CONTACT's PVTIME digit (user guide,
 "P - PVTIME"): the tractions that a case leaves are the next case's previous time
@@ -989,7 +989,8 @@ def solve_fastsim(case: InpCase) -> CaseResult:
     contact the elements whose centres lie inside the ellipse; each row marched
     from its leading element, one element per step, the spin's lever taken dq/6
     ahead (:func:`railcontact.tangential.fastsim.fastsim_grid`; CONTACT's user
-    guide, "Flexibilities of the simplified theory")."""
+    guide, "Flexibilities of the simplified theory").  M = 5 (Modified FaStrip):
+    then the strip theory per row (:func:`_fastrip_rows`)."""
     from ..core.hertz_theory import hertz_ellipse as _ellipse
     from ..tangential.fastsim import contact_flexibilities, fastsim_grid, \
         modification_factor

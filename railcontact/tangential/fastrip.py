@@ -38,6 +38,16 @@ is the slip.  Without spin this is strip theory exactly; a pure spin gives
 FASTSIM's spin solution; with both, the slip direction weighs the translational
 against the spin slip.
 
+**CONTACT's Modified FaStrip** (its M = 5; Vollebregt 2025, "indicators" paper,
+after Sichani, Enblom & Berg 2016) is a different combination:
+:func:`contact_fastrip_rows` runs after CONTACT's modified-FASTSIM march on its
+grid and replaces, per row, the tractions of the strip theory's adhesion zone
+(Kalker's strip theory with spin in Sichani's non-dimensional creepages,
+:func:`contact_strip_creepages`), leaving FASTSIM's slip behind it.  The ``.inp``
+path takes it for M = 5 with B = 2, 3 (:mod:`railcontact.contact_inp.module3`);
+``tangential="fastrip"`` (this module's model) remains railcontact's own
+formulation above.
+
 C11, C22 and L3 come from the patch's equivalent ellipse (as ``fastsim``).  The
 strip quantities come from the normal solution: edges from ``normal.strips``,
 p0 = 2 (integral of p dx) / (pi l).  Optional falling friction (same law as

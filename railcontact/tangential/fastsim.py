@@ -424,10 +424,13 @@ def equivalent_ellipse(normal) -> tuple:
 
 def blend_weight(a, b, c11, c22, G, xi, eta, mu, fn):
     """How far the creepage is from the linear range: min(1, f/3) with
-    f = |(xi c^2 G C11, eta c^2 G C22)| / (mu F_n), c^2 = a b (0 where F_n <= 0)."""
+    f = sqrt((xi^2 + eta^2) / (xi_c^2 + eta_c^2)), xi_c = mu F_n/(c^2 G C11),
+    eta_c = mu F_n/(c^2 G C22), c^2 = a b (0 where F_n <= 0; Vollebregt & Voltr 2023,
+    as CONTACT's ``simpflex`` and :func:`contact_flexibilities`)."""
     c2 = a * b
     with np.errstate(divide="ignore", invalid="ignore"):
-        f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
+        f = (np.hypot(xi, eta) * c2 * G / (mu * fn)
+             / np.hypot(1.0 / np.asarray(c11, dtype=float), 1.0 / np.asarray(c22, dtype=float)))
     return np.where(np.asarray(fn) > 0, np.minimum(1.0, f / 3.0), 0.0)
 
 
@@ -482,10 +485,19 @@ class FastsimModel:
         ``"blended"`` (default): the three flexibilities are blended towards one
         combined flexibility as the creepage grows (after Vollebregt & Voltr, VSD 61,
         2023, as CONTACT does for automatically computed flexibilities): weight
-        w = min(1, f/3), f = |(xi/xi_c, eta/eta_c)| with xi_c = mu F_n/(c^2 G C11),
-        eta_c = mu F_n/(c^2 G C22); combined L = (xi^2 + eta^2 + (phi f4/f3)^2) /
+        w = min(1, f/3), f = sqrt((xi^2 + eta^2)/(xi_c^2 + eta_c^2)) with
+        xi_c = mu F_n/(c^2 G C11), eta_c = mu F_n/(c^2 G C22); combined L = (xi^2 + eta^2 + (phi f4/f3)^2) /
         (xi^2/L1 + eta^2/L2 + (phi f4/f3)^2/L3), f3 = 8a/3, f4 = pi a^2/4.
         ``"single"``: Kalker's single weighted flexibility.
+    march : {"strips", "grid"}
+        ``"strips"`` (default): every strip marched over ``elements`` elements between
+        its own edges (``normal.strips``), the pressure interpolated to their
+        mid-points.  ``"grid"``: CONTACT's march (modified FASTSIM, M = 3, on its
+        grid): every row of the normal solution's grid marched element by element
+        from its leading element, one element (dq = dx) per step, the bound mu p at
+        the element centres, the spin's lever taken dq/6 ahead
+        (:func:`fastsim_grid`); the ``.inp`` path's choice.  Not with ``falling``
+        or the parabolic bound.
     """
 
     capabilities = frozenset({"online", "strip-march"})
@@ -493,7 +505,7 @@ class FastsimModel:
     online_law = 1
 
     def __init__(self, bound: str = "elliptic", elements: int | None = None,
-                 flexibility: str = "blended", falling=None):
+                 flexibility: str = "blended", falling=None, march: str = "strips"):
         if bound not in ("elliptic", "parabolic"):
             raise InputError(f"fastsim bound {bound!r}: expected 'elliptic' or 'parabolic'")
         if flexibility not in ("blended", "three", "single"):
@@ -501,6 +513,12 @@ class FastsimModel:
                              "or 'single'")
         if elements is not None and not (isinstance(elements, int) and 2 <= elements <= 5000):
             raise InputError(f"fastsim elements {elements!r}: expected an integer in [2, 5000]")
+        if march not in ("strips", "grid"):
+            raise InputError(f"fastsim march {march!r}: expected 'strips' or 'grid'")
+        if march == "grid" and (falling is not None or bound != "elliptic"):
+            raise InputError("fastsim march 'grid': expected the elliptic bound (the normal "
+                             "solution's pressure) and no falling friction")
+        self.march = march
         self.bound = bound
         self.elements = elements
         self.flexibility = flexibility
@@ -594,6 +612,9 @@ class FastsimModel:
                                       zeros.copy(), zeros.copy(), np.zeros((mx, my), bool),
                                       normal.contact, 0.0, 0.0, 0.0, velocity, (xi, eta, phi),
                                       friction)
+        if getattr(self, "march", "strips") == "grid":
+            return self._solve_grid(normal, material, a, b, (xi, eta, phi), friction,
+                                    velocity, t0)
         L1, L2, L3, phis = self._strip_parameters(normal, geometry, material, a, b,
                                                   (xi, eta, phi), friction)
         x_lead, x_trail = normal.strips
@@ -641,3 +662,32 @@ class FastsimModel:
                                   {"bound": self.bound, "flexibilities": flex,
                                    "friction_iterations": iters},
                                   power=abs(float(pw)) * velocity)
+
+    def _solve_grid(self, normal, material, a, b, creepage, friction, velocity, t0):
+        """CONTACT's element march on the normal solution's grid (``march="grid"``,
+        :func:`fastsim_grid`), with this model's flexibilities of the equivalent
+        ellipse (a, b) [m]."""
+        xi, eta, phi = creepage
+        L = self._flexibilities(a, b, material.shear_modulus, material.nu, creepage,
+                                friction, normal.normal_force)
+        x, y = np.ascontiguousarray(normal.x), np.ascontiguousarray(normal.y)
+        mx, my = x.size, y.size
+        bound = np.ascontiguousarray(np.where(normal.contact, friction * normal.pressure, 0.0))
+        px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
+        stick = np.zeros((mx, my), dtype=np.bool_)
+        fastsim_grid(x, y, bound, np.array([float(v) for v in L]),
+                     np.array([xi, eta, phi], dtype=float), normal.dx / 6.0, px, py, sx, sy,
+                     stick)
+        dA = normal.dx * normal.dy
+        fx, fy = float(px.sum() * dA), float(py.sum() * dA)
+        mz = float((x[:, None] * py - y[None, :] * px).sum() * dA)
+        # frictional power per unit velocity: |p| |s| over the slipping elements
+        pw = float((np.hypot(px, py) * np.hypot(sx, sy)).sum() * dA)
+        flex = tuple(float(v) for v in L)
+        # body 1 is the rail: the tractions on the wheel are the opposite
+        return TangentialSolution(self.name, normal.x, normal.y, -px, -py, sx, sy,
+                                  stick & normal.contact, normal.contact, -fx, -fy, -mz,
+                                  velocity, creepage, friction, time.perf_counter() - t0,
+                                  {"bound": self.bound, "flexibilities": flex,
+                                   "friction_iterations": 1, "march": "grid"},
+                                  power=pw * velocity)
