@@ -41,7 +41,8 @@ KPEC_CASES = {("kpec", 0.0): 1, ("kpec", 0.5): 2, ("analyn", 0.0): 4, ("analyn",
                                        ("kpec", 0.0)])
 def test_against_contact_a22(refdir, method, y):
     """CONTACT's KPEC/ANALYN (with FASTSIM) on A-2.2, right wheel, run from its input
-    file: area, p_max and approach within 5 % (KPEC at y = 0 missed p_max by 22 %
+    file: area, p_max and approach within 3 % (issue 34; measured <= 0.5 %, <= 0.2 %
+    and <= 0.15 %; KPEC at y = 0 missed p_max by 22 %
     with the strip rule, 347 against 443 MPa; the .inp path takes CONTACT's rule,
     ``rule="contact"``)."""
     from railcontact.contact_inp import solve_inp
@@ -51,9 +52,9 @@ def test_against_contact_a22(refdir, method, y):
     (p,) = solve_inp(refdir / "mbench_a22" / "mbench_a22_kpec.inp",
                      cases=[KPEC_CASES[(method, y)]], profile_dirs=[refdir / "profiles"])
     assert p["converged"] and p["npatch"] == 1
-    assert p["area_mm2"] == pytest.approx(float(r["area_mm2"]), rel=0.05)
-    assert p["pmax_MPa"] == pytest.approx(float(r["pmax_MPa"]), rel=0.05)
-    assert p["approach_mm"] == pytest.approx(float(r["approach_mm"]), rel=0.05)
+    assert p["area_mm2"] == pytest.approx(float(r["area_mm2"]), rel=0.03)
+    assert p["pmax_MPa"] == pytest.approx(float(r["pmax_MPa"]), rel=0.03)
+    assert p["approach_mm"] == pytest.approx(float(r["approach_mm"]), rel=0.03)
 
 
 @pytest.mark.parametrize("model", ["kik-piotrowski", "kpec", "stripes", "analyn"])
