@@ -293,7 +293,8 @@ def fastsim_ellipse(a, b, fn, mu, G, C, creepage, nx, ny):
     L3 = math.pi * a * math.sqrt(a / b) / (4.0 * G * C23)
     if mu > 0.0:
         c2 = a * b
-        f = math.hypot(xi * c2 * G * C11, eta * c2 * G * C22) / (mu * fn)
+        # CONTACT's weight, as blend_weight
+        f = math.hypot(xi, eta) * c2 * G / (mu * fn) / math.hypot(1.0 / C11, 1.0 / C22)
         w = min(1.0, f / 3.0)
         ps = phi * (math.pi * a * a / 4.0) / (8.0 * a / 3.0)
         den = xi * xi / L1 + eta * eta / L2 + ps * ps / L3
