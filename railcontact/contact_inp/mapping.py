@@ -146,8 +146,9 @@ def _tangential_model(case) -> tuple:
             raise _unsupported(case, f"K0_MF = {k0:g}, ALFAMF = {alpha:g} (slope reduction of "
                                      "the modified FASTSIM)", "expected K0_MF = ALFAMF = 1")
     if m == "fastsim":
-        # CONTACT's modified FASTSIM marches the elements of its grid
-        return m, {"march": "grid"}
+        # CONTACT's modified FASTSIM: its blended flexibilities, the march over the
+        # elements of its grid
+        return m, {"march": "grid", "flexibility": "contact"}
     return m, {}
 
 

@@ -21,9 +21,8 @@ w = (2 G / pi^2) (C11 xi, C22 eta).  The factor 2 G C/pi^2 makes the small-creep
 force of an elliptic patch G a b (C11 xi, C22 eta), Kalker's linear theory; for a
 slender ellipse (b >> a, C -> pi^2/(4 (1 - nu))) it is the 2-D E*/2 of Carter's
 solution.  The traction direction is that of w in the linear range, blended
-towards the creepage direction as the creepage grows (the weight min(1, f/3),
-f = |(xi/xi_c, eta/eta_c)|, :func:`direction_weight`), so that full sliding follows
-the creepage.
+towards the creepage direction as the creepage grows (the weight min(1, f/3) of
+``fastsim``'s blended flexibilities), so that full sliding follows the creepage.
 The slip in the slip zone is Carter's, |s| = mu p0 / (K l) sqrt((x - x_s)^2 -
 (k l)^2), K = |w| / |(xi, eta)|; beyond full slip (|w| > mu p0) the rigid excess
 (|w| - mu p0)/K is added.  Slip starts at the lateral edges of the patch, where p0
@@ -68,7 +67,7 @@ from numba import njit
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from .base import TangentialSolution, check_inputs, register
-from .fastsim import (StripArrays, Traction, _strip_to_grid, equivalent_ellipse,
+from .fastsim import (StripArrays, Traction, _strip_to_grid, blend_weight, equivalent_ellipse,
                       semi_ellipse_weights, strip_pressures)
 from .friction import falling_friction
 from .kalker import (flexibilities, flexibilities_array, kalker_coefficients,
@@ -205,18 +204,6 @@ def _strip_increments(x_lead, x_trail, p0, pn, mu, wn, K, L3, dq, bound):
             bound[j, i] = max(mu[j] * pn[j, i], q)
 
 
-def direction_weight(a, b, c11, c22, G, xi, eta, mu, fn):
-    """How far the creepage is from the linear range, for the traction direction:
-    min(1, f/3) with f = |(xi c^2 G C11, eta c^2 G C22)| / (mu F_n) = |(xi/xi_c,
-    eta/eta_c)|, c^2 = a b (0 where F_n <= 0).  This model's own rule (FASTSIM's
-    flexibilities blend with CONTACT's weight,
-    :func:`railcontact.tangential.fastsim.blend_weight`)."""
-    c2 = a * b
-    with np.errstate(divide="ignore", invalid="ignore"):
-        f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
-    return np.where(np.asarray(fn) > 0, np.minimum(1.0, f / 3.0), 0.0)
-
-
 def strip_parameters(a, b, fn, xi, eta, c11, c22, G, mu):
     """Per-patch constants of the strip theory (scalars or arrays): the weighted
     creepage magnitude wn [Pa], the traction direction (ex, ey) and K = wn / |(xi,
@@ -230,7 +217,7 @@ def strip_parameters(a, b, fn, xi, eta, c11, c22, G, mu):
         K = np.where(cn > 0, wn / cn, 1.0)
         # the direction of w in the linear range, blended towards the creepage
         # direction as the creepage grows (as fastsim's flexibilities)
-        wb = direction_weight(a, b, c11, c22, G, xi, eta, mu, fn)
+        wb = blend_weight(a, b, c11, c22, G, xi, eta, mu, fn)
         dx = (1 - wb) * ex + wb * np.where(cn > 0, xi / cn, 0.0)
         dy = (1 - wb) * ey + wb * np.where(cn > 0, eta / cn, 0.0)
         dn = np.hypot(dx, dy)

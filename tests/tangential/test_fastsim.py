@@ -154,19 +154,29 @@ def test_grid_march_linear_theory_and_saturation(ab):
         get_tangential_model("fastsim", march="grid", bound="parabolic")
 
 
-def test_blend_weight_is_contacts():
-    """The blending weight of the flexibilities is CONTACT's (simpflex; Vollebregt &
-    Voltr 2023): f = sqrt((xi^2 + eta^2)/(xi_c^2 + eta_c^2)), the same blended
-    flexibilities as :func:`contact_flexibilities` (1e-12), and CONTACT's printed
+def test_contact_blending_weight():
+    """``flexibility="contact"``: CONTACT's blending weight (simpflex; Vollebregt &
+    Voltr 2023), f = sqrt((xi^2 + eta^2)/(xi_c^2 + eta_c^2)): the blended
+    flexibilities of :func:`contact_flexibilities` (1e-12) and CONTACT's printed
     FLX1-3 of mbench_a22_kpec.inp case 2 (4 digits) from its equivalent ellipse
-    (31 x 71 elements of 0.2 mm, 939 in contact) and creepages."""
+    (31 x 71 elements of 0.2 mm, 939 in contact) and creepages; the default
+    ``"blended"`` weight |(xi/xi_c, eta/eta_c)| gives L3 4.6 % larger there; both
+    are Kalker's in the linear range."""
     from railcontact.tangential.fastsim import contact_flexibilities, FastsimModel
     G, nu = 8.2e10, 0.28
     r = math.sqrt(939 * 0.04e-6 / math.pi)
     a, b = r * math.sqrt(31 / 71), r * math.sqrt(71 / 31)
     cr, fn = (4.780e-4, 1.202e-3, 0.1221), 9890.0
-    got = FastsimModel()._flexibilities(a, b, G, nu, cr, 0.3, fn)
+    got = FastsimModel(flexibility="contact")._flexibilities(a, b, G, nu, cr, 0.3, fn)
     want = contact_flexibilities(a, b, G, nu, cr, 0.3, fn)
     np.testing.assert_allclose(got, want, rtol=1e-12)
     np.testing.assert_allclose(np.array(got) * 1e9, [0.2157e-4, 0.2497e-4, 0.1907e-4],
                                rtol=0, atol=0.00006e-4)
+    own = FastsimModel()._flexibilities(a, b, G, nu, cr, 0.3, fn)
+    assert own[2] / got[2] - 1 == pytest.approx(0.046, abs=0.002)
+    # the two weights agree on a pure creepage along one axis when scaled alike:
+    # in the linear range (w = 0) both are Kalker's
+    tiny = (1e-9, 0.0, 0.0)
+    np.testing.assert_allclose(FastsimModel()._flexibilities(a, b, G, nu, tiny, 0.3, fn),
+                               FastsimModel(flexibility="contact")._flexibilities(
+                                   a, b, G, nu, tiny, 0.3, fn), rtol=1e-5)
