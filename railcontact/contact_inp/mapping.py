@@ -126,6 +126,13 @@ def _friction(case) -> dict:
     return {"coefficient": _need(case, "FKIN")}
 
 
+def _normal_options(normal: str) -> dict:
+    """``solver.normal_options`` of CONTACT's conventions, as a table to merge into
+    ``solver`` (empty where there are none): KPEC (B = 5) on the grid's elements
+    (``rule="contact"``, :func:`railcontact.normal.semi_hertzian.contact_kpec`)."""
+    return {"normal_options": {"rule": "contact"}} if normal == "kpec" else {}
+
+
 def _tangential_model(case) -> tuple:
     """(tangential model, options) from the TANG and MATER digits."""
     if case.digits["T"] == 0:
@@ -138,6 +145,10 @@ def _tangential_model(case) -> tuple:
         if k0 is not None and (abs(k0 - 1.0) > 1e-12 or abs(alpha - 1.0) > 1e-12):
             raise _unsupported(case, f"K0_MF = {k0:g}, ALFAMF = {alpha:g} (slope reduction of "
                                      "the modified FASTSIM)", "expected K0_MF = ALFAMF = 1")
+    if m == "fastsim":
+        # CONTACT's modified FASTSIM: its blended flexibilities, the march over the
+        # elements of its grid
+        return m, {"march": "grid", "flexibility": "contact"}
     return m, {}
 
 
@@ -209,11 +220,8 @@ def curvature_from_axis_ratio(A: float, aob: float) -> float:
 
 def _map_module3(case: InpCase) -> MappedCase:
     d, v = case.digits, case.values
-    if d["B"] == 2 and d["M"] == 5 and (v.get("IPOTCN") or 0) in (-1, -2, -3):
-        # FaStrip with the elliptical traction bound: the Hertzian pressure
-        normal = "hertz"
-    else:
-        normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
+    # (B = 2, 3 with M = 2, 3, 5 of a Hertzian case: module3.solve_fastsim)
+    normal = _digit(case, "B", {0: "exact", 5: "kpec", 6: "analyn"}, "BOUND")
     _digit(case, "N", {1: "normal force FN prescribed"}, "NORM")
     _digit(case, "F", {0: "creepages prescribed"}, "FORCE")
     _digit(case, "E", {0: "no extra rigid slip", 1: "kept"}, "EXRHS")
@@ -249,7 +257,9 @@ def _map_module3(case: InpCase) -> MappedCase:
                         "spin": _need(case, "CPHI") / MM},
            "solver": {"normal": normal, "tangential": tang, "grid": [v["MX"], v["MY"]],
                       # the potential contact area is SCALE times the ellipse
-                      "normal_options": {"margin": scale - 1.0} if normal == "exact" else {},
+                      "normal_options": ({"margin": scale - 1.0} if normal == "exact"
+                                         else _normal_options(normal).get("normal_options",
+                                                                          {})),
                       "tangential_options": topt}}
     return MappedCase(case.number, 3, raw, {"module": 3, "semi_axes_mm": (a / MM, b / MM)})
 
@@ -415,7 +425,7 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                         "separation_angle": min(a_sep, math.pi)},
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
-                      "tangential_options": topt}}
+                      **_normal_options(normal), "tangential_options": topt}}
     if conformal:
         raw["solver"]["contact_surface"] = "conformal"
     if translate:
@@ -580,7 +590,8 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
            "friction": _friction(case), "wheel": wheel, "rail": rail, "wheelset": ws,
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
-                      "contact_angle": "wheelset", "tangential_options": topt}}
+                      "contact_angle": "wheelset", **_normal_options(normal),
+                      "tangential_options": topt}}
     if roller:
         # CONTACT's roller rig: NOMRAD_R and VPITCH_ROL read in the places of CANT
         # and VS; the wheelset does not travel

@@ -24,8 +24,8 @@ railcontact case file:
   displacements a rigid slip (in a shift, those of the step: u_t(p) - u_t(p')),
   the tractions' normal ones a gap (:mod:`railcontact.cases.coupling`), until
   neither changes (bentall.inp, spence35.inp);
-* modified FASTSIM (M = 2, 3) with the elliptical or parabolic traction bound
-  (B = 2, 3) of a Hertzian case: :func:`solve_fastsim`.
+* modified FASTSIM (M = 2, 3) and Modified FaStrip (M = 5) with the elliptical or
+  parabolic traction bound (B = 2, 3) of a Hertzian case: :func:`solve_fastsim`.
 
 What carries over from case to case follows CONTACT's PVTIME digit (user guide,
 "P - PVTIME"): the tractions that a case leaves are the next case's previous time
@@ -107,9 +107,10 @@ def _need(case, name):
 
 
 def is_fastsim_grid(case: InpCase) -> bool:
-    """Modified FASTSIM (M = 2, 3) with the elliptical or parabolic traction bound
-    (B = 2, 3) of a Hertzian case: solved on CONTACT's grid (:func:`solve_fastsim`)."""
-    return case.module == 3 and case.digits["M"] in (2, 3) and case.digits["B"] in (2, 3)
+    """Modified FASTSIM (M = 2, 3) or Modified FaStrip (M = 5) with the elliptical or
+    parabolic traction bound (B = 2, 3) of a Hertzian case: solved on CONTACT's grid
+    (:func:`solve_fastsim`)."""
+    return case.module == 3 and case.digits["M"] in (2, 3, 5) and case.digits["B"] in (2, 3)
 
 
 def check(case: InpCase) -> None:
@@ -944,6 +945,9 @@ def _check_fastsim(case: InpCase) -> None:
                            "expected them left out")
     for k in ("K0_MF", "ALFAMF", "BETAMF") + (("FLX",) if d["M"] == 2 else ()):
         _need(case, k)
+    if d["M"] == 5 and case.values.get("FRICTION_LAW", 0) != 0:
+        raise _unsupported(case, f"FRCLAW = {case.values['FRICTION_LAW']} with Modified "
+                                 "FaStrip (M = 5)", "expected 0 (Coulomb)")
     if case.values.get("FRICTION_LAW", 0) not in (0, 2, 3, 4):
         raise _unsupported(case, f"FRCLAW = {case.values['FRICTION_LAW']} with modified "
                                  "FASTSIM", "expected 0 (Coulomb) or 2-4 (slip-velocity "
@@ -967,6 +971,34 @@ def _fastsim_friction(case) -> float:
     return float(f(np.array([w]))[0])
 
 
+def _fastrip_rows(case, grid, pressure, contact, creep, out) -> None:
+    """CONTACT's Modified FaStrip (M = 5) after the FASTSIM march, in the march's
+    frame (rolling towards +x): the strip theory's adhesion zone per row
+    (:func:`railcontact.tangential.fastrip.contact_fastrip_rows`) on the
+    equivalent ellipse of the contact's elements (Piotrowski & Kik 2008: the area
+    and the ratio of the extents kept, a = sqrt(A/pi) sqrt(L/W); CONTACT's
+    equivalent ellipse), with F_n, FSTAT and Poisson's ratio of the case.
+    ``grid`` = (x, y, dx, dy) [m], ``out`` = (px, py, stick), changed in place."""
+    from ..tangential.fastrip import (StripTheoryRows, contact_fastrip_rows,
+                                      contact_strip_creepages)
+    x, y, dx, dy = grid
+    es, G, nu = _materials(case)
+    ix = np.flatnonzero(contact.any(axis=1))
+    iy = np.flatnonzero(contact.any(axis=0))
+    if ix.size == 0:
+        return
+    area = np.count_nonzero(contact) * dx * dy
+    length, width = (ix[-1] - ix[0] + 1) * dx, (iy[-1] - iy[0] + 1) * dy
+    a = math.sqrt(area / math.pi) * math.sqrt(length / width)
+    b = math.sqrt(area / math.pi) * math.sqrt(width / length)
+    mu = _need(case, "FSTAT")
+    cr, pmax = contact_strip_creepages(a, b, G, nu, mu, _need(case, "FN"), creep)
+    rows = StripTheoryRows(np.ascontiguousarray(x), np.ascontiguousarray(y), float(dx),
+                           pressure, contact, float(mu), float(pmax), float(a), cr,
+                           float(nu))
+    contact_fastrip_rows(rows, *out)
+
+
 def solve_fastsim(case: InpCase) -> CaseResult:
     """CONTACT's modified FASTSIM (M = 2: one given flexibility FLX; M = 3: three,
     :func:`railcontact.tangential.fastsim.contact_flexibilities`) in steady rolling
@@ -977,7 +1009,8 @@ def solve_fastsim(case: InpCase) -> CaseResult:
     contact the elements whose centres lie inside the ellipse; each row marched
     from its leading element, one element per step, the spin's lever taken dq/6
     ahead (:func:`railcontact.tangential.fastsim.fastsim_grid`; CONTACT's user
-    guide, "Flexibilities of the simplified theory")."""
+    guide, "Flexibilities of the simplified theory").  M = 5 (Modified FaStrip):
+    then the strip theory per row (:func:`_fastrip_rows`)."""
     from ..core.hertz_theory import hertz_ellipse as _ellipse
     from ..tangential.fastsim import contact_flexibilities, fastsim_grid, \
         modification_factor
@@ -1027,6 +1060,8 @@ def solve_fastsim(case: InpCase) -> CaseResult:
     px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
     stick = np.zeros((mx, my), dtype=np.bool_)
     fastsim_grid(xs, y, bound, flex, cr, dq / 6.0, px, py, sx, sy, stick)
+    if d["M"] == 5:
+        _fastrip_rows(case, (xs, y, dx, dy), f(pressure), f(contact), cr, (px, py, stick))
     if backwards:
         px, py, sx, sy, stick = -f(px), f(py), -f(sx), f(sy), f(stick)
     dA = dx * dy

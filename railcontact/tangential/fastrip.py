@@ -38,6 +38,16 @@ is the slip.  Without spin this is strip theory exactly; a pure spin gives
 FASTSIM's spin solution; with both, the slip direction weighs the translational
 against the spin slip.
 
+**CONTACT's Modified FaStrip** (its M = 5; Vollebregt 2025, "indicators" paper,
+after Sichani, Enblom & Berg 2016) is a different combination:
+:func:`contact_fastrip_rows` runs after CONTACT's modified-FASTSIM march on its
+grid and replaces, per row, the tractions of the strip theory's adhesion zone
+(Kalker's strip theory with spin in Sichani's non-dimensional creepages,
+:func:`contact_strip_creepages`), leaving FASTSIM's slip behind it.  The ``.inp``
+path takes it for M = 5 with B = 2, 3 (:mod:`railcontact.contact_inp.module3`);
+``tangential="fastrip"`` (this module's model) remains railcontact's own
+formulation above.
+
 C11, C22 and L3 come from the patch's equivalent ellipse (as ``fastsim``).  The
 strip quantities come from the normal solution: edges from ``normal.strips``,
 p0 = 2 (integral of p dx) / (pi l).  Optional falling friction (same law as
@@ -49,6 +59,7 @@ from __future__ import annotations
 
 import math
 import time
+from typing import NamedTuple
 
 import numpy as np
 from numba import njit
@@ -362,3 +373,125 @@ class FastripModel:
                                   {"friction_iterations": iters,
                                    "creep_coefficients": (c11, c22), "L3": L3},
                                   power=float(pw) * velocity)
+
+
+class StripTheoryRows(NamedTuple):
+    """Inputs of :func:`contact_fastrip_rows` (CONTACT's "Modified FaStrip", M = 5):
+    ``x`` (mx,), ``y`` (my,) the element centres [m] of the grid in the march's frame
+    (rolling towards +x), ``dx`` the element length [m], ``pressure`` (mx, my) [Pa]
+    and ``contact`` (mx, my) the elements in contact, ``mu`` the friction coefficient,
+    ``pmax`` [Pa] and ``a`` [m] of the equivalent ellipse, ``creep`` the strip
+    theory's non-dimensional creepages (xi', eta', phi') (:func:`contact_strip_creepages`)
+    and ``nu`` Poisson's ratio."""
+    x: np.ndarray
+    y: np.ndarray
+    dx: float
+    pressure: np.ndarray
+    contact: np.ndarray
+    mu: float
+    pmax: float
+    a: float
+    creep: np.ndarray
+    nu: float
+
+
+def contact_strip_creepages(a, b, G, nu, mu, fn, creepage):
+    """Non-dimensional creepages of CONTACT's Modified FaStrip (M = 5) on the
+    equivalent ellipse (a, b) [m]: with p_max = 3 F_n / (2 pi a b) and Kalker's
+    C11, C22, C23 of a/b,
+
+        xi'  = -G 4 (1 - nu) C11 xi  / (2 pi^2 mu p_max),
+        eta' = -G 4 (1 - nu) C22 eta / (2 pi^2 mu p_max),
+        phi' = -G 3 sqrt(a b) C23 phi / (2 pi mu p_max),
+
+    (Kalker's strip theory in the notation of Sichani, Enblom & Berg 2016, as
+    CONTACT's Modified FaStrip scales them; ``creepage`` = (xi, eta, phi [1/m])).
+    Returns (array of the three, p_max [Pa])."""
+    xi, eta, phi = (float(v) for v in creepage)
+    pmax = 1.5 * fn / (math.pi * a * b)
+    c11, c22, c23 = kalker_coefficients(a / b, nu)
+    den = 2.0 * mu * pmax
+    cr = np.array([-G * 4 * (1 - nu) * c11 * xi / (den * math.pi ** 2),
+                   -G * 4 * (1 - nu) * c22 * eta / (den * math.pi ** 2),
+                   -G * 3 * math.sqrt(a * b) * c23 * phi / (den * math.pi)])
+    return cr, pmax
+
+
+@njit(cache=True, nogil=True)
+def contact_fastrip_rows(rows, px, py, stick):
+    """CONTACT's Modified FaStrip (M = 5; Vollebregt 2025, after Sichani, Enblom &
+    Berg 2016) on top of a modified-FASTSIM march on CONTACT's grid: in every row
+    (fixed y_j) of the grid ``rows`` (:class:`StripTheoryRows`) the strip theory's
+    adhesion zone [-a_j + 2 d_j, a_j] replaces FASTSIM's tractions (``px``, ``py``
+    [Pa], on body 1, filled by the march) and marks the elements adhesion
+    (``stick``); the elements of the row behind it slip, FASTSIM's traction scaled to
+    the bound mu p.  a_j is half the row's contact length (whole elements), d_j
+    the length of the slip zone,
+
+        d_j = (sqrt(eta'^2 + (1 - phi'^2) (xi' - phi' y_j/a)^2) + eta' phi')
+              / (1 - phi'^2) a / (1 - nu)
+
+    (full slip where it is negative or undefined, or phi' = 1), the strip traction
+
+        q = mu p_max [(kappa, lambda) sqrt(a_j^2 - x^2)/a
+                      - (kappa, lambda - phi') sqrt((a_j - d_j)^2 - (x - d_j)^2)/a],
+
+    (kappa, lambda) the unit vector of (xi' - phi' y_j/a, eta' + phi' d_j/a).  A row
+    whose strip traction would exceed mu p_max anywhere in its adhesion zone keeps
+    FASTSIM's solution (CONTACT's check of the traction bound).  Rows are
+    independent; nothing is returned."""
+    x, y, dx, pn, contact = rows.x, rows.y, rows.dx, rows.pressure, rows.contact
+    mu, pmax, a, nu = rows.mu, rows.pmax, rows.a, rows.nu
+    xi_p, eta_p, phi_p = rows.creep[0], rows.creep[1], rows.creep[2]
+    mx, my = pn.shape
+    for j in range(my):
+        xsta = 1e300
+        xend = -1e300
+        for i in range(mx):
+            if contact[i, j]:
+                xsta = min(xsta, x[i] - 0.5 * dx)
+                xend = max(xend, x[i] + 0.5 * dx)
+        aj = max(1e-13, 0.5 * (xend - xsta))
+        full = aj + 1e-3                    # a slip zone longer than the strip
+        sx_j = xi_p - phi_p * y[j] / a
+        if abs(phi_p - 1.0) <= 1e-6:
+            d = full
+        else:
+            disc = eta_p * eta_p + (1.0 - phi_p * phi_p) * sx_j * sx_j
+            if disc >= 0.0:
+                d = (math.sqrt(disc) + eta_p * phi_p) / (1.0 - phi_p * phi_p) * a / (1.0 - nu)
+                if d < 0.0:
+                    d = full
+            else:
+                d = full
+        sy_j = eta_p + phi_p * d / a
+        nrm = math.sqrt(max(1e-20, sx_j * sx_j + sy_j * sy_j))
+        kappa = sx_j / nrm
+        lam = sy_j / nrm
+        lam_p = lam - phi_p
+        xint = -aj + 2.0 * d
+        ftmax = 0.0
+        for i in range(mx):
+            if contact[i, j] and x[i] > xint:
+                sc = math.sqrt(max(0.0, aj * aj - x[i] * x[i])) / a
+                sa = math.sqrt(max(0.0, (aj - d) ** 2 - (x[i] - d) ** 2)) / a
+                fx = kappa * (sc - sa)
+                fy = lam * sc - lam_p * sa
+                ftmax = max(ftmax, fx * fx + fy * fy)
+        if ftmax > 1.0:
+            continue
+        for i in range(mx):
+            if not contact[i, j]:
+                continue
+            if x[i] > xint:
+                sc = math.sqrt(max(0.0, aj * aj - x[i] * x[i])) / a
+                sa = math.sqrt(max(0.0, (aj - d) ** 2 - (x[i] - d) ** 2)) / a
+                px[i, j] = mu * pmax * kappa * (sc - sa)
+                py[i, j] = mu * pmax * (lam * sc - lam_p * sa)
+                stick[i, j] = True
+            else:
+                pt = max(1e-10, math.sqrt(px[i, j] ** 2 + py[i, j] ** 2))
+                g = mu * pn[i, j]
+                px[i, j] *= g / pt
+                py[i, j] *= g / pt
+                stick[i, j] = False

@@ -422,23 +422,34 @@ def equivalent_ellipse(normal) -> tuple:
     return r * math.sqrt(L / W), r * math.sqrt(W / L)
 
 
-def blend_weight(a, b, c11, c22, G, xi, eta, mu, fn):
+def blend_weight(a, b, c11, c22, G, xi, eta, mu, fn, contact: bool = False):
     """How far the creepage is from the linear range: min(1, f/3) with
-    f = |(xi c^2 G C11, eta c^2 G C22)| / (mu F_n), c^2 = a b (0 where F_n <= 0)."""
+    f = |(xi/xi_c, eta/eta_c)| = |(xi c^2 G C11, eta c^2 G C22)| / (mu F_n), or with
+    ``contact`` CONTACT's f = sqrt((xi^2 + eta^2) / (xi_c^2 + eta_c^2)) (its
+    ``simpflex``, :func:`contact_flexibilities`; Vollebregt & Voltr 2023);
+    xi_c = mu F_n/(c^2 G C11), eta_c = mu F_n/(c^2 G C22), c^2 = a b (0 where
+    F_n <= 0).  The two agree where C11 = C22."""
     c2 = a * b
     with np.errstate(divide="ignore", invalid="ignore"):
-        f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
+        if contact:
+            f = (np.hypot(xi, eta) * c2 * G / (mu * fn)
+                 / np.hypot(1.0 / np.asarray(c11, dtype=float),
+                            1.0 / np.asarray(c22, dtype=float)))
+        else:
+            f = np.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn)
     return np.where(np.asarray(fn) > 0, np.minimum(1.0, f / 3.0), 0.0)
 
 
-def blended_flexibilities(a, b, L, G, nu, creepage, mu, fn, coefficients=None):
+def blended_flexibilities(a, b, L, G, nu, creepage, mu, fn, coefficients=None,
+                          contact: bool = False):
     """Flexibilities blended towards a combined value as the creepage grows
     (scalars, or arrays of semi-axes and flexibilities, elementwise).
 
     ``a``, ``b`` the semi-axes [m], ``L`` the flexibilities (L1, L2, L3) [m/Pa], ``G``
     [Pa] and ``nu`` the material, ``creepage`` (xi, eta, phi), ``mu`` the friction and
     ``fn`` the normal force [N]; ``coefficients``: Kalker's (C11, C22) of the
-    ellipses, where already known.  Returns (L1, L2, L3)."""
+    ellipses, where already known; ``contact``: CONTACT's blending weight
+    (:func:`blend_weight`).  Returns (L1, L2, L3)."""
     L1, L2, L3 = L
     xi, eta, phi = creepage
     if np.ndim(fn) == 0 and (mu <= 0 or fn <= 0):
@@ -450,7 +461,7 @@ def blended_flexibilities(a, b, L, G, nu, creepage, mu, fn, coefficients=None):
     else:
         a, b = np.asarray(a, dtype=float), np.asarray(b, dtype=float)
         c11, c22, _ = kalker_coefficients_array(a / b, nu)
-    w = blend_weight(a, b, c11, c22, G, xi, eta, mu, fn)
+    w = blend_weight(a, b, c11, c22, G, xi, eta, mu, fn, contact)
     ps = phi * (math.pi * a * a / 4) / (8 * a / 3)
     num = xi * xi + eta * eta + ps * ps
     den = np.float64(xi * xi / L1 + eta * eta / L2 + ps * ps / L3)
@@ -476,16 +487,29 @@ class FastsimModel:
         {"A": mu_inf/mu0, "B": s/m}: slip-velocity dependent friction
         mu = mu0 ((1 - A) exp(-B w) + A) (Polach 2005), with w the local slip velocity
         |s| V, solved by a damped fixed-point iteration on the local coefficients.
-    flexibility : {"blended", "three", "single"}
+    flexibility : {"blended", "contact", "three", "single"}
         ``"three"``: Kalker's L1, L2, L3 (exact in the linear range, but at large
         creepage the force direction is distorted when L1 != L2).
         ``"blended"`` (default): the three flexibilities are blended towards one
         combined flexibility as the creepage grows (after Vollebregt & Voltr, VSD 61,
-        2023, as CONTACT does for automatically computed flexibilities): weight
+        2023; CONTACT's weight differs where C11 != C22, ``"contact"``): weight
         w = min(1, f/3), f = |(xi/xi_c, eta/eta_c)| with xi_c = mu F_n/(c^2 G C11),
         eta_c = mu F_n/(c^2 G C22); combined L = (xi^2 + eta^2 + (phi f4/f3)^2) /
         (xi^2/L1 + eta^2/L2 + (phi f4/f3)^2/L3), f3 = 8a/3, f4 = pi a^2/4.
+        ``"contact"``: blended as CONTACT blends them (its M = 3; the ``.inp``
+        path's choice): the weight's f = sqrt((xi^2 + eta^2)/(xi_c^2 +
+        eta_c^2)) (:func:`contact_flexibilities`); on mbench_a22_kpec.inp case 2
+        L1, L3 4.6 % apart from ``"blended"``'s, F_s 0.4 % of mu F_n.
         ``"single"``: Kalker's single weighted flexibility.
+    march : {"strips", "grid"}
+        ``"strips"`` (default): every strip marched over ``elements`` elements between
+        its own edges (``normal.strips``), the pressure interpolated to their
+        mid-points.  ``"grid"``: CONTACT's march (modified FASTSIM, M = 3, on its
+        grid): every row of the normal solution's grid marched element by element
+        from its leading element, one element (dq = dx) per step, the bound mu p at
+        the element centres, the spin's lever taken dq/6 ahead
+        (:func:`fastsim_grid`); the ``.inp`` path's choice.  Not with ``falling``
+        or the parabolic bound.
     """
 
     capabilities = frozenset({"online", "strip-march"})
@@ -493,14 +517,20 @@ class FastsimModel:
     online_law = 1
 
     def __init__(self, bound: str = "elliptic", elements: int | None = None,
-                 flexibility: str = "blended", falling=None):
+                 flexibility: str = "blended", falling=None, march: str = "strips"):
         if bound not in ("elliptic", "parabolic"):
             raise InputError(f"fastsim bound {bound!r}: expected 'elliptic' or 'parabolic'")
-        if flexibility not in ("blended", "three", "single"):
-            raise InputError(f"fastsim flexibility {flexibility!r}: expected 'blended', 'three' "
-                             "or 'single'")
+        if flexibility not in ("blended", "contact", "three", "single"):
+            raise InputError(f"fastsim flexibility {flexibility!r}: expected 'blended', "
+                             "'contact', 'three' or 'single'")
         if elements is not None and not (isinstance(elements, int) and 2 <= elements <= 5000):
             raise InputError(f"fastsim elements {elements!r}: expected an integer in [2, 5000]")
+        if march not in ("strips", "grid"):
+            raise InputError(f"fastsim march {march!r}: expected 'strips' or 'grid'")
+        if march == "grid" and (falling is not None or bound != "elliptic"):
+            raise InputError("fastsim march 'grid': expected the elliptic bound (the normal "
+                             "solution's pressure) and no falling friction")
+        self.march = march
         self.bound = bound
         self.elements = elements
         self.flexibility = flexibility
@@ -559,9 +589,9 @@ class FastsimModel:
             L1, L2, L3 = flexibilities_array(a, b, G, nu)
         else:
             L1, L2, L3 = flexibilities(a, b, G, nu)
-        if self.flexibility == "blended":
+        if self.flexibility in ("blended", "contact"):
             L1, L2, L3 = blended_flexibilities(a, b, (L1, L2, L3), G, nu, creepage, friction,
-                                               fn)
+                                               fn, contact=self.flexibility == "contact")
         elif self.flexibility == "single":
             c = np.sqrt(a * b)
             den = np.sqrt(xi * xi + (c * phi) ** 2 + eta * eta)
@@ -594,6 +624,9 @@ class FastsimModel:
                                       zeros.copy(), zeros.copy(), np.zeros((mx, my), bool),
                                       normal.contact, 0.0, 0.0, 0.0, velocity, (xi, eta, phi),
                                       friction)
+        if getattr(self, "march", "strips") == "grid":
+            return self._solve_grid(normal, material, a, b, (xi, eta, phi), friction,
+                                    velocity, t0)
         L1, L2, L3, phis = self._strip_parameters(normal, geometry, material, a, b,
                                                   (xi, eta, phi), friction)
         x_lead, x_trail = normal.strips
@@ -641,3 +674,32 @@ class FastsimModel:
                                   {"bound": self.bound, "flexibilities": flex,
                                    "friction_iterations": iters},
                                   power=abs(float(pw)) * velocity)
+
+    def _solve_grid(self, normal, material, a, b, creepage, friction, velocity, t0):
+        """CONTACT's element march on the normal solution's grid (``march="grid"``,
+        :func:`fastsim_grid`), with this model's flexibilities of the equivalent
+        ellipse (a, b) [m]."""
+        xi, eta, phi = creepage
+        L = self._flexibilities(a, b, material.shear_modulus, material.nu, creepage,
+                                friction, normal.normal_force)
+        x, y = np.ascontiguousarray(normal.x), np.ascontiguousarray(normal.y)
+        mx, my = x.size, y.size
+        bound = np.ascontiguousarray(np.where(normal.contact, friction * normal.pressure, 0.0))
+        px, py, sx, sy = (np.zeros((mx, my)) for _ in range(4))
+        stick = np.zeros((mx, my), dtype=np.bool_)
+        fastsim_grid(x, y, bound, np.array([float(v) for v in L]),
+                     np.array([xi, eta, phi], dtype=float), normal.dx / 6.0, px, py, sx, sy,
+                     stick)
+        dA = normal.dx * normal.dy
+        fx, fy = float(px.sum() * dA), float(py.sum() * dA)
+        mz = float((x[:, None] * py - y[None, :] * px).sum() * dA)
+        # frictional power per unit velocity: |p| |s| over the slipping elements
+        pw = float((np.hypot(px, py) * np.hypot(sx, sy)).sum() * dA)
+        flex = tuple(float(v) for v in L)
+        # body 1 is the rail: the tractions on the wheel are the opposite
+        return TangentialSolution(self.name, normal.x, normal.y, -px, -py, sx, sy,
+                                  stick & normal.contact, normal.contact, -fx, -fy, -mz,
+                                  velocity, creepage, friction, time.perf_counter() - t0,
+                                  {"bound": self.bound, "flexibilities": flex,
+                                   "friction_iterations": 1, "march": "grid"},
+                                  power=pw * velocity)

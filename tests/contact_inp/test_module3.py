@@ -337,8 +337,8 @@ def test_modified_fastsim_on_contacts_grid(testbank):
     F_y within 0.02 % of CONTACT's (its 4 printed digits; the coarse grid's
     F_y lies 3.8 % from the fine one's, which our grid reproduces), F_x 0, the
     elements in contact and in adhesion CONTACT's, p_max its (at the element
-    centres).  Cases 4 and 7 (FaStrip, M = 5) are railcontact's FaStrip, not
-    compared here (benchmarks/contact_testbank.md)."""
+    centres).  Cases 4 and 7 (Modified FaStrip, M = 5):
+    :func:`test_modified_fastrip_on_contacts_grid`."""
     path = testbank / "examples_basic" / "fastsim.inp"
     rows = {r["case"]: r for r in solve_inp(path, cases=[2, 3, 5, 6, 8])}
     ref = read_out(path.with_suffix(".ref_out"))
@@ -350,6 +350,26 @@ def test_modified_fastsim_on_contacts_grid(testbank):
         assert (r["ncon"], r["nadh"], r["nslip"]) == (q["ncon"], q["nadh"], q["nslip"]), case
         assert r["pmax_MPa"] == pytest.approx(q["pmax_MPa"], abs=0.5)
     assert rows[8]["fs_N"] == pytest.approx(rows[5]["fs_N"], rel=1e-12)
+
+
+def test_modified_fastrip_on_contacts_grid(testbank):
+    """fastsim.inp cases 4 and 7: CONTACT's Modified FaStrip (M = 5, B = 2) on
+    its grids of 44 x 44 and 220 x 220 elements: F_y and M_z within half a unit of
+    CONTACT's 4 printed digits (5 N of 15830 N: 0.03 %; 5 N m m of 48160), F_x 0,
+    the elements in contact (the elliptical bound's, case 3's) and in adhesion
+    CONTACT's.  Before (hertz + railcontact's own FaStrip): F_y -13871 N, 12.4 %
+    off, 1388 elements in contact."""
+    path = testbank / "examples_basic" / "fastsim.inp"
+    rows = {r["case"]: r for r in solve_inp(path, cases=[4, 7])}
+    ref = read_out(path.with_suffix(".ref_out"))
+    mz = {4: -4.816e4, 7: -4.757e4}
+    for case, r in rows.items():
+        q = ref[case]
+        assert r["converged"]
+        assert r["fs_N"] == pytest.approx(q["fy_N"], abs=5.0), case
+        assert r["mn_Nmm"] == pytest.approx(mz[case], abs=5.0), case
+        assert abs(r["fx_N"]) <= 1e-6 * q["fn_N"]
+        assert (r["ncon"], r["nadh"], r["nslip"]) == (q["ncon"], q["nadh"], q["nslip"]), case
 
 
 def test_modified_fastsim_options(tmp_path, testbank):

@@ -38,11 +38,13 @@ KPEC_CASES = {("kpec", 0.0): 1, ("kpec", 0.5): 2, ("analyn", 0.0): 4, ("analyn",
 
 
 @pytest.mark.parametrize("method, y", [("analyn", 0.0), ("analyn", 0.5), ("kpec", 0.5),
-                                       pytest.param("kpec", 0.0, marks=pytest.mark.xfail(
-                                           strict=True, reason="pmax 347 vs 443 MPa (-22 %)"))])
+                                       ("kpec", 0.0)])
 def test_against_contact_a22(refdir, method, y):
     """CONTACT's KPEC/ANALYN (with FASTSIM) on A-2.2, right wheel, run from its input
-    file: area, p_max and approach within 5 %."""
+    file: area, p_max and approach within 3 % (issue 34; measured <= 0.5 %, <= 0.2 %
+    and <= 0.15 %; KPEC at y = 0 missed p_max by 22 %
+    with the strip rule, 347 against 443 MPa; the .inp path takes CONTACT's rule,
+    ``rule="contact"``)."""
     from railcontact.contact_inp import solve_inp
     ref = {(r["method"], float(r["y_ws_mm"])): r
            for r in read_csv(refdir / "mbench_a22" / "a22_kpec.csv")}
@@ -50,9 +52,9 @@ def test_against_contact_a22(refdir, method, y):
     (p,) = solve_inp(refdir / "mbench_a22" / "mbench_a22_kpec.inp",
                      cases=[KPEC_CASES[(method, y)]], profile_dirs=[refdir / "profiles"])
     assert p["converged"] and p["npatch"] == 1
-    assert p["area_mm2"] == pytest.approx(float(r["area_mm2"]), rel=0.05)
-    assert p["pmax_MPa"] == pytest.approx(float(r["pmax_MPa"]), rel=0.05)
-    assert p["approach_mm"] == pytest.approx(float(r["approach_mm"]), rel=0.05)
+    assert p["area_mm2"] == pytest.approx(float(r["area_mm2"]), rel=0.03)
+    assert p["pmax_MPa"] == pytest.approx(float(r["pmax_MPa"]), rel=0.03)
+    assert p["approach_mm"] == pytest.approx(float(r["approach_mm"]), rel=0.03)
 
 
 @pytest.mark.parametrize("model", ["kik-piotrowski", "kpec", "stripes", "analyn"])
@@ -97,3 +99,19 @@ def test_force_control_in_few_evaluations(model, monkeypatch):
     monkeypatch.setattr(_StripModel, "_secant_log", staticmethod(lambda *a: None))
     ref = nm.solve(g, MAT, normal_force=5e4, grid=(30, 30))
     assert ns.penetration == pytest.approx(ref.penetration, rel=1e-9)
+
+
+@pytest.mark.parametrize("AB", [(1.0, 1.0), (1.0, 4.0), (3.0, 1.0)])
+def test_contact_kpec_reproduces_hertz(AB):
+    """KPEC with CONTACT's rule on the grid's elements (``rule="contact"``): on a
+    Hertzian gap the area within 0.5 % (measured +0.13 %), p_max and the approach
+    within 0.2 % (measured <= 0.05 %)."""
+    hz = hertz_ellipse(*AB, MAT.contact_modulus, force=1e5)
+    ns = get_normal_model("kpec", rule="contact").solve(ContactGeometry(curvatures=AB), MAT,
+                                                        normal_force=1e5, grid=(60, 60))
+    assert ns.normal_force == pytest.approx(1e5, rel=1e-6)
+    assert ns.area == pytest.approx(hz.area, rel=5e-3)
+    assert ns.pmax == pytest.approx(hz.p0, rel=2e-3)
+    assert ns.penetration == pytest.approx(hz.penetration, rel=2e-3)
+    with pytest.raises(Exception, match="rule"):
+        get_normal_model("kpec", rule="ellipse")

@@ -120,3 +120,63 @@ def test_frictional_power_is_the_limit_of_the_slip_integral():
     (p80, s80), (p640, s640) = sums
     assert p640 == pytest.approx(p80, rel=2e-3)                 # converged
     assert 0.93 < s80 / p80 < 0.97 and 0.99 < s640 / p640 < 1.0  # the sum approaches it
+
+
+@pytest.mark.parametrize("ab", [0.5, 2.0])
+def test_grid_march_linear_theory_and_saturation(ab):
+    """``march="grid"`` (CONTACT's element march on the normal solution's grid): in
+    the linear range Kalker's C11, C22 within 1.5 % on 120 x 120 elements (the first
+    full step per row, u = dx w at the leading element, adds about 1/n per row of n
+    elements: +2.0 % at 60 x 60, +0.9 % measured at 120 x 120), at large creepage
+    the force mu F_n along the creepage (0.5 %), and the same forces as the strip
+    march within 2 % of mu F_n in partial slip with spin."""
+    ns = hertz_patch(ab, grid=(120, 120))
+    a, b = ns.semi_axes
+    c2 = a * b
+    G = MAT.shear_modulus
+    C11, C22, _ = kalker_coefficients(a / b, MAT.poisson_ratio)
+    fs = get_tangential_model("fastsim", march="grid")
+    e = 1e-6
+    tx = fs.solve(ns, None, MAT, (e, 0, 0), 0.3)
+    ty = fs.solve(ns, None, MAT, (0, e, 0), 0.3)
+    assert tx.fx / (G * c2 * e) == pytest.approx(C11, rel=0.015)
+    assert ty.fy / (G * c2 * e) == pytest.approx(C22, rel=0.015)
+    t = fs.solve(ns, None, MAT, (0.03, -0.04, 0.0), 0.3)
+    assert math.hypot(t.fx, t.fy) == pytest.approx(0.3 * FN, rel=5e-3)
+    assert t.fy / t.fx == pytest.approx(-0.04 / 0.03, rel=1e-3)
+    cr = (5e-4, -8e-4, 0.5)
+    g, s = fs.solve(ns, None, MAT, cr, 0.3), get_tangential_model("fastsim").solve(
+        ns, None, MAT, cr, 0.3)
+    assert abs(g.fx - s.fx) < 0.02 * 0.3 * FN and abs(g.fy - s.fy) < 0.02 * 0.3 * FN
+    with pytest.raises(InputError, match="march"):
+        get_tangential_model("fastsim", march="diagonal")
+    with pytest.raises(InputError, match="grid"):
+        get_tangential_model("fastsim", march="grid", bound="parabolic")
+
+
+def test_contact_blending_weight():
+    """``flexibility="contact"``: CONTACT's blending weight (simpflex; Vollebregt &
+    Voltr 2023), f = sqrt((xi^2 + eta^2)/(xi_c^2 + eta_c^2)): the blended
+    flexibilities of :func:`contact_flexibilities` (1e-12) and CONTACT's printed
+    FLX1-3 of mbench_a22_kpec.inp case 2 (4 digits) from its equivalent ellipse
+    (31 x 71 elements of 0.2 mm, 939 in contact) and creepages; the default
+    ``"blended"`` weight |(xi/xi_c, eta/eta_c)| gives L3 4.6 % larger there; both
+    are Kalker's in the linear range."""
+    from railcontact.tangential.fastsim import contact_flexibilities, FastsimModel
+    G, nu = 8.2e10, 0.28
+    r = math.sqrt(939 * 0.04e-6 / math.pi)
+    a, b = r * math.sqrt(31 / 71), r * math.sqrt(71 / 31)
+    cr, fn = (4.780e-4, 1.202e-3, 0.1221), 9890.0
+    got = FastsimModel(flexibility="contact")._flexibilities(a, b, G, nu, cr, 0.3, fn)
+    want = contact_flexibilities(a, b, G, nu, cr, 0.3, fn)
+    np.testing.assert_allclose(got, want, rtol=1e-12)
+    np.testing.assert_allclose(np.array(got) * 1e9, [0.2157e-4, 0.2497e-4, 0.1907e-4],
+                               rtol=0, atol=0.00006e-4)
+    own = FastsimModel()._flexibilities(a, b, G, nu, cr, 0.3, fn)
+    assert own[2] / got[2] - 1 == pytest.approx(0.046, abs=0.002)
+    # the two weights agree on a pure creepage along one axis when scaled alike:
+    # in the linear range (w = 0) both are Kalker's
+    tiny = (1e-9, 0.0, 0.0)
+    np.testing.assert_allclose(FastsimModel()._flexibilities(a, b, G, nu, tiny, 0.3, fn),
+                               FastsimModel(flexibility="contact")._flexibilities(
+                                   a, b, G, nu, tiny, 0.3, fn), rtol=1e-5)
