@@ -53,7 +53,9 @@ def crossing_nose():
     out("## Seed 003: the crossing nose, 111.5 kN, Mn13 (yield 360 MPa)\n")
     out("Against the elastic-plastic FE of the paper's Table 2 "
         f"({FE_PLASTIC[0]:.0f} mm2, {FE_PLASTIC[1]:.0f} MPa, {FE_PLASTIC[2]:.4f} mm; "
-        "relative differences in brackets).\n")
+        "relative differences in brackets).  Mn13's hardening is railcontact's estimate "
+        f"(MN13: Y = {MN13.yield_stress / 1e6:.0f} MPa, linear H = {MN13.modulus / 1e9:.1f} GPa): "
+        "no published Mn13 hardening law could be read (docs/subsurface.md, \"Mn13\").\n")
     out("| model | area [mm2] | p_max [MPa] | penetration [mm] | notes |")
     out("|---|---|---|---|---|")
     case = rc.load_case(EXAMPLES / "crossing_nose_plastic.toml")

@@ -112,6 +112,12 @@ class Hardening:
 #: estimate of typical Hadfield flow curves (yield 350-400 MPa, about 1.2 GPa near
 #: a true strain of 0.35), not read from that paper's figures nor fitted to a test
 #: of the seed's cast: give a measured curve (Hardening) where one is known.
+#: No published hardening law for Mn13 in crossings could be read in issue 31's
+#: literature search (Harzallah, Mouftiez et al. 2010, Wear; Pletz, Daves &
+#: Ossberger 2012, Wear and Proc. IMechE F; Wiest et al.; Skrypnyk et al.
+#: 2019, Wear 428-429, an Ohno-Wang fit; the MCL Leoben crossing papers in Metals
+#: 2022-2023): only their titles or abstracts were reachable, so H stays the
+#: estimate above (docs/subsurface.md, "Mn13").
 MN13 = Hardening(yield_stress=360e6, modulus=2.4e9)
 
 

@@ -3,8 +3,10 @@ their accumulation along the profiles.
 
 Three measures per patch (docs/wear.md, "Rolling contact fatigue"):
 
-* **surface fatigue index** (Ekberg, Kabo & Andersson 2002, Fatigue Fract. Engng
-  Mater. Struct. 25, 899-909): FI_surf = f - 2 pi a b k / (3 F_n) = f - k / p0, the
+* **surface fatigue index** (Ekberg, Kabo & Andersson 2002, "An engineering model
+  for prediction of rolling contact fatigue of railway wheels", Fatigue Fract. Engng
+  Mater. Struct. 25(10), 899-909; restated in Ekberg & Kabo 2005, Wear 258,
+  1288-1300): FI_surf = f - 2 pi a b k / (3 F_n) = f - k / p0, the
   traction coefficient f = |F_t| / F_n against the shakedown limit of surface
   ratchetting, k the yield stress in shear of the cyclically hardened steel and p0
   the Hertzian peak pressure of the patch's force on its area (p0 = 3 F_n / (2 A),
@@ -20,7 +22,18 @@ Three measures per patch (docs/wear.md, "Rolling contact fatigue"):
   2003 and 2004, RSSB research programme): per passage, 0 below T gamma = 15 N,
   rising linearly to 1/20000 at 65 N, falling linearly to 0 at 175 N (above it wear
   dominates and removes the initiated cracks); T gamma = frictional power / V of the
-  patch (creep forces times creepages, spin included).
+  patch (creep forces times creepages, spin included).  The shape (rise, then fall
+  as wear takes over) is that of the Network Rail / RSSB T gamma model described in
+  "Experience of premium grade rail steels to resist rolling contact fatigue (RCF)
+  on GB network", Ironmaking & Steelmaking, doi:10.1179/1743281212Y.0000000042; the
+  function is reproduced in Krishna et al. 2022, Railway Engineering Science 30(1),
+  doi:10.1007/s40534-021-00253-y.
+
+Parameter values: the defaults k = 300 MPa, a_DV = 1/3, tau_e = 300 MPa and the
+damage function's corners (15, 65, 175 N; 1/20000) could NOT be verified against
+the text of these sources (issue 31: only their titles, abstracts or introductions
+were reachable); none that was read contradicts them.  docs/wear.md ("Sources of
+the parameters") lists what was checked.
 
 Along a profile every position covered by a patch's strips takes its measures
 (:func:`profile_values`); damage adds up over the passages and wear removes it
@@ -48,14 +61,16 @@ class RcfParameters:
     Attributes
     ----------
     shear_yield : float
-        Yield stress in shear k [Pa] of the cyclically hardened steel: Ekberg, Kabo &
-        Andersson (2002) take k = 300 MPa for wheel steel (the default).
+        Yield stress in shear k [Pa] of the cyclically hardened steel, Ekberg, Kabo &
+        Andersson (2002)'s k; default 300 MPa for wheel steel (value not verified
+        against the paper, see the module docstring).
     tgamma_threshold, tgamma_peak, tgamma_wear : float
         T gamma [N] where the WLRM damage starts (15), peaks (65) and returns to 0
-        (175): Burstow (2004).
+        (175): Burstow's Whole Life Rail Model (RSSB, 2003/2004; values not verified
+        against the report, see the module docstring).
     peak_damage : float
         WLRM damage per passage at the peak (1/20000: crack initiation after 20000
-        passages at T gamma = 65 N), Burstow (2004).
+        passages at T gamma = 65 N), Burstow (2004); not verified, as above.
     layer_depth : float
         Depth [m] of the surface layer holding the damage, which wear removes in
         proportion (railcontact's assumption; 0.1 mm).
@@ -63,10 +78,11 @@ class RcfParameters:
         Compute FI_sub (a subsurface stress field per solved patch; see
         docs/wear.md for its cost).
     dang_van : float
-        a_DV, the weight of the mean stress in FI_sub (1/3, Ekberg et al. 2002).
+        a_DV, the weight of the mean stress in FI_sub (1/3, Ekberg et al. 2002; not
+        verified against the paper).
     fatigue_limit : float
         tau_e [Pa], the shear fatigue limit FI_sub is compared with (default 300 MPa,
-        the order of magnitude Ekberg et al. 2002 use for wheel steel).
+        Ekberg et al. 2002's order for wheel steel; not verified against the paper).
     depths : int
         Depths of the subsurface field for FI_sub, from 0 to twice the patch's
         equivalent radius.
