@@ -201,6 +201,22 @@ def _track_at(s, ks, kk, kc):
 
 
 @njit(cache=True, nogil=True)
+def track_under(system, t, b):
+    """The track under body b (a wheelset's) at time t: the curvature [1/m], its
+    slope [1/m^2] and the cant [rad] at the body's track coordinate, the lateral
+    alignment irregularity [m], its slope d(y_a)/ds [-] (central difference over
+    the irregularity's own step) and the cross level [rad]."""
+    track = system.track
+    irs, ira = track.irregularity_s, track.alignment
+    s = system.s0 + system.velocity * t + system.vehicle.bodies[b].x
+    k, dk, ct = _track_at(s, track.s_knots, track.curvature, track.cant)
+    hs = 0.5 * (irs[1] - irs[0])
+    ya = np.interp(s, irs, ira)
+    yad = (np.interp(s + hs, irs, ira) - np.interp(s - hs, irs, ira)) / (2 * hs)
+    return k, dk, ct, ya, yad, np.interp(s, irs, track.cross_level)
+
+
+@njit(cache=True, nogil=True)
 def suspension_forces(t, q, qd, system):
     """The generalised forces (3 nb,) of everything but the wheel-rail contact at
     displacements ``q`` and velocities ``qd``: the track frame's inertia terms
@@ -281,11 +297,8 @@ def rhs_core(t, u, system, mode, fext, out):
         Filled with the per-patch inputs and outputs and the per-wheelset values of
         this evaluation (for output, and for ``mode`` 1).
     """
-    V, s0 = system.velocity, system.s0
+    V = system.velocity
     bodies, wsets = system.vehicle.bodies, system.vehicle.wheelsets
-    ks, kk, kc = system.track.s_knots, system.track.curvature, system.track.cant
-    irs, ira, irc = system.track.irregularity_s, system.track.alignment, \
-        system.track.cross_level
     shift, tables = system.contact.shift, system.contact.data
     qrefs, r0 = system.contact.reference_loads, system.contact.nominal_radius
     law, tp = system.law, system.law_params
@@ -296,15 +309,10 @@ def rhs_core(t, u, system, mode, fext, out):
     qd = u[nd:]
     F = suspension_forces(t, q, qd, system)
     vals = np.empty((2, 2, tables.shape[4]))
-    hs = 0.5 * (irs[1] - irs[0])
     for w in range(wsets.shape[0]):
         ws = wsets[w]
         b = ws.body
-        s = s0 + V * t + bodies[b].x
-        k, dk, ct = _track_at(s, ks, kk, kc)
-        ya = np.interp(s, irs, ira)
-        yad = (np.interp(s + hs, irs, ira) - np.interp(s - hs, irs, ira)) / (2 * hs)
-        cl = np.interp(s, irs, irc)
+        k, dk, ct, ya, yad, cl = track_under(system, t, b)
         y, psi, yd, psid = q[3 * b], q[3 * b + 1], qd[3 * b], qd[3 * b + 1]
         yrel = y - ya
         outside = lookup(shift, tables[w], yrel, vals)

@@ -69,7 +69,7 @@ from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, P_A,
                                    make_patch, new_memo, side_locus)
 from ..tangential.kalker import _TAB_AB, _TAB_BA, _coefficients_kernel
 from ..tangential.online import patch_forces
-from .equations_of_motion import LOAD_BASE, _track_at, suspension_forces
+from .equations_of_motion import LOAD_BASE, suspension_forces, track_under
 from .vehicle import G_ACC
 
 #: spacing [m] of the wheel samples of the online search (the case layer's loci
@@ -354,11 +354,8 @@ def rhs_online(t, u, system, online, mode, fext, out):
     forces and no creep forces).  ``out``
     (:class:`~.equations_of_motion.Outputs`) takes the patches (two slots per side)
     and the wheelsets' loads, vertical position and roll."""
-    V, s0 = system.velocity, system.s0
+    V = system.velocity
     bodies, wsets = system.vehicle.bodies, system.vehicle.wheelsets
-    ks, kk, kc = system.track.s_knots, system.track.curvature, system.track.cant
-    irs, ira, irc = system.track.irregularity_s, system.track.alignment, \
-        system.track.cross_level
     g = online.frame
     nb = bodies.shape[0]
     nw = wsets.shape[0]
@@ -370,17 +367,12 @@ def rhs_online(t, u, system, online, mode, fext, out):
     F = suspension_forces(t, q, qd, system)
     acc_z = np.zeros(nw)
     mom = np.zeros(nw)
-    hs = 0.5 * (irs[1] - irs[0])
     wout = out.wheelset_out
     rates = np.empty(4)
     for w in range(nw):
         ws = wsets[w]
         b = ws.body
-        s = s0 + V * t + bodies[b].x
-        k, dk, ct = _track_at(s, ks, kk, kc)
-        ya = np.interp(s, irs, ira)
-        yad = (np.interp(s + hs, irs, ira) - np.interp(s - hs, irs, ira)) / (2 * hs)
-        cl = np.interp(s, irs, irc)
+        k, dk, ct, ya, yad, cl = track_under(system, t, b)
         y, psi, phi = q[3 * b], q[3 * b + 1], q[3 * b + 2]
         yd, psid, phid = qd[3 * b], qd[3 * b + 1], qd[3 * b + 2]
         yrel = y - ya
