@@ -164,7 +164,9 @@ def parse_ref_out(path) -> dict:
             m = re.search(r"CKSI\s+CETA\s+CPHI\s*\n\s*" + r"\s+".join([f"({_NUM})"] * 6), pb)
             if m:
                 p["cksi"], p["ceta"], p["cphi_per_mm"] = (float(g) for g in m.groups()[3:])
-            m = re.search(r"FN\s+FX\s+FS\s+MN.*\n\s*" + r"\s+".join([f"({_NUM})"] * 4), pb)
+            # (a conformal patch: CONTACT's bar forces BAR_FN, BAR_FX, BAR_FS)
+            m = re.search(r"(?:BAR_)?FN\s+(?:BAR_)?FX\s+(?:BAR_)?FS\s+MN.*\n\s*"
+                          + r"\s+".join([f"({_NUM})"] * 4), pb)
             if m:
                 for k, g in zip(("fn_N", "fx_N", "fs_N", "mn_Nmm"), m.groups()):
                     p[k] = float(g)

@@ -163,7 +163,7 @@ def layer_options(case) -> dict:
 
 
 def _check_common(case) -> None:
-    d = case.digits
+    d, v = case.digits, case.values
     _digit(case, "T", {0: "frictionless compression", 3: "steady rolling"}, "TANG")
     _digit(case, "S", {0: "no subsurface stresses", 1: "subsurface stresses",
                        2: "subsurface stresses", 3: "subsurface stresses"}, "STRESS")
@@ -172,6 +172,9 @@ def _check_common(case) -> None:
         0: "no temperatures", 1: "surface temperatures", 3: "surface temperatures"}
     _digit(case, "H", heat, "HEAT")
     _digit(case, "C3", {0: "kept", 1: "kept", 2: "elastic half-space"}, "INFLCF")
+    if d["C3"] < 2 and (v.get("INFLCF") or 2) != 2:
+        raise _unsupported(case, f"INFLCF = {v['INFLCF']} kept from an earlier case",
+                           "expected the elastic half-space (C = 2) in force", WORDS[case.module][1])
     if d["L"] not in (0, 1):
         _friction(case)
     _digit(case, "L", {0: "Coulomb", 1: "kept"}, "FRCLAW")

@@ -252,6 +252,9 @@ def _read_case(lines: _Lines, case: InpCase) -> None:
     put = lambda names, vals: _put(case, names, vals)   # noqa: E731
     if d["X"] == 1:
         put("PSFLCIN", lines.group("i", "PSFLCIN", "i"))
+    if d["C3"] >= 2:
+        # the influence coefficients in force (C = 0, 1 keep them for later cases)
+        put("INFLCF", [d["C3"]])
     if d["G"] != 1:
         if m1:
             put("MAXGS, MAXIN, MAXNR, MAXOUT, EPS, NPOT_MAX",
