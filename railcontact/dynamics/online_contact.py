@@ -61,12 +61,13 @@ from ..cases.compiled_case import PassModel, _tables, patch_hertz
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from ..geometry.locus import _wheel_samples
+from ..geometry.patch_curvature import region_curvature  # noqa: F401 (re-exported)
 from ..geometry.validity import TIP_ZONE, flange
 from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, P_A,
                                    P_APPROACH, P_B, P_CONTACT_ANGLE, P_ETA, P_PHI,
                                    P_ROLLING_RADIUS, P_X, P_XI, P_Y, P_Y_RAIL, P_Y_WHEEL,
                                    P_Z_WHEEL, PassPose, PassProfiles, locus_regions,
-                                   make_patch, new_memo, region_curvature,  # noqa: F401 (re-exported)
+                                   make_patch, new_memo,
                                    side_locus)
 from ..tangential.kalker import _TAB_AB, _TAB_BA, _coefficients_kernel
 from ..tangential.online import patch_forces
