@@ -146,18 +146,19 @@ def twin_weight(gap, i0, i1, im):
     if not d > 0.0:
         return 0.0
     u = 0.0
-    for k in range(i0 + 1, i1):
-        if k == im or not (gap[k] <= gap[k - 1] and gap[k] < gap[k + 1]):
-            continue
-        a, b = min(k, im), max(k, im)
-        gb = gap[a]
-        for j in range(a, b + 1):
-            gb = max(gb, gap[j])
-        s1 = 1.0 - (gap[k] - gap[im]) / (TWIN_DEPTH * d)
-        s2 = -gb / (TWIN_BARRIER * d)
-        s3 = (gb - gap[k]) / (TWIN_PROMINENCE * d)
-        w = min(max(s1, 0.0), 1.0) * min(max(s2, 0.0), 1.0) * min(max(s3, 0.0), 1.0)
-        u = max(u, w)
+    for step in (-1, 1):            # outward from im, the barrier the running maximum
+        gb = gap[im]
+        k = im + step
+        while i0 < k < i1:
+            gb = max(gb, gap[k])
+            if gap[k] <= gap[k - 1] and gap[k] < gap[k + 1]:
+                s1 = 1.0 - (gap[k] - gap[im]) / (TWIN_DEPTH * d)
+                s2 = -gb / (TWIN_BARRIER * d)
+                s3 = (gb - gap[k]) / (TWIN_PROMINENCE * d)
+                w = (min(max(s1, 0.0), 1.0) * min(max(s2, 0.0), 1.0)
+                     * min(max(s3, 0.0), 1.0))
+                u = max(u, w)
+            k += step
     return u
 
 
