@@ -25,10 +25,9 @@ from numba import njit
 
 from ..core.checks import shown
 from ..core.errors import InputError
-from ..core.hertz_theory import hertz_ellipses
 from ..core.materials import Material, STEEL
 from ..normal import get_normal_model, normal_model_class, normal_supports
-from ..normal.strip_batch import hertz_ellipse_strips, solve_strips
+from ..normal.strip_batch import hertz_ellipse_strips, patch_hertz_ellipses, solve_strips
 from ..tangential import get_tangential_model, tangential_model_class, tangential_supports
 from ..tangential.kalker import kalker_coefficients_array
 from ..tangential.online import online_law, patch_forces
@@ -120,7 +119,7 @@ def solve_patches(patches, normal: str = "hertz", tangential: str = "fastsim",
         if not (2 <= nx <= 500 and 2 <= ny <= 500):
             raise InputError(f"fastsim_grid {shown(fastsim_grid)}: expected two integers in "
                              "[2, 500]")
-        a, b, F = hertz_ellipses(A, B, material.contact_modulus, pen)
+        a, b, F = patch_hertz_ellipses(patches, material.contact_modulus, pen)
         ok = F > 0
         C11, C22, C23 = (np.ones(n) for _ in range(3))
         if ok.any():

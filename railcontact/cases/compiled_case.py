@@ -54,7 +54,7 @@ from ..core.hertz_theory import _axes_table
 from ..geometry.locus import LOCUS_WINDOW  # noqa: F401  (documented neighbour)
 from ..geometry.search import ESTIMATE_WINDOW
 from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
-                                   P_ETA, P_PHI, P_SIDE, P_VELOCITY, P_XI, PATCH_FIELDS, PassPose, gap_candidates,
+                                   P_B_FORCE, P_ETA, P_PHI, P_SIDE, P_VELOCITY, P_XI, PATCH_FIELDS, PassPose, gap_candidates,
                                    locus_curvatures, new_memo, pass_profiles, search_patches,
                                    side_locus, solve_roll)
 from ..normal import normal_supports
@@ -129,10 +129,32 @@ def hertz_patch(A, B, d, model):
 
 
 @njit(cache=True, nogil=True)
+def patch_hertz(row, model):
+    """Hertz's semi-axes a, b [m] and force [N] of a patch row at its approach: the
+    force with the lateral curvature ``B_force``
+    (:func:`railcontact.geometry.wheel_pass.force_curvature`), the ellipse with the
+    deepest point's curvatures (A, B) scaled to that force (a, b ~ F^(1/3)).  The
+    deepest point's curvature jumps where the gap has two minima of equal depth
+    (S1002 on 60E1's near-conformal tread: 3.95 to 0.28 1/m); there the region's
+    (its depth and width, continuous in the pose) takes over, so that the force is
+    continuous in the interpenetration.  The compiled case and the online dynamics
+    (:mod:`railcontact.dynamics.online_contact`) share it."""
+    A, d = row[P_A], row[P_APPROACH]
+    a, b, F = hertz_patch(A, row[P_B], d, model)
+    bf = row[P_B_FORCE]
+    if bf > 0.0 and bf != row[P_B]:
+        _, _, Fs = hertz_patch(A, bf, d, model)
+        if F > 0.0 and Fs > 0.0:
+            scale = (Fs / F) ** (1.0 / 3.0)
+            a, b, F = a * scale, b * scale, Fs
+    return a, b, F
+
+
+@njit(cache=True, nogil=True)
 def solve_patch(row, model):
-    """Hertz and the online law on one patch row (:data:`ROW_FIELDS`)."""
-    A, B, d = row[P_A], row[P_B], row[P_APPROACH]
-    a, b, F = hertz_patch(A, B, d, model)
+    """Hertz (:func:`patch_hertz`) and the online law on one patch row
+    (:data:`ROW_FIELDS`)."""
+    a, b, F = patch_hertz(row, model)
     fx = fy = mz = 0.0
     if F > 0.0 and a > 0.0 and b > 0.0:
         c = np.empty((3, 1))

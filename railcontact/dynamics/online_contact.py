@@ -57,16 +57,18 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..cases.compiled_case import PassModel, _tables, hertz_patch
+from ..cases.compiled_case import PassModel, _tables, patch_hertz
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from ..geometry.locus import _wheel_samples
+from ..geometry.patch_curvature import region_curvature  # noqa: F401 (re-exported)
 from ..geometry.validity import TIP_ZONE, flange
 from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, P_A,
                                    P_APPROACH, P_B, P_CONTACT_ANGLE, P_ETA, P_PHI,
                                    P_ROLLING_RADIUS, P_X, P_XI, P_Y, P_Y_RAIL, P_Y_WHEEL,
                                    P_Z_WHEEL, PassPose, PassProfiles, locus_regions,
-                                   make_patch, new_memo, side_locus)
+                                   make_patch, new_memo,
+                                   side_locus)
 from ..tangential.kalker import _TAB_AB, _TAB_BA, _coefficients_kernel
 from ..tangential.online import patch_forces
 from .equations_of_motion import LOAD_BASE, suspension_forces, track_under
@@ -170,52 +172,6 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
 
 
 @njit(cache=True, nogil=True)
-def _zero_crossing(gap, yr, i, k):
-    """The rail coordinate [m] where the gap crosses zero between the region's end
-    sample i (gap < 0) and its neighbour k outside (linear); yr[i] where k has no
-    finite gap."""
-    gi, gk = gap[i], gap[k]
-    if not (math.isfinite(gk) and gk >= 0.0 > gi and yr[k] == yr[k]):
-        return yr[i]
-    return yr[i] + gi / (gi - gk) * (yr[k] - yr[i])
-
-
-@njit(cache=True, nogil=True)
-def region_curvature(loc, i0, i1):
-    """Half the lateral curvature B [1/m] of the Hertzian gap with the region's
-    depth and width: B = d / w² cos³(θ), with d the deepest vertical
-    interpenetration of region [i0, i1] of a locus, w half its width between the
-    gap's zero crossings (interpolated between the samples) and θ the rail's slope
-    angle at the deepest sample (the vertical gap turned to the contact plane, as
-    :func:`railcontact.geometry.wheel_pass.locus_curvatures`).  For a Hertzian gap,
-    g = -d + B y², it is B itself.  NaN where the region has no finite ends.
-
-    Why: the finite-difference curvature of
-    :func:`~railcontact.geometry.wheel_pass.make_patch` is that of the deepest
-    point.  In the near-conformal tread contact of S1002 on 60E1 the gap across a
-    region 20 mm wide is flat within a micrometre and has two minima; as the
-    deepest point jumps from one to the other, B jumps (measured: 3.95 to
-    0.28 1/m), and Hertz's force at the same approach with it, by a factor of
-    two, for one evaluation of the dynamics.  The region's width changes
-    continuously with the pose."""
-    gap, yr, slope = loc[5], loc[4], loc[6]
-    n = gap.size
-    if i0 < 1 or i1 > n - 2:
-        return math.nan
-    im = i0
-    for i in range(i0, i1 + 1):
-        if gap[i] < gap[im]:
-            im = i
-    d = -gap[im]
-    lo = _zero_crossing(gap, yr, i0, i0 - 1)
-    hi = _zero_crossing(gap, yr, i1, i1 + 1)
-    w = 0.5 * abs(hi - lo)
-    if not (d > 0.0 and w > 0.0 and math.isfinite(w)):
-        return math.nan
-    return d / (w * w) * math.cos(math.atan(slope[im])) ** 3
-
-
-@njit(cache=True, nogil=True)
 def search_wheelset(online, w, pose, z, roll):
     """Wheelset w's patches at the pose (lateral shift and yaw in ``pose``, vertical
     position z [m] and roll [rad] relative to the rails) into ``online.rows[w]``,
@@ -243,13 +199,7 @@ def search_wheelset(online, w, pose, z, roll):
             # the spring: Hertz with the region's lateral curvature; the
             # ellipse (semi-axes for the creep law): Hertz with the deepest point's
             # curvatures at the spring's force, as the table path has it
-            a, b, F = hertz_patch(row[P_A], row[P_B], d, online.model)
-            bf = region_curvature(loc, regions[r, 0], regions[r, 1])
-            if bf > 0.0:
-                _, _, Fs = hertz_patch(row[P_A], bf, d, online.model)
-                if F > 0.0 and Fs > 0.0:
-                    scale = (Fs / F) ** (1.0 / 3.0)
-                    a, b, F = a * scale, b * scale, Fs
+            a, b, F = patch_hertz(row, online.model)
             row[R_N] = F
             row[R_AA] = a
             row[R_BB] = b

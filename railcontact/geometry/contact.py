@@ -44,6 +44,11 @@ class ContactGeometry:
         Vertical profile coordinates [m] of the reference point.
     position : ndarray (3,)
         Reference point in track coordinates [m].
+    force_curvature : float or None
+        Lateral curvature [1/m] of Hertz's force at the approach where it is not
+        ``curvatures[1]`` (:func:`railcontact.geometry.wheel_pass.force_curvature`:
+        the region's, where the deepest point's is meaningless); the ellipse keeps
+        ``curvatures``, at that force.  None: ``curvatures[1]``.
     approach : float
         Geometric interpenetration [m] along n at the search position (0 for rigid).
     weight : float
@@ -100,6 +105,7 @@ class ContactGeometry:
     bounds: tuple = (-math.inf, math.inf)
     interaction: tuple = ()
     surface: object | None = field(default=None, repr=False)
+    force_curvature: float | None = None
 
     def foreign(self, y) -> np.ndarray:
         """Whether the points at patch coordinate ``y`` [m] lie outside the patch's

@@ -47,6 +47,7 @@ from .contact import ContactGeometry, interaction_factor
 from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
 from .locus import Locus
+from .patch_curvature import force_curvature
 from .pose import solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
@@ -449,6 +450,13 @@ def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
         A = A if A > 0.0 else math.cos(a_ref) / (2.0 * (wheelset.nominal_radius + z_w))
         log.debug("%s patch: curvatures of its interpenetration region's extent "
                   "(%.3g, %.3g) 1/m", side, A, B)
+    # the force's lateral curvature: the region's where the deepest point's is
+    # meaningless (two minima of equal depth, a joint of the profiles' arcs)
+    bf = float(force_curvature((0, loc.gap.size, None, None,
+                                np.ascontiguousarray(loc.y_rail, dtype=float),
+                                np.ascontiguousarray(loc.gap, dtype=float),
+                                np.ascontiguousarray(loc.slope, dtype=float)),
+                               i0, i1, im, float(B)))
     half_x = math.sqrt(max(approach, 0.0) / max(A, 1e-9))
     extent = (x_m - half_x, x_m + half_x, min(ext_y) / math.cos(a_ref) if rigid is False else 0.0,
               max(ext_y) / math.cos(a_ref) if rigid is False else 0.0)
@@ -462,4 +470,5 @@ def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
                            weight=weight, creepage=creep, velocity=V, extent=extent,
                            gap_function=gapf, spin_derivative=dphi, bounds=tuple(lim),
                            interaction=inter,
-                           local_contact_angle=gapf.contact_angle_at)
+                           local_contact_angle=gapf.contact_angle_at,
+                           force_curvature=bf if bf != B else None)

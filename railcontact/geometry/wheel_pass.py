@@ -43,6 +43,7 @@ from ..profiles.profile import ppoly_at
 from .gap import DEEPEST_GAP, FD_STEP, PatchFrame, Spline, _gap_kernel
 from .locus import LOCUS_STEP, _wheel_samples
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
+from .patch_curvature import force_curvature, region_curvature  # noqa: F401 (re-exported)
 from .regions import GAP_WEIGHT
 
 #: the profiles of a wheelset on its track, one wheel and one rail profile (right
@@ -98,7 +99,7 @@ SPARSE_SLACK = 1e-5
 PATCH_FIELDS = ("side", "approach", "A", "B", "contact_angle", "y_rail", "y_wheel",
                 "z_rail", "z_wheel", "rolling_radius", "x", "y", "z", "weight", "xi",
                 "eta", "phi", "velocity", "spin_derivative", "i0", "i1", "x_m", "ys_min",
-                "ys_max", "yr_first", "yr_last")
+                "ys_max", "yr_first", "yr_last", "B_force")
 NPF = len(PATCH_FIELDS)
 #: the column of each field (compiled code reads these constants)
 P_SIDE = 0
@@ -127,6 +128,7 @@ P_YS_MIN = 22
 P_YS_MAX = 23
 P_YR_FIRST = 24
 P_YR_LAST = 25
+P_B_FORCE = 26
 
 #: at most this many patches per side
 MAX_PATCHES = 8
@@ -700,6 +702,7 @@ def make_patch(prof, pose, s, loc, i0, i1, z, roll, row):
     row[P_YS_MAX] = yhi
     row[P_YR_FIRST] = yr[i0]
     row[P_YR_LAST] = yr[i1]
+    row[P_B_FORCE] = force_curvature(loc, i0, i1, im, B)
 
 
 @njit(cache=True, nogil=True)
@@ -848,6 +851,7 @@ def patch_geometry(row, wheelset, track, pose, territory=(-math.inf, math.inf)):
     extent = (x_m - half_x, x_m + half_x, min(ext_y) / ca, max(ext_y) / ca)
     lim = sorted(sgn * (v - y_ref) / ca for v in territory)
     return ContactGeometry(curvatures=(A, float(row[P_B])), side=side,
+                           force_curvature=float(row[P_B_FORCE]),
                            contact_angle=float(row[P_CONTACT_ANGLE]),
                            rolling_radius=float(row[P_ROLLING_RADIUS]), y_rail=y_ref,
                            y_wheel=float(row[P_Y_WHEEL]), z_rail=float(row[P_Z_RAIL]),

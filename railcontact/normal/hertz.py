@@ -8,6 +8,7 @@ the ellipse of the relative curvatures at the first point of contact.
 from __future__ import annotations
 
 import time
+from dataclasses import replace
 
 import numpy as np
 
@@ -45,8 +46,21 @@ class HertzModel:
         """
         t0 = time.perf_counter()
         A, B = geometry.curvatures
-        h = hertz_ellipse(A, B, material.contact_modulus, force=normal_force,
-                          penetration=penetration)
+        Bf = getattr(geometry, "force_curvature", None)
+        if Bf is not None and Bf > 0.0 and Bf != B and (normal_force is not None
+                                                         or penetration is not None):
+            # the force from the force curvature at the approach, the ellipse from
+            # the curvatures at that force (geometry.wheel_pass.force_curvature)
+            Es = material.contact_modulus
+            if normal_force is None:
+                normal_force = hertz_ellipse(A, Bf, Es, penetration=penetration).force
+            else:
+                penetration = hertz_ellipse(A, Bf, Es, force=normal_force).penetration
+            h = hertz_ellipse(A, B, Es, force=normal_force)
+            h = replace(h, penetration=penetration)
+        else:
+            h = hertz_ellipse(A, B, material.contact_modulus, force=normal_force,
+                              penetration=penetration)
         a, b, p0 = h.a, h.b, h.p0
         s = 1.0 + self.margin
         x, y = make_grid(s * a, s * b, grid, element_size)

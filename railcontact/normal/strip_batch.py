@@ -166,6 +166,29 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
     return y, 2.0 * hy / strips, xm, g, A, B
 
 
+def patch_hertz_ellipses(patches, contact_modulus: float, penetration):
+    """Hertz's semi-axes a, b [m] and forces [N] of many patches at the
+    penetrations [m]: the force with each patch's ``force_curvature`` where it has
+    one (:mod:`railcontact.geometry.patch_curvature`), the ellipse with its
+    curvatures scaled to that force (a, b ~ F^(1/3)), as
+    :func:`railcontact.cases.compiled_case.patch_hertz` and
+    :class:`railcontact.normal.hertz.Hertz` have it."""
+    n = len(patches)
+    A = np.fromiter((p.curvatures[0] for p in patches), float, n)
+    B = np.fromiter((p.curvatures[1] for p in patches), float, n)
+    a, b, F = hertz_ellipses(A, B, contact_modulus, penetration)
+    Bf = np.fromiter((getattr(p, "force_curvature", None) or B[i] for i, p in
+                      enumerate(patches)), float, n)
+    Bf = np.where(Bf > 0.0, Bf, B)
+    if np.any(Bf != B):
+        _, _, Fs = hertz_ellipses(A, Bf, contact_modulus, penetration)
+        both = (F > 0) & (Fs > 0)
+        with np.errstate(divide="ignore", invalid="ignore"):
+            scale = np.where(both, np.cbrt(Fs / F), 1.0)
+        a, b, F = a * scale, b * scale, np.where(both, Fs, F)
+    return a, b, F
+
+
 def hertz_ellipse_strips(patches, contact_modulus: float, strips: int = 40) -> StripSolution:
     """Hertz's ellipses of many patches (at the geometry's approach) cut in
     ``strips`` strips across: strip j at y_j has half-length a sqrt(1 - (y_j/b)^2)
@@ -176,7 +199,7 @@ def hertz_ellipse_strips(patches, contact_modulus: float, strips: int = 40) -> S
     A = np.fromiter((p.curvatures[0] for p in patches), float, n)
     B = np.fromiter((p.curvatures[1] for p in patches), float, n)
     pen = np.maximum(np.fromiter((p.approach for p in patches), float, n), 0.0)
-    a, b, F = hertz_ellipses(A, B, contact_modulus, pen)
+    a, b, F = patch_hertz_ellipses(patches, contact_modulus, pen)
     u = -1.0 + (2.0 * np.arange(strips) + 1.0) / strips
     r = np.sqrt(1.0 - u * u)[None, :]
     y = b[:, None] * u[None, :]

@@ -67,10 +67,12 @@ def _dr(res):
 
 #: known misses against the 0.05 mm target, measured (reference points weighted as
 #: CONTACT weights them, GAP_WEIGHT; elsewhere within 0.003 mm with the files): files
-#: 0.5 mm -0.065, 5.0 mm +0.053; built-in profiles 0.5 mm -0.091, 4.5 mm -0.063, 5.0 mm
-#: -1.815 (the benchmark rail file departs from the nominal 60E1 arcs by up to 0.04 mm
-#: near the gauge shoulder, which moves the contact point of the built-in rail)
-KNOWN_MISSES = {"files": JUMPS, "builtin": JUMPS | {4.5}}
+#: 5.0 mm +0.053; built-in profiles 4.5 mm -0.063, 5.0 mm -1.815 (the benchmark rail
+#: file departs from the nominal 60E1 arcs by up to 0.04 mm near the gauge shoulder,
+#: which moves the contact point of the built-in rail).  0.5 mm (-0.065 and -0.091
+#: with the deepest point's curvature alone) meets it with the force curvature
+#: (geometry.patch_curvature: -0.014 and -0.044 mm)
+KNOWN_MISSES = {"files": JUMPS - {0.5}, "builtin": (JUMPS - {0.5}) | {4.5}}
 
 
 @pytest.mark.parametrize("y", SHIFTS)

@@ -102,3 +102,4 @@ def test_rows_become_the_geometry_layers_patches(bodies):
         assert np.allclose(a.position, b.position, atol=1e-10)
         # the undeformed distance on a grid of the tangent plane: the same surfaces
         assert np.allclose(a.gap(x, y), b.gap(x, y), atol=1e-10)
+

@@ -139,3 +139,24 @@ def test_ratio_is_continuous_where_the_series_takes_over():
     # monotone through the switch, so that the inversion has one root
     m = np.linspace(0.5 * SERIES_M, 2 * SERIES_M, 2001)
     assert np.all(np.diff([_ratio(v) for v in m]) > 0)
+
+
+def test_force_curvature_sets_the_force_and_the_curvatures_the_ellipse():
+    """A patch whose force curvature differs from its B
+    (geometry.wheel_pass.force_curvature): at a penetration, the force is Hertz's
+    with (A, B_force), the ellipse Hertz's with (A, B) at that force; under a force,
+    the penetration is (A, B_force)'s.  Closed forms of core.hertz_theory, 1e-12."""
+    A, B, Bf, d = 1.1, 3.95, 0.9, 6e-5
+    g = ContactGeometry(curvatures=(A, B), force_curvature=Bf)
+    Es = MAT.contact_modulus
+    hz = get_normal_model("hertz")
+    sol = hz.solve(g, MAT, penetration=d)
+    F = hertz_ellipse(A, Bf, Es, penetration=d).force
+    ref = hertz_ellipse(A, B, Es, force=F)
+    assert sol.normal_force == pytest.approx(F, rel=1e-12)
+    assert sol.semi_axes[0] == pytest.approx(ref.a, rel=1e-12)
+    assert sol.semi_axes[1] == pytest.approx(ref.b, rel=1e-12)
+    assert sol.penetration == pytest.approx(d, rel=1e-12)
+    back = hz.solve(g, MAT, normal_force=F)
+    assert back.penetration == pytest.approx(d, rel=1e-9)
+    assert back.semi_axes[0] == pytest.approx(ref.a, rel=1e-12)
