@@ -338,30 +338,22 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     assert calls == [True] and again.balance.force_jump     # no cold solve after it
 
 
-def test_a_jump_returns_the_evaluation_nearest_the_load(monkeypatch):
-    """Hertz at the deepest point of a wide tread patch (S1002 on 60E1, -0.23 mm, yaw
-    2 mrad, 45.7 kN): two minima of the gap lie within 1e-4 of each other, and as
-    the deepest point passes from one to the other the lateral relative curvature
-    falls from 3.95 to 0.28 1/m, so that Hertz's force at one approach jumps by half
-    of the load.  The balance stops at that jump; its result is the evaluation
-    nearest the load (0.02 % off)."""
-    import railcontact.cases.equilibrium as E
-    seen = []
-    real = E._Track.__call__
-
-    def spy(self, v, final=False):
-        ev, r = real(self, v, final)
-        seen.append(max(abs(ev.forces[s] / self.q[k] - 1) for k, s in enumerate(self.sides)))
-        return ev, r
-
-    monkeypatch.setattr(E._Track, "__call__", spy)
+def test_a_tread_patch_with_two_minima_meets_the_load():
+    """Hertz on a wide tread patch (S1002 on 60E1, -0.23 mm, yaw 2 mrad, 45.7 kN):
+    two minima of the gap lie within 1e-4 of each other, and as the deepest point
+    passes from one to the other its lateral relative curvature falls from 3.95 to
+    0.28 1/m.  With the deepest point's curvature Hertz's force at one approach
+    jumped by half of the load and the balance stopped at the jump (0.02 % off).
+    The force's curvature is the region's where a second minimum nearly as deep
+    lies beside the deepest (:mod:`railcontact.geometry.patch_curvature`), so the
+    force is continuous and the balance meets the load (its handling of a jump
+    that remains: tests/cases/test_equilibrium.py)."""
     raw = _random_case(-0.0002250324175564096, 0.0019889081607448837, 45726.18093136163,
                        (-0.005158154761065562, 0.0011098146583265274, 0.1852899945820869),
                        "hertz", "fastsim")
     res = rc.solve(case_from_dict(raw))
-    assert res.balance.force_jump and not res.converged
-    worst = max(abs(v) for v in res.vertical_residual.values())
-    assert 1e-4 < worst < 1e-2 and worst == pytest.approx(min(seen))
+    assert res.converged and not res.balance.force_jump
+    assert max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
     assert res.balance.passes <= 15
 
 
