@@ -1326,7 +1326,7 @@ def bench_wear_grid_reuse(repeat: int = 5):
     declared "grid-reuse"): a bogie on a 40 m R300 curve, every sample post-processed
     with exact + exact and no repeated states, with and without the kept grid,
     interleaved ``repeat`` times (medians)."""
-    from railcontact.dynamics.simulation import simulate_vehicle
+    from railcontact.dynamics.simulation import Integration, simulate_vehicle
     from railcontact.inputs import wear_scenario_from_dict
     from railcontact.wear import get_wear_law
     from railcontact.wear.postprocess import PatchPostProcessor
@@ -1342,7 +1342,7 @@ def bench_wear_grid_reuse(repeat: int = 5):
     table = build_table(*sim.wheels[0], *sim.rails[0], sim.rail_offsets, sim.settings)
     item = sc.routes[0]
     ds = simulate_vehicle(sc.model, item.route, table, item.speed, item.duration,
-                          friction=item.friction, sample_rate=100.0)
+                          friction=item.friction, integration=Integration(sample_rate=100.0))
     grid = np.arange(0.0, 0.2, 1e-4)
     args = (ds, [table, table], [list(sim.wheels[0])] * 2, sim.rails[0], [[grid, grid]] * 2,
             [grid, grid], item.friction, 1)
