@@ -57,11 +57,11 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..cases.compiled_case import PassModel, _tables, patch_hertz
+from ..cases.compiled_case import PassModel, _tables, hertz_patch
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from ..geometry.locus import _wheel_samples
-from ..geometry.patch_curvature import region_curvature  # noqa: F401 (re-exported)
+from ..geometry.patch_curvature import region_curvature
 from ..geometry.validity import TIP_ZONE, flange
 from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, P_A,
                                    P_APPROACH, P_B, P_CONTACT_ANGLE, P_ETA, P_PHI,
@@ -199,7 +199,18 @@ def search_wheelset(online, w, pose, z, roll):
             # the spring: Hertz with the region's lateral curvature; the
             # ellipse (semi-axes for the creep law): Hertz with the deepest point's
             # curvatures at the spring's force, as the table path has it
-            a, b, F = patch_hertz(row, online.model)
+            # (the spring keeps the region's curvature between the gap's zero
+            # crossings, not the case layer's force curvature
+            # (:func:`railcontact.cases.compiled_case.patch_hertz`): with that, the
+            # Manchester vehicle's 100 s online run diverged at 77 s with the fixed
+            # RK4 step chosen from the stiffness at the start (measured))
+            a, b, F = hertz_patch(row[P_A], row[P_B], d, online.model)
+            bf = region_curvature(loc, regions[r, 0], regions[r, 1])
+            if bf > 0.0:
+                _, _, Fs = hertz_patch(row[P_A], bf, d, online.model)
+                if F > 0.0 and Fs > 0.0:
+                    scale = (Fs / F) ** (1.0 / 3.0)
+                    a, b, F = a * scale, b * scale, Fs
             row[R_N] = F
             row[R_AA] = a
             row[R_BB] = b
