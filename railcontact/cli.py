@@ -557,7 +557,26 @@ def main(argv=None) -> int:
     except OSError as exc:                   # the machine's: a full disk, a lost folder
         print(f"railcontact: error: {exc}", file=sys.stderr)
         return 2
+    except Exception as exc:
+        if not _interrupted(exc):
+            raise
+        # Ctrl-C inside a compiled function: Numba's dispatcher returns with the
+        # KeyboardInterrupt set and Python raises a SystemError from it
+        print("railcontact: interrupted", file=sys.stderr)
+        return 130
     return int(status or 0)
+
+
+def _interrupted(exc: BaseException) -> bool:
+    """Whether a KeyboardInterrupt is in the chain of ``exc`` (its causes and
+    contexts)."""
+    seen = set()
+    while exc is not None and id(exc) not in seen:
+        if isinstance(exc, KeyboardInterrupt):
+            return True
+        seen.add(id(exc))
+        exc = exc.__cause__ or exc.__context__
+    return False
 
 
 #: seconds the command is given to stop by itself after Ctrl-C before it is ended

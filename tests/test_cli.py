@@ -232,6 +232,41 @@ def test_ctrl_c_stops_a_compiled_loop_within_a_second(tmp_path):
     assert not (tmp_path / "r.nc").exists()
 
 
+def test_ctrl_c_inside_a_compiled_function_is_an_interruption(monkeypatch, capsys):
+    """Ctrl-C while Numba runs a compiled function: its dispatcher returns with the
+    KeyboardInterrupt set and Python raises ``SystemError: ... returned a result
+    with an exception set`` from it (seen once in the test above, under load).
+    That is an interruption too: one line, exit status 130; another SystemError
+    stays a bug (raised)."""
+    import argparse
+
+    import railcontact.cli as cli
+
+    def run(err):
+        def func(args):
+            try:
+                raise KeyboardInterrupt
+            except KeyboardInterrupt:
+                raise err
+        parser = argparse.ArgumentParser()
+        parser.add_argument("-v", "--verbose", action="store_true")
+        parser.set_defaults(func=func)
+        monkeypatch.setattr(cli, "build_parser", lambda: parser)
+        return cli.main([])
+
+    assert run(SystemError("CPUDispatcher returned a result with an exception set")) == 130
+    assert capsys.readouterr().err.strip() == "railcontact: interrupted"
+
+    def bug(args):
+        raise SystemError("not an interruption")
+    parser = argparse.ArgumentParser()
+    parser.add_argument("-v", "--verbose", action="store_true")
+    parser.set_defaults(func=bug)
+    monkeypatch.setattr(cli, "build_parser", lambda: parser)
+    with pytest.raises(SystemError):
+        cli.main([])
+
+
 def test_warnings_in_one_format(tmp_path, capsys):
     """Warnings of a result go to stderr as 'railcontact: warning: ...' lines and
     into the JSON; p_max beyond the material's limit is one of them."""
