@@ -154,6 +154,24 @@ def _leading(toks) -> list:
     return vals
 
 
+def slice_lines(path, it, nslc: int, what: str):
+    """The positions (each line's first number, ``what``: U_SLC or TH_SLC) and the
+    profile file names of the ``nslc`` slice lines next in ``it`` (the value groups
+    of :func:`_tokens`) of a rail or wheel slices file."""
+    pos, names = [], []
+    for _ in range(nslc):
+        try:
+            ln, t = next(it)
+        except StopIteration:
+            raise ProfileError(f"{path}: expected {nslc} slices, found {len(pos)}") from None
+        lead = _leading(t)
+        if not lead or len(t) < 2:
+            raise ProfileError(f"{path}: line {ln}: expected {what} and a file name")
+        pos.append(lead[0])
+        names.append(t[1])
+    return pos, names
+
+
 def _numbers(path, ln, toks, n, what):
     """The first ``n`` numbers of a line (at least ``n`` expected)."""
     vals = _leading(toks)
@@ -211,17 +229,7 @@ def read_slices(path, units: str = "auto", mirror_y: bool = False, **options) ->
     if len(vals) > 1 and int(vals[1]) != 0:
         raise ProfileError(f"{path}: line {ln}: PERTURB = {vals[1]:g}: surface perturbations "
                            "are not supported; expected 0")
-    u, names = [], []
-    for _ in range(nslc):
-        try:
-            ln, t = next(it)
-        except StopIteration:
-            raise ProfileError(f"{path}: expected {nslc} slices, found {len(u)}") from None
-        (us,) = _numbers(path, ln, t, 1, "U_SLC")
-        if len(t) < 2:
-            raise ProfileError(f"{path}: line {ln}: expected U_SLC and a file name")
-        u.append(us)
-        names.append(t[1])
+    u, names = slice_lines(path, it, nslc, "U_SLC")
     for count in (nkink, naccel):
         if count > 0:
             next(it, None)                      # part numbers of kinks / accelerations

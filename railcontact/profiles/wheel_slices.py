@@ -35,7 +35,7 @@ from scipy.interpolate import BSpline
 from ..core.errors import ProfileError
 from .io import read_profile
 from .profile import Profile
-from .slices import _leading, _numbers, _tokens
+from .slices import _numbers, _tokens, slice_lines
 
 log = logging.getLogger(__name__)
 
@@ -161,16 +161,7 @@ def _parse(path: Path):
     if intpol == 1:
         log.info("%s: TH_INTPOL = 1 (interpolating spline) read as linear interpolation",
                  path.name)
-    th, names = [], []
-    for _ in range(nslc):
-        try:
-            ln, t = next(it)
-        except StopIteration:
-            raise ProfileError(f"{path}: expected {nslc} slices, found {len(th)}") from None
-        if len(_leading(t)) < 1 or len(t) < 2:
-            raise ProfileError(f"{path}: line {ln}: expected TH_SLC and a file name")
-        th.append(_leading(t)[0])
-        names.append(t[1])
+    th, names = slice_lines(path, it, nslc, "TH_SLC")
     theta = th_scale * (th_offset + np.asarray(th))
     files = []
     for name in names:
