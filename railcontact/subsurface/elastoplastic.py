@@ -117,7 +117,10 @@ class Hardening:
 #: Ossberger 2012, Wear and Proc. IMechE F; Wiest et al.; Skrypnyk et al.
 #: 2019, Wear 428-429, an Ohno-Wang fit; the MCL Leoben crossing papers in Metals
 #: 2022-2023): only their titles or abstracts were reachable, so H stays the
-#: estimate above (docs/subsurface.md, "Mn13").
+#: estimate above (docs/subsurface.md, "Mn13").  A second search (branch lit31:
+#: flow curves of Hadfield steel, EN 15689 / EN 10349 properties, Johnson-Cook
+#: fits, crossing FE theses, material cards in the code index) found no value
+#: either; its record is in the same section.
 MN13 = Hardening(yield_stress=360e6, modulus=2.4e9)
 
 

@@ -32,8 +32,12 @@ Three measures per patch (docs/wear.md, "Rolling contact fatigue"):
 Parameter values: the defaults k = 300 MPa, a_DV = 1/3, tau_e = 300 MPa and the
 damage function's corners (15, 65, 175 N; 1/20000) could NOT be verified against
 the text of these sources (issue 31: only their titles, abstracts or introductions
-were reachable); none that was read contradicts them.  docs/wear.md ("Sources of
-the parameters") lists what was checked.
+were reachable); none that was read contradicts them.  A second search (branch
+lit31) reached no further; the one implementation of the damage function found
+(GitHub aliSaleh123/railway_project, crack_initiation/create_di_df.py, no source
+given) shares the 65 N peak and the 175 N end but starts at 20 N and peaks at
+1.0e-5 per passage.  docs/wear.md ("Sources of the parameters") lists what was
+checked.
 
 Along a profile every position covered by a patch's strips takes its measures
 (:func:`profile_values`); damage adds up over the passages and wear removes it
