@@ -48,6 +48,8 @@ and stresses at arbitrary points by direct summation (:func:`stresses_at_points`
 from __future__ import annotations
 
 import math
+import sys
+
 import numpy as np
 from numba import njit
 from scipy import fft
@@ -487,7 +489,7 @@ def _spectra(K, par, shape, S):
 def padded_shape(mx: int, my: int) -> tuple:
     """The FFT sizes (N1, N2) >= (2 mx, 2 my) of the zero-padded convolution: even
     (twice a fast length), so that the kernels' spectra take half-length transforms
-    (:func:`_half_transforms`)."""
+    (:func:`_spectra`)."""
     return (2 * fft.next_fast_len(mx, real=True), 2 * fft.next_fast_len(my, real=True))
 
 
@@ -618,6 +620,11 @@ class _Cache:
         return np.empty(shape)
 
     def _recycle(self, S) -> None:
+        """Keep a forgotten array for reuse, unless someone else still holds it (a
+        thread between its lookup and its use: it is never overwritten then); the
+        references here are the caller's, the argument and getrefcount's."""
+        if sys.getrefcount(S) > 3:
+            return
         if self.free_size + S.nbytes <= self.budget // 4:
             self.free.setdefault(S.shape, []).append(S)
             self.free_size += S.nbytes
@@ -634,10 +641,10 @@ class _Cache:
 
     def clear(self, release: bool = False):
         """Forget the spectra (their arrays kept for reuse unless ``release``)."""
-        for S in self.items.values():
+        while self.items:
+            _, S = self.items.popitem()
             if not release:
                 self._recycle(S)
-        self.items.clear()
         self.size = 0
         if release:
             self.free.clear()

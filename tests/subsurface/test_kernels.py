@@ -119,6 +119,15 @@ def test_cache_reuses_the_arrays_of_forgotten_spectra():
     assert np.abs(other[..., 0] - first[..., 0]).max() > 1e-3 * np.abs(first).max()
     clear_cache(release=True)
     assert kernels._CACHE.free_size == 0 and not kernels._CACHE.free
+    # an array still held elsewhere (a thread between its lookup and its use) is
+    # never handed out again
+    convolve_depths(loads, 0.1, 0.2, [0.05], NU)
+    held = kernels._CACHE.lookup((6, 4, 0.1, 0.2, 0.05, NU))
+    kept = held.copy()
+    clear_cache()
+    assert kernels._CACHE.free_size == 0
+    convolve_depths(loads, 0.3, 0.2, [0.05], NU)
+    np.testing.assert_array_equal(held, kept)
 
 
 def test_inputs_checked():
