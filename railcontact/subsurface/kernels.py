@@ -48,6 +48,8 @@ and stresses at arbitrary points by direct summation (:func:`stresses_at_points`
 from __future__ import annotations
 
 import math
+import sys
+
 import numpy as np
 from numba import njit
 from scipy import fft
@@ -258,173 +260,395 @@ PARITY = np.array([[(1, 1), (1, 1), (1, 1), (-1, -1), (-1, 1), (1, -1)],      # 
 #: the DFT of a kernel is FACTOR times its real spectrum: (-i)^(number of odd axes)
 FACTOR = (-1j) ** ((PARITY[..., 0] < 0).astype(int) + (PARITY[..., 1] < 0))
 
-
-@njit(cache=True, nogil=True)
-def _quadrant_kernels(mx, my, dx, dy, zs, nu):
-    """The element kernels K[depth, load, comp, a, b] at the non-negative offsets
-    a < mx, b < my only (the others follow from :data:`PARITY`): corners at
-    ((i - 1/2) dx, (j - 1/2) dy), i <= mx, j <= my, a quarter of the full set."""
-    C = np.empty((mx + 1, my + 1, 3, 6))
-    K = np.empty((zs.size, 3, 6, mx, my))
-    s = 1.0 / (2.0 * math.pi)
-    for k in range(zs.size):
-        for i in range(mx + 1):
-            u = (i - 0.5) * dx
-            for j in range(my + 1):
-                _corner(u, (j - 0.5) * dy, zs[k], nu, C[i, j])
-        for ld in range(3):
-            for c in range(6):
-                for a in range(mx):
-                    for b in range(my):
-                        K[k, ld, c, a, b] = s * (C[a + 1, b + 1, ld, c] - C[a, b + 1, ld, c]
-                                                 - C[a + 1, b, ld, c] + C[a, b, ld, c])
-    return K
-
-
 #: (load, component) pairs whose kernels are those of others (the potentials'
 #: identities: sigma_zz of q_x is sigma_xz of p, sigma_zz of q_y sigma_yz of p,
-#: sigma_xz of q_y sigma_yz of q_x): their spectra are copied, not transformed
+#: sigma_xz of q_y sigma_yz of q_x): their spectra are shared, not transformed
 DUPLICATES = (((1, 2), (0, 4)), ((2, 2), (0, 5)), ((2, 4), (1, 5)))
 _UNIQUE = np.array([ld * 6 + c for ld in range(3) for c in range(6)
                     if (ld, c) not in {d for d, _ in DUPLICATES}])
 
 
 def _static_tables():
-    """Parities of the distinct kernels and, per kernel, the row of its original
-    among them (:func:`_spectra_depth`'s tables)."""
-    par = PARITY.reshape(18, 2)[_UNIQUE].astype(float)
+    """(parities (2, 15) in x and y of the distinct kernels; per (load, component)
+    the row of its spectrum among them (3, 6); the sign (+1, -1) and whether the
+    factor is -i (3, 6) of FACTOR = sign * (1 or -i))."""
+    par = PARITY.reshape(18, 2)[_UNIQUE].T.astype(float)
     src = np.arange(18)
     for (ld, c), (ld0, c0) in DUPLICATES:
         src[ld * 6 + c] = ld0 * 6 + c0
     slot = np.full(18, -1)
     slot[_UNIQUE] = np.arange(_UNIQUE.size)
-    return par[:, 0].copy(), par[:, 1].copy(), slot[src]
+    odd = (PARITY[..., 0] < 0).astype(int) + (PARITY[..., 1] < 0)
+    return (np.ascontiguousarray(par), slot[src].reshape(3, 6),
+            np.where(odd == 2, -1.0, 1.0), odd == 1)
 
 
-_PX, _PY, _SLOT = _static_tables()
+_PAR, _SLOT, _SIGN, _IMAG = _static_tables()
 
 
 @njit(cache=True, nogil=True)
-def _spectra_depth(Kq, unique, px, py, slot, N1, N2, T):
-    """T[i] (N1, N2 // 2 + 1): the real spectrum of kernel i of one depth, from the
-    kernels Kq (18, mx, my) at the non-negative offsets.  Per distinct kernel u
-    (``unique``): its rows a >= 0 mirrored along y with the parity py[u] on N2 points
-    and transformed (real FFT; the rows a < 0 are px[u] times them), the real or
-    imaginary part ((-i)^odd_y R) mirrored along x on N1 points and transformed
-    again, whose real or imaginary part ((-i)^odd_x T) gives the wave numbers up to
-    N1 / 2 and, mirrored with px[u], the others.  Kernels that are copies of others
-    (``slot[i]``: the row of their original in ``unique``) are copied."""
-    n, mx, my = Kq.shape
-    m2 = N2 // 2 + 1
-    h = N1 // 2 + 1
-    rows = np.zeros((mx, N2))
-    cols = np.zeros((N1, m2))
-    spec = np.empty((unique.size, N1, m2))
-    for u in range(unique.size):
-        kk = unique[u]
-        rows[:, :] = 0.0
-        for a in range(mx):
-            for b in range(my):
-                v = Kq[kk, a, b]
-                rows[a, b] = v
-                if b > 0:
-                    rows[a, N2 - b] = py[u] * v
-        Y = np.fft.rfft(rows, axis=1)
-        cols[:, :] = 0.0
-        for a in range(mx):
-            for b in range(m2):
-                v = Y[a, b].real if py[u] > 0 else -Y[a, b].imag
-                cols[a, b] = v
-                if a > 0:
-                    cols[N1 - a, b] = px[u] * v
-        X = np.fft.rfft(cols, axis=0)
-        for r in range(N1):
-            src = r if r < h else N1 - r
-            sgn = 1.0 if r < h else px[u]
-            for b in range(m2):
-                d = X[src, b]
-                spec[u, r, b] = sgn * (d.real if px[u] > 0 else -d.imag)
-    for i in range(n):
-        T[i] = spec[slot[i]]
+def _corner_arguments(grid, z, buf):
+    """buf[0] = rho and buf[1:] the arguments of the corner functions' transcendental
+    parts at the element corners ((i - 1/2) dx, (j - 1/2) dy), i <= mx, j <= my, of
+    depth z, stored [., j, i] (grid = (dx, dy, nu); buf (7, my + 1, mx + 1)): ln of
+    buf[1] = v + rho, buf[2] = u + rho (in their cancellation-free forms for v < 0,
+    u < 0), buf[3] = rho + z; atan2 of (buf[4], buf[5]) = (u v, z rho); atan of
+    buf[6] = u v (rho - z) / (u^2 rho + z v^2).  No corner lies on u = 0 or v = 0."""
+    dx, dy = grid[0], grid[1]
+    z2 = z * z
+    for j in range(buf.shape[1]):
+        v = (j - 0.5) * dy
+        v2 = v * v
+        for i in range(buf.shape[2]):
+            u = (i - 0.5) * dx
+            u2 = u * u
+            r = math.sqrt(u2 + v2 + z2)
+            rpz = r + z
+            buf[0, j, i] = r
+            buf[1, j, i] = v + r if v >= 0.0 else (u2 + z2) / (r - v)
+            buf[2, j, i] = u + r if u >= 0.0 else (v2 + z2) / (r - u)
+            buf[3, j, i] = rpz
+            buf[4, j, i] = u * v
+            buf[5, j, i] = z * r
+            buf[6, j, i] = u * v * ((u2 + v2) / rpz) / (u2 * r + z * v2)
+
+
+def _corner_transcendentals(grid, z, buf):
+    """:func:`_corner_arguments` and their logarithms and arctangents by NumPy's
+    vectorised (SIMD) functions, in place: buf[1:4] the logarithms, buf[4] atan2,
+    buf[6] atan."""
+    _corner_arguments(grid, z, buf)
+    np.log(buf[1:4], out=buf[1:4])
+    np.arctan2(buf[4], buf[5], out=buf[4])
+    np.arctan(buf[6], out=buf[6])
+
+
+@njit(cache=True, nogil=True)
+def _unique_kernels(grid, z, buf, C, K):
+    """K[u, b, a] (15, >= my, mx; stored y offset first): the distinct element
+    kernels (:data:`_UNIQUE`) at the non-negative offsets (a, b) of one depth z, from
+    the corner functions of :func:`_corner` with their transcendental parts
+    precomputed in buf (:func:`_corner_transcendentals`); grid = (dx, dy, nu);
+    C (15, my + 1, mx + 1) work space.  K[:, my:] is left as it is."""
+    dx, dy, nu = grid[0], grid[1], grid[2]
+    n2, n1 = buf.shape[1], buf.shape[2]
+    mx, my = n1 - 1, n2 - 1
+    a = 1.0 - 2.0 * nu
+    z2 = z * z
+    for j in range(n2):
+        v = (j - 0.5) * dy
+        v2 = v * v
+        for i in range(n1):
+            u = (i - 0.5) * dx
+            u2 = u * u
+            r = buf[0, j, i]
+            ix, iy, lxy = buf[1, j, i], buf[2, j, i], buf[3, j, i]
+            iz = -buf[4, j, i]
+            lxx = buf[6, j, i]
+            ixy = 1.0 / r
+            ixx = u / (r * (v + r)) if v >= 0.0 else u * (r - v) / (r * (u2 + z2))
+            iyy = v / (r * (u + r)) if u >= 0.0 else v * (r - u) / (r * (v2 + z2))
+            # u, v != 0 at the corners: these are 0 at z = 0 as they should
+            ixz = -z * v / ((u2 + z2) * r)
+            iyz = -z * u / ((v2 + z2) * r)
+            zizz = z * u * v * (r * r + z2) / (r * (u2 + z2) * (v2 + z2))
+            lyy = -iz - lxx
+            rpz = r + z
+            lxxy = u / (r * rpz)
+            lxyy = v / (r * rpz)
+            lxxx = -lxyy - ixz
+            lyyy = -lxxy - iyz
+            oxxy = -u / rpz
+            oxyy = -v / rpz
+            oxxx = -ix - oxyy
+            oyyy = -iy - oxxy
+            # pressure: xx, yy, zz, xy, xz, yz
+            C[0, j, i] = 2.0 * nu * iz - z * ixx - a * lxx
+            C[1, j, i] = 2.0 * nu * iz - z * iyy - a * lyy
+            C[2, j, i] = iz - zizz
+            C[3, j, i] = -a * lxy - z * ixy
+            C[4, j, i] = -z * ixz
+            C[5, j, i] = -z * iyz
+            # traction x: xx, yy, xy, xz, yz (zz = p's xz)
+            C[6, j, i] = 2.0 * (1.0 + nu) * ix + 2.0 * nu * oxxx - z * lxxx
+            C[7, j, i] = 2.0 * nu * (oxyy + ix) - z * lxyy
+            C[8, j, i] = iy + 2.0 * nu * oxxy - z * lxxy
+            C[9, j, i] = iz - z * ixx
+            C[10, j, i] = -z * ixy
+            # traction y: xx, yy, xy, yz (zz = p's yz, xz = q_x's yz)
+            C[11, j, i] = 2.0 * nu * (oxxy + iy) - z * lxxy
+            C[12, j, i] = 2.0 * (1.0 + nu) * iy + 2.0 * nu * oyyy - z * lyyy
+            C[13, j, i] = ix + 2.0 * nu * oxyy - z * lxyy
+            C[14, j, i] = iz - z * iyy
+    s = 1.0 / (2.0 * math.pi)
+    for q in range(15):
+        for j in range(my):
+            for i in range(mx):
+                K[q, j, i] = s * (C[q, j + 1, i + 1] - C[q, j + 1, i] - C[q, j, i + 1]
+                                  + C[q, j, i])
+
+
+@njit(cache=True, nogil=True)
+def _trig(M):
+    """(sin, cos) of pi j / M, j < M."""
+    t = np.empty((2, M))
+    for j in range(M):
+        t[0, j] = math.sin(math.pi * j / M)
+        t[1, j] = math.cos(math.pi * j / M)
+    return t
+
+
+@njit(cache=True, nogil=True)
+def _half_pre(x, even, sn, y):
+    """y[j, q], j < M: the half-length sequences of :func:`_spectra`'s reduction of
+    the sequences x[0 .. M, q] (x[M] the middle value) of period 2 M (sn: sin(pi j /
+    M))."""
+    M, nq = y.shape
+    for j in range(M):
+        w = sn[j]
+        for q in range(nq):
+            s = x[j, q] + x[M - j, q]
+            d = x[j, q] - x[M - j, q]
+            y[j, q] = 0.5 * s - w * d if even else w * s + 0.5 * d
+
+
+@njit(cache=True, nogil=True)
+def _half_post(x, even, cs, Y, out):
+    """out[k, q], k = 0 .. M: the real spectra of the sequences x[0 .. M, q] from the
+    DFT Y (along the first axis) of their half-length sequences (:func:`_half_pre`;
+    cs: cos(pi j / M))."""
+    M = cs.size
+    nq = x.shape[1]
+    for m in range(M // 2 + 1):
+        for q in range(nq):
+            out[2 * m, q] = 2.0 * Y[m, q].real if even else -2.0 * Y[m, q].imag
+    if even:
+        for q in range(nq):
+            out[1, q] = x[0, q] - x[M, q]
+        for j in range(1, M):
+            w = 2.0 * cs[j]
+            for q in range(nq):
+                out[1, q] += w * x[j, q]
+    else:
+        for q in range(nq):
+            out[1, q] = Y[0, q].real
+    for m in range(1, (M - 1) // 2 + 1):
+        for q in range(nq):
+            if even:
+                out[2 * m + 1, q] = out[2 * m - 1, q] - 2.0 * Y[m, q].imag
+            else:
+                out[2 * m + 1, q] = out[2 * m - 1, q] + 2.0 * Y[m, q].real
+
+
+@njit(cache=True, nogil=True)
+def _spectra(K, par, shape, S):
+    """S[u] (N1 // 2 + 1, N2 // 2 + 1): the real spectra of the distinct kernels
+    K[u] (15, N2 // 2 + 1, mx: the non-negative offsets, y first, zero from my on) on
+    the padded grid (N1, N2 even) at the wave numbers r <= N1 / 2 (those above are
+    par[0, u] times S[u, N1 - r]).
+
+    Along y the columns a >= 0 are sequences of period N2 and parity par[1, u] (the
+    columns a < 0 are par[0, u] times them), then along x the results are sequences
+    of period N1 and parity par[0, u]; the DFT of the kernel is (-i)^(odd axes)
+    times S.  The real spectrum of an even (DFT X, real) or odd (DFT -i R, R real)
+    sequence of period 2 M takes one real FFT of length M instead of 2 M (the
+    classical reduction of the DCT-I and DST-I to a half-length FFT, e.g. Press et
+    al., Numerical Recipes, cosft1 and sinft): with s_j = x_j + x_{M-j},
+    d_j = x_j - x_{M-j} and Y the DFT of
+
+        even: y_j = s_j / 2 - sin(pi j / M) d_j   ->  X[2m] = 2 Re Y[m],
+              X[2m + 1] = X[2m - 1] - 2 Im Y[m],  X[1] = x_0 - x_M + 2 sum x_j cos(pi j / M);
+        odd:  y_j = sin(pi j / M) s_j + d_j / 2   ->  R[2m] = -2 Im Y[m],
+              R[2m + 1] = R[2m - 1] + 2 Re Y[m],  R[1] = Re Y[0]
+
+    (x_0 and x_M of an odd sequence drop out: they are zero).  The sequences of all
+    15 kernels go through one batched FFT per direction, the pre- and
+    post-processing vectorised across the sequences."""
+    n, m2, mx = K.shape
+    M1, M2 = shape[0] // 2, m2 - 1
+    t1, t2 = _trig(M1), _trig(M2)
+    y = np.empty((n, M2, mx))
+    for u in range(n):
+        _half_pre(K[u], par[1, u] > 0, t2[0], y[u])
+    Y = np.fft.rfft(y, axis=1)
+    R = np.empty((M2 + 1, mx))
+    X = np.zeros((n, M1 + 1, M2 + 1))                  # zero from mx on
+    for u in range(n):
+        _half_post(K[u], par[1, u] > 0, t2[1], Y[u], R)
+        for b in range(M2 + 1):
+            for a in range(mx):
+                X[u, a, b] = R[b, a]
+    y2 = np.empty((n, M1, M2 + 1))
+    for u in range(n):
+        _half_pre(X[u], par[0, u] > 0, t1[0], y2[u])
+    Y2 = np.fft.rfft(y2, axis=1)
+    for u in range(n):
+        _half_post(X[u], par[0, u] > 0, t1[1], Y2[u], S[u])
 
 
 def padded_shape(mx: int, my: int) -> tuple:
-    """The FFT sizes (N1, N2) >= (2 mx - 1, 2 my - 1) of the zero-padded convolution."""
-    return (fft.next_fast_len(2 * mx - 1, real=True), fft.next_fast_len(2 * my - 1, real=True))
+    """The FFT sizes (N1, N2) >= (2 mx, 2 my) of the zero-padded convolution: even
+    (twice a fast length), so that the kernels' spectra take half-length transforms
+    (:func:`_spectra`)."""
+    return (2 * fft.next_fast_len(mx, real=True), 2 * fft.next_fast_len(my, real=True))
+
+
+class _Builder:
+    """Work space of the kernel spectra of one grid (:meth:`spectra`)."""
+
+    def __init__(self, mx, my, dx, dy, poisson):
+        self.mx, self.my = int(mx), int(my)
+        self.shape = padded_shape(self.mx, self.my)
+        self.grid = np.array([float(dx), float(dy), float(poisson)])
+        self.buf = np.empty((7, self.my + 1, self.mx + 1))
+        self.C = np.empty((15, self.my + 1, self.mx + 1))
+        self.K = np.zeros((15, self.shape[1] // 2 + 1, self.mx))     # zero from my on
+
+    def spectra(self, z: float) -> np.ndarray:
+        """The real spectra (15, N1 // 2 + 1, N2 // 2 + 1) of the distinct kernels at
+        depth z: the corner functions' logarithms and arctangents by NumPy's
+        vectorised functions, the kernels at the non-negative offsets (a quarter of
+        the element corners) in compiled code, their spectra by half-length real
+        FFTs (:func:`_spectra`)."""
+        _corner_transcendentals(self.grid, z, self.buf)
+        _unique_kernels(self.grid, z, self.buf, self.C, self.K)
+        N1, N2 = self.shape
+        S = _CACHE.array((15, N1 // 2 + 1, N2 // 2 + 1))
+        _spectra(self.K, _PAR, self.shape, S)
+        return S
+
+
+def unique_spectra(mx, my, dx, dy, depths, poisson) -> list:
+    """The real spectra (15, N1 // 2 + 1, N2 // 2 + 1) of the distinct stress kernels
+    (:data:`_UNIQUE`; :data:`DUPLICATES` share theirs) of a grid, one array per depth,
+    at the wave numbers r <= N1 / 2 along x (the others by parity: S[u, N1 - r] times
+    :data:`PARITY`'s x parity of the kernel)."""
+    zs = np.atleast_1d(np.asarray(depths, float))
+    for z in zs:
+        _check(z, poisson)
+    b = _Builder(mx, my, dx, dy, poisson)
+    return [b.spectra(float(z)) for z in zs]
 
 
 def kernel_spectra(mx, my, dx, dy, depths, poisson) -> np.ndarray:
     """Real spectra (nz, 3, 6, N1, N2 // 2 + 1) of the stress kernels of a grid at the
     depths (the DFT on the :func:`padded_shape` grid is :data:`FACTOR` times them),
-    the kernels evaluated at the non-negative offsets (a quarter of the element
-    corners), the 15 distinct ones (:data:`DUPLICATES`) transformed along y for the
-    rows of non-negative offsets only, mirrored by parity, then along x by real
-    transforms (half the work of a full real 2-D FFT per kernel)."""
-    zs = np.ascontiguousarray(np.atleast_1d(np.asarray(depths, float)))
-    for z in zs:
-        _check(z, poisson)
-    N1, N2 = padded_shape(mx, my)
-    nz = zs.size
-    T = np.empty((nz, 18, N1, N2 // 2 + 1))
-    for k in range(nz):          # depth by depth: a fine grid's kernels are large
-        Kq = _quadrant_kernels(int(mx), int(my), float(dx), float(dy), zs[k:k + 1],
-                               float(poisson))
-        _spectra_depth(Kq.reshape(18, mx, my), _UNIQUE, _PX, _PY, _SLOT, N1, N2, T[k])
-    return T.reshape(nz, 3, 6, N1, N2 // 2 + 1)
+    from :func:`unique_spectra` (the duplicates copied, the wave numbers above
+    N1 / 2 mirrored by parity)."""
+    N1, _ = padded_shape(int(mx), int(my))
+    S = np.stack(unique_spectra(mx, my, dx, dy, depths, poisson))
+    r = np.arange(N1)
+    src = np.where(r <= N1 // 2, r, N1 - r)
+    full = S[:, :, src] * np.where(r <= N1 // 2, 1.0, _PAR[0][:, None])[None, :, :, None]
+    return full[:, _SLOT]
+
+
+#: per (load, component): the x parity of its kernel (PARITY[..., 0])
+_PARX = PARITY[..., 0].astype(float)
 
 
 @njit(cache=True, nogil=True)
-def _depth_stresses(T, factor, L, active, shape, out, k):
-    """out[c, :, :, k] = the inverse real FFT of the sum over the active loads ld of
-    factor[ld, c] T[ld, c] L[ld] (one depth; compiled, numpy.fft by rocket-fft)."""
-    n1, n2 = L.shape[1], L.shape[2]
+def _depth_stresses(S, tables, L, shape, out):
+    """out (6, mx, my) = the inverse real FFT of the sum over the active loads ld of
+    FACTOR[ld, c] S[slot[ld, c]] L[ld] per component c (one depth; compiled,
+    numpy.fft by rocket-fft); L (2, 3, N1, N2 // 2 + 1): the real and imaginary parts
+    of the loads' spectra; S holds the wave numbers r <= N1 / 2 (those above: parx
+    times S[N1 - r]); tables = (slot, sign, imag, active, parx) as float (3, 6) arrays
+    (FACTOR = sign times 1, or times -i where imag).  The inverse transform along x
+    first, then along y for the rows i < mx only (the output window)."""
+    slot, sign, imag, active, parx = tables[0], tables[1], tables[2], tables[3], tables[4]
+    n1, n2 = L.shape[2], L.shape[3]
+    h = S.shape[1]
     mx, my = out.shape[1], out.shape[2]
-    acc = np.empty((n1, n2), dtype=np.complex128)
+    Lr, Li = L[0], L[1]
+    acc = np.zeros((6, n1, n2), dtype=np.complex128)
     for c in range(6):
-        acc[:, :] = 0.0
         for ld in range(3):
-            if not active[ld]:
+            if active[ld, c] == 0.0:
                 continue
-            f = factor[ld, c]
+            T = S[int(slot[ld, c])]
             for i in range(n1):
-                for j in range(n2):
-                    acc[i, j] += (f * T[ld, c, i, j]) * L[ld, i, j]
-        r = np.fft.irfft2(acc, s=shape)
+                if i < h:
+                    src, s = i, sign[ld, c]
+                else:
+                    src, s = n1 - i, sign[ld, c] * parx[ld, c]
+                if imag[ld, c] == 0.0:          # factor s: s T L
+                    for j in range(n2):
+                        t = s * T[src, j]
+                        acc[c, i, j] += complex(t * Lr[ld, i, j], t * Li[ld, i, j])
+                else:                           # factor -i s: s T (Li - i Lr)
+                    for j in range(n2):
+                        t = s * T[src, j]
+                        acc[c, i, j] += complex(t * Li[ld, i, j], -t * Lr[ld, i, j])
+    Z = np.fft.ifft(acc, axis=1)
+    r = np.fft.irfft(Z[:, :mx, :], n=shape[1], axis=2)
+    for c in range(6):
         for i in range(mx):
             for j in range(my):
-                out[c, i, j, k] = r[i, j]
+                out[c, i, j] = r[c, i, j]
 
 
 class _Cache:
     """Kernel spectra by (grid, depth, Poisson's ratio), least recently used first
-    out, within a memory budget (a fine grid's spectra are large: 46 MB per depth on
-    400 x 400 elements)."""
+    out, within a memory budget (a fine grid's spectra are large: 19 MB per depth on
+    400 x 400 elements).  The arrays of forgotten spectra are kept for the next
+    spectra of the same shape (up to a quarter of the budget): filling fresh memory
+    costs more than building the spectra of a 40 x 40 grid (measured, docs/subsurface.md)."""
 
     def __init__(self, budget_bytes: int = 256 * 2 ** 20):
         from collections import OrderedDict
         self.budget = budget_bytes
         self.items = OrderedDict()
         self.size = 0
+        self.free = {}
+        self.free_size = 0
 
-    def get(self, mx, my, dx, dy, depth, poisson) -> np.ndarray:
-        """The spectra (3, 6, N1, N2 // 2 + 1) of one depth, built when missing; the
-        least recently used ones beyond the budget forgotten (the one returned kept)."""
-        key = (mx, my, dx, dy, float(depth), poisson)
-        T = self.items.get(key)
-        if T is not None:
+    def lookup(self, key):
+        """The spectra of key = (mx, my, dx, dy, depth, poisson), or None."""
+        S = self.items.get(key)
+        if S is not None:
             self.items.move_to_end(key)
-            return T
-        T = kernel_spectra(mx, my, dx, dy, [key[4]], poisson)[0]
-        self.items[key] = T
-        self.size += T.nbytes
-        while self.size > self.budget and len(self.items) > 1:
+        return S
+
+    def array(self, shape) -> np.ndarray:
+        """An array of this shape for new spectra: a forgotten one, or a new one."""
+        pool = self.free.get(shape)
+        if pool:
+            S = pool.pop()
+            self.free_size -= S.nbytes
+            return S
+        return np.empty(shape)
+
+    def _recycle(self, S) -> None:
+        """Keep a forgotten array for reuse, unless someone else still holds it (a
+        thread between its lookup and its use: it is never overwritten then); the
+        references here are the caller's, the argument and getrefcount's."""
+        if sys.getrefcount(S) > 3:
+            return
+        if self.free_size + S.nbytes <= self.budget // 4:
+            self.free.setdefault(S.shape, []).append(S)
+            self.free_size += S.nbytes
+
+    def put(self, key, S, keep: int = 1) -> None:
+        """Add the spectra of a key; forget the least recently used ones beyond the
+        budget (the ``keep`` most recent kept)."""
+        self.items[key] = S
+        self.size += S.nbytes
+        while self.size > self.budget and len(self.items) > keep:
             _, old = self.items.popitem(last=False)
             self.size -= old.nbytes
-        return T
+            self._recycle(old)
 
-    def clear(self):
-        self.items.clear()
+    def clear(self, release: bool = False):
+        """Forget the spectra (their arrays kept for reuse unless ``release``)."""
+        while self.items:
+            _, S = self.items.popitem()
+            if not release:
+                self._recycle(S)
         self.size = 0
+        if release:
+            self.free.clear()
+            self.free_size = 0
 
 
 _CACHE = _Cache()
@@ -432,28 +656,39 @@ _CACHE = _Cache()
 
 def convolve_depths(loads, dx, dy, depths, poisson) -> np.ndarray:
     """Stresses (6, mx, my, nz) [Pa] at the element centres of a uniform grid and the
-    depths from piecewise constant loads (3, mx, my) = (p, q_x, q_y) [Pa]: the loads'
-    3 spectra, per depth the sum of their products with the 18 kernel spectra (cached
-    per grid, depth and Poisson's ratio; at most 256 MiB kept) and the inverse
-    transforms of the 6 components."""
+    depths from piecewise constant loads (3, mx, my) = (p, q_x, q_y) [Pa] (a view of
+    a depth-major array): the loads' 3 spectra, per depth the sum of their products with the kernel spectra (the 15
+    distinct ones; cached per grid, depth and Poisson's ratio, at most 256 MiB kept;
+    built where missing, right before their use) and the inverse transforms of the 6
+    components."""
     loads = np.asarray(loads, float)
     _, mx, my = loads.shape
     zs = np.atleast_1d(np.asarray(depths, float))
-    key = (int(mx), int(my), float(dx), float(dy))
     for z in zs:
         _check(z, poisson)
     N1, N2 = padded_shape(mx, my)
     active = np.array([bool(np.any(v)) for v in loads], dtype=np.bool_)
     if not active.any():
         return np.zeros((6, mx, my, zs.size))
-    L = fft.rfft2(loads, s=(N1, N2), axes=(-2, -1))
-    out = np.empty((6, mx, my, zs.size))
+    spec = fft.rfft2(loads, s=(N1, N2), axes=(-2, -1))
+    L = np.stack([spec.real, spec.imag])
+    tables = np.stack([_SLOT.astype(float), _SIGN, _IMAG.astype(float),
+                       np.repeat(active[:, None].astype(float), 6, axis=1), _PARX])
+    out = np.empty((zs.size, 6, mx, my))        # depth first: each depth's block contiguous
+    builder = None
     for k, z in enumerate(zs):
-        T = _CACHE.get(*key, float(z), float(poisson))
-        _depth_stresses(T, FACTOR, L, active, (N1, N2), out, k)
-    return out
+        key = (int(mx), int(my), float(dx), float(dy), float(z), float(poisson))
+        S = _CACHE.lookup(key)
+        if S is None:
+            if builder is None:
+                builder = _Builder(mx, my, dx, dy, poisson)
+            S = builder.spectra(float(z))
+            _CACHE.put(key, S, keep=k + 1)
+        _depth_stresses(S, tables, L, (N1, N2), out[k])
+    return out.transpose(1, 2, 3, 0)
 
 
-def clear_cache() -> None:
-    """Forget the cached kernel spectra."""
-    _CACHE.clear()
+def clear_cache(release: bool = False) -> None:
+    """Forget the cached kernel spectra (``release``: their memory too; otherwise the
+    arrays are reused for the next spectra of the same shape)."""
+    _CACHE.clear(release)

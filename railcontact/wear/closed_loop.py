@@ -18,7 +18,8 @@ Each wear step of a :class:`~railcontact.wear.vehicle_scenario.VehicleWearScenar
    ``max_depth_per_step``; the depth is smoothed (Gaussian, area conserved) and the
    profiles move along their inward normals; the next step runs on them;
 6. beside the wear, the rolling contact fatigue (:mod:`railcontact.wear.rcf`): the
-   WLRM damage accumulates per profile position like the wear depth, the step's
+   WLRM damage and the FI_surf exceedance (the sum over the passages of
+   max(FI_surf, 0)) accumulate per profile position like the wear depth, the step's
    wear depth removing part of the damage before it; the largest FI_surf (and
    FI_sub) per route and position.
 
@@ -93,6 +94,18 @@ VARIABLES = (
              "accumulated WLRM RCF damage after the step (wear removal included)"),
     Variable("rcf_added_wheel", _WS + ("y_wheel",), "1", "WLRM RCF damage of the step"),
     Variable("rcf_added_rail", _RS + ("y_rail",), "1", "WLRM RCF damage of the step"),
+    Variable("rcf_surface_wheel", _WS + ("y_wheel",), "1",
+             "accumulated FI_surf exceedance (sum over the passages of max(FI_surf, 0)) "
+             "after the step (wear removal included)"),
+    Variable("rcf_surface_rail", _RS + ("y_rail",), "1",
+             "accumulated FI_surf exceedance (sum over the passages of max(FI_surf, 0)) "
+             "after the step (wear removal included)"),
+    Variable("rcf_surface_added_wheel", _WS + ("y_wheel",), "1",
+             "FI_surf exceedance of the step"),
+    Variable("rcf_surface_added_rail", _RS + ("y_rail",), "1",
+             "FI_surf exceedance of the step"),
+    Variable("rcf_surface_rate_wheel", ("route", "wheelset", "side", "y_wheel"), "1/m",
+             "FI_surf exceedance per metre run on the route"),
     Variable("fi_surf_wheel", _RWS + ("y_wheel",), "1",
              "largest surface fatigue index FI_surf (Ekberg) at the position on the route "
              "(NaN: no contact)"),
@@ -137,12 +150,14 @@ VARIABLES = (
 
 @dataclass
 class _DamageRate:
-    """The WLRM damage of one wheel or rail slot in a step before its distance is
-    known: the slot, the arc lengths of the recorded positions on its profile before
+    """A damage measure (``name``: "rcf_damage", the WLRM damage, or "rcf_surface",
+    the FI_surf exceedance) of one wheel or rail slot in a step before its distance
+    is known: the slot, the arc lengths of the recorded positions on its profile before
     the step [m], its arc-length grid [m] and the damage per metre run on it (wheels:
     the group's weighted mean over the routes; rails: per passage times the
     passages per metre run)."""
 
+    name: str
     kind: str
     slot: tuple
     s_y: np.ndarray
@@ -352,31 +367,34 @@ class ClosedLoopWear(WearDriver):
         return StepLoads(bodies, rec)
 
     def _damage_rates(self, wheels0, rails0, grid_of, results) -> list:
-        """The step's WLRM damage per metre run of every wheel and rail slot
-        (:class:`_DamageRate`), accumulated like the wear depth: wheels the routes'
-        weighted rate per metre run, the same for a group of wheels; rails per
-        passage times the traffic."""
+        """The step's WLRM damage and FI_surf exceedance per metre run of every wheel
+        and rail slot (:class:`_DamageRate`), accumulated like the wear depth: wheels
+        the routes' weighted rate per metre run, the same for a group of wheels; rails
+        per passage times the traffic."""
         sc, wt = self.sc, self.weights
         out = []
-        for g in self.wheel_groups():
-            rate = sum(wt[r] * results[r]["rcf_wheel"][w][j] for r in range(self.nr)
-                       for w, j in g) / len(g)
-            for w, j in g:
-                old = wheels0[w][j]
-                out.append(_DamageRate("wheel", (w, j), old.arc_length(self.y_wheel),
-                                       grid_of[id(old)], rate))
-        for r in range(self.nr):
-            for j in range(2):
-                old = rails0[r][j]
-                rate = results[r]["rcf_rail"][j] * sc.rail_traffic * wt[r] / sc.routes[r].length
-                out.append(_DamageRate("rail", (r, j), old.arc_length(self.y_rail),
-                                       grid_of[id(old)], rate))
+        for name, key in (("rcf_damage", "rcf"), ("rcf_surface", "rcf_surface")):
+            for g in self.wheel_groups():
+                rate = sum(wt[r] * results[r][f"{key}_wheel"][w][j] for r in range(self.nr)
+                           for w, j in g) / len(g)
+                for w, j in g:
+                    old = wheels0[w][j]
+                    out.append(_DamageRate(name, "wheel", (w, j), old.arc_length(self.y_wheel),
+                                           grid_of[id(old)], rate))
+            for r in range(self.nr):
+                for j in range(2):
+                    old = rails0[r][j]
+                    rate = (results[r][f"{key}_rail"][j] * sc.rail_traffic * wt[r]
+                            / sc.routes[r].length)
+                    out.append(_DamageRate(name, "rail", (r, j), old.arc_length(self.y_rail),
+                                           grid_of[id(old)], rate))
         return out
 
     def _fatigue_record(self, wheels0, rails0, grid_of, results) -> dict:
         """The step's fatigue indices per route: the largest FI_surf (and, with
         ``wear.rcf.subsurface``, FI_sub) at each recorded position of the profiles
-        before the step (NaN where no patch came), and the RCF measures' CPU time."""
+        before the step (NaN where no patch came), each wheel's FI_surf exceedance per
+        metre run on the route, and the RCF measures' CPU time."""
         rec = {}
         for name in ("fi_surf", "fi_sub") if self.sc.rcf.subsurface else ("fi_surf",):
             rec[f"{name}_wheel"] = np.array([[[np.interp(
@@ -387,6 +405,10 @@ class ClosedLoopWear(WearDriver):
                 rails0[r][j].arc_length(self.y_rail), grid_of[id(rails0[r][j])],
                 results[r][f"{name}_rail"][j], left=np.nan, right=np.nan)
                 for j in range(2)] for r in range(self.nr)])
+        rec["rcf_surface_rate_wheel"] = np.array([[[np.interp(
+            wheels0[w][j].arc_length(self.y_wheel), grid_of[id(wheels0[w][j])],
+            results[r]["rcf_surface_wheel"][w][j], left=0.0, right=0.0)
+            for j in range(2)] for w in range(self.nw)] for r in range(self.nr)])
         rec["rcf_time"] = np.array([res["stats"].rcf_time for res in results])
         return rec
 
@@ -433,20 +455,23 @@ class ClosedLoopWear(WearDriver):
         self._record_damage(rec)
 
     def _record_damage(self, rec: dict) -> None:
-        """The step's WLRM damage over its distance, and the accumulated damage: the
-        damage before the step less the fraction of the surface layer its wear depth
-        removed (:func:`~railcontact.wear.rcf.accumulate`), plus the step's."""
+        """The step's WLRM damage and FI_surf exceedance over its distance, and the
+        accumulated ones: those before the step less the fraction of the surface layer
+        its wear depth removed (:func:`~railcontact.wear.rcf.accumulate`), plus the
+        step's."""
         dist = rec["distance"]
-        added = {"wheel": np.zeros((self.nw, 2, self.y_wheel.size)),
-                 "rail": np.zeros((self.nr, 2, self.y_rail.size))}
+        shapes = {"wheel": (self.nw, 2, self.y_wheel.size), "rail": (self.nr, 2, self.y_rail.size)}
+        added = {(n, k): np.zeros(shp) for n in ("rcf_damage", "rcf_surface")
+                 for k, shp in shapes.items()}
         for d in rec.pop("_damage_rates", []):
-            added[d.kind][d.slot] = d.added(dist)
+            added[(d.name, d.kind)][d.slot] = d.added(dist)
         prev = self.steps[-1] if self.steps else {}
-        for kind, add in added.items():
-            before = prev.get(f"rcf_damage_{kind}", np.zeros_like(add))
-            rec[f"rcf_damage_{kind}"] = accumulate(before, add, rec[f"wear_depth_{kind}"],
-                                                   self.sc.rcf.layer_depth)
-            rec[f"rcf_added_{kind}"] = add
+        for (name, kind), add in added.items():
+            before = prev.get(f"{name}_{kind}", np.zeros_like(add))
+            rec[f"{name}_{kind}"] = accumulate(before, add, rec[f"wear_depth_{kind}"],
+                                               self.sc.rcf.layer_depth)
+            new = "rcf_added" if name == "rcf_damage" else "rcf_surface_added"
+            rec[f"{new}_{kind}"] = add
 
     def finish(self) -> None:
         """The measures of the final profiles (their tables, without a run)."""

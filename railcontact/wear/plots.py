@@ -145,14 +145,17 @@ def plot_closed_loop(ds, out: Path):
 def plot_rcf(ds, out: Path):
     """``rcf.png`` of a closed-loop run: per route the largest surface fatigue index
     FI_surf (Ekberg) along the leading wheelset's left and right wheel profiles in
-    the first and last step, and the accumulated WLRM damage along the wheel profiles
-    after every step (wear removal included)."""
+    the first and last step, and the accumulated WLRM damage and FI_surf exceedance
+    along the wheel profiles after every step (wear removal included)."""
     import matplotlib
     matplotlib.use("Agg")
     import matplotlib.pyplot as plt
     out = Path(out)
     y = ds["y_wheel"].values * 1e3
-    fig, axes = plt.subplots(1, 3, figsize=(15, 4))
+    panels = [("rcf_damage_wheel", "accumulated WLRM damage")]
+    if "rcf_surface_wheel" in ds:
+        panels.append(("rcf_surface_wheel", "accumulated FI_surf exceedance"))
+    fig, axes = plt.subplots(1, 2 + len(panels), figsize=(5 * (2 + len(panels)), 4))
     for ax, side in zip(axes[:2], ("left", "right")):
         for r in ds["route"].values:
             fi = ds["fi_surf_wheel"].sel(route=r, wheelset=1, side=side)
@@ -165,14 +168,15 @@ def plot_rcf(ds, out: Path):
         ax.legend(fontsize=7)
     cmap = plt.get_cmap("viridis")
     n = ds.sizes["step"]
-    for side, ls in (("left", "-"), ("right", "--")):
-        d = ds["rcf_damage_wheel"].sel(wheelset=1, side=side).values
-        for k in range(n):
-            axes[2].plot(y, d[k], color=cmap((k + 1) / n), ls=ls, lw=1,
-                         label=f"{side}, step {k + 1}" if k in (0, n - 1) else None)
-    axes[2].set_xlabel("y on the wheel [mm], wheelset 1")
-    axes[2].set_ylabel("accumulated WLRM damage")
-    axes[2].legend(fontsize=7)
+    for ax, (name, label) in zip(axes[2:], panels):
+        for side, ls in (("left", "-"), ("right", "--")):
+            d = ds[name].sel(wheelset=1, side=side).values
+            for k in range(n):
+                ax.plot(y, d[k], color=cmap((k + 1) / n), ls=ls, lw=1,
+                        label=f"{side}, step {k + 1}" if k in (0, n - 1) else None)
+        ax.set_xlabel("y on the wheel [mm], wheelset 1")
+        ax.set_ylabel(label)
+        ax.legend(fontsize=7)
     for a in axes:
         a.grid(alpha=0.3)
     fig.suptitle("rolling contact fatigue beside wear")

@@ -126,12 +126,13 @@ RECORDS = ("Fn", "Fx", "Fy", "area", "pmax", "frictional_power")
 RCF_RECORDS = ("fi_surf", "tgamma", "rcf_damage", "fi_sub")
 
 
-def _covered(window, damage):
-    """(slice of the positions a patch covers, their mask within it, the damage on
-    them): the RCF measures of a patch placed on a profile grid, from its coverage
-    there (:func:`~railcontact.wear.rcf.profile_window` of 1 on its strips)."""
+def _covered(window, damage, exceedance):
+    """(slice of the positions a patch covers, their mask within it, the WLRM damage
+    and the FI_surf exceedance on them): the RCF measures of a patch placed on a
+    profile grid, from its coverage there (:func:`~railcontact.wear.rcf.profile_window`
+    of 1 on its strips)."""
     sl, c = window
-    return sl, c > 0.5, damage * c
+    return sl, c > 0.5, damage * c, exceedance * c
 
 
 def _envelope(v):
@@ -195,6 +196,8 @@ class _Run:
     rail: list = field(default_factory=list)
     damage_wheel: list = field(default_factory=list)
     damage_rail: list = field(default_factory=list)
+    surface_wheel: list = field(default_factory=list)
+    surface_rail: list = field(default_factory=list)
     fi_surf_wheel: list = field(default_factory=list)
     fi_surf_rail: list = field(default_factory=list)
     fi_sub_wheel: list = field(default_factory=list)
@@ -212,6 +215,8 @@ class _Run:
         self.rail = [np.zeros_like(g) for g in self.rail_grids]
         self.damage_wheel = [[np.zeros_like(g) for g in pair] for pair in self.wheel_grids]
         self.damage_rail = [np.zeros_like(g) for g in self.rail_grids]
+        self.surface_wheel = [[np.zeros_like(g) for g in pair] for pair in self.wheel_grids]
+        self.surface_rail = [np.zeros_like(g) for g in self.rail_grids]
         for name in ("fi_surf", "fi_sub"):
             setattr(self, f"{name}_wheel", [[np.full(g.shape, -np.inf) for g in pair]
                                             for pair in self.wheel_grids])
@@ -251,25 +256,29 @@ class _Run:
 
     def add_rcf(self, at: tuple, key, geom, hit: _Solved) -> None:
         """A patch's RCF measures on the wheel and rail grids: the positions its
-        strips with contact cover take its WLRM damage (the wheel's per metre run) and
-        raise the FI_surf (and FI_sub) envelopes (the placement of a reuse key is
-        computed once)."""
+        strips with contact cover take its WLRM damage and its FI_surf exceedance
+        max(FI_surf, 0) (the wheel's per metre run) and raise the FI_surf (and FI_sub)
+        envelopes (the placement of a reuse key is computed once)."""
         c0 = time.thread_time()
         i, w, j, k = at
         on = self.rcf_mapped.get(key) if key is not None else None
         if on is None:
             r_w = 2 * math.pi * geom.rolling_radius
+            exc = hit.fi_surf if hit.fi_surf > 0 else 0.0           # NaN: 0
             on = (_covered(profile_window(geom, hit.strips.y, hit.covered, self.wheels[w][j],
-                                          "wheel", self.wheel_grids[w][j]), hit.damage / r_w),
+                                          "wheel", self.wheel_grids[w][j]), hit.damage / r_w,
+                           exc / r_w),
                   _covered(profile_window(geom, hit.strips.y, hit.covered, self.rails[j],
-                                          "rail", self.rail_grids[j]), hit.damage))
+                                          "rail", self.rail_grids[j]), hit.damage, exc))
             if key is not None:
                 self.rcf_mapped[key] = on
-        for (sl, mask, d), dmg, fi, sub in (
-                (on[0], self.damage_wheel[w][j], self.fi_surf_wheel[w][j],
-                 self.fi_sub_wheel[w][j]),
-                (on[1], self.damage_rail[j], self.fi_surf_rail[j], self.fi_sub_rail[j])):
+        for (sl, mask, d, e), dmg, srf, fi, sub in (
+                (on[0], self.damage_wheel[w][j], self.surface_wheel[w][j],
+                 self.fi_surf_wheel[w][j], self.fi_sub_wheel[w][j]),
+                (on[1], self.damage_rail[j], self.surface_rail[j], self.fi_surf_rail[j],
+                 self.fi_sub_rail[j])):
             dmg[sl] += d
+            srf[sl] += e
             part = fi[sl]
             part[mask] = np.maximum(part[mask], hit.fi_surf)
             if self.subsurface:
@@ -287,6 +296,8 @@ class _Run:
                 "rail": [d / n for d in self.rail], "energy": self.energy / n,
                 "rcf_wheel": [[d / n for d in pair] for pair in self.damage_wheel],
                 "rcf_rail": [d / n for d in self.damage_rail],
+                "rcf_surface_wheel": [[d / n for d in pair] for pair in self.surface_wheel],
+                "rcf_surface_rail": [d / n for d in self.surface_rail],
                 "fi_surf_wheel": [[_envelope(v) for v in pair] for pair in self.fi_surf_wheel],
                 "fi_surf_rail": [_envelope(v) for v in self.fi_surf_rail],
                 "fi_sub_wheel": [[_envelope(v) for v in pair] for pair in self.fi_sub_wheel],
@@ -371,7 +382,9 @@ class PatchPostProcessor:
         model's F_n, F_x, F_y, area, p_max and frictional power, and the RCF
         measures FI_surf, T gamma, WLRM damage and, with ``rcf.subsurface``, FI_sub),
         ``rcf_wheel`` / ``rcf_rail`` (WLRM damage per metre run / per vehicle
-        passage on the grids, as the depths), ``fi_surf_wheel`` / ``fi_surf_rail``
+        passage on the grids, as the depths), ``rcf_surface_wheel`` /
+        ``rcf_surface_rail`` (likewise the FI_surf exceedance, the sum over the
+        passages of max(FI_surf, 0)), ``fi_surf_wheel`` / ``fi_surf_rail``
         (the largest FI_surf at each grid position, NaN where no patch came),
         ``fi_sub_wheel`` / ``fi_sub_rail`` (likewise FI_sub [Pa], with
         ``rcf.subsurface``; NaN otherwise), ``stats`` (:class:`PostProcessStats`).

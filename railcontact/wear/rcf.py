@@ -40,10 +40,12 @@ given) shares the 65 N peak and the 175 N end but starts at 20 N and peaks at
 checked.
 
 Along a profile every position covered by a patch's strips takes its measures
-(:func:`profile_values`); damage adds up over the passages and wear removes it
-(:func:`accumulate`): railcontact assumes the damage lives in a surface layer of
-depth d (``layer_depth``, default 0.1 mm) and that wearing off a depth w removes
-the fraction w / d of it.
+(:func:`profile_values`); the WLRM damage and the FI_surf exceedance max(FI_surf, 0)
+(railcontact's accumulation of Ekberg's index where it predicts surface initiation)
+add up over the passages and wear removes them (:func:`accumulate`); FI_surf and
+FI_sub themselves are kept as their largest values.  railcontact assumes the damage
+lives in a surface layer of depth d (``layer_depth``, default 0.1 mm) and that
+wearing off a depth w removes the fraction w / d of it.
 """
 
 from __future__ import annotations

@@ -87,6 +87,49 @@ def test_fft_operator_against_direct_summation():
     np.testing.assert_allclose(K[0, 3], -K[0, 3][::-1], atol=1e-15)     # p, xy: odd in x
 
 
+@pytest.mark.parametrize("mx, my", [(9, 5), (8, 6)])
+def test_kernel_spectra_against_numpy_fft(mx, my):
+    """The kernels' spectra from the quarter of the corners by half-length real FFTs
+    (even and odd half-lengths: 2 x 9 and 2 x 5, 2 x 8 and 2 x 6 points) are the DFT
+    of the full kernels on the padded grid (FACTOR times them), to round-off."""
+    from railcontact.subsurface.kernels import FACTOR, kernel_spectra, padded_shape
+    dx, dy, z = 0.3, 0.2, 0.13
+    full = grid_kernels(mx, my, dx, dy, z, NU)
+    N1, N2 = padded_shape(mx, my)
+    assert N1 % 2 == 0 and N2 % 2 == 0 and N1 >= 2 * mx and N2 >= 2 * my
+    per = np.zeros((3, 6, N1, N2))
+    a = (np.arange(2 * mx - 1) - (mx - 1)) % N1
+    b = (np.arange(2 * my - 1) - (my - 1)) % N2
+    per[:, :, a[:, None], b[None, :]] = full
+    ref = np.fft.rfft2(per)
+    got = FACTOR[..., None, None] * kernel_spectra(mx, my, dx, dy, [z], NU)[0]
+    np.testing.assert_allclose(got, ref, atol=1e-13 * np.abs(ref).max())
+
+
+def test_cache_reuses_the_arrays_of_forgotten_spectra():
+    """clear_cache keeps the spectra's arrays for the next grid of the same shape (the
+    stresses recomputed in them are the same); release=True frees them."""
+    from railcontact.subsurface import kernels
+    loads = np.random.default_rng(5).normal(size=(3, 6, 4))
+    first = convolve_depths(loads, 0.1, 0.2, [0.05, 0.3], NU).copy()
+    clear_cache()
+    assert kernels._CACHE.free_size > 0 and not kernels._CACHE.items
+    np.testing.assert_array_equal(convolve_depths(loads, 0.1, 0.2, [0.05, 0.3], NU), first)
+    other = convolve_depths(loads, 0.1, 0.25, [0.05], NU)          # another grid, same shape
+    assert np.abs(other[..., 0] - first[..., 0]).max() > 1e-3 * np.abs(first).max()
+    clear_cache(release=True)
+    assert kernels._CACHE.free_size == 0 and not kernels._CACHE.free
+    # an array still held elsewhere (a thread between its lookup and its use) is
+    # never handed out again
+    convolve_depths(loads, 0.1, 0.2, [0.05], NU)
+    held = kernels._CACHE.lookup((6, 4, 0.1, 0.2, 0.05, NU))
+    kept = held.copy()
+    clear_cache()
+    assert kernels._CACHE.free_size == 0
+    convolve_depths(loads, 0.3, 0.2, [0.05], NU)
+    np.testing.assert_array_equal(held, kept)
+
+
 def test_inputs_checked():
     with pytest.raises(InputError, match="points"):
         stresses_at_points([[0.0, 0.0]], UNIT, [LOADS[0]], NU)
