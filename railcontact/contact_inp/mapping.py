@@ -226,6 +226,9 @@ def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
     file, in the working directory, then in ``profile_dirs``."""
     _check_common(case)
     m = _map_module3(case) if case.module == 3 else _map_module1(case, profile_dirs)
+    if (case.values.get("INFLCF") or 2) == 4 and m.raw["solver"].get("influence") != "blanco":
+        # (rail surfaces, slices and rigs: planar patches)
+        _blanco(case, False)
     if case.digits["H"] in (1, 3):
         m.raw["thermal"] = _thermal(case)
         m.meta["heat"] = True

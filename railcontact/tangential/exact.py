@@ -206,8 +206,19 @@ def _operators(mx, my, dx, dy, G, nu):
     return _sub_operator(mx, my, dx, dy, G, nu, mx, my), _kernels(mx, my, dx, dy, G, nu)[1]
 
 
+class TurnedElastic(NamedTuple):
+    """Elastic bodies of one material on a conformal patch with Blanco's corrected
+    influence coefficients (variant 3, :mod:`railcontact.normal.conformal_influence`),
+    in place of the shear modulus of :func:`steady_rolling`."""
+
+    #: combined shear modulus [Pa]
+    G: float
+    #: inclination [rad] of each grid column (the curve's angle)
+    angles: np.ndarray
+
+
 def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, p0=None,
-                   mode="rolling", w_extra=None, angles=None):
+                   mode="rolling", w_extra=None):
     """Solve the discrete steady-rolling (or shift) problem by a semi-smooth Newton method.
 
     ``mode="rolling"``: s = w - (u_I+ - u_I)/dx with w from the creepages,
@@ -219,10 +230,10 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     ``w_extra``: an additional rigid slip (s_x, s_y) per element (the pressure's
     share for dissimilar materials).
 
-    ``angles``: the inclination [rad] of each grid column of a conformal patch
-    with Blanco's corrected influence coefficients (variant 3,
-    :mod:`railcontact.normal.conformal_influence`): the lateral displacement
-    difference turned between the columns' frames; None: the half-space's.
+    ``G`` a :class:`TurnedElastic`: the shear modulus with the inclination [rad]
+    of each grid column of a conformal patch with Blanco's corrected influence
+    coefficients (variant 3, :mod:`railcontact.normal.conformal_influence`): the
+    lateral displacement difference turned between the columns' frames.
 
     ``bound``: the friction bound mu p_n [Pa] per element, or a
     :class:`LayerBound`: an interfacial layer's flexibility and yield limit
@@ -242,6 +253,12 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     """
     mx, my = x.size, y.size
     dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+    angles = None
+    if isinstance(G, TurnedElastic):
+        G, angles = float(G.G), np.asarray(G.angles, dtype=float)
+        if angles.shape != (my,):
+            raise InputError(f"{angles.size} column inclinations: expected one per grid "
+                             f"column ({my})")
     if isinstance(G, Viscoelastic) and mode != "rolling":
         raise InputError(f"viscoelastic materials with mode {mode!r}: expected steady "
                          "rolling ('rolling')")
@@ -284,7 +301,7 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     if angles is None:
         sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex)
     else:
-        a = np.asarray(angles, dtype=float)[box[1]]
+        a = angles[box[1]]
         sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex,
                            np.ascontiguousarray(np.cos(a)), np.ascontiguousarray(np.sin(a)))
     if layer is None:
@@ -679,9 +696,11 @@ class ExactTangentialModel:
                 raise InputError("viscoelastic materials with dissimilar elastic constants: "
                                  "expected quasi-identical bodies")
             G = self.viscoelastic.pair(material)     # its steady-rolling kernels
+        if angles is not None:
+            G = TurnedElastic(G, angles)
         args = (x, y, contact, bound, (xi, eta, phi), G, material.nu, self.tol)
         px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode,
-                                                       w_extra=extra_slip, angles=angles)
+                                                       w_extra=extra_slip)
         fallback = False
         if not ok:
             # fall back: restart from zero traction with damped steps and more iterations
@@ -689,7 +708,7 @@ class ExactTangentialModel:
                      "from zero traction with %d iterations", it, 4 * self.maxiter)
             q = steady_rolling(*args, 4 * self.maxiter, p0=(np.zeros_like(g0),
                                                                np.zeros_like(g0)),
-                               mode=self.mode, w_extra=extra_slip, angles=angles)
+                               mode=self.mode, w_extra=extra_slip)
             fallback = True
             if q[-1] or not ok:
                 px, py, sx, sy, stick, it, ok = q

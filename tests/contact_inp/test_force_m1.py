@@ -11,7 +11,7 @@ import re
 
 import pytest
 
-from railcontact.contact_inp import InpError, load_inp, solve_inp
+from railcontact.contact_inp import solve_inp
 from railcontact.contact_inp.force_m1 import wheelset_fx
 
 from ..cases.test_conformal import _ref
@@ -70,11 +70,3 @@ def test_prescribed_force_meets_it(testbank, tmp_path):
     assert wheelset_fx([r]) == pytest.approx(600.0, rel=1e-4)
     assert r["fx_N"] == pytest.approx(600.0, rel=1e-4)
     assert r["vpitch_rad_s"] > -1.0002276
-
-
-def test_blanco_influence_coefficients_stop(testbank):
-    """groove_li cases 5-8 take Blanco's corrected influence coefficients (INFLCF =
-    4): one line naming them."""
-    with pytest.raises(InpError, match=r"case 5 .*INFLCF = 4 .*not supported") as err:
-        load_inp(testbank / "examples_conformal" / "groove_li.inp", cases=[5])
-    assert "\n" not in str(err.value)
