@@ -16,7 +16,9 @@ surface instead:
   b(y) halfway between the two surfaces along n;
 * the surface is developed along the curve's arc length s: the boundary-element
   grid lies on (x, s), with the half-space influence coefficients of that flat
-  grid (CONTACT's INFLCF = 2);
+  grid (CONTACT's INFLCF = 2), or Blanco's, corrected for the turning of the
+  surface between the elements (:class:`ConformalInfluence`, CONTACT's INFLCF = 4;
+  :mod:`railcontact.normal.conformal_influence`);
 * the undeformed distance of element (x, s) is measured along the local normal
   n(s) of the curve (:class:`ConformalGap`);
 * the rigid slip follows the local orientation: with D(s) the angle from the
