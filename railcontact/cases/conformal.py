@@ -27,6 +27,7 @@ import numpy as np
 from ..core.errors import InputError
 from ..geometry.conformal import bar_forces, conformal_geometry, conformal_slip, influence_angles
 from ..normal.conformal_influence import BlancoCoupling
+from ..normal.base import bilinear, same_grid
 from ..tangential.exact import SPIN_OFFSET
 from .coupling import alternate, flag_alternation
 
@@ -141,7 +142,17 @@ def conformal_coupled(geom, nmodel, tmodel, material, creepage, friction: float,
     def normal(ns, ts):
         if ns is None:
             return nmodel.solve(geom, material, **load, **kw, **(first or {}))
-        gap = coupling(ns).gap_from_tractions(-ts.traction_x, -ts.traction_y)
+
+        def gap(x, y):
+            # the last tractions on the rail on the grid the solve takes (the last
+            # one's, unless its potential area grew: then interpolated)
+            tx, ty = -ts.traction_x, -ts.traction_y
+            if not same_grid(ts.x, ts.y, x, y):
+                X, Y = np.meshgrid(x, y, indexing="ij")
+                tx, ty = (bilinear(ts.x, ts.y, f, X, Y) for f in (tx, ty))
+            return BlancoCoupling(x, y, influence_angles(geom, y), material.shear_modulus,
+                                  material.nu, material.contact_modulus
+                                  ).gap_from_tractions(tx, ty)
         return nmodel.solve(geom, material, **load, **kw, warm_start=ns, extra_gap=gap)
 
     def tangential(ns, ts):

@@ -408,7 +408,9 @@ class ExactNormalModel:
 
         ``extra_gap``: a displacement difference [m] added to the undeformed distance
         on the solution grid (the tangential tractions' share for dissimilar
-        materials, :mod:`railcontact.cases.coupling`).
+        materials, :mod:`railcontact.cases.coupling`), or a function of the grid's
+        (x, y) [m] that gives it (Blanco's coefficients on a conformal patch,
+        whose grid may differ from the last solution's).
 
         ``warm_start``: a previous solution whose pressure is the initial estimate: on
         the same grid (e.g. in the vertical-force iteration) as it is, on another grid
@@ -456,6 +458,8 @@ class ExactNormalModel:
                 x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
             h0 = own_gap(geometry, x, y) + geometry.approach  # touching: min ~ 0
         dx, dy = x[1] - x[0], y[1] - y[0]
+        if callable(extra_gap):
+            extra_gap = extra_gap(x, y)          # on the grid this solve takes
         if extra_gap is not None:
             if np.shape(extra_gap) != h0.shape:
                 raise InputError(f"extra_gap of shape {np.shape(extra_gap)}: expected the "
