@@ -250,8 +250,8 @@ def test_blanco_coefficients_map_and_match_contact(testbank, tmp_path):
     against 520.6 N/mm^2, -0.05 %, and 1207 against 1207 elements; the
     half-space's coefficients of case 1 give 530.0 and 1187, +1.8 % and -1.7 % off
     case 5's), the pitch velocity within 5e-6 (-1.0002343 against -1.0002366
-    rad/s).  Cases 6-8 (benchmarks/contact_testbank.py): p_max -0.03 to -0.08 %,
-    elements in contact 0, 0, -1.20 %."""
+    rad/s).  Cases 6-8 (benchmarks/contact_testbank.py): p_max -0.07 to -0.10 %,
+    elements in contact as CONTACT's."""
     import re
 
     from railcontact.contact_inp import solve_inp
