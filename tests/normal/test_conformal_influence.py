@@ -76,6 +76,24 @@ def test_normal_product_equals_the_dense_sum_and_is_symmetric():
     assert op.diag == B[0, 0, 0, 0, 2, 2]
 
 
+def test_variant_3_is_reciprocal_in_the_normal_block_only():
+    """Variant 3 turns the displacements only (the rows), so reciprocity
+    B_ab(I, J) = B_ba(J, I) holds for the normal block (cos Delta A_nn) but not
+    between the lateral and normal components: B_ns(I, J) = sin Delta A_ss(I - J)
+    against B_sn(J, I) = sin Delta A_nn(I - J), their ratio A_ss/A_nn; nor
+    between x and s (A_xs against cos Delta A_sx).  CONTACT's variant 4 would
+    be the reciprocal one; it is not computed."""
+    B = _dense(ANGLES)
+    Bt = np.transpose(B, (2, 3, 0, 1, 5, 4))           # B_ba(J, I) at [I, J, a, b]
+    assert np.allclose(B[..., 2, 2], Bt[..., 2, 2], rtol=1e-14, atol=0)
+    ns, sn = B[..., 2, 1], Bt[..., 2, 1]
+    off = np.abs(sn) > 1e-3 * np.abs(sn).max()
+    assert off.sum() > 100
+    ratio = ns[off] / sn[off]
+    assert ratio.min() > 0.1 and abs(np.median(ratio) - 1.0) > 0.05
+    assert not np.allclose(B[..., 0, 1], Bt[..., 0, 1], rtol=1e-6, atol=0)
+
+
 def test_flat_surface_gives_the_half_space():
     """A constant inclination: Blanco's normal operator is the half-space's, and
     the coupling terms vanish (to rounding of the cancelling products)."""
