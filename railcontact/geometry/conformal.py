@@ -298,11 +298,15 @@ class ConformalInfluence:
     def angles(self, curve: "ReferenceCurve", s) -> np.ndarray:
         """The inclination alpha [rad] of the grid columns at arc lengths ``s`` [m]
         (relative to the patch's tangent plane: the curve's angle D; "fast": its
-        least-squares line in s)."""
+        least-squares line in s over the columns that the curve's samples reach,
+        not its straight continuation beyond them)."""
         s = np.asarray(s, dtype=float)
         D = curve.at(s)[2]
         if self.method == "fast" and s.size >= 2:
-            c1, c0 = np.polyfit(s, D, 1)
+            on = (s >= curve.s[0]) & (s <= curve.s[-1])
+            if on.sum() < 2:
+                on = np.ones(s.shape, dtype=bool)
+            c1, c0 = np.polyfit(s[on], D[on], 1)
             D = c0 + c1 * s
         return np.ascontiguousarray(D, dtype=float)
 
