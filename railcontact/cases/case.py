@@ -43,7 +43,8 @@ _ALLOWED = {
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options", "force_tolerance", "search_length",
-               "contact_angle", "rigid_slip", "allow_large", "contact_surface"},
+               "contact_angle", "rigid_slip", "allow_large", "contact_surface", "influence",
+               "influence_options"},
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"model", "yield_stress", "pressure_factor", "pressure_limit",
                    "hardening_modulus", "voce_saturation", "voce_rate", "grid", "layers",
@@ -240,6 +241,16 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         raise CaseFileError("friction.variation.x (friction along the track) applies to a "
                             "wheel-rail case on a track of identical materials; expected "
                             "friction.variation.angle or friction.coefficient")
+    wr = values.get("wheel_rail")
+    if wr is not None and wr.influence is not None and (
+            values["normal"] != "exact" or values["tangential"] not in ("exact", "none")
+            or values["material"].is_dissimilar):
+        raise CaseFileError("solver.influence = 'blanco': Blanco's coefficients are those of "
+                            "the exact solvers for bodies of one material; expected normal = "
+                            "'exact', tangential = 'exact' (or 'none') and one material")
+    if "wheel_rail" not in values and sol.get("influence", "half-space") != "half-space":
+        raise CaseFileError(f"solver.influence = {shown(sol['influence'])}: Blanco's "
+                            "coefficients are for wheel-rail cases; expected 'half-space'")
     if "wheel_rail" not in values and sol.get("contact_surface", "planar") != "planar":
         raise CaseFileError(f"solver.contact_surface = {shown(sol['contact_surface'])}: the "
                             "conformal surface is for wheel-rail cases; expected 'planar'")

@@ -81,6 +81,53 @@ class Alternation:
     maxiter: int | None = None
 
 
+def alternate(solve_normal, solve_tangential, friction: float,
+              alternation: Alternation | None = None, coupled: bool = True):
+    """The alternation between the normal and the tangential problem (CONTACT's
+    Panagiotopoulos process): ``solve_normal(ns, ts)`` the normal solution given the
+    last normal and tangential solutions (both None at first), ``solve_tangential(ns,
+    ts)`` the tangential one on the normal solution ``ns`` (``ts`` the last one or
+    None), until the pressure and the traction change by less than the tolerance
+    (relative to p_max and ``friction`` p_max).  ``coupled`` False: one pass.
+    Returns the normal and tangential solutions, the alternations and whether they
+    converged."""
+    alternation = alternation or Alternation()
+    tol = alternation.tol
+    maxiter = MAX_ALTERNATIONS if alternation.maxiter is None else int(alternation.maxiter)
+    ns = solve_normal(None, None)
+    ts = solve_tangential(ns, None)
+    converged = not coupled
+    it = 1
+    while not converged and it < maxiter:
+        it += 1
+        ns_new = solve_normal(ns, ts)
+        ts_new = solve_tangential(ns_new, ts)
+        pm = max(ns_new.pmax, 1e-300)
+        dp = float(np.max(np.abs(ns_new.pressure - ns.pressure))) / pm
+        dt = float(np.max(np.hypot(ts_new.traction_x - ts.traction_x,
+                                   ts_new.traction_y - ts.traction_y))) / (max(friction, 1e-300) * pm)
+        ns, ts = ns_new, ts_new
+        log.debug("coupling iteration %d: change p %.2e, t %.2e", it, dp, dt)
+        converged = dp <= tol and dt <= tol
+    return ns, ts, it, converged
+
+
+def flag_alternation(ts, it: int, converged: bool, what: str):
+    """Record the alternations in the tangential solution ``ts`` (its options'
+    ``coupling_iterations``) and flag it unconverged where they did not converge
+    (``what``: the coupling, for the message)."""
+    ts.options.update(coupling_iterations=it)
+    if converged:
+        return ts
+    log.info("%s: the normal-tangential alternation did not converge in %d iterations "
+             "(flagged in the result)", what, it)
+    msg = f"normal-tangential alternation ({what}) did not converge in {it} iterations"
+    if not ts.status.converged:
+        msg = f"{ts.status.message}; {msg}"
+    ts.status = SolverStatus.failed(msg, it, ts.status.warnings)
+    return ts
+
+
 def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, velocity,
                   normal_force=None, penetration=None, grid=None, element_size=None,
                   alternation: Alternation | None = None):
@@ -93,40 +140,23 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
     if "coupled" not in nmodel.capabilities & tmodel.capabilities:
         raise InputError("coupled normal-tangential solution of dissimilar materials needs "
                          "normal = 'exact' and tangential = 'exact'")
-    alternation = alternation or Alternation()
-    tol = alternation.tol
-    maxiter = MAX_ALTERNATIONS if alternation.maxiter is None else int(alternation.maxiter)
     kw = {"grid": grid, "element_size": element_size}
     load = {"normal_force": normal_force, "penetration": penetration}
-    ns = nmodel.solve(geometry, material, **load, **kw)
     mode = tmodel.mode                      # declared with "coupled"
-    ts = tmodel.solve(ns, geometry, material, creepage, friction, velocity,
-                      extra_slip=slip_from_pressure(ns.x, ns.y, ns.pressure, material, mode))
-    converged = not material.is_dissimilar
-    it = 1
-    while not converged and it < maxiter:
-        it += 1
+
+    def normal(ns, ts):
+        if ns is None:
+            return nmodel.solve(geometry, material, **load, **kw)
         gap = normal_gap_from_tractions(ns.x, ns.y, -ts.traction_x, -ts.traction_y, material)
-        ns_new = nmodel.solve(geometry, material, **load, **kw, warm_start=ns, extra_gap=gap)
-        ts_new = tmodel.solve(ns_new, geometry, material, creepage, friction, velocity,
-                              warm_start=ts, extra_slip=slip_from_pressure(
-                                  ns_new.x, ns_new.y, ns_new.pressure, material, mode))
-        pm = max(ns_new.pmax, 1e-300)
-        dp = float(np.max(np.abs(ns_new.pressure - ns.pressure))) / pm
-        dt = float(np.max(np.hypot(ts_new.traction_x - ts.traction_x,
-                                   ts_new.traction_y - ts.traction_y))) / (friction * pm)
-        ns, ts = ns_new, ts_new
-        log.debug("coupling iteration %d: change p %.2e, t %.2e", it, dp, dt)
-        converged = dp <= tol and dt <= tol
-    if not converged:
-        log.info("dissimilar materials: the normal-tangential alternation did not converge "
-                    "in %d iterations (flagged in the result)", maxiter)
-    ts.options.update(coupling_iterations=it,
-                      difference_parameter=material.difference_parameter)
-    if not converged:
-        msg = (f"normal-tangential alternation (dissimilar materials) did not converge in "
-               f"{it} iterations")
-        if not ts.status.converged:
-            msg = f"{ts.status.message}; {msg}"
-        ts.status = SolverStatus.failed(msg, it, ts.status.warnings)
-    return ns, ts
+        return nmodel.solve(geometry, material, **load, **kw, warm_start=ns, extra_gap=gap)
+
+    def tangential(ns, ts):
+        return tmodel.solve(ns, geometry, material, creepage, friction, velocity,
+                            warm_start=ts,
+                            extra_slip=slip_from_pressure(ns.x, ns.y, ns.pressure, material,
+                                                          mode))
+
+    ns, ts, it, converged = alternate(normal, tangential, friction, alternation,
+                                      material.is_dissimilar)
+    ts.options.update(difference_parameter=material.difference_parameter)
+    return ns, flag_alternation(ts, it, converged, "dissimilar materials")

@@ -8,8 +8,8 @@ import logging
 
 import numpy as np
 
-from .conformal import (conformal_extra_slip, conformal_friction, conformal_normal,
-                        conformal_patch, conformal_tangential)
+from .conformal import (conformal_coupled, conformal_extra_slip, conformal_friction,
+                        conformal_normal, conformal_patch, conformal_tangential, has_blanco)
 from .coupling import solve_coupled
 from ..geometry.validity import HALF_SPACE_LIMIT, contact_size, patch_validity
 from ..normal import get_normal_model
@@ -89,6 +89,14 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
             nkw["warm_start"] = best.normal
             if same_case and "grid-reuse" in nmodel.capabilities:
                 nkw["reuse_grid"] = best.normal
+        if tmodel is not None and has_blanco(geom):
+            # Blanco's coefficients couple the two problems: solved together
+            first = {k: v for k, v in nkw.items() if k not in kw}
+            ns, ts = conformal_coupled(geom, nmodel, tmodel, case.material, creep,
+                                       patch_friction(case, geom), kw, first,
+                                       _tangential_kw(case, tmodel, previous, geom))
+            out.append(PatchResult(geom, ns, ts, creep))
+            continue
         ns = conformal_normal(geom, nmodel.solve(geom, case.material,
                                                  penetration=geom.approach, **nkw))
         out.append(PatchResult(geom, ns, None, creep))
@@ -98,36 +106,50 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
 
 
 
+def _tangential_kw(case, tmodel, previous, geom):
+    """The keywords of a patch's tangential solve on its normal solution ``ns``
+    (a function of it): the warm start from the nearest of ``previous`` and the
+    friction across the patch, where the model takes them."""
+    def kw(ns):
+        return _tangential_extra(case, tmodel, previous, geom, ns)
+    return kw
+
+
+def _tangential_extra(case, tmodel, previous, geom, normal) -> dict:
+    """The warm start and friction-field keywords of :func:`_tangential_kw`."""
+    extra = {}
+    best = nearest_patch(previous, geom) if "warm-start" in tmodel.capabilities else None
+    if best is not None and best.tangential is not None:
+        extra["warm_start"] = best.tangential
+    mu = patch_friction(case, geom)
+    if "friction-field" in tmodel.capabilities:
+        # friction varying across the patch, relative to the patch's
+        # coefficient: along the track, and over a conformal patch's columns
+        # by their local angle (a stand-in model of the balance's early
+        # passes takes the patch's coefficient at its reference point)
+        scale = None
+        if case.friction_along_track is not None:
+            scale = friction_along_track(case, geom, normal)
+        local = conformal_friction(case, geom, normal)
+        if local is not None and mu > 0:
+            scale = local / mu if scale is None else scale * (local / mu)
+        if scale is not None:
+            extra["friction_scale"] = scale
+    return extra
+
+
 def add_tangential(case, results, tmodel, previous=None):
     """The tangential solutions of patch results that have none (warm-started from
     the nearest of ``previous`` where the model accepts it)."""
     if tmodel is None:
         return results
-    warm = "warm-start" in tmodel.capabilities
     out = []
     for r in results:
         if r.tangential is None:
-            extra = {}
-            best = nearest_patch(previous, r.geometry) if warm else None
-            if best is not None and best.tangential is not None:
-                extra["warm_start"] = best.tangential
+            extra = _tangential_extra(case, tmodel, previous, r.geometry, r.normal)
             slip = conformal_extra_slip(r.geometry, r.normal, r.creepage)
             if slip is not None and "extra-slip" in tmodel.capabilities:
                 extra["extra_slip"] = slip
-            mu = patch_friction(case, r.geometry)
-            if "friction-field" in tmodel.capabilities:
-                # friction varying across the patch, relative to the patch's
-                # coefficient: along the track, and over a conformal patch's columns
-                # by their local angle (a stand-in model of the balance's early
-                # passes takes the patch's coefficient at its reference point)
-                scale = None
-                if case.friction_along_track is not None:
-                    scale = friction_along_track(case, r.geometry, r.normal)
-                local = conformal_friction(case, r.geometry, r.normal)
-                if local is not None and mu > 0:
-                    scale = local / mu if scale is None else scale * (local / mu)
-                if scale is not None:
-                    extra["friction_scale"] = scale
             ts = tmodel.solve(r.normal, r.geometry, case.material, r.creepage,
                               patch_friction(case, r.geometry), r.geometry.velocity, **extra)
             r = PatchResult(r.geometry, *conformal_tangential(r.geometry, r.normal, ts),

@@ -14,7 +14,8 @@ import math
 from dataclasses import dataclass
 
 from ..core.checks import shown
-from ..core.errors import CaseFileError
+from ..core.errors import CaseFileError, InputError
+from ..geometry.conformal import ConformalInfluence
 from .keys import CaseKeys
 from ..profiles.processing import ProfileOptions
 
@@ -87,6 +88,9 @@ class WheelRailSetup:
     #: ``solver.contact_surface = "conformal"``: each patch on its curved reference
     #: surface (:mod:`railcontact.cases.conformal`; CONTACT's DISCNS = 4)
     conformal: bool = False
+    #: ``solver.influence = "blanco"``: Blanco's corrected influence coefficients on
+    #: the conformal patches (CONTACT's INFLCF = 4; None: the half-space's)
+    influence: ConformalInfluence | None = None
 
     @property
     def balanced_sides(self) -> tuple:
@@ -137,7 +141,7 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
                             "tangent plane per patch) or 'conformal' (a curved reference "
                             "surface, CONTACT's DISCNS = 4)")
     return WheelRailSetup(
-        conformal=surface == "conformal",
+        conformal=surface == "conformal", influence=_influence(case, surface),
         wheel=profiles["wheel"], rail=profiles["rail"],
         nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.02, 1.5, "m"),
         flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.1, 2.5, "m"),
@@ -161,6 +165,38 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
                                      "rad"),
         wheel_slices=_wheel_slices(case),
         pitch=case.number("wheelset.pitch", 0.0, -100.0, 100.0, "rad"))
+
+
+def _influence(case: CaseKeys, surface: str):
+    """``solver.influence`` ("half-space" or "blanco") and
+    ``solver.influence_options`` (``method``, ``variant``): Blanco's corrected
+    coefficients (:class:`~railcontact.geometry.conformal.ConformalInfluence`) for
+    a conformal surface, or None."""
+    kind = case.get("solver.influence", "half-space")
+    opts = case.get("solver.influence_options", {})
+    if kind not in ("half-space", "blanco"):
+        raise CaseFileError(f"solver.influence = {shown(kind)}: expected 'half-space' or "
+                            "'blanco' (Blanco's coefficients of a conformal surface, CONTACT's "
+                            "INFLCF = 4)")
+    if not isinstance(opts, dict):
+        raise CaseFileError(f"solver.influence_options = {shown(opts)}: expected a table "
+                            "(method, variant)")
+    if kind == "half-space":
+        if opts:
+            raise CaseFileError("solver.influence_options: given for the half-space "
+                                "coefficients; expected them with solver.influence = 'blanco'")
+        return None
+    if surface != "conformal":
+        raise CaseFileError("solver.influence = 'blanco': Blanco's coefficients are for a "
+                            "curved surface; expected solver.contact_surface = 'conformal'")
+    unknown = set(opts) - {"method", "variant"}
+    if unknown:
+        raise CaseFileError(f"solver.influence_options keys {sorted(unknown)}: expected "
+                            "'method' and 'variant'")
+    try:
+        return ConformalInfluence(**opts)
+    except InputError as exc:
+        raise CaseFileError(f"solver.influence_options: {exc}") from None
 
 
 def _wheel_slices(case: CaseKeys):

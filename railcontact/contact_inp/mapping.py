@@ -171,13 +171,40 @@ def _check_common(case) -> None:
     heat = {0: "no temperatures"} if case.module == 3 else {
         0: "no temperatures", 1: "surface temperatures", 3: "surface temperatures"}
     _digit(case, "H", heat, "HEAT")
-    _digit(case, "C3", {0: "kept", 1: "kept", 2: "elastic half-space"}, "INFLCF")
-    if d["C3"] < 2 and (v.get("INFLCF") or 2) != 2:
+    inflcf = {0: "kept", 1: "kept", 2: "elastic half-space"}
+    if case.module == 1:
+        inflcf[4] = "Blanco's conformal influence coefficients"
+    _digit(case, "C3", inflcf, "INFLCF")
+    if d["C3"] < 2 and (v.get("INFLCF") or 2) not in inflcf:
         raise _unsupported(case, f"INFLCF = {v['INFLCF']} kept from an earlier case",
-                           "expected the elastic half-space (C = 2) in force", WORDS[case.module][1])
+                           "expected the elastic half-space (C = 2)"
+                           + (" or Blanco's coefficients (C = 4)" if case.module == 1 else "")
+                           + " in force", WORDS[case.module][1])
     if d["L"] not in (0, 1):
         _friction(case)
     _digit(case, "L", {0: "Coulomb", 1: "kept"}, "FRCLAW")
+
+
+def _blanco(case, conformal: bool) -> dict:
+    """INFLCF = 4 in module 1: Blanco's conformal influence coefficients
+    (``solver.influence = "blanco"``) with IF_METH (0 fast, 1 detailed) and
+    VARIANT; the surface inclinations are those of the conformal patch's curved
+    reference surface (DISCNS = 4), as CONTACT takes them in module 1."""
+    if not conformal:
+        raise _unsupported(case, "INFLCF = 4 (Blanco's conformal influence coefficients) "
+                                 "on a planar patch", "expected DISCNS = 4 (conformal "
+                                 "contact) with it", WORDS[case.module][1])
+    meth, var = _need(case, "IF_METH"), _need(case, "VARIANT")
+    if meth not in (0, 1):
+        raise InpError(f"{case.where('IF_METH')}: IF_METH = {meth}: expected 0 (fast) or "
+                       "1 (detailed)")
+    if var != 3:
+        raise _unsupported(case, f"VARIANT = {var} of Blanco's coefficients", "expected 3 "
+                           "(the displacements transformed; variants 1, 2, 4 are not "
+                           "implemented)", "VARIANT")
+    return {"influence": "blanco",
+            "influence_options": {"method": "detailed" if meth == 1 else "fast",
+                                  "variant": 3}}
 
 
 def _thermal(case) -> dict:
@@ -199,6 +226,9 @@ def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
     file, in the working directory, then in ``profile_dirs``."""
     _check_common(case)
     m = _map_module3(case) if case.module == 3 else _map_module1(case, profile_dirs)
+    if (case.values.get("INFLCF") or 2) == 4 and m.raw["solver"].get("influence") != "blanco":
+        # (rail surfaces, slices and rigs: planar patches)
+        _blanco(case, False)
     if case.digits["H"] in (1, 3):
         m.raw["thermal"] = _thermal(case)
         m.meta["heat"] = True
@@ -431,6 +461,8 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                       **_normal_options(normal), "tangential_options": topt}}
     if conformal:
         raw["solver"]["contact_surface"] = "conformal"
+    if (v.get("INFLCF") or 2) == 4:
+        raw["solver"].update(_blanco(case, conformal))
     if translate:
         # the wheel moved with the rail (:func:`_translation`)
         raw["wheelset"]["flange_back_distance"] += 2.0 * translate

@@ -16,7 +16,9 @@ surface instead:
   b(y) halfway between the two surfaces along n;
 * the surface is developed along the curve's arc length s: the boundary-element
   grid lies on (x, s), with the half-space influence coefficients of that flat
-  grid (CONTACT's INFLCF = 2);
+  grid (CONTACT's INFLCF = 2), or Blanco's, corrected for the turning of the
+  surface between the elements (:class:`ConformalInfluence`, CONTACT's INFLCF = 4;
+  :mod:`railcontact.normal.conformal_influence`);
 * the undeformed distance of element (x, s) is measured along the local normal
   n(s) of the curve (:class:`ConformalGap`);
 * the rigid slip follows the local orientation: with D(s) the angle from the
@@ -63,8 +65,13 @@ CURVE_STEP = 2.5e-5
 #: lie inside; beyond, the curve is continued straight
 CURVE_MARGIN = 3e-3
 #: a half-distance between the surfaces beyond this [m] along the patch normal ends
-#: the curve (the normal left the surfaces: the other wall of a groove, the flange)
-CURVE_REACH = 2e-3
+#: the curve (the normal left the surfaces: the other wall of a groove, the flange).
+#: A wheel section of 10 mm radius in a 10.02 mm groove (groove_li case 8) is in
+#: contact up to 47 deg from the bottom, 3.2 mm deep along the patch normal: with
+#: 2 mm the curve stopped at 37 deg and went on straight, 2 columns of contact
+#: fewer than CONTACT's (2309 against 2337 elements with Blanco's coefficients; 5 mm:
+#: 2337, and the half-space case 4 2269 against 2265, before 2275)
+CURVE_REACH = 5e-3
 
 
 @njit(cache=True, nogil=True)
@@ -247,24 +254,96 @@ class ConformalGap:
         return sane_gap(h).reshape(shape)
 
 
+#: the variants of Blanco's correction that railcontact computes (CONTACT's VARIANT)
+BLANCO_VARIANTS = (3,)
+
+
+@dataclass(frozen=True)
+class ConformalInfluence:
+    """Influence coefficients of a conformal patch corrected for the turning of its
+    surface (Blanco-Lorenzo, Santamaria, Vadillo & Oyarzabal, Tribology
+    International 2016, "On the influence of conformity on wheel-rail rolling
+    contact mechanics"; CONTACT's INFLCF = 4, user guide "Conformal contact").
+
+    The half-space coefficients A(I - J) of the developed grid (x, s) give the
+    displacements at I of a traction at J in J's own frame (x, t_J, N_J), t_J the
+    curve's tangent, N_J its normal at J's column; the surface inclination alpha
+    of each column (rotation about x, the curve's angle D plus a constant) turns
+    them into I's frame.  ``variant`` 3 (Vollebregt's proposal, the displacements
+    transformed): with Delta = alpha_J - alpha_I, c = cos Delta, s = sin Delta, on
+    the components (x, s, n) of tractions on the rail and of the displacement
+    difference
+
+        B_x. = A_x.,   B_s. = c A_s. - s A_n.,   B_n. = s A_s. + c A_n.
+
+    (``.`` any column x, s, n).  ``method``: "detailed" takes alpha of each column
+    as the curve has it; "fast" its least-squares line over the columns (a
+    constant radius of curvature)."""
+
+    #: "detailed" (CONTACT's IF_METH = 1) or "fast" (IF_METH = 0)
+    method: str = "detailed"
+    #: the correction's variant (CONTACT's VARIANT; 3 only)
+    variant: int = 3
+
+    def __post_init__(self):
+        if self.method not in ("detailed", "fast"):
+            raise InputError(f"conformal influence method {self.method!r}: expected "
+                             "'detailed' (the inclination of every column) or 'fast' (its "
+                             "linear fit)")
+        if isinstance(self.variant, bool) or self.variant not in BLANCO_VARIANTS:
+            raise InputError(f"conformal influence variant {self.variant!r}: expected 3 "
+                             "(the displacements transformed to each element's frame; "
+                             "variants 1, 2 and 4 are not implemented)")
+
+    def angles(self, curve: "ReferenceCurve", s) -> np.ndarray:
+        """The inclination alpha [rad] of the grid columns at arc lengths ``s`` [m]
+        (relative to the patch's tangent plane: the curve's angle D; "fast": its
+        least-squares line in s over the columns that the curve's samples reach,
+        not its straight continuation beyond them)."""
+        s = np.asarray(s, dtype=float)
+        D = curve.at(s)[2]
+        if self.method == "fast" and s.size >= 2:
+            on = (s >= curve.s[0]) & (s <= curve.s[-1])
+            if on.sum() < 2:
+                on = np.ones(s.shape, dtype=bool)
+            c1, c0 = np.polyfit(s[on], D[on], 1)
+            D = c0 + c1 * s
+        return np.ascontiguousarray(D, dtype=float)
+
+
 @dataclass
 class ConformalPatch:
     """What a conformal patch adds to its :class:`ContactGeometry`: the reference
     curve (``ContactGeometry.surface``), from which the rigid slip and the bar
-    forces follow."""
+    forces follow, and the influence coefficients' correction where asked."""
 
     curve: ReferenceCurve
     #: the planar patch's approach [m] (along its tangent plane's normal)
     planar_approach: float
+    #: Blanco's corrected influence coefficients (None: the half-space's)
+    influence: ConformalInfluence | None = None
 
 
-def conformal_geometry(geom: ContactGeometry) -> ContactGeometry:
+def influence_angles(geom, s):
+    """The column inclinations [rad] of a patch whose influence coefficients are
+    corrected (:class:`ConformalInfluence`) at arc lengths ``s`` [m]; None for a
+    planar patch or the half-space coefficients."""
+    surf = getattr(geom, "surface", None)
+    if surf is None or getattr(surf, "influence", None) is None:
+        return None
+    return surf.influence.angles(surf.curve, s)
+
+
+def conformal_geometry(geom: ContactGeometry,
+                       influence: ConformalInfluence | None = None) -> ContactGeometry:
     """The patch ``geom`` (planar, from the contact search, with its
     :class:`~railcontact.geometry.gap.GapEvaluator`) on its curved reference
     surface: the gap along the curve's normals on (x, s), the lateral coordinate of
     the extent, bounds and interaction borders turned into arc length, the local
     contact angle of the curve.  A patch without profile geometry (a bodies case)
-    is returned as it is."""
+    is returned as it is.  ``influence``: Blanco's corrected influence
+    coefficients for the exact solvers (:class:`ConformalInfluence`; None: the
+    half-space's)."""
     gapf = geom.gap_function
     if not isinstance(gapf, GapEvaluator):
         return geom
@@ -292,7 +371,7 @@ def conformal_geometry(geom: ContactGeometry) -> ContactGeometry:
     return dataclasses.replace(geom, gap_function=cgap, extent=extent, bounds=bounds,
                                interaction=inter, local_contact_angle=local_angle,
                                approach=approach,
-                               surface=ConformalPatch(curve, geom.approach))
+                               surface=ConformalPatch(curve, geom.approach, influence))
 
 
 def conformal_slip(geom: ContactGeometry, creepage, x, s, x_spin=None):

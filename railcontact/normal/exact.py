@@ -28,8 +28,10 @@ from ..core.errors import InputError
 from ..core.hertz_theory import hertz_ellipse
 from ..core.materials import STEEL, Material
 from ..core.status import SolverStatus
+from ..geometry.conformal import influence_angles
 from ..geometry.gap import sampled_wheel_geometry
 from .base import NormalSolution, bilinear, make_grid, register, resized_elements, same_grid
+from .conformal_influence import blanco_normal_operator
 from .influence import bounding_box, normal_operator, normal_operator_block
 from .polonsky_keer import flat_punch_stiffness, polonsky_keer
 from .viscoelastic import (ViscoelasticOption, active_set_normal, final_material,
@@ -40,6 +42,18 @@ from .potential_area import (AREA_SAMPLES, FORCE_BOX, GROWTH_STEPS, crossings, c
 
 
 log = logging.getLogger(__name__)
+
+
+def _operator(grid_key, shape=None, cols=slice(None), angles=None):
+    """The normal operator of the grid ``grid_key`` (whole, or a block of
+    ``shape`` whose columns are ``cols``); with ``angles`` (the inclination [rad]
+    of each grid column of a conformal patch) Blanco's corrected coefficients
+    (:mod:`railcontact.normal.conformal_influence`)."""
+    base = normal_operator(*grid_key) if shape is None else \
+        normal_operator_block(*grid_key, *shape)
+    if angles is None:
+        return base
+    return blanco_normal_operator(base, np.asarray(angles)[cols])
 
 
 
@@ -192,7 +206,7 @@ class ExactNormalModel:
         (cx, cy), (ex, ey) = self._region_box(x, y, h, ix, iy, sx, sy)
         return h0 if fits(sol, cx, cy, ex, ey, grid) else None
 
-    def _displacement_controlled(self, grid_key, h, dA, p0, regions=None):
+    def _displacement_controlled(self, grid_key, h, dA, p0, regions=None, angles=None):
         """Polonsky-Keer with the approach given, on the bounding box of the overlap
         h < 0: the contact lies in it (the displacements of a pressure are positive
         everywhere), so outside it the pressure is zero and the iteration is that on
@@ -200,10 +214,10 @@ class ExactNormalModel:
         grid's gap scale).  Returns p on the grid, iterations, converged."""
         box = bounding_box(h < 0)
         if box is None:                     # no overlap: p = 0 (reported at once)
-            p, _, it, ok = polonsky_keer(normal_operator(*grid_key), h, dA, None, self.tol,
-                                         self.maxiter, p0=p0)
+            p, _, it, ok = polonsky_keer(_operator(grid_key, angles=angles), h, dA, None,
+                                         self.tol, self.maxiter, p0=p0)
             return p, it, ok
-        op = normal_operator_block(*grid_key, *h[box].shape)
+        op = _operator(grid_key, h[box].shape, box[1], angles)
         q, _, it, ok = polonsky_keer(op, h[box], dA, None, self.tol, self.maxiter,
                                      p0=None if p0 is None else p0[box],
                                      scale=float(np.max(np.abs(h))),
@@ -213,7 +227,8 @@ class ExactNormalModel:
         p[box] = q
         return p, it, ok
 
-    def _force_controlled(self, grid_key, h0, dA, force, p0, approach, regions=None):
+    def _force_controlled(self, grid_key, h0, dA, force, p0, approach, regions=None,
+                          angles=None):
         """Polonsky-Keer with the force given, on the bounding box of h0 <
         FORCE_BOX x ``approach`` (the search's approach): where the solved approach
         is below that, the contact, which lies where h0 is below the solved
@@ -230,7 +245,7 @@ class ExactNormalModel:
         it0 = 0
         if box is not None:
             q0 = None if p0 is None else scaled(np.ascontiguousarray(p0[box]))
-            q, app, it0, ok = polonsky_keer(normal_operator_block(*grid_key, *h0[box].shape),
+            q, app, it0, ok = polonsky_keer(_operator(grid_key, h0[box].shape, box[1], angles),
                                             h0[box], dA, force=force, tol=self.tol,
                                             maxiter=self.maxiter, p0=q0, scale=scale,
                                             regions=cut_regions(regions, box[1]))
@@ -239,12 +254,12 @@ class ExactNormalModel:
             if ok and app <= FORCE_BOX * approach:
                 return p, app, it0, ok
             p0 = p if ok and p.max() > 0 else p0
-        p, app, it, ok = polonsky_keer(normal_operator(*grid_key), h0, dA, force=force,
+        p, app, it, ok = polonsky_keer(_operator(grid_key, angles=angles), h0, dA, force=force,
                                        tol=self.tol, maxiter=self.maxiter, p0=scaled(p0),
                                        scale=scale, regions=regions)
         return p, app, it0 + it, ok
 
-    def _force_by_approach(self, grid_key, h0, dA, force, p0, regions=None):
+    def _force_by_approach(self, grid_key, h0, dA, force, p0, regions=None, angles=None):
         """Force-controlled solve with the pressure limit: the approach delta that
         carries ``force`` by Brent's method on displacement-controlled solves (each
         from the last solution), the force F(delta) being continuous and increasing.
@@ -254,14 +269,15 @@ class ExactNormalModel:
         from scipy.optimize import brentq
 
         limit = self.pressure_limit
-        p, app, it, ok = self._force_controlled(grid_key, h0, dA, force, p0, 0.0, regions)
+        p, app, it, ok = self._force_controlled(grid_key, h0, dA, force, p0, 0.0, regions,
+                                                angles)
         if not ok or p.max() <= limit:
             return p, app, it, ok                   # the elastic solution holds
         state = {"p": np.minimum(p, limit), "it": it, "ok": True}
 
         def excess(delta):
             q, k, good = self._displacement_controlled(grid_key, h0 - delta, dA, state["p"],
-                                                       regions)
+                                                       regions, angles)
             state["it"] += k
             state["ok"] &= good
             if q.max() > 0:
@@ -325,8 +341,9 @@ class ExactNormalModel:
         x, y = solution.x, solution.y
         dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
         mask = np.ascontiguousarray(solution.contact[box])
-        op = normal_operator_block(x.size, y.size, dx, dy, material.contact_modulus,
-                                   *mask.shape)
+        angles = None if geometry is None else influence_angles(geometry, y)
+        op = _operator((x.size, y.size, dx, dy, material.contact_modulus), mask.shape, box[1],
+                       angles)
         regions = cut_regions(subregions(geometry, y), box[1]) if geometry is not None \
             else None
         k, it, ok = flat_punch_stiffness(op, mask, dx * dy, regions, tol=1e-8,
@@ -391,7 +408,9 @@ class ExactNormalModel:
 
         ``extra_gap``: a displacement difference [m] added to the undeformed distance
         on the solution grid (the tangential tractions' share for dissimilar
-        materials, :mod:`railcontact.cases.coupling`).
+        materials, :mod:`railcontact.cases.coupling`), or a function of the grid's
+        (x, y) [m] that gives it (Blanco's coefficients on a conformal patch,
+        whose grid may differ from the last solution's).
 
         ``warm_start``: a previous solution whose pressure is the initial estimate: on
         the same grid (e.g. in the vertical-force iteration) as it is, on another grid
@@ -439,6 +458,8 @@ class ExactNormalModel:
                 x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
             h0 = own_gap(geometry, x, y) + geometry.approach  # touching: min ~ 0
         dx, dy = x[1] - x[0], y[1] - y[0]
+        if callable(extra_gap):
+            extra_gap = extra_gap(x, y)          # on the grid this solve takes
         if extra_gap is not None:
             if np.shape(extra_gap) != h0.shape:
                 raise InputError(f"extra_gap of shape {np.shape(extra_gap)}: expected the "
@@ -447,6 +468,8 @@ class ExactNormalModel:
         grid_key = (x.size, y.size, float(dx), float(dy), material.contact_modulus)
         dA = dx * dy
         regions = subregions(geometry, y)
+        # Blanco's corrected coefficients on a conformal patch that asks for them
+        angles = influence_angles(geometry, y)
         p0 = None
         if warm_start is not None and warm_start.pressure.max() > 0:
             if same_grid(warm_start.x, warm_start.y, x, y):
@@ -463,13 +486,13 @@ class ExactNormalModel:
                 p0 = np.sqrt(np.maximum(0.5 * geometry.approach - h0, 0.0))
             if math.isfinite(self.pressure_limit):
                 p, app, it, ok = self._force_by_approach(grid_key, h0, dA, normal_force, p0,
-                                                         regions)
+                                                         regions, angles)
             else:
                 p, app, it, ok = self._force_controlled(grid_key, h0, dA, normal_force, p0,
-                                                        geometry.approach, regions)
+                                                        geometry.approach, regions, angles)
         else:
             p, it, ok = self._displacement_controlled(grid_key, h0 - penetration, dA, p0,
-                                                      regions)
+                                                      regions, angles)
             app = penetration
         if visc is not None:
             given = normal_force is not None

@@ -78,7 +78,7 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
                 or cols.min() < 0 or cols.max() >= fm.shape[0]:
             raise InputError(f"regions: expected one sub-region index per grid column "
                              f"({h.shape[1]}) and a square factor matrix covering them")
-    influence = Influence(op.khat, op.shape, op.kernel, cols, fm)
+    influence = Influence(op.khat, op.shape, op.kernel, cols, fm, _modulation(op, h.shape[1]))
     gbar, it, converged = _pk_kernel(influence, h, float(dA),
                                      0.0 if force is None else float(force), force is not None,
                                      p, scale, plimit, float(tol), int(maxiter))
@@ -110,8 +110,44 @@ def _convolve(p, khat, shape, buf):
 
 
 
+def _modulation(op, my):
+    """The column modulation of an operator (``op.modulation``, (m, my): the
+    product is sum_m w_m * A (w_m * p), Blanco's conformal correction,
+    :mod:`railcontact.normal.conformal_influence`), or an empty (0, my) array."""
+    mod = getattr(op, "modulation", None)
+    if mod is None:
+        return np.zeros((0, my))
+    mod = np.ascontiguousarray(mod, dtype=float)
+    if mod.ndim != 2 or mod.shape[1] != my:
+        raise InputError(f"operator modulation of shape {mod.shape}: expected one weight "
+                         f"per grid column ({my})")
+    return mod
+
+
 @njit(cache=True, nogil=True)
-def _apply(p, khat, shape, buf, cols, fm):
+def _apply(p, khat, shape, buf, cols, fm, mod):
+    """A p; with a column modulation ``mod`` (m, my) the product
+    sum_m mod[m] * A (mod[m] * p) (each weight per grid column), else A p itself
+    (:func:`_apply_plain`)."""
+    nm = mod.shape[0]
+    if nm == 0:
+        return _apply_plain(p, khat, shape, buf, cols, fm)
+    mx, my = p.shape
+    u = np.zeros((mx, my))
+    q = np.empty((mx, my))
+    for m in range(nm):
+        for i in range(mx):
+            for j in range(my):
+                q[i, j] = mod[m, j] * p[i, j]
+        um = _apply_plain(q, khat, shape, buf, cols, fm)
+        for i in range(mx):
+            for j in range(my):
+                u[i, j] += mod[m, j] * um[i, j]
+    return u
+
+
+@njit(cache=True, nogil=True)
+def _apply_plain(p, khat, shape, buf, cols, fm):
     """A p, with the displacements that one sub-region's pressure causes in another
     scaled by ``fm`` (one convolution per sub-region; the plain product where the
     patch is one region)."""
@@ -149,19 +185,29 @@ def _mean_on(a, S):
 
 
 @njit(cache=True, nogil=True)
-def _add_direct(u, f, idx, dq, kernel, cols, fm):
+def _add_direct(u, f, idx, dq, kernel, cols, fm, mod):
     """u += f A dq for dq nonzero only at the flat indices ``idx`` (values ``dq``):
     each element's displacements summed directly from the kernel (offsets centred
-    at (kernel rows - 1) / 2), scaled between sub-regions as in :func:`_apply`."""
+    at (kernel rows - 1) / 2), scaled between sub-regions as in :func:`_apply`
+    and by the column modulation ``mod`` (sum_m mod[m, j0] mod[m, j])."""
     mx, my = u.shape
     ci = (kernel.shape[0] - 1) // 2
     cj = (kernel.shape[1] - 1) // 2
     one = fm.shape[0] == 1
+    nm = mod.shape[0]
     for k in range(idx.size):
         i0 = idx[k] // my
         j0 = idx[k] % my
         a = f * dq[k]
-        if one:
+        if nm > 0:
+            for j in range(my):
+                w = 0.0
+                for m in range(nm):
+                    w += mod[m, j0] * mod[m, j]
+                w *= a * fm[cols[j0], cols[j]]
+                for i in range(mx):
+                    u[i, j] += w * kernel[ci + i - i0, cj + j - j0]
+        elif one:
             for i in range(mx):
                 row = ci + i - i0
                 for j in range(my):
@@ -195,6 +241,9 @@ class Influence(NamedTuple):
     cols: np.ndarray
     #: (k, k) interaction factors [-] between the sub-regions (:func:`_apply`)
     factors: np.ndarray
+    #: (m, my) column weights of a modulated product (:func:`_apply`; Blanco's
+    #: conformal correction), (0, my) for the plain one
+    modulation: np.ndarray
 
 
 @njit(cache=True, nogil=True)
@@ -331,7 +380,7 @@ def _update_displacements(u, f, tau, r, rbar, changed, influence):
         for j in range(my):
             u[i, j] = f * (u[i, j] - tau * (r[i, j] + rbar))
     _add_direct(u, f, changed[0], changed[1], influence.kernel, influence.cols,
-                influence.factors)
+                influence.factors, influence.modulation)
 
 
 @njit(cache=True, nogil=True)
@@ -381,6 +430,7 @@ def _pk_kernel(influence, h, dA, force, controlled, p, scale, plimit, tol, maxit
     """
     khat, shape, cols, fm = influence.khat, influence.shape, influence.cols, \
         influence.factors
+    mod = influence.modulation
     mx, my = h.shape
     buf = np.zeros(shape)
     t = np.zeros((mx, my))
@@ -402,7 +452,7 @@ def _pk_kernel(influence, h, dA, force, controlled, p, scale, plimit, tol, maxit
     it = 0
     for it in range(1, maxiter + 1):
         if not valid or fresh >= 10:
-            u[:, :] = _apply(p, khat, shape, buf, cols, fm)
+            u[:, :] = _apply(p, khat, shape, buf, cols, fm, mod)
             fresh = 0
         nS, rejoined = _free_set(p, u, h, g, S, Sp, plimit)
         restart = restart or rejoined
@@ -417,7 +467,7 @@ def _pk_kernel(influence, h, dA, force, controlled, p, scale, plimit, tol, maxit
         Sp[:, :] = S
         G = _direction(g, S, t, restart, G_old)
         G_old = G
-        r = _apply(t, khat, shape, buf, cols, fm)
+        r = _apply(t, khat, shape, buf, cols, fm, mod)
         rbar = 0.0
         if controlled:
             rbar = _mean_on(r, S)
@@ -468,7 +518,8 @@ def flat_punch_stiffness(op, contact, dA, regions=None, tol=1e-8, maxiter=500):
     else:
         cols = np.ascontiguousarray(regions[0], dtype=np.int64)
         fm = np.ascontiguousarray(regions[1], dtype=float)
-    influence = Influence(op.khat, op.shape, op.kernel, cols, fm)
+    influence = Influence(op.khat, op.shape, op.kernel, cols, fm,
+                          _modulation(op, mask.shape[1]))
     total, it, ok = _punch_kernel(influence, mask, float(tol), int(maxiter))
     return float(total * dA), int(it), bool(ok)
 
@@ -481,6 +532,7 @@ def _punch_kernel(influence, mask, tol, maxiter):
     below ``tol`` times the right-hand side's)."""
     khat, shape, cols, fm = influence.khat, influence.shape, influence.cols, \
         influence.factors
+    mod = influence.modulation
     mx, my = mask.shape
     buf = np.zeros(shape)
     ci = (influence.kernel.shape[0] - 1) // 2
@@ -493,7 +545,7 @@ def _punch_kernel(influence, mask, tol, maxiter):
             if mask[i, j]:
                 q[i, j] = 1.0 / diag
                 n += 1
-    u = _apply(q, khat, shape, buf, cols, fm)
+    u = _apply(q, khat, shape, buf, cols, fm, mod)
     r = np.zeros((mx, my))
     for i in range(mx):
         for j in range(my):
@@ -506,7 +558,7 @@ def _punch_kernel(influence, mask, tol, maxiter):
     converged = rr <= limit
     while not converged and it < maxiter:
         it += 1
-        ad = _apply(d, khat, shape, buf, cols, fm)
+        ad = _apply(d, khat, shape, buf, cols, fm, mod)
         dad = 0.0
         for i in range(mx):
             for j in range(my):

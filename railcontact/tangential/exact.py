@@ -50,6 +50,7 @@ from ..normal.influence import TangentialOperator, block_size, bounding_box, tan
 from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
                                    viscoelastic_tangential_kernels)
 from ..core.status import SolverStatus
+from ..geometry.conformal import influence_angles
 from .base import TangentialSolution, check_inputs, register
 from .fastsim import FastsimModel
 from .semi_smooth_newton import SlipOperator, TractionBound, initial_march, ssn_solve
@@ -205,6 +206,17 @@ def _operators(mx, my, dx, dy, G, nu):
     return _sub_operator(mx, my, dx, dy, G, nu, mx, my), _kernels(mx, my, dx, dy, G, nu)[1]
 
 
+class TurnedElastic(NamedTuple):
+    """Elastic bodies of one material on a conformal patch with Blanco's corrected
+    influence coefficients (variant 3, :mod:`railcontact.normal.conformal_influence`),
+    in place of the shear modulus of :func:`steady_rolling`."""
+
+    #: combined shear modulus [Pa]
+    G: float
+    #: inclination [rad] of each grid column (the curve's angle)
+    angles: np.ndarray
+
+
 def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, p0=None,
                    mode="rolling", w_extra=None):
     """Solve the discrete steady-rolling (or shift) problem by a semi-smooth Newton method.
@@ -217,6 +229,11 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
 
     ``w_extra``: an additional rigid slip (s_x, s_y) per element (the pressure's
     share for dissimilar materials).
+
+    ``G`` a :class:`TurnedElastic`: the shear modulus with the inclination [rad]
+    of each grid column of a conformal patch with Blanco's corrected influence
+    coefficients (variant 3, :mod:`railcontact.normal.conformal_influence`): the
+    lateral displacement difference turned between the columns' frames.
 
     ``bound``: the friction bound mu p_n [Pa] per element, or a
     :class:`LayerBound`: an interfacial layer's flexibility and yield limit
@@ -236,6 +253,12 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     """
     mx, my = x.size, y.size
     dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+    angles = None
+    if isinstance(G, TurnedElastic):
+        G, angles = float(G.G), np.asarray(G.angles, dtype=float)
+        if angles.shape != (my,):
+            raise InputError(f"{angles.size} column inclinations: expected one per grid "
+                             f"column ({my})")
     if isinstance(G, Viscoelastic) and mode != "rolling":
         raise InputError(f"viscoelastic materials with mode {mode!r}: expected steady "
                          "rolling ('rolling')")
@@ -275,7 +298,12 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     ms, ns = contact[box].shape
     op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
     cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
-    sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex)
+    if angles is None:
+        sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex)
+    else:
+        a = angles[box[1]]
+        sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex,
+                           np.ascontiguousarray(np.cos(a)), np.ascontiguousarray(np.sin(a)))
     if layer is None:
         tb = TractionBound(gb, gb, np.zeros_like(gb))
     else:
@@ -629,6 +657,14 @@ class ExactTangentialModel:
         if previous is not None and self.mode != "transient":
             raise InputError(f"a previous time step's solution is used by the 'transient' "
                              f"mode; this model's mode is {self.mode!r}")
+        angles = None if geometry is None else influence_angles(geometry, y)
+        if angles is not None and (self.mode == "transient" or self.viscoelastic is not None
+                                   or self.layer is not None):
+            raise InputError("Blanco's conformal influence coefficients with the exact "
+                             f"tangential model's mode {self.mode!r}"
+                             + (" and viscoelastic materials" if self.viscoelastic else "")
+                             + (" and an interfacial layer" if self.layer else "")
+                             + ": expected steady rolling or a shift of elastic bodies")
         if self.mode == "transient":
             if extra_slip is not None:
                 extra_slip = tuple(np.broadcast_to(np.asarray(e, float), contact.shape)
@@ -660,6 +696,8 @@ class ExactTangentialModel:
                 raise InputError("viscoelastic materials with dissimilar elastic constants: "
                                  "expected quasi-identical bodies")
             G = self.viscoelastic.pair(material)     # its steady-rolling kernels
+        if angles is not None:
+            G = TurnedElastic(G, angles)
         args = (x, y, contact, bound, (xi, eta, phi), G, material.nu, self.tol)
         px, py, sx, sy, stick, it, ok = steady_rolling(*args, self.maxiter, p0=p0, mode=self.mode,
                                                        w_extra=extra_slip)

@@ -23,6 +23,9 @@ import numpy as np
 from numba import njit
 
 
+_NO_COLUMNS = np.zeros(0)
+
+
 class SlipOperator(NamedTuple):
     """The operator p -> C p (:func:`_c_of`) on the padded grid of the contact's box."""
 
@@ -39,6 +42,12 @@ class SlipOperator(NamedTuple):
     #: flexibility h3/G3 [m/Pa] of an interfacial layer (CONTACT's M = 4; 0: none),
     #: its displacement difference f p added to the bodies' B p
     layer: float = 0.0
+    #: Blanco's conformal correction (:mod:`railcontact.normal.conformal_influence`):
+    #: cos and sin of the inclination of each column of the box (empty: the
+    #: half-space), the lateral displacement then
+    #: u_s = c_I B_s(c p) + s_I B_s(s p)
+    cos_col: np.ndarray = _NO_COLUMNS
+    sin_col: np.ndarray = _NO_COLUMNS
 
 
 class TractionBound(NamedTuple):
@@ -277,6 +286,33 @@ def _ssn_precond(rx, ry, contact, M, Q, dxx, dyy, upstream):
 
 
 @njit(cache=True, nogil=True)
+def _turned_lateral(px, py, op, bx, by):
+    """The lateral displacement difference of Blanco's coefficients (variant 3) on
+    the padded grid: u_s = c_I [B_sx (c p_x) + B_ss (c p_s)] + s_I [B_sx (s p_x)
+    + B_ss (s p_s)], c, s the cos and sin of each column's inclination
+    (``op.cos_col``, ``op.sin_col``; ``bx``, ``by`` the zero-padded work arrays)."""
+    mx, my = px.shape
+    kxy, kyy, shape = op.kxy, op.kyy, op.shape
+    out = np.zeros(shape)
+    for m in range(2):
+        w = op.cos_col if m == 0 else op.sin_col
+        for i in range(mx):
+            for j in range(my):
+                bx[i, j] = w[j] * px[i, j]
+                by[i, j] = w[j] * py[i, j]
+        fx = np.fft.rfft2(bx)
+        fy = np.fft.rfft2(by)
+        for i in range(fx.shape[0]):
+            for j in range(fx.shape[1]):
+                fy[i, j] = kxy[i, j] * fx[i, j] + kyy[i, j] * fy[i, j]
+        u = np.fft.irfft2(fy, s=shape)
+        for i in range(shape[0]):
+            for j in range(my):
+                out[i, j] += w[j] * u[i, j]
+    return out
+
+
+@njit(cache=True, nogil=True)
 def _c_of(px, py, op, bx, by):
     """The linear part of the slip, s - w, from tractions (px, py): rolling
     -(u_I+ - u_I)/dx, shift u_I, with u = B p + f p (FFT products of the
@@ -299,6 +335,8 @@ def _c_of(px, py, op, bx, by):
             fy[i, j] = c * a + kyy[i, j] * b
     ux = np.fft.irfft2(fx, s=shape)
     uy = np.fft.irfft2(fy, s=shape)
+    if op.cos_col.size > 0:
+        uy = _turned_lateral(px, py, op, bx, by)
     cx = np.empty((mx, my))
     cy = np.empty((mx, my))
     if f != 0.0:

@@ -59,3 +59,33 @@ def test_bodies_case_has_no_wheelset():
     assert case.wheel_rail is None
     with pytest.raises(CaseFileError, match="no wheelset on a track"):
         build_wheelset_track(case)
+
+
+def test_blanco_influence_keys():
+    """``solver.influence = "blanco"`` with ``solver.influence_options`` (method,
+    variant) on a conformal surface: Blanco's coefficients of the patches; the
+    default is the half-space's; every wrong use is named."""
+    from railcontact.geometry.conformal import ConformalInfluence
+    case = rc.load_case(EX / "wheel_rail.toml")
+    assert case.wheel_rail.influence is None
+    conf = case.with_value("solver.contact_surface", "conformal")
+    case = conf.with_value("solver.normal", "exact").with_value("solver.tangential", "exact")
+    b = case.with_value("solver.influence", "blanco")
+    assert b.wheel_rail.influence == ConformalInfluence("detailed", 3)
+    fast = b.with_value("solver.influence_options", {"method": "fast", "variant": 3})
+    assert fast.wheel_rail.influence == ConformalInfluence("fast", 3)
+    for key, value, match in [
+            ("solver.influence", "curved", r"solver.influence = 'curved': expected"),
+            ("solver.influence_options", {"variant": 4},
+             r"solver.influence_options: conformal influence variant 4: expected 3"),
+            ("solver.influence_options", {"method": "slow"}, "method 'slow'"),
+            ("solver.influence_options", {"order": 1}, r"keys \['order'\]")]:
+        with pytest.raises(CaseFileError, match=match):
+            (b if key != "solver.influence" else case).with_value(key, value)
+    with pytest.raises(CaseFileError, match="expected solver.contact_surface = 'conformal'"):
+        case.with_value("solver.contact_surface", "planar").with_value("solver.influence",
+                                                                       "blanco")
+    with pytest.raises(CaseFileError, match="with solver.influence = 'blanco'"):
+        case.with_value("solver.influence_options", {"method": "fast"})
+    with pytest.raises(CaseFileError, match="normal = 'exact', tangential = 'exact'"):
+        b.with_value("solver.tangential", "fastsim")

@@ -168,3 +168,38 @@ def test_reference_curve_is_contacts(testbank):
     assert np.abs(ours - ref[:, 2]).max() < 1e-3
     z = np.interp(ref[:, 0], y_tr, P[:, 2] * 1e3)
     assert np.abs(z - ref[:, 1]).max() < 1e-3
+
+
+def test_conformal_influence_angles():
+    """Blanco's column inclinations (ConformalInfluence.angles): "detailed" the
+    reference curve's angle at each column, "fast" its least-squares line in s
+    (CONTACT's IF_METH = 0, 1); on a circular curve (D = s/R) the two agree to
+    rounding, also where the grid reaches beyond the curve's samples (only the
+    columns the samples reach are fitted); on one whose angle bends they differ by
+    the fit's residual, which sums to zero.  Wrong options are named."""
+    from railcontact.core.errors import InputError
+    from railcontact.geometry.conformal import ConformalInfluence
+
+    R = 0.01
+    s = np.linspace(-8e-3, 8e-3, 161)
+    circle = ReferenceCurve(s, R * np.sin(s / R), R * (1 - np.cos(s / R)), s / R)
+    cols = np.linspace(-6e-3, 6e-3, 49)
+    det = ConformalInfluence("detailed", 3).angles(circle, cols)
+    fast = ConformalInfluence("fast", 3).angles(circle, cols)
+    assert np.allclose(det, cols / R, rtol=0, atol=1e-12)
+    assert np.allclose(fast, det, rtol=0, atol=1e-12)
+    bent = ReferenceCurve(s, s, np.zeros_like(s), 300.0 * s + 2e4 * s ** 2)
+    d, f = (ConformalInfluence(m).angles(bent, cols) for m in ("detailed", "fast"))
+    assert np.max(np.abs(d - f)) > 0.1 and abs(np.sum(d - f)) < 1e-10
+    assert np.allclose(np.diff(f, 2), 0.0, atol=1e-12)
+    # columns beyond the curve's samples (its straight continuation) stay out of
+    # the fit: on the circle the line is s/R there too (CONTACT's fit on its
+    # groove_li grid equals its detailed angles)
+    wide = np.linspace(-12e-3, 12e-3, 97)
+    assert np.allclose(ConformalInfluence("fast").angles(circle, wide), wide / R, atol=1e-12)
+    assert np.allclose(ConformalInfluence("detailed").angles(circle, wide),
+                       np.clip(wide, -8e-3, 8e-3) / R, atol=1e-12)
+    with pytest.raises(InputError, match="method 'slow'"):
+        ConformalInfluence("slow")
+    with pytest.raises(InputError, match="variant 4: expected 3"):
+        ConformalInfluence("fast", 4)

@@ -253,7 +253,8 @@ def test_reduced_interaction_products_equal_the_scaled_dense_matrix():
     rng = np.random.default_rng(11)
     p = rng.random((mx, my)) * 1e8
     buf = np.zeros(op.shape)
-    u = _apply(p, op.khat, op.shape, buf, cols, fm)
+    none = np.zeros((0, my))                    # no column modulation
+    u = _apply(p, op.khat, op.shape, buf, cols, fm, none)
     expected = (A @ p.ravel()).reshape(mx, my)
     assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
     idx = np.array([3, 40, 70, 107])
@@ -262,7 +263,7 @@ def test_reduced_interaction_products_equal_the_scaled_dense_matrix():
     d = np.zeros(mx * my)
     d[idx] = dq
     expected = u0 + 0.7 * (A @ d).reshape(mx, my)
-    _add_direct(u0, 0.7, idx, dq, K, cols, fm)
+    _add_direct(u0, 0.7, idx, dq, K, cols, fm, none)
     assert np.abs(u0 - expected).max() <= 1e-12 * np.abs(expected).max()
 
 

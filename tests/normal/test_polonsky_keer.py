@@ -79,9 +79,18 @@ def test_direct_displacements_of_a_few_elements_equal_the_convolution():
     dq = rng.normal(size=idx.size) * 1e8
     d = np.zeros(11 * 9)
     d[idx] = dq
+    u0 = u.copy()
     expected = u + 0.7 * op(d.reshape(11, 9))
-    _add_direct(u, 0.7, idx, dq, op.kernel, np.zeros(9, dtype=np.int64), np.ones((1, 1)))
+    cols, fm = np.zeros(9, dtype=np.int64), np.ones((1, 1))
+    _add_direct(u, 0.7, idx, dq, op.kernel, cols, fm, np.zeros((0, 9)))
     assert np.abs(u - expected).max() <= 1e-12 * np.abs(expected).max()
+    # with Blanco's column modulation (cos, sin of each column's inclination) the
+    # direct sum equals the modulated FFT product
+    from railcontact.normal.conformal_influence import blanco_normal_operator
+    mop = blanco_normal_operator(op, np.linspace(-0.8, 0.5, 9))
+    expected = u0 + 0.7 * mop(d.reshape(11, 9))
+    _add_direct(u0, 0.7, idx, dq, op.kernel, cols, fm, mop.modulation)
+    assert np.abs(u0 - expected).max() <= 1e-12 * np.abs(expected).max()
 
 
 def test_flat_punch_stiffness_of_a_circle_is_twice_e_star_a():

@@ -73,6 +73,42 @@ def test_layer_flexibility_in_the_slip_operator():
         assert np.abs(cy - ey).max() <= 1e-12 * scale
 
 
+def test_blanco_lateral_displacement_in_the_slip_operator():
+    """Blanco's coefficients (variant 3) in the compiled operator: u_x as on the
+    half-space, u_s = sum_J cos(a_J - a_I) (A_sx p_x + A_ss p_s)(I - J), against
+    the dense sum of the kernels (the shift's u and the rolling difference); a
+    constant inclination gives the half-space's operator."""
+    from railcontact.normal.influence import tangential_kernels
+    mx, my, dx, dy = 7, 6, 2e-4, 3e-4
+    op, _ = _operators(mx, my, dx, dy, 8e10, 0.28)
+    kxx, kxy, kyy = tangential_kernels(mx, my, dx, dy, 8e10, 0.28, extra_rows=1)
+    rng = np.random.default_rng(11)
+    px, py = rng.normal(size=(mx, my)), rng.normal(size=(mx, my))
+    a = np.array([-0.9, -0.5, -0.1, 0.2, 0.6, 1.0])
+    ux, uy = np.zeros((mx + 1, my)), np.zeros((mx + 1, my))
+    for i in range(mx + 1):
+        for j in range(my):
+            for k in range(mx):
+                for m in range(my):
+                    o = (i - k + mx - 1, j - m + my - 1)
+                    ux[i, j] += kxx[o] * px[k, m] + kxy[o] * py[k, m]
+                    uy[i, j] += math.cos(a[m] - a[j]) * (kxy[o] * px[k, m] + kyy[o] * py[k, m])
+    for shift, (ex, ey) in ((False, (-(ux[1:] - ux[:-1]) / dx, -(uy[1:] - uy[:-1]) / dx)),
+                            (True, (ux[:-1], uy[:-1]))):
+        sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, 0.0,
+                           np.cos(a), np.sin(a))
+        cx, cy = _c_of(px, py, sop, np.zeros(op.shape), np.zeros(op.shape))
+        scale = np.abs(ex).max() + np.abs(ey).max()
+        assert np.abs(cx - ex).max() <= 1e-11 * scale
+        assert np.abs(cy - ey).max() <= 1e-11 * scale
+    flat = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, True, 0.0,
+                        np.full(my, math.cos(0.4)), np.full(my, math.sin(0.4)))
+    plain = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, True, 0.0)
+    cf = _c_of(px, py, flat, np.zeros(op.shape), np.zeros(op.shape))
+    cp = _c_of(px, py, plain, np.zeros(op.shape), np.zeros(op.shape))
+    assert np.allclose(cf[1], cp[1], rtol=1e-12, atol=1e-12 * np.abs(cp[1]).max())
+
+
 def test_traction_bound_of_a_yielding_layer():
     """bound(S) = min(g, max(0, tau + k S)) where the yield limit tau lies under the
     friction bound g, with its slope k; g (slope 0) elsewhere."""
