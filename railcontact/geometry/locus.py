@@ -120,6 +120,13 @@ class Locus:
     ``theta`` (angle on the wheel circle), ``point`` (3 x n, the wheel point),
     ``y_rail`` (rail-profile coordinate below it), ``gap`` (vertical, m, negative
     means interpenetration; +inf outside the rail), ``slope`` (rail dz/dy).
+
+    ``row_weight`` and ``row_x`` (None for a wheel of revolution): where the
+    interpenetration along x is not a parabola about the lowest point (an
+    out-of-round wheel), each sample's weight in a patch's reference point and
+    angle, the integral over x of its squared interpenetration [m^5], and the x [m]
+    of that integral's centre (CONTACT's 2-D gap function, ``compute_wgt_center_2d``);
+    :meth:`weights` and :meth:`x_centres` give them, or the parabola's.
     """
 
     y_wheel: np.ndarray
@@ -132,6 +139,22 @@ class Locus:
     origin: np.ndarray          # wheelset centre in the side frame
     axes: np.ndarray            # rotation matrix of the wheelset in the side frame
     samples: tuple = (0, 0)     # the wheel-profile samples [i0, i1) it covers
+    row_weight: np.ndarray | None = None
+    row_x: np.ndarray | None = None
+
+    def weights(self, sl: slice, exponent: float) -> np.ndarray:
+        """Weights of the samples ``sl`` in a patch's reference point and angle:
+        ``row_weight`` where given, else (-g)^exponent (the integral over x of the
+        squared interpenetration of a parabola in x, up to a factor common to the
+        patch, for ``exponent`` 2.5)."""
+        if self.row_weight is not None:
+            return self.row_weight[sl]
+        return (-np.minimum(self.gap[sl], 0.0)) ** exponent
+
+    def x_centres(self, sl: slice) -> np.ndarray:
+        """x [m] of the samples ``sl`` in a patch's reference point: ``row_x`` where
+        given, else the wheel point's (the lowest point of the parabola)."""
+        return (self.row_x if self.row_x is not None else self.point[0])[sl]
 
     @property
     def i_min(self) -> int:
