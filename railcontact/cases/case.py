@@ -38,7 +38,7 @@ _ALLOWED = {
                  "vertical_force", "vertical_position", "velocity", "pitch_velocity", "pitch",
                  "lateral_velocity", "yaw_rate", "wheel_deviation",
                  "combine_distance", "full_interaction_distance", "turn_distance",
-                 "separation_angle", "position"},
+                 "separation_angle", "position", "locus"},
     "creepage": {"longitudinal", "lateral", "spin"},
     "force": {"longitudinal", "lateral"},
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",

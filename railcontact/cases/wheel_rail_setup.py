@@ -55,7 +55,8 @@ class WheelRailSetup:
 
     Patch rules: ``combine_distance``, ``full_interaction_distance`` (None: full
     interaction in a combined patch), ``turn_distance`` (0: no turning of nearby
-    patches' angles) and ``separation_angle``.
+    patches' angles) and ``separation_angle``; ``locus``, the contact locus
+    ("lowest" or CONTACT's, "contact": :class:`railcontact.geometry.track.Wheelset`).
     """
 
     wheel: ProfileSource
@@ -87,6 +88,7 @@ class WheelRailSetup:
     #: ``solver.contact_surface = "conformal"``: each patch on its curved reference
     #: surface (:mod:`railcontact.cases.conformal`; CONTACT's DISCNS = 4)
     conformal: bool = False
+    locus: str = "lowest"
 
     @property
     def balanced_sides(self) -> tuple:
@@ -136,8 +138,13 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
         raise CaseFileError(f"solver.contact_surface = {shown(surface)}: expected 'planar' (a "
                             "tangent plane per patch) or 'conformal' (a curved reference "
                             "surface, CONTACT's DISCNS = 4)")
+    locus = case.get("wheelset.locus", "lowest")
+    if locus not in ("lowest", "contact"):
+        raise CaseFileError(f"wheelset.locus = {shown(locus)}: expected 'lowest' (each wheel "
+                            "circle's lowest point above the rail) or 'contact' (CONTACT's "
+                            "contact locus)")
     return WheelRailSetup(
-        conformal=surface == "conformal",
+        conformal=surface == "conformal", locus=locus,
         wheel=profiles["wheel"], rail=profiles["rail"],
         nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.02, 1.5, "m"),
         flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.1, 2.5, "m"),

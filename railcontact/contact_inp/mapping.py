@@ -425,7 +425,7 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                         "yaw_rate": v.get("VYAW") or 0.0,
                         "combine_distance": d_sep * MM, "full_interaction_distance": d_comb * MM,
                         "turn_distance": d_turn * MM if d_turn > d_sep else 0.0,
-                        "separation_angle": min(a_sep, math.pi)},
+                        "separation_angle": min(a_sep, math.pi), "locus": "contact"},
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
                       **_normal_options(normal), "tangential_options": topt}}

@@ -29,6 +29,8 @@ def test_mapping_to_a_case_in_si_units(files):
     # CONTACT's patch rules: D_SEP, D_COMB and the default D_TURN = 2 D_SEP - D_COMB
     assert (ws["combine_distance"], ws["full_interaction_distance"],
             ws["turn_distance"]) == pytest.approx((8e-3, 4e-3, 12e-3))
+    # CONTACT's contact locus (the wheel's normal perpendicular to x)
+    assert ws["locus"] == "contact"
     assert r["track"] == {"gauge": pytest.approx(1.435), "gauge_height": pytest.approx(0.014)}
     w = r["wheel"]
     assert w["mirror_y"] is True and w["mirror_z"] is False and w["nominal_radius"] == 0.46
