@@ -93,7 +93,12 @@ class SurfaceCaseSetup:
     Search: ``search_length`` [m] (None: the default), ``contact_angle`` ("local" or
     "wheelset"), ``rigid_slip`` ("planar" or "surfaces") and ``combine_distance``
     [m]: interpenetration regions on one rail laterally closer than this are one
-    patch (CONTACT's D_SEP; 0: every region its own patch).
+    patch (CONTACT's D_SEP; 0: every region its own patch); ``reference_weights``
+    ("surface" or "locus": how a patch's reference point and angle weight its
+    interpenetration, :func:`railcontact.geometry.surface_search.search`);
+    ``search_grid`` ("fine", or "contact": CONTACT's gap mesh of its brute-force
+    search from the element size and the wheel's radius,
+    :func:`railcontact.geometry.surface_search.contact_gap_mesh`).
     """
 
     wheel: ProfileSource
@@ -120,6 +125,8 @@ class SurfaceCaseSetup:
     rigid_slip: str = "planar"
     combine_distance: float = 0.0
     wheel_deviation: tuple | None = None
+    reference_weights: str = "surface"
+    search_grid: str = "fine"
 
 
 def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
@@ -166,6 +173,19 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
     if slip not in ("planar", "surfaces"):
         raise CaseFileError(f"solver.rigid_slip = {shown(slip)}: expected 'planar' (the creepages of "
                             "the reference point) or 'surfaces' (on the actual surfaces)")
+    weights = case.get("solver.reference_weights", "surface")
+    if weights not in ("surface", "locus"):
+        raise CaseFileError(f"solver.reference_weights = {shown(weights)}: expected 'surface' "
+                            "(each cell of the interpenetration with g^2, CONTACT's D = 5) or "
+                            "'locus' (each lateral line at its lowest point with (-g)^2.5, "
+                            "CONTACT's contact locus, D = 2, 3)")
+    mesh = case.get("solver.search_grid", "fine")
+    if mesh not in ("fine", "contact"):
+        raise CaseFileError(f"solver.search_grid = {shown(mesh)}: expected 'fine' (0.2 x "
+                            "0.075 mm) or 'contact' (CONTACT's gap mesh of its brute-force "
+                            "search, from solver.element_size)")
+    if mesh == "contact" and case.get("solver.element_size") is None:
+        raise CaseFileError("solver.search_grid = 'contact' needs solver.element_size")
     if slip == "surfaces" and tangential != "exact":
         raise CaseFileError("solver.rigid_slip = 'surfaces' needs solver.tangential = 'exact'")
     options, units = case.profile_options("wheel")
@@ -190,7 +210,8 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         search_length=_optional(case, "solver.search_length", 1e-3, 1.0, "m"),
         contact_angle=inc, rigid_slip=slip,
         combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m"),
-        wheel_deviation=_wheel_deviation(case))
+        wheel_deviation=_wheel_deviation(case), reference_weights=weights,
+        search_grid=mesh)
 
 
 def _speed(case: CaseKeys) -> float:

@@ -36,8 +36,8 @@ from .case import Case
 from .surface_setup import RailSpec
 from .equilibrium import VerticalBalance
 from ..core.errors import CaseFileError, ContactNotFoundError, ProfileError
-from ..geometry.surface_search import (Motion, SurfaceContact, SurfacePose, SurfaceWheel,
-                                      search, surface_slip)
+from ..geometry.surface_search import (FINE, Motion, SurfaceContact, SurfacePose,
+                                      SurfaceWheel, contact_gap_mesh, search, surface_slip)
 from ..geometry.sliced_surface import SlicedSurface
 from ..geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface
 from ..geometry.track import Track
@@ -90,6 +90,8 @@ class SurfaceScene:
     inclination: str = "local"
     rigid_slip: str = "planar"
     combine_distance: float = 0.0
+    reference_weights: str = "surface"
+    fine: tuple = FINE
 
 
 def build_surface_case(case: Case) -> SurfaceScene:
@@ -146,7 +148,10 @@ def build_surface_case(case: Case) -> SurfaceScene:
     motion = Motion(0.0 if s.roller is not None else s.velocity, pv, s.lateral_velocity,
                     0.0, 0.0, s.yaw_rate)
     return SurfaceScene(wheel, rails, s.side, pose, motion, s.load, s.search_length,
-                        s.contact_angle, s.rigid_slip, s.combine_distance)
+                        s.contact_angle, s.rigid_slip, s.combine_distance,
+                        s.reference_weights,
+                        contact_gap_mesh(s.nominal_radius, *case.element_size)
+                        if s.search_grid == "contact" else FINE)
 
 
 def beyond_slices(setup: SurfaceScene) -> list:
@@ -338,7 +343,8 @@ def solve_on_surfaces(case: Case, normal: str | None = None, tangential: str | N
         pose = SurfacePose(setup.pose.s, setup.pose.lateral, z, setup.pose.roll, setup.pose.yaw)
         c = search(setup.wheel, setup.rails, pose, setup.side, setup.motion,
                    x_range=setup.search_length, inclination=setup.inclination,
-                   combine_distance=setup.combine_distance)
+                   combine_distance=setup.combine_distance, weights=setup.reference_weights,
+                   fine=setup.fine)
         return c, _solve_patches(case, c, nmodel, tmodel, kw, prev, tang, setup)
 
     balance = None

@@ -56,7 +56,8 @@ class WheelRailSetup:
 
     Patch rules: ``combine_distance``, ``full_interaction_distance`` (None: full
     interaction in a combined patch), ``turn_distance`` (0: no turning of nearby
-    patches' angles) and ``separation_angle``.
+    patches' angles) and ``separation_angle``; ``locus``, the contact locus
+    ("lowest" or CONTACT's, "contact": :class:`railcontact.geometry.track.Wheelset`).
     """
 
     wheel: ProfileSource
@@ -91,6 +92,9 @@ class WheelRailSetup:
     #: ``solver.influence = "blanco"``: Blanco's corrected influence coefficients on
     #: the conformal patches (CONTACT's INFLCF = 4; None: the half-space's)
     influence: ConformalInfluence | None = None
+    #: ``wheelset.locus``: "lowest" (each wheel circle's lowest point above the rail)
+    #: or "contact" (CONTACT's contact locus, set for ``.inp`` cases)
+    locus: str = "lowest"
 
     @property
     def balanced_sides(self) -> tuple:
@@ -140,8 +144,13 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
         raise CaseFileError(f"solver.contact_surface = {shown(surface)}: expected 'planar' (a "
                             "tangent plane per patch) or 'conformal' (a curved reference "
                             "surface, CONTACT's DISCNS = 4)")
+    locus = case.get("wheelset.locus", "lowest")
+    if locus not in ("lowest", "contact"):
+        raise CaseFileError(f"wheelset.locus = {shown(locus)}: expected 'lowest' (each wheel "
+                            "circle's lowest point above the rail) or 'contact' (CONTACT's "
+                            "contact locus)")
     return WheelRailSetup(
-        conformal=surface == "conformal", influence=_influence(case, surface),
+        conformal=surface == "conformal", influence=_influence(case, surface), locus=locus,
         wheel=profiles["wheel"], rail=profiles["rail"],
         nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.02, 1.5, "m"),
         flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.1, 2.5, "m"),

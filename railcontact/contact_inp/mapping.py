@@ -113,12 +113,12 @@ def _friction(case) -> dict:
     if case.values.get("NVF", 0):
         rows = case.values["VARFRC_ROWS"]
         if case.digits["V"] == 2:
-            # along the track at SVF [mm]: x from the wheelset at S_WS, every element
-            # of a patch its own coefficient (FKIN)
+            # along the track at SVF [mm]: CONTACT interpolates the coefficient (FKIN)
+            # at the wheelset's position S_WS, one for every element of the case's
+            # patches (m_wr_solvecp: fric_interp at s_ws, then V = 0)
             s0 = case.values.get("S_WS") or 0.0
-            x = [(r[0] - s0) * MM for r in rows]
-            return {"coefficient": float(np.interp(0.0, x, [r[2] for r in rows])),
-                    "variation": {"x": x, "coefficient": [r[2] for r in rows]}}
+            return {"coefficient": float(np.interp(s0, [r[0] for r in rows],
+                                                   [r[2] for r in rows]))}
         # Coulomb friction: CONTACT uses the kinetic coefficient (FKIN) throughout
         return {"coefficient": rows[0][2],
                 "variation": {"angle": [r[0] for r in rows],
@@ -455,7 +455,7 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                         "yaw_rate": v.get("VYAW") or 0.0,
                         "combine_distance": d_sep * MM, "full_interaction_distance": d_comb * MM,
                         "turn_distance": d_turn * MM if d_turn > d_sep else 0.0,
-                        "separation_angle": min(a_sep, math.pi)},
+                        "separation_angle": min(a_sep, math.pi), "locus": "contact"},
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
                       **_normal_options(normal), "tangential_options": topt}}
@@ -626,7 +626,14 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
                       "contact_angle": "wheelset", **_normal_options(normal),
-                      "tangential_options": topt}}
+                      "tangential_options": topt,
+                      # CONTACT's reference point: its contact locus for D = 2, 3,
+                      # the 2-D gap function for the brute-force search D = 5
+                      "reference_weights": "surface" if discns == 5 else "locus"}}
+    if discns == 5:
+        # CONTACT's gap mesh of its brute-force search (its wheel sampled in slices
+        # about 1.5 DX apart through the lowest line)
+        raw["solver"]["search_grid"] = "contact"
     if roller:
         # CONTACT's roller rig: NOMRAD_R and VPITCH_ROL read in the places of CANT
         # and VS; the wheelset does not travel

@@ -10,6 +10,19 @@ is minimal at one angle theta of the wheel circle.  With the wheelset axes R
 with s the rail slope dz/dy at the point, iterated because s depends on where the
 point falls.  This uses the wheel's surface of revolution with yaw and roll (no 2-D
 cross-section approximation); the gap along the locus is the vertical distance.
+
+CONTACT's locus (``Wheelset.locus = "contact"``, its ``locus_prismatic``) takes at
+each wheel cross-section the point whose surface normal is perpendicular to the
+rolling direction x, whatever the rail below it: with w' = dz_w/dy_w the wheel
+profile's slope, the normal of the surface of revolution is proportional to
+u - w' R[:, 1] (u the radial direction at theta), so that
+
+    sin(theta) R00 + cos(theta) R02 = w' R01,
+
+and its x on the wheel is kept within half the radius (CONTACT's clipping of
+near-vertical sections).  Both loci meet where wheel and rail touch; they differ
+in the interpenetration around it, most with yaw on the flange, where the
+lowest points of neighbouring circles fall far apart along x.
 """
 
 from __future__ import annotations
@@ -29,6 +42,11 @@ from .track import Track, Wheelset, rotation
 LOCUS_STEP = 2.5e-5
 
 
+#: the contact loci: each wheel circle's lowest point above the rail, or CONTACT's
+#: (the point whose normal is perpendicular to the rolling direction)
+LOCUS_RULES = ("lowest", "contact")
+
+
 @lru_cache(maxsize=32)
 def _wheel_samples(wheel, step, offset, r0):
     """The wheel profile's samples (y_w, z_w) every ``step`` [m], with their lateral
@@ -39,9 +57,64 @@ def _wheel_samples(wheel, step, offset, r0):
     return yw, zw, offset + yw, r0 + zw
 
 
+@lru_cache(maxsize=32)
+def _wheel_slopes(wheel, step):
+    """The wheel profile's slopes dz_w/dy_w at the samples of :func:`_wheel_samples`
+    (0 where undefined)."""
+    n = int((wheel.y_max - wheel.y_min) / step) + 1
+    s = np.asarray(wheel.slope(np.linspace(wheel.y_min, wheel.y_max, n)), dtype=float)
+    return np.where(np.isfinite(s), s, 0.0)
+
+
+def _slopes_for(wheelset, wheel, step):
+    """The wheel slopes the locus kernels take: the profile's for CONTACT's locus,
+    an empty array (the lowest points) otherwise."""
+    if getattr(wheelset, "locus", "lowest") == "contact":
+        return _wheel_slopes(wheel, step)
+    return np.empty(0)
+
+
 @njit(cache=True, nogil=True)
-def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
-    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope."""
+def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
+    """CONTACT's locus (module docstring): angle theta, wheel point, rail
+    coordinate, vertical gap and rail slope at the samples' points whose normal is
+    perpendicular to x (``wslope`` the wheel profile's slopes)."""
+    n = eta.size
+    theta = np.empty(n)
+    P = np.empty((3, n))
+    yr = np.empty(n)
+    gap = np.empty(n)
+    slope = np.empty(n)
+    h = math.sqrt(R[0, 0] * R[0, 0] + R[0, 2] * R[0, 2])
+    phase = math.atan2(R[0, 2], R[0, 0])
+    k = -1
+    for i in range(n):
+        c = min(max(wslope[i] * R[0, 1] / h, -1.0), 1.0)
+        th = math.asin(c) - phase
+        st = math.sin(th)
+        if abs(st) > 0.5:
+            # x on the wheel within half its radius (near-vertical sections)
+            st = 0.5 if st > 0 else -0.5
+            th = math.asin(st)
+        ct = math.cos(th)
+        P[0, i] = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
+        P[1, i] = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
+        P[2, i] = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
+        theta[i] = th
+        yr[i] = P[1, i] - y_off
+        zr, s, k = ppoly_at(yr[i], rb, rc, k)
+        gap[i] = zr - P[2, i] if zr == zr else np.inf
+        slope[i] = s if s == s else 0.0
+    return theta, P, yr, gap, slope
+
+
+@njit(cache=True, nogil=True)
+def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
+    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
+    each wheel circle's lowest point above the rail, or CONTACT's locus where the
+    wheel slopes ``wslope`` are given (one per sample; empty: the lowest points)."""
+    if wslope.size:
+        return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)
     n = eta.size
     theta = np.empty(n)
     P = np.empty((3, n))
@@ -89,13 +162,14 @@ def _locus_kernel(eta, rho, R, O, y_off, rb, rc):
 
 
 @njit(cache=True, nogil=True)
-def _min_gap_kernel(eta, rho, R, O, y_off, rb, rc, stride, window):
+def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc, stride, window):
     """Minimum vertical gap along the locus: coarse pass every ``stride`` samples,
     then every sample around the coarse points within ``window`` [m] of the coarse
-    minimum."""
+    minimum (``wslope`` as in :func:`_locus_kernel`)."""
     n = eta.size
     idx = np.arange(0, n, stride)
-    _, _, _, gc, _ = _locus_kernel(eta[idx], rho[idx], R, O, y_off, rb, rc)
+    _, _, _, gc, _ = _locus_kernel(eta[idx], rho[idx], wslope[idx] if wslope.size else wslope,
+                                   R, O, y_off, rb, rc)
     gmin = np.inf
     for g in gc:
         if g < gmin:
@@ -105,7 +179,9 @@ def _min_gap_kernel(eta, rho, R, O, y_off, rb, rc, stride, window):
         if gc[k] <= gmin + window:
             lo = max(idx[k] - stride, 0)
             hi = min(idx[k] + stride + 1, n)
-            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi], R, O, y_off, rb, rc)
+            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi],
+                                           wslope[lo:hi] if wslope.size else wslope, R, O,
+                                           y_off, rb, rc)
             for g in gf:
                 if g < best:
                     best = g
@@ -120,6 +196,13 @@ class Locus:
     ``theta`` (angle on the wheel circle), ``point`` (3 x n, the wheel point),
     ``y_rail`` (rail-profile coordinate below it), ``gap`` (vertical, m, negative
     means interpenetration; +inf outside the rail), ``slope`` (rail dz/dy).
+
+    ``row_weight`` and ``row_x`` (None for a wheel of revolution): where the
+    interpenetration along x is not a parabola about the lowest point (an
+    out-of-round wheel), each sample's weight in a patch's reference point and
+    angle, the integral over x of its squared interpenetration [m^5], and the x [m]
+    of that integral's centre (CONTACT's 2-D gap function, ``compute_wgt_center_2d``);
+    :meth:`weights` and :meth:`x_centres` give them, or the parabola's.
     """
 
     y_wheel: np.ndarray
@@ -132,6 +215,22 @@ class Locus:
     origin: np.ndarray          # wheelset centre in the side frame
     axes: np.ndarray            # rotation matrix of the wheelset in the side frame
     samples: tuple = (0, 0)     # the wheel-profile samples [i0, i1) it covers
+    row_weight: np.ndarray | None = None
+    row_x: np.ndarray | None = None
+
+    def weights(self, sl: slice, exponent: float) -> np.ndarray:
+        """Weights of the samples ``sl`` in a patch's reference point and angle:
+        ``row_weight`` where given, else (-g)^exponent (the integral over x of the
+        squared interpenetration of a parabola in x, up to a factor common to the
+        patch, for ``exponent`` 2.5)."""
+        if self.row_weight is not None:
+            return self.row_weight[sl]
+        return (-np.minimum(self.gap[sl], 0.0)) ** exponent
+
+    def x_centres(self, sl: slice) -> np.ndarray:
+        """x [m] of the samples ``sl`` in a patch's reference point: ``row_x`` where
+        given, else the wheel point's (the lowest point of the parabola)."""
+        return (self.row_x if self.row_x is not None else self.point[0])[sl]
 
     @property
     def i_min(self) -> int:
@@ -172,20 +271,22 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
     r0 = wheelset.nominal_radius
     yw, zw, eta, rho = _wheel_samples(wheel, step, wheelset.wheel_offset, r0)
+    ws = _slopes_for(wheelset, wheel, step)
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
     y_off = track.rail_offset(side)
     if samples is not None:
         i0, i1 = samples
         sl = slice(i0, i1)
-        theta, P, yr, gap, s = _locus_kernel(eta[sl], rho[sl], R, O, y_off, rail._breaks,
-                                             rail._coefs)
+        theta, P, yr, gap, s = _locus_kernel(eta[sl], rho[sl], ws[sl] if ws.size else ws, R, O,
+                                             y_off, rail._breaks, rail._coefs)
         if gap.size:
             edge = float(np.min(gap)) + window
             if (i0 == 0 or gap[0] > edge) and (i1 == yw.size or gap[-1] > edge):
                 return _out_of_round(wheelset, Locus(yw[sl], zw[sl], theta, P, yr, gap, s, O,
                                                      R, (i0, i1)))
-    _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride], R, O, y_off, rail._breaks,
+    _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride],
+                                   ws[::stride] if ws.size else ws, R, O, y_off, rail._breaks,
                                    rail._coefs)
     near = np.flatnonzero(gc <= np.min(gc) + window)
     i0, i1 = 0, yw.size
@@ -194,7 +295,8 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
         i1 = min(int(near[-1]) * stride + 2 * stride + 1, yw.size)
         sl = slice(i0, i1)
         yw, zw, eta, rho = yw[sl], zw[sl], eta[sl], rho[sl]
-    theta, P, yr, gap, s = _locus_kernel(eta, rho, R, O, y_off, rail._breaks, rail._coefs)
+        ws = ws[sl] if ws.size else ws
+    theta, P, yr, gap, s = _locus_kernel(eta, rho, ws, R, O, y_off, rail._breaks, rail._coefs)
     return _out_of_round(wheelset, Locus(yw, zw, theta, P, yr, gap, s, O, R, (i0, i1)))
 
 
@@ -217,11 +319,13 @@ def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, v
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, lateral_shift, vertical, roll, yaw)
     r0 = wheelset.nominal_radius
     _, _, eta, rho = _wheel_samples(wheel, step, wheelset.wheel_offset, r0)
+    ws = _slopes_for(wheelset, wheel, step)
     if samples is not None:
         eta, rho = eta[samples[0]:samples[1]], rho[samples[0]:samples[1]]
+        ws = ws[samples[0]:samples[1]] if ws.size else ws
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
-    return float(_min_gap_kernel(eta, rho, R, O,
+    return float(_min_gap_kernel(eta, rho, ws, R, O,
                                  track.rail_offset(side), rail._breaks, rail._coefs, stride,
                                  2e-6))
 

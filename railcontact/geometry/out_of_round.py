@@ -93,9 +93,13 @@ class OutOfRoundWheel:
         .locus.Locus`) for this wheel: at each lateral sample the smallest vertical
         gap along the rolling direction, g(x) = g_0 + (r - sqrt(r^2 - x^2)) - dr(theta(x),
         y_w) (the wheel's rise along its circle and its deviation; the rail
-        straight), and its x; the wheel point moved there.  CONTACT's reference
-        point of a patch (the weighted locus) then lies where an out-of-round wheel
-        touches."""
+        straight), and its x; the wheel point moved there.  Each sample's weight in
+        a patch's reference point and angle is the integral over x of its squared
+        interpenetration, at that integral's centre in x (``Locus.row_weight``,
+        ``Locus.row_x``: CONTACT's 2-D gap function of a wheel from slices,
+        compute_wgt_center_2d), so that the reference point lies where an
+        out-of-round wheel touches, its interpenetration asymmetric about the
+        lowest point on a flat."""
         r = nominal_radius + np.asarray(loc.z_wheel, float)
         ok = np.isfinite(loc.gap)
         if not ok.any():
@@ -114,7 +118,20 @@ class OutOfRoundWheel:
         gap[ok] = g[rows, k]
         point[0, ok] = X[rows, k]
         point[2, ok] = point[2, ok] - rise[rows, k] + dr[rows, k]
-        return replace(loc, gap=gap, point=point)
+        # the weights of a patch's reference point: the integral over x of each
+        # sample's squared interpenetration, and its centre in x (CONTACT's 2-D gap
+        # function of an out-of-round wheel, compute_wgt_center_2d); a flat's
+        # interpenetration is not symmetric about its lowest point
+        pen2 = np.minimum(g, 0.0) ** 2
+        tot = pen2.sum(axis=1)
+        weight = np.zeros(loc.gap.size)
+        xc = loc.point[0].copy()
+        weight[ok] = tot * LOCUS_STEP
+        has = tot > 0.0
+        xc_ok = X[rows, k].copy()
+        xc_ok[has] = (pen2[has] * X[has]).sum(axis=1) / tot[has]
+        xc[ok] = xc_ok
+        return replace(loc, gap=gap, point=point, row_weight=weight, row_x=xc)
 
     def patch_gap(self, gap, y_w0: float, radius: float, angle: float, x0: float = 0.0):
         """The patch's gap function ``gap`` (a GapEvaluator, its origin at x0 [m]

@@ -123,7 +123,7 @@ def weighted_angle(loc: Locus, i0: int, i1: int):
     """Weighted contact angle [rad] (side frame) and total weight of the region
     [i0, i1] of a locus (the weights of :func:`_make_patch`)."""
     sl = slice(i0, i1 + 1)
-    w = (-np.minimum(loc.gap[sl], 0.0)) ** GAP_WEIGHT
+    w = loc.weights(sl, GAP_WEIGHT)
     if not w.sum() > 0:
         return float(np.arctan(loc.slope[loc.i_min])), 0.0
     return (float(np.dot(w, np.arctan(loc.slope[sl])) / w.sum()),

@@ -390,10 +390,10 @@ def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
         a_ref = float(np.arctan(track.rail(side).slope(y_ref)))
         weight = 1.0
     else:
-        w = (-np.minimum(g, 0.0)) ** GAP_WEIGHT
+        w = loc.weights(sl, GAP_WEIGHT)
         weight = float(w.sum() * abs(loc.y_wheel[1] - loc.y_wheel[0]))
         y_ref = float(np.dot(w, loc.y_rail[sl]) / w.sum())
-        x_ref = float(np.dot(w, loc.point[0, sl]) / w.sum())
+        x_ref = float(np.dot(w, loc.x_centres(sl)) / w.sum())
         a_ref = float(np.dot(w, ang) / w.sum()) if angle is None else float(angle)
     rail = track.rail(side)
     y_off = track.rail_offset(side)

@@ -40,6 +40,7 @@ from __future__ import annotations
 import logging
 import math
 from dataclasses import dataclass, field
+from typing import NamedTuple
 
 import numpy as np
 from scipy import ndimage
@@ -53,8 +54,32 @@ log = logging.getLogger(__name__)
 
 #: coarse search grid (dx, dy) [m]
 COARSE = (1.0e-3, 0.4e-3)
-#: fine search grid (dx, dy) [m] over the candidate places (CONTACT: DX, 0.75 DS)
-FINE = (0.2e-3, 0.075e-3)
+class FineMesh(NamedTuple):
+    """The fine search grid: spacings ``dx``, ``dy`` [m]; ``aligned``: its x nodes
+    at multiples of dx from the wheelset's centre (CONTACT's gap mesh of its
+    brute-force search, whose wheel is sampled at slices dx apart through the
+    wheel's lowest line), else from the candidate place's coarse node."""
+
+    dx: float
+    dy: float
+    aligned: bool = False
+
+
+#: fine search grid (dx, dy) [m] over the candidate places
+FINE = FineMesh(0.2e-3, 0.075e-3)
+
+
+def contact_gap_mesh(nominal_radius: float, dx: float, ds: float) -> FineMesh:
+    """CONTACT's gap mesh of its brute-force search (D = 5) for elements DX, DS [m]
+    and a wheel of nominal radius r0 [m]: the wheel sampled on nslc slices over
+    [-r0/8, r0/8] (over +-0.242 r0 below r0 = 30.5 mm), nslc = round(range /
+    (1.5 DX) + 2) made odd, one through its lowest line; laterally 0.75 DS
+    (``compute_round_whl``, ``compute_wr_surfc``)."""
+    half = nominal_radius / 8.0 if nominal_radius >= 0.0305 else 0.242 * nominal_radius
+    nslc = int(math.floor(2.0 * half / (1.5 * dx) + 2.0 + 0.5))
+    if nslc % 2 == 0:
+        nslc += 1
+    return FineMesh(2.0 * half / (nslc - 1), 0.75 * ds, True)
 #: a coarse sample whose vertical gap is below this [m] marks a candidate place (the
 #: gap between coarse samples can lie lower by about A dx^2/4 + B dy^2/4; docs/tuning.md,
 #: section "Geometry search")
@@ -302,7 +327,8 @@ def _wheel_span(wheel: SurfaceWheel, pose: SurfacePose):
 def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "right",
            motion: Motion | None = None, x_range: float | None = None,
            coarse=COARSE, fine=FINE, min_cells: int = 1,
-           inclination: str = "local", combine_distance: float = 0.0) -> SurfaceContact:
+           inclination: str = "local", combine_distance: float = 0.0,
+           weights: str = "surface") -> SurfaceContact:
     """All contact patches of a wheel on the rails at the wheelset pose ``pose``.
 
     Parameters
@@ -320,7 +346,8 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
         line (default 0.15 x the nominal radius: a rail rising 1:10 touches a wheel
         0.1 r ahead of the axle).
     coarse, fine : (dx, dy)
-        Spacings [m] of the coarse and fine search grids.
+        Spacings [m] of the coarse and fine search grids (``fine`` a
+        :class:`FineMesh` whose x nodes may be aligned on the wheelset's centre).
     min_cells : int
         Interpenetration regions of fewer fine cells are dropped.
     inclination : {"local", "wheelset"}
@@ -336,6 +363,14 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
         than this [m] (their gap in y, wherever they lie in x) are one patch, as
         CONTACT combines regions closer than D_SEP; 0 (default): every region
         its own patch.
+    weights : {"surface", "locus"}
+        How a patch's reference point and contact angle weight its
+        interpenetration: each fine cell with g^2 (``"surface"``, default:
+        CONTACT's brute-force search, D = 5, ``compute_wgt_center_2d``), or each
+        lateral line of the grid at its lowest point along x (refined by a
+        parabola through its neighbours) with (-g)^2.5 (``"locus"``: CONTACT's
+        contact locus, D = 2 and 3, which integrates the squared interpenetration
+        of a parabola along x, ``compute_wgt_center_1d``).
 
     Returns
     -------
@@ -348,6 +383,8 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
                          "contact on rail surfaces")
     if inclination not in ("local", "wheelset"):
         raise InputError(f"inclination = {inclination!r}: expected 'local' or 'wheelset'")
+    if weights not in ("surface", "locus"):
+        raise InputError(f"weights = {weights!r}: expected 'surface' or 'locus'")
     motion = motion or Motion()
     sp = pose.mirrored(side)
     mo = motion.mirrored(side)
@@ -374,7 +411,11 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
                 continue
             i0, i1 = max(sl[0].start - 1, 0), min(sl[0].stop + 1, xs.size)
             j0, j1 = max(sl[1].start - 1, 0), min(sl[1].stop + 1, ys.size)
-            fx = np.arange(xs[i0], xs[i1 - 1] + 0.5 * fine[0], fine[0])
+            if getattr(fine, "aligned", False):
+                fx = fine[0] * np.arange(math.ceil(xs[i0] / fine[0]),
+                                         math.floor(xs[i1 - 1] / fine[0]) + 1)
+            else:
+                fx = np.arange(xs[i0], xs[i1 - 1] + 0.5 * fine[0], fine[0])
             fy = np.arange(ys[j0], ys[j1 - 1] + 0.5 * fine[1], fine[1])
             gf, zr, dz = _grid_gap(wheel, rail, sp, fx, fy)
             if inclination == "wheelset":
@@ -394,7 +435,8 @@ def search(wheel: SurfaceWheel, rails: list, pose: SurfacePose, side: str = "rig
                 if cells.sum() < min_cells:
                     continue
                 patches.append(_make_patch(wheel, rail, ir, sp, side, mo,
-                                           _FineGrid(fx, fy, gf, zr, dz, fine), cells))
+                                           _FineGrid(fx, fy, gf, zr, dz, fine), cells,
+                                           weights))
     # CONTACT's numbering: from the field side towards the gauge side (the side
     # frame's y falling), then along x
     fs = 1.0 if side == "right" else -1.0
@@ -496,19 +538,55 @@ class _FineGrid:
     spacing: tuple
 
 
-def _make_patch(wheel, rail, ir, sp, side, mo, grid: _FineGrid, cells):
+def _locus_weights(grid: _FineGrid, cells):
+    """CONTACT's contact-locus weights of a region (``search``'s ``weights =
+    "locus"``): on each lateral line of the grid its lowest point along x, refined
+    by the parabola through it and its neighbours in the region; its weight
+    (-g)^2.5 (times the x step, for the scale of the 2-D weights).  Returns the
+    weights, x, y [m] and the inclination dz/dy there, one per line that
+    interpenetrates."""
+    g = np.where(cells, grid.gap, np.inf)
+    nx = g.shape[0]
+    cols = np.flatnonzero(np.isfinite(g).any(axis=0))
+    k = np.argmin(g[:, cols], axis=0)
+    gm = g[k, cols]
+    x = grid.x[k].astype(float)
+    dxs = grid.spacing[0]
+    km, kp = np.maximum(k - 1, 0), np.minimum(k + 1, nx - 1)
+    g0, g1 = g[km, cols], g[kp, cols]
+    inner = (k > 0) & (k < nx - 1) & np.isfinite(g0) & np.isfinite(g1)
+    g0, g1 = np.where(inner, g0, gm), np.where(inner, g1, gm)
+    den = g0 - 2.0 * gm + g1
+    ok = den > 0
+    frac = np.clip(np.where(ok, 0.5 * (g0 - g1) / np.where(ok, den, 1.0), 0.0), -0.5, 0.5)
+    x = x + frac * dxs
+    gm = gm - 0.25 * (g0 - g1) * frac
+    inc = grid.inclination[k, cols]
+    keep = gm < 0.0
+    return ((-gm[keep]) ** 2.5 * dxs, x[keep], grid.y[cols][keep], inc[keep])
+
+
+def _make_patch(wheel, rail, ir, sp, side, mo, grid: _FineGrid, cells, weights="surface"):
     """The patch of one interpenetration region (``cells`` of the fine ``grid``) of
     rail ``ir`` at the wheelset's pose ``sp`` and motion ``mo`` (mirrored to the
-    side)."""
+    side), its reference point and angle with ``search``'s ``weights``."""
     fx, fy, g, zr, dz, fine = grid.x, grid.y, grid.gap, grid.rail_height, grid.inclination, \
         grid.spacing
     sgn = 1.0 if side == "right" else -1.0
     X, Y = np.meshgrid(fx, fy, indexing="ij")
-    w = np.where(cells, g * g, 0.0)
-    W = w.sum()
-    x_c = float((w * X).sum() / W)
-    y_c = float((w * Y).sum() / W)
-    a_c = float((w * np.arctan(np.where(cells, dz, 0.0))).sum() / W)
+    lw = _locus_weights(grid, cells) if weights == "locus" else None
+    if lw is not None and lw[0].sum() > 0:
+        w, xs, ys, incs = lw
+        W = w.sum()
+        x_c = float((w * xs).sum() / W)
+        y_c = float((w * ys).sum() / W)
+        a_c = float((w * np.arctan(incs)).sum() / W)
+    else:
+        w = np.where(cells, g * g, 0.0)
+        W = w.sum()
+        x_c = float((w * X).sum() / W)
+        y_c = float((w * Y).sum() / W)
+        a_c = float((w * np.arctan(np.where(cells, dz, 0.0))).sum() / W)
     z_c = float(rail.height(np.array(sp.s + x_c), np.array(y_c))[0])
     C = np.array([x_c, y_c, z_c])
     gap = SurfaceGap(wheel, rail, sp, C, a_c, sign=sgn)

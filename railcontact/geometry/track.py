@@ -124,6 +124,11 @@ class Wheelset:
     out_of_round : OutOfRoundWheel, optional
         The wheels' deviation from revolution at their pitch angle
         (:mod:`railcontact.geometry.out_of_round`).
+    locus : {"lowest", "contact"}
+        The contact locus (:mod:`railcontact.geometry.locus`): each wheel circle's
+        lowest point above the rail (default), or CONTACT's, the point whose
+        surface normal is perpendicular to the rolling direction (its
+        ``locus_prismatic``; the ``.inp`` files' rule).
     """
 
     wheel_right: Profile
@@ -134,6 +139,7 @@ class Wheelset:
     #: an out-of-round wheel (``railcontact.geometry.out_of_round.OutOfRoundWheel``,
     #: both wheels alike): its radial deviation enters each patch's gap; None: round
     out_of_round: object | None = None
+    locus: str = "lowest"
     #: memo of the contact search by (lateral shift, yaw): its track, the minimum gaps
     #: of both wheels by roll, the last loci's wheel-sample ranges and the last roll
     #: slope, so that successive searches of one case, each starting where the last
@@ -146,6 +152,9 @@ class Wheelset:
         _check("wheel.nominal_radius", self.nominal_radius, 0.02, 1.5, "m")
         _check("wheelset.flange_back_distance", self.flange_back_distance, 0.1, 2.0, "m")
         _check("wheelset.flange_back_position", self.flange_back_position, -0.2, 0.0, "m")
+        if self.locus not in ("lowest", "contact"):
+            raise InputError(f"wheelset.locus = {self.locus!r}: expected 'lowest' (each wheel "
+                             "circle's lowest point) or 'contact' (CONTACT's locus)")
         for side in SIDES:
             w = self.wheel(side)
             if w.kind != "wheel":

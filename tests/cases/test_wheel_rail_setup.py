@@ -27,6 +27,9 @@ def test_example_parsed_into_typed_values():
         s.yaw = 0.1
     ws, tr = build_wheelset_track(case)
     assert ws.nominal_radius == 0.46 and tr.gauge == 1.435
+    assert s.locus == ws.locus == "lowest"
+    assert build_wheelset_track(case.with_value("wheelset.locus", "contact"))[0].locus == \
+        "contact"
     # a sweep's changed key is parsed again
     assert case.with_value("wheelset.yaw", 2e-3).wheel_rail.yaw == 2e-3
 
@@ -37,6 +40,7 @@ def test_example_parsed_into_typed_values():
     ("wheelset.lateral_shift", 3.0, "wheelset.lateral_shift"),
     ("wheelset.pitch_velocity", math.nan, "wheelset.pitch_velocity"),
     ("wheelset.side", "middle", "wheelset.side"),
+    ("wheelset.locus", "highest", "wheelset.locus = 'highest': expected 'lowest'"),
 ])
 def test_wrong_values_are_named(key, value, match):
     """Values in the wrong unit (mm for m) or out of range stop at reading."""

@@ -276,6 +276,12 @@ def test_switch_and_crossing_mapping(testbank):
     assert r["rail"]["slices"].endswith("cross_nose.slcs")
     assert r["rail"]["lateral_position"] == pytest.approx(0.75) and r["rail"]["units"] == "mm"
     assert r["solver"]["contact_angle"] == "wheelset"
+    # D = 5: CONTACT's 2-D gap mesh and its g^2 weights; D = 2: its contact locus
+    assert (r["solver"]["reference_weights"], r["solver"]["search_grid"]) == ("surface",
+                                                                             "contact")
+    (m2,) = load_inp(testbank / "examples_s+c" / "cross_locus.inp")
+    assert m2.raw["solver"]["reference_weights"] == "locus"
+    assert "search_grid" not in m2.raw["solver"]
     ws = r["wheelset"]
     assert ws["position"] == 0.0 and ws["vertical_position"] == pytest.approx(-2.1275e-3)
     assert ws["combine_distance"] == pytest.approx(8e-3)
@@ -294,6 +300,19 @@ def test_uk_crossing_inputs(testbank):
     rows = solve_inp(path, cases=[10])
     assert [r["npatch"] for r in rows] == [2, 2]
     _sc_compare(rows, path.with_suffix(".ref_out"), [10], 0.2 * 0.2)
+
+
+def test_uk_crossing_small_wing_rail_patch(testbank):
+    """mbench_locus (D = 2, CONTACT's contact locus) case 26: the wing-rail patch
+    carries 12 % of the load on 45 elements.  Its reference point and angle are
+    those of CONTACT's locus weights (each lateral line's lowest point along x,
+    weighted with (-g)^2.5): x, y within 1 and 0.2 um of CONTACT's, and so are its
+    elements in contact, 45 as CONTACT's (with the 2-D weights of the brute-force
+    search, 7 um off in y: 50)."""
+    path = testbank / "examples_s+c" / "mbench_locus.inp"
+    rows = solve_inp(path, cases=[26])
+    _sc_compare(rows, path.with_suffix(".ref_out"), [26], 0.2 * 0.2)
+    assert rows[0]["ncon"] == 45
 
 
 # ------------------------------------------------------------------ roller rigs

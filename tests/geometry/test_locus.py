@@ -97,3 +97,54 @@ def test_depth_at_a_vertical_position():
         assert depth_at(ws, tr, side, 0.002, 1e-4, 0.0, 0.001) == pytest.approx(1e-4 - g0,
                                                                                 abs=1e-15)
         assert depth_at(ws, tr, side, 0.002, g0 - 1e-4, 0.0, 0.001) == pytest.approx(-1e-4)
+
+
+def test_contact_locus_normal_is_perpendicular_to_the_rolling_direction():
+    """CONTACT's locus (``Wheelset.locus = "contact"``): at each sample the wheel
+    surface's normal (cross product of the surface's tangents in theta and along
+    the profile, by central differences) has no x component, to 1e-6, with yaw and
+    roll, on the tread and on the flange; without yaw it is the lowest-point locus
+    to the bit; with yaw its gaps where they interpenetrate are never below the
+    lowest points' (each wheel circle's minimum) and meet them where the
+    interpenetration is deepest, within 10 nm."""
+    wheel = s1002()
+    tr = Track(rail_profile("60E1", math.atan(1 / 40)))
+    low, con = Wheelset(wheel), Wheelset(wheel, locus="contact")
+    for y, roll, yaw in ((2e-3, 2e-4, 0.02), (7e-3, -1e-3, 6e-3)):
+        z = min_gap(low, tr, "right", y, 0.0, roll, yaw) + 1e-4
+        a = compute_locus(low, tr, "right", y, z, roll, yaw, window=5e-4)
+        b = compute_locus(con, tr, "right", y, z, roll, yaw, window=5e-4)
+        y_ws, z_ws, roll_s, yaw_s = side_pose("right", y, z, roll, yaw)
+        R = rotation(yaw_s, roll_s)
+        O = np.array([0.0, y_ws, z_ws - con.nominal_radius])
+
+        def point(theta, yw):
+            rho = con.nominal_radius + float(wheel.z_at(yw))
+            return O + (con.wheel_offset + yw) * R[:, 1] + rho * (
+                math.sin(theta) * R[:, 0] + math.cos(theta) * R[:, 2])
+
+        checked = 0
+        for i in range(5, b.y_wheel.size - 5, 2):
+            t, yw, h = b.theta[i], b.y_wheel[i], 1e-6
+            if abs(math.sin(t)) >= 0.5:
+                continue                       # clipped (near-vertical sections)
+            dt = point(t + h, yw) - point(t - h, yw)
+            dy = point(t, yw + h) - point(t, yw - h)
+            n = np.cross(dt, dy)
+            assert abs(n[0]) <= 1e-6 * np.linalg.norm(n)
+            checked += 1
+        assert checked > 20
+        # same samples: the lowest points lie at or below CONTACT's
+        k0 = max(a.samples[0], b.samples[0])
+        k1 = min(a.samples[1], b.samples[1])
+        ga = a.gap[k0 - a.samples[0]:k1 - a.samples[0]]
+        gb = b.gap[k0 - b.samples[0]:k1 - b.samples[0]]
+        ok = np.isfinite(ga) & np.isfinite(gb) & (ga < 0.0)
+        assert ok.sum() > 20
+        assert np.all(ga[ok] <= gb[ok] + 1e-12)
+        assert b.gap_min == pytest.approx(a.gap_min, abs=1e-8)
+    # no yaw: both loci the same
+    z = min_gap(low, tr, "right", 3e-3, 0.0, 1e-3, 0.0) + 1e-4
+    a = compute_locus(low, tr, "right", 3e-3, z, 1e-3, 0.0)
+    b = compute_locus(con, tr, "right", 3e-3, z, 1e-3, 0.0)
+    assert np.array_equal(a.gap, b.gap) and np.array_equal(a.point, b.point)

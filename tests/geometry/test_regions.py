@@ -39,11 +39,13 @@ def test_patch_bounds_lie_halfway_between_the_regions():
 
 def test_region_distance_along_the_track(testbank):
     """mbench_conf.inp (yaw 24 mrad, y_ws 6.25 mm): the flange contact lies 26 mm
-    ahead of the flange-root one.  Their facing ends are 7.97 mm apart in y and z,
-    under D_SEP = 9 mm, but their interpenetration areas' extents along the track
-    ([6.0, 18.1] and [-17.6, -7.0] mm, each wheel circle's chord through the rail)
-    are 13 mm apart: 15.2 mm in x, y and z, so that CONTACT's two patches are two
-    (CONTACT measures on the extents in x, y and z)."""
+    ahead of the flange-root one.  On CONTACT's contact locus (the ``.inp`` rule)
+    their facing ends are 7.875 mm apart in y and z (CONTACT prints ends 7.881 mm
+    apart), under D_SEP = 9 mm, but their interpenetration areas' extents along
+    the track ([8.38, 19.84] and [-17.47, -7.08] mm, each wheel circle's chord
+    through the rail; CONTACT's [8.45, 19.74] and [-17.45, -7.11]) are 15.5 mm
+    apart: 17.35 mm in x, y and z (CONTACT 17.44), so that CONTACT's two patches
+    are two (CONTACT measures on the extents in x, y and z)."""
     from railcontact.cases.bodies import build_wheelset_track, contact_search
     from railcontact.cases.case import case_from_dict
     from railcontact.contact_inp import load_inp
@@ -57,10 +59,10 @@ def test_region_distance_along_the_track(testbank):
     d = depth_at(ws, tr, s.side, s.lateral_shift, s.vertical_position, s.roll, s.yaw)
     loc = contact_search(case, interpenetration={s.side: d}, bodies=(ws, tr)).loci[s.side]
     (a0, a1, _), (b0, b1, _) = contact_regions(loc, False, 0.0)
-    assert end_distance(loc, a1, b0) == pytest.approx(7.97e-3, abs=0.02e-3)
-    assert end_distance(loc, a1, b0, a0, b1) == pytest.approx(15.21e-3, abs=0.02e-3)
+    assert end_distance(loc, a1, b0) == pytest.approx(7.881e-3, abs=0.02e-3)
+    assert end_distance(loc, a1, b0, a0, b1) == pytest.approx(17.438e-3, abs=0.1e-3)
     fa, fb = x_extent(loc, a0, a1), x_extent(loc, b0, b1)
-    assert fa[0] > 0 > fb[1] and fa[0] - fb[1] == pytest.approx(12.95e-3, abs=0.02e-3)
+    assert fa[0] > 0 > fb[1] and fa[0] - fb[1] == pytest.approx(15.46e-3, abs=0.02e-3)
     # the chord of each circle: x +- sqrt(2 rho (-g)) at its deepest sample
     k = a0 + int(np.argmin(loc.gap[a0:a1 + 1]))
     rho = ws.nominal_radius + loc.z_wheel[k]

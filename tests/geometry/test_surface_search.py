@@ -95,3 +95,25 @@ def test_rigid_slip_on_the_surfaces_keeps_the_spin(testbank):
         for k, c in (("fx_N", "fx"), ("fs_N", "fs")):
             assert abs(r[k] - q[c]) <= 0.01 * 0.3 * q["fn"], (case, k, r[k], q[c])
     assert rows[10]["fs_N"] == pytest.approx(13930, rel=0.02)
+
+
+def test_locus_weights_of_a_yawed_paraboloid():
+    """``weights = "locus"`` (CONTACT's contact locus): on a gap
+    g = -d + A (x - c y)^2 + B y^2 sampled on a grid whose nodes miss the lowest
+    points, each lateral line's lowest point is found by the parabola through its
+    three lowest nodes exactly (x = c y, g = -d + B y^2, to 1e-15 m), weighted with
+    (-g)^2.5 times the x step."""
+    import numpy as np
+    from railcontact.geometry.surface_search import _FineGrid, _locus_weights
+    d, A, B, c = 2e-5, 1.1, 40.0, 0.3
+    x = np.arange(-3e-3, 3e-3, 2e-4) + 0.37e-4
+    y = np.arange(-1e-3, 1e-3, 7.5e-5)
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    g = -d + A * (X - c * Y) ** 2 + B * Y ** 2
+    grid = _FineGrid(x, y, g, np.zeros_like(g), np.full_like(g, 0.1), (2e-4, 7.5e-5))
+    w, xs, ys, inc = _locus_weights(grid, g < 0)
+    gm = -d + B * ys ** 2
+    assert ys.size > 5 and np.all(gm < 0)
+    assert np.allclose(xs, c * ys, atol=1e-15, rtol=0)
+    assert np.allclose(w, (-gm) ** 2.5 * 2e-4, rtol=1e-9, atol=0)
+    assert np.all(inc == 0.1)
