@@ -1443,6 +1443,8 @@ def main():
     bench_fast_models()
     import compiled_case                # whole cases in one compiled pass
     (HERE / "compiled_case.md").write_text("\n".join(compiled_case.main()) + "\n")
+    import exact_case                   # issue 30, the exact case: benchmarks/exact_case.md
+    exact_case.main([])
     bench_strips_accuracy()
     bench_dynamics()
     bench_fmu()
