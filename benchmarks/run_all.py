@@ -1444,7 +1444,10 @@ def main():
     import compiled_case                # whole cases in one compiled pass
     (HERE / "compiled_case.md").write_text("\n".join(compiled_case.main()) + "\n")
     import exact_case                   # issue 30, the exact case: benchmarks/exact_case.md
-    exact_case.main([])
+    out("\n## The exact case's stages, before and after the extrapolated start "
+        "(benchmarks/exact_case.md)\n")
+    for s in exact_case.main([]):
+        out(s)
     bench_strips_accuracy()
     bench_dynamics()
     bench_fmu()
