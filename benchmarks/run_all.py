@@ -1451,6 +1451,11 @@ def main():
     bench_fast_models()
     import compiled_case                # whole cases in one compiled pass
     (HERE / "compiled_case.md").write_text("\n".join(compiled_case.main()) + "\n")
+    import exact_case                   # issue 30, the exact case: benchmarks/exact_case.md
+    out("\n## The exact case's stages, before and after the extrapolated start "
+        "(benchmarks/exact_case.md)\n")
+    for s in exact_case.main([]):
+        out(s)
     bench_strips_accuracy()
     bench_dynamics()
     bench_fmu()

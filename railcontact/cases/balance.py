@@ -51,25 +51,52 @@ def solve_at_position(case, nmodel, tmodel, kw):
 
 
 
-def _first_search(case, bodies, loads, sides, start):
+def _first_search(case, bodies, loads, sides, start, before=None):
     """The contact search the vertical balance starts from.
 
     With ``start`` (the contact of a neighbouring case's result, e.g. the previous
     case of a sweep): at its interpenetrations, scaled to this case's loads as
-    Hertz's approach (Q^(2/3)), from its roll.  Else (or where ``start`` has no
+    Hertz's approach (Q^(2/3)), from its roll; where that case itself started from
+    a neighbour, ``before`` (its :attr:`VerticalBalance.neighbour`), whose
+    interpenetrations differ from its own by less than the factor
+    ``EXTRAPOLATE_RATIO`` on every side, the linear extrapolation of the two (and
+    of the rolls, where they differ by less than ``EXTRAPOLATE_ROLL``): a sweep's
+    next step.  Else (or where ``start`` has no
     interpenetration on a side): the geometry layer's multi-Hertzian estimate, one
     load iteration (why these starts: docs/tuning.md, section "Equilibrium")."""
     if start is not None and start.interpenetration and start.loads:
-        d0 = {}
-        for s in sides:
-            d, q = start.interpenetration.get(s, 0.0), start.loads.get(s, math.nan)
-            d0[s] = d * (loads[s] / q) ** (2.0 / 3.0) if q > 0 else math.nan
-        if all(math.isfinite(v) and v > 0 for v in d0.values()):
-            return contact_search(case, interpenetration=d0, bodies=bodies,
-                                  roll_start=start.pose.roll)
+        d1 = _scaled(start.interpenetration, start.loads, loads, sides)
+        if d1 is not None:
+            roll = start.pose.roll
+            d0 = _scaled(before[0], before[2], loads, sides) if before is not None else None
+            extrapolated = d0 is not None and all(
+                abs(math.log(d1[s] / d0[s])) < math.log(EXTRAPOLATE_RATIO) for s in sides)
+            if extrapolated:
+                d1 = {s: 2.0 * d1[s] - d0[s] for s in sides}
+                if math.isfinite(before[1]) and abs(roll - before[1]) < EXTRAPOLATE_ROLL:
+                    roll = 2.0 * roll - before[1]
+            return contact_search(case, interpenetration=d1, bodies=bodies,
+                                  roll_start=roll)
     return contact_search(case, bodies=bodies, load_iterations=1)
 
 
+def _scaled(interpenetration, their_loads, loads, sides):
+    """A case's interpenetrations [m] scaled to ``loads`` as Hertz's approach
+    (Q^(2/3)); None where a side has none."""
+    d = {}
+    for s in sides:
+        v, q = interpenetration.get(s, 0.0), their_loads.get(s, math.nan)
+        d[s] = v * (loads[s] / q) ** (2.0 / 3.0) if q > 0 else math.nan
+    return d if all(math.isfinite(v) and v > 0 for v in d.values()) else None
+
+
+#: a sweep's case extrapolates its start linearly from its two previous cases
+#: where their interpenetrations differ by less than this factor on every side
+#: (else the previous case's alone; docs/tuning.md, section "Equilibrium")
+EXTRAPOLATE_RATIO = 2.0
+
+#: ... and the roll where the two rolls differ by less than this [rad]
+EXTRAPOLATE_ROLL = 1e-3
 
 #: the uncertainty of a stand-in lateral force: FASTSIM's F_y on the exact normal
 #: solution is taken to be within this fraction of the exact F_y (docs/tuning.md,
@@ -131,8 +158,11 @@ class WheelRailContact:
                 case, interpenetration=dict(compiled.interpenetration), bodies=self.bodies,
                 roll_start=compiled.roll)
         else:
-            self.first = _first_search(case, self.bodies, self.loads, self.sides,
-                                       start.contact if start is not None else None)
+            self.first = _first_search(
+                case, self.bodies, self.loads, self.sides,
+                start.contact if start is not None else None,
+                start.balance.neighbour if start is not None and start.balance is not None
+                else None)
         self.coupled = coupled_models(case, nmodel, tmodel)
         self.lazy = (tmodel is not None and "lazy" in tmodel.capabilities
                      and not self.coupled)
@@ -470,6 +500,9 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
                                     max_iter, jacobian=jac)
         balance.standin = evaluate.standin
         results, contact = ev.results, ev.contact
+    if start is not None and start.contact is not None and start.contact.interpenetration:
+        balance.neighbour = (dict(start.contact.interpenetration), start.contact.pose.roll,
+                             dict(start.contact.loads or {}))
     side = case.wheel_rail.side
     wheel_rail_validity(results, evaluate.bodies)      # both wheels: either may derail
     if side != "both":

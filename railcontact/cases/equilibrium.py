@@ -46,7 +46,8 @@ far off the load that may put each side (``uncertainty``, relative to the load).
 The rule: steps may be taken from provisional evaluations, the load is met only by
 a final one.  The next evaluation is final where the last step's contraction,
 applied once more, predicts each side within the tolerance or its uncertainty
-(r_k^2 / |r_(k-1)| below it); a provisional evaluation within them, or whose
+(r_k^2 / |r_(k-1)| below it, or r_k itself: a side already within it whose
+residual grew by the other side's step); a provisional evaluation within them, or whose
 brackets show a jump, is evaluated again as final at the same interpenetrations.
 From then on every evaluation is final, with the Jacobian learnt and the history
 started afresh (a provisional point's residual is no bound of a final one's).
@@ -121,6 +122,10 @@ class VerticalBalance:
     jacobian : ndarray or None
         The last Broyden Jacobian d(ln F)/d(ln d) (sides in the order of
         ``residual``), from which a neighbouring case may start.
+    neighbour : tuple or None
+        Where the balance started from a neighbouring case: that case's
+        interpenetrations [m] (dict), roll [rad] and loads [N] (dict), from which
+        the next case of a sweep extrapolates its start.
     """
 
     converged: bool
@@ -129,6 +134,7 @@ class VerticalBalance:
     residual: dict
     standin: list | None = field(default=None, repr=False)
     jacobian: np.ndarray | None = field(default=None, repr=False)
+    neighbour: tuple | None = field(default=None, repr=False)
 
     @property
     def status(self) -> SolverStatus:
@@ -311,8 +317,10 @@ def _broyden(track, v, J):
                 cand[s] = 0.5 * (lo[0][s] + hi[0][s])
         # provisional steps end where the last step's contraction, applied once
         # more, predicts each side within its limit: the next evaluation is final
+        # (a side within its limit counts as predicted within it: its residual may
+        # have grown from a smaller one, by the other side's step)
         switch = not track.final and prev_r is not None and np.all(
-            r * r <= track.limits(ev) * np.abs(prev_r))
+            r * r <= track.limits(ev) * np.maximum(np.abs(prev_r), np.abs(r)))
         track.final = track.final or switch
         ev, r_new, cand = _trial(track, v, cand)
         if switch:
