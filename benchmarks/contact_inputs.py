@@ -158,9 +158,11 @@ def parse_ref_out(path) -> dict:
                 for k, g in zip(("xcp_tr_mm", "ycp_tr_mm", "zcp_tr_mm", "delta_tr_rad",
                                  "ycp_r_mm", "zcp_r_mm"), m.groups()):
                     p[k] = float(g)
-            m = re.search(r"FSTAT\s+FKIN\s*\n\s*(" + _NUM + ")", pb)
+            # (friction varying across a conformal patch: a table "IY FSTAT FKIN" whose
+            # first column is the row number)
+            m = re.search(r"(IY\s+)?FSTAT\s+FKIN\s*\n\s*(?(1)\d+\s+)(" + _NUM + ")", pb)
             if m:
-                p["mu"] = float(m.group(1))
+                p["mu"] = float(m.group(2))
             m = re.search(r"CKSI\s+CETA\s+CPHI\s*\n\s*" + r"\s+".join([f"({_NUM})"] * 6), pb)
             if m:
                 p["cksi"], p["ceta"], p["cphi_per_mm"] = (float(g) for g in m.groups()[3:])
