@@ -12,6 +12,7 @@ rules).
 """
 
 import importlib.util
+import sys
 from pathlib import Path
 
 import pytest
@@ -26,6 +27,7 @@ def _variants_module():
     spec = importlib.util.spec_from_file_location(
         "contact_variants", ROOT / "benchmarks" / "contact_variants.py")
     mod = importlib.util.module_from_spec(spec)
+    sys.modules[spec.name] = mod              # (its dataclasses look their module up)
     spec.loader.exec_module(mod)
     return mod
 
