@@ -158,9 +158,16 @@ def parse_ref_out(path) -> dict:
                 for k, g in zip(("xcp_tr_mm", "ycp_tr_mm", "zcp_tr_mm", "delta_tr_rad",
                                  "ycp_r_mm", "zcp_r_mm"), m.groups()):
                     p[k] = float(g)
-            m = re.search(r"FSTAT\s+FKIN\s*\n\s*(" + _NUM + ")", pb)
+            # (friction varying across a conformal patch: a table "IY FSTAT FKIN" whose
+            # first column is the row number; mu is then the largest printed FSTAT)
+            m = re.search(r"IY\s+FSTAT\s+FKIN\s*\n((?:.*\S.*\n)+)", pb)
             if m:
-                p["mu"] = float(m.group(1))
+                rows = [ln.split() for ln in m.group(1).splitlines()]
+                p["mu"] = max(float(r[1]) for r in rows if len(r) >= 3 and r[0].isdigit())
+            else:
+                m = re.search(r"FSTAT\s+FKIN\s*\n\s*(" + _NUM + ")", pb)
+                if m:
+                    p["mu"] = float(m.group(1))
             m = re.search(r"CKSI\s+CETA\s+CPHI\s*\n\s*" + r"\s+".join([f"({_NUM})"] * 6), pb)
             if m:
                 p["cksi"], p["ceta"], p["cphi_per_mm"] = (float(g) for g in m.groups()[3:])

@@ -1470,6 +1470,8 @@ def main():
     contact_inputs.main()
     import contact_testbank        # every testbank input: benchmarks/contact_testbank.md
     contact_testbank.main([])
+    import contact_variants        # variants run by CONTACT: benchmarks/contact_variants.md
+    contact_variants.main([])
     import frictional_power        # issue 35: benchmarks/frictional_power.md
     frictional_power.main()
     import seed001_tables          # seed 001's Tables 1-2: benchmarks/seed001_tables.md
