@@ -588,67 +588,101 @@ def _depth_stresses(S, tables, L, shape, out):
                 out[c, i, j] = r[c, i, j]
 
 
+def _own_references() -> int:
+    """What ``sys.getrefcount`` reports inside :meth:`_Cache._recycle` for an array
+    that nobody else holds (the interpreter's own count, measured once: it differs
+    between Python versions)."""
+    seen = []
+
+    def probe(S):
+        seen.append(sys.getrefcount(S))
+
+    def caller():
+        S = np.empty(1)
+        probe(S)
+
+    caller()
+    return seen[0]
+
+
 class _Cache:
     """Kernel spectra by (grid, depth, Poisson's ratio), least recently used first
     out, within a memory budget (a fine grid's spectra are large: 19 MB per depth on
     400 x 400 elements).  The arrays of forgotten spectra are kept for the next
     spectra of the same shape (up to a quarter of the budget): filling fresh memory
-    costs more than building the spectra of a 40 x 40 grid (measured, docs/subsurface.md)."""
+    costs more than building the spectra of a 40 x 40 grid (measured, docs/subsurface.md).
+    Safe for threads: one lock around every change, and an array still held by a
+    caller is never handed out again."""
 
     def __init__(self, budget_bytes: int = 256 * 2 ** 20):
+        import threading
         from collections import OrderedDict
         self.budget = budget_bytes
         self.items = OrderedDict()
         self.size = 0
         self.free = {}
         self.free_size = 0
+        self.lock = threading.Lock()
+        self.own = _own_references()
 
     def lookup(self, key):
         """The spectra of key = (mx, my, dx, dy, depth, poisson), or None."""
-        S = self.items.get(key)
-        if S is not None:
-            self.items.move_to_end(key)
-        return S
+        with self.lock:
+            S = self.items.get(key)
+            if S is not None:
+                self.items.move_to_end(key)
+            return S
 
     def array(self, shape) -> np.ndarray:
         """An array of this shape for new spectra: a forgotten one, or a new one."""
-        pool = self.free.get(shape)
-        if pool:
-            S = pool.pop()
-            self.free_size -= S.nbytes
-            return S
+        with self.lock:
+            pool = self.free.get(shape)
+            if pool:
+                S = pool.pop()
+                self.free_size -= S.nbytes
+                return S
         return np.empty(shape)
 
     def _recycle(self, S) -> None:
-        """Keep a forgotten array for reuse, unless someone else still holds it (a
-        thread between its lookup and its use: it is never overwritten then); the
-        references here are the caller's, the argument and getrefcount's."""
-        if sys.getrefcount(S) > 3:
+        """Keep a forgotten array for reuse (the lock held), unless someone else still
+        holds it (a thread between its lookup and its use: it is never overwritten
+        then): more references than an array held by its one caller has."""
+        if sys.getrefcount(S) > self.own:
             return
         if self.free_size + S.nbytes <= self.budget // 4:
             self.free.setdefault(S.shape, []).append(S)
             self.free_size += S.nbytes
 
-    def put(self, key, S, keep: int = 1) -> None:
-        """Add the spectra of a key; forget the least recently used ones beyond the
-        budget (the ``keep`` most recent kept)."""
-        self.items[key] = S
-        self.size += S.nbytes
-        while self.size > self.budget and len(self.items) > keep:
-            _, old = self.items.popitem(last=False)
-            self.size -= old.nbytes
-            self._recycle(old)
+    def put(self, key, S) -> np.ndarray:
+        """Add the spectra of a key and return the spectra kept for it (another
+        thread's, where it put the same key first); forget the least recently used
+        ones beyond the budget (the newest is always kept)."""
+        with self.lock:
+            held = self.items.get(key)
+            if held is not None:
+                self.items.move_to_end(key)
+                return held
+            self.items[key] = S
+            self.size += S.nbytes
+            while self.size > self.budget and len(self.items) > 1:
+                _, old = self.items.popitem(last=False)
+                self.size -= old.nbytes
+                self._recycle(old)
+                del old
+            return S
 
     def clear(self, release: bool = False):
         """Forget the spectra (their arrays kept for reuse unless ``release``)."""
-        while self.items:
-            _, S = self.items.popitem()
-            if not release:
-                self._recycle(S)
-        self.size = 0
-        if release:
-            self.free.clear()
-            self.free_size = 0
+        with self.lock:
+            while self.items:
+                _, S = self.items.popitem()
+                if not release:
+                    self._recycle(S)
+                del S
+            self.size = 0
+            if release:
+                self.free.clear()
+                self.free_size = 0
 
 
 _CACHE = _Cache()
@@ -683,7 +717,7 @@ def convolve_depths(loads, dx, dy, depths, poisson) -> np.ndarray:
             if builder is None:
                 builder = _Builder(mx, my, dx, dy, poisson)
             S = builder.spectra(float(z))
-            _CACHE.put(key, S, keep=k + 1)
+            S = _CACHE.put(key, S)
         _depth_stresses(S, tables, L, (N1, N2), out[k])
     return out.transpose(1, 2, 3, 0)
 

@@ -206,3 +206,53 @@ def test_duplicate_kernels():
     K = grid_kernels(6, 5, 0.2, 0.3, 0.25, NU)
     for (ld, c), (ld0, c0) in DUPLICATES:
         np.testing.assert_allclose(K[ld, c], K[ld0, c0], atol=1e-14)
+
+
+@pytest.fixture
+def small_cache(monkeypatch):
+    """The spectra cache with a budget of two arrays of a 3 x 2 grid, emptied after."""
+    from railcontact.subsurface import kernels
+    from railcontact.subsurface.kernels import padded_shape
+    n1, n2 = padded_shape(3, 2)
+    one = 15 * (n1 // 2 + 1) * (n2 // 2 + 1) * 8
+    clear_cache(release=True)
+    monkeypatch.setattr(kernels._CACHE, "budget", 2 * one)
+    yield kernels._CACHE, one
+    clear_cache(release=True)
+
+
+def test_spectra_cache_shared_by_threads(small_cache):
+    """Threads evaluating four grids through a cache that holds two: no error, every
+    result equal to the one computed alone, and the cache's byte count true."""
+    import threading
+    cache, _ = small_cache
+    loads = np.random.default_rng(1).normal(size=(3, 3, 2))
+    dxs = [0.1 + 0.01 * i for i in range(4)]
+    alone = {dx: convolve_depths(loads, dx, 0.2, [0.05], NU).copy() for dx in dxs}
+    failures = []
+
+    def work(seed):
+        r = np.random.default_rng(seed)
+        for _ in range(400):
+            dx = dxs[r.integers(4)]
+            try:
+                if not np.array_equal(convolve_depths(loads, dx, 0.2, [0.05], NU), alone[dx]):
+                    failures.append("wrong stresses")
+            except Exception as err:        # noqa: BLE001 - any error is a failure here
+                failures.append(repr(err))
+    threads = [threading.Thread(target=work, args=(s,)) for s in range(4)]
+    for t in threads:
+        t.start()
+    for t in threads:
+        t.join()
+    assert failures == []
+    assert cache.size == sum(S.nbytes for S in cache.items.values())
+
+
+def test_spectra_cache_keeps_its_budget(small_cache):
+    """Many depths in one call leave at most the budget in the cache."""
+    cache, one = small_cache
+    loads = np.random.default_rng(2).normal(size=(3, 3, 2))
+    convolve_depths(loads, 0.1, 0.2, np.linspace(0.01, 0.2, 21), NU)
+    assert len(cache.items) == 2
+    assert cache.size == 2 * one <= cache.budget
