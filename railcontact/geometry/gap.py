@@ -374,43 +374,61 @@ def _rail_distances(ys, frame, rail):
 class SampledWheelGap:
     """A patch's undeformed distance with the wheel surface taken as CONTACT's planar
     contact takes it: linear across the patch between wheel-profile samples every
-    ``ds`` [m] of the profile's arc length, counted from the wheel point at the
-    contact reference's lateral wheel coordinate ``y_wheel`` [m]; the rail and the
-    rolling direction exact.
+    ``ds`` [m] along the profile, counted from the wheel point at lateral wheel
+    coordinate ``y_wheel`` [m]; the rail and the rolling direction exact.
 
-    CONTACT (module 1, planar contact; user guide, "Potential contact area and
-    discretisation", and its undeformed-distance routine) resamples the wheel
-    profile every DS of its arc length from that point, revolves the samples into
-    slices every DX, and interpolates the wheel's normal coordinate linearly onto
-    the grid points.  Where the wheel's profile is concave (the flange root of a
-    worn wheel, lateral radius R of 10-20 mm) a chord lies on the rail side of the
-    arc by up to DS^2 / (8 R): about 1 um at 0.4 mm elements, some per cent of the
-    force of a gauge-corner patch; on the tread the chords and the arc coincide.
-    The slices' chords in x (DX^2 / (8 r), r the wheel radius) are below 0.1 um and
-    left out: each sample lies on its wheel circle at the point's x.
+    CONTACT's rule (its source ``m_wr_undefdist.f90``, ``wr_ud_planar`` and
+    ``trim_wheel_profile``; ``m_interp_sub.f90``, ``interp_wgt_surf2unif``): the
+    wheel profile's parametric spline y(s), z(s), s the summed chord length of its
+    points (:attr:`railcontact.profiles.profile.Profile.chord_spline`), is sampled
+    at s_k = s_0 + k DS, s_0 where the spline reaches the lateral wheel coordinate
+    of the potential contact grid's origin (steady rolling: the contact reference
+    point, on the rail surface; DS the grid's lateral element size); the samples
+    are revolved into slices DX apart, the mesh turned into the patch's tangent
+    plane, and the wheel's normal coordinate interpolated bilinearly onto the grid
+    points (x, s_p); the rail's normal coordinate is exact on its spline.  Where
+    the wheel's profile is curved across the plane (the flange root of a worn
+    wheel, lateral radius R of 10-20 mm) a chord lies off the arc by up to
+    DS^2 / (8 R): about 1 um at 0.4 mm elements, some per cent of the force of a
+    gauge-corner patch; on the tread the chords and the arc coincide.  The slices'
+    chords in x (DX^2 / (8 r), r the wheel radius) are below 0.1 um and left out:
+    each sample lies on its wheel circle at the point's x.  The samples lie on
+    railcontact's wheel surface (their y from the chord-length spline; the two
+    splines differ by nanometres).
 
     ``evaluator``: the patch's exact :class:`GapEvaluator`, whose attributes this
-    object shares; called as it is, on patch coordinates (x, y) [m].  Points beyond
-    the samples, or whose neighbouring samples miss a surface, keep the exact gap.
+    object shares; called as it is, on patch coordinates (x, y) [m].  ``y_wheel``:
+    the reference point's lateral wheel coordinate [m]; ``y_origin``: that of the
+    grid's origin where the samples are counted from, if not the reference point
+    (a transient case's grid, :func:`supergrid_origin`).  Points beyond the
+    samples, or whose neighbouring samples miss a surface, keep the exact gap.
     """
 
-    def __init__(self, evaluator: GapEvaluator, y_wheel: float, ds: float):
+    def __init__(self, evaluator: GapEvaluator, y_wheel: float, ds: float,
+                 y_origin: float | None = None):
         if not (math.isfinite(ds) and ds > 0):
             raise ValueError(f"wheel sample spacing {ds!r} m: expected a length > 0")
         self.evaluator, self.ds = evaluator, float(ds)
-        ys, s = evaluator.wheel._arc_table
-        self._ytab, self._stab = ys, s
-        self._s0 = float(np.interp(y_wheel, ys, s))
+        self._curve = evaluator.wheel.chord_spline
+        self._s_ref = float(self._curve.s_at_y(float(y_wheel)))
+        self._s0 = (self._s_ref if y_origin is None
+                    else float(self._curve.s_at_y(float(y_origin))))
 
     def __getattr__(self, name):
         return getattr(self.evaluator, name)
 
     def _samples(self, span: float):
-        """Wheel-profile samples (y_w, radius) covering +-``span`` [m] of arc length."""
-        kmax = int(math.ceil(span / self.ds)) + 4
-        s = self._s0 + np.arange(-kmax, kmax + 1) * self.ds
-        s = s[(s >= self._stab[0]) & (s <= self._stab[-1])]
-        yw = np.interp(s, self._stab, self._ytab)
+        """Wheel-profile samples (y_w, radius) covering +-``span`` [m] of the patch
+        about the reference: every ``ds`` of chord length from s_0, those whose
+        lateral position lies within the span (with a margin) of the reference's."""
+        c = self._curve
+        s_ref = self._s_ref
+        lo, hi = float(c.s[0]), float(c.s[-1])
+        k0 = math.floor((max(s_ref - 2.0 * span, lo) - self._s0) / self.ds) - 4
+        k1 = math.ceil((min(s_ref + 2.0 * span, hi) - self._s0) / self.ds) + 4
+        s = self._s0 + np.arange(k0, k1 + 1) * self.ds
+        s = s[(s >= lo) & (s <= hi)]
+        yw = c.point(s)[0]
         return yw, self.evaluator.r0 + self.evaluator.wheel.z_at(yw)
 
     def _nodes(self, xs, yw, rho):

@@ -28,7 +28,7 @@ from numba import njit
 from scipy import interpolate
 
 from ..core.errors import ProfileError
-from .processing import Smoothing, find_kinks, smooth_points, visible_surface
+from .processing import ChordSpline, Smoothing, find_kinks, smooth_points, visible_surface
 
 log = logging.getLogger(__name__)
 
@@ -267,6 +267,13 @@ class Profile:
         yf = np.linspace(self.y[0], self.y[-1], 20 * self.y.size)
         s = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(yf), np.diff(self.z_at(yf))))))
         return yf, s
+
+    @cached_property
+    def chord_spline(self) -> ChordSpline:
+        """CONTACT's parametric spline of the points, y(s) and z(s) along their summed
+        chord length (:class:`~railcontact.profiles.processing.ChordSpline`), built
+        once."""
+        return ChordSpline(self.y, self.z)
 
     def arc_length(self, y):
         """Curvilinear coordinate along the profile from its first point [m]."""
