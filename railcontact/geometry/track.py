@@ -126,7 +126,7 @@ def contact_gauge_point(rail: Profile, gauge_height: float) -> float:
     across the track (CONTACT's inputs take this rule:
     :mod:`railcontact.contact_inp.mapping`)."""
     cs = rail.chord_spline
-    s, y, z = cs.s, np.asarray(rail.y, float), np.asarray(rail.z, float)
+    s, y, z = cs.s, cs.y, cs.z
     # the spline's top: the lowest z, refined in the interval around the lowest point
     i = int(np.argmin(z))
     lo, hi = s[max(i - 1, 0)], s[min(i + 1, s.size - 1)]

@@ -518,11 +518,12 @@ class ChordSpline:
     #: sub-samples per interval of the table that inverts y(s)
     TABLE = 16
 
-    def __init__(self, y, z):
+    def __init__(self, y, z, kind: str = "rail"):
         y, z = np.asarray(y, dtype=float), np.asarray(z, dtype=float)
         if y.size < 4 or y.shape != z.shape:
             raise ProfileError(f"chord-length spline of {y.size} points: expected at least 4 "
                                "points with y and z alike")
+        self.y, self.z, self.kind = y, z, kind
         s = arc_length(y, z)
         if np.all(np.diff(y) > 0) and y[0] <= 0.0 <= y[-1]:
             s0 = float(np.interp(0.0, y, s))
@@ -534,11 +535,11 @@ class ChordSpline:
                            interpolate.CubicSpline(self.s[a:b + 1], z[a:b + 1], bc_type="natural"))
                           for a, b in zip(kinks[:-1], kinks[1:])]
         self._bounds = self.s[kinks]
-        # a dense table of y(s) for the inverse (monotone where y increases along s)
+        # a dense table of the curve for the inverse s(y)
         t = (self.s[:-1, None] + np.diff(self.s)[:, None]
              * (np.arange(self.TABLE)[None, :] / self.TABLE)).ravel()
         self._stab = np.concatenate((t, self.s[-1:]))
-        self._ytab = self.point(self._stab)[0]
+        self._ytab, self._ztab = self.point(self._stab)
 
     def _section(self, s):
         return np.clip(np.searchsorted(self._bounds, s, side="right") - 1, 0,
@@ -557,16 +558,30 @@ class ChordSpline:
         return y, z
 
     def s_at_y(self, y):
-        """Chord length s [m] where the spline reaches lateral position ``y`` [m]
-        (y increasing along s); ``y`` beyond the profile: its first or last point's s
-        (as CONTACT's ``spline_get_s_at_y`` returns)."""
+        """Chord length s [m] where the curve reaches lateral position ``y`` [m], on
+        the part of it the other body sees where it folds back (a rail seen from
+        above: the smallest z; a wheel from the rail: the largest); ``y`` beyond the
+        profile: its first or last point's s (as CONTACT's ``spline_get_s_at_y``
+        returns)."""
         y = np.asarray(y, dtype=float)
-        ytab = np.maximum.accumulate(self._ytab)
-        s = np.interp(y, ytab, self._stab)
-        inside = (y > ytab[0]) & (y < ytab[-1])
-        for _ in range(3):          # Newton on y(s) = y from the table's estimate
-            ys, dys = self.point(s)[0], self.point(s, 1)[0]
-            step = np.where(inside & (np.abs(dys) > 1e-6), (ys - y) / np.where(
-                np.abs(dys) > 1e-6, dys, 1.0), 0.0)
-            s = np.clip(s - step, self._stab[0], self._stab[-1])
-        return s
+        out = np.array([self._s_at(float(v)) for v in y.ravel()])
+        return out.reshape(y.shape) if y.ndim else float(out[0])
+
+    def _s_at(self, y: float) -> float:
+        yt, st = self._ytab, self._stab
+        d = yt - y
+        cross = np.flatnonzero((d[:-1] <= 0) != (d[1:] <= 0))
+        if cross.size == 0:                 # beyond the profile: the nearer end
+            return float(st[0] if abs(y - yt[0]) <= abs(y - yt[-1]) else st[-1])
+        t = d[cross] / (d[cross] - d[cross + 1])
+        s = st[cross] + t * (st[cross + 1] - st[cross])
+        z = self._ztab[cross] + t * (self._ztab[cross + 1] - self._ztab[cross])
+        k = int(np.argmin(z) if self.kind == "rail" else np.argmax(z))
+        lo, hi = float(st[cross[k]]), float(st[cross[k] + 1])
+        sk = float(s[k])
+        for _ in range(3):          # Newton on y(s) = y within the table interval
+            ys, dys = self.point(sk)[0], self.point(sk, 1)[0]
+            if not abs(dys) > 1e-6:
+                break
+            sk = min(max(sk - (float(ys) - y) / float(dys), lo), hi)
+        return sk

@@ -99,6 +99,9 @@ class Profile:
     name: str = "profile"
     smoothing: float = 0.0
     _spline: object = field(init=False, repr=False, default=None)
+    #: the points along the surface before the visible surface is taken (where they
+    #: fold back in y: CONTACT keeps them in its spline and its chord lengths)
+    _curve: tuple = field(init=False, repr=False, default=None)
 
     def __post_init__(self) -> None:
         if self.kind not in ("wheel", "rail"):
@@ -118,6 +121,7 @@ class Profile:
             y, z = y[::-1], z[::-1]
         keep = np.concatenate(([True], np.hypot(np.diff(y), np.diff(z)) > 1e-9))
         y, z = y[keep], z[keep]
+        self._curve = (y, z)
         # points that fold back in y (a measured gauge face or flange back): the
         # surface the other body sees (processing.visible_surface)
         y, z = visible_surface(y, z, self.kind, self.name)
@@ -272,8 +276,8 @@ class Profile:
     def chord_spline(self) -> ChordSpline:
         """CONTACT's parametric spline of the points, y(s) and z(s) along their summed
         chord length (:class:`~railcontact.profiles.processing.ChordSpline`), built
-        once."""
-        return ChordSpline(self.y, self.z)
+        once: through the points as given (a part that folds back in y included)."""
+        return ChordSpline(*self._curve, kind=self.kind)
 
     def arc_length(self, y):
         """Curvilinear coordinate along the profile from its first point [m]."""
