@@ -431,9 +431,10 @@ class SampledWheelGap:
         yw = c.point(s)[0]
         return yw, self.evaluator.r0 + self.evaluator.wheel.z_at(yw)
 
-    def _nodes(self, xs, yw, rho):
-        """Patch y [m] of the samples (columns) on their wheel circles at the track x
-        of the patch coordinates ``xs`` (rows), sorted along each row."""
+    def _node_coordinates(self, xs, yw, rho):
+        """Patch y [m] and normal coordinate w [m] (the distance along n from the
+        tangent plane) of the samples (columns) on their wheel circles at the track
+        x of the patch coordinates ``xs`` (rows), sorted by y along each row."""
         ev = self.evaluator
         R, O = ev.R, ev.O
         eta = ev.e + yw
@@ -444,23 +445,30 @@ class SampledWheelGap:
             px = O[0] + eta * R[0, 1] + rho * (st * R[0, 0] + ct * R[0, 2])
             st = np.clip(st + (X - px) / (rho * R[0, 0]), -0.5, 0.5)
         ct = np.sqrt(1.0 - st * st)
-        py = O[1] + eta * R[1, 1] + rho * (st * R[1, 0] + ct * R[1, 2])
-        pz = O[2] + eta * R[2, 1] + rho * (st * R[2, 0] + ct * R[2, 2])
-        return np.sort(ev.sign * ((py - ev.C[1]) * ev.t[1] + (pz - ev.C[2]) * ev.t[2]), axis=1)
+        dy = O[1] + eta * R[1, 1] + rho * (st * R[1, 0] + ct * R[1, 2]) - ev.C[1]
+        dz = O[2] + eta * R[2, 1] + rho * (st * R[2, 0] + ct * R[2, 2]) - ev.C[2]
+        yp = ev.sign * (dy * ev.t[1] + dz * ev.t[2])
+        w = dy * ev.n[1] + dz * ev.n[2]
+        order = np.argsort(yp, axis=1)
+        return np.take_along_axis(yp, order, 1), np.take_along_axis(w, order, 1)
+
+    def _nodes(self, xs, yw, rho):
+        """Patch y [m] of the samples (columns) on their wheel circles at the track x
+        of the patch coordinates ``xs`` (rows), sorted along each row."""
+        return self._node_coordinates(xs, yw, rho)[0]
 
     def __call__(self, x, y):
         ev = self.evaluator
         X, Y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         shape = X.shape
-        X, Y = X.ravel(), Y.ravel()
-        h = ev.points(np.ascontiguousarray(X), np.ascontiguousarray(Y))
+        X, Y = np.ascontiguousarray(X.ravel()), np.ascontiguousarray(Y.ravel())
         if X.size == 0:
-            return h.reshape(shape)
+            return np.empty(shape)
         xs, row = np.unique(X, return_inverse=True)
         yw, rho = self._samples(2.0 * float(np.max(np.abs(Y))))
         if yw.size < 2:
-            return h.reshape(shape)
-        nodes = self._nodes(xs, yw, rho)
+            return ev.points(X, Y).reshape(shape)
+        nodes, w = self._node_coordinates(xs, yw, rho)
         nk = yw.size
         # one sorted array of every row's nodes, each row lifted above the last
         lift = 10.0 + 2.0 * float(np.max(np.abs(nodes)))
@@ -469,18 +477,18 @@ class SampledWheelGap:
         ok = (j >= 0) & (j <= nk - 2)
         jl = np.clip(j, 0, nk - 2)
         ya, yb = nodes[row, jl], nodes[row, jl + 1]
-        Xc = np.ascontiguousarray(X)
-        ha = ev.points(Xc, np.ascontiguousarray(ya))
-        hb = ev.points(Xc, np.ascontiguousarray(yb))
-        ok &= (ha < 0.5) & (hb < 0.5) & (h < 0.5)
-        rail = Spline(ev.rail._breaks, ev.rail._coefs)
-        tr = _rail_distances(np.ascontiguousarray(ev.sign * np.concatenate((Y, ya, yb))),
-                             ev.patch_frame, rail)
-        n = Y.size
-        tr0, tra, trb = tr[:n], tr[n:2 * n], tr[2 * n:]
         lam = (Y - ya) / np.where(yb > ya, yb - ya, 1.0)
-        sampled = tr0 - ((1.0 - lam) * (tra - ha) + lam * (trb - hb))
-        return np.where(ok & np.isfinite(sampled), sampled, h).reshape(shape)
+        # the wheel's normal coordinate linear between the samples (CONTACT's
+        # bilinear interpolation on the slice through the point), the rail exact
+        tr = _rail_distances(np.ascontiguousarray(ev.sign * Y), ev.patch_frame,
+                             Spline(ev.rail._breaks, ev.rail._coefs))
+        h = tr - ((1.0 - lam) * w[row, jl] + lam * w[row, jl + 1])
+        ok &= np.isfinite(h) & (h >= DEEPEST_GAP) & (h < 0.5)
+        if not np.all(ok):
+            # beyond the samples or off the rail: the exact gap
+            bad = ~ok
+            h[bad] = ev.points(np.ascontiguousarray(X[bad]), np.ascontiguousarray(Y[bad]))
+        return h.reshape(shape)
 
 
 def sampled_wheel_geometry(geometry, ds: float):
