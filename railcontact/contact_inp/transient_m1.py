@@ -32,9 +32,11 @@ and P = 2 start from zero tangential tractions; P = 3 repeats the last case's
 step from its previous instance.
 
 The previous instance is kept per patch as tractions on its element centres,
-each placed in the materials along the track (x_tr, S_WS included) and along
-the rail profile (the arc length of the rail point across the track from it;
-CONTACT's transient grids are based on the rail profile's arc length).  A new
+each placed in the materials along the track (x_tr, S_WS included) and across
+the rail as CONTACT's super-grid places it: the rail's s (the chord length along
+its points) at the patch's reference point plus the element's distance from it
+in the tangent plane, so that the element of a grid laid on the super-grid
+(:class:`SupergridNormal`) keeps its place from case to case.  A new
 patch takes its predecessors' tractions (:func:`carried_tractions`): a previous
 patch with loaded elements on its grid within its own band (halfway to the other
 patches of its wheel); where the band holds at least half of that patch's
@@ -275,10 +277,12 @@ class _Previous:
 class _Frames:
     """Where a patch's grid lies in the materials for the case's rails and wheelset
     position S_WS [m]: ``frames(geom)`` gives the track position of its reference
-    point (S_WS included) and the function y -> m, the arc length along the rail
-    profile [m] of the rail point below the patch's lateral coordinate y (the
-    plane's point taken to the profile across the track), signed to increase with
-    y (CONTACT's lateral grid follows the rail profile's arc length)."""
+    point (S_WS included) and the function y -> m, the place across the rail [m]
+    of the patch's lateral coordinate y: on a planar patch the rail's s (chord
+    length, :attr:`railcontact.profiles.profile.Profile.chord_spline`) at the
+    reference point plus y (CONTACT's super-grid: s_r,ref + s_p), on a conformal
+    patch the profile's arc length at the reference point plus y; signed to
+    increase with y."""
 
     def __init__(self, case, s_ws: float):
         self.track, self.s_ws = build_wheelset_track(case)[1], s_ws
@@ -297,8 +301,12 @@ class _Frames:
             def m_of(y):
                 return m_ref + np.asarray(y, dtype=float)
         else:
+            # CONTACT's super-grid: a point's place across the rail is the rail's s
+            # (chord length) at the reference point plus its distance in the plane
+            m_ref = sgn * float(rail.chord_spline.s_at_y(y_ref))
+
             def m_of(y):
-                return sgn * rail.arc_length(y_ref + sgn * np.asarray(y, dtype=float) * c)
+                return m_ref + np.asarray(y, dtype=float)
 
         return float(geom.position[0]) + self.s_ws, m_of
 
