@@ -35,9 +35,10 @@ Measured (2026-11-27): the exact h misses CONTACT's F_n by -0.7 to -1.3 % from
 2.8 kN on (-2.3 % at 330 N) on the same elements in contact; with CONTACT's wheel
 sampling within 0.06 % from 6 kN on (-0.13 % at 2.8 kN, -0.47 % at 330 N), the
 elements in contact CONTACT's, p_max within 0.15 %; the grid offset spreads case
-18's F_n over -0.05 to +3.8 %.  (.inp files keep the exact h by default: on the
-Manchester sweep's S1002 flange flank the sampling moves z_ws 0.7 um off CONTACT's,
-docs/contact_users.md.)
+18's F_n over -0.05 to +3.8 %.  (.inp files take CONTACT's sampling since
+2026-11-27, with CONTACT's gauge point and, in transient cases, its super-grid:
+docs/contact_users.md, "The undeformed distance: CONTACT's planar rule"; this
+script compares the two undeformed distances on railcontact's patches.)
 """
 
 from __future__ import annotations

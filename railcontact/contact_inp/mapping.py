@@ -17,7 +17,9 @@ from pathlib import Path
 
 import numpy as np
 
+from ..cases.bodies import load_profiles, wheel_rail_setup
 from ..cases.case import case_from_dict
+from ..geometry.track import contact_gauge_point
 from ..geometry.turning import default_turn_distance
 from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
 from ..core.materials import Material
@@ -126,11 +128,19 @@ def _friction(case) -> dict:
     return {"coefficient": _need(case, "FKIN")}
 
 
-def _normal_options(normal: str) -> dict:
+def _normal_options(normal: str, wheel_rail: bool = False) -> dict:
     """``solver.normal_options`` of CONTACT's conventions, as a table to merge into
     ``solver`` (empty where there are none): KPEC (B = 5) on the grid's elements
-    (``rule="contact"``, :func:`railcontact.normal.semi_hertzian.contact_kpec`)."""
-    return {"normal_options": {"rule": "contact"}} if normal == "kpec" else {}
+    (``rule="contact"``, :func:`railcontact.normal.semi_hertzian.contact_kpec`); the
+    exact model of a wheel-rail case (module 1) with CONTACT's planar undeformed
+    distance, the wheel linear between profile samples one DS apart
+    (``wheel_sampling="contact"``, :class:`railcontact.geometry.gap.SampledWheelGap`;
+    CONTACT's ``m_wr_undefdist.f90``)."""
+    if normal == "kpec":
+        return {"normal_options": {"rule": "contact"}}
+    if normal == "exact" and wheel_rail:
+        return {"normal_options": {"wheel_sampling": "contact"}}
+    return {}
 
 
 def _tangential_model(case) -> tuple:
@@ -366,6 +376,15 @@ def _rail_frame(raw: dict, base_dir: Path) -> dict:
     return {"cant": 0.0, "origin_shift": (0.0, 0.0), "z_top": z0}
 
 
+def _contact_gauge_point(raw: dict, base_dir: Path, side: str) -> float:
+    """The gauge point [m] of the case's rail, as the track holds it, by CONTACT's
+    rule (:func:`railcontact.geometry.track.contact_gauge_point`)."""
+    case = case_from_dict(raw, base_dir)
+    rails = load_profiles(wheel_rail_setup(case).rail, "rail", case.base_dir)
+    rail = rails[1] if side == "left" and rails[1] is not None else rails[0]
+    return contact_gauge_point(rail, float(raw["track"]["gauge_height"]))
+
+
 def _map_module1(case: InpCase, dirs) -> MappedCase:
     d, v = case.digits, case.values
     if d["E"] == 0 and "Y_WS" not in v:
@@ -458,7 +477,7 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                         "separation_angle": min(a_sep, math.pi), "locus": "contact"},
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
-                      **_normal_options(normal), "tangential_options": topt}}
+                      **_normal_options(normal, wheel_rail=True), "tangential_options": topt}}
     if conformal:
         raw["solver"]["contact_surface"] = "conformal"
     if (v.get("INFLCF") or 2) == 4:
@@ -470,6 +489,11 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
     if "rail_offset" in track:
         # CONTACT's rail origin at z = RAILZ0; railcontact's in the track plane
         frame["z_top"] = -(v.get("RAILZ0") or 0.0) * MM
+    else:
+        # the rail placed by its gauge point as CONTACT finds it (on the spline along
+        # the points' chord length; railcontact's own rule differs by a fraction of a
+        # micrometre on a steep gauge face)
+        track["rail_offset"] = 0.5 * track["gauge"] - _contact_gauge_point(raw, base, side)
     if force == "force":
         raw["wheelset"]["vertical_force"] = _need(case, "FZ_WS")
     else:
@@ -625,7 +649,7 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
            "friction": _friction(case), "wheel": wheel, "rail": rail, "wheelset": ws,
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
-                      "contact_angle": "wheelset", **_normal_options(normal),
+                      "contact_angle": "wheelset", **_normal_options(normal, wheel_rail=True),
                       "tangential_options": topt,
                       # CONTACT's reference point: its contact locus for D = 2, 3,
                       # the 2-D gap function for the brute-force search D = 5

@@ -58,7 +58,7 @@ def _patch_values(p) -> dict:
             "ds_mm": float(ys[1] - ys[0]) * 1e3 if ys.size > 1 else None}
 
 
-def _rail_coordinates(y, z, meta):
+def rail_coordinates(y, z, meta):
     """Rail-profile coordinates [mm] of CONTACT (the file's, before the cant) from
     railcontact's mounted rail profile's."""
     if "profile_deviation" in meta:
@@ -103,7 +103,7 @@ def rows(result, mapped) -> list:
         g = p.geometry
         x, y, z = (float(v) for v in g.position)
         L = R.T @ (np.array([x, sgn * y, z]) - O)
-        yr, zr = _rail_coordinates(g.y_rail, g.z_rail, meta)
+        yr, zr = rail_coordinates(g.y_rail, g.z_rail, meta)
         # the reference point (on the rail surface) in wheel-profile coordinates
         xw, yw, zw = float(L[0]), float(L[1]) - meta["wheel_offset"], float(L[2]) - r0
         row = {**common, "patch": k, "xcp_tr_mm": x * 1e3,

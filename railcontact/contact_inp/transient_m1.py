@@ -32,9 +32,11 @@ and P = 2 start from zero tangential tractions; P = 3 repeats the last case's
 step from its previous instance.
 
 The previous instance is kept per patch as tractions on its element centres,
-each placed in the materials along the track (x_tr, S_WS included) and along
-the rail profile (the arc length of the rail point across the track from it;
-CONTACT's transient grids are based on the rail profile's arc length).  A new
+each placed in the materials along the track (x_tr, S_WS included) and across
+the rail as CONTACT's super-grid places it: the rail's s (the chord length along
+its points) at the patch's reference point plus the element's distance from it
+in the tangent plane, so that the element of a grid laid on the super-grid
+(:class:`SupergridNormal`) keeps its place from case to case.  A new
 patch takes its predecessors' tractions (:func:`carried_tractions`): a previous
 patch with loaded elements on its grid within its own band (halfway to the other
 patches of its wheel); where the band holds at least half of that patch's
@@ -78,10 +80,11 @@ from ..cases.results import PatchResult, SolveResult
 from ..cases.surfaces import solve_on_surfaces
 from ..core.errors import RailContactError
 from ..geometry.conformal import conformal_slip
+from ..geometry.gap import GapEvaluator, SampledWheelGap
 from ..tangential.exact import ExactTangentialModel
 from .mapping import map_case
 from .reader import InpCase, InpError
-from .table import rows
+from .table import rail_coordinates, rows
 
 log = logging.getLogger(__name__)
 
@@ -274,10 +277,12 @@ class _Previous:
 class _Frames:
     """Where a patch's grid lies in the materials for the case's rails and wheelset
     position S_WS [m]: ``frames(geom)`` gives the track position of its reference
-    point (S_WS included) and the function y -> m, the arc length along the rail
-    profile [m] of the rail point below the patch's lateral coordinate y (the
-    plane's point taken to the profile across the track), signed to increase with
-    y (CONTACT's lateral grid follows the rail profile's arc length)."""
+    point (S_WS included) and the function y -> m, the place across the rail [m]
+    of the patch's lateral coordinate y: on a planar patch the rail's s (chord
+    length, :attr:`railcontact.profiles.profile.Profile.chord_spline`) at the
+    reference point plus y (CONTACT's super-grid: s_r,ref + s_p), on a conformal
+    patch the profile's arc length at the reference point plus y; signed to
+    increase with y."""
 
     def __init__(self, case, s_ws: float):
         self.track, self.s_ws = build_wheelset_track(case)[1], s_ws
@@ -296,8 +301,12 @@ class _Frames:
             def m_of(y):
                 return m_ref + np.asarray(y, dtype=float)
         else:
+            # CONTACT's super-grid: a point's place across the rail is the rail's s
+            # (chord length) at the reference point plus its distance in the plane
+            m_ref = sgn * float(rail.chord_spline.s_at_y(y_ref))
+
             def m_of(y):
-                return sgn * rail.arc_length(y_ref + sgn * np.asarray(y, dtype=float) * c)
+                return m_ref + np.asarray(y, dtype=float)
 
         return float(geom.position[0]) + self.s_ws, m_of
 
@@ -316,6 +325,64 @@ class _SurfaceFrames:
             return y_ref + np.asarray(y, dtype=float)
 
         return float(geom.s), m_of
+
+
+class SupergridNormal:
+    """The case's normal model on CONTACT's transient grid (T = 1, 2: its
+    "super-grid"; source ``m_wr_locatecp.f90``, ``set_cpatch_reference``, and
+    ``m_wr_undefdist.f90``): the grid's origin lies in the patch's tangent plane at
+    -sr_ref from the reference point across the track, sr_ref the rail's chord
+    length s at the reference (0 where the rail profile's y = 0,
+    :class:`railcontact.profiles.processing.ChordSpline`), and along the track at
+    x_tr = -S_WS (T = 1: fixed in the rails) or 0 (T = 2); the element centres lie
+    on the lattice DX, DS through it.  CONTACT's wheel samples
+    (``wheel_sampling = "contact"``) are counted from that origin's lateral wheel
+    coordinate (beyond the wheel profile: from its end), so that a grid point can
+    fall anywhere between two samples.  Other patches (rail surfaces, bodies) and
+    grids given by their number of elements are the model's own."""
+
+    def __init__(self, model, t: int, s_ws: float, meta: dict):
+        self.model, self.t, self.s_ws, self.meta = model, t, s_ws, meta
+
+    def __getattr__(self, name):
+        return getattr(self.model, name)
+
+    def origin(self, geometry, element_size):
+        """(geometry on CONTACT's grid and wheel samples) of a wheel-rail patch."""
+        gf = geometry.gap_function
+        if element_size is None or not isinstance(gf, GapEvaluator) \
+                or getattr(geometry, "surface", None) is not None:
+            return geometry
+        sr = rail_chord_length(gf.rail, float(geometry.y_rail), self.meta)
+        x_ref = float(geometry.position[0])
+        x_pot = -self.s_ws if self.t == 1 else 0.0       # the grid origin's x_tr
+        # the origin in the side frame: along the track, then -sr along the plane
+        P = gf.C + np.array([x_pot - x_ref, 0.0, 0.0]) - sr * gf.t
+        y_origin = float((gf.R.T @ (P - gf.O))[1] - gf.e)
+        out = dataclasses.replace(geometry, grid_origin=(x_pot - x_ref, -gf.sign * sr))
+        if getattr(self.model, "wheel_sampling", "exact") == "contact":
+            out = dataclasses.replace(out, gap_function=SampledWheelGap(
+                gf, geometry.y_wheel, float(element_size[1]), y_origin=y_origin))
+        return out
+
+    def solve(self, geometry, material, normal_force=None, penetration=None, **kw):
+        return self.model.solve(self.origin(geometry, kw.get("element_size")), material,
+                                normal_force=normal_force, penetration=penetration, **kw)
+
+
+def rail_chord_length(rail, y_rail: float, meta: dict) -> float:
+    """CONTACT's s [m] of the rail point at railcontact's rail-profile coordinate
+    ``y_rail`` [m]: the chord length along the points from where the rail file's y
+    is 0 (CONTACT's ``grid_make_arclength``: there when y increases strictly along
+    the points, else at the point nearest the file's origin); ``meta`` the mapped
+    case's frame (:func:`railcontact.contact_inp.table.rail_coordinates`)."""
+    cs = rail.chord_spline
+    yc, zc = rail_coordinates(cs.y, cs.z, meta)
+    if np.all(np.diff(yc) > 0) and yc[0] <= 0.0 <= yc[-1]:
+        s0 = float(np.interp(0.0, yc, cs.s))
+    else:
+        s0 = float(cs.s[int(np.argmin(yc * yc + zc * zc))])
+    return float(cs.s_at_y(y_rail)) - s0
 
 
 class TransientStep:
@@ -423,6 +490,8 @@ class WheelRailSequence:
             results = res.patches
         else:
             nname, _, nmodel, _, kw = case_models(c)
+            nmodel = SupergridNormal(nmodel, t, (case.values.get("S_WS") or 0.0) * MM,
+                                     mapped.meta)
             balance = None
             if c.wheel_rail.vertical_position is not None:
                 results, contact = solve_at_position(c, nmodel, tmodel, kw)

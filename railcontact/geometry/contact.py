@@ -83,6 +83,11 @@ class ContactGeometry:
         "conformal"``): then the lateral patch coordinate is the arc length s along
         it and ``gap_function`` measures along its normals; None for the planar
         approach (the tangent plane).
+    grid_origin : (x0, y0)
+        Where the element lattice of a grid given by its element size lies [m],
+        patch coordinates: its element centres at (x0 + i dx, y0 + j dy).  Default
+        the reference point; a transient CONTACT case's super-grid elsewhere
+        (:mod:`railcontact.contact_inp.transient_m1`).
     """
 
     curvatures: tuple
@@ -106,6 +111,7 @@ class ContactGeometry:
     interaction: tuple = ()
     surface: object | None = field(default=None, repr=False)
     force_curvature: float | None = None
+    grid_origin: tuple = (0.0, 0.0)
 
     def foreign(self, y) -> np.ndarray:
         """Whether the points at patch coordinate ``y`` [m] lie outside the patch's

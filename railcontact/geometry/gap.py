@@ -374,48 +374,67 @@ def _rail_distances(ys, frame, rail):
 class SampledWheelGap:
     """A patch's undeformed distance with the wheel surface taken as CONTACT's planar
     contact takes it: linear across the patch between wheel-profile samples every
-    ``ds`` [m] of the profile's arc length, counted from the wheel point at the
-    contact reference's lateral wheel coordinate ``y_wheel`` [m]; the rail and the
-    rolling direction exact.
+    ``ds`` [m] along the profile, counted from the wheel point at lateral wheel
+    coordinate ``y_wheel`` [m]; the rail and the rolling direction exact.
 
-    CONTACT (module 1, planar contact; user guide, "Potential contact area and
-    discretisation", and its undeformed-distance routine) resamples the wheel
-    profile every DS of its arc length from that point, revolves the samples into
-    slices every DX, and interpolates the wheel's normal coordinate linearly onto
-    the grid points.  Where the wheel's profile is concave (the flange root of a
-    worn wheel, lateral radius R of 10-20 mm) a chord lies on the rail side of the
-    arc by up to DS^2 / (8 R): about 1 um at 0.4 mm elements, some per cent of the
-    force of a gauge-corner patch; on the tread the chords and the arc coincide.
-    The slices' chords in x (DX^2 / (8 r), r the wheel radius) are below 0.1 um and
-    left out: each sample lies on its wheel circle at the point's x.
+    CONTACT's rule (its source ``m_wr_undefdist.f90``, ``wr_ud_planar`` and
+    ``trim_wheel_profile``; ``m_interp_sub.f90``, ``interp_wgt_surf2unif``): the
+    wheel profile's parametric spline y(s), z(s), s the summed chord length of its
+    points (:attr:`railcontact.profiles.profile.Profile.chord_spline`), is sampled
+    at s_k = s_0 + k DS, s_0 where the spline reaches the lateral wheel coordinate
+    of the potential contact grid's origin (steady rolling: the contact reference
+    point, on the rail surface; DS the grid's lateral element size); the samples
+    are revolved into slices DX apart, the mesh turned into the patch's tangent
+    plane, and the wheel's normal coordinate interpolated bilinearly onto the grid
+    points (x, s_p); the rail's normal coordinate is exact on its spline.  Where
+    the wheel's profile is curved across the plane (the flange root of a worn
+    wheel, lateral radius R of 10-20 mm) a chord lies off the arc by up to
+    DS^2 / (8 R): about 1 um at 0.4 mm elements, some per cent of the force of a
+    gauge-corner patch; on the tread the chords and the arc coincide.  The slices'
+    chords in x (DX^2 / (8 r), r the wheel radius) are below 0.1 um and left out:
+    each sample lies on its wheel circle at the point's x.  The samples lie on
+    railcontact's wheel surface (their y from the chord-length spline; the two
+    splines differ by nanometres).
 
     ``evaluator``: the patch's exact :class:`GapEvaluator`, whose attributes this
-    object shares; called as it is, on patch coordinates (x, y) [m].  Points beyond
-    the samples, or whose neighbouring samples miss a surface, keep the exact gap.
+    object shares; called as it is, on patch coordinates (x, y) [m].  ``y_wheel``:
+    the reference point's lateral wheel coordinate [m]; ``y_origin``: that of the
+    grid's origin where the samples are counted from, if not the reference point
+    (a transient case's grid, :func:`supergrid_origin`).  Points beyond the
+    samples, or whose neighbouring samples miss a surface, keep the exact gap.
     """
 
-    def __init__(self, evaluator: GapEvaluator, y_wheel: float, ds: float):
+    def __init__(self, evaluator: GapEvaluator, y_wheel: float, ds: float,
+                 y_origin: float | None = None):
         if not (math.isfinite(ds) and ds > 0):
             raise ValueError(f"wheel sample spacing {ds!r} m: expected a length > 0")
         self.evaluator, self.ds = evaluator, float(ds)
-        ys, s = evaluator.wheel._arc_table
-        self._ytab, self._stab = ys, s
-        self._s0 = float(np.interp(y_wheel, ys, s))
+        self._curve = evaluator.wheel.chord_spline
+        self._s_ref = float(self._curve.s_at_y(float(y_wheel)))
+        self._s0 = (self._s_ref if y_origin is None
+                    else float(self._curve.s_at_y(float(y_origin))))
 
     def __getattr__(self, name):
         return getattr(self.evaluator, name)
 
     def _samples(self, span: float):
-        """Wheel-profile samples (y_w, radius) covering +-``span`` [m] of arc length."""
-        kmax = int(math.ceil(span / self.ds)) + 4
-        s = self._s0 + np.arange(-kmax, kmax + 1) * self.ds
-        s = s[(s >= self._stab[0]) & (s <= self._stab[-1])]
-        yw = np.interp(s, self._stab, self._ytab)
+        """Wheel-profile samples (y_w, radius) covering +-``span`` [m] of the patch
+        about the reference: every ``ds`` of chord length from s_0, those whose
+        lateral position lies within the span (with a margin) of the reference's."""
+        c = self._curve
+        s_ref = self._s_ref
+        lo, hi = float(c.s[0]), float(c.s[-1])
+        k0 = math.floor((max(s_ref - 2.0 * span, lo) - self._s0) / self.ds) - 4
+        k1 = math.ceil((min(s_ref + 2.0 * span, hi) - self._s0) / self.ds) + 4
+        s = self._s0 + np.arange(k0, k1 + 1) * self.ds
+        s = s[(s >= lo) & (s <= hi)]
+        yw = c.point(s)[0]
         return yw, self.evaluator.r0 + self.evaluator.wheel.z_at(yw)
 
-    def _nodes(self, xs, yw, rho):
-        """Patch y [m] of the samples (columns) on their wheel circles at the track x
-        of the patch coordinates ``xs`` (rows), sorted along each row."""
+    def _node_coordinates(self, xs, yw, rho):
+        """Patch y [m] and normal coordinate w [m] (the distance along n from the
+        tangent plane) of the samples (columns) on their wheel circles at the track
+        x of the patch coordinates ``xs`` (rows), sorted by y along each row."""
         ev = self.evaluator
         R, O = ev.R, ev.O
         eta = ev.e + yw
@@ -426,23 +445,30 @@ class SampledWheelGap:
             px = O[0] + eta * R[0, 1] + rho * (st * R[0, 0] + ct * R[0, 2])
             st = np.clip(st + (X - px) / (rho * R[0, 0]), -0.5, 0.5)
         ct = np.sqrt(1.0 - st * st)
-        py = O[1] + eta * R[1, 1] + rho * (st * R[1, 0] + ct * R[1, 2])
-        pz = O[2] + eta * R[2, 1] + rho * (st * R[2, 0] + ct * R[2, 2])
-        return np.sort(ev.sign * ((py - ev.C[1]) * ev.t[1] + (pz - ev.C[2]) * ev.t[2]), axis=1)
+        dy = O[1] + eta * R[1, 1] + rho * (st * R[1, 0] + ct * R[1, 2]) - ev.C[1]
+        dz = O[2] + eta * R[2, 1] + rho * (st * R[2, 0] + ct * R[2, 2]) - ev.C[2]
+        yp = ev.sign * (dy * ev.t[1] + dz * ev.t[2])
+        w = dy * ev.n[1] + dz * ev.n[2]
+        order = np.argsort(yp, axis=1)
+        return np.take_along_axis(yp, order, 1), np.take_along_axis(w, order, 1)
+
+    def _nodes(self, xs, yw, rho):
+        """Patch y [m] of the samples (columns) on their wheel circles at the track x
+        of the patch coordinates ``xs`` (rows), sorted along each row."""
+        return self._node_coordinates(xs, yw, rho)[0]
 
     def __call__(self, x, y):
         ev = self.evaluator
         X, Y = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(y, dtype=float))
         shape = X.shape
-        X, Y = X.ravel(), Y.ravel()
-        h = ev.points(np.ascontiguousarray(X), np.ascontiguousarray(Y))
+        X, Y = np.ascontiguousarray(X.ravel()), np.ascontiguousarray(Y.ravel())
         if X.size == 0:
-            return h.reshape(shape)
+            return np.empty(shape)
         xs, row = np.unique(X, return_inverse=True)
         yw, rho = self._samples(2.0 * float(np.max(np.abs(Y))))
         if yw.size < 2:
-            return h.reshape(shape)
-        nodes = self._nodes(xs, yw, rho)
+            return ev.points(X, Y).reshape(shape)
+        nodes, w = self._node_coordinates(xs, yw, rho)
         nk = yw.size
         # one sorted array of every row's nodes, each row lifted above the last
         lift = 10.0 + 2.0 * float(np.max(np.abs(nodes)))
@@ -451,18 +477,18 @@ class SampledWheelGap:
         ok = (j >= 0) & (j <= nk - 2)
         jl = np.clip(j, 0, nk - 2)
         ya, yb = nodes[row, jl], nodes[row, jl + 1]
-        Xc = np.ascontiguousarray(X)
-        ha = ev.points(Xc, np.ascontiguousarray(ya))
-        hb = ev.points(Xc, np.ascontiguousarray(yb))
-        ok &= (ha < 0.5) & (hb < 0.5) & (h < 0.5)
-        rail = Spline(ev.rail._breaks, ev.rail._coefs)
-        tr = _rail_distances(np.ascontiguousarray(ev.sign * np.concatenate((Y, ya, yb))),
-                             ev.patch_frame, rail)
-        n = Y.size
-        tr0, tra, trb = tr[:n], tr[n:2 * n], tr[2 * n:]
         lam = (Y - ya) / np.where(yb > ya, yb - ya, 1.0)
-        sampled = tr0 - ((1.0 - lam) * (tra - ha) + lam * (trb - hb))
-        return np.where(ok & np.isfinite(sampled), sampled, h).reshape(shape)
+        # the wheel's normal coordinate linear between the samples (CONTACT's
+        # bilinear interpolation on the slice through the point), the rail exact
+        tr = _rail_distances(np.ascontiguousarray(ev.sign * Y), ev.patch_frame,
+                             Spline(ev.rail._breaks, ev.rail._coefs))
+        h = tr - ((1.0 - lam) * w[row, jl] + lam * w[row, jl + 1])
+        ok &= np.isfinite(h) & (h >= DEEPEST_GAP) & (h < 0.5)
+        if not np.all(ok):
+            # beyond the samples or off the rail: the exact gap
+            bad = ~ok
+            h[bad] = ev.points(np.ascontiguousarray(X[bad]), np.ascontiguousarray(Y[bad]))
+        return h.reshape(shape)
 
 
 def sampled_wheel_geometry(geometry, ds: float):

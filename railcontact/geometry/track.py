@@ -17,7 +17,7 @@ from dataclasses import dataclass, field
 from functools import lru_cache
 
 import numpy as np
-from scipy.optimize import brentq
+from scipy.optimize import brentq, minimize_scalar
 
 from ..core.errors import InputError, ProfileError
 from ..profiles.profile import Profile
@@ -103,6 +103,58 @@ def _gauge_point(rail: Profile, gauge_height: float) -> float:
                            " mm below its top on the gauge side; cannot place it by gauge")
     i = np.flatnonzero(below)[-1]
     return brentq(lambda t: float(rail.z_at(t)) - zg, yy[i], yy[i + 1])
+
+
+
+def contact_gauge_point(rail: Profile, gauge_height: float) -> float:
+    """Lateral position [m] of the gauge point by CONTACT's rule (its source
+    ``m_wr_profiles.f90``, ``find_gauge_meas_pt``; user guide, "Track and roller
+    geometry", GAUGHT): on the rail's
+    parametric spline through its points (:attr:`Profile.chord_spline`, y and z
+    cubic in the chord length), the head's top z_min is the spline's lowest point;
+    of the points on the gauge side before the top that lie within
+    ``gauge_height`` [m] of it, the one with the smallest y decides: the first of
+    them, and the gauge point is where the spline crosses z_min + gauge_height
+    before it; another (a face that undercuts), and it is the spline's smallest y
+    between the first and the top; the first point of the profile, and it is that
+    point.
+
+    railcontact's own rule (:meth:`Track.gauge_point`) crosses the same height on
+    the function z(y) through the points: on a steep gauge face with points some
+    0.2 mm apart the two differ by a fraction of a micrometre (UIC60 of the
+    Manchester benchmark: 0.32 um), which moves every flange contact by that much
+    across the track (CONTACT's inputs take this rule:
+    :mod:`railcontact.contact_inp.mapping`)."""
+    cs = rail.chord_spline
+    s, y, z = cs.s, cs.y, cs.z
+    # the spline's top: the lowest z, refined in the interval around the lowest point
+    i = int(np.argmin(z))
+    lo, hi = s[max(i - 1, 0)], s[min(i + 1, s.size - 1)]
+    t = np.linspace(lo, hi, 2001)
+    zt = cs.point(t)[1]
+    j = int(np.argmin(zt))
+    r = minimize_scalar(lambda u: float(cs.point(u)[1]), method="bounded",
+                        bounds=(t[max(j - 1, 0)], t[min(j + 1, t.size - 1)]),
+                        options={"xatol": 1e-13})
+    s_top, z_min = float(r.x), float(r.fun)
+    within = np.flatnonzero((s < s_top) & (z - z_min <= gauge_height))
+    if within.size == 0 or within[np.argmin(y[within])] == 0:
+        return float(y[0])
+    first, left = int(within[0]), int(within[np.argmin(y[within])])
+    zg = z_min + gauge_height
+    if left == first:
+        if first == 0:
+            return float(y[0])
+        u = brentq(lambda v: float(cs.point(v)[1]) - zg, s[first - 1], s[first], xtol=1e-14)
+        return float(cs.point(u)[0])
+    # an undercut face: the smallest y of the spline between the first point within
+    # the height and the top
+    t = np.linspace(s[first], s_top, 20 * (int(np.searchsorted(s, s_top)) - first + 1))
+    j = int(np.argmin(cs.point(t)[0]))
+    r = minimize_scalar(lambda u: float(cs.point(u)[0]), method="bounded",
+                        bounds=(t[max(j - 1, 0)], t[min(j + 1, t.size - 1)]),
+                        options={"xatol": 1e-13})
+    return float(r.fun)
 
 
 @dataclass

@@ -178,7 +178,7 @@ MAX_ELEMENTS = 400
 
 
 def make_grid(extent_x: float, extent_y: float, grid=None, element_size=None,
-              center=(0.0, 0.0)):
+              center=(0.0, 0.0), origin=(0.0, 0.0)):
     """Cell centres of a potential contact grid covering [-ex, ex] x [-ey, ey] + center.
 
     Parameters
@@ -186,8 +186,11 @@ def make_grid(extent_x: float, extent_y: float, grid=None, element_size=None,
     grid : (mx, my), optional   number of elements (default 40 x 40)
     element_size : (dx, dy), optional
         Element size [m]; alternative to ``grid``.  The element centres then lie on a
-        lattice through the origin (the contact reference point), as in CONTACT, so
-        that results do not depend on where the potential area happens to start.
+        lattice through ``origin`` (default the contact reference point), as in
+        CONTACT, so that results do not depend on where the potential area happens
+        to start.
+    origin : (x0, y0)
+        A point of that lattice [m] (a transient CONTACT grid's, fixed in the rail).
     """
     import logging
     if grid is not None and element_size is not None:
@@ -203,12 +206,13 @@ def make_grid(extent_x: float, extent_y: float, grid=None, element_size=None,
                 "direction; element size enlarged by %.2f", 2e3 * extent_x, 2e3 * extent_y,
                 MAX_ELEMENTS, coarsen)
             dx, dy = dx * coarsen, dy * coarsen
-        i0 = int(math.floor((center[0] - extent_x) / dx))
-        i1 = int(math.ceil((center[0] + extent_x) / dx))
-        j0 = int(math.floor((center[1] - extent_y) / dy))
-        j1 = int(math.ceil((center[1] + extent_y) / dy))
-        x = np.arange(i0, max(i1, i0 + 1) + 1) * dx
-        y = np.arange(j0, max(j1, j0 + 1) + 1) * dy
+        ox, oy = (float(v) for v in origin)
+        i0 = int(math.floor((center[0] - extent_x - ox) / dx))
+        i1 = int(math.ceil((center[0] + extent_x - ox) / dx))
+        j0 = int(math.floor((center[1] - extent_y - oy) / dy))
+        j1 = int(math.ceil((center[1] + extent_y - oy) / dy))
+        x = ox + np.arange(i0, max(i1, i0 + 1) + 1) * dx
+        y = oy + np.arange(j0, max(j1, j0 + 1) + 1) * dy
         return x, y
     mx, my = (40, 40) if grid is None else (int(v) for v in grid)
     if not (2 <= mx <= 2000 and 2 <= my <= 2000):

@@ -92,7 +92,8 @@ class ExactNormalModel:
                        :class:`railcontact.geometry.gap.SampledWheelGap`: about 1 um
                        deeper interpenetration between the samples on a worn
                        flange root, up to some per cent of a gauge-corner patch's
-                       force; docs/contact_users.md, "Known differences").
+                       force; the default of a CONTACT input; docs/contact_users.md,
+                       "The undeformed distance: CONTACT's planar rule").
     """
 
     def __init__(self, tol: float = 1e-5, maxiter: int = 3000, margin: float = 0.25,
@@ -455,7 +456,8 @@ class ExactNormalModel:
                                                                           ex, ey, grid):
                 x, y = reuse_grid.x, reuse_grid.y
             else:
-                x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy))
+                x, y = make_grid(ex, ey, grid, element_size, center=(cx, cy),
+                                 origin=getattr(geometry, "grid_origin", (0.0, 0.0)))
             h0 = own_gap(geometry, x, y) + geometry.approach  # touching: min ~ 0
         dx, dy = x[1] - x[0], y[1] - y[0]
         if callable(extra_gap):

@@ -496,3 +496,92 @@ def z_points_down(y, z, kind: str) -> bool:
     vote = head if (head == tail or tail == 0) else tail if head == 0 else head
     # interior lower than the ends (z decreasing inwards): z points down
     return vote <= 0
+
+
+# ------------------------------------------------------- CONTACT's parametric spline
+class ChordSpline:
+    """The profile as CONTACT's interpolating spline takes it: y(s) and z(s) cubic
+    in the summed chord length s of the points (CONTACT's ``s_prf``), natural (free
+    ends, zero second derivative) in each section between the kinks
+    (:func:`find_kinks`), through every point (CONTACT's spline with SMOOTH = 0;
+    of a smoothed profile, the spline through its points before smoothing).
+
+    ``s`` is 0 where the points cross y = 0 when y increases strictly along them,
+    else at the point nearest the origin (CONTACT's ``grid_make_arclength``), so
+    that a rail's s is CONTACT's ``sr``.  Used where CONTACT's rules read the
+    profile along s: the wheel samples of its planar undeformed distance
+    (:class:`railcontact.geometry.gap.SampledWheelGap`), the gauge point
+    (:func:`railcontact.geometry.track.contact_gauge_point`) and the rail's s of a
+    transient case's grid.  Lengths in metres.
+    """
+
+    #: sub-samples per interval of the table that inverts y(s)
+    TABLE = 16
+
+    def __init__(self, y, z, kind: str = "rail"):
+        y, z = np.asarray(y, dtype=float), np.asarray(z, dtype=float)
+        if y.size < 4 or y.shape != z.shape:
+            raise ProfileError(f"chord-length spline of {y.size} points: expected at least 4 "
+                               "points with y and z alike")
+        self.y, self.z, self.kind = y, z, kind
+        s = arc_length(y, z)
+        if np.all(np.diff(y) > 0) and y[0] <= 0.0 <= y[-1]:
+            s0 = float(np.interp(0.0, y, s))
+        else:
+            s0 = float(s[int(np.argmin(y * y + z * z))])
+        self.s = s - s0
+        kinks = find_kinks(y, z)
+        self._sections = [(interpolate.CubicSpline(self.s[a:b + 1], y[a:b + 1], bc_type="natural"),
+                           interpolate.CubicSpline(self.s[a:b + 1], z[a:b + 1], bc_type="natural"))
+                          for a, b in zip(kinks[:-1], kinks[1:])]
+        self._bounds = self.s[kinks]
+        # a dense table of the curve for the inverse s(y)
+        t = (self.s[:-1, None] + np.diff(self.s)[:, None]
+             * (np.arange(self.TABLE)[None, :] / self.TABLE)).ravel()
+        self._stab = np.concatenate((t, self.s[-1:]))
+        self._ytab, self._ztab = self.point(self._stab)
+
+    def _section(self, s):
+        return np.clip(np.searchsorted(self._bounds, s, side="right") - 1, 0,
+                       len(self._sections) - 1)
+
+    def point(self, s, nu: int = 0):
+        """(y, z) [m] at chord lengths ``s`` [m] (``nu``: their derivative), each on
+        its section's spline (continued beyond the ends)."""
+        s = np.asarray(s, dtype=float)
+        k = self._section(s)
+        y, z = np.empty(s.shape), np.empty(s.shape)
+        for j in np.unique(k):
+            sel = k == j
+            sy, sz = self._sections[j]
+            y[sel], z[sel] = sy(s[sel], nu), sz(s[sel], nu)
+        return y, z
+
+    def s_at_y(self, y):
+        """Chord length s [m] where the curve reaches lateral position ``y`` [m], on
+        the part of it the other body sees where it folds back (a rail seen from
+        above: the smallest z; a wheel from the rail: the largest); ``y`` beyond the
+        profile: its first or last point's s (as CONTACT's ``spline_get_s_at_y``
+        returns)."""
+        y = np.asarray(y, dtype=float)
+        out = np.array([self._s_at(float(v)) for v in y.ravel()])
+        return out.reshape(y.shape) if y.ndim else float(out[0])
+
+    def _s_at(self, y: float) -> float:
+        yt, st = self._ytab, self._stab
+        d = yt - y
+        cross = np.flatnonzero((d[:-1] <= 0) != (d[1:] <= 0))
+        if cross.size == 0:                 # beyond the profile: the nearer end
+            return float(st[0] if abs(y - yt[0]) <= abs(y - yt[-1]) else st[-1])
+        t = d[cross] / (d[cross] - d[cross + 1])
+        s = st[cross] + t * (st[cross + 1] - st[cross])
+        z = self._ztab[cross] + t * (self._ztab[cross + 1] - self._ztab[cross])
+        k = int(np.argmin(z) if self.kind == "rail" else np.argmax(z))
+        lo, hi = float(st[cross[k]]), float(st[cross[k] + 1])
+        sk = float(s[k])
+        for _ in range(3):          # Newton on y(s) = y within the table interval
+            ys, dys = self.point(sk)[0], self.point(sk, 1)[0]
+            if not abs(dys) > 1e-6:
+                break
+            sk = min(max(sk - (float(ys) - y) / float(dys), lo), hi)
+        return sk

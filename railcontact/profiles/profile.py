@@ -28,7 +28,7 @@ from numba import njit
 from scipy import interpolate
 
 from ..core.errors import ProfileError
-from .processing import Smoothing, find_kinks, smooth_points, visible_surface
+from .processing import ChordSpline, Smoothing, find_kinks, smooth_points, visible_surface
 
 log = logging.getLogger(__name__)
 
@@ -99,6 +99,9 @@ class Profile:
     name: str = "profile"
     smoothing: float = 0.0
     _spline: object = field(init=False, repr=False, default=None)
+    #: the points along the surface before the visible surface is taken (where they
+    #: fold back in y: CONTACT keeps them in its spline and its chord lengths)
+    _curve: tuple = field(init=False, repr=False, default=None)
 
     def __post_init__(self) -> None:
         if self.kind not in ("wheel", "rail"):
@@ -118,6 +121,7 @@ class Profile:
             y, z = y[::-1], z[::-1]
         keep = np.concatenate(([True], np.hypot(np.diff(y), np.diff(z)) > 1e-9))
         y, z = y[keep], z[keep]
+        self._curve = (y, z)
         # points that fold back in y (a measured gauge face or flange back): the
         # surface the other body sees (processing.visible_surface)
         y, z = visible_surface(y, z, self.kind, self.name)
@@ -267,6 +271,13 @@ class Profile:
         yf = np.linspace(self.y[0], self.y[-1], 20 * self.y.size)
         s = np.concatenate(([0.0], np.cumsum(np.hypot(np.diff(yf), np.diff(self.z_at(yf))))))
         return yf, s
+
+    @cached_property
+    def chord_spline(self) -> ChordSpline:
+        """CONTACT's parametric spline of the points, y(s) and z(s) along their summed
+        chord length (:class:`~railcontact.profiles.processing.ChordSpline`), built
+        once: through the points as given (a part that folds back in y included)."""
+        return ChordSpline(*self._curve, kind=self.kind)
 
     def arc_length(self, y):
         """Curvilinear coordinate along the profile from its first point [m]."""

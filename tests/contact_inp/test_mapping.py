@@ -20,8 +20,11 @@ def test_mapping_to_a_case_in_si_units(files):
     (m1, m2) = load_inp(_write(files, CASE1))
     r = m1.raw
     assert r["material"]["young_modulus"] == pytest.approx(2 * 82e9 * 1.28)
+    # the exact model with CONTACT's planar undeformed distance (the wheel linear
+    # between profile samples one DS apart)
     assert r["solver"] == {"normal": "exact", "tangential": "exact",
-                           "element_size": [2e-4, 2.5e-4], "tangential_options": {}}
+                           "element_size": [2e-4, 2.5e-4], "tangential_options": {},
+                           "normal_options": {"wheel_sampling": "contact"}}
     ws = r["wheelset"]
     assert ws["side"] == "right" and ws["roll"] == 0.0001 and ws["yaw"] == 0.0024
     assert ws["lateral_shift"] == pytest.approx(1.5e-3) and ws["vertical_force"] == 1e4
@@ -31,7 +34,11 @@ def test_mapping_to_a_case_in_si_units(files):
             ws["turn_distance"]) == pytest.approx((8e-3, 4e-3, 12e-3))
     # CONTACT's contact locus (the wheel's normal perpendicular to x)
     assert ws["locus"] == "contact"
-    assert r["track"] == {"gauge": pytest.approx(1.435), "gauge_height": pytest.approx(0.014)}
+    # the rail placed by CONTACT's gauge point: 14 mm below the top on the spline
+    # along the points' chord length, y = -43.0325577 mm (railcontact's own rule, on
+    # z(y): -43.0328785 mm)
+    assert r["track"] == {"gauge": pytest.approx(1.435), "gauge_height": pytest.approx(0.014),
+                          "rail_offset": pytest.approx(0.7175 + 0.0430325577, abs=2e-10)}
     w = r["wheel"]
     assert w["mirror_y"] is True and w["mirror_z"] is False and w["nominal_radius"] == 0.46
     assert w["smoothing"] == {"method": "weighted", "length": pytest.approx(0.01)}
@@ -122,27 +129,32 @@ def test_deviations_by_flexibility(testbank, tmp_path):
         load_inp(rolled, cases=[1], profile_dirs=[testbank / "profiles"])
 
 
-def test_friction_along_the_track(testbank):
+@pytest.fixture(scope="module")
+def varfric_case6(testbank):
+    from railcontact.contact_inp import solve_inp
+    path = testbank / "examples_basic" / "mbench_a22_varfric.inp"
+    (r,) = solve_inp(path, cases=[6])
+    return path, r
+
+
+def test_friction_along_the_track(varfric_case6):
     """mbench_a22_varfric.inp, VARFRC = 2 (0.2 at SVF = 0, 0.3 at 100 mm): CONTACT
     interpolates the coefficient at the wheelset's position S_WS, one for all of
     the case's elements (its m_wr_solvecp; a CONTACT run of these cases with V = 0
     and that coefficient prints the same digits).  Case 6 (S_WS = 60 mm, planar):
-    0.26, F_x 20.7 N against CONTACT's 19.71 (0.04 % of mu F_n), F_s -249.47
-    against -249.5 N, 901 elements in adhesion as CONTACT's.  Case 7 (S_WS = 70
-    mm, conformal, the patch 7.4 mm behind the axle): 0.27 as CONTACT prints, F_s
-    within 0.02 % of mu F_n (with each element's coefficient at its place, 0.2626
-    at the reference point and F_s +2.5 %)."""
-    path = testbank / "examples_basic" / "mbench_a22_varfric.inp"
+    0.26, F_x against CONTACT's 19.71 N within 1 % of mu F_n, F_s against -249.5 N,
+    1291 elements in contact as CONTACT's.  Case 7 (S_WS = 70 mm, conformal, the
+    patch 7.4 mm behind the axle): 0.27 as CONTACT prints (with each element's
+    coefficient at its place, 0.2626 at the reference point and F_s +2.5 %)."""
+    path, r = varfric_case6
     (m,) = load_inp(path, cases=[6])
     assert "variation" not in m.raw["friction"]
     assert m.raw["friction"]["coefficient"] == pytest.approx(0.26)
-    from railcontact.contact_inp import solve_inp
-    (r,) = solve_inp(path, cases=[6])
     assert r["mu"] == pytest.approx(0.26)
     mu_fn = 0.26 * 9997.0
     assert abs(r["fx_N"] - 19.71) <= 0.01 * mu_fn
     assert abs(r["fs_N"] + 249.5) <= 0.01 * mu_fn
-    assert r["fn_N"] == pytest.approx(9997.0, rel=1e-3) and r["nadh"] == 901
+    assert r["fn_N"] == pytest.approx(9997.0, rel=1e-3) and r["ncon"] == 1291
     (m,) = load_inp(path, cases=[7])
     assert m.raw["friction"]["coefficient"] == pytest.approx(0.27)
 

@@ -106,3 +106,26 @@ def test_sampled_wheel_on_the_tread(central):
     sw = SampledWheelGap(p.gap_function, p.y_wheel, 4e-4)
     x, y = np.linspace(-4e-3, 4e-3, 9)[:, None], np.linspace(-3e-3, 3e-3, 13)[None, :]
     assert np.max(np.abs(sw(x, y) - p.gap(x, y))) < 1e-7
+
+
+def test_sampled_wheel_counted_from_another_origin(flange_root):
+    """The samples counted from another point's wheel coordinate (a transient CONTACT
+    grid's origin): from a point a whole number of DS along the chord length the
+    samples, and so the gap, are the reference's; from half a DS further they fall
+    midway, where the chords' sag (S1002's flange root: some 0.1-1 um) now is."""
+    g = flange_root
+    ds = 4e-4
+    base = SampledWheelGap(g.gap_function, g.y_wheel, ds)
+    c = g.gap_function.wheel.chord_spline
+    s_ref = c.s_at_y(g.y_wheel)
+    same = SampledWheelGap(g.gap_function, g.y_wheel, ds, y_origin=c.point(s_ref + 7 * ds)[0])
+    half = SampledWheelGap(g.gap_function, g.y_wheel, ds,
+                           y_origin=c.point(s_ref + 7.5 * ds)[0])
+    x, y = np.array([[0.0]]), np.linspace(-1e-3, 1e-3, 9)[None, :]
+    assert same(x, y) == pytest.approx(base(x, y), abs=1e-12)
+    row = base._nodes(np.array([0.0]), *base._samples(2e-3))[0]
+    nodes = row[np.abs(row) < 1.2e-3][None, :]
+    exact = g.gap(np.zeros_like(nodes), nodes)
+    assert base(np.zeros_like(nodes), nodes) == pytest.approx(exact, abs=1e-12)
+    sag = half(np.zeros_like(nodes), nodes) - exact
+    assert np.all(np.abs(sag) > 2e-8) and np.all(np.abs(sag) < 2e-6)

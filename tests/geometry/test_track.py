@@ -66,3 +66,35 @@ def test_bad_track_and_wheelset():
         Wheelset(rail)
     with pytest.raises(InputError, match="nominal_radius"):
         Wheelset(s1002(), nominal_radius=460.0)
+
+
+def test_contact_gauge_point_on_a_straight_gauge_face():
+    """CONTACT's gauge point (contact_gauge_point) where the gauge face is straight:
+    the crossing of the gauge height is exact on any interpolation, so both rules
+    give the closed form y = y_top - (h_g - z_0) / tan(alpha) of a face of
+    inclination alpha."""
+    from railcontact.geometry.track import _gauge_point, contact_gauge_point
+    from railcontact.profiles import Profile
+    a = math.radians(70.0)
+    yh = np.linspace(-0.03, 0.03, 121)
+    zh = 0.004 * (yh / 0.03) ** 2                     # head: top at y = 0, z = 0
+    yf = -0.03 - np.arange(1, 41) * 0.5e-3 * math.cos(a)
+    zf = 0.004 + np.arange(1, 41) * 0.5e-3 * math.sin(a)
+    rail = Profile(np.concatenate((yf[::-1], yh)), np.concatenate((zf[::-1], zh)), "rail")
+    expect = -0.03 - (0.014 - 0.004) / math.tan(a)
+    assert contact_gauge_point(rail, 0.014) == pytest.approx(expect, abs=1e-12)
+    assert _gauge_point(rail, 0.014) == pytest.approx(expect, abs=1e-9)
+
+
+def test_contact_gauge_point_of_the_manchester_rail(refdir):
+    """UIC60 1:40 of the Manchester benchmark (points some 0.2 mm apart on the
+    gauge face): CONTACT's rule (the spline along the chord length) puts the gauge
+    point 14 mm below the top at y = -43.03256 mm, railcontact's z(y) spline 0.32 um
+    further out; that lateral offset was the 0.7 um in z_ws of the flange cases of
+    the 10 kN sweep (tests/test_exact_wheel_rail.py)."""
+    from railcontact.geometry.track import _gauge_point, contact_gauge_point
+    from railcontact.profiles import get_profile
+    rail = get_profile(str(refdir / "profiles" / "MBench_UIC60_v3.prr"), "rail")
+    assert contact_gauge_point(rail, 0.014) == pytest.approx(-43.0325577e-3, abs=1e-10)
+    assert (_gauge_point(rail, 0.014) - contact_gauge_point(rail, 0.014)) \
+        == pytest.approx(-0.32e-6, abs=0.01e-6)

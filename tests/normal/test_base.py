@@ -56,3 +56,14 @@ def test_an_element_size_changed_from_the_request_is_a_warning_of_the_result():
         ok = get_normal_model(model).solve(g, rc.Material(), normal_force=1e5,
                                            element_size=(5e-4, 5e-4))
         assert not any("element size" in w for w in ok.status.warnings)
+
+
+def test_element_lattice_through_a_given_origin():
+    """make_grid with an element size and an origin (a transient CONTACT grid):
+    the element centres lie on origin + (i dx, j dy) and cover the area."""
+    x, y = make_grid(1e-3, 2e-3, element_size=(4e-4, 2.5e-4), origin=(1e-4, -3e-5))
+    assert np.allclose(np.remainder(x - 1e-4 + 1e-9, 4e-4), 1e-9, atol=1e-12)
+    assert np.allclose(np.remainder(y + 3e-5 + 1e-9, 2.5e-4), 1e-9, atol=1e-12)
+    assert x[0] <= -1e-3 and x[-1] >= 1e-3 and y[0] <= -2e-3 and y[-1] >= 2e-3
+    x0, _ = make_grid(1e-3, 2e-3, element_size=(4e-4, 2.5e-4))
+    assert np.any(np.abs(x0) < 1e-15)                   # default: through the reference

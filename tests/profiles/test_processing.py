@@ -157,3 +157,47 @@ def test_options_from_a_case_table():
                        ({"smoothing": {"method": "cubic", "lambda": 1.0}}, "method")):
         with pytest.raises(ProfileError, match=match):
             ProfileOptions.from_table(bad, "rail")
+
+
+def test_chord_spline_through_the_points_along_their_chord_length():
+    """CONTACT's parametric spline (ChordSpline): y(s), z(s) natural cubic through
+    every point, s the summed chord length, 0 where y = 0 (y increasing strictly);
+    on points of a circle of radius 20 mm every 1 mm (the flange root's curvature)
+    it lies within 5 nm of the circle between them five intervals or more from a
+    free end (0.16 um in the second interval: the natural end conditions), and s(y)
+    inverts y(s) to 1e-12 m."""
+    from railcontact.profiles.processing import ChordSpline
+    t = np.linspace(-0.6, 0.6, 25)                    # 1.0 mm chords on R = 20 mm
+    R = 0.02
+    y, z = R * np.sin(t), R * (1.0 - np.cos(t))
+    cs = ChordSpline(y, z)
+    chord = 2 * R * math.sin(0.025)
+    assert cs.s == pytest.approx(chord * np.arange(-12, 13), abs=1e-15)
+    py, pz = cs.point(cs.s)
+    assert py == pytest.approx(y, abs=1e-15) and pz == pytest.approx(z, abs=1e-15)
+    mid = 0.5 * (cs.s[5:-6] + cs.s[6:-5])             # away from the free ends
+    my, mz = cs.point(mid)
+    assert np.max(np.abs(np.hypot(my, mz - R) - R)) < 5e-9
+    for v in (-3.3e-3, 0.0, 7.1e-3):
+        assert cs.point(cs.s_at_y(v))[0] == pytest.approx(v, abs=1e-12)
+    # beyond the profile: the nearer end's s, as CONTACT's spline_get_s_at_y
+    assert cs.s_at_y(1.0) == cs.s[-1] and cs.s_at_y(-1.0) == cs.s[0]
+
+
+def test_chord_spline_of_a_folded_curve():
+    """Points folding back in y (a measured gauge face turning under): the origin of
+    s is the point nearest (0, 0) (CONTACT: y not strictly increasing), and s(y) is
+    taken on the part seen from above (a rail: the smallest z)."""
+    from railcontact.profiles.processing import ChordSpline
+    yf = np.array([-0.0300, -0.0310, -0.0320])         # the fold: y decreasing
+    zf = np.array([0.0200, 0.0190, 0.0180])
+    yh = np.linspace(-0.0325, 0.03, 126)               # then the head, y increasing
+    zh = 0.016 * (yh / 0.0325) ** 2
+    y, z = np.concatenate((yf, yh)), np.concatenate((zf, zh))
+    cs = ChordSpline(y, z, kind="rail")
+    i0 = int(np.argmin(y * y + z * z))
+    assert cs.s[i0] == 0.0
+    s = cs.s_at_y(-0.0305)                             # on the head, not the fold
+    py, pz = cs.point(s)
+    assert py == pytest.approx(-0.0305, abs=1e-12)
+    assert pz == pytest.approx(0.016 * (0.0305 / 0.0325) ** 2, abs=1e-7)
