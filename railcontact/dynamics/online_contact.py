@@ -91,6 +91,9 @@ DEFAULT_DAMPING = 6e5
 FLANGE_ANGLE = 0.35
 #: smallest locus window [m] (the interpenetration plus this margin is searched)
 WINDOW_FLOOR = 1e-4
+#: the next search's locus window: this times the deepest interpenetration plus the
+#: locus margin (a search whose interpenetration outgrows it searches again wider)
+WINDOW_GROWTH = 1.2
 #: most substeps of one rk4 step (:func:`rk4_online`)
 MAX_SUBSTEPS = 64
 #: a step is divided where the contact's rate exceeds the rate it was chosen for by
@@ -100,8 +103,9 @@ RATE_MARGIN = 1.5
 
 #: the fields of the ``frame`` array of :class:`OnlineContact`
 FRAME_FIELDS = ("y_off_left", "y_off_right", "wheel_offset", "nominal_radius", "combine",
-                "damping", "tip_z", "tip_zone", "rate")
-(G_YOFF_L, G_YOFF_R, G_E, G_R0, G_COMBINE, G_DAMPING, G_TIP_Z, G_TIP_ZONE, G_RATE) = range(9)
+                "damping", "tip_z", "tip_zone", "rate", "stiffness")
+(G_YOFF_L, G_YOFF_R, G_E, G_R0, G_COMBINE, G_DAMPING, G_TIP_Z, G_TIP_ZONE, G_RATE,
+ G_STIFFNESS) = range(10)
 
 #: per row of :attr:`OnlineContact.rows` after the patch geometry: normal force N
 #: [N] (Hertz spring and damper), Hertz semi-axes a, b [m], creep forces Fx, Fy [N],
@@ -128,7 +132,8 @@ class OnlineContact(NamedTuple):
     #: :data:`FRAME_FIELDS`: rail offsets, wheel-profile offset, r0 [m], combine distance
     #: [m], contact damping [N s/m], the flange tip's profile height and the tip zone [m],
     #: the contact's rate [1/s] that the run's rk4 step resolves (:func:`rk4_online`;
-    #: NaN until its first step)
+    #: NaN until its first step), and whether an evaluation computes the springs'
+    #: stiffness (1; 0: not, :data:`R_STIFF` 0)
     frame: np.ndarray
     #: Hertz and the creep law (:class:`~railcontact.cases.compiled_case.PassModel`)
     model: PassModel
@@ -173,7 +178,7 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
     fl = flange(wheel)
     frame = np.array([track.rail_offset("left"), track.rail_offset("right"),
                       wheelset.wheel_offset, wheelset.nominal_radius, 0.0, float(damping),
-                      fl.tip_z if fl is not None else math.inf, TIP_ZONE, math.nan])
+                      fl.tip_z if fl is not None else math.inf, TIP_ZONE, math.nan, 1.0])
     tp = np.array(law_params if law_params is not None else
                   [0.3, material.shear_modulus, 12, 12, 1.0, 1.0, 1.0, 0.0], float)
     dt, tab = _tables()
@@ -251,11 +256,11 @@ def search_wheelset(online, w, pose, z, roll):
         if -np.min(gap) + LOCUS_MARGIN > win:
             # the locus must hold the whole interpenetration (a region cut at its
             # edge has no region curvature, and a wrong reference point)
-            win = 1.5 * (-np.min(gap)) + LOCUS_MARGIN
+            win = WINDOW_GROWTH * (-np.min(gap)) + LOCUS_MARGIN
             loc = side_locus(prof, pose, s, z, roll, win, online.memo[w], False)
             gap = loc[5]
         deepest = max(deepest, -np.min(gap))
-        work = np.empty(gap.size)
+        work = np.empty(gap.size if g[G_STIFFNESS] > 0.0 else 0)
         regions = locus_regions(gap, loc[3], loc[4], g[G_COMBINE])
         for r in range(min(regions.shape[0], MAX_PATCHES)):
             row = rows[m]
@@ -269,8 +274,9 @@ def search_wheelset(online, w, pose, z, roll):
             # ellipse with the deepest point's curvatures scaled to that force):
             # one rule for the compiled case, the per-patch path and the dynamics
             a, b, F = patch_hertz(row, online.model)
-            row[R_STIFF] = spring_stiffness(loc, regions[r, 0], regions[r, 1], row, F,
-                                            online.model, work)
+            if g[G_STIFFNESS] > 0.0:
+                row[R_STIFF] = spring_stiffness(loc, regions[r, 0], regions[r, 1], row, F,
+                                                online.model, work)
             row[R_N] = F
             row[R_AA] = a
             row[R_BB] = b
@@ -278,7 +284,7 @@ def search_wheelset(online, w, pose, z, roll):
             if F > 0.0 and row[P_Z_WHEEL] >= g[G_TIP_Z] - g[G_TIP_ZONE]:
                 online.status[w, s] = ON_FLANGE_TIP
             m += 1
-    online.window[w] = max(1.5 * deepest + LOCUS_MARGIN, WINDOW_FLOOR)
+    online.window[w] = max(WINDOW_GROWTH * deepest + LOCUS_MARGIN, WINDOW_FLOOR)
     online.count[w] = m
     return m
 
@@ -499,10 +505,14 @@ def rk4_online(u, t0, dt, n_steps, every, system, online, fext, out, samples):
     curvature, where a region widens fast: a fixed step chosen at the start
     diverged where it stiffened, measured)."""
     k = 0
+    fr = online.frame
     for n in range(n_steps):
         t = t0 + n * dt
+        fr[G_STIFFNESS] = 1.0            # (the springs' stiffness at k1 only)
         k1 = rhs_online(t, u, system, online, 0, fext, out)
+        fr[G_STIFFNESS] = 0.0
         if _derailed(online):
+            fr[G_STIFFNESS] = 1.0
             return u, k, n
         rate = contact_rate(system, online)
         if not online.frame[G_RATE] == online.frame[G_RATE]:
@@ -523,6 +533,7 @@ def rk4_online(u, t0, dt, n_steps, every, system, online, fext, out, samples):
         if (n + 1) % every == 0 and k < samples.shape[0]:
             samples[k] = u
             k += 1
+    fr[G_STIFFNESS] = 1.0
     return u, k, n_steps
 
 
