@@ -9,9 +9,11 @@ ch. 5; Pombo, Ambrósio & Silva, Veh. Syst. Dyn. 45 (2007) 165): the wheel and t
 rail interpenetrate as rigid bodies, and each interpenetration region is a patch
 whose normal force is Hertz's non-linear spring of its approach δ along the normal,
 
-    N = K δ^(3/2) + c δ'        (Hertz 1882; K from the patch's curvatures A, B and
-                                  the contact modulus, as :func:`railcontact.cases.
-                                  compiled_case.hertz_patch` tabulates it),
+    N = K δ^(3/2) + c δ'        (Hertz 1882; K from the patch's curvature A and its
+                                  region's force curvature B_f and the contact
+                                  modulus: the case layer's Hertz patch,
+                                  :func:`railcontact.cases.compiled_case.patch_hertz`,
+                                  one rule for every Hertz path),
 
 with a viscous term c δ' (``damping`` [N s/m], only while the spring is loaded)
 that damps the stiff wheel-rail vertical mode.  The patches come from the
@@ -44,6 +46,10 @@ The moment of the lateral contact forces about the axle is taken by the axle
 boxes (quasi-static, as the table path's load transfer taken at rail level), so
 that both paths distribute the same loads.
 
+The rk4 step follows the springs' stiffness (:func:`spring_stiffness`,
+:func:`contact_rate`, :func:`rk4_online`): a step is divided where the contact
+modes have become faster than the step was chosen for.
+
 A wheel whose loaded contact reaches ``TIP_ZONE`` of its flange tip's radius
 stands on its flange: the wheelset is derailing, and the run ends there
 (:func:`rk4_online`), reporting the time, wheel and Y/Q.
@@ -57,14 +63,14 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..cases.compiled_case import PassModel, _tables, hertz_patch
+from ..cases.compiled_case import PassModel, _tables, hertz_patch, patch_hertz
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from ..geometry.locus import _wheel_samples
-from ..geometry.patch_curvature import region_curvature
+from ..geometry.patch_curvature import force_curvature
 from ..geometry.validity import TIP_ZONE, flange
 from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, P_A,
-                                   P_APPROACH, P_B, P_CONTACT_ANGLE, P_ETA, P_PHI,
+                                   P_APPROACH, P_B, P_B_FORCE, P_CONTACT_ANGLE, P_ETA, P_PHI,
                                    P_ROLLING_RADIUS, P_X, P_XI, P_Y, P_Y_RAIL, P_Y_WHEEL,
                                    P_Z_WHEEL, PassPose, PassProfiles, locus_regions,
                                    make_patch, new_memo,
@@ -85,11 +91,21 @@ DEFAULT_DAMPING = 6e5
 FLANGE_ANGLE = 0.35
 #: smallest locus window [m] (the interpenetration plus this margin is searched)
 WINDOW_FLOOR = 1e-4
+#: the next search's locus window: this times the deepest interpenetration plus the
+#: locus margin (a search whose interpenetration outgrows it searches again wider)
+WINDOW_GROWTH = 1.2
+#: most substeps of one rk4 step (:func:`rk4_online`)
+MAX_SUBSTEPS = 64
+#: a step is divided where the contact's rate exceeds the rate it was chosen for by
+#: more than this factor (the step 1 / rate keeps a margin of 2.78 to RK4's
+#: stability limit on the real axis; 1.5 leaves 1.85)
+RATE_MARGIN = 1.5
 
 #: the fields of the ``frame`` array of :class:`OnlineContact`
 FRAME_FIELDS = ("y_off_left", "y_off_right", "wheel_offset", "nominal_radius", "combine",
-                "damping", "tip_z", "tip_zone")
-(G_YOFF_L, G_YOFF_R, G_E, G_R0, G_COMBINE, G_DAMPING, G_TIP_Z, G_TIP_ZONE) = range(8)
+                "damping", "tip_z", "tip_zone", "rate", "stiffness")
+(G_YOFF_L, G_YOFF_R, G_E, G_R0, G_COMBINE, G_DAMPING, G_TIP_Z, G_TIP_ZONE, G_RATE,
+ G_STIFFNESS) = range(10)
 
 #: per row of :attr:`OnlineContact.rows` after the patch geometry: normal force N
 #: [N] (Hertz spring and damper), Hertz semi-axes a, b [m], creep forces Fx, Fy [N],
@@ -97,9 +113,9 @@ FRAME_FIELDS = ("y_off_left", "y_off_right", "wheel_offset", "nominal_radius", "
 #: the wheel [N] (track plane), the lateral position of the patch relative to the
 #: wheelset centre [m] and the approach rate [m/s]
 ROW_EXTRA = ("normal_force", "a", "b", "fx", "fy", "mz", "Y", "Q", "y_contact",
-             "approach_rate", "C11", "C22", "C23")
+             "approach_rate", "C11", "C22", "C23", "stiffness")
 (R_N, R_AA, R_BB, R_FX, R_FY, R_MZ, R_YF, R_QF, R_YC, R_DDOT, R_C11, R_C22,
- R_C23) = range(NPF, NPF + len(ROW_EXTRA))
+ R_C23, R_STIFF) = range(NPF, NPF + len(ROW_EXTRA))
 NROW = NPF + len(ROW_EXTRA)
 #: rows per wheelset
 MAX_ROWS = 2 * MAX_PATCHES
@@ -114,7 +130,10 @@ class OnlineContact(NamedTuple):
     #: the wheel samples and splines (:class:`~railcontact.geometry.wheel_pass.PassProfiles`)
     profiles: PassProfiles
     #: :data:`FRAME_FIELDS`: rail offsets, wheel-profile offset, r0 [m], combine distance
-    #: [m], contact damping [N s/m], the flange tip's profile height and the tip zone [m]
+    #: [m], contact damping [N s/m], the flange tip's profile height and the tip zone [m],
+    #: the contact's rate [1/s] that the run's rk4 step resolves (:func:`rk4_online`;
+    #: NaN until its first step), and whether an evaluation computes the springs'
+    #: stiffness (1; 0: not, :data:`R_STIFF` 0)
     frame: np.ndarray
     #: Hertz and the creep law (:class:`~railcontact.cases.compiled_case.PassModel`)
     model: PassModel
@@ -133,6 +152,8 @@ class OnlineContact(NamedTuple):
     #: (nw, 4) the last evaluation's pose of each wheelset relative to the rails:
     #: lateral shift [m], vertical position [m], roll [rad], yaw [rad]
     poses: np.ndarray
+    #: (1,) rk4 steps made, substeps counted (:func:`rk4_online`)
+    count_substeps: np.ndarray
 
 
 def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL,
@@ -157,7 +178,7 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
     fl = flange(wheel)
     frame = np.array([track.rail_offset("left"), track.rail_offset("right"),
                       wheelset.wheel_offset, wheelset.nominal_radius, 0.0, float(damping),
-                      fl.tip_z if fl is not None else math.inf, TIP_ZONE])
+                      fl.tip_z if fl is not None else math.inf, TIP_ZONE, math.nan, 1.0])
     tp = np.array(law_params if law_params is not None else
                   [0.3, material.shear_modulus, 12, 12, 1.0, 1.0, 1.0, 0.0], float)
     dt, tab = _tables()
@@ -168,7 +189,50 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
                          np.full(n_wheelsets, WINDOW_FLOOR),
                          np.zeros((n_wheelsets, MAX_ROWS, NROW)),
                          np.zeros(n_wheelsets, np.int64), np.zeros((n_wheelsets, 2), np.int64),
-                         np.zeros((n_wheelsets, 4)))
+                         np.zeros((n_wheelsets, 4)), np.zeros(1, np.int64))
+
+
+#: the approach's relative step [-] of the spring's stiffness (:func:`spring_stiffness`)
+STIFFNESS_STEP = 0.05
+
+
+@njit(cache=True, nogil=True)
+def spring_stiffness(loc, i0, i1, row, F, model, work):
+    """The stiffness dN/d(delta) [N/m] of a patch's Hertz spring N = F(delta) at its
+    approach delta: e N / delta, the exponent e = 3/2 + d ln K / d ln delta of
+    Hertz's force with the region's force curvature B_f (K: its factor at fixed
+    curvatures), by the region's force curvature at the gap lowered by
+    ``STIFFNESS_STEP`` of the deepest point's vertical interpenetration (``work``:
+    the lowered gap, as long as the locus's).  B_f falls where the region widens
+    faster than a paraboloid's (two minima of the gap joining; the flange and its
+    root): there the spring is stiffer than Hertz's 3/2 N/delta."""
+    d = row[P_APPROACH]
+    if not (F > 0.0 and d > 0.0):
+        return 0.0
+    gap = loc[5]
+    im = i0
+    for i in range(i0, i1 + 1):
+        if gap[i] < gap[im]:
+            im = i
+    e = 1.5
+    bf = row[P_B_FORCE]
+    h = STIFFNESS_STEP * (-gap[im])
+    if bf > 0.0 and h > 0.0:
+        for j in range(gap.size):
+            work[j] = gap[j] - h
+        j0, j1 = i0, i1
+        while j0 > 0 and work[j0 - 1] < 0.0:
+            j0 -= 1
+        while j1 < gap.size - 1 and work[j1 + 1] < 0.0:
+            j1 += 1
+        low = (loc[0], loc[1], loc[2], loc[3], loc[4], work, loc[6], loc[7], loc[8], loc[9])
+        b2 = force_curvature(low, j0, j1, im, row[P_B])
+        if b2 > 0.0:
+            _, _, F1 = hertz_patch(row[P_A], bf, d, model)
+            _, _, F2 = hertz_patch(row[P_A], b2, d, model)
+            if F1 > 0.0 and F2 > 0.0:
+                e += math.log(F2 / F1) / math.log1p(STIFFNESS_STEP)
+    return max(e, 0.0) * F / d
 
 
 @njit(cache=True, nogil=True)
@@ -182,12 +246,21 @@ def search_wheelset(online, w, pose, z, roll):
     m = 0
     deepest = 0.0
     for s in range(2):
-        loc = side_locus(prof, pose, s, z, roll, online.window[w], online.memo[w], False)
+        win = online.window[w]
+        loc = side_locus(prof, pose, s, z, roll, win, online.memo[w], False)
         gap = loc[5]
         online.status[w, s] = ON_TRACK
         if gap.size == 0 or not math.isfinite(np.min(gap)):
             online.status[w, s] = OFF_RAIL
             continue
+        if -np.min(gap) + LOCUS_MARGIN > win:
+            # the locus must hold the whole interpenetration (a region cut at its
+            # edge has no region curvature, and a wrong reference point)
+            win = WINDOW_GROWTH * (-np.min(gap)) + LOCUS_MARGIN
+            loc = side_locus(prof, pose, s, z, roll, win, online.memo[w], False)
+            gap = loc[5]
+        deepest = max(deepest, -np.min(gap))
+        work = np.empty(gap.size if g[G_STIFFNESS] > 0.0 else 0)
         regions = locus_regions(gap, loc[3], loc[4], g[G_COMBINE])
         for r in range(min(regions.shape[0], MAX_PATCHES)):
             row = rows[m]
@@ -196,21 +269,14 @@ def search_wheelset(online, w, pose, z, roll):
             d = row[P_APPROACH]
             if not d > 0.0:
                 continue
-            # the spring: Hertz with the region's lateral curvature; the
-            # ellipse (semi-axes for the creep law): Hertz with the deepest point's
-            # curvatures at the spring's force, as the table path has it
-            # (the spring keeps the region's curvature between the gap's zero
-            # crossings, not the case layer's force curvature
-            # (:func:`railcontact.cases.compiled_case.patch_hertz`): with that, the
-            # Manchester vehicle's 100 s online run diverged at 77 s with the fixed
-            # RK4 step chosen from the stiffness at the start (measured))
-            a, b, F = hertz_patch(row[P_A], row[P_B], d, online.model)
-            bf = region_curvature(loc, regions[r, 0], regions[r, 1])
-            if bf > 0.0:
-                _, _, Fs = hertz_patch(row[P_A], bf, d, online.model)
-                if F > 0.0 and Fs > 0.0:
-                    scale = (Fs / F) ** (1.0 / 3.0)
-                    a, b, F = a * scale, b * scale, Fs
+            # the spring and the ellipse: the case layer's Hertz patch (the force
+            # with the region's force curvature, geometry.patch_curvature, the
+            # ellipse with the deepest point's curvatures scaled to that force):
+            # one rule for the compiled case, the per-patch path and the dynamics
+            a, b, F = patch_hertz(row, online.model)
+            if g[G_STIFFNESS] > 0.0:
+                row[R_STIFF] = spring_stiffness(loc, regions[r, 0], regions[r, 1], row, F,
+                                                online.model, work)
             row[R_N] = F
             row[R_AA] = a
             row[R_BB] = b
@@ -218,7 +284,7 @@ def search_wheelset(online, w, pose, z, roll):
             if F > 0.0 and row[P_Z_WHEEL] >= g[G_TIP_Z] - g[G_TIP_ZONE]:
                 online.status[w, s] = ON_FLANGE_TIP
             m += 1
-    online.window[w] = max(1.5 * deepest + LOCUS_MARGIN, WINDOW_FLOOR)
+    online.window[w] = max(WINDOW_GROWTH * deepest + LOCUS_MARGIN, WINDOW_FLOOR)
     online.count[w] = m
     return m
 
@@ -392,27 +458,83 @@ def _derailed(online):
 
 
 @njit(cache=True, nogil=True)
+def contact_rate(system, online):
+    """The fastest rate [1/s] of the wheelsets' contact modes at the last
+    evaluation: per wheelset, vertical and roll, the damped oscillator of the
+    patches' springs (:data:`R_STIFF`, projected by the approach's rate with the
+    vertical position, cos(d), and the roll, y_c cos(d) + r sin(d)) and dampers on
+    the wheelset's mass and roll inertia, c / 2m + sqrt((c / 2m)^2 + k / m)
+    (the modulus of its faster eigenvalue, overdamped or not)."""
+    rate = 0.0
+    wsets = system.vehicle.wheelsets
+    c0 = online.frame[G_DAMPING]
+    for w in range(wsets.shape[0]):
+        kz = kr = cz = cr = 0.0
+        for i in range(online.count[w]):
+            row = online.rows[w, i]
+            if not row[R_N] > 0.0:
+                continue
+            a = row[P_CONTACT_ANGLE]
+            pz = math.cos(a)
+            pr = row[R_YC] * math.cos(a) + row[P_ROLLING_RADIUS] * math.sin(a)
+            kz += row[R_STIFF] * pz * pz
+            kr += row[R_STIFF] * pr * pr
+            cz += c0 * pz * pz
+            cr += c0 * pr * pr
+        mass = system.vehicle.bodies[wsets[w].body].mass
+        inertia = online.roll_inertia[w]
+        for k, c, m in ((kz, cz, mass), (kr, cr, inertia)):
+            h = 0.5 * c / m
+            rate = max(rate, h + math.sqrt(h * h + k / m))
+    return rate
+
+
+@njit(cache=True, nogil=True)
 def rk4_online(u, t0, dt, n_steps, every, system, online, fext, out, samples):
     """Classical fixed-step Runge-Kutta (4th order) of :func:`rhs_online` with the
     compiled creep law: ``n_steps`` steps of ``dt`` [s] from (t0 [s], u); every
     ``every`` steps the state goes to the next row of ``samples``.  Stops at the
     first step that starts with a wheel on its flange tip or off the rail
-    (``online.status``).  Returns (state, samples written, steps made)."""
+    (``online.status``).  Returns (state, samples written, steps made).
+
+    The step follows the contact's stiffness: a step whose first evaluation has the
+    contact modes faster (:func:`contact_rate`) than the rate the run's step was
+    chosen for (``online.frame[G_RATE]``: the larger of the first step's contact
+    rate and 1 / ``dt``) is made in as many equal substeps as that ratio asks
+    (the Hertz spring stiffens with its load and, with the regions' force
+    curvature, where a region widens fast: a fixed step chosen at the start
+    diverged where it stiffened, measured)."""
     k = 0
+    fr = online.frame
     for n in range(n_steps):
         t = t0 + n * dt
+        fr[G_STIFFNESS] = 1.0            # (the springs' stiffness at k1 only)
         k1 = rhs_online(t, u, system, online, 0, fext, out)
+        fr[G_STIFFNESS] = 0.0
         if _derailed(online):
+            fr[G_STIFFNESS] = 1.0
             return u, k, n
-        k2 = rhs_online(t + 0.5 * dt, u + 0.5 * dt * k1, system, online, 0, fext, out)
-        k3 = rhs_online(t + 0.5 * dt, u + 0.5 * dt * k2, system, online, 0, fext, out)
-        k4 = rhs_online(t + dt, u + dt * k3, system, online, 0, fext, out)
-        u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+        rate = contact_rate(system, online)
+        if not online.frame[G_RATE] == online.frame[G_RATE]:
+            online.frame[G_RATE] = max(rate, 1.0 / dt)
+        sub = min(max(int(math.ceil(rate / (RATE_MARGIN * online.frame[G_RATE]))), 1),
+                  MAX_SUBSTEPS)
+        h = dt / sub
+        tt = t
+        for j in range(sub):
+            if j > 0:
+                k1 = rhs_online(tt, u, system, online, 0, fext, out)
+            k2 = rhs_online(tt + 0.5 * h, u + 0.5 * h * k1, system, online, 0, fext, out)
+            k3 = rhs_online(tt + 0.5 * h, u + 0.5 * h * k2, system, online, 0, fext, out)
+            k4 = rhs_online(tt + h, u + h * k3, system, online, 0, fext, out)
+            u = u + h / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
+            tt += h
+        online.count_substeps[0] += sub
         if (n + 1) % every == 0 and k < samples.shape[0]:
             samples[k] = u
             k += 1
+    fr[G_STIFFNESS] = 1.0
     return u, k, n_steps
-
 
 
 class OnlineWheelRail:

@@ -506,11 +506,14 @@ def _run_rk4_online(sysm: _System, u0, duration, sample_rate, step, bar):
     finally:
         bar.close()
     wall = time.perf_counter() - wall
-    sysm.calls = 4 * steps
+    # (the compiled loop's steps in the contact's substeps: rk4_online)
+    made = int(sysm.online.count_substeps[0]) if sysm.law >= 0 else steps
+    sysm.calls = 4 * made
     t_der = steps * dt
     status = sysm.online.status.copy()
     ds = _dataset(sysm, t[:written + 1], Y[:written + 1].T, wall)
-    ds.attrs.update(integrator="rk4", step_s=dt, contact_mode="online")
+    ds.attrs.update(integrator="rk4", step_s=dt, contact_mode="online", rk4_steps=made,
+                    rk4_substepped=made - steps)
     if written < n_samples:
         w, side = (int(v) for v in np.argwhere(status != 0)[0])
         code = int(status[w, side])

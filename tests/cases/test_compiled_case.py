@@ -104,3 +104,44 @@ def test_a_far_neighbour_still_gives_the_case():
     assert res.converged and cold.converged
     for s in ("left", "right"):
         assert res.interpenetration[s] == pytest.approx(cold.interpenetration[s], rel=2e-4)
+
+
+def test_the_first_estimate_uses_the_balances_force_curvature():
+    # on S1002/60E1's tread (two minima of the gap: the force curvature is the
+    # region's, not the deepest point's) the first estimate carries the load by the
+    # balance's own model: its evaluation lies within 2 % of the load (a median 9 % of
+    # it over the benchmark sweep with the deepest point's curvature, 0.9 % now), and
+    # its slope d ln F / d ln d is the
+    # force's (above Hertz's 1.5 where the region's curvature falls as it widens)
+    from railcontact.cases import compiled_case as cc
+    from railcontact.geometry.wheel_pass import new_memo
+    case = _case(1.221e-3)
+    prof, pose, model, loads = cc.case_pass_inputs(case)
+    memo, d, slope = new_memo(0.0), np.empty(2), np.empty(2)
+    assert cc.first_estimate(prof, pose, model, loads, memo, d, slope)
+    out, fz = np.zeros((2 * cc.MAX_PATCHES, cc.NRF)), np.empty(2)
+    cc.evaluate_wheelset(prof, pose, model, d.copy(), memo, out, fz)
+    assert np.all(np.abs(fz / loads - 1) < 0.02)
+    assert 1.5 <= slope[1] <= 2.5
+    res = solve_case_forces(case)
+    assert res.converged and res.passes <= 3
+
+
+@pytest.mark.parametrize("yaw", [0.0, 2e-3])
+def test_flange_root_cases_converge_in_few_passes(yaw):
+    # 6.29-6.39 mm: the flange and its root share the right wheel's load; the
+    # deepest point's vertical interpenetration moves with the pose at a rate that
+    # jumps between the two, so that its force is S-shaped in it (9-12 passes
+    # before, measured); the pose's Newton steps (compiled_case.pose_newton) take
+    # at most 7, cold and from the neighbouring case, and meet the load as the
+    # per-patch path does
+    prev = solve_case_forces(_case(6.233e-3, yaw))
+    for shift in (6.285e-3, 6.337e-3, 6.390e-3):
+        case = _case(shift, yaw)
+        cold = solve_case_forces(case)
+        warm = solve_case_forces(case, start=prev)
+        assert cold.converged and warm.converged
+        assert cold.passes <= 7 and warm.passes <= 7
+        assert cold.interpenetration["right"] == pytest.approx(
+            warm.interpenetration["right"], rel=2e-3)
+        prev = warm

@@ -1,5 +1,5 @@
 """The contact searched online in the dynamics (railcontact.dynamics.online_contact):
-the Hertz springs' static equilibrium, the region curvature on a Hertzian gap, the
+the Hertz springs' static equilibrium, the springs' stiffness, the
 online run against the table run on tangent track, Nadal's limit in the results,
 a flange climb to derailment, the scenario option and a strip model per patch."""
 
@@ -10,7 +10,7 @@ import pytest
 
 from railcontact.core.errors import CaseFileError, InputError
 from railcontact.dynamics import Integration, Route, VehicleModel, WheelRailTable, simulate_vehicle
-from railcontact.dynamics.online_contact import OnlineWheelRail, region_curvature
+from railcontact.dynamics.online_contact import OnlineWheelRail
 from railcontact.dynamics.vehicle import G_ACC
 from railcontact.geometry.validity import flange, nadal_limit
 from railcontact.core.materials import STEEL
@@ -32,17 +32,57 @@ def _wheelset(**kw):
     return VehicleModel.from_parameters("wheelset", kw.pop("parameters", None))
 
 
-def test_region_curvature_of_a_hertzian_gap():
-    """For the gap g = -d + B y² sampled every 0.2 mm, the region's depth and width
-    between its interpolated zero crossings give B cos³(θ) exactly (to the linear
-    interpolation of the crossings: below 1 % with 50 samples across)."""
+def _loc(y, gap, theta):
+    return (0, y.size, None, None, y, gap, np.full(y.size, math.tan(theta)), None, None,
+            None)
+
+
+def _spring(gap, y, theta, d):
+    """spring_stiffness's exponent e (dN/d(delta) = e N / delta) of the region of
+    ``gap`` below 0, at approach ``d`` [m]: the Hertz spring with the region's force
+    curvature, as the online search makes it."""
+    from railcontact.cases.compiled_case import hertz_patch
+    from railcontact.dynamics.online_contact import spring_stiffness
+    from railcontact.geometry.patch_curvature import force_curvature
+    from railcontact.geometry.wheel_pass import NPF, P_A, P_APPROACH, P_B, P_B_FORCE
+    loc = _loc(y, gap, theta)
+    neg = np.flatnonzero(gap < 0)
+    i0, i1 = int(neg[0]), int(neg[-1])
+    im = int(np.argmin(gap))
+    B = float(np.polyfit(y[im - 3:im + 4], gap[im - 3:im + 4], 2)[0]) * math.cos(theta) ** 3
+    row = np.zeros(NPF)
+    row[P_A], row[P_B], row[P_APPROACH] = 0.9, B, d
+    row[P_B_FORCE] = force_curvature(loc, i0, i1, im, B)
+    from railcontact.dynamics.online_contact import online_contact
+    from railcontact.geometry import Track, Wheelset
+    from railcontact.profiles import rail_profile, s1002
+    model = online_contact(Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40))),
+                           1).model
+    _, _, F = hertz_patch(row[P_A], row[P_B_FORCE], d, model)
+    k = spring_stiffness(loc, i0, i1, row, F, model, np.empty(gap.size))
+    return k * d / F
+
+
+def test_the_spring_of_a_hertzian_gap_has_hertz_stiffness():
+    """For the gap g = -d + B y² the force curvature is B (the region's moment
+    curvature of a paraboloid) at every depth, and the spring's stiffness is
+    Hertz's 3/2 N / delta (to the trapezoidal moment: 1 %)."""
     d, B, theta = 8e-5, 3.5, 0.05
     y = np.arange(-0.01, 0.01 + 1e-9, 2e-4) + 3e-5           # not centred on a sample
-    gap = -d + B * y * y
-    neg = np.flatnonzero(gap < 0)
-    loc = (0, y.size, None, None, y, gap, np.full(y.size, math.tan(theta)))
-    got = region_curvature(loc, int(neg[0]), int(neg[-1]))
-    assert got == pytest.approx(B * math.cos(theta) ** 3, rel=1e-2)
+    assert _spring(-d + B * y * y, y, theta, d * math.cos(theta)) == pytest.approx(1.5, rel=1e-2)
+
+
+def test_a_region_that_widens_fast_stiffens_the_spring():
+    """A gap g = -d + c |y|^1.5, whose region widens as d^(2/3), faster than a
+    paraboloid's d^(1/2), has the region's curvature d / w^2 fall as d^(-1/3): the
+    spring's exponent is above Hertz's 3/2 (the force's factor grows as the
+    curvature falls; measured 1.562, the force curvature a blend with the deepest
+    point's), stiffer than 3/2 N / delta: the stiffness that the online rk4 step
+    follows (rk4_online)."""
+    d, theta = 8e-5, 0.0
+    c = d / 5e-3 ** 1.5
+    y = np.arange(-0.01, 0.01 + 1e-9, 2e-4) + 3e-5
+    assert 1.54 < _spring(-d + c * np.abs(y) ** 1.5, y, theta, d) < 1.8
 
 
 def test_static_equilibrium_on_tangent_track(bodies):
