@@ -194,13 +194,13 @@ def test_blanco_coefficients_on_a_tread_are_nearly_the_half_space():
     moves by 0.002 and 0.010 % (0.1 % asserted), F_x and F_y by 0.07 to 0.17 % of
     mu F_n (0.5 % asserted), p_max by -0.2 and +1.0 % (2 % asserted); the
     alternation between the two problems settles in 4 passes."""
-    from railcontact.cases.conformal import has_blanco
+    from railcontact.geometry.conformal import blanco_influence
     base = _tread_case("conformal")
     a, b = solve(base), solve(base.with_value("solver.influence", "blanco"))
     for side in ("left", "right"):
         pa = [p for p in a.patches if p.geometry.side == side][0]
         pb = [p for p in b.patches if p.geometry.side == side][0]
-        assert has_blanco(pb.geometry) and not has_blanco(pa.geometry)
+        assert blanco_influence(pb.geometry) is not None and blanco_influence(pa.geometry) is None
         fn = pa.normal.normal_force
         assert pb.normal.normal_force == pytest.approx(fn, rel=1e-3)
         assert abs(pb.tangential.fx - pa.tangential.fx) < 0.005 * 0.3 * fn
