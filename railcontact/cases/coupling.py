@@ -73,8 +73,14 @@ class DissimilarCoupling:
     :func:`solve_coupled` (the other: Blanco's conformal coefficients,
     :class:`~railcontact.normal.conformal_influence.BlancoCoupling`)."""
 
+    #: what couples the problems (for the messages)
+    name = "dissimilar materials"
+
     def __init__(self, material):
         self.material = material
+        #: whether the problems are coupled (K != 0) and what the result records
+        self.couples = bool(material.is_dissimilar)
+        self.options = {"difference_parameter": material.difference_parameter}
 
     def gap_from_tractions(self, x, y, tx_rail, ty_rail) -> np.ndarray:
         """The normal displacement difference [m] on the grid (x, y) [m] from the
@@ -192,7 +198,6 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
                          "coefficients) needs normal = 'exact' and tangential = 'exact'")
     start = start or CoupledStart()
     coupling = patch_coupling(geometry, material)
-    blanco = isinstance(coupling, BlancoCoupling)
     kw = {"normal_force": normal_force, "penetration": penetration, "grid": grid,
           "element_size": element_size}
     mode = tmodel.mode                      # declared with "coupled"
@@ -221,8 +226,6 @@ def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, veloci
         return tmodel.solve(ns, geometry, material, creepage, friction, velocity, **extra)
 
     ns, ts, it, converged = alternate(normal, tangential, friction, start.alternation,
-                                      blanco or material.is_dissimilar)
-    if not blanco:
-        ts.options.update(difference_parameter=material.difference_parameter)
-    return ns, flag_alternation(ts, it, converged, "Blanco's conformal influence coefficients"
-                                if blanco else "dissimilar materials")
+                                      coupling.couples)
+    ts.options.update(coupling.options)
+    return ns, flag_alternation(ts, it, converged, coupling.name)

@@ -135,8 +135,13 @@ class BlancoCoupling:
     of :func:`railcontact.cases.coupling.solve_coupled` (``gap_from_tractions``,
     ``slip_from_pressure`` on a grid (x, y) [m]; the other: dissimilar materials)."""
 
+    #: what couples the problems (for the messages)
+    name = "Blanco's conformal influence coefficients"
+
     def __init__(self, angles, material):
         self.angles = angles
+        #: whether the problems are coupled (always) and what the result records
+        self.couples, self.options = True, {}
         self.G, self.nu = float(material.shear_modulus), float(material.nu)
         self.contact_modulus = float(material.contact_modulus)
 
