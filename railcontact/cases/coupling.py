@@ -17,6 +17,13 @@ The alternation solves the normal problem with the tractions' gap, then the
 tangential problem with the pressure's slip, until both change by less than
 ``tol`` (relative to p_max and mu p_max).  For quasi-identical bodies (K = 0) one
 pass gives the decoupled solution.
+
+The driver (:func:`solve_coupled`, :func:`alternate`) is that of every coupling
+of the two problems: it takes a coupling object with ``gap_from_tractions(x, y,
+t_x, t_y)`` and ``slip_from_pressure(x, y, p, mode)`` on the grid a solve takes
+(:func:`patch_coupling`): :class:`DissimilarCoupling` above, or Blanco's
+conformal coefficients
+(:class:`~railcontact.normal.conformal_influence.BlancoCoupling`).
 """
 
 from __future__ import annotations
