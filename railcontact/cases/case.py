@@ -248,6 +248,16 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         raise CaseFileError("solver.influence = 'blanco': Blanco's coefficients are those of "
                             "the exact solvers for bodies of one material; expected normal = "
                             "'exact', tangential = 'exact' (or 'none') and one material")
+    if wr is not None and wr.influence is not None:
+        topts = values["tangential_options"]
+        # ([viscoelastic] is for bodies cases: viscoelastic_option rejects it here)
+        clash = (["solver.tangential_options.layer"] if topts.get("layer") is not None
+                 else []) + (["solver.tangential_options.mode = 'transient'"]
+                             if topts.get("mode") == "transient" else [])
+        if clash:
+            raise CaseFileError(f"solver.influence = 'blanco' with {' and '.join(clash)}: "
+                                "Blanco's coefficients are for steady rolling or a shift "
+                                "without an interfacial layer")
     if "wheel_rail" not in values and sol.get("influence", "half-space") != "half-space":
         raise CaseFileError(f"solver.influence = {shown(sol['influence'])}: Blanco's "
                             "coefficients are for wheel-rail cases; expected 'half-space'")

@@ -14,8 +14,9 @@ holds CONTACT's TILDE_FN (the pressure's integral on the curved surface).
 With ``solver.influence = "blanco"`` (CONTACT's INFLCF = 4) the exact solvers
 take Blanco's influence coefficients, corrected for the turning of the surface
 (:mod:`railcontact.normal.conformal_influence`); they couple the normal and the
-tangential problem, which :func:`conformal_coupled` solves by alternation
-(CONTACT's Panagiotopoulos process, :func:`railcontact.cases.coupling.alternate`).
+tangential problem, which :func:`railcontact.cases.coupling.solve_coupled` solves
+by alternation (CONTACT's Panagiotopoulos process), as it does for dissimilar
+materials.
 """
 
 from __future__ import annotations
@@ -24,15 +25,11 @@ import dataclasses
 
 import numpy as np
 
-from ..core.errors import InputError
-from ..geometry.conformal import bar_forces, conformal_geometry, conformal_slip, influence_angles
-from ..normal.conformal_influence import BlancoCoupling
-from ..normal.base import bilinear, same_grid
+from ..geometry.conformal import bar_forces, conformal_geometry, conformal_slip
 from ..tangential.exact import SPIN_OFFSET
-from .coupling import alternate, flag_alternation
 
 __all__ = ["is_conformal", "conformal_patch", "conformal_normal", "conformal_extra_slip",
-           "conformal_friction", "conformal_tangential", "has_blanco", "conformal_coupled"]
+           "conformal_friction", "conformal_tangential"]
 
 
 def is_conformal(case) -> bool:
@@ -47,12 +44,6 @@ def conformal_patch(case, geom):
     if not is_conformal(case) or geom.surface is not None:
         return geom
     return conformal_geometry(geom, getattr(case.wheel_rail, "influence", None))
-
-
-def has_blanco(geom) -> bool:
-    """Whether a patch takes Blanco's corrected influence coefficients."""
-    surf = getattr(geom, "surface", None)
-    return surf is not None and getattr(surf, "influence", None) is not None
 
 
 def conformal_normal(geom, ns, tangential=None):
@@ -110,60 +101,3 @@ def conformal_tangential(geom, ns, ts):
     n2 = dataclasses.replace(ns, normal_force=fn)
     n2.tilde_fn = tilde
     return n2, dataclasses.replace(ts, fy=fy)
-
-
-def conformal_coupled(geom, nmodel, tmodel, material, creepage, friction: float, kw: dict,
-                      first: dict | None = None, tangential_kw=None):
-    """The normal and tangential solutions of a conformal patch with Blanco's
-    influence coefficients (:func:`has_blanco`), at the patch's approach: the
-    exact normal solver with the gap's opening from the last tangential tractions
-    (``BlancoCoupling.gap_from_tractions``), the exact tangential solver with the
-    conformal rigid slip plus the pressure's (``slip_from_pressure``), alternated
-    until both settle (:func:`railcontact.cases.coupling.alternate`).
-
-    ``kw`` the grid keywords of the normal solver, ``first`` further keywords of
-    its first solve (a warm start), ``tangential_kw(ns)`` further keywords of the
-    tangential solves on the normal solution ``ns`` (a warm start, friction across
-    the patch).  Returns the normal and tangential solutions with the patch's bar
-    forces (:func:`conformal_tangential`)."""
-    if "coupled" not in nmodel.capabilities & tmodel.capabilities:
-        raise InputError("Blanco's conformal influence coefficients need normal = 'exact' and "
-                         "tangential = 'exact'")
-    if material.is_dissimilar:
-        raise InputError("Blanco's conformal influence coefficients are for bodies of one "
-                         "material; expected the wheel's elastic constants equal to the rail's")
-    mode = tmodel.mode
-    load = {"penetration": geom.approach}
-
-    def coupling(ns):
-        return BlancoCoupling(ns.x, ns.y, influence_angles(geom, ns.y), material.shear_modulus,
-                              material.nu, material.contact_modulus)
-
-    def normal(ns, ts):
-        if ns is None:
-            return nmodel.solve(geom, material, **load, **kw, **(first or {}))
-
-        def gap(x, y):
-            # the last tractions on the rail on the grid the solve takes (the last
-            # one's, unless its potential area grew: then interpolated)
-            tx, ty = -ts.traction_x, -ts.traction_y
-            if not same_grid(ts.x, ts.y, x, y):
-                X, Y = np.meshgrid(x, y, indexing="ij")
-                tx, ty = (bilinear(ts.x, ts.y, f, X, Y) for f in (tx, ty))
-            return BlancoCoupling(x, y, influence_angles(geom, y), material.shear_modulus,
-                                  material.nu, material.contact_modulus
-                                  ).gap_from_tractions(tx, ty)
-        return nmodel.solve(geom, material, **load, **kw, warm_start=ns, extra_gap=gap)
-
-    def tangential(ns, ts):
-        wx, wy = conformal_extra_slip(geom, ns, creepage)
-        sx, sy = coupling(ns).slip_from_pressure(ns.pressure, mode)
-        extra = dict(tangential_kw(ns) if tangential_kw is not None else {})
-        if ts is not None:
-            extra["warm_start"] = ts
-        return tmodel.solve(ns, geom, material, creepage, friction, geom.velocity,
-                            extra_slip=(wx + sx, wy + sy), **extra)
-
-    ns, ts, it, converged = alternate(normal, tangential, friction)
-    ts = flag_alternation(ts, it, converged, "Blanco's conformal influence coefficients")
-    return conformal_tangential(geom, ns, ts)

@@ -17,6 +17,13 @@ The alternation solves the normal problem with the tractions' gap, then the
 tangential problem with the pressure's slip, until both change by less than
 ``tol`` (relative to p_max and mu p_max).  For quasi-identical bodies (K = 0) one
 pass gives the decoupled solution.
+
+The driver (:func:`solve_coupled`, :func:`alternate`) is that of every coupling
+of the two problems: it takes a coupling object with ``gap_from_tractions(x, y,
+t_x, t_y)`` and ``slip_from_pressure(x, y, p, mode)`` on the grid a solve takes
+(:func:`patch_coupling`): :class:`DissimilarCoupling` above, or Blanco's
+conformal coefficients
+(:class:`~railcontact.normal.conformal_influence.BlancoCoupling`).
 """
 
 from __future__ import annotations
@@ -27,8 +34,13 @@ from functools import lru_cache
 
 import numpy as np
 
+from typing import Callable
+
 from ..core.errors import InputError
-from ..normal.influence import Convolution, ShiftedConvolution, coupling_kernels
+from ..geometry.conformal import blanco_influence, influence_angles
+from ..normal.base import bilinear, same_grid
+from ..normal.conformal_influence import BlancoCoupling
+from ..normal.influence import Convolution, ShiftedConvolution, coupling_kernels, rigid_slip_of
 from ..core.status import SolverStatus
 
 log = logging.getLogger(__name__)
@@ -56,14 +68,46 @@ def normal_gap_from_tractions(x, y, tx_rail, ty_rail, material) -> np.ndarray:
 
 def slip_from_pressure(x, y, p, material, mode: str = "rolling"):
     """Additional rigid slip (s_x, s_y) of the pressure p [Pa] on the grid:
-    -(u_t(I+) - u_t(I))/dx in steady rolling, u_t in the shift problem."""
+    -(u_t(I+) - u_t(I))/dx in steady rolling, u_t in the shift problem
+    (:func:`~railcontact.normal.influence.rigid_slip_of`)."""
     _, (sx, sy) = _grid(x, y, material)
-    ux, uy = -sx(p), -sy(p)
-    if mode == "shift":
-        return np.ascontiguousarray(ux[:-1]), np.ascontiguousarray(uy[:-1])
-    dx = float(x[1] - x[0])
-    return (np.ascontiguousarray(-(ux[1:] - ux[:-1]) / dx),
-            np.ascontiguousarray(-(uy[1:] - uy[:-1]) / dx))
+    return rigid_slip_of(-sx(p), -sy(p), float(x[1] - x[0]), mode)
+
+
+class DissimilarCoupling:
+    """The coupling of the normal and tangential problems of bodies of different
+    ``material``s: one implementation of the coupling protocol of
+    :func:`solve_coupled` (the other: Blanco's conformal coefficients,
+    :class:`~railcontact.normal.conformal_influence.BlancoCoupling`)."""
+
+    #: what couples the problems (for the messages)
+    name = "dissimilar materials"
+
+    def __init__(self, material):
+        self.material = material
+        #: whether the problems are coupled (K != 0) and what the result records
+        self.couples = bool(material.is_dissimilar)
+        self.options = {"difference_parameter": material.difference_parameter}
+
+    def gap_from_tractions(self, x, y, tx_rail, ty_rail) -> np.ndarray:
+        """The normal displacement difference [m] on the grid (x, y) [m] from the
+        tangential tractions on the rail [Pa] (:func:`normal_gap_from_tractions`)."""
+        return normal_gap_from_tractions(x, y, tx_rail, ty_rail, self.material)
+
+    def slip_from_pressure(self, x, y, p, mode: str = "rolling"):
+        """The rigid slip (s_x, s_y) the pressure p [Pa] on the grid adds
+        (:func:`slip_from_pressure`)."""
+        return slip_from_pressure(x, y, p, self.material, mode)
+
+
+def patch_coupling(geometry, material):
+    """The coupling of a patch's normal and tangential problems: Blanco's where the
+    patch takes his conformal coefficients
+    (:func:`~railcontact.geometry.conformal.blanco_influence`), else that of
+    dissimilar materials (none for bodies of one material: K = 0)."""
+    if blanco_influence(geometry) is not None:
+        return BlancoCoupling(lambda s: influence_angles(geometry, s), material)
+    return DissimilarCoupling(material)
 
 
 #: largest number of alternations between the normal and the tangential problem
@@ -128,35 +172,67 @@ def flag_alternation(ts, it: int, converged: bool, what: str):
     return ts
 
 
+@dataclass(frozen=True)
+class CoupledStart:
+    """How :func:`solve_coupled` starts and stops: its ``alternation``, the further
+    keywords of the first normal solve (``normal``: a warm start, a kept grid) and
+    those of the tangential solves on a normal solution ``ns``
+    (``tangential(ns)``: a warm start, friction across the patch, an extra rigid
+    slip such as a conformal patch's, to which the pressure's is added)."""
+
+    alternation: Alternation | None = None
+    normal: dict | None = None
+    tangential: Callable | None = None
+
+
 def solve_coupled(nmodel, tmodel, geometry, material, creepage, friction, velocity,
                   normal_force=None, penetration=None, grid=None, element_size=None,
-                  alternation: Alternation | None = None):
-    """Normal and tangential solution of one patch of dissimilar bodies.
+                  start: CoupledStart | None = None):
+    """Normal and tangential solution of one patch whose problems are coupled:
+    dissimilar bodies, or Blanco's conformal coefficients (:func:`patch_coupling`).
 
-    ``nmodel`` and ``tmodel`` must be the exact models.  Returns the normal and
-    tangential solutions; the tangential one's ``status`` is unconverged where the
-    alternation did not converge (its ``options`` hold ``coupling_iterations``).
+    The exact normal solver with the gap's opening from the last tangential
+    tractions (``gap_from_tractions``, on the grid the solve takes: the tractions
+    interpolated where it differs from the last one's), the exact tangential solver
+    with the pressure's rigid slip (``slip_from_pressure``), alternated until both
+    settle (:func:`alternate`).  ``nmodel`` and ``tmodel`` must be the exact
+    models.  Returns the normal and tangential solutions; the tangential one's
+    ``status`` is unconverged where the alternation did not converge (its
+    ``options`` hold ``coupling_iterations``).
     """
     if "coupled" not in nmodel.capabilities & tmodel.capabilities:
-        raise InputError("coupled normal-tangential solution of dissimilar materials needs "
-                         "normal = 'exact' and tangential = 'exact'")
-    kw = {"grid": grid, "element_size": element_size}
-    load = {"normal_force": normal_force, "penetration": penetration}
+        raise InputError("coupled normal-tangential solution (dissimilar materials, Blanco's "
+                         "coefficients) needs normal = 'exact' and tangential = 'exact'")
+    start = start or CoupledStart()
+    coupling = patch_coupling(geometry, material)
+    kw = {"normal_force": normal_force, "penetration": penetration, "grid": grid,
+          "element_size": element_size}
     mode = tmodel.mode                      # declared with "coupled"
 
     def normal(ns, ts):
         if ns is None:
-            return nmodel.solve(geometry, material, **load, **kw)
-        gap = normal_gap_from_tractions(ns.x, ns.y, -ts.traction_x, -ts.traction_y, material)
-        return nmodel.solve(geometry, material, **load, **kw, warm_start=ns, extra_gap=gap)
+            return nmodel.solve(geometry, material, **kw, **(start.normal or {}))
+
+        def gap(x, y):
+            # the last tractions on the rail on the grid the solve takes (the last
+            # one's, unless its potential area changed: then interpolated)
+            tx, ty = -ts.traction_x, -ts.traction_y
+            if not same_grid(ts.x, ts.y, x, y):
+                X, Y = np.meshgrid(x, y, indexing="ij")
+                tx, ty = (bilinear(ts.x, ts.y, f, X, Y) for f in (tx, ty))
+            return coupling.gap_from_tractions(x, y, tx, ty)
+        return nmodel.solve(geometry, material, **kw, warm_start=ns, extra_gap=gap)
 
     def tangential(ns, ts):
-        return tmodel.solve(ns, geometry, material, creepage, friction, velocity,
-                            warm_start=ts,
-                            extra_slip=slip_from_pressure(ns.x, ns.y, ns.pressure, material,
-                                                          mode))
+        extra = dict(start.tangential(ns) if start.tangential is not None else {})
+        if ts is not None:
+            extra["warm_start"] = ts
+        sx, sy = coupling.slip_from_pressure(ns.x, ns.y, ns.pressure, mode)
+        base = extra.get("extra_slip")
+        extra["extra_slip"] = (sx, sy) if base is None else (base[0] + sx, base[1] + sy)
+        return tmodel.solve(ns, geometry, material, creepage, friction, velocity, **extra)
 
-    ns, ts, it, converged = alternate(normal, tangential, friction, alternation,
-                                      material.is_dissimilar)
-    ts.options.update(difference_parameter=material.difference_parameter)
-    return ns, flag_alternation(ts, it, converged, "dissimilar materials")
+    ns, ts, it, converged = alternate(normal, tangential, friction, start.alternation,
+                                      coupling.couples)
+    ts.options.update(coupling.options)
+    return ns, flag_alternation(ts, it, converged, coupling.name)

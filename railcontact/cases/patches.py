@@ -8,9 +8,9 @@ import logging
 
 import numpy as np
 
-from .conformal import (conformal_coupled, conformal_extra_slip, conformal_friction,
-                        conformal_normal, conformal_patch, conformal_tangential, has_blanco)
-from .coupling import solve_coupled
+from .conformal import (conformal_extra_slip, conformal_friction, conformal_normal,
+                        conformal_patch, conformal_tangential, is_conformal)
+from .coupling import CoupledStart, solve_coupled
 from ..geometry.validity import HALF_SPACE_LIMIT, contact_size, patch_validity
 from ..normal import get_normal_model
 from ..profiles.library import DEFAULT_INCLINATION, RAIL_PROFILES
@@ -35,14 +35,19 @@ def case_models(case, normal=None, tangential=None):
 
 
 def coupled_models(case, nmodel, tmodel) -> bool:
-    """Dissimilar materials with both exact models: solve the coupled problems."""
-    if not case.material.is_dissimilar:
+    """Whether the case's normal and tangential problems are coupled and its models
+    solve them together (:func:`railcontact.cases.coupling.solve_coupled`):
+    dissimilar materials, or Blanco's conformal coefficients
+    (``solver.influence = "blanco"``), with both exact models."""
+    blanco = is_conformal(case) and case.wheel_rail.influence is not None
+    if not (case.material.is_dissimilar or blanco):
         return False
     if tmodel is not None and "coupled" in nmodel.capabilities & tmodel.capabilities:
         return True
-    log.info("dissimilar materials: the %s/%s models use the combined constants G, nu, E*; "
-             "the normal-tangential coupling needs normal = tangential = 'exact'",
-             nmodel.name, tmodel.name if tmodel is not None else "none")
+    if case.material.is_dissimilar:
+        log.info("dissimilar materials: the %s/%s models use the combined constants G, nu, "
+                 "E*; the normal-tangential coupling needs normal = tangential = 'exact'",
+                 nmodel.name, tmodel.name if tmodel is not None else "none")
     return False
 
 
@@ -66,8 +71,9 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
     """Solve every loaded patch; ``previous`` results (an earlier evaluation of the
     same case, or a neighbouring case of a sweep) serve as warm starts where a model
     accepts them.  ``normal_only``: leave the tangential problems to
-    :func:`add_tangential`.  ``coupled``: dissimilar materials with the exact
-    models (:func:`coupled_models`), both problems solved together.  ``same_case``:
+    :func:`add_tangential`.  ``coupled``: coupled problems (dissimilar materials,
+    Blanco's coefficients) with the exact models (:func:`coupled_models`), both
+    solved together.  ``same_case``:
     ``previous`` is an earlier evaluation of this case, whose grids a model may
     keep."""
     out = []
@@ -77,25 +83,19 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
             continue
         geom = conformal_patch(case, geom)            # the curved surface, where asked
         creep = patch_creepage(case, geom)
-        if coupled:
-            ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep,
-                                   patch_friction(case, geom), geom.velocity,
-                                   penetration=geom.approach, **kw)
-            out.append(PatchResult(geom, ns, ts, creep))
-            continue
         nkw = dict(kw)
         best = nearest_patch(previous, geom) if nwarm else None
         if best is not None:
             nkw["warm_start"] = best.normal
             if same_case and "grid-reuse" in nmodel.capabilities:
                 nkw["reuse_grid"] = best.normal
-        if tmodel is not None and has_blanco(geom):
-            # Blanco's coefficients couple the two problems: solved together
-            first = {k: v for k, v in nkw.items() if k not in kw}
-            ns, ts = conformal_coupled(geom, nmodel, tmodel, case.material, creep,
-                                       patch_friction(case, geom), kw, first,
-                                       _tangential_kw(case, tmodel, previous, geom))
-            out.append(PatchResult(geom, ns, ts, creep))
+        if coupled:
+            start = CoupledStart(normal={k: v for k, v in nkw.items() if k not in kw},
+                                 tangential=_tangential_kw(case, tmodel, previous, geom))
+            ns, ts = solve_coupled(nmodel, tmodel, geom, case.material, creep,
+                                   patch_friction(case, geom), geom.velocity,
+                                   penetration=geom.approach, **kw, start=start)
+            out.append(PatchResult(geom, *conformal_tangential(geom, ns, ts), creep))
             continue
         ns = conformal_normal(geom, nmodel.solve(geom, case.material,
                                                  penetration=geom.approach, **nkw))
@@ -107,11 +107,15 @@ def solve_case_patches(case, contact, nmodel, tmodel, kw, previous=None, normal_
 
 
 def _tangential_kw(case, tmodel, previous, geom):
-    """The keywords of a patch's tangential solve on its normal solution ``ns``
-    (a function of it): the warm start from the nearest of ``previous`` and the
-    friction across the patch, where the model takes them."""
+    """The keywords of a coupled patch's tangential solves on its normal solution
+    ``ns`` (a function of it): those of :func:`_tangential_extra` and a conformal
+    patch's rigid slip."""
     def kw(ns):
-        return _tangential_extra(case, tmodel, previous, geom, ns)
+        extra = _tangential_extra(case, tmodel, previous, geom, ns)
+        slip = conformal_extra_slip(geom, ns, patch_creepage(case, geom))
+        if slip is not None:
+            extra["extra_slip"] = slip
+        return extra
     return kw
 
 

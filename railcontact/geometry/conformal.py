@@ -324,14 +324,20 @@ class ConformalPatch:
     influence: ConformalInfluence | None = None
 
 
+def blanco_influence(geom):
+    """The correction of a patch's influence coefficients
+    (:class:`ConformalInfluence`, Blanco's), or None for a planar patch or the
+    half-space coefficients."""
+    surf = getattr(geom, "surface", None)
+    return None if surf is None else surf.influence
+
+
 def influence_angles(geom, s):
     """The column inclinations [rad] of a patch whose influence coefficients are
-    corrected (:class:`ConformalInfluence`) at arc lengths ``s`` [m]; None for a
+    corrected (:func:`blanco_influence`) at arc lengths ``s`` [m]; None for a
     planar patch or the half-space coefficients."""
-    surf = getattr(geom, "surface", None)
-    if surf is None or getattr(surf, "influence", None) is None:
-        return None
-    return surf.influence.angles(surf.curve, s)
+    influence = blanco_influence(geom)
+    return None if influence is None else influence.angles(geom.surface.curve, s)
 
 
 def conformal_geometry(geom: ContactGeometry,

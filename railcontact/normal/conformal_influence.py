@@ -53,19 +53,19 @@ from functools import lru_cache
 import numpy as np
 
 from ..core.errors import InputError
-from .influence import Convolution, ShiftedConvolution, _rect_integrals, tangential_kernels
+from .influence import (Convolution, ShiftedConvolution, _rect_integrals, rigid_slip_of,
+                        tangential_kernels)
 
 __all__ = ["blanco_coefficients", "column_weights", "ModulatedConvolution",
            "blanco_normal_operator", "BlancoCoupling"]
 
 
-def blanco_coefficients(A, delta, variant: int = 3) -> np.ndarray:
+def blanco_coefficients(A, delta) -> np.ndarray:
     """Blanco's coefficients B (..., 3, 3) from the half-space's A (..., 3, 3)
     [m/Pa] (components x, s, n: row the displacement, column the traction) and the
     inclination differences ``delta`` = alpha_J - alpha_I [rad] (broadcast to A's
-    leading shape); ``variant`` 3 (module docstring)."""
-    if variant != 3:
-        raise InputError(f"Blanco variant {variant!r}: expected 3")
+    leading shape); variant 3 (module docstring; the one
+    :class:`~railcontact.geometry.conformal.ConformalInfluence` accepts)."""
     A = np.asarray(A, dtype=float)
     d = np.asarray(delta, dtype=float)[..., None]
     c, s = np.cos(d), np.sin(d)
@@ -129,44 +129,53 @@ def _lateral_rows(mx, my, dx, dy, G, nu):
 
 class BlancoCoupling:
     """The coupling of the normal and tangential problems that Blanco's coefficients
-    bring on a grid (x, y) [m] (y: arc lengths) whose columns have the
-    inclinations ``angles`` [rad], for bodies of one material (shear modulus
-    ``G`` [Pa], Poisson's ratio ``nu``, contact modulus E* [Pa])."""
+    bring, for bodies of one ``material`` (its shear modulus G, Poisson's ratio nu
+    and contact modulus E*): ``angles(y)`` the inclinations [rad] of the grid
+    columns at arc lengths ``y`` [m].  One implementation of the coupling protocol
+    of :func:`railcontact.cases.coupling.solve_coupled` (``gap_from_tractions``,
+    ``slip_from_pressure`` on a grid (x, y) [m]; the other: dissimilar materials)."""
 
-    def __init__(self, x, y, angles, G: float, nu: float, contact_modulus: float):
+    #: what couples the problems (for the messages)
+    name = "Blanco's conformal influence coefficients"
+
+    def __init__(self, angles, material):
+        self.angles = angles
+        #: whether the problems are coupled (always) and what the result records
+        self.couples, self.options = True, {}
+        self.G, self.nu = float(material.shear_modulus), float(material.nu)
+        self.contact_modulus = float(material.contact_modulus)
+
+    def _grid(self, x, y):
+        """The column weights (cos, sin) (1, my), the step dx and the kernels of
+        the grid (x, y)."""
         x, y = np.asarray(x, dtype=float), np.asarray(y, dtype=float)
         if x.size < 2 or y.size < 2:
             raise InputError("Blanco coupling needs a grid of at least 2 x 2 elements")
-        a = np.asarray(angles, dtype=float)
+        a = np.asarray(self.angles(y), dtype=float)
         if a.shape != y.shape:
             raise InputError(f"Blanco coupling: {a.size} column angles, expected one per grid "
                              f"column ({y.size})")
-        self.x, self.y = x, y
-        self.c, self.s = np.cos(a)[None, :], np.sin(a)[None, :]
-        self.dx = float(x[1] - x[0])
-        key = (x.size, y.size, self.dx, float(y[1] - y[0]))
-        self._n = _normal_rows(*key, float(contact_modulus))
-        self._sx, self._ss = _lateral_rows(*key, float(G), float(nu))
+        dx = float(x[1] - x[0])
+        key = (x.size, y.size, dx, float(y[1] - y[0]))
+        return (np.cos(a)[None, :], np.sin(a)[None, :], dx,
+                _normal_rows(*key, self.contact_modulus), _lateral_rows(*key, self.G, self.nu))
 
-    def gap_from_tractions(self, tx_rail, ty_rail) -> np.ndarray:
-        """The gap's opening [m] from the tangential tractions on the rail [Pa]:
-        sum_J sin(a_J - a_I) (A_sx t_x + A_ss t_s)(I - J)."""
-        c, s = self.c, self.s
-        lat = lambda w: self._sx(w * tx_rail) + self._ss(w * ty_rail)   # noqa: E731
+    def gap_from_tractions(self, x, y, tx_rail, ty_rail) -> np.ndarray:
+        """The gap's opening [m] on the grid (x, y) from the tangential tractions on
+        the rail [Pa]: sum_J sin(a_J - a_I) (A_sx t_x + A_ss t_s)(I - J)."""
+        c, s, _, _, (ksx, kss) = self._grid(x, y)
+        lat = lambda w: ksx(w * tx_rail) + kss(w * ty_rail)   # noqa: E731
         return c * lat(s) - s * lat(c)
 
-    def lateral_displacement(self, p) -> np.ndarray:
+    def lateral_displacement(self, x, y, p) -> np.ndarray:
         """The lateral displacement difference [m] of the pressure p [Pa] on the
-        grid and one row beyond it (the rolling difference):
+        grid (x, y) and one row beyond it (the rolling difference):
         -sum_J sin(a_J - a_I) A_nn(I - J) p_J."""
-        c, s = self.c, self.s
-        return -(c * self._n(s * p) - s * self._n(c * p))
+        c, s, _, kn, _ = self._grid(x, y)
+        return -(c * kn(s * p) - s * kn(c * p))
 
-    def slip_from_pressure(self, p, mode: str = "rolling"):
-        """The rigid slip (s_x, s_y) that the pressure p [Pa] adds: in steady rolling
-        -(u_s(I+) - u_s(I))/dx, in a shift u_s itself (s_x zero)."""
-        u = self.lateral_displacement(p)
-        zero = np.zeros(np.shape(p))
-        if mode == "shift":
-            return zero, np.ascontiguousarray(u[:-1])
-        return zero, np.ascontiguousarray(-(u[1:] - u[:-1]) / self.dx)
+    def slip_from_pressure(self, x, y, p, mode: str = "rolling"):
+        """The rigid slip (s_x, s_y) that the pressure p [Pa] on the grid (x, y)
+        adds (:func:`~railcontact.normal.influence.rigid_slip_of`; s_x zero)."""
+        u = self.lateral_displacement(x, y, p)
+        return rigid_slip_of(np.zeros(u.shape), u, float(x[1] - x[0]), mode)

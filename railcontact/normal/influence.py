@@ -135,6 +135,10 @@ def _kernel_spectrum(kernel, m, n, N1, N2):
 class Convolution:
     """y = A p on an mx x my grid, by zero-padded real FFTs."""
 
+    #: the column weights of a modulated operator (None: the half-space's; Blanco's
+    #: :class:`~railcontact.normal.conformal_influence.ModulatedConvolution`)
+    modulation = None
+
     def __init__(self, kernel: np.ndarray, mx: int, my: int):
         self.mx, self.my = mx, my
         self.shape = (fft.next_fast_len(2 * mx - 1, real=True),
@@ -276,6 +280,20 @@ class ShiftedConvolution:
     def __call__(self, p: np.ndarray) -> np.ndarray:
         return fft.irfft2(fft.rfft2(p, s=self.shape) * self.khat,
                           s=self.shape)[:self.mx + self.rows, :self.my]
+
+
+def rigid_slip_of(ux: np.ndarray, uy: np.ndarray, dx: float, mode: str = "rolling"):
+    """The rigid slip that a tangential displacement difference (u_x, u_y) [m] on a
+    grid and one row of x beyond it (a :class:`ShiftedConvolution`'s output) adds
+    to the tangential problem: in steady rolling -(u(I+) - u(I))/dx [-] (``dx``
+    the grid's step [m]), in a shift (``mode = "shift"``) u(I) itself [m].  The
+    pressure's share in the coupled normal and tangential problems: dissimilar
+    materials (:mod:`railcontact.cases.coupling`) and Blanco's conformal
+    coefficients (:mod:`railcontact.normal.conformal_influence`)."""
+    if mode == "shift":
+        return np.ascontiguousarray(ux[:-1]), np.ascontiguousarray(uy[:-1])
+    return (np.ascontiguousarray(-(ux[1:] - ux[:-1]) / dx),
+            np.ascontiguousarray(-(uy[1:] - uy[:-1]) / dx))
 
 
 class TangentialOperator:

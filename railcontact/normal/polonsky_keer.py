@@ -113,15 +113,11 @@ def _convolve(p, khat, shape, buf):
 def _modulation(op, my):
     """The column modulation of an operator (``op.modulation``, (m, my): the
     product is sum_m w_m * A (w_m * p), Blanco's conformal correction,
-    :mod:`railcontact.normal.conformal_influence`), or an empty (0, my) array."""
-    mod = getattr(op, "modulation", None)
-    if mod is None:
+    :mod:`railcontact.normal.conformal_influence`), or an empty (0, my) array for
+    the half-space's :class:`~railcontact.normal.influence.Convolution`."""
+    if op.modulation is None:
         return np.zeros((0, my))
-    mod = np.ascontiguousarray(mod, dtype=float)
-    if mod.ndim != 2 or mod.shape[1] != my:
-        raise InputError(f"operator modulation of shape {mod.shape}: expected one weight "
-                         f"per grid column ({my})")
-    return mod
+    return op.modulation
 
 
 @njit(cache=True, nogil=True)

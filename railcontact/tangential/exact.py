@@ -657,14 +657,9 @@ class ExactTangentialModel:
         if previous is not None and self.mode != "transient":
             raise InputError(f"a previous time step's solution is used by the 'transient' "
                              f"mode; this model's mode is {self.mode!r}")
+        # Blanco's coefficients (steady rolling or a shift of elastic bodies without
+        # a layer: the case parser rejects the others)
         angles = None if geometry is None else influence_angles(geometry, y)
-        if angles is not None and (self.mode == "transient" or self.viscoelastic is not None
-                                   or self.layer is not None):
-            raise InputError("Blanco's conformal influence coefficients with the exact "
-                             f"tangential model's mode {self.mode!r}"
-                             + (" and viscoelastic materials" if self.viscoelastic else "")
-                             + (" and an interfacial layer" if self.layer else "")
-                             + ": expected steady rolling or a shift of elastic bodies")
         if self.mode == "transient":
             if extra_slip is not None:
                 extra_slip = tuple(np.broadcast_to(np.asarray(e, float), contact.shape)

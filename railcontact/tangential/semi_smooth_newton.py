@@ -326,17 +326,21 @@ def _c_of(px, py, op, bx, by):
     fx = np.fft.rfft2(bx)
     fy = np.fft.rfft2(by)
     # the kernel products in place, in one pass: fx <- kxx fx + kxy fy, fy <- ...
+    # (fy only on the half-space: Blanco's lateral displacement is turned per column)
+    turned = op.cos_col.size > 0
     for i in range(fx.shape[0]):
         for j in range(fx.shape[1]):
             a = fx[i, j]
             b = fy[i, j]
             c = kxy[i, j]
             fx[i, j] = kxx[i, j] * a + c * b
-            fy[i, j] = c * a + kyy[i, j] * b
+            if not turned:
+                fy[i, j] = c * a + kyy[i, j] * b
     ux = np.fft.irfft2(fx, s=shape)
-    uy = np.fft.irfft2(fy, s=shape)
-    if op.cos_col.size > 0:
+    if turned:
         uy = _turned_lateral(px, py, op, bx, by)
+    else:
+        uy = np.fft.irfft2(fy, s=shape)
     cx = np.empty((mx, my))
     cy = np.empty((mx, my))
     if f != 0.0:

@@ -116,3 +116,26 @@ def test_friction_along_the_track_keys(refdir):
     roller = {**raw, "roller": {"radius": 0.5}}
     with pytest.raises(CaseFileError, match="applies to a wheel-rail case on a track"):
         case_from_dict(roller)
+
+
+def test_blanco_incompatibilities_are_named_where_the_case_enters():
+    """``solver.influence = "blanco"`` with an interfacial layer or the transient
+    mode: one CaseFileError naming the keys when the case is read (before any
+    contact search or solve); ``[viscoelastic]`` is refused for any wheel-rail case."""
+    case = rc.load_case(EX / "wheel_rail.toml").with_values(
+        {"solver.contact_surface": "conformal", "solver.normal": "exact",
+         "solver.tangential": "exact"})
+    b = case.with_value("solver.influence", "blanco")
+    layer = {"thickness": 2e-5, "shear_modulus": 8.2e8, "yield_stress": 6e7, "hardening": 1e12}
+    for values, keys in [
+            ({"solver.tangential_options": {"layer": layer}},
+             "solver.tangential_options.layer"),
+            ({"solver.tangential_options": {"mode": "transient"}},
+             "solver.tangential_options.mode = 'transient'"),
+            ({"solver.tangential_options": {"mode": "transient", "layer": layer}},
+             "layer and solver.tangential_options.mode = 'transient'")]:
+        case.with_values(values)                      # the half-space's: accepted
+        with pytest.raises(CaseFileError, match=r"solver.influence = 'blanco' with .*" + keys):
+            b.with_values(values)
+    with pytest.raises(CaseFileError, match=r"\[viscoelastic\] needs a \[bodies\] case"):
+        b.with_value("viscoelastic", {"spring_ratio": 1.0, "relaxation_time": 0.003})
