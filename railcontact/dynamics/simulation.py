@@ -98,8 +98,12 @@ class _System:
             raise InputError(f"fastsim grid {fastsim_grid!r}: expected two integers in [2, 200]")
         self.tp = np.array([mu, material.shear_modulus, nx, ny, kA, kS, fall[0], fall[1]])
         law = online_law(tangential)
-        if law is not None:
-            self.law, self.py_model = law, None
+        strips = (self.wheel_rail is not None and not opts
+                  and self.wheel_rail.compiled_strips(tangential))
+        if law is not None or strips:
+            # (a strip model with fastsim-strips: the strip march in compiled code; the
+            # law's code is FASTSIM's, unused)
+            self.law, self.py_model = (law if law is not None else online_law("fastsim")), None
         else:
             self.law = -1
             self.py_model = get_tangential_model(tangential, **opts)
@@ -110,7 +114,8 @@ class _System:
         self.online = None
         if self.wheel_rail is not None:
             ws_inertia = model.bodies[model.wheelsets[0][0]].yaw_inertia
-            self.online = self.wheel_rail.compiled(nw, max(self.law, 0), self.tp, ws_inertia)
+            self.online = self.wheel_rail.compiled(nw, max(self.law, 0), self.tp, ws_inertia,
+                                                   tangential if strips else None)
             self.fext_rows = np.zeros((nw, MAX_ROWS), EXTERNAL)
             self.warm = {}
             self.batch = False
