@@ -28,9 +28,13 @@ the Python path (:func:`railcontact.cases.balance.solve_wheel_rail`).
 
 Which cases run here: wheel-rail cases with given loads and a free roll, the same
 wheel and rail profile on both sides, a normal model with the ``"ellipse"``
-capability (Hertz) and a tangential model with a compiled online law, no
+capability (Hertz) and a tangential model with a compiled online law, or a strip
+model (``kik-piotrowski``, ``kpec``, ``stripes``, ``analyn``; without normal
+options) with a compiled online law or ``fastsim-strips``
+(:mod:`railcontact.cases.strip_pass`: the strips of each patch sampled on its
+exact gap, the model's own compiled kernel, the strips' FASTSIM march), no
 ``friction.variation``, no patch turning (``wheelset.turn_distance`` 0) and
-similar materials (:func:`compiled_supported` says why not).
+similar materials (:func:`compiled_unsupported` says why not).
 
 FASTSIM runs on the case's grid (``solver.grid``; default 40 x 40): strips across
 the ellipse and elements per strip, as the per-patch model marches the Hertzian

@@ -228,6 +228,53 @@ def window_of(win, margin):
 
 
 @njit(cache=True, nogil=True)
+def _line_minimum(frame, sign, rail, wheel, xs, y, approach):
+    """The strip quantity g at lateral position y [m]: the smallest gap (approach
+    added) of the parabola through the gap at ``xs`` (1, 3) = x_c + (0, -d, +d)
+    (``frame``: the packed frame, (1, 24))."""
+    ys = np.empty((1, 1))
+    ys[0, 0] = sign * y
+    h = _gap_lines_kernel(xs, ys, frame, rail.breaks, rail.coefs, wheel.breaks,
+                          wheel.coefs)[0]
+    v = np.empty(3)
+    for k in range(3):
+        v[k] = (1.0 if h[k, 0] < DEEPEST_GAP else h[k, 0]) + approach
+    d = xs[0, 2] - xs[0, 0]
+    return parabola_min(v[1], v[0], v[2], d, 2.0 * d)[3]
+
+
+@njit(cache=True, nogil=True)
+def _run_end(frame, sign, rail, wheel, xs, inside, outside, win):
+    """Where the strip quantity g crosses the penetration between the lateral
+    positions ``inside`` (g below it; its g known) and ``outside`` (above): by
+    Illinois' regula falsi (bisection where the outside misses a surface), to
+    1e-9 m."""
+    a, fa = inside
+    b = outside
+    pen = win[1]
+    fb = _line_minimum(frame, sign, rail, wheel, xs, b, win[0]) - pen
+    if not fb >= 0.0:
+        return b
+    side = 0
+    for _ in range(30):
+        if abs(b - a) <= 1e-9:
+            break
+        x = (a * fb - b * fa) / (fb - fa) if fb < 1e-3 else 0.5 * (a + b)
+        fx = _line_minimum(frame, sign, rail, wheel, xs, x, win[0]) - pen
+        if fx < 0.0:
+            a, fa = x, fx
+            if side == -1:
+                fb *= 0.5
+            side = -1
+        else:
+            b, fb = x, fx
+            if side == 1:
+                fa *= 0.5
+            side = 1
+    return (a * fb - b * fa) / (fb - fa) if fb < 1e-3 else 0.5 * (a + b)
+
+
+@njit(cache=True, nogil=True)
 def strip_window_geometry(frame, sign, rail, wheel, win, grid, y, q):
     """The strip quantities of one patch of the geometry layer (its packed gap
     frame ``frame`` and side ``sign``, :class:`~railcontact.geometry.gap.GapEvaluator`;
@@ -255,8 +302,18 @@ def strip_window_geometry(frame, sign, rail, wheel, win, grid, y, q):
                 h[k, j] = (1.0 if h[k, j] < DEEPEST_GAP else h[k, j]) + win[0]
         edge, y_lo, y_hi = strip_lines(h, y, dx, dy, win[1], (yc, core), q)
         if refine and not edge and y_hi > y_lo:
-            # the strips again, on the run's ends: their positions relative to the
-            # contact's edges, and with them the strip sums, continuous in the gap
+            # the strips again, on the run's ends (where g crosses the penetration,
+            # found on the gap itself): their positions relative to the contact's
+            # edges, and with them the strip sums, continuous in the gap
+            lo, hi = n, -1
+            for j in range(n):
+                if q[1, j] < win[1]:
+                    lo = min(lo, j)
+                    hi = max(hi, j)
+            y_lo = _run_end(F, sign, rail, wheel, xs, (y[lo], q[1, lo] - win[1]),
+                            y[lo] - dy, win)
+            y_hi = _run_end(F, sign, rail, wheel, xs, (y[hi], q[1, hi] - win[1]),
+                            y[hi] + dy, win)
             yc, core = 0.5 * (y_lo + y_hi), 0.5 * (y_hi - y_lo)
             hy = core * (1.0 + grid.margin)
             refine = False

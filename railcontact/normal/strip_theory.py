@@ -19,8 +19,8 @@ The two families:
 * **Kik-Piotrowski** (Kik & Piotrowski 1996; Piotrowski & Kik, VSD 46, 2008) and
   **KPEC** (with CONTACT's ellipse correction): the virtual interpenetration region
   ``h* <= (1 - eps_j) h*_min`` gives l_j = sqrt(((1 - eps_j) h*_min - h*_j) / A_j);
-  the peak follows from the elastic displacement at the deepest point,
-  ``u(p) = -h*_min`` (Love's half-space influence of the strips' semi-ellipses,
+  the peak follows from the elastic displacement at the deepest point
+  (between strips: :func:`deepest_point`), ``u(p) = -h*_min`` (Love's half-space influence of the strips' semi-ellipses,
   :func:`kp_displacements`).  Kik-Piotrowski's eps is a constant (0.55), KPEC's
   varies per strip so that an elliptic gap gives the Hertz ellipse
   (:func:`kpec_scaling`).
@@ -162,10 +162,10 @@ _G = 0.5 / math.sqrt(3.0)          # 2-point Gauss abscissae, in element sizes
 
 
 @njit(cache=True, nogil=True)
-def kp_displacement(y, dy, xm, half, j0, nx, Es):
-    """Normal displacement [m] at the deepest point (x_m[j0], y[j0]) of one patch
-    due to its unit semi-elliptic strip pressures sqrt(l_j^2 - (x - x_m)^2)/l_max,
-    on nx elements per strip (uniform rectangles, Love's influence coefficients;
+def kp_displacement(y, dy, xm, half, point, nx, Es):
+    """Normal displacement [m] at ``point`` (x0, y0) [m] of one patch due to its
+    unit semi-elliptic strip pressures sqrt(l_j^2 - (x - x_m)^2)/l_max, on nx
+    elements per strip (uniform rectangles, Love's influence coefficients;
     elements away from the point by 2 x 2 Gauss or mid-point quadrature); arrays
     over the strips, ``dy`` the strip width [m]."""
     lmax = 0.0
@@ -173,8 +173,7 @@ def kp_displacement(y, dy, xm, half, j0, nx, Es):
         lmax = max(lmax, half[j])
     if lmax <= 0.0:
         return 0.0
-    x0 = xm[j0]
-    y0 = y[j0]
+    x0, y0 = point
     hy = 0.5 * dy
     u = 0.0
     for j in range(y.size):
@@ -226,7 +225,28 @@ def kp_displacements(y, dy, xm, half, j0, nx, Es, out):
     """:func:`kp_displacement` of every patch (arrays (patches, strips), ``dy``
     and ``j0`` per patch) into ``out``."""
     for k in range(y.shape[0]):
-        out[k] = kp_displacement(y[k], dy[k], xm[k], half[k], j0[k], nx, Es)
+        out[k] = kp_displacement(y[k], dy[k], xm[k], half[k], (xm[k, j0[k]], y[k, j0[k]]),
+                                 nx, Es)
+
+
+@njit(cache=True, nogil=True)
+def deepest_point(y, xm, hs, j0):
+    """The deepest point (x, y) [m] of the strips' gap ``hs`` around its deepest
+    strip j0: the vertex of the parabola through strips j0 - 1, j0, j0 + 1 across
+    the strips (within half a strip of j0; x_m interpolated linearly), j0's centre
+    where the three are not convex or j0 is an outer strip.  Continuous where the
+    deepest strip changes (two neighbours of equal depth: both give their
+    midpoint), so that the strip models' force is continuous in the approach."""
+    n = y.size
+    if j0 <= 0 or j0 >= n - 1:
+        return xm[j0], y[j0]
+    c2 = hs[j0 + 1] - 2.0 * hs[j0] + hs[j0 - 1]
+    if not c2 > 0.0:
+        return xm[j0], y[j0]
+    t = min(max(-0.5 * (hs[j0 + 1] - hs[j0 - 1]) / c2, -0.5), 0.5)
+    k = j0 + 1 if t > 0.0 else j0 - 1
+    w = abs(t)
+    return (1.0 - w) * xm[j0] + w * xm[k], (1.0 - w) * y[j0] + w * y[k]
 
 
 #: the strip models' codes in compiled code (:class:`StripRule`)
@@ -353,7 +373,8 @@ def _kik_piotrowski(st, rule, eps, half, peak):
         if hmin < 0.0:
             half[j] = math.sqrt(max((1.0 - eps[j]) * hmin - hs[j], 0.0) / st.A[j])
         lmax = max(lmax, half[j])
-    u = kp_displacement(st.y, st.dy, st.xm, half, j0, rule.elements, rule.Es)
+    u = kp_displacement(st.y, st.dy, st.xm, half, deepest_point(st.y, st.xm, hs, j0),
+                        rule.elements, rule.Es)
     p0 = -hmin / u if (u > 0.0 and lmax > 0.0) else 0.0
     for j in range(hs.size):
         peak[j] = p0 * half[j] / lmax if lmax > 0.0 else 0.0

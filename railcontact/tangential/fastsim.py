@@ -32,7 +32,7 @@ from ..core.hertz_theory import axes_at
 from ..core.materials import Material, STEEL
 from .base import TangentialSolution, check_inputs, register
 from .friction import falling_friction
-from .kalker import (Creepage, Flexibilities, _coefficients_kernel, flexibilities,
+from .kalker import (Creepage, Flexibilities, coefficients_at, flexibilities,
                      flexibilities_array, kalker_coefficients, kalker_coefficients_array)
 
 
@@ -451,9 +451,7 @@ def ellipse_flexibilities(a, b, fn, creepage, mu, mat):
     creepage ``creepage`` (xi, eta, phi) grows (:func:`blended_flexibilities`,
     friction ``mu``; ``mat`` a :class:`FlexMaterial`); unblended where fn <= 0."""
     xi, eta, phi = creepage
-    c = np.empty((3, 1))
-    _coefficients_kernel(np.array([a / b]), mat.nu, mat.kalker_ab, mat.kalker_ba, c)
-    c11, c22, c23 = c[0, 0], c[1, 0], c[2, 0]
+    c11, c22, c23 = coefficients_at(a / b, mat.nu, mat.kalker_ab, mat.kalker_ba)
     G = mat.G
     L1 = 8.0 * a / (3.0 * c11 * G)
     L2 = 8.0 * a / (3.0 * c22 * G)
