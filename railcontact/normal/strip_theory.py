@@ -360,6 +360,44 @@ def kpec_eps(st, rule, eps):
         eps[j] = e if math.isfinite(e) else 0.0
 
 
+#: Kik-Piotrowski's peak follows from the displacement at the deepest point; where
+#: the gap has several local minima within this fraction of the deepest's depth
+#: (S1002/60E1's near-conformal tread: two minima 20 mm apart, 1 um apart at 50 um),
+#: the displacements at them are blended, with weights (1 - dh / (TIE_DEPTH h))^2 by
+#: their depth above the deepest, so that the force stays continuous where the
+#: deepest minimum passes from one to the other (it jumped by 15 % there)
+TIE_DEPTH = 0.02
+
+
+@njit(cache=True, nogil=True)
+def normalising_displacement(st, half, j0, rule):
+    """The displacement [m] of Kik-Piotrowski's unit strip pressures ``half`` that
+    their peak is scaled to: at the deepest point (:func:`deepest_point`), blended
+    with those at other local minima of the gap within ``TIE_DEPTH`` of its
+    depth."""
+    hs = st.hstar
+    n = hs.size
+    hmin = hs[j0]
+    u = kp_displacement(st.y, st.dy, st.xm, half, deepest_point(st.y, st.xm, hs, j0),
+                        rule.elements, rule.Es)
+    band = TIE_DEPTH * abs(hmin)
+    if not band > 0.0:
+        return u
+    total = u
+    weight = 1.0
+    for j in range(n):
+        if j == j0 or hs[j] - hmin >= band:
+            continue
+        if abs(j - j0) <= 1 or not ((j == 0 or hs[j] < hs[j - 1])
+                                     and (j == n - 1 or hs[j] <= hs[j + 1])):
+            continue
+        w = (1.0 - (hs[j] - hmin) / band) ** 2
+        total += w * kp_displacement(st.y, st.dy, st.xm, half,
+                                     deepest_point(st.y, st.xm, hs, j), rule.elements, rule.Es)
+        weight += w
+    return total / weight
+
+
 @njit(cache=True, nogil=True)
 def _kik_piotrowski(st, rule, eps, half, peak):
     """Half-lengths and peaks of the Kik-Piotrowski strips of one patch for a
@@ -373,8 +411,7 @@ def _kik_piotrowski(st, rule, eps, half, peak):
         if hmin < 0.0:
             half[j] = math.sqrt(max((1.0 - eps[j]) * hmin - hs[j], 0.0) / st.A[j])
         lmax = max(lmax, half[j])
-    u = kp_displacement(st.y, st.dy, st.xm, half, deepest_point(st.y, st.xm, hs, j0),
-                        rule.elements, rule.Es)
+    u = normalising_displacement(st, half, j0, rule)
     p0 = -hmin / u if (u > 0.0 and lmax > 0.0) else 0.0
     for j in range(hs.size):
         peak[j] = p0 * half[j] / lmax if lmax > 0.0 else 0.0
