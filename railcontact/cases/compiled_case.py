@@ -580,6 +580,13 @@ def _bodies(case):
     return hit
 
 
+@lru_cache(maxsize=16)
+def _strip_pass(normal, tangential, material, strips, elements):
+    """The :class:`~railcontact.cases.strip_pass.StripPass` of a case's models (code
+    -1 for Hertz), once per set (30 us to build)."""
+    return strip_pass(normal, tangential, material, strips, elements, elements)
+
+
 @lru_cache(maxsize=1)
 def _tables():
     dt, tab = _axes_table()
@@ -610,8 +617,8 @@ def case_pass_inputs(case, normal=None, tangential=None):
     creep = np.array(case.creepage if case.creepage is not None else (np.nan,) * 3, float)
     dt, tab = _tables()
     model = PassModel(m.contact_modulus, m.shear_modulus, m.nu, int(law), tp, creep, dt, tab,
-                      _TAB_AB, _TAB_BA, strip_pass((normal or case.normal).lower(), tname, m,
-                                                   ny, nx, nx))
+                      _TAB_AB, _TAB_BA, _strip_pass((normal or case.normal).lower(), tname, m,
+                                                    ny, nx))
     loads = np.array([s.loads["left"], s.loads["right"]], float)
     return prof, pose, model, loads
 
