@@ -1,7 +1,8 @@
 """Whole wheel-rail cases in the compiled pass (``railcontact.cases.compiled_case``)
 against the per-patch path, on the 1000-case sweep, the Manchester 10 kN sweep and
-through the command line (``make bench`` runs it from ``run_all.py``; alone:
-``python benchmarks/compiled_case.py [cases]``).
+through the command line, with the strip models in the pass (``make bench`` runs
+it from ``run_all.py``; alone: ``python benchmarks/compiled_case.py [shifts]
+[--strips]``, ``--strips``: the strip models' table alone, printed).
 
 Every figure is measured in this run, as the CPU time of the process (user + system:
 the shared machine's scheduling pauses out); the timings of the paths compared are
@@ -154,6 +155,72 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
     return figures, unit
 
 
+#: the strip models' pairs of the compiled pass timed against Hertz + FASTSIM
+STRIP_PAIRS = (("kik-piotrowski", "fastsim-strips"), ("analyn", "fastsim-strips"),
+               ("kpec", "fastsim-strips"))
+
+
+def bench_strip_sweep(out, conv_time, n_shift=250):
+    """The 1000-case sweep with the strip models in the compiled pass
+    (``railcontact.cases.strip_pass``): KP, ANALYN and KPEC + ``fastsim-strips``,
+    cold and warm (each case from its neighbour), interleaved in blocks of 50 with
+    Hertz + FASTSIM cold and warm, CPU time per case."""
+    raws = sweep_raws(n_shift)
+    n = len(raws)
+    cases = [case_from_dict(r) for r in raws]
+    pairs = (("hertz", "fastsim"),) + STRIP_PAIRS
+    for p in pairs:
+        solve_case_forces(cases[0], *p)                         # compile / load
+    keys = [(p, w) for p in pairs for w in ("cold", "warm")]
+    t = {k: np.zeros(n) for k in keys}
+    ok = {k: np.zeros(n, bool) for k in keys}
+    passes = {k: np.zeros(n) for k in keys}
+    prev = {p: None for p in pairs}
+    conv = []
+    for b0 in range(0, n, 50):
+        block = range(b0, min(b0 + 50, n))
+        conv.append(conv_time(repeat=3, number=100)[0])
+        for p in pairs:
+            for i in block:
+                t0 = time.process_time()
+                r = solve_case_forces(cases[i], *p)
+                t[(p, "cold")][i] = time.process_time() - t0
+                ok[(p, "cold")][i], passes[(p, "cold")][i] = r.converged, r.passes
+            for i in block:
+                t0 = time.process_time()
+                r = solve_case_forces(cases[i], *p, start=prev[p])
+                t[(p, "warm")][i] = time.process_time() - t0
+                ok[(p, "warm")][i], passes[(p, "warm")][i] = r.converged, r.passes
+                prev[p] = r if r.converged else None
+    unit = float(np.median(conv))
+    out(f"\n## Strip models in the compiled pass: {n}-case sweep (as above; strips = the "
+        "grid's 40 columns, 40 elements per strip; CPU time per case, every row interleaved "
+        "in blocks of 50 in one run)")
+    out(f"* the unit: one real FFT convolution of the padded 80 x 80 grid took "
+        f"{unit * 1e6:.1f} µs in this run (median of {len(conv)} measurements between the "
+        "blocks)")
+    out("\n| models | start | median per case | mean | in convolutions (median) | "
+        "max / median | max / median of the cases that meet the load | load met | "
+        "balance passes (mean) |")
+    out("|---|---|---|---|---|---|---|---|---|")
+    figures = {}
+    for k in keys:
+        med, ratio, met, mean, tail_met = _stats(t[k], ok[k])
+        figures[k] = (med, ratio, met)
+        start = "cold (multi-Hertzian)" if k[1] == "cold" else "warm (from the previous case)"
+        out(f"| {k[0][0]} + {k[0][1]} | {start} | {med * 1e3:.3f} ms | {mean * 1e3:.3f} ms | "
+            f"{med / unit:.1f} | {ratio:.1f} | {tail_met:.1f} | {met} of {n} | "
+            f"{passes[k].mean():.2f} |")
+    for k in keys:
+        slow = np.argsort(t[k])[-5:][::-1]
+        out(f"* slowest of {k[0][0]} + {k[0][1]}, {k[1]}: "
+            + ", ".join(f"{raws[i]['wheelset']['lateral_shift'] * 1e3:.2f} mm / "
+                        f"{raws[i]['wheelset']['yaw'] * 1e3:.0f} mrad "
+                        f"({t[k][i] / np.median(t[k]):.1f}x, {passes[k][i]:.0f} passes)"
+                        for i in slow))
+    return figures, unit
+
+
 def bench_manchester(out, unit):
     """The Manchester 10 kN sweep (right wheel reported, S1002/UIC60 files) against
     CONTACT's reference timing."""
@@ -271,7 +338,7 @@ def bench_cli_overhead(out, n=1000, small=3, repeat=3):
         "(target < 10 %)")
 
 
-def main(n_shift=250):
+def main(n_shift=250, strips_only=False):
     sys.path.insert(0, str(HERE))
     from run_all import conv_time
     lines = []
@@ -279,14 +346,19 @@ def main(n_shift=250):
     def out(s=""):
         print(s, flush=True)
         lines.append(s)
+    if strips_only:
+        bench_strip_sweep(out, conv_time, n_shift)
+        return lines
     figures, unit = bench_compiled_sweep(out, conv_time, n_shift)
+    bench_strip_sweep(out, conv_time, n_shift)
     bench_manchester(out, unit)
     bench_cli_overhead(out)
     return lines
 
 
 if __name__ == "__main__":
-    report = main(int(sys.argv[1]) if len(sys.argv) > 1 else 250)
+    args = [a for a in sys.argv[1:] if a != "--strips"]
+    report = main(int(args[0]) if args else 250, "--strips" in sys.argv)
     if len(sys.argv) <= 1:
         (HERE / "compiled_case.md").write_text(
             f"# Whole cases in one compiled pass ({time.strftime('%Y-%m-%d')}, "

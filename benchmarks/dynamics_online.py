@@ -10,12 +10,13 @@ own), as multiples of real time (wall / simulated):
 
 * Hertz + FASTSIM (compiled) and Hertz + Polach (compiled), online, over
   ``--duration`` s (100 s for the issue's figure);
-* a strip model (ANALYN + ``fastsim-strips``, all patches of an evaluation in the
-  case layer's compiled batch) and ``exact`` + ``exact`` (per patch in Python,
-  warm-started) online over a short stretch (``--strip-duration``,
-  ``--exact-duration``), as multiples of real time of the rk4 loop's wall time
-  and of the whole call's CPU time (with the start: static equilibrium and the
-  step's Jacobian);
+* the strip models ANALYN (over ``--strip-duration``, default ``--duration``) and
+  Kik-Piotrowski (``--kp-duration``) + ``fastsim-strips``, compiled in the rk4
+  loop (:mod:`railcontact.cases.strip_pass` per patch), as the compiled laws;
+* ``exact`` + ``exact`` (per patch in Python, warm-started) online over a short
+  stretch (``--exact-duration``), as multiples of real time of the rk4 loop's wall
+  time and of the whole call's CPU time (with the start: static equilibrium and
+  the step's Jacobian);
 * the difference in wheel forces between the online and the table run on the
   tangent track (the first 300 m, after the first 0.5 s): rms of Q, Y, Fx, Fy per
   wheel, as a fraction of the static wheel load and of the table run's own rms;
@@ -73,11 +74,16 @@ def _run(model, route, contact, velocity, duration, law, sample_rate=200.0):
 def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--duration", type=float, default=100.0)
-    ap.add_argument("--strip-duration", type=float, default=0.02)
+    ap.add_argument("--strip-duration", type=float, default=None,
+                    help="ANALYN + fastsim-strips, compiled [s] (default: --duration)")
+    ap.add_argument("--kp-duration", type=float, default=10.0,
+                    help="Kik-Piotrowski + fastsim-strips, compiled [s]")
     ap.add_argument("--exact-duration", type=float, default=0.004)
     ap.add_argument("--velocity", type=float, default=50.0)
     ap.add_argument("--damping", type=float, default=6e5)
     ap.add_argument("--smooth-duration", type=float, default=10.0)
+    ap.add_argument("--strips-only", action="store_true",
+                    help="only the online runs of Hertz + FASTSIM and the strip models")
     ap.add_argument("--out", default=str(HERE / "dynamics_online.md"))
     args = ap.parse_args(argv)
     lines.clear()
@@ -86,11 +92,16 @@ def main(argv=None):
     V, T = args.velocity, args.duration
     model, ws, tr, table, route = _setup(T, V)
     online = OnlineWheelRail(ws, tr, damping=args.damping)
-    online_kp = OnlineWheelRail(ws, tr, damping=args.damping, normal="analyn")
+    online_an = OnlineWheelRail(ws, tr, damping=args.damping, normal="analyn")
+    online_kp = OnlineWheelRail(ws, tr, damping=args.damping, normal="kik-piotrowski")
     online_ex = OnlineWheelRail(ws, tr, damping=args.damping, normal="exact")
     for c in (table, online):                       # compile / load the caches
         _run(model, route, c, V, 0.05, "fastsim")
-        _run(model, route, c, V, 0.05, "polach")
+        if not args.strips_only:
+            _run(model, route, c, V, 0.05, "polach")
+    for c in (online_an, online_kp):
+        _run(model, route, c, V, 0.05, "fastsim-strips")
+    strip_T = T if args.strip_duration is None else args.strip_duration
     out("# Contact online in the dynamics (issue 30)\n")
     out(f"Manchester vehicle (4 wheelsets), {V:g} m/s, curved irregular route "
         f"(300 m tangent, 200 m transition, R 2500 m, cant 120 mm, ERRI-low seed 7); "
@@ -101,16 +112,27 @@ def main(argv=None):
         "CPU / real time | rk4 step [ms] | RHS calls | µs CPU per RHS call |")
     out("|---|---|---|---|---|---|---|---|---|---|")
     res = {}
-    for law in ("fastsim", "polach"):
-        for name, c in (("table", table), ("online", online)):
-            ds, wall, cpu = _run(model, route, c, V, T, law)
-            res[(name, law)] = ds
-            calls = ds.attrs["rhs_calls"]
-            out(f"| {name} | Hertz + {law} (compiled) | {T:g} | {wall:.1f} | {cpu:.1f} | "
-                f"{wall / T:.3g} | {cpu / T:.3g} | {ds.attrs['step_s'] * 1e3:.3f} | {calls} | "
-                f"{1e6 * cpu / max(calls, 1):.0f} |")
-    for name, c, law, dur in (("online", online_kp, "fastsim-strips", args.strip_duration),
-                              ("online", online_ex, "exact", args.exact_duration)):
+    runs = [(name, c, law, T, f"Hertz + {law} (compiled)") for law in ("fastsim", "polach")
+            for name, c in (("table", table), ("online", online))]
+    if args.strips_only:
+        runs = [("online", online, "fastsim", T, "Hertz + fastsim (compiled)")]
+    runs += [("online", online_an, "fastsim-strips", strip_T,
+              "analyn + fastsim-strips (compiled strips, cases.strip_pass)"),
+             ("online", online_kp, "fastsim-strips", args.kp_duration,
+              "kik-piotrowski + fastsim-strips (compiled strips, cases.strip_pass)")]
+    for name, c, law, dur, label in runs:
+        ds, wall, cpu = _run(model, route, c, V, dur, law)
+        res[(name, law, getattr(c, "normal", "hertz"))] = ds
+        calls = ds.attrs["rhs_calls"]
+        out(f"| {name} | {label} | {dur:g} | {wall:.1f} | {cpu:.1f} | "
+            f"{wall / dur:.3g} | {cpu / dur:.3g} | {ds.attrs['step_s'] * 1e3:.3f} | {calls} | "
+            f"{1e6 * cpu / max(calls, 1):.0f} |")
+        if ds.attrs.get("status") != "completed":
+            out(f"\n{label}: status {ds.attrs.get('status')}: {ds.attrs.get('derailment', '')}\n")
+    if args.strips_only:
+        Path(args.out).write_text("\n".join(lines) + "\n")
+        return lines
+    for name, c, law, dur in (("online", online_ex, "exact", args.exact_duration),):
         from railcontact.dynamics import Integration, simulate_vehicle
         w0, c0 = time.perf_counter(), time.process_time()
         ds = simulate_vehicle(model, route, c, V, dur, law,
@@ -118,14 +140,13 @@ def main(argv=None):
         wall, cpu = time.perf_counter() - w0, time.process_time() - c0
         loop = ds.attrs["wall_time_s"]
         calls = ds.attrs["rhs_calls"]
-        how = "compiled strips in a batch per evaluation" if law == "fastsim-strips" else \
-            "Python per patch, warm-started"
+        how = "Python per patch, warm-started"
         out(f"| {name} | {c.normal} + {law} ({how}) | {dur:g} | {wall:.1f} "
             f"(loop {loop:.1f}) | {cpu:.1f} | {loop / dur:.3g} (loop) | {cpu / dur:.3g} "
             f"(incl. start) | {ds.attrs['step_s'] * 1e3:.3f} | {calls} | "
             f"{1e6 * loop / max(calls, 1):.0f} (wall) |")
     # online against table on the tangent track
-    t_ds, o_ds = res[("table", "fastsim")], res[("online", "fastsim")]
+    t_ds, o_ds = res[("table", "fastsim", "hertz")], res[("online", "fastsim", "hertz")]
     q0 = model.wheelsets[0][1] * G_ACC / 2
     dist = t_ds["distance"].values
     tangent = (t_ds["time"].values >= 0.5) & (dist <= 300.0)

@@ -36,9 +36,13 @@ curvatures) is flagged and left to the Python path
 
 Which cases run here: wheel-rail cases with given loads and a free roll, the same
 wheel and rail profile on both sides, a normal model with the ``"ellipse"``
-capability (Hertz) and a tangential model with a compiled online law, no
+capability (Hertz) and a tangential model with a compiled online law, or a strip
+model (``kik-piotrowski``, ``kpec``, ``stripes``, ``analyn``; without normal
+options) with a compiled online law or ``fastsim-strips``
+(:mod:`railcontact.cases.strip_pass`: the strips of each patch sampled on its
+exact gap, the model's own compiled kernel, the strips' FASTSIM march), no
 ``friction.variation``, no patch turning (``wheelset.turn_distance`` 0) and
-similar materials (:func:`compiled_supported` says why not).
+similar materials (:func:`compiled_unsupported` says why not).
 
 FASTSIM runs on the case's grid (``solver.grid``; default 40 x 40): strips across
 the ellipse and elements per strip, as the per-patch model marches the Hertzian
@@ -66,13 +70,16 @@ from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, TRIM_MARGIN, 
                                    PATCH_FIELDS, PassPose, gap_candidates, make_patch,
                                    locus_curvatures, new_memo, pass_profiles, search_patches,
                                    side_locus, solve_roll)
+from ..core.materials import STEEL
 from ..normal import normal_supports
+from ..normal.strip_theory import STRIP_MODELS
 from ..tangential.kalker import _TAB_AB, _TAB_BA, _coefficients_kernel
 from ..tangential.online import online_law, patch_forces
 from ..geometry.track import WheelsetPose
 from ..geometry.patch_curvature import force_curvature
 from ..geometry.wheel_pass import locus_regions, rows_contact
 from .bodies import build_wheelset_track
+from .strip_pass import MARCHES, strip_pass, strip_row
 from .equilibrium import COUPLING_SLOPE, FORCE_FLOOR, HERTZ_SLOPE, JUMP_SLOPE, STEP_FACTOR
 
 #: the fields of a row of :func:`evaluate_wheelset`'s output: the patch's geometry
@@ -93,8 +100,11 @@ R_AREA = NPF + 7
 #: [Pa], Poisson's ratio ``nu``, the online law's code ``law`` and its parameters
 #: ``tp`` (:func:`railcontact.tangential.online.patch_forces`), the case's
 #: creepages ``creepage`` (xi, eta, phi; NaN: the kinematic ones); the Hertz table
-#: ``dt``, ``hertz`` and Kalker's tables ``kalker_ab``, ``kalker_ba``
-PassModel = namedtuple("PassModel", "Es G nu law tp creepage dt hertz kalker_ab kalker_ba")
+#: ``dt``, ``hertz`` and Kalker's tables ``kalker_ab``, ``kalker_ba``; the strip
+#: model ``strips`` (:class:`~railcontact.cases.strip_pass.StripPass`; by default
+#: none: Hertz's ellipse)
+PassModel = namedtuple("PassModel", "Es G nu law tp creepage dt hertz kalker_ab kalker_ba "
+                       "strips", defaults=(strip_pass(None, "fastsim", STEEL),))
 
 #: the first estimate (:func:`approach_for_load`) iterates on the balance's model
 #: until its vertical force meets the load to this |ln(F/Q)| (the balance's own
@@ -214,17 +224,37 @@ def solve_patch(row, model):
 
 
 @njit(cache=True, nogil=True)
+def solve_strip_patch(row, prof, pose, z, roll, model):
+    """The strip model and creep law of ``model.strips`` on one patch row
+    (:func:`railcontact.cases.strip_pass.strip_row`) into its :data:`ROW_FIELDS`."""
+    F, fx, fy, mz, a, b, pmax, area = strip_row(row, prof, pose, z, roll, model)
+    row[R_NORMAL_FORCE] = F
+    row[R_FX] = fx
+    row[R_FY] = fy
+    row[R_MZ] = mz
+    row[R_A] = a
+    row[R_B] = b
+    row[R_AREA] = area
+    row[R_PMAX] = pmax
+
+
+@njit(cache=True, nogil=True)
 def evaluate_wheelset(prof, pose, model, targets, memo, out, fz):
     """One evaluation of the balance: the search at the interpenetrations
-    ``targets`` [m] (left, right), every patch solved, each wheel's vertical force
-    on its rail into ``fz`` [N].  Returns (patches, vertical position, roll);
-    -1 patches where the pose is not found."""
+    ``targets`` [m] (left, right), every patch solved (Hertz, or the strip model
+    of ``model.strips``), each wheel's vertical force on its rail into ``fz`` [N].
+    Returns (patches, vertical position, roll); -1 patches where the pose is not
+    found."""
     m, z, roll = search_patches(prof, pose, targets, memo, out)
     fz[0] = 0.0
     fz[1] = 0.0
+    strips = model.strips.rule.code >= 0
     for i in range(max(m, 0)):
         row = out[i]
-        solve_patch(row, model)
+        if strips:
+            solve_strip_patch(row, prof, pose, z, roll, model)
+        else:
+            solve_patch(row, model)
         dl = row[P_CONTACT_ANGLE]
         fz[int(row[P_SIDE])] += row[R_NORMAL_FORCE] * math.cos(dl) - \
             row[R_FY] * math.sin(dl)
@@ -868,12 +898,15 @@ def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
         return "not a wheel-rail case"
     nname = (normal or case.normal).lower()
     tname = (tangential or case.tangential).lower()
-    if not normal_supports(nname, "ellipse"):
-        return f"normal model {nname!r} is not an ellipse (Hertz)"
-    if tname == "none" or online_law(tname) is None:
+    strip = nname in STRIP_MODELS
+    if not (normal_supports(nname, "ellipse") or strip):
+        return f"normal model {nname!r} is neither an ellipse (Hertz) nor a strip model"
+    if tname == "none" or (online_law(tname) is None and not (strip and tname in MARCHES)):
         return f"tangential model {tname!r} has no compiled online law"
     if tangential is None and case.tangential_options:
         return "tangential options given"
+    if normal is None and strip and case.normal_options:
+        return "normal options given"
     if s.roll is not None or s.vertical_position is not None:
         return "roll or vertical position prescribed"
     if s.turn_distance > 0:
@@ -911,6 +944,13 @@ def _bodies(case):
     return hit
 
 
+@lru_cache(maxsize=16)
+def _strip_pass(normal, tangential, material, strips, elements):
+    """The :class:`~railcontact.cases.strip_pass.StripPass` of a case's models (code
+    -1 for Hertz), once per set (30 us to build)."""
+    return strip_pass(normal, tangential, material, strips, elements, elements)
+
+
 @lru_cache(maxsize=1)
 def _tables():
     dt, tab = _axes_table()
@@ -935,12 +975,14 @@ def case_pass_inputs(case, normal=None, tangential=None):
                     float(s.yaw_rate), float(s.combine_distance))
     m = case.material
     nx, ny = (int(v) for v in (case.grid or (40, 40)))
-    law = online_law((tangential or case.tangential).lower())
+    tname = (tangential or case.tangential).lower()
+    law = online_law(tname) or online_law("fastsim")
     tp = np.array([case.friction, m.shear_modulus, nx, ny, 1.0, 1.0, 1.0, 0.0])
     creep = np.array(case.creepage if case.creepage is not None else (np.nan,) * 3, float)
     dt, tab = _tables()
     model = PassModel(m.contact_modulus, m.shear_modulus, m.nu, int(law), tp, creep, dt, tab,
-                      _TAB_AB, _TAB_BA)
+                      _TAB_AB, _TAB_BA, _strip_pass((normal or case.normal).lower(), tname, m,
+                                                    ny, nx))
     loads = np.array([s.loads["left"], s.loads["right"]], float)
     return prof, pose, model, loads
 

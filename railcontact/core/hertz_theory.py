@@ -263,21 +263,29 @@ def _axes_table():
 
 
 @njit(cache=True, nogil=True)
-def _axes_kernel(A, B, d, Es, dt, tab, a, b, F):
+def axes_at(A, B, d, Es, dt, tab):
+    """Hertz's semi-axes a (along A), b [m] and force [N] of curvatures (A, B)
+    [1/m] at the approach d [m] from the table of :func:`_axes_table` (``dt``,
+    ``tab``), for compiled callers: the one scalar form of
+    :func:`hertz_ellipses_table`."""
     n = tab.shape[1]
+    small = min(A, B)
+    t = math.log(max(A, B) / small) / dt
+    j = min(int(t), n - 2)
+    w = t - j
+    dp = max(d, 0.0)
+    major = math.sqrt(dp / small) * ((1.0 - w) * tab[0, j] + w * tab[0, j + 1])
+    minor = ((1.0 - w) * tab[1, j] + w * tab[1, j + 1]) * major
+    F = 2.0 * math.pi * major * dp * Es / 3.0 * ((1.0 - w) * tab[2, j] + w * tab[2, j + 1])
+    if A <= B:
+        return major, minor, F
+    return minor, major, F
+
+
+@njit(cache=True, nogil=True)
+def _axes_kernel(A, B, d, Es, dt, tab, a, b, F):
     for i in range(A.size):
-        small = min(A[i], B[i])
-        t = math.log(max(A[i], B[i]) / small) / dt
-        j = min(int(t), n - 2)
-        w = t - j
-        dp = max(d[i], 0.0)
-        major = math.sqrt(dp / small) * ((1.0 - w) * tab[0, j] + w * tab[0, j + 1])
-        minor = ((1.0 - w) * tab[1, j] + w * tab[1, j + 1]) * major
-        F[i] = 2.0 * math.pi * major * dp * Es / 3.0 * ((1.0 - w) * tab[2, j] + w * tab[2, j + 1])
-        if A[i] <= B[i]:
-            a[i], b[i] = major, minor
-        else:
-            a[i], b[i] = minor, major
+        a[i], b[i], F[i] = axes_at(A[i], B[i], d[i], Es, dt, tab)
 
 
 def hertz_ellipses_table(A, B, contact_modulus: float, penetration):

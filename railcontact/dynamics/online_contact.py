@@ -64,6 +64,8 @@ import numpy as np
 from numba import njit
 
 from ..cases.compiled_case import PassModel, _tables, hertz_patch, patch_hertz
+from ..cases.strip_pass import MARCHES, strip_pass, strip_row
+from ..normal.strip_theory import STRIP_MODELS
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
 from ..geometry.locus import _wheel_samples
@@ -158,11 +160,13 @@ class OnlineContact(NamedTuple):
 
 def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL,
                    law: int = 1, law_params=None, damping: float = DEFAULT_DAMPING,
-                   roll_inertia: float = 1120.0) -> OnlineContact:
+                   roll_inertia: float = 1120.0, strips=None) -> OnlineContact:
     """The :class:`OnlineContact` of a wheelset (its profiles) on a track for
     ``n_wheelsets`` wheelsets: the compiled creep law ``law`` with parameters
     ``law_params`` (:func:`railcontact.tangential.online.patch_forces`), the contact
-    ``damping`` [N s/m] per patch and the wheelsets' ``roll_inertia`` [kg m²]."""
+    ``damping`` [N s/m] per patch, the wheelsets' ``roll_inertia`` [kg m²] and a
+    strip model with its creep forces (``strips``, a
+    :class:`~railcontact.cases.strip_pass.StripPass`; None: Hertz's spring)."""
     wheel, rail = wheelset.wheel("right"), track.rail("right")
     if wheelset.wheel("left") is not wheel or track.rail("left") is not rail:
         raise InputError("online contact: expected the same wheel and rail profile on both "
@@ -184,6 +188,8 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
     dt, tab = _tables()
     model = PassModel(material.contact_modulus, material.shear_modulus, material.nu,
                       int(law), tp, np.full(3, np.nan), dt, tab, _TAB_AB, _TAB_BA)
+    if strips is not None:
+        model = model._replace(strips=strips)
     memo = np.stack([new_memo() for _ in range(n_wheelsets)])
     return OnlineContact(prof, frame, model, np.full(n_wheelsets, float(roll_inertia)), memo,
                          np.full(n_wheelsets, WINDOW_FLOOR),
@@ -269,6 +275,17 @@ def search_wheelset(online, w, pose, z, roll):
             d = row[P_APPROACH]
             if not d > 0.0:
                 continue
+            row[R_YC] = row[P_Y] - pose.shift
+            if online.model.strips.rule.code >= 0:
+                # a strip model: its normal force at the approach and its creep
+                # forces (:mod:`railcontact.cases.strip_pass`, the compiled case's)
+                F, fx, fy, mz, a, b, _, _ = strip_row(row, prof, pose, z, roll, online.model)
+                row[R_N], row[R_AA], row[R_BB] = F, a, b
+                row[R_FX], row[R_FY], row[R_MZ] = fx, fy, mz
+                if F > 0.0 and row[P_Z_WHEEL] >= g[G_TIP_Z] - g[G_TIP_ZONE]:
+                    online.status[w, s] = ON_FLANGE_TIP
+                m += 1
+                continue
             # the spring and the ellipse: the case layer's Hertz patch (the force
             # with the region's force curvature, geometry.patch_curvature, the
             # ellipse with the deepest point's curvatures scaled to that force):
@@ -280,7 +297,6 @@ def search_wheelset(online, w, pose, z, roll):
             row[R_N] = F
             row[R_AA] = a
             row[R_BB] = b
-            row[R_YC] = row[P_Y] - pose.shift
             if F > 0.0 and row[P_Z_WHEEL] >= g[G_TIP_Z] - g[G_TIP_ZONE]:
                 online.status[w, s] = ON_FLANGE_TIP
             m += 1
@@ -318,7 +334,11 @@ def row_forces(row, online, mode, fe, rates):
         _coefficients_kernel(np.array([a / b]), online.model.nu, online.model.kalker_ab,
                              online.model.kalker_ba, c)
         row[R_C11], row[R_C22], row[R_C23] = c[0, 0], c[1, 0], c[2, 0]
-        if mode == 0:
+        if mode == 0 and online.model.strips.rule.code >= 0:
+            # the strip model's creep forces at the spring's force (the damper
+            # moves the normal force only, as the Python path has it)
+            fx, fy, mz = row[R_FX], row[R_FY], row[R_MZ]
+        elif mode == 0:
             fx, fy, mz = patch_forces(online.model.law, online.model.tp, N, a, b, c[0, 0],
                                       c[1, 0], c[2, 0], row[P_XI], row[P_ETA], row[P_PHI],
                                       rates[3])
@@ -562,8 +582,25 @@ class OnlineWheelRail:
         #: nominal rolling radius r0 [m]
         self.nominal_radius = float(wheelset.nominal_radius)
 
-    def compiled(self, n_wheelsets: int, law: int, law_params, roll_inertia: float):
-        """The :class:`OnlineContact` of a run."""
+    def compiled(self, n_wheelsets: int, law: int, law_params, roll_inertia: float,
+                 tangential: str | None = None):
+        """The :class:`OnlineContact` of a run; with ``tangential`` (a model that
+        marches strips, or a compiled law) and a strip normal model, the strip
+        model and its creep forces in compiled code
+        (:mod:`railcontact.cases.strip_pass`, 40 strips, the run's FASTSIM
+        elements per strip)."""
+        strips = None
+        if tangential is not None and self.compiled_strips(tangential):
+            strips = strip_pass(self.normal, tangential, self.material, 40, 20,
+                                int(law_params[2]))
         return online_contact(self.wheelset, self.track, n_wheelsets, self.material, law,
                               law_params, self.damping,
-                              self.roll_inertia if self.roll_inertia else roll_inertia)
+                              self.roll_inertia if self.roll_inertia else roll_inertia, strips)
+
+    def compiled_strips(self, tangential: str) -> bool:
+        """Whether the run's models go in compiled code as a strip model with its
+        creep forces: a strip normal model with ``fastsim``, ``fastsim-strips`` or
+        a compiled online law."""
+        from ..tangential.online import online_law
+        return self.normal in STRIP_MODELS and (tangential in MARCHES
+                                                or online_law(tangential) is not None)

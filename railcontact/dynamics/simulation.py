@@ -98,8 +98,12 @@ class _System:
             raise InputError(f"fastsim grid {fastsim_grid!r}: expected two integers in [2, 200]")
         self.tp = np.array([mu, material.shear_modulus, nx, ny, kA, kS, fall[0], fall[1]])
         law = online_law(tangential)
-        if law is not None:
-            self.law, self.py_model = law, None
+        strips = (self.wheel_rail is not None and not opts
+                  and self.wheel_rail.compiled_strips(tangential))
+        if law is not None or strips:
+            # (a strip model with fastsim-strips: the strip march in compiled code; the
+            # law's code is FASTSIM's, unused)
+            self.law, self.py_model = (law if law is not None else online_law("fastsim")), None
         else:
             self.law = -1
             self.py_model = get_tangential_model(tangential, **opts)
@@ -110,7 +114,8 @@ class _System:
         self.online = None
         if self.wheel_rail is not None:
             ws_inertia = model.bodies[model.wheelsets[0][0]].yaw_inertia
-            self.online = self.wheel_rail.compiled(nw, max(self.law, 0), self.tp, ws_inertia)
+            self.online = self.wheel_rail.compiled(nw, max(self.law, 0), self.tp, ws_inertia,
+                                                   tangential if strips else None)
             self.fext_rows = np.zeros((nw, MAX_ROWS), EXTERNAL)
             self.warm = {}
             self.batch = False
@@ -449,11 +454,19 @@ def static_contact(sysm: _System, u0, passes: int = 8) -> np.ndarray:
     return u
 
 
+#: the rk4 step [s] of an online run with a compiled strip model at most: with the
+#: step of the Jacobian at the start (0.71 ms) the Manchester vehicle's 100 s run
+#: with ANALYN + fastsim-strips diverged at 75 s in the curve; at 0.5 ms it completed
+#: (benchmarks/dynamics_online.md)
+STRIP_ONLINE_STEP = 5e-4
+
+
 def online_step(sysm: _System, u0, sample_rate: float, step: float | None = None):
     """The rk4 step [s] of an online run: 1 / spectral radius of the Jacobian of the
     right-hand side at the start (by central differences over the degrees of
     freedom: the wheel-rail contact's vertical and roll modes, the creep forces),
-    at most 1 ms, ``step`` and the sampling interval, which it divides exactly.
+    at most 1 ms, ``step``, the sampling interval, which it divides exactly, and
+    with a compiled strip model ``STRIP_ONLINE_STEP``.
     Returns (step, steps per sample)."""
     act = sysm.active()
     J = np.empty((act.size, act.size))
@@ -467,6 +480,8 @@ def online_step(sysm: _System, u0, sample_rate: float, step: float | None = None
     sysm.online.memo[:] = memo
     rho = float(np.max(np.abs(np.linalg.eigvals(J))))
     dt = min(1.0 / rho, 1e-3, step or 1.0, 1.0 / sample_rate)
+    if sysm.online.model.strips.rule.code >= 0:
+        dt = min(dt, STRIP_ONLINE_STEP)
     every = int(math.ceil(1.0 / (sample_rate * dt)))
     return 1.0 / (sample_rate * every), every
 

@@ -307,12 +307,43 @@ def sample_gap_lines(patches, x, y) -> np.ndarray:
 
 
 
+@njit(cache=True, nogil=True)
+def strip_spin(rail, spin, y, out):
+    """Spin creepage [1/m] per strip of one patch on the rail profile ``rail``
+    (:class:`Spline`) at patch coordinates ``y`` into ``out``:
+    phi(y) = phi cos(D) + dphi sin(D), D the local contact angle minus the patch's
+    (:meth:`ContactGeometry.spin_at`).  ``spin``: (side sign, the reference point's
+    rail coordinate y_ref [m], cos of the side's contact angle, the contact angle
+    delta [rad], the patch's spin phi [1/m], d(phi)/d(delta) [1/m]); off the
+    profile the patch's spin."""
+    sign, yref, cosa, delta, phi, dphi = spin
+    cdl, sdl = math.cos(delta), math.sin(delta)
+    k = -1
+    for j in range(y.size):
+        # local angle sign * atan(s) with s the rail's slope: D = that - delta, and
+        # cos D, sin D without the angles (1 / sqrt(1 + s^2) = cos(atan s))
+        _, sl, k = ppoly_at(yref + sign * y[j] * cosa, rail.breaks, rail.coefs, k)
+        if math.isfinite(sl):
+            s = sign * sl
+            c = 1.0 / math.sqrt(1.0 + s * s)
+            out[j] = phi * (c * (cdl + s * sdl)) + dphi * (c * (s * cdl - sdl))
+        else:
+            out[j] = phi
+
+
+@njit(cache=True, nogil=True)
+def _strip_spins(rail, pars, y, out):
+    for k in range(y.shape[0]):
+        p = pars[k]
+        strip_spin(rail, (p[0], p[1], p[2], p[3], p[4], p[5]), y[k], out[k])
+
+
 def sample_strip_spin(patches, y) -> np.ndarray:
     """Spin creepage [1/m] of many patches per strip, at patch coordinates ``y``
     (patches, strips), as :meth:`ContactGeometry.spin_at` with each patch's own spin:
-    the local contact angles of patches on the same rail profile come from one
-    vectorised evaluation of its slope."""
-    y = np.asarray(y, dtype=float)
+    patches on the same rail profile in one compiled loop (:func:`strip_spin`, the
+    compiled case's kernel)."""
+    y = np.ascontiguousarray(y, dtype=float)
     out = np.empty(y.shape)
     groups: dict = {}
     for k, p in enumerate(patches):
@@ -327,14 +358,10 @@ def sample_strip_spin(patches, y) -> np.ndarray:
                           math.cos(p.gap_function.angle), p.contact_angle,
                           p.creepage[2] if p.creepage is not None else 0.0,
                           p.spin_derivative) for p in (patches[k] for k in idx)])
-        sign, yref, cosa, delta, phi, dphi = (pars[:, i, None] for i in range(6))
-        # local angle sign * atan(s) with s the rail's slope: D = that - delta, and
-        # cos D, sin D without the angles (1 / sqrt(1 + s^2) = cos(atan s))
-        s = sign * patches[idx[0]].gap_function.rail.slope(yref + sign * y[idx] * cosa)
-        c = 1.0 / np.sqrt(1.0 + s * s)
-        cd = np.where(np.isfinite(s), c * (np.cos(delta) + s * np.sin(delta)), 1.0)
-        sd = np.where(np.isfinite(s), c * (s * np.cos(delta) - np.sin(delta)), 0.0)
-        out[idx] = phi * cd + dphi * sd      # off the profile (NaN slope): the patch spin
+        rail = patches[idx[0]].gap_function.rail
+        o = np.empty((len(idx), y.shape[1]))
+        _strip_spins(Spline(rail._breaks, rail._coefs), pars, y[idx], o)
+        out[idx] = o
     return out
 
 

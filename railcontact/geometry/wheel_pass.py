@@ -748,6 +748,38 @@ def search_patches(prof, pose, targets, memo, out):
     return m, z, roll
 
 
+@njit(cache=True, nogil=True)
+def row_frame(row, pose, z, roll, frame, extent):
+    """The packed gap frame of a patch row of :func:`search_patches` at the pose
+    (vertical position z [m], roll [rad]) into ``frame`` (24: C, t, n, y_off, R^T, O,
+    e, r0, as :attr:`railcontact.geometry.gap.GapEvaluator.frame` of the row's
+    :func:`patch_geometry`) and its extent (x_min, x_max, y_min, y_max) [m] into
+    ``extent``; returns the side's sign (-1 left, 1 right)."""
+    s = int(row[P_SIDE])
+    sgn = 1.0 if s == 1 else -1.0
+    R, O, y_off = side_frame(pose, s, z, roll)
+    a_ref = sgn * row[P_CONTACT_ANGLE]
+    ca, sa = math.cos(a_ref), math.sin(a_ref)
+    frame[0], frame[1], frame[2] = row[P_X], sgn * row[P_Y], row[P_Z]
+    frame[3], frame[4], frame[5] = 0.0, ca, sa
+    frame[6], frame[7], frame[8] = 0.0, -sa, ca
+    frame[9] = y_off
+    for i in range(3):
+        for j in range(3):
+            frame[10 + 3 * i + j] = R[j, i]
+    frame[19], frame[20], frame[21] = O[0], O[1], O[2]
+    frame[22], frame[23] = pose.e, pose.r0
+    y_ref = row[P_Y_RAIL]
+    e0 = sgn * (row[P_YS_MIN] - y_ref)
+    e1 = sgn * (row[P_YS_MAX] - y_ref)
+    half_x = math.sqrt(max(row[P_APPROACH], 0.0) / max(row[P_A], 1e-9))
+    extent[0] = row[P_X_M] - half_x
+    extent[1] = row[P_X_M] + half_x
+    extent[2] = min(e0, e1) / ca
+    extent[3] = max(e0, e1) / ca
+    return sgn
+
+
 #: local minima of the gap deeper than the global minimum plus this are candidates of
 #: the first estimate [m] (:data:`railcontact.geometry.search.CANDIDATE_DEPTH`)
 CANDIDATE_DEPTH = 3e-4

@@ -28,11 +28,12 @@ import numpy as np
 from numba import njit
 
 from ..core.errors import InputError
+from ..core.hertz_theory import axes_at
 from ..core.materials import Material, STEEL
 from .base import TangentialSolution, check_inputs, register
 from .friction import falling_friction
-from .kalker import (Creepage, Flexibilities, flexibilities, flexibilities_array,
-                     kalker_coefficients, kalker_coefficients_array)
+from .kalker import (Creepage, Flexibilities, coefficients_at, flexibilities,
+                     flexibilities_array, kalker_coefficients, kalker_coefficients_array)
 
 
 class Traction(NamedTuple):
@@ -361,11 +362,31 @@ def strip_pressures(x_mid, half, p_strip, w, scale, xl, xt, out):
 
 
 @njit(cache=True, nogil=True)
+def strip_patch_forces(st, L, mu, creepage, w, xl, xt, bound):
+    """(F_x, F_y, M_z) on the wheel [N, N, N m] of one patch with semi-elliptic
+    strip pressures: FASTSIM's strip march (:func:`_fastsim_strips`, ``w.size``
+    elements per strip, weights :func:`semi_ellipse_weights`) with the bound
+    mu p_j sqrt(1 - ((x - x_mid_j)/l_j)^2).  ``st`` (:class:`StripArrays` of the
+    patch: arrays over its strips, ``dy`` its strip width), the flexibilities ``L``
+    [m/Pa] and the spin ``creepage.phi`` [1/m] per strip, ``creepage.xi``,
+    ``creepage.eta`` of the patch; ``xl``, ``xt`` (strips,) and ``bound`` (strips,
+    elements) work arrays.  The batch path (:func:`fastsim_strip_patches`) and the
+    compiled case (:mod:`railcontact.cases.strip_pass`) call it."""
+    my = st.y.size
+    xgrid = np.empty(0)
+    none = np.empty((0, my))
+    nogrid = Traction(none, none, none, none, np.empty((0, my), dtype=np.bool_))
+    strip_pressures(st.x_mid, st.half, st.p_strip, w, mu, xl, xt, bound)
+    fx, fy, mz, _ = _fastsim_strips(st.y, st.dy, xl, xt, bound, L, creepage, xgrid, nogrid)
+    # the march gives the tractions on the rail; the wheel gets the opposite
+    return -fx, -fy, -mz
+
+
+@njit(cache=True, nogil=True)
 def fastsim_strip_patches(strips, L, mu, creepage, nx, out):
     """Forces only, for many patches with semi-elliptic strip pressures (the strip
-    models' batch solutions, :mod:`railcontact.normal.strip_batch`): FASTSIM's strip
-    march (:func:`_fastsim_strips`, ``nx`` elements per strip) with the bound
-    mu p_j sqrt(1 - ((x - x_mid_j)/l_j)^2).
+    models' batch solutions, :mod:`railcontact.normal.strip_batch`):
+    :func:`strip_patch_forces` per patch.
 
     ``strips`` (:class:`StripArrays`) the patches' strips; arrays of shape (patches,
     strips): the flexibilities ``L`` [m/Pa]
@@ -383,9 +404,6 @@ def fastsim_strip_patches(strips, L, mu, creepage, nx, out):
     bound = np.empty((my, nx))
     xl = np.empty(my)
     xt = np.empty(my)
-    xgrid = np.empty(0)
-    none = np.empty((0, my))
-    nogrid = Traction(none, none, none, none, np.empty((0, my), dtype=np.bool_))
     w = semi_ellipse_weights(nx)
     for k in range(y.shape[0]):
         if not (L1[k, 0] > 0.0):
@@ -393,14 +411,105 @@ def fastsim_strip_patches(strips, L, mu, creepage, nx, out):
             out[k, 1] = 0.0
             out[k, 2] = 0.0
             continue
-        strip_pressures(x_mid[k], half[k], p_strip[k], w, mu[k], xl, xt, bound)
-        fx, fy, mz, _ = _fastsim_strips(y[k], dy[k], xl, xt, bound,
-                                        Flexibilities(L1[k], L2[k], L3[k]),
-                                        Creepage(xi[k], eta[k], phi[k]), xgrid, nogrid)
-        # the march gives the tractions on the rail; the wheel gets the opposite
-        out[k, 0] = -fx
-        out[k, 1] = -fy
-        out[k, 2] = -mz
+        out[k, 0], out[k, 1], out[k, 2] = strip_patch_forces(
+            StripArrays(y[k], dy[k], x_mid[k], half[k], p_strip[k]),
+            Flexibilities(L1[k], L2[k], L3[k]), mu[k], Creepage(xi[k], eta[k], phi[k]), w,
+            xl, xt, bound)
+
+
+class FlexMaterial(NamedTuple):
+    """The material and tables of the compiled flexibilities
+    (:func:`ellipse_flexibilities`)."""
+
+    #: shear modulus G [Pa]
+    G: float
+    #: Poisson's ratio
+    nu: float
+    #: contact modulus E* [Pa]
+    Es: float
+    #: Kalker's tables (:mod:`railcontact.tangential.kalker`)
+    kalker_ab: np.ndarray
+    kalker_ba: np.ndarray
+    #: the Hertz table (:func:`railcontact.core.hertz_theory._axes_table`)
+    dt: float
+    table: np.ndarray
+
+
+def flex_material(material) -> FlexMaterial:
+    """The :class:`FlexMaterial` of a :class:`~railcontact.core.materials.Material`."""
+    from ..core.hertz_theory import _axes_table
+    from .kalker import _TAB_AB, _TAB_BA
+    dt, tab = _axes_table()
+    return FlexMaterial(float(material.shear_modulus), float(material.nu),
+                        float(material.contact_modulus), _TAB_AB, _TAB_BA, dt, tab)
+
+
+@njit(cache=True, nogil=True)
+def ellipse_flexibilities(a, b, fn, creepage, mu, mat):
+    """FASTSIM's flexibilities (L1, L2, L3) [m/Pa] of an ellipse (a, b) [m] with
+    normal force ``fn`` [N], blended towards the combined flexibility as the
+    creepage ``creepage`` (xi, eta, phi) grows (:func:`blended_flexibilities`,
+    friction ``mu``; ``mat`` a :class:`FlexMaterial`); unblended where fn <= 0."""
+    xi, eta, phi = creepage
+    c11, c22, c23 = coefficients_at(a / b, mat.nu, mat.kalker_ab, mat.kalker_ba)
+    G = mat.G
+    L1 = 8.0 * a / (3.0 * c11 * G)
+    L2 = 8.0 * a / (3.0 * c22 * G)
+    L3 = math.pi * a * math.sqrt(a / b) / (4.0 * G * c23)
+    if not fn > 0.0:
+        return L1, L2, L3
+    c2 = a * b
+    w = min(1.0, math.hypot(xi * c2 * G * c11, eta * c2 * G * c22) / (mu * fn) / 3.0)
+    ps = phi * (math.pi * a * a / 4.0) / (8.0 * a / 3.0)
+    num = xi * xi + eta * eta + ps * ps
+    den = xi * xi / L1 + eta * eta / L2 + ps * ps / L3
+    Lc = num / den if den > 0.0 else L1
+    return (1.0 - w) * L1 + w * Lc, (1.0 - w) * L2 + w * Lc, (1.0 - w) * L3 + w * Lc
+
+
+@njit(cache=True, nogil=True)
+def strip_flexibilities(half, A, B, pen, ellipse, creepage, mu, mat, local, L):
+    """Flexibilities per strip of one strip-model patch into ``L`` (3, strips):
+    those of its equivalent ellipse (``ellipse``: a, b [m] and the normal force F_n
+    [N]; :func:`ellipse_flexibilities`) on every strip, or with ``local``
+    (``fastsim-strips``) on each loaded strip those of its local ellipse, the
+    Hertz ellipse of the gap's curvatures ``A``, ``B`` [1/m] at the strip for the
+    approach ``pen`` [m] (Ayasse & Chollet 2005), blended with the patch's F_n;
+    zero where the patch carries no load.  The batch path and the compiled case
+    call it."""
+    a, b, fn = ellipse
+    if not (fn > 0.0 and a > 0.0 and b > 0.0):
+        L[:] = 0.0
+        return
+    L1, L2, L3 = ellipse_flexibilities(a, b, fn, creepage, mu, mat)
+    for j in range(half.size):
+        L[0, j], L[1, j], L[2, j] = L1, L2, L3
+        if local and pen > 0.0 and half[j] > 0.0:
+            la, lb, _ = axes_at(A[j], B[j], pen, mat.Es, mat.dt, mat.table)
+            L[0, j], L[1, j], L[2, j] = ellipse_flexibilities(la, lb, fn, creepage, mu, mat)
+
+
+@njit(cache=True, nogil=True)
+def _strip_flexibilities_kernel(half, A, B, pen, ellipses, creep, mu, mat, local, L):
+    for k in range(half.shape[0]):
+        strip_flexibilities(half[k], A[k], B[k], pen[k],
+                            (ellipses[0, k], ellipses[1, k], ellipses[2, k]),
+                            (creep[0, k], creep[1, k], creep[2, k]), mu, mat, local, L[:, k])
+
+
+def batch_flexibilities(strips, a, b, ok, creepage, material, friction, local):
+    """Flexibilities (3, patches, strips) of many strip-model patches
+    (:func:`strip_flexibilities` per patch; ``ok``: the patches that carry load)."""
+    F = np.where(ok, strips.normal_force, 0.0)
+    n, my = strips.y.shape
+    L = np.zeros((3, n, my))
+    pen = np.ascontiguousarray(np.broadcast_to(np.asarray(strips.penetration, float), (n,)))
+    _strip_flexibilities_kernel(np.ascontiguousarray(strips.half),
+                                np.ascontiguousarray(strips.A), np.ascontiguousarray(strips.B),
+                                pen, np.array([a, b, F], dtype=float),
+                                np.array(creepage, dtype=float), float(friction),
+                                flex_material(material), bool(local), L)
+    return L
 
 
 def equivalent_ellipse(normal) -> tuple:
@@ -567,16 +676,8 @@ class FastsimModel:
     def _batch_flexibilities(strips, patches, a, b, ok, creepage, material, friction):
         """Blended flexibilities of each patch's equivalent ellipse on all its strips,
         and the patch's spin: arrays (3, patches, strips) and (patches, strips)."""
-        xi, eta, phi = creepage
-        G, nu = material.shear_modulus, material.nu
-        L = np.zeros((3,) + strips.y.shape)
-        if ok.any():
-            F = strips.normal_force
-            f = flexibilities_array(a[ok], b[ok], G, nu)
-            L[:, ok] = np.array(blended_flexibilities(a[ok], b[ok], f, G, nu,
-                                                      (xi[ok], eta[ok], phi[ok]), friction,
-                                                      F[ok]))[:, :, None]
-        return L, np.repeat(phi[:, None], strips.y.shape[1], axis=1)
+        L = batch_flexibilities(strips, a, b, ok, creepage, material, friction, False)
+        return L, np.repeat(np.asarray(creepage[2], float)[:, None], strips.y.shape[1], axis=1)
 
     def _reported_flexibilities(self, L1, L2, L3):
         """Flexibilities for the solution's options: one value each (uniform)."""

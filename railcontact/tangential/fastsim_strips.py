@@ -12,11 +12,10 @@ import numpy as np
 
 from ..core.errors import InputError
 from ..geometry.gap import sample_strip_spin
-from ..core.hertz_theory import hertz_ellipses, hertz_ellipses_table
+from ..core.hertz_theory import hertz_ellipses
 from ..normal.semi_hertzian import strip_minima
 from .base import register
-from .fastsim import FastsimModel, blended_flexibilities
-from .kalker import flexibilities_from_coefficients, kalker_coefficients_array
+from .fastsim import FastsimModel, batch_flexibilities
 
 
 def local_curvatures(normal, geometry):
@@ -62,24 +61,12 @@ class FastsimStripsModel(FastsimModel):
 
     @staticmethod
     def _batch_flexibilities(strips, patches, a, b, ok, creepage, material, friction):
-        """A local ellipse per strip, from the gap's curvatures along the strip, and
-        the spin of the local contact angle (as :meth:`_strip_parameters`)."""
-        L, _ = FastsimModel._batch_flexibilities(strips, patches, a, b, ok, creepage,
-                                                 material, friction)
-        xi, eta, phi = creepage
-        G, nu = material.shear_modulus, material.nu
-        # strips of a patch with an approach (a patch without one, e.g. a light
-        # secondary patch of a strip model, has no local ellipse: its strips keep the
-        # patch's flexibilities)
-        act = ok[:, None] & (strips.half > 0) & (np.asarray(strips.penetration) > 0)[:, None]
-        rows = np.nonzero(act)[0]
-        la, lb, _ = hertz_ellipses_table(strips.A[act], strips.B[act],
-                                         material.contact_modulus, strips.penetration[rows])
-        c = kalker_coefficients_array(la / lb, nu)
-        f = flexibilities_from_coefficients(la, lb, *c, G)
-        L[:, act] = blended_flexibilities(la, lb, f, G, nu, (xi[rows], eta[rows], phi[rows]),
-                                          friction, strips.normal_force[rows],
-                                          coefficients=c[:2])
+        """A local ellipse per strip, from the gap's curvatures along the strip
+        (:func:`~railcontact.tangential.fastsim.strip_flexibilities`; a patch without
+        an approach, e.g. a light secondary patch of a strip model, has no local
+        ellipse: its strips keep the patch's flexibilities), and the spin of the
+        local contact angle (as :meth:`_strip_parameters`)."""
+        L = batch_flexibilities(strips, a, b, ok, creepage, material, friction, True)
         return L, np.ascontiguousarray(sample_strip_spin(patches, strips.y))
 
     def _reported_flexibilities(self, L1, L2, L3):

@@ -105,41 +105,50 @@ def kalker_coefficients(a_over_b: float, nu: float):
     return _coefficients(float(a_over_b), float(nu))
 
 
-@njit(cache=True)
-def _coefficients_kernel(r, nu, tab_ab, tab_ba, out):
-    """(C11, C22, C23) for every ratio a/b in ``r`` into ``out`` (3, n): the table rows
-    g = 0.1 ... 1.0 interpolated linearly, a parabola in 1/C through nu = 0, 0.25,
-    0.5, and the asymptotic expressions below g = 0.1."""
+@njit(cache=True, nogil=True)
+def coefficients_at(ri, nu, tab_ab, tab_ba):
+    """(C11, C22, C23) of the ratio a/b = ``ri``: the table rows g = 0.1 ... 1.0
+    interpolated linearly, a parabola in 1/C through nu = 0, 0.25, 0.5, and the
+    asymptotic expressions below g = 0.1 (the scalar form of
+    :func:`_coefficients_kernel`, for compiled callers)."""
     x0, x1, x2 = 0.0, 0.25, 0.5
     l0 = (nu - x1) * (nu - x2) / ((x0 - x1) * (x0 - x2))
     l1 = (nu - x0) * (nu - x2) / ((x1 - x0) * (x1 - x2))
     l2 = (nu - x0) * (nu - x1) / ((x2 - x0) * (x2 - x1))
+    g = ri if ri <= 1.0 else 1.0 / ri
+    if g < 0.1:
+        if ri < 1.0:
+            return (math.pi ** 2 / (4 * (1 - nu)), math.pi ** 2 / 4,
+                    (math.pi * math.sqrt(g) / (3 * (1 - nu))
+                     * (1 + nu * (math.log(16 / g) - 5))))
+        lam = math.log(16 / g ** 2)
+        return ((2 * math.pi / ((lam - 2 * nu) * g)
+                 * (1 + (3 - math.log(4)) / (lam - 2 * nu))),
+                ((2 * math.pi / g)
+                 * (1 + (1 - nu) * (3 - math.log(4)) / ((1 - nu) * lam + 2 * nu))
+                 / ((1 - nu) * lam + 2 * nu)),
+                2 * math.pi / (3 * g ** 1.5 * ((1 - nu) * lam - 2 + 4 * nu)))
+    tab = tab_ab if ri <= 1.0 else tab_ba
+    k = min(int((g - 0.1) / 0.1 + 1e-12), 8)
+    t = (g - (0.1 + 0.1 * k)) / 0.1
+    return (_table_row(tab, 0, k, t, l0, l1, l2), _table_row(tab, 1, k, t, l0, l1, l2),
+            _table_row(tab, 2, k, t, l0, l1, l2))
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _table_row(tab, m, k, t, l0, l1, l2):
+    r0 = (1 - t) * tab[m, k, 0] + t * tab[m, k + 1, 0]
+    r1 = (1 - t) * tab[m, k, 1] + t * tab[m, k + 1, 1]
+    r2 = (1 - t) * tab[m, k, 2] + t * tab[m, k + 1, 2]
+    return 1.0 / (l0 / r0 + l1 / r1 + l2 / r2)
+
+
+@njit(cache=True)
+def _coefficients_kernel(r, nu, tab_ab, tab_ba, out):
+    """(C11, C22, C23) for every ratio a/b in ``r`` into ``out`` (3, n)
+    (:func:`coefficients_at`)."""
     for i in range(r.size):
-        ri = r[i]
-        g = ri if ri <= 1.0 else 1.0 / ri
-        if g < 0.1:
-            if ri < 1.0:
-                out[0, i] = math.pi ** 2 / (4 * (1 - nu))
-                out[1, i] = math.pi ** 2 / 4
-                out[2, i] = (math.pi * math.sqrt(g) / (3 * (1 - nu))
-                             * (1 + nu * (math.log(16 / g) - 5)))
-            else:
-                lam = math.log(16 / g ** 2)
-                out[0, i] = (2 * math.pi / ((lam - 2 * nu) * g)
-                             * (1 + (3 - math.log(4)) / (lam - 2 * nu)))
-                out[1, i] = ((2 * math.pi / g)
-                             * (1 + (1 - nu) * (3 - math.log(4)) / ((1 - nu) * lam + 2 * nu))
-                             / ((1 - nu) * lam + 2 * nu))
-                out[2, i] = 2 * math.pi / (3 * g ** 1.5 * ((1 - nu) * lam - 2 + 4 * nu))
-            continue
-        tab = tab_ab if ri <= 1.0 else tab_ba
-        k = min(int((g - 0.1) / 0.1 + 1e-12), 8)
-        t = (g - (0.1 + 0.1 * k)) / 0.1
-        for c in range(3):
-            r0 = (1 - t) * tab[c, k, 0] + t * tab[c, k + 1, 0]
-            r1 = (1 - t) * tab[c, k, 1] + t * tab[c, k + 1, 1]
-            r2 = (1 - t) * tab[c, k, 2] + t * tab[c, k + 1, 2]
-            out[c, i] = 1.0 / (l0 / r0 + l1 / r1 + l2 / r2)
+        out[0, i], out[1, i], out[2, i] = coefficients_at(r[i], nu, tab_ab, tab_ba)
 
 
 def kalker_coefficients_array(a_over_b, nu: float):

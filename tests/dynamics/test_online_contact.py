@@ -170,9 +170,9 @@ def test_flange_climb_to_derailment(bodies):
 
 
 def test_strip_model_per_patch_runs_online(bodies):
-    """A tangential model without a compiled law (fastsim-strips on ANALYN's
-    patches, through the case layer's batch) runs online: at rest its wheels carry
-    the axle load within 1 % (the springs are the normal model's at the approach)."""
+    """A strip model with fastsim-strips (ANALYN's patches, compiled:
+    railcontact.cases.strip_pass) runs online: at rest its wheels carry the axle
+    load within 1 % (the springs are the normal model's at the approach)."""
     ws, tr = bodies
     m = _wheelset()
     ds = simulate_vehicle(m, Route.tangent(50.0), OnlineWheelRail(ws, tr, normal="analyn"),
@@ -181,6 +181,39 @@ def test_strip_model_per_patch_runs_online(bodies):
     axle = m.wheelsets[0][1] * G_ACC
     assert float(ds["Q"].isel(time=-1).sum()) == pytest.approx(axle, rel=1e-2)
     assert ds.attrs["tangential"] == "fastsim-strips"
+
+
+@pytest.mark.parametrize("normal", ["analyn", "kik-piotrowski"])
+def test_compiled_strips_equal_the_batch_on_the_searched_patches(bodies, normal):
+    """The compiled strip model online (cases.strip_pass per row of the search)
+    against the case layer's batch (cases.batch.solve_patches, the Python path of
+    the online contact before) on the same patches, a wheelset 4 mm off centre with
+    2 mrad yaw and creepages from its motion: normal forces within 0.5 %, creep
+    forces within 1 % of mu N (the batch lays the strips on the geometry's extent,
+    the pass on the patch's run)."""
+    from railcontact.cases.batch import solve_patches
+    from railcontact.dynamics.online_contact import (R_FX, R_FY, R_N, search_wheelset,
+                                                     NPF)
+    from railcontact.geometry.track import WheelsetPose
+    from railcontact.geometry.wheel_pass import PassPose, patch_geometry
+    ws, tr = bodies
+    on = OnlineWheelRail(ws, tr, normal=normal)
+    tp = np.array([0.3, STEEL.shear_modulus, 12, 12, 1.0, 1.0, 1.0, 0.0])
+    oc = on.compiled(1, 1, tp, 1120.0, "fastsim-strips")
+    g = oc.frame
+    pose = PassPose(4e-3, 2e-3, g[0], g[1], g[2], g[3], 30.0, -30.0 / g[3], 0.02, 0.001, 0.0)
+    from railcontact.geometry import find_contact
+    c = find_contact(ws, tr, 4e-3, 2e-3, vertical_force=6e4)
+    m = search_wheelset(oc, 0, pose, c.pose.vertical, c.pose.roll)
+    assert m >= 2
+    wp = WheelsetPose(4e-3, c.pose.vertical, c.pose.roll, 2e-3)
+    rows = oc.rows[0, :m]
+    geos = [patch_geometry(r[:NPF], ws, tr, wp) for r in rows]
+    b = solve_patches(geos, normal, "fastsim-strips", STEEL, 0.3, (12, 12))
+    for k, r in enumerate(rows):
+        assert r[R_N] == pytest.approx(b.normal_force[k], rel=5e-3)
+        assert abs(r[R_FX] - b.Fx[k]) <= 1e-2 * 0.3 * r[R_N]
+        assert abs(r[R_FY] - b.Fy[k]) <= 1e-2 * 0.3 * r[R_N]
 
 
 def test_online_input_checks(bodies):

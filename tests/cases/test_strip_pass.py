@@ -1,0 +1,96 @@
+"""railcontact.cases.strip_pass: the strip models and their creep forces on a patch
+row of the compiled pass agree with the batch path on the same patches, and their
+force is continuous in the approach (the compiled balance meets the load)."""
+
+import dataclasses
+import math
+
+import numpy as np
+import pytest
+
+import railcontact as rc
+from railcontact.cases.batch import solve_patches
+from railcontact.cases.compiled_case import (RF, case_contact, case_pass_inputs,
+                                             evaluate_wheelset, solve_case_forces)
+from railcontact.cases.strip_pass import strip_pass, strip_row
+from railcontact.core.materials import STEEL
+from railcontact.geometry.wheel_pass import new_memo
+
+PAIRS = [("kik-piotrowski", "fastsim-strips"), ("analyn", "fastsim-strips"),
+         ("kpec", "fastsim"), ("stripes", "polach")]
+
+
+def _case(shift, yaw=0.0, creepage=(1e-3, -5e-4, 0.1)):
+    return rc.case_from_dict({
+        "wheel": {"profile": "S1002"}, "rail": {"profile": "60E1"},
+        "wheelset": {"lateral_shift": shift, "yaw": yaw, "vertical_force": 7e4,
+                     "velocity": 30.0},
+        "creepage": dict(zip(("longitudinal", "lateral", "spin"), creepage)),
+        "solver": {"grid": [40, 40]}})
+
+
+@pytest.mark.parametrize("normal, tangential", PAIRS)
+def test_rows_agree_with_the_batch_path(normal, tangential):
+    """A balanced case's rows against :func:`solve_patches` on the same patches (the
+    geometry objects of the rows with the case's creepages, 40 strips, 40
+    elements): the same kernels, the strips laid on the patch's run (the compiled
+    pass) or on the geometry's extent (the batch): F_n within 0.5 %, the creep
+    forces within 1 % of mu F_n."""
+    case = _case(3e-3, 2e-3)
+    res = solve_case_forces(case, normal, tangential)
+    assert res.converged
+    geos = case_contact(res, case).patches
+    assert len(geos) == len(res.rows)
+    for geo in geos:
+        row = min(res.rows, key=lambda r: abs(r[RF["y_rail"]] - geo.y_rail))
+        geo = dataclasses.replace(geo, creepage=tuple(case.creepage))
+        b = solve_patches([geo], normal, tangential, STEEL, 0.3, (40, 40), strips=40)
+        F = row[RF["normal_force"]]
+        assert F == pytest.approx(b.normal_force[0], rel=5e-3)
+        assert abs(row[RF["fx"]] - b.Fx[0]) <= 1e-2 * 0.3 * F
+        assert abs(row[RF["fy"]] - b.Fy[0]) <= 1e-2 * 0.3 * F
+
+
+@pytest.mark.parametrize("normal", ["kik-piotrowski", "analyn"])
+def test_force_continuous_in_the_interpenetration(normal):
+    """On S1002/60E1's near-conformal tread (2.1 mm, 2 mrad: a flat-bottomed gap
+    whose deepest strip moves between neighbours) the wheel's vertical force grows
+    continuously with the interpenetration: each step (0.2 % of the force) within
+    5 % of the one before (before the strips were laid on the run's ends and KP's
+    displacement taken at the deepest point between strips: steps up to 2.5 times
+    their neighbours, and the balance stopped at a force jump)."""
+    case = _case(2.108e-3, 2e-3)
+    prof, pose, model, loads = case_pass_inputs(case, normal, "fastsim-strips")
+    res = solve_case_forces(case, normal, "fastsim-strips")
+    assert res.converged
+    d0 = np.array([res.interpenetration["left"], res.interpenetration["right"]])
+    out = np.zeros_like(res.rows, shape=(16, res.rows.shape[1]))
+    fz = np.empty(2)
+    forces = []
+    for s in np.linspace(0.985, 1.015, 25):
+        d = d0.copy()
+        d[1] *= s
+        m, z, roll = evaluate_wheelset(prof, pose, model, d, new_memo(res.roll), out, fz)
+        forces.append(fz[1])
+    steps = np.diff(forces)
+    assert np.all(steps > 0)
+    # each step within 5 % of the one before (a jump of the force doubles a step)
+    assert np.max(np.abs(steps[1:] / steps[:-1] - 1.0)) < 0.05
+
+
+def test_hertz_code_and_strip_pass_of_names():
+    sp = strip_pass("hertz", "fastsim", STEEL)
+    assert sp.rule.code == -1
+    sp = strip_pass("kpec", "fastsim-strips", STEEL, 30, 25, 12)
+    assert sp.rule.code >= 0 and sp.grid.strips == 30 and sp.rule.elements == 25
+    assert sp.elements == 12 and sp.march == 2 and sp.grid.refine
+
+
+def test_no_approach_gives_no_force():
+    case = _case(0.0)
+    res = solve_case_forces(case, "analyn", "fastsim-strips")
+    prof, pose, model, _ = case_pass_inputs(case, "analyn", "fastsim-strips")
+    row = res.rows[0].copy()
+    row[RF["approach"]] = 0.0
+    assert strip_row(row, prof, pose, res.vertical, res.roll, model) == (0.0,) * 8
+    assert math.isfinite(res.patches["fy"][0])
