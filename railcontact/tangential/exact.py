@@ -435,7 +435,8 @@ def leading_edge(contact, dx, step):
     dx : float
         Element size along x [m].
     step : float
-        Rolling distance per time step [m] (> 0).
+        Rolling distance per time step [m]: > 0 rolling towards +x, < 0 towards -x
+        (CHI = 180 deg: the leading edge on the -x side, the rule mirrored).
 
     Returns
     -------
@@ -443,10 +444,14 @@ def leading_edge(contact, dx, step):
         The fraction f (1 outside the contact and away from the leading edge).
     edge : ndarray of int, shape (mx, my)
         Index along x of the element x_0 + dx at which the boundary displacement
-        is taken where f < 1; -1 elsewhere, and where x_0 + dx lies in the last
-        column or beyond it (its displacement is then taken as zero, -2).
+        is taken where f < 1; -1 where f = 1; -2 where x_0 + dx lies in the last
+        column or beyond it (the boundary displacement is then taken as zero).
     """
+    contact = np.asarray(contact, bool)
     mx = contact.shape[0]
+    if step < 0:
+        facdt, edge = leading_edge(contact[::-1], dx, -step)
+        return facdt[::-1].copy(), np.where(edge >= 0, mx - 1 - edge, edge)[::-1].copy()
     ahead = np.zeros_like(contact)
     ahead[:-1] = contact[1:]
     last = contact & ~ahead                                   # x_0 of each edge
@@ -458,6 +463,27 @@ def leading_edge(contact, dx, step):
     facdt = np.where(near, frac, 1.0)
     edge = np.where(near, np.where(x0 >= mx - 2, -2, x0 + 1), -1)
     return facdt, edge
+
+
+def leading_edge_slip(contact, dx, step, w, u, u_here=None):
+    """The rigid shift ``w`` (w_x, w_y) [m] and previous displacement ``u`` (u'_x,
+    u'_y) [m] of a rolling step (``step`` [m], :func:`leading_edge`) with CONTACT's
+    leading-edge correction: where the material entered the contact during the
+    step, f w and the previous displacement at the leading edge, taken from
+    ``u_here`` (the previous tractions' displacement where they acted, on the
+    current grid; None: no previous tractions, zero)."""
+    facdt, edge = leading_edge(contact, dx, step)
+    near = edge != -1
+    if not near.any():
+        return w, u
+    w = (w[0] * facdt, w[1] * facdt)
+    ubx, uby = np.zeros(contact.shape), np.zeros(contact.shape)
+    if u_here is not None:
+        cols = np.broadcast_to(np.arange(contact.shape[1])[None, :], contact.shape)
+        at = near & (edge >= 0)
+        ubx[at] = u_here[0][edge[at], cols[at]]
+        uby[at] = u_here[1][edge[at], cols[at]]
+    return w, (np.where(near, ubx, u[0]), np.where(near, uby, u[1]))
 
 
 def shifted_tractions(px, py, offset, shape):
@@ -667,32 +693,23 @@ class ExactTangentialModel:
 
     def _leading_edge(self, grid, w, u, previous, material):
         """A rolling step's rigid shift ``w`` and previous displacement ``u`` with
-        CONTACT's leading-edge correction (:func:`leading_edge`) on ``grid`` (x, y,
-        contact)."""
+        CONTACT's leading-edge correction (:func:`leading_edge_slip`) on ``grid``
+        (x, y, contact)."""
         x, y, contact = grid
         dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
-        facdt, edge = leading_edge(contact, dx, self.step)
-        near = edge != -1
-        if not near.any():
-            return w, u
-        w = (w[0] * facdt, w[1] * facdt)
-        ubx, uby = np.zeros(contact.shape), np.zeros(contact.shape)
-        if previous is not None:
+        here = None
+        if previous is not None and (leading_edge(contact, dx, self.step)[1] != -1).any():
             # the previous tractions' displacement where they acted (no shift)
             off = grid_offset((float(previous.x[0]), float(previous.y[0])),
                               (float(x[0]), float(y[0])), (dx, dy))
             qx, qy = -previous.traction_x, -previous.traction_y
-            vx, vy = previous_displacement(qx, qy, off, contact.shape, dx, dy,
-                                           material.shear_modulus, material.nu)
+            here = previous_displacement(qx, qy, off, contact.shape, dx, dy,
+                                         material.shear_modulus, material.nu)
             if self.layer is not None:
                 px, py = shifted_tractions(qx, qy, off, contact.shape)
                 f = self.layer.flexibility
-                vx, vy = vx + f * px, vy + f * py
-            cols = np.broadcast_to(np.arange(contact.shape[1])[None, :], contact.shape)
-            at = near & (edge >= 0)
-            ubx[at] = vx[edge[at], cols[at]]
-            uby[at] = vy[edge[at], cols[at]]
-        return w, (np.where(near, ubx, u[0]), np.where(near, uby, u[1]))
+                here = (here[0] + f * px, here[1] + f * py)
+        return leading_edge_slip(contact, dx, self.step, w, u, here)
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,
