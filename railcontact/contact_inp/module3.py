@@ -14,7 +14,9 @@ railcontact case file:
 * tangential problem: the exact solver of :mod:`railcontact.tangential.exact`,
   steady rolling (T = 3, :func:`~railcontact.tangential.exact.steady_rolling`)
   or one time step of a transient problem (T = 1, 2,
-  :func:`~railcontact.tangential.exact.transient_step`), with the creepages
+  :func:`~railcontact.tangential.exact.transient_step`; T = 2 with CONTACT's
+  leading-edge correction, :func:`~railcontact.tangential.exact.leading_edge_slip`),
+  with the creepages
   (F = 0) or the relative forces FX/(FSTAT FN) (F = 1, with CETA; F = 2, with
   FY) given; a force is met by Brent's method on the creepage (or shift);
   falling friction by a fixed point of the coefficients (:func:`friction_law`);
