@@ -14,7 +14,9 @@ railcontact case file:
 * tangential problem: the exact solver of :mod:`railcontact.tangential.exact`,
   steady rolling (T = 3, :func:`~railcontact.tangential.exact.steady_rolling`)
   or one time step of a transient problem (T = 1, 2,
-  :func:`~railcontact.tangential.exact.transient_step`), with the creepages
+  :func:`~railcontact.tangential.exact.transient_step`; T = 2 with CONTACT's
+  leading-edge correction, :func:`~railcontact.tangential.exact.leading_edge_slip`),
+  with the creepages
   (F = 0) or the relative forces FX/(FSTAT FN) (F = 1, with CETA; F = 2, with
   FY) given; a force is met by Brent's method on the creepage (or shift);
   falling friction by a fixed point of the coefficients (:func:`friction_law`);
@@ -63,8 +65,9 @@ from ..tangential.friction import SlipVelocityFriction, TemperatureFriction
 from ..tangential.temperature import ThermalProperties, flash_temperatures
 from ..core.errors import RailContactError
 from ..core.materials import InterfaceLayer
-from ..tangential.exact import (grid_offset, layer_bound, plastic_flow, previous_displacement,
-                                shifted_tractions, steady_rolling, transient_step)
+from ..tangential.exact import (grid_offset, layer_bound, leading_edge_slip, plastic_flow,
+                                previous_displacement, shifted_tractions, steady_rolling,
+                                transient_step)
 from ..cases.coupling import normal_gap_from_tractions, slip_from_pressure
 from .mapping import curvature_from_axis_ratio, layer_options
 from .viscoelastic import (active_set_normal, check_viscoelastic, viscoelastic_normal_operator,
@@ -482,7 +485,7 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
     layer = interface_layer(case)
     ustar_prev, ustar, nplast = None, None, 0
     if t:
-        u_prev, p_start, pn_prev = (zero, zero), None, None
+        u_prev, p_start, pn_prev, u_here = (zero, zero), None, None, None
         if t in (1, 2) and prev is not None:
             shift = (0.0, 0.0)
             if t == 2:
@@ -496,6 +499,15 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                                            G, nu)
             # the start of the iteration: the previous tractions where the material is
             p_start = shifted_tractions(prev.px, prev.py, off, shape)
+            if t == 2:
+                # their displacement where they acted, for the leading edge
+                off0 = grid_offset(prev.grid.origin, grid.origin, (grid.dx, grid.dy))
+                u_here = previous_displacement(prev.px, prev.py, off0, shape, grid.dx,
+                                               grid.dy, G, nu)
+                if layer is not None:
+                    q = shifted_tractions(prev.px, prev.py, off0, shape)
+                    u_here = (u_here[0] + layer.flexibility * q[0],
+                              u_here[1] + layer.flexibility * q[1])
             if prev.pn is not None:
                 pn_prev = shifted_tractions(prev.pn, prev.pn, off, shape)[0]
             if layer is not None:
@@ -517,6 +529,8 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
                  ) if pad else (lambda a: a)
         ct, bt = widen(contact), widen(bound)
         u_t = (widen(u_prev[0]), widen(u_prev[1]))
+        edge_step = (math.cos(_need(case, "CHI")) * _need(case, "DQ") * MM) if t == 2 else 0.0
+        u_edge = None if u_here is None else (widen(u_here[0]), widen(u_here[1]))
         us_t = None if ustar_prev is None else widen(ustar_prev)
 
         def lb(b, mirror=lambda a: a):
@@ -574,12 +588,19 @@ def solve_case(case: InpCase, prev: Instance | None, start=None,
             if exrhs is not None:
                 w = (w[0] + exrhs[0], w[1] + exrhs[1])
             wx, wy = widen(np.array(w[0])), widen(np.array(w[1]))
+            u_s = u_t
+            if t == 2:
+                # CONTACT's leading-edge correction: material that entered the
+                # contact during the step (within DQ of the leading edge)
+                (wx, wy), u_s = leading_edge_slip(ct, grid.dx, edge_step,
+                                                  np.broadcast_to((wx, wy), (2,) + ct.shape),
+                                                  u_t, u_edge)
             if state["w_extra"] is not None:
                 # dissimilar bodies: the pressure's tangential displacements of this
                 # step less those of the previous instance
                 wx, wy = wx + state["w_extra"][0], wy + state["w_extra"][1]
             return transient_step(grid.x, yt, ct, lb(bt), (wx, wy),
-                                  u_t, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
+                                  u_s, G, nu, TANGENTIAL_TOL, 200, p0=state["p0"])
 
         def tangential(cx, cy):
             if law is None:

@@ -24,7 +24,9 @@ The kinematics (CONTACT's user guide, "Wheelset position and velocity" and
   x_tr = S_WS + x (S_WS, the wheelset's position along the track of each case).
 * T = 2: the grid moves with the contact; per step the contact rolls DQ = DQREL
   DX over the rail, the rigid shift is DQ (xi - phi y, eta + phi (x + DQ/6)), and
-  the previous tractions act DQ behind (towards -x) where they were.
+  the previous tractions act DQ behind (towards -x) where they were; within DQ of
+  the leading edge CONTACT's leading-edge correction
+  (:func:`railcontact.tangential.exact.leading_edge`).
 
 What carries over follows the P digit (user guide, "P - PVTIME"): P = 0 the last
 case's tractions (a steady-rolling case's too) are the previous instance; P = 1

@@ -413,6 +413,79 @@ def previous_displacement(px, py, offset, shape, dx, dy, G, nu):
     return np.ascontiguousarray(ux[cut]), np.ascontiguousarray(uy[cut])
 
 
+def leading_edge(contact, dx, step):
+    """CONTACT's leading-edge correction of a transient rolling step (T = 2, rolling
+    towards +x over ``step`` [m] per time step; Vollebregt, CONTACT user guide and
+    its m_leadedge module): material within one step of the leading edge entered
+    the contact during the step.
+
+    In each grid row the leading edge lies one element beyond every element in
+    contact whose neighbour ahead (+x) is not in contact (or that ends the grid),
+    at x_b = x_0 + dx.  An element in contact at x behind it has been in the contact
+    for the fraction f = min(1, (x_b - x) / step) of the step; where f < 1 its
+    rigid shift is f W and its previous displacement is that at the leading edge
+    (the previous tractions' displacement at the element x_0 + dx, on the current
+    grid) instead of the one at its own place one step before.  Elements in the
+    last two columns keep f = 1 (no room for the edge).
+
+    Parameters
+    ----------
+    contact : ndarray of bool, shape (mx, my)
+        Elements in contact (x along the first axis).
+    dx : float
+        Element size along x [m].
+    step : float
+        Rolling distance per time step [m]: > 0 rolling towards +x, < 0 towards -x
+        (CHI = 180 deg: the leading edge on the -x side, the rule mirrored).
+
+    Returns
+    -------
+    facdt : ndarray, shape (mx, my)
+        The fraction f (1 outside the contact and away from the leading edge).
+    edge : ndarray of int, shape (mx, my)
+        Index along x of the element x_0 + dx at which the boundary displacement
+        is taken where f < 1; -1 where f = 1; -2 where x_0 + dx lies in the last
+        column or beyond it (the boundary displacement is then taken as zero).
+    """
+    contact = np.asarray(contact, bool)
+    mx = contact.shape[0]
+    if step < 0:
+        facdt, edge = leading_edge(contact[::-1], dx, -step)
+        return facdt[::-1].copy(), np.where(edge >= 0, mx - 1 - edge, edge)[::-1].copy()
+    ahead = np.zeros_like(contact)
+    ahead[:-1] = contact[1:]
+    last = contact & ~ahead                                   # x_0 of each edge
+    idx = np.arange(mx)[:, None]
+    big = np.where(last, idx, mx + 10)
+    x0 = np.minimum.accumulate(big[::-1], axis=0)[::-1]      # next edge ahead (or at) i
+    frac = np.minimum(1.0, (x0 - idx + 1) * dx / step)
+    near = contact & (frac < 0.9999) & (idx < mx - 2) & (x0 < mx)
+    facdt = np.where(near, frac, 1.0)
+    edge = np.where(near, np.where(x0 >= mx - 2, -2, x0 + 1), -1)
+    return facdt, edge
+
+
+def leading_edge_slip(contact, dx, step, w, u, u_here=None):
+    """The rigid shift ``w`` (w_x, w_y) [m] and previous displacement ``u`` (u'_x,
+    u'_y) [m] of a rolling step (``step`` [m], :func:`leading_edge`) with CONTACT's
+    leading-edge correction: where the material entered the contact during the
+    step, f w and the previous displacement at the leading edge, taken from
+    ``u_here`` (the previous tractions' displacement where they acted, on the
+    current grid; None: no previous tractions, zero)."""
+    facdt, edge = leading_edge(contact, dx, step)
+    near = edge != -1
+    if not near.any():
+        return w, u
+    w = (w[0] * facdt, w[1] * facdt)
+    ubx, uby = np.zeros(contact.shape), np.zeros(contact.shape)
+    if u_here is not None:
+        cols = np.broadcast_to(np.arange(contact.shape[1])[None, :], contact.shape)
+        at = near & (edge >= 0)
+        ubx[at] = u_here[0][edge[at], cols[at]]
+        uby[at] = u_here[1][edge[at], cols[at]]
+    return w, (np.where(near, ubx, u[0]), np.where(near, uby, u[1]))
+
+
 def shifted_tractions(px, py, offset, shape):
     """The previous tractions on the current grid (element (i, j) from element
     (i + di, j + dj) of the previous grid; zero where it has none)."""
@@ -606,6 +679,8 @@ class ExactTangentialModel:
                 prev_u = previous.options.get("plastic_displacement")
                 if prev_u is not None:
                     ustar = shifted_tractions(np.asarray(prev_u), zero, off, contact.shape)[0]
+        if h > 0:
+            w, u = self._leading_edge((x, y, contact), w, u, previous, material)
         if self.layer is not None:
             bound = layer_bound(self.layer, bound, ustar)
         out = transient_step(x, y, contact, bound, w, u, G, nu, self.tol, self.maxiter, p0=p0)
@@ -615,6 +690,26 @@ class ExactTangentialModel:
             inc = plastic_flow(bound, out[2], out[3], dx, False)[0]
             extra["plastic_displacement"] = inc if ustar is None else ustar + inc
         return out, extra
+
+    def _leading_edge(self, grid, w, u, previous, material):
+        """A rolling step's rigid shift ``w`` and previous displacement ``u`` with
+        CONTACT's leading-edge correction (:func:`leading_edge_slip`) on ``grid``
+        (x, y, contact)."""
+        x, y, contact = grid
+        dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
+        here = None
+        if previous is not None and (leading_edge(contact, dx, self.step)[1] != -1).any():
+            # the previous tractions' displacement where they acted (no shift)
+            off = grid_offset((float(previous.x[0]), float(previous.y[0])),
+                              (float(x[0]), float(y[0])), (dx, dy))
+            qx, qy = -previous.traction_x, -previous.traction_y
+            here = previous_displacement(qx, qy, off, contact.shape, dx, dy,
+                                         material.shear_modulus, material.nu)
+            if self.layer is not None:
+                px, py = shifted_tractions(qx, qy, off, contact.shape)
+                f = self.layer.flexibility
+                here = (here[0] + f * px, here[1] + f * py)
+        return leading_edge_slip(contact, dx, self.step, w, u, here)
 
     def solve(self, normal, geometry=None, material: Material = STEEL, creepage=(0.0, 0.0, 0.0),
               friction: float = 0.3, velocity: float = 1.0,

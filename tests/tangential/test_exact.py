@@ -573,3 +573,62 @@ def test_friction_scale_per_column_and_extra_slip():
     assert shifted.fy == pytest.approx(moved.fy, rel=1e-6)
     with pytest.raises(Exception, match="friction_scale"):
         ex.solve(ns, None, mat, (-1e-3, 0.0, 0.0), 0.3, friction_scale=np.full((1, 30), -1.0))
+
+
+def test_leading_edge_fraction_and_boundary_element():
+    """CONTACT's leading-edge rule on a row in contact from x index 3 to 10 and a
+    step of 4 elements: the last element ahead x_0 = 10, the edge at x_0 + dx; the
+    elements 10, 9, 8 were in the contact 1/4, 2/4, 3/4 of the step, the rest all
+    of it; their previous displacement is taken at element 11.  Rolling towards -x
+    mirrors it; a step of one element changes nothing; the last two columns keep
+    f = 1."""
+    from railcontact.tangential.exact import leading_edge, leading_edge_slip
+    contact = np.zeros((16, 2), bool)
+    contact[3:11, 0] = True
+    facdt, edge = leading_edge(contact, 1e-3, 4e-3)
+    assert facdt[:, 0].tolist() == [1.0] * 8 + [0.75, 0.5, 0.25] + [1.0] * 5
+    assert (edge[8:11, 0] == 11).all() and (edge[:8] == -1).all() and (edge[11:] == -1).all()
+    assert (facdt[:, 1] == 1.0).all() and (edge[:, 1] == -1).all()
+    back, eb = leading_edge(contact, 1e-3, -4e-3)
+    assert back[:, 0].tolist() == [1.0] * 3 + [0.25, 0.5, 0.75] + [1.0] * 10
+    assert (eb[3:6, 0] == 2).all()
+    one = leading_edge(contact, 1e-3, 1e-3)
+    assert (one[0] == 1.0).all() and (one[1] == -1).all()
+    wide = np.zeros((8, 1), bool)
+    wide[2:, 0] = True
+    f, e = leading_edge(wide, 1.0, 4.0)
+    assert f[:, 0].tolist() == [1.0, 1.0, 1.0, 1.0, 1.0, 0.75, 1.0, 1.0]
+    assert e[5, 0] == -2                              # edge beyond the grid: u_b = 0
+    w = (np.full(contact.shape, 2.0), np.full(contact.shape, -1.0))
+    u = (np.full(contact.shape, 5.0), np.zeros(contact.shape))
+    here = (np.arange(16.0)[:, None] * np.ones((1, 2)), np.zeros(contact.shape))
+    (wx, wy), (ux, uy) = leading_edge_slip(contact, 1e-3, 4e-3, w, u, here)
+    assert wx[8:11, 0].tolist() == [1.5, 1.0, 0.5] and wy[10, 0] == -0.25
+    assert ux[8:11, 0].tolist() == [11.0] * 3 and ux[7, 0] == 5.0 and wx[7, 0] == 2.0
+
+
+def test_rolling_step_from_rest_leading_edge():
+    """The first rolling step from rest (no previous tractions): with a step of one
+    element every element has been in the contact the whole step, and the force is
+    the shift's of the same rigid shift (to 1e-9 of mu P); with a step of 4
+    elements the material within the step of the leading edge takes its fraction
+    of the shift (CONTACT's m1_trans_dqrel): a smaller force, less traction on the
+    leading (+x) half than on the trailing one."""
+    mat = Material(2.1e11, 0.28)
+    a, P, mu, n = 5e-3, 5e4, 0.3, 30
+    d = 2.2 * a / n
+    ns = hertz_on_grid(a, a, n, n, d, d, P, mat)
+    xi = -1e-3
+    shift = get_tangential_model("exact", mode="transient", tol=1e-9)
+    for k in (1, 4):
+        roll = get_tangential_model("exact", mode="transient", step=k * d, tol=1e-9)
+        r = roll.solve(ns, None, mat, (xi, 0, 0), mu)
+        s = shift.solve(ns, None, mat, (xi * k * d, 0, 0), mu)
+        if k == 1:
+            assert r.fx == pytest.approx(s.fx, abs=1e-9 * mu * P)
+        else:
+            assert abs(r.fx) < abs(s.fx) - 1e-3 * mu * P
+            # the leading (+x) half carries less traction than the trailing one
+            mid = n // 2
+            lead, trail = abs(r.traction_x[mid:].sum()), abs(r.traction_x[:mid].sum())
+            assert lead < 0.95 * trail
