@@ -113,8 +113,8 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
 def gap_scale(h) -> float:
     """The gap scale [m] of the convergence test for the undeformed distance ``h``:
     its largest magnitude over the points where both surfaces were found (a missed
-    surface is marked by a gap of ``MISSED_GAP`` or more, which would make the test
-    a million times looser than the gaps of the patch)."""
+    surface is marked by a gap of ``MISSED_GAP`` or more: 1 m, which would make the
+    test hundreds of times looser than the patch's gaps of some millimetres)."""
     h = np.asarray(h, dtype=float)
     found = np.abs(h[h < MISSED_GAP])
     return float(found.max()) if found.size else float(np.max(np.abs(h)))
