@@ -23,6 +23,12 @@ from .track import Track, Wheelset
 #: kappa <= 1e3 1/m the profile curvatures, below 1e-13 m
 NEWTON_TOL = 1e-8
 
+#: Newton steps at most; a projection that has not converged by then is no point of
+#: the surface (a NaN distance: the surface is missed).  An iterate left unconverged
+#: wanders: beyond a profile's end, or onto a far part of the surface, where a normal
+#: through a steep patch's tangent plane nearly grazes the profile
+NEWTON_STEPS = 24
+
 
 
 class Spline(NamedTuple):
@@ -135,13 +141,13 @@ def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr, k=-1):
     profile lookup at interval ``k``.  Returns the distance and the interval."""
     p1 = C[1] + ysp * t[1]
     p2 = C[2] + ysp * t[2]
-    for _ in range(8):
+    for _ in range(NEWTON_STEPS):
         zr, dzr, k = ppoly_at(p1 + tr * n[1] - y_off, rb, rc, k)
         step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
         tr -= step
         if not abs(step) > NEWTON_TOL:
-            break
-    return tr, k
+            return tr, k
+    return np.nan, k                    # not converged: no point of the rail
 
 
 
@@ -171,7 +177,7 @@ def _wheel_distance(xp, ysp, frame, wheel, tw, k=-1):
 def _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, tw, k):
     """:func:`_wheel_distance` from the point l and the direction nl in wheelset
     axes (the point's projection along n onto the wheel, by Newton)."""
-    for _ in range(8):
+    for _ in range(NEWTON_STEPS):
         a0 = l0 + tw * nl0
         a2 = l2 + tw * nl2
         rho = math.sqrt(a0 * a0 + a2 * a2)
@@ -179,8 +185,8 @@ def _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, tw, k):
         step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
         tw -= step
         if not abs(step) > NEWTON_TOL:
-            break
-    return tw, k
+            return tw, k
+    return np.nan, k                    # not converged: no point of the wheel
 
 
 
@@ -250,8 +256,11 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
                 c0, c1, c2 = 3.0, -3.0, 1.0
             else:
                 c0, c1, c2 = (1.0 if j >= 1 else 0.0), 0.0, 0.0
-            r, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc,
-                                   c0 * tr[0] + c1 * tr[1] + c2 * tr[2], kr)
+            start = c0 * tr[0] + c1 * tr[1] + c2 * tr[2]
+            r, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc, start, kr)
+            if not math.isfinite(r) and start != 0.0:
+                # the extrapolated start led Newton astray: again from the plane
+                r, kr = _rail_distance(ys[k, j], C, t, n, y_off, rb, rc, 0.0, -1)
             if not math.isfinite(r):
                 # the line misses the rail profile: gap 1 m (below) and the next
                 # lines start afresh
@@ -267,10 +276,15 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
                 else:
                     start = c0 * tw[0, i] + c1 * tw[1, i] + c2 * tw[2, i]
                 d0 = C[0] + x[k, i] - O[0]
-                w, kw[i] = _wheel_newton(Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2,
-                                         Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2,
-                                         Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2,
-                                         nl0, nl1, nl2, e, r0, wb, wc, start, kw[i])
+                l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
+                l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
+                l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
+                w, kw[i] = _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, start,
+                                         kw[i])
+                if not math.isfinite(w) and start != 0.0:
+                    # again from the plane where the extrapolated start failed
+                    w, kw[i] = _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, 0.0,
+                                             -1)
                 g = r - w
                 h[k, i, j] = g if math.isfinite(g) else 1.0
                 tw[2, i], tw[1, i] = tw[1, i], tw[0, i]

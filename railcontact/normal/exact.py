@@ -33,7 +33,7 @@ from ..geometry.gap import sampled_wheel_geometry
 from .base import NormalSolution, bilinear, make_grid, register, resized_elements, same_grid
 from .conformal_influence import blanco_normal_operator
 from .influence import bounding_box, normal_operator, normal_operator_block
-from .polonsky_keer import flat_punch_stiffness, polonsky_keer
+from .polonsky_keer import flat_punch_stiffness, gap_scale, polonsky_keer
 from .viscoelastic import (ViscoelasticOption, active_set_normal, final_material,
                            viscoelastic_normal_operator)
 from .potential_area import (AREA_SAMPLES, FORCE_BOX, GROWTH_STEPS, crossings, cut_regions,
@@ -221,7 +221,7 @@ class ExactNormalModel:
         op = _operator(grid_key, h[box].shape, box[1], angles)
         q, _, it, ok = polonsky_keer(op, h[box], dA, None, self.tol, self.maxiter,
                                      p0=None if p0 is None else p0[box],
-                                     scale=float(np.max(np.abs(h))),
+                                     scale=gap_scale(h),
                                      regions=cut_regions(regions, box[1]),
                                      pressure_limit=self.pressure_limit)
         p = np.zeros(h.shape)
@@ -241,7 +241,7 @@ class ExactNormalModel:
                 return None
             return q * force / max(float(q.sum() * dA), 1e-300)
 
-        scale = float(np.max(np.abs(h0)))
+        scale = gap_scale(h0)
         box = bounding_box(h0 < FORCE_BOX * approach) if approach > 0 else None
         it0 = 0
         if box is not None:

@@ -9,7 +9,8 @@ import pytest
 
 from railcontact.geometry import Track, Wheelset, find_contact
 from railcontact.geometry.gap import (DEEPEST_GAP, GapEvaluator, SampledWheelGap, Spline,
-                                      _rail_distances, curvatures_fd, sane_gap)
+                                      _rail_distance, _rail_distances, curvatures_fd,
+                                      sane_gap)
 from railcontact.profiles import rail_profile, s1002
 
 
@@ -129,3 +130,41 @@ def test_sampled_wheel_counted_from_another_origin(flange_root):
     assert base(np.zeros_like(nodes), nodes) == pytest.approx(exact, abs=1e-12)
     sag = half(np.zeros_like(nodes), nodes) - exact
     assert np.all(np.abs(sag) > 2e-8) and np.all(np.abs(sag) < 2e-6)
+
+
+def test_grid_lines_meet_the_pointwise_gap_across_a_steep_patch(flange_root):
+    """On a grid over the whole rail head in a steep patch's tangent plane (contact
+    angle about 1.1 rad; lines of 0.4 mm over 120 mm, as a combined tread-flange
+    patch's potential area reaches), the line-by-line evaluation (each projection
+    started from its neighbours') gives the pointwise gap: every projection is a
+    converged one or a missed surface (1 m).  Before, an unconverged Newton iterate
+    was returned as a distance (t1_zws_pos, case 1: an overlap of 4.4 mm beyond the
+    rail's end collapsed the pressure) and a start extrapolated from the
+    neighbouring lines lost lines inside the contact (82 of these points wrong)."""
+    ev = flange_root.gap_function
+    assert abs(flange_root.contact_angle) > 1.0
+    x = np.linspace(-20e-3, 20e-3, 41)
+    y = np.arange(-60e-3, 60e-3, 0.4e-3)
+    lines = ev(x[:, None], y[None, :])
+    X, Y = np.meshgrid(x, y, indexing="ij")
+    points = ev.points(X.ravel(), Y.ravel()).reshape(X.shape)
+    assert (points == 1.0).any() and (points < 0).any()   # missed, and overlapping
+    assert np.array_equal(lines == 1.0, points == 1.0)
+    assert lines == pytest.approx(points, abs=1e-9)
+    assert lines.min() >= -flange_root.approach - 1e-6      # no overlap beyond the approach
+
+
+def test_unconverged_projection_misses_the_surface():
+    """A projection whose Newton steps do not converge gives a missing distance
+    (NaN), never the last iterate: a profile z = y^3 - 2 y + 2 along the normal
+    direction (0, 1, 0) from the origin, where Newton from 0 cycles between 0 and 1
+    (the line meets the profile at y = -1.77 only)."""
+    b0 = -3.0
+    shifted = np.polynomial.Polynomial([2.0, -2.0, 0.0, 1.0])(np.polynomial.Polynomial([b0, 1.0]))
+    coefs = np.ascontiguousarray(shifted.coef[::-1].reshape(4, 1))
+    breaks = np.array([b0, 3.0])
+    zero, n = np.zeros(3), np.array([0.0, 1.0, 0.0])
+    tr, _ = _rail_distance(0.0, zero, n, n, 0.0, breaks, coefs, 0.0)
+    assert math.isnan(tr)
+    tr, _ = _rail_distance(0.0, zero, n, n, 0.0, breaks, coefs, -2.0)   # near the root
+    assert tr ** 3 - 2 * tr + 2 == pytest.approx(0.0, abs=1e-9)

@@ -1,6 +1,7 @@
 """The constrained conjugate gradient of Polonsky & Keer
 (railcontact.normal.polonsky_keer): a Hertz circle on a grid, the pressure limit,
-and the direct corrections of its products."""
+the direct corrections of its products, and its convergence flag (a solution's
+contact conditions; a missed surface's gap left out of the gap scale)."""
 
 import math
 
@@ -10,7 +11,8 @@ import pytest
 from railcontact.core.errors import InputError
 from railcontact.core.materials import Material
 from railcontact.normal.influence import normal_operator
-from railcontact.normal.polonsky_keer import polonsky_keer
+from railcontact.normal import polonsky_keer as pk
+from railcontact.normal.polonsky_keer import MISSED_GAP, gap_scale, polonsky_keer
 
 MAT = Material(2.1e11, 0.28)
 R, F = 0.3, 1e4                       # sphere on a plane (equal curvatures 1/R)
@@ -127,3 +129,55 @@ def test_flat_punch_stiffness_is_the_derivative_of_the_load(sphere):
              for s in (1, -1)]
     assert K == pytest.approx((loads[0] - loads[1]) / (2 * e), rel=1e-5)
     assert K == pytest.approx(1.5 * F / delta, rel=0.01)
+
+
+def _lifted_start(sphere):
+    """The solution of the sphere with the grid beyond 0.6 a lifted away: a
+    pressure that meets the contact conditions there but not on the sphere (its
+    annulus 0.6 a < r < a overlaps unloaded)."""
+    a, dx, h, op = sphere
+    delta = a * a / R
+    n = h.shape[0]
+    x = (np.arange(n) - (n - 1) / 2) * dx
+    r = np.hypot(x[:, None], x[None, :])
+    lifted = np.where(r > 0.6 * a, 1e-3, h - delta)
+    p, _, _, ok = polonsky_keer(op, lifted, dx * dx)
+    assert ok
+    return p, h - delta
+
+
+def test_a_pressure_that_is_no_solution_is_never_converged(sphere, monkeypatch):
+    """Whatever the iteration's own test says, the result is flagged converged only
+    where the final pressure meets the contact conditions (t1_zws_pos, case 1: a
+    collapsed pressure was flagged converged).  The iteration is replaced by one
+    that claims convergence at once and leaves its start: a start that is no
+    solution is reported as not converged, a solution as converged."""
+    a, dx, h, op = sphere
+    wrong, gap = _lifted_start(sphere)
+    right, _, _, ok = polonsky_keer(op, gap, dx * dx, tol=1e-9)
+    assert ok
+    monkeypatch.setattr(pk, "_pk_kernel", lambda *args: (0.0, 1, True))
+    assert not polonsky_keer(op, gap, dx * dx, p0=wrong, tol=1e-5)[3]
+    assert not polonsky_keer(op, gap, dx * dx, p0=np.zeros_like(gap), tol=1e-5)[3]
+    assert polonsky_keer(op, gap, dx * dx, p0=right, tol=1e-5)[3]
+    # force-controlled: the approach is the mean gap over the loaded elements
+    assert polonsky_keer(op, h, dx * dx, force=right.sum() * dx * dx, p0=right, tol=1e-5)[3]
+    assert not polonsky_keer(op, h, dx * dx, force=wrong.sum() * dx * dx, p0=wrong,
+                             tol=1e-5)[3]
+
+
+def test_a_missed_surface_leaves_the_gap_scale(sphere):
+    """A grid column where a surface was missed (the geometry layer's 1 m gap) does
+    not set the gap scale of the iteration's test (it would loosen it a
+    million-fold): the solution is that of the grid without the column, to the
+    tolerance."""
+    a, dx, h, op = sphere
+    gap = h - a * a / R
+    missed = gap.copy()
+    missed[:, 0] = 1.0
+    assert MISSED_GAP <= 1.0
+    assert gap_scale(missed) == pytest.approx(float(np.max(np.abs(gap[:, 1:]))), rel=1e-12)
+    p, _, _, ok = polonsky_keer(op, gap, dx * dx, tol=1e-6)
+    q, _, _, ok2 = polonsky_keer(op, missed, dx * dx, tol=1e-6)
+    assert ok and ok2
+    assert q.sum() == pytest.approx(p.sum(), rel=1e-5)
