@@ -500,7 +500,10 @@ def sampled_wheel_geometry(geometry, ds: float):
     gf = geometry.gap_function
     if callable(getattr(gf, "sampled", None)):
         # a conformal patch (:class:`railcontact.geometry.conformal.ConformalGap`):
-        # CONTACT's conformal rule with the same wheel samples
+        # CONTACT's conformal rule with the same wheel samples (kept where they are
+        # taken already: a transient grid's, counted from its origin)
+        if gf.planar is not None:
+            return geometry
         return dataclasses.replace(geometry, gap_function=gf.sampled(geometry.y_wheel, ds))
     if not isinstance(gf, GapEvaluator):
         return geometry
