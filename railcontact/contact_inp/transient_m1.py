@@ -340,8 +340,11 @@ class SupergridNormal:
     on the lattice DX, DS through it.  CONTACT's wheel samples
     (``wheel_sampling = "contact"``) are counted from that origin's lateral wheel
     coordinate (beyond the wheel profile: from its end), so that a grid point can
-    fall anywhere between two samples.  Other patches (rail surfaces, bodies) and
-    grids given by their number of elements are the model's own."""
+    fall anywhere between two samples.  A conformal patch's grid lies on the same
+    lattice along its reference curve's arc length, its wheel samples counted from
+    the same origin (:meth:`railcontact.geometry.conformal.ConformalGap.sampled`).
+    Other patches (rail surfaces, bodies) and grids given by their number of
+    elements are the model's own."""
 
     def __init__(self, model, t: int, s_ws: float, meta: dict):
         self.model, self.t, self.s_ws, self.meta = model, t, s_ws, meta
@@ -352,8 +355,16 @@ class SupergridNormal:
     def origin(self, geometry, element_size):
         """(geometry on CONTACT's grid and wheel samples) of a wheel-rail patch."""
         gf = geometry.gap_function
-        if element_size is None or not isinstance(gf, GapEvaluator) \
-                or getattr(geometry, "surface", None) is not None:
+        conformal = getattr(geometry, "surface", None) is not None
+        if conformal:
+            # a conformal patch (CONTACT's compute_curved_potcon: in a transient
+            # case its columns lie at multiples of DS of the rail's s, the arc
+            # length s along the reference curve standing for it): the grid origin
+            # -sr from the reference point along the curve; CONTACT's wheel samples
+            # counted from the super-grid origin's lateral wheel coordinate as on a
+            # planar patch
+            conformal_gap, gf = gf, getattr(gf, "gapf", None)
+        if element_size is None or not isinstance(gf, GapEvaluator):
             return geometry
         sr = rail_chord_length(gf.rail, float(geometry.y_rail), self.meta)
         x_ref = float(geometry.position[0])
@@ -362,6 +373,11 @@ class SupergridNormal:
         P = gf.C + np.array([x_pot - x_ref, 0.0, 0.0]) - sr * gf.t
         y_origin = float((gf.R.T @ (P - gf.O))[1] - gf.e)
         out = dataclasses.replace(geometry, grid_origin=(x_pot - x_ref, -gf.sign * sr))
+        if conformal:
+            if getattr(self.model, "wheel_sampling", "exact") == "contact":
+                out = dataclasses.replace(out, gap_function=conformal_gap.sampled(
+                    geometry.y_wheel, float(element_size[1]), y_origin=y_origin))
+            return out
         if getattr(self.model, "wheel_sampling", "exact") == "contact":
             out = dataclasses.replace(out, gap_function=SampledWheelGap(
                 gf, geometry.y_wheel, float(element_size[1]), y_origin=y_origin))

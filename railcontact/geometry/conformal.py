@@ -56,7 +56,8 @@ from numba import njit
 
 from ..core.errors import InputError
 from .contact import ContactGeometry
-from .gap import GapEvaluator, Spline, _rail_distance, _wheel_newton, sane_gap
+from .gap import (GapEvaluator, SampledWheelGap, Spline, _rail_distance, _wheel_newton,
+                  sane_gap)
 
 #: spacing [m] of the samples of the reference curve along the patch's tangent y
 CURVE_STEP = 2.5e-5
@@ -229,11 +230,26 @@ class ConformalGap:
     """Undeformed distance h(x, s) [m] of a patch on its curved reference surface:
     along the local normal of the curve at arc length s, through the surface point
     at x along the rolling direction (the same rail and wheel surfaces as the
-    planar :class:`~railcontact.geometry.gap.GapEvaluator` ``gapf``)."""
+    planar :class:`~railcontact.geometry.gap.GapEvaluator` ``gapf``).
 
-    def __init__(self, gapf: GapEvaluator, curve: ReferenceCurve):
-        self.gapf, self.curve = gapf, curve
+    ``planar``: CONTACT's rule instead (its source ``m_wr_undefdist.f90``,
+    ``wr_ud_planar`` with ``curved_sc_to_planar_sp``): the planar gap function
+    ``planar`` (a :class:`~railcontact.geometry.gap.SampledWheelGap`: the wheel
+    linear between profile samples one DS apart) at the tangent-plane point
+    (x, a(s)) below the curve point, along the patch normal, times cos D(s), the
+    cosine between the patch normal and the curve's at s (:meth:`sampled`)."""
+
+    def __init__(self, gapf: GapEvaluator, curve: ReferenceCurve, planar=None):
+        self.gapf, self.curve, self.planar = gapf, curve, planar
         self._yc = gapf.sign * gapf.t                 # the patch's y_c in the side frame
+
+    def sampled(self, y_wheel: float, ds: float, y_origin: float | None = None):
+        """This patch's gap by CONTACT's conformal rule with its wheel samples every
+        ``ds`` [m] of the wheel profile's chord length from the lateral wheel
+        coordinate ``y_origin`` (default ``y_wheel``, the reference point's)
+        (:class:`~railcontact.geometry.gap.SampledWheelGap`)."""
+        return ConformalGap(self.gapf, self.curve,
+                            SampledWheelGap(self.gapf, y_wheel, ds, y_origin=y_origin))
 
     def frames(self, s):
         """Surface points and unit normals (side frame) at arc lengths s (1-D)."""
@@ -246,6 +262,10 @@ class ConformalGap:
     def __call__(self, x, s):
         x, s = np.broadcast_arrays(np.asarray(x, dtype=float), np.asarray(s, dtype=float))
         shape = x.shape
+        if self.planar is not None:
+            a, _, D = self.curve.at(s)
+            h = self.planar(x, a) * np.cos(D)
+            return sane_gap(np.where(np.isfinite(h), h, 1.0)).reshape(shape)
         P, N = self.frames(s.ravel())
         g = self.gapf
         h = _normal_gap_kernel(np.ascontiguousarray(x.ravel()), np.ascontiguousarray(P),

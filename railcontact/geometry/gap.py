@@ -538,7 +538,15 @@ def sampled_wheel_geometry(geometry, ds: float):
     (:class:`SampledWheelGap`, wheel samples every ``ds`` [m]); unchanged where its
     gap is not a wheel-rail :class:`GapEvaluator` (surfaces, bodies)."""
     import dataclasses
-    if not isinstance(geometry.gap_function, GapEvaluator):
+    gf = geometry.gap_function
+    if callable(getattr(gf, "sampled", None)):
+        # a conformal patch (:class:`railcontact.geometry.conformal.ConformalGap`):
+        # CONTACT's conformal rule with the same wheel samples (kept where they are
+        # taken already: a transient grid's, counted from its origin)
+        if gf.planar is not None:
+            return geometry
+        return dataclasses.replace(geometry, gap_function=gf.sampled(geometry.y_wheel, ds))
+    if not isinstance(gf, GapEvaluator):
         return geometry
     return dataclasses.replace(geometry, gap_function=SampledWheelGap(
         geometry.gap_function, geometry.y_wheel, ds))

@@ -60,11 +60,12 @@ def t3(testbank):
 
 def test_t3_conformal_steady_case(t3):
     """The large conformal patch (44 mm along the curve, local angles -40 to -1.4
-    deg, friction varying over it), CONTACT's bar forces: measured F_n -0.05 %
-    (127339 N, CONTACT 1.274e5), F_x -0.13 % and F_s -0.12 % of mu F_n (mu = 0.9:
-    -61166, -49322 N; CONTACT -6.102e4, -4.919e4), p_max -0.12 % (1543.2 MPa), 1530
+    deg, friction varying over it), CONTACT's bar forces, with CONTACT's conformal
+    undeformed distance (the wheel sampled one DS apart): measured F_n -0.003 %
+    (127396 N, CONTACT 1.274e5), F_x -0.20 % and F_s -0.01 % of mu F_n (mu = 0.9:
+    -61244, -49202 N; CONTACT -6.102e4, -4.919e4), p_max -0.16 % (1542.6 MPa), 1531
     elements in contact (1532), 319 in adhesion (321); the totals on the rail
-    within 0.12 % of F_z (F_x -62404 N against -6.224e4, F_y -15896 against
+    within 0.17 % of F_z (F_x -62464 N against -6.224e4, F_y -15853 against
     -1.586e4, F_z 137006 against 1.370e5)."""
     rows, ref = t3
     assert all(r["converged"] for r in rows)
@@ -81,20 +82,25 @@ def test_t3_conformal_steady_case(t3):
 
 
 def test_t3_conformal_flange_patch(t3):
-    """The flange patch (-72.8 deg, 6.3 kN): p_max within 0.5 %, F_s within 0.5 % of
-    mu F_n, one element more in contact than CONTACT's 106."""
+    """The flange patch (-72.8 deg, 6.3 kN): p_max within 3 % (measured -0.95 %:
+    732.9 against 739.9 MPa; -0.45 % with the exact wheel surface), F_s within
+    0.5 % of mu F_n (-0.14 %), one element more in contact than CONTACT's 106."""
     rows, ref = t3
     p = ref["patches"][1]
     r = min(rows, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp"]))
     dev = _deviations(r, p, 0.2)
-    assert abs(dev["pmax"]) < 0.03 and abs(dev["area"]) < 0.03 and abs(dev["fs"]) < 0.01
+    assert abs(dev["pmax"]) < 0.03 and abs(dev["area"]) < 0.03 and abs(dev["fs"]) < 0.005
 
 
-@pytest.mark.xfail(strict=True, reason="flange patch of t3_t1_conformal case 1: F_n 6427 N "
-                   "against CONTACT's 6339 (+1.4 %), F_x -1238 against -1222 N (1.3 % of "
-                   "mu F_n); its approach 15.58 um against 15.19 (the large patch's 80.22 "
-                   "against 80.51 um): the force shared between the patches differs")
 def test_t3_conformal_flange_patch_force(t3):
+    """The flange patch of t3_t1_conformal case 1 with CONTACT's conformal
+    undeformed distance (the planar gap at each column's tangent-plane point, the
+    wheel linear between profile samples one DS apart, times the cosine of the
+    surface's turn; ``m_wr_undefdist.f90``): F_n 6335 N against CONTACT's 6339
+    (-0.06 %), F_x -1220.5 against -1222 N (+0.12 % of mu F_n).  The exact wheel
+    surface gave 6442 N (+1.6 %) and -1241 N (-1.5 %): on the flange the chords
+    between the samples lie inside the arc, and the force shared between the two
+    patches follows."""
     rows, ref = t3
     p = ref["patches"][1]
     r = min(rows, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp"]))
@@ -112,10 +118,10 @@ def test_mbench_conf(mbench):
     """mbench_conf.inp (S1002 on UIC60 1:40 with cant, y_ws 6.25 mm, yaw 24 mrad,
     z_ws given): two patches as CONTACT's, the flange contact 26 mm ahead of the
     flange-root one (their interpenetration areas' extents apart in x, y and z by
-    more than D_SEP = 9 mm).  Measured: the flange root's 320 elements in contact
-    (CONTACT 321), p_max 1074.7 MPa (1075), F_x 0.40 % of mu F_n; the flange patch's
-    F_n 3318 N (3310), F_x -0.13 % and F_s -0.45 % of mu F_n, 129 elements in
-    contact (129), p_max -0.2 %: on CONTACT's contact locus its reference point is
+    more than D_SEP = 9 mm).  Measured: the flange root's 321 elements in contact
+    (CONTACT 321), p_max 1075.8 MPa (1075), F_x 0.00 % of mu F_n; the flange patch's
+    F_n 3310.7 N (3310), F_x +0.02 % and F_s +0.63 % of mu F_n, 129 elements in
+    contact (129), p_max +0.04 %: on CONTACT's contact locus its reference point is
     x = 14.105 mm, delta = -1.22187 rad (CONTACT 14.099 mm, -1.2220 rad; on the
     lowest points of the wheel circles 12.02 mm, -1.2031 rad, F_s -10.3 % of mu F_n
     and 124 elements)."""
@@ -136,12 +142,14 @@ def test_mbench_conf(mbench):
     assert r["xcp_tr_mm"] == pytest.approx(14.0993, abs=0.05)
 
 
-@pytest.mark.xfail(strict=True, reason="mbench_conf.inp: the flange-root patch's F_n 8576 N "
-                   "against CONTACT's 8677 (-1.16 %; the planar approach gives 8591 N; its "
-                   "reference point and angle are CONTACT's within 2 um and 0.1 mrad), F_s "
-                   "-1652 against -1669 N (0.95 % of mu F_n); F_z(TR) against 1.032e4 N "
-                   "-1.0 %")
 def test_mbench_conf_forces(mbench):
+    """mbench_conf.inp with CONTACT's conformal undeformed distance (as
+    :func:`test_t3_conformal_flange_patch_force`): the flange-root patch's F_n
+    8678.9 N against CONTACT's 8677 (+0.02 %; the exact wheel surface gave 8571.9 N,
+    -1.21 %), F_s -1670.1 against -1669 N (-0.06 % of mu F_n; before +1.05 %), 321
+    elements in contact as CONTACT's (before 320); the flange patch's F_n +0.02 %,
+    F_s +0.63 % of mu F_n; F_z(TR) 10315 N against 1.032e4 (-0.05 %; before
+    -1.07 %)."""
     rows, ref = mbench
     for p in ref["patches"]:
         r = min(rows, key=lambda r: abs(r["ycp_tr_mm"] - p["ycp"]))
