@@ -239,6 +239,20 @@ def solve_strip_patch(row, prof, pose, z, roll, model):
 
 
 @njit(cache=True, nogil=True)
+def solve_row(row, prof, pose, z, roll, model):
+    """One patch row at the pose (vertical position z [m], roll [rad]) solved by the
+    balance's model: the strip model of ``model.strips``
+    (:func:`solve_strip_patch`) or Hertz (:func:`solve_patch`).  Both the
+    evaluation under given interpenetrations (:func:`evaluate_wheelset`) and at a
+    given pose (:func:`evaluate_pose`, the steps of :func:`pose_newton`) solve
+    their patches here, so that the balance meets the load by the case's model."""
+    if model.strips.rule.code >= 0:
+        solve_strip_patch(row, prof, pose, z, roll, model)
+    else:
+        solve_patch(row, model)
+
+
+@njit(cache=True, nogil=True)
 def evaluate_wheelset(prof, pose, model, targets, memo, out, fz):
     """One evaluation of the balance: the search at the interpenetrations
     ``targets`` [m] (left, right), every patch solved (Hertz, or the strip model
@@ -248,13 +262,9 @@ def evaluate_wheelset(prof, pose, model, targets, memo, out, fz):
     m, z, roll = search_patches(prof, pose, targets, memo, out)
     fz[0] = 0.0
     fz[1] = 0.0
-    strips = model.strips.rule.code >= 0
     for i in range(max(m, 0)):
         row = out[i]
-        if strips:
-            solve_strip_patch(row, prof, pose, z, roll, model)
-        else:
-            solve_patch(row, model)
+        solve_row(row, prof, pose, z, roll, model)
         dl = row[P_CONTACT_ANGLE]
         fz[int(row[P_SIDE])] += row[R_NORMAL_FORCE] * math.cos(dl) - \
             row[R_FY] * math.sin(dl)
@@ -427,8 +437,9 @@ def evaluate_pose(prof, pose, model, zr, window, memo, out, fz, depth):
     [m], roll [rad]) relative to the rails: each side's locus (over the wheel
     samples within ``window`` [m] of its closest approach; widened where its
     interpenetration, into ``depth`` [m], needs more), its regions' patches
-    solved, each wheel's vertical force on its rail into ``fz`` [N].  Returns the
-    number of patches (-1 where a side has no locus)."""
+    solved by the balance's model (Hertz or the strip model: :func:`solve_row`),
+    each wheel's vertical force on its rail into ``fz`` [N].  Returns the number
+    of patches (-1 where a side has no locus)."""
     z, roll = zr[0], zr[1]
     m = 0
     fz[0] = 0.0
@@ -453,7 +464,7 @@ def evaluate_pose(prof, pose, model, zr, window, memo, out, fz, depth):
         for r in range(min(regions.shape[0], MAX_PATCHES)):
             row = out[m]
             make_patch(prof, pose, s, loc, regions[r, 0], regions[r, 1], z, roll, row)
-            solve_patch(row, model)
+            solve_row(row, prof, pose, z, roll, model)
             dl = row[P_CONTACT_ANGLE]
             fz[s] += row[R_NORMAL_FORCE] * math.cos(dl) - row[R_FY] * math.sin(dl)
             m += 1

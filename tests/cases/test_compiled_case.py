@@ -145,3 +145,32 @@ def test_flange_root_cases_converge_in_few_passes(yaw):
         assert cold.interpenetration["right"] == pytest.approx(
             warm.interpenetration["right"], rel=2e-3)
         prev = warm
+
+
+def test_the_pose_steps_solve_the_patches_by_the_strip_model():
+    # the balance's Newton steps on the pose (compiled_case.evaluate_pose) solve
+    # each patch by the case's model: with a strip model every row carries the
+    # strip model's force (strip_row), not Hertz's (before: Hertz's, so that the
+    # strip cases were balanced on Hertz's force: KP + fastsim-strips 69973 N on
+    # a patch the strip model gives 73948 N), and the balanced pose meets the
+    # loads by the strip model
+    from railcontact.cases import compiled_case as cc
+    from railcontact.cases.strip_pass import strip_row
+    from railcontact.geometry.wheel_pass import LOCUS_MARGIN, new_memo
+    case = _case(3e-3, 2e-3, (1e-3, -5e-4, 0.1))
+    res = solve_case_forces(case, "kik-piotrowski", "fastsim-strips")
+    assert res.converged
+    prof, pose, model, loads = cc.case_pass_inputs(case, "kik-piotrowski", "fastsim-strips")
+    zr = np.array([res.vertical, res.roll])
+    d = np.array([res.interpenetration["left"], res.interpenetration["right"]])
+    out, fz, depth = np.zeros((2 * cc.MAX_PATCHES, cc.NRF)), np.empty(2), np.empty(2)
+    m = cc.evaluate_pose(prof, pose, model, zr, d + LOCUS_MARGIN, new_memo(res.roll), out,
+                         fz, depth)
+    assert m > 0
+    hertz_off = 0.0
+    for row in out[:m]:
+        F = strip_row(row.copy(), prof, pose, zr[0], zr[1], model)[0]
+        assert row[cc.R_NORMAL_FORCE] == pytest.approx(F, rel=1e-12)
+        hertz_off = max(hertz_off, abs(cc.patch_hertz(row, model)[2] / F - 1.0))
+    assert hertz_off > 0.01             # the strip model's force is not Hertz's here
+    assert np.all(np.abs(fz / loads - 1.0) <= 2 * case.force_tolerance)
