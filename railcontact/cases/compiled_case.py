@@ -922,6 +922,10 @@ def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
         return "roll or vertical position prescribed"
     if s.turn_distance > 0:
         return "patch turning (wheelset.turn_distance)"
+    if s.locus != "lowest":
+        return f"the contact locus {s.locus!r} (wheelset.locus; the compiled pass has the lowest points)"
+    if s.wheel_slices is not None or s.pitch != 0.0:
+        return "an out-of-round wheel (wheel slices, pitch)"
     if s.wheel.left is not None or s.rail.left is not None:
         return "different profiles on the two sides"
     if case.friction_variation is not None or case.friction_along_track is not None:

@@ -84,6 +84,10 @@ def test_unsupported_cases_say_why():
     assert "roll" in compiled_unsupported(case)
     with pytest.raises(ValueError, match="roll"):
         solve_case_forces(case)
+    # CONTACT's contact locus and out-of-round wheels are not in the compiled pass
+    # (its locus is the lowest points of round wheels): never silently ignored
+    assert "locus" in compiled_unsupported(_case(6e-3, 6e-3, locus="contact"))
+    assert "out-of-round" in compiled_unsupported(_case(0.0, pitch=0.01))
 
 
 def test_to_xarray_has_the_patches():
