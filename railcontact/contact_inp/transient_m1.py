@@ -346,8 +346,10 @@ class SupergridNormal:
     Other patches (rail surfaces, bodies) and grids given by their number of
     elements are the model's own."""
 
-    def __init__(self, model, t: int, s_ws: float, meta: dict):
+    def __init__(self, model, t: int, s_ws: float, meta: dict, wheel_sampling: str = "exact"):
         self.model, self.t, self.s_ws, self.meta = model, t, s_ws, meta
+        # the case's normal option the model was built with (CONTACT's wheel samples)
+        self.sampled = wheel_sampling == "contact"
 
     def __getattr__(self, name):
         return getattr(self.model, name)
@@ -374,11 +376,11 @@ class SupergridNormal:
         y_origin = float((gf.R.T @ (P - gf.O))[1] - gf.e)
         out = dataclasses.replace(geometry, grid_origin=(x_pot - x_ref, -gf.sign * sr))
         if conformal:
-            if getattr(self.model, "wheel_sampling", "exact") == "contact":
+            if self.sampled:
                 out = dataclasses.replace(out, gap_function=conformal_gap.sampled(
                     geometry.y_wheel, float(element_size[1]), y_origin=y_origin))
             return out
-        if getattr(self.model, "wheel_sampling", "exact") == "contact":
+        if self.sampled:
             out = dataclasses.replace(out, gap_function=SampledWheelGap(
                 gf, geometry.y_wheel, float(element_size[1]), y_origin=y_origin))
         return out
@@ -509,7 +511,8 @@ class WheelRailSequence:
         else:
             nname, _, nmodel, _, kw = case_models(c)
             nmodel = SupergridNormal(nmodel, t, (case.values.get("S_WS") or 0.0) * MM,
-                                     mapped.meta)
+                                     mapped.meta,
+                                     c.normal_options.get("wheel_sampling", "exact"))
             balance = None
             if c.wheel_rail.vertical_position is not None:
                 results, contact = solve_at_position(c, nmodel, tmodel, kw)
