@@ -4,6 +4,7 @@ from __future__ import annotations
 
 import functools
 import itertools
+import math
 import logging
 import os
 import time
@@ -79,6 +80,10 @@ OTHER_CASE_SECONDS = 0.005
 #: [s] in one process (each worker imports railcontact and loads the compiled kernels;
 #: docs/tuning.md, section "Sweeps")
 PROCESSES_FROM = 8.0
+#: cases per warm chain by default: the chains, and so a warm sweep's results (each
+#: chain's first case starts cold), do not depend on the machine's cores or the
+#: scheduler
+CHAIN_LENGTH = 64
 
 
 def _expected_seconds(case: Case, n: int, normal, tangential) -> float:
@@ -112,8 +117,9 @@ def sweep(case: Case, vary: dict, normal: str | None = None, tangential: str | N
     allow_large : bool
         Run more than :data:`~railcontact.core.checks.MAX_JOB_CASES` cases.
     chains : int, optional
-        Number of chains (parallel tasks) with ``warm``: default one for the ``sync``
-        scheduler, else one per CPU core.
+        Number of chains (parallel tasks) with ``warm``: default one per
+        ``CHAIN_LENGTH`` (64) cases, whatever the scheduler and the machine's cores
+        (the results of a warm sweep depend on where its chains start).
 
     Returns
     -------
@@ -162,7 +168,7 @@ def run_chains(chain, items: list, scheduler: str = "auto", progress: bool = Tru
         long = expected_seconds > PROCESSES_FROM
         scheduler = "processes" if long and (os.cpu_count() or 1) > 1 else "sync"
     if chains is None:
-        chains = len(items) if not warm else (1 if scheduler == "sync" else (os.cpu_count() or 1))
+        chains = len(items) if not warm else max(1, math.ceil(len(items) / CHAIN_LENGTH))
     if not (isinstance(chains, int) and chains >= 1):
         raise InputError(f"chains {chains!r}: expected a positive integer")
     if not items:

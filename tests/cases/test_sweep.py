@@ -42,3 +42,24 @@ def test_auto_scheduler_uses_processes_for_long_sweeps_only(monkeypatch):
     monkeypatch.setattr(sw.os, "cpu_count", lambda: 2)
     sw.sweep(case, vary, "hertz", "fastsim", progress=False)
     assert used == ["sync", "processes"]
+
+
+def _chain_starts(items, warm):
+    """One output per item: the first item of the item's chain."""
+    return [items[0]] * len(items)
+
+
+def test_warm_chains_do_not_depend_on_the_scheduler_or_the_cores(monkeypatch):
+    """A warm sweep's chains (where its cases start cold) are CHAIN_LENGTH cases
+    long whatever the scheduler and the machine's cores."""
+    from railcontact.cases import sweep as sweep_module
+    items = list(range(130))
+    got = {}
+    for cores in (1, 2, 16):
+        monkeypatch.setattr(sweep_module.os, "cpu_count", lambda cores=cores: cores)
+        for scheduler in ("sync", "threads"):
+            got[cores, scheduler] = sweep_module.run_chains(
+                _chain_starts, items, scheduler=scheduler, progress=False, warm=True)
+    first = next(iter(got.values()))
+    assert all(v == first for v in got.values())
+    assert sorted(set(first)) == [0, 43, 87]      # 130 cases in ceil(130 / 64) = 3 chains
