@@ -304,7 +304,12 @@ def test_conformal_transient_rolling(conformal_rolling):
                    "F_s miss: with CONTACT's reference angles imposed (-0.5252, -0.0875 rad) "
                    "z_ws is 1.208389 and the middle patch's F_s -713 against -2011 N, F_x "
                    "-8903 against -8397, F_n +0.43 %: the miss is in the middle patch's "
-                   "tangential solution")
+                   "tangential solution (full slip both; its contact spans the same local "
+                   "angles, -40.53 to -26.66 against -40.59 to -26.69 deg, with the same "
+                   "friction per column, 343 against 340 elements; its creepages at "
+                   "CONTACT's VELOC 15000 mm/s: cksi 0.02019, cphi 1.131e-3 /mm against "
+                   "0.02043, 1.234e-3 - not decisive: the large patch's cphi 1.947e-4 "
+                   "against 1.741e-4 passes)")
 def test_conformal_transient_rolling_three_patches(conformal_rolling):
     """At 117 kN the patch splits in three, as CONTACT's.  Their contact angles
     differ from CONTACT's (its reference angle of a conformal patch); the bar
