@@ -213,21 +213,21 @@ def solve_patch(row, model):
         fx, fy, mz = patch_forces(model.law, model.tp, F, a, b, c[0, 0], c[1, 0], c[2, 0],
                                   xi, eta, phi, row[P_VELOCITY])
     area = math.pi * a * b
-    row[R_NORMAL_FORCE] = F
-    row[R_FX] = fx
-    row[R_FY] = fy
-    row[R_MZ] = mz
-    row[R_A] = a
-    row[R_B] = b
-    row[R_AREA] = area
-    row[R_PMAX] = 1.5 * F / area if area > 0.0 else 0.0
+    store_patch(row, (F, fx, fy, mz, a, b, 1.5 * F / area if area > 0.0 else 0.0, area))
 
 
 @njit(cache=True, nogil=True)
 def solve_strip_patch(row, prof, pose, z, roll, model):
     """The strip model and creep law of ``model.strips`` on one patch row
     (:func:`railcontact.cases.strip_pass.strip_row`) into its :data:`ROW_FIELDS`."""
-    F, fx, fy, mz, a, b, pmax, area = strip_row(row, prof, pose, z, roll, model)
+    store_patch(row, strip_row(row, prof, pose, z, roll, model))
+
+
+@njit(cache=True, nogil=True)
+def store_patch(row, solved):
+    """A patch's solution ``solved`` = (F_n, F_x, F_y, M_z, a, b, p_max, area), as a
+    strip model's row returns it, into the row's :data:`ROW_FIELDS`."""
+    F, fx, fy, mz, a, b, pmax, area = solved
     row[R_NORMAL_FORCE] = F
     row[R_FX] = fx
     row[R_FY] = fy
