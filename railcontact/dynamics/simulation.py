@@ -378,14 +378,19 @@ def rk4_step(sysm: _System, sample_rate: float, step: float | None = None):
     return 1.0 / (sample_rate * every), every
 
 
-def _run_rk4(sysm: _System, u0, duration, sample_rate, step, progress, bar):
-    dt, every = rk4_step(sysm, sample_rate, step)
+def _sample_arrays(u0, duration, sample_rate):
+    """The rk4 runs' output: the number of samples, their times [s], the state
+    array with ``u0`` in its first row, the working state and the progress chunk."""
     n_samples = int(math.floor(duration * sample_rate + 1e-9))
     t = np.arange(n_samples + 1) / sample_rate
     Y = np.empty((n_samples + 1, u0.size))
     Y[0] = u0
-    u = u0.copy()
-    chunk = max(1, n_samples // 100)
+    return n_samples, t, Y, u0.copy(), max(1, n_samples // 100)
+
+
+def _run_rk4(sysm: _System, u0, duration, sample_rate, step, progress, bar):
+    dt, every = rk4_step(sysm, sample_rate, step)
+    n_samples, t, Y, u, chunk = _sample_arrays(u0, duration, sample_rate)
     wall = time.perf_counter()
     try:
         for k0 in range(0, n_samples, chunk):
@@ -491,12 +496,7 @@ def _run_rk4_online(sysm: _System, u0, duration, sample_rate, step, bar):
     compiled law, else a Python loop of the same steps; it ends where a wheel
     derails (the dataset's ``derailment`` attribute says when and which)."""
     dt, every = online_step(sysm, u0, sample_rate, step)
-    n_samples = int(math.floor(duration * sample_rate + 1e-9))
-    t = np.arange(n_samples + 1) / sample_rate
-    Y = np.empty((n_samples + 1, u0.size))
-    Y[0] = u0
-    u = u0.copy()
-    chunk = max(1, n_samples // 100)
+    n_samples, t, Y, u, chunk = _sample_arrays(u0, duration, sample_rate)
     written = n_samples
     wall = time.perf_counter()
     steps = 0
