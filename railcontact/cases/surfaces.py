@@ -147,11 +147,12 @@ def build_surface_case(case: Case) -> SurfaceScene:
                        s.roll, s.yaw)
     motion = Motion(0.0 if s.roller is not None else s.velocity, pv, s.lateral_velocity,
                     0.0, 0.0, s.yaw_rate)
+    rules = case.rules
     return SurfaceScene(wheel, rails, s.side, pose, motion, s.load, s.search_length,
-                        s.contact_angle, s.rigid_slip, s.combine_distance,
-                        s.reference_weights,
+                        rules.contact_angle, s.rigid_slip, s.combine_distance,
+                        rules.reference_weights,
                         contact_gap_mesh(s.nominal_radius, *case.element_size)
-                        if s.search_grid == "contact" else FINE)
+                        if rules.search_grid == "contact" else FINE)
 
 
 def beyond_slices(setup: SurfaceScene) -> list:

@@ -13,6 +13,8 @@ from pathlib import Path
 
 import pytest
 
+from railcontact.cases.case import case_from_dict
+
 from railcontact.contact_inp import InpError, load_inp, solve_inp
 
 _NUM = r"[-+]?(?:\d+\.?\d*|\.\d+)(?:[eE][-+]?\d+)?"
@@ -279,12 +281,14 @@ def test_switch_and_crossing_mapping(testbank):
     r = m.raw
     assert r["rail"]["slices"].endswith("cross_nose.slcs")
     assert r["rail"]["lateral_position"] == pytest.approx(0.75) and r["rail"]["units"] == "mm"
-    assert r["solver"]["contact_angle"] == "wheelset"
+    assert r["solver"]["rules"] == "contact"
+    rules = case_from_dict(r, m.meta["inp"].path.parent).rules
+    assert rules.contact_angle == "wheelset"
     # D = 5: CONTACT's 2-D gap mesh and its g^2 weights; D = 2: its contact locus
-    assert (r["solver"]["reference_weights"], r["solver"]["search_grid"]) == ("surface",
-                                                                             "contact")
+    assert (rules.reference_weights, rules.search_grid) == ("surface", "contact")
     (m2,) = load_inp(testbank / "examples_s+c" / "cross_locus.inp")
-    assert m2.raw["solver"]["reference_weights"] == "locus"
+    rules2 = case_from_dict(m2.raw, testbank / "examples_s+c").rules
+    assert (rules2.reference_weights, rules2.search_grid) == ("locus", "fine")
     assert "search_grid" not in m2.raw["solver"]
     ws = r["wheelset"]
     assert ws["position"] == 0.0 and ws["vertical_position"] == pytest.approx(-2.1275e-3)
