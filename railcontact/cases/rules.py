@@ -15,7 +15,7 @@ keys that override it (``docs/case_files.md``, "CONTACT's rules"):
   ``solver.reference_weights``, ``solver.search_grid``,
   ``solver.normal_options.wheel_sampling`` and ``rule`` (KPEC),
   ``solver.tangential_options.march`` and ``flexibility`` (FASTSIM),
-  ``thermal.scheme``; and ``track.gauge_point``).
+  ``thermal.scheme``; and ``solver.surface_slip``, ``track.gauge_point``).
 
 The case carries the record (``Case.rules``); the layers below the case take the
 rule values they follow as their own arguments (the models' options, the
@@ -80,6 +80,14 @@ class ContactRules:
     thermal_scheme : {"jaeger", "contact"}
         ``thermal.scheme``: Jaeger's moving heat source on the grid, or CONTACT's
         own-element weight.
+    surface_slip : {"sections", "midplane"}
+        ``solver.surface_slip`` (``solver.rigid_slip = "surfaces"``, CONTACT's D = 3):
+        each body's velocity at its cross-section's apex (railcontact's:
+        :func:`railcontact.geometry.surface_search.surface_slip`; a yawed sphere
+        rolling on a plane gets the exact slip), or CONTACT's: at the surface points,
+        turned onto the mid-plane in the (x, n) plane only
+        (:func:`railcontact.geometry.surface_search.midplane_slip`; the yawed
+        sphere's lateral slip off by about tan(psi) times its curvature slip).
     gauge_point : {"profile", "contact"}
         ``track.gauge_point``: where a rail placed by the gauge is measured: the
         profile's z(y) crossing the gauge height, or CONTACT's spline along the
@@ -96,6 +104,7 @@ class ContactRules:
     fastsim_march: str = "strips"
     fastsim_flexibility: str = "blended"
     thermal_scheme: str = "jaeger"
+    surface_slip: str = "sections"
     gauge_point: str = "profile"
 
     def differing(self, among: tuple | None = None) -> tuple:
@@ -131,12 +140,12 @@ class ContactRules:
 
 #: every rule of CONTACT's (``solver.rules = "contact"``): its contact locus (D = 2)
 #: and angle, its wheel sampling, KPEC's and FASTSIM's grid rules, its temperature
-#: scheme and gauge point
+#: scheme, its rigid slip on the surfaces (D = 3) and gauge point
 CONTACT_RULES = ContactRules(locus="contact", contact_angle="wheelset",
                              reference_weights="locus", search_grid="fine",
                              wheel_sampling="contact", kpec="contact", fastsim_march="grid",
                              fastsim_flexibility="contact", thermal_scheme="contact",
-                             gauge_point="contact")
+                             surface_slip="midplane", gauge_point="contact")
 
 #: each rule: its case key (dotted; ``None``: a model option, checked by the model
 #: when the case is built) and the values it takes with what they mean
@@ -160,6 +169,10 @@ _KEYS = {
     "fastsim_march": ("solver.tangential_options.march", None),
     "fastsim_flexibility": ("solver.tangential_options.flexibility", None),
     "thermal_scheme": ("thermal.scheme", None),
+    "surface_slip": ("solver.surface_slip", {
+        "sections": "each body's velocity at its cross-section's apex",
+        "midplane": "CONTACT's: at the surface points, turned onto the mid-plane in "
+                    "the (x, n) plane"}),
     "gauge_point": ("track.gauge_point", {
         "profile": "the profile's z(y) crossing the gauge height",
         "contact": "CONTACT's spline along the points' chord length"}),

@@ -520,7 +520,8 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     cross-section at the wheelset: ``solver.contact_angle = "wheelset"``) for D =
     2 (contact locus) and D = 5 (brute-force search) alike (railcontact searches
     the surfaces once, on a 3-D grid), D = 3 the rigid slip on the actual surfaces
-    (``solver.rigid_slip = "surfaces"``), the patch separation distance D_SEP, and
+    (``solver.rigid_slip = "surfaces"``, by CONTACT's rule of it: the preset's
+    ``surface_slip = "midplane"``), the patch separation distance D_SEP, and
     CONTACT's profile processing (MIRRORY, SCALE, SMOOTH) applied to every
     slice."""
     d, v = case.digits, case.values

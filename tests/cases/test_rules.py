@@ -32,7 +32,8 @@ def test_the_preset_sets_every_rule_and_the_models_options():
     assert case.rules == CONTACT_RULES
     assert set(case.rules.differing()) == {
         "locus", "contact_angle", "reference_weights", "wheel_sampling", "kpec",
-        "fastsim_march", "fastsim_flexibility", "thermal_scheme", "gauge_point"}
+        "fastsim_march", "fastsim_flexibility", "thermal_scheme", "surface_slip",
+        "gauge_point"}
     assert case.tangential_options == {"march": "grid", "flexibility": "contact"}
     assert case.normal_options == {}
     kpec = case_from_dict(_raw({"rules": "contact", "normal": "kpec"}))
@@ -89,6 +90,7 @@ def test_the_compiled_pass_asks_the_record_once():
     ({"rules": "CONTACT"}, {}, r"solver.rules = 'CONTACT': expected 'railcontact'"),
     ({}, {"track": {"gauge_point": "spline"}}, r"track.gauge_point = 'spline': expected "
                                               r"'profile'"),
+    ({"surface_slip": "apex"}, {}, r"solver.surface_slip = 'apex': expected 'sections'"),
     ({"rules": "contact"}, {"thermal": {"scheme": "grid"}}, "thermal.scheme"),
     ({"rules": "contact", "tangential_options": {"march": "rows"}}, {}, "march"),
 ])
