@@ -147,8 +147,9 @@ CONTACT_RULES = ContactRules(locus="contact", contact_angle="wheelset",
                              fastsim_flexibility="contact", thermal_scheme="contact",
                              surface_slip="midplane", gauge_point="contact")
 
-#: each rule: its case key (dotted; ``None``: a model option, checked by the model
-#: when the case is built) and the values it takes with what they mean
+#: each rule: its case key (dotted) and the values it takes with what they mean
+#: (``None``: a model's option, checked when the model is built, or
+#: ``thermal.scheme``, checked with the other ``[thermal]`` keys)
 _KEYS = {
     "locus": ("wheelset.locus", {
         "lowest": "each wheel circle's lowest point above the rail",
@@ -201,7 +202,8 @@ def parse_rules(keys: CaseKeys, normal: str = "hertz", tangential: str = "fastsi
         raise CaseFileError(f"solver.rules = {shown(preset)}: expected 'railcontact' "
                             "(railcontact's own rules) or 'contact' (CONTACT's: its contact "
                             "locus and angle, wheel sampling, KPEC's and FASTSIM's grid "
-                            "rules, temperature scheme and gauge point)")
+                            "rules, temperature scheme, rigid slip on the surfaces and "
+                            "gauge point)")
     base = CONTACT_RULES if preset == "contact" else ContactRules()
     values = {}
     model_of = {"wheel_sampling": normal == "exact", "kpec": normal == "kpec",
