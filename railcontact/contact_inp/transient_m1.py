@@ -39,18 +39,23 @@ the rail as CONTACT's super-grid places it: the rail's s (the chord length along
 its points) at the patch's reference point plus the element's distance from it
 in the tangent plane, so that the element of a grid laid on the super-grid
 (:class:`SupergridNormal`) keeps its place from case to case.  A new
-patch takes its predecessors' tractions (:func:`carried_tractions`): a previous
-patch with loaded elements on its grid within its own band (halfway to the other
-patches of its wheel); where the band holds at least half of that patch's
-traction, the new one continues it with all of its tractions, on its grid
-extended over them (CONTACT extends a continued patch's potential contact area
-over the previous contact area), else (the lesser part of a split) those on its
-own grid.  Patches that merge (t1_merge_cp), split (t1_split_cp) or move so take
-the old tractions where they acted.  The tractions are carried to the new grid
-by area weighting (each old element's force shared among the four new elements
-around its centre: total force and moment kept; where the grids coincide, as
-CONTACT's super-grid makes them, the transfer is exact); their displacement
-difference at the new elements is then that of the previous time step
+patch takes its predecessors' tractions as CONTACT does (:func:`carried_tractions`;
+``m_wr_locatecp.f90``, ``wr_connect_cps``, and ``m_wr_solvecp.f90``,
+``merge_prev_potcon``): a previous patch with loaded elements on its grid within
+its own band (halfway to the other patches of its wheel) is a predecessor, and
+every new patch connected to it takes its whole previous solution (a patch that
+splits gives each part a copy, patches that merge give all theirs), on the new
+grid extended to the rectangle that also holds the contact area CONTACT keeps
+with the predecessor (its element division of the time before,
+:attr:`PatchState.kept`: after a steady case its own contact area, after a
+transient step with P = 0, 1, 3 that of the patches it continued, after P = 2
+none, the old grid's first element); tractions outside that rectangle are lost.
+Patches that merge (t1_merge_cp), split (t1_split_cp, t3_t2_conformal case 3) or
+move so take the old tractions where they acted.  The tractions are carried to
+the new grid by area weighting (each old element's force shared among the four
+new elements around its centre: total force and moment kept; where the grids
+coincide, as CONTACT's super-grid makes them, the transfer is exact); their
+displacement difference at the new elements is then that of the previous time step
 (:func:`railcontact.tangential.exact.previous_displacement`).
 
 A conformal patch (DISCNS = 4, kept by D = 0, 1; :mod:`railcontact.cases.conformal`)
