@@ -237,8 +237,9 @@ def is_predecessor(s: PatchState, x0, m_of, x, y, back: float = 0.0,
                    bounds=(-math.inf, math.inf)) -> bool:
     """Whether the previous patch ``s`` is a predecessor of the new patch on the grid
     (x, y) (as in :func:`carried_tractions`)."""
-    return bool(((s.px != 0.0) | (s.py != 0.0)).any()) and \
-        _placement(s, x0, m_of, x, y, back, bounds)[5]
+    if x.size < 2 or y.size < 2 or not ((s.px != 0.0) | (s.py != 0.0)).any():
+        return False
+    return _placement(s, x0, m_of, x, y, back, bounds)[5]
 
 
 def carried_tractions(states, x0, m_of, x, y, back: float = 0.0,
