@@ -29,9 +29,10 @@ Brent iteration finds the first.
 Measured (2026-11-27, railcontact): z_ws 1.2081201 mm at the default tolerance
 (F_z 117000.9 N, F_s -2107.5 N), 1.2081198 mm at 1e-6 and 1e-8 (F_s -2108.2,
 -2108.1 N): the balance's tolerance moves z_ws by 0.3 nm, not the 16 nm to
-CONTACT's.  Along z_ws railcontact's F_z is 38 to 157 N above CONTACT's up to
-1.2083 mm (+51.6 N at CONTACT's root 1.2081357 mm) and its dip stays above 117 kN
-(117050 N at 1.20836 mm): one root.  At the same z_ws the middle patch's F_s is 43
+CONTACT's.  Along z_ws railcontact's F_z is 12 to 206 N above CONTACT's from
+1.2081 to 1.20836 mm (+51.6 N at CONTACT's root 1.2081357 mm; 102 N below at
+1.2080, 147 N below at 1.2084 mm) and its dip stays above 117 kN (117050 N at
+1.20835 mm): one root.  At the same z_ws the middle patch's F_s is 43
 to 55 N below CONTACT's (-2108.2 against -2058 N at 1.2081198 mm, -2062.6 against
 -2011 N at 1.2081357 mm), its reference angle 0.9 mrad below (-0.52718 against
 -0.52628 rad at 1.2081198 mm).
