@@ -1480,6 +1480,8 @@ def main():
     dynamics_online.main([])
     import gauge_corner_sampling   # issue 34: CONTACT's wheel sampling (prints)
     gauge_corner_sampling.main()
+    import t3_t2_conformal_balance  # issue 34: case 3's vertical balance (prints)
+    t3_t2_conformal_balance.main()
     import seed003_plastic         # issue 31: benchmarks/seed003_plastic.md
     seed003_plastic.main()
 
