@@ -902,6 +902,12 @@ class CaseForces:
             "cpu_time_s": self.cpu_time})
 
 
+#: the rules of :class:`~railcontact.cases.rules.ContactRules` that apply to the
+#: compiled pass's cases (the models' rules come as their options), followed there
+#: only as railcontact's
+COMPILED_RULES = ("locus", "gauge_point")
+
+
 def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
     """Why a case cannot run in the compiled pass, or None where it can."""
     s = case.wheel_rail
@@ -922,8 +928,11 @@ def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
         return "roll or vertical position prescribed"
     if s.turn_distance > 0:
         return "patch turning (wheelset.turn_distance)"
-    if s.locus != "lowest":
-        return f"the contact locus {s.locus!r} (wheelset.locus; the compiled pass has the lowest points)"
+    rules = case.rules.differing(COMPILED_RULES)
+    if rules:
+        return (f"CONTACT's rules {', '.join(rules)} (solver.rules, wheelset.locus, "
+                "track.gauge_point; the compiled pass has railcontact's: the lowest points, "
+                "the profile's gauge point)")
     if s.wheel_slices is not None or s.pitch != 0.0:
         return "an out-of-round wheel (wheel slices, pitch)"
     if s.wheel.left is not None or s.rail.left is not None:
@@ -944,7 +953,7 @@ def _bodies(case):
     """(PassProfiles, wheelset, track) of a case's bodies, once per set of body keys."""
     s = case.wheel_rail
     key = (s.wheel, s.rail, s.nominal_radius, s.flange_back_distance, s.flange_back_position,
-           s.gauge, s.gauge_height, s.rail_offset, str(case.base_dir))
+           s.gauge, s.gauge_height, s.rail_offset, case.rules, str(case.base_dir))
     try:
         hit = _BODIES.get(key)
     except TypeError:                     # a profile object that does not hash
