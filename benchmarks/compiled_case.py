@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import railcontact as rc
-from railcontact.cases import balance as balance_module
+from railcontact.cases.balance import BalanceOptions
 from railcontact.cases.case import case_from_dict
 from railcontact.cases.compiled_case import solve_case_forces
 from run_all import sweep_raws
@@ -93,28 +93,25 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
             ok["warm_fastsim"][i], passes["warm_fastsim"][i] = r.converged, r.passes
             prev = r if r.converged else None
         for key, flag in (("solve_after", True), ("solve_before", False)):
-            balance_module.COMPILED_START = flag
-            try:
-                for i in block:
-                    t0 = time.process_time()
-                    res = rc.solve(cases[i], "hertz", "fastsim")
-                    t[key][i] = time.process_time() - t0
-                    ok[key][i] = res.converged
-                    passes[key][i] = res.balance.passes if res.balance else 0
-                    if flag and res.converged and cold[i].converged:
-                        for s in ("left", "right"):
-                            fa = sum(p.normal.normal_force for p in res.patches
-                                     if p.geometry.side == s)
-                            fb = sum(f for sd, f in zip(cold[i].side,
-                                                        cold[i].patches["normal_force"])
-                                     if sd == s)
-                            ya = sum(p.tangential.fy for p in res.patches if p.geometry.side == s)
-                            yb = sum(f for sd, f in zip(cold[i].side, cold[i].patches["fy"])
-                                     if sd == s)
-                            dev_fn.append(abs(fa - fb) / 7e4)
-                            dev_fy.append(abs(ya - yb) / (0.3 * 7e4))
-            finally:
-                balance_module.COMPILED_START = True
+            opts = BalanceOptions(compiled_start=flag)
+            for i in block:
+                t0 = time.process_time()
+                res = rc.solve(cases[i], "hertz", "fastsim", options=opts)
+                t[key][i] = time.process_time() - t0
+                ok[key][i] = res.converged
+                passes[key][i] = res.balance.passes if res.balance else 0
+                if flag and res.converged and cold[i].converged:
+                    for s in ("left", "right"):
+                        fa = sum(p.normal.normal_force for p in res.patches
+                                 if p.geometry.side == s)
+                        fb = sum(f for sd, f in zip(cold[i].side,
+                                                    cold[i].patches["normal_force"])
+                                 if sd == s)
+                        ya = sum(p.tangential.fy for p in res.patches if p.geometry.side == s)
+                        yb = sum(f for sd, f in zip(cold[i].side, cold[i].patches["fy"])
+                                 if sd == s)
+                        dev_fn.append(abs(fa - fb) / 7e4)
+                        dev_fy.append(abs(ya - yb) / (0.3 * 7e4))
     unit = float(np.median(conv))
     out(f"* the unit: one real FFT convolution of the padded 80 x 80 grid took "
         f"{unit * 1e6:.1f} µs in this run (median of {len(conv)} measurements between the "
@@ -253,13 +250,9 @@ def bench_manchester(out, unit):
                 t0 = time.process_time()
                 rc.solve(c, "hertz", "fastsim")
                 best["after"] = min(best["after"], time.process_time() - t0)
-                balance_module.COMPILED_START = False
-                try:
-                    t0 = time.process_time()
-                    rc.solve(c, "hertz", "fastsim")
-                    best["before"] = min(best["before"], time.process_time() - t0)
-                finally:
-                    balance_module.COMPILED_START = True
+                t0 = time.process_time()
+                rc.solve(c, "hertz", "fastsim", options=BalanceOptions(compiled_start=False))
+                best["before"] = min(best["before"], time.process_time() - t0)
             for k in t:
                 t[k].append(best[k])
     out(f"\n## Manchester 10 kN sweep ({len(cases)} cases, right wheel; CONTACT's reference "

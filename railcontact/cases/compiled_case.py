@@ -80,7 +80,8 @@ from ..geometry.patch_curvature import force_curvature
 from ..geometry.wheel_pass import locus_regions, rows_contact
 from .bodies import build_wheelset_track
 from .strip_pass import MARCHES, strip_pass, strip_row
-from .equilibrium import COUPLING_SLOPE, FORCE_FLOOR, HERTZ_SLOPE, JUMP_SLOPE, STEP_FACTOR
+from .equilibrium import (COUPLING_SLOPE, FORCE_FLOOR, HERTZ_SLOPE, JUMP_SLOPE, STEP_FACTOR,
+                          Neighbour, extrapolate_start)
 
 #: the fields of a row of :func:`evaluate_wheelset`'s output: the patch's geometry
 #: (:data:`railcontact.geometry.wheel_pass.PATCH_FIELDS`) and its solution
@@ -870,8 +871,9 @@ class CaseForces:
     #: the patch rows of the last evaluation (:data:`ROW_FIELDS`)
     rows: np.ndarray = field(repr=False, default=None)
     #: the interpenetrations [m] and roll [rad] of the neighbour this case started
-    #: from (None: cold), from which the next case extrapolates its start
-    neighbour: tuple | None = field(repr=False, default=None)
+    #: from (:class:`~railcontact.cases.equilibrium.Neighbour`; None: cold), from
+    #: which the next case extrapolates its start
+    neighbour: Neighbour | None = field(repr=False, default=None)
     #: the search's memo at the end (:data:`railcontact.geometry.wheel_pass.MEMO_SIZE`):
     #: the wheel samples of its loci and minima, where the next case's search starts
     memo: np.ndarray | None = field(repr=False, default=None)
@@ -1009,35 +1011,35 @@ MEMO_YAW = 1e-3
 
 #: a chain of cases extrapolates its start from the last two where their
 #: interpenetrations differ by less than this factor (smooth neighbours; else the
-#: last case's alone)
+#: last case's alone): the default of :func:`solve_case_forces`'s ``extrapolate_ratio``
 EXTRAPOLATE_RATIO = 1.2
 
 
-def _start_array(start):
+def _start_array(start, ratio=EXTRAPOLATE_RATIO):
     """(start array of :func:`balance_wheelset`, roll to start from) for a
-    neighbour's result: its interpenetrations, or where it started from its own
-    neighbour and both are close, their extrapolation in ln d (and the roll's)."""
+    neighbour's result (:class:`CaseForces` or a
+    :class:`~railcontact.cases.equilibrium.Neighbour`): its interpenetrations, or
+    where it started from its own neighbour and both are close, their extrapolation
+    in ln d (and the roll's: :func:`~railcontact.cases.equilibrium.extrapolate_start`)."""
     st = np.full(8, np.nan)
     if start is None:
         return st, 0.0
-    st[6], st[7] = getattr(start, "vertical", math.nan), start.roll
-    d1 = np.array([start.interpenetration["left"], start.interpenetration["right"]])
-    st[0], st[1] = d1
+    st[6], st[7] = start.vertical, start.roll
+    d1 = {"left": start.interpenetration["left"], "right": start.interpenetration["right"]}
     roll = start.roll if math.isfinite(start.roll) else 0.0
     before = getattr(start, "neighbour", None)
-    if before is not None:
-        d0 = np.array([before[0]["left"], before[0]["right"]])
-        if np.all(d0 > 0) and np.all(np.abs(np.log(d1 / d0)) < math.log(EXTRAPOLATE_RATIO)):
-            st[0], st[1] = d1 * d1 / d0
-            if math.isfinite(before[1]) and abs(roll - before[1]) < 1e-3:
-                roll = 2.0 * roll - before[1]
+    d, roll, _ = extrapolate_start(d1, before.interpenetration if before is not None else None,
+                                   ratio, roll, before.roll if before is not None else math.nan,
+                                   in_log=True)
+    st[0], st[1] = d["left"], d["right"]
     if start.jacobian is not None:
         st[2:6] = np.ravel(start.jacobian)
     return st, roll
 
 
-def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | None = None,
-                      max_passes: int = 40) -> CaseForces:
+def solve_case_forces(case, normal=None, tangential=None,
+                      start: CaseForces | Neighbour | None = None, max_passes: int = 40,
+                      extrapolate_ratio: float = EXTRAPOLATE_RATIO) -> CaseForces:
     """Solve a wheel-rail case in one compiled pass (module docstring): both wheels'
     loads met, the forces of every patch.
 
@@ -1047,12 +1049,17 @@ def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | No
         A wheel-rail case the pass runs (:func:`compiled_unsupported`).
     normal, tangential : str, optional
         Model names overriding the case's.
-    start : CaseForces, optional
-        A neighbouring case's result (the previous case of a sweep): the balance
-        starts from its interpenetrations and Jacobian, and the roll search from
-        its roll.
+    start : CaseForces or Neighbour, optional
+        A neighbouring case's result (the previous case of a sweep) or balance: the
+        balance starts from its interpenetrations and Jacobian, and the roll search
+        from its roll.
     max_passes : int
         Limit of the balance's evaluations.
+    extrapolate_ratio : float
+        Where ``start`` itself started from a neighbour, the two are extrapolated
+        where their interpenetrations differ by less than this factor
+        (:func:`~railcontact.cases.equilibrium.extrapolate_start`, in ln d); 1
+        turns it off.
 
     Returns
     -------
@@ -1063,7 +1070,7 @@ def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | No
     """
     t0 = time.perf_counter()
     prof, pose, model, loads = case_pass_inputs(case, normal, tangential)
-    st, roll0 = _start_array(start)
+    st, roll0 = _start_array(start, extrapolate_ratio)
     memo = new_memo(roll0)
     s = case.wheel_rail
     near = start is not None and abs(getattr(start, "pose_keys", (math.nan,))[0]
@@ -1088,12 +1095,13 @@ def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | No
     res = _case_forces(out, info, code, loads, (normal or case.normal).lower(),
                        (tangential or case.tangential).lower(), time.perf_counter() - t0)
     if start is not None and getattr(start, "converged", True):
-        res.neighbour = (dict(start.interpenetration), float(start.roll))
+        res.neighbour = Neighbour(dict(start.interpenetration), float(start.roll))
     res.memo = memo
     res.pose_keys = (float(s.lateral_shift), float(s.yaw))
     if code != CONVERGED and start is not None:
         # a start that did not serve: the case again, cold (its time counts)
-        cold = solve_case_forces(case, normal, tangential, None, max_passes)
+        cold = solve_case_forces(case, normal, tangential, None, max_passes,
+                                 extrapolate_ratio)
         cold.cpu_time += res.cpu_time
         return cold
     return res
