@@ -152,8 +152,7 @@ OUTCOMES = {CONVERGED: "converged", NOT_CONVERGED: "not converged", NO_POSE: "po
 
 #: fields of the balance's ``info`` array
 INFO_FIELDS = ("outcome", "passes", "d_left", "d_right", "vertical", "roll", "fz_left",
-               "fz_right", "J00", "J01", "J10", "J11", "patches", "pose_passes", "P00", "P01",
-               "P10", "P11")
+               "fz_right", "J00", "J01", "J10", "J11", "patches", "pose_passes")
 I_OUTCOME = 0
 I_PASSES = 1
 I_D_LEFT = 2
@@ -168,10 +167,6 @@ I_J10 = 10
 I_J11 = 11
 I_PATCHES = 12
 I_POSE_PASSES = 13
-I_P00 = 14
-I_P01 = 15
-I_P10 = 16
-I_P11 = 17
 
 
 @njit(cache=True, nogil=True)
@@ -580,12 +575,10 @@ def pose_jacobian(out, m, pose, fz, loads, expo, J):
 @njit(cache=True, nogil=True)
 def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state, m, hist):
     """The vertical balance from an evaluation at the pose ``zr`` (vertical position
-    [m], roll [rad]) whose ``m`` patches are ``out``; ``state`` (5 x 2): its
+    [m], roll [rad]) whose ``m`` patches are ``out``; ``state`` (3 x 2): its
     vertical forces fz [N], interpenetrations [m] and the exponents of
     :func:`pose_jacobian` per side (each the last evaluation's at the end, the
-    exponents those that Broyden's updates learnt), and in rows 3-4 a neighbouring
-    case's Jacobian dg/d(z, roll) to start from (NaN: none; at the end, where the
-    load is met, the one learnt): Newton steps on the pose (z, roll) for g_s = (F_s/Q_s)^(2/3) - 1 = 0
+    exponents those that Broyden's updates learnt): Newton steps on the pose (z, roll) for g_s = (F_s/Q_s)^(2/3) - 1 = 0
     (linear in the approach of a Hertzian patch), the Jacobian from the patches
     (:func:`pose_jacobian` with the exponents ``expo``, held in ``EXPONENT_RANGE``)
     and then Broyden's update (Broyden 1965); a step that
@@ -628,7 +621,6 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
                         num = J[s, 0] * Ja[s, 0] + J[s, 1] * Ja[s, 1]
                         if den > 0.0 and num > 0.0:
                             expo[s] = num / den
-                state[3:5] = J
             return passes, True, m, nh
         if not have_j:
             for s in range(2):
@@ -636,15 +628,6 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
             if not pose_jacobian(out, m, pose, fz, loads, expo, J):
                 return passes, False, m, nh
             have_j = True
-            # a neighbour's learnt Jacobian where given, of the patches' signs on
-            # the diagonal (on the flange the patches' misses by a factor ten and
-            # more: the force flat or steep in the pose where the flange and its
-            # root join)
-            carried = state[3:5]
-            cdet = carried[0, 0] * carried[1, 1] - carried[0, 1] * carried[1, 0]
-            if math.isfinite(cdet) and cdet != 0.0 and carried[0, 0] * J[0, 0] > 0.0 and \
-                    carried[1, 1] * J[1, 1] > 0.0:
-                J[:, :] = carried
         det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
         if not (det != 0.0 and math.isfinite(det)):
             return passes, False, m, nh
@@ -799,13 +782,13 @@ def _trial(prof, pose, model, v, cand, memo, out, fz):
 def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out, info):
     """The vertical balance of both wheels (module docstring).
 
-    ``start``: (d_left, d_right, J00, J01, J10, J11, z, roll, P00, P01, P10, P11):
-    the interpenetrations [m] to start from (NaN: the first estimate), d(ln F)/d(ln d)
+    ``start``: (d_left, d_right, J00, J01, J10, J11, z, roll): the
+    interpenetrations [m] to start from (NaN: the first estimate), d(ln F)/d(ln d)
     (NaN: the first estimate's slopes, else 1.5 I; its diagonal the exponents of
-    :func:`pose_newton`), a neighbour's pose (vertical position [m], roll
+    :func:`pose_newton`) and a neighbour's pose (vertical position [m], roll
     [rad]; NaN: none), evaluated too where the first evaluation lies further than
-    ``POSE_RESTART`` from the load, and the neighbour's Jacobian of the pose's steps
-    (:func:`pose_newton`; NaN: none; used where the memo's ``M_JOINS`` is on).
+    ``POSE_RESTART`` from the load (where the memo's ``M_JOINS`` is on, into rows of
+    its own: the first evaluation's are kept where it serves better).
     ``out``: the patch rows of the last evaluation; ``info``: :data:`INFO_FIELDS`.
     Returns the outcome code (:data:`OUTCOMES`)."""
     d = np.empty(2)
@@ -840,14 +823,10 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
     if POSE_BALANCE and m > 0 and not (abs(fz[0] / loads[0] - 1.0) <= tol and
                                        abs(fz[1] / loads[1] - 1.0) <= tol):
         zr = np.array([z, roll])
-        state = np.full((5, 2), np.nan)
+        state = np.empty((3, 2))
         state[0] = fz
         state[1] = np.exp(v)
         state[2, 0], state[2, 1] = J[0, 0], J[1, 1]
-        if memo[M_JOINS] != 0.0 and start.size >= 12:
-            state[3, 0], state[3, 1], state[4, 0], state[4, 1] = start[8], start[9], \
-                start[10], start[11]
-        carried = state[3, 0]
         worst = max(abs(math.log(max(fz[0], FORCE_FLOOR * loads[0]) / loads[0])),
                     abs(math.log(max(fz[1], FORCE_FLOOR * loads[1]) / loads[1])))
         if worst > POSE_RESTART and start.size > 7 and start[6] == start[6] and \
@@ -859,7 +838,9 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
             fzn = np.empty(2)
             dn = np.empty(2)
             wn = np.array([1.5 * start[0] + LOCUS_MARGIN, 1.5 * start[1] + LOCUS_MARGIN])
-            mn = evaluate_pose(prof, pose, model, zn, wn, memo, out, fzn, dn)
+            keep = memo[M_JOINS] != 0.0
+            on = np.empty_like(out) if keep else out
+            mn = evaluate_pose(prof, pose, model, zn, wn, memo, on, fzn, dn)
             passes += 1
             if mn > 0:
                 hist[nh, 0], hist[nh, 1], hist[nh, 2], hist[nh, 3] = dn[0], dn[1], fzn[0], fzn[1]
@@ -871,7 +852,9 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
                     state[0] = fzn
                     state[1] = dn
                     m = mn
-                else:
+                    if keep:
+                        out[:mn] = on[:mn]
+                elif not keep:
                     m, z, roll, v, k = _trial(prof, pose, model, nan2, v, memo, out, fz)
                     passes += k
         k, met, mp, nk = pose_newton(prof, pose, model, loads, tol,
@@ -892,10 +875,6 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
             # (the next case's start: the exponents, as d ln F / d ln d)
             info[I_J00], info[I_J01], info[I_J10], info[I_J11] = expo[0], 0.0, 0.0, expo[1]
             info[I_PATCHES] = mp
-            if k > 0 or carried == carried:
-                # (the pose's Jacobian learnt, or carried on where no step was made)
-                info[I_P00], info[I_P01], info[I_P10], info[I_P11] = state[3, 0], \
-                    state[3, 1], state[4, 0], state[4, 1]
             return CONVERGED
         # not met in the pose: the balance in the interpenetrations from the last
         # accepted pose's, its history the pose's evaluations (the brackets of the
@@ -1054,9 +1033,6 @@ class CaseForces:
     pose_keys: tuple = (math.nan, math.nan)
     #: of ``passes``, the evaluations at a pose (:func:`pose_newton`'s steps)
     pose_passes: int = 0
-    #: the Jacobian of the pose's steps (:func:`pose_newton`) that they learnt, where
-    #: they met the load (the next case's start; NaN: none)
-    pose_jacobian: np.ndarray = field(repr=False, default=None)
     #: the roll searches' evaluations (each both sides' minimum gap,
     #: :func:`railcontact.geometry.wheel_pass.solve_roll`), over the case
     gap_evaluations: int = 0
@@ -1202,12 +1178,9 @@ def _start_array(start, ratio=EXTRAPOLATE_RATIO):
     :class:`~railcontact.cases.equilibrium.Neighbour`): its interpenetrations, or
     where it started from its own neighbour and both are close, their extrapolation
     in ln d (and the roll's: :func:`~railcontact.cases.equilibrium.extrapolate_start`)."""
-    st = np.full(12, np.nan)
+    st = np.full(8, np.nan)
     if start is None:
         return st, 0.0
-    pj = getattr(start, "pose_jacobian", None)
-    if pj is not None:
-        st[8:12] = np.ravel(pj)
     st[6], st[7] = start.vertical, start.roll
     d1 = {"left": start.interpenetration["left"], "right": start.interpenetration["right"]}
     roll = start.roll if math.isfinite(start.roll) else 0.0
@@ -1293,7 +1266,6 @@ def solve_case_forces(case, normal=None, tangential=None,
     res.memo = memo
     res.pose_keys = (float(s.lateral_shift), float(s.yaw))
     res.gap_evaluations = int(memo[M_GAPS])
-    res.pose_jacobian = info[I_P00:I_P11 + 1].reshape(2, 2).copy()
     if info[I_POSE_PASSES] == info[I_POSE_PASSES]:
         res.pose_passes = int(info[I_POSE_PASSES])
     if code != CONVERGED and start is not None:
