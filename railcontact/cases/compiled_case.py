@@ -608,6 +608,7 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
         g[s] = (max(fz[s], 0.0) / loads[s]) ** (2.0 / 3.0) - 1.0
     passes = 0
     nh = 0
+    slow = 0
     have_j = False
     while passes < max_passes:
         if abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol:
@@ -696,6 +697,13 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
             fz[s] = fz2[s]
             depth[s] = d2[s]
         m = mm
+        # two steps in a row that did not halve the residual (the force curved
+        # between flange and root: Broyden's steps converge slowly there): the steps
+        # on the interpenetrations take over, with these evaluations as brackets
+        slow = slow + 1 if max(abs(g[0]), abs(g[1])) > 0.5 * size else 0
+        if memo[M_JOINS] != 0.0 and slow >= 2 and not (
+                abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol):
+            return passes, False, m, nh
     return passes, abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol, \
         m, nh
 
