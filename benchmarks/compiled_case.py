@@ -392,9 +392,12 @@ def main(n_shift=250, strips_only=False):
 
 if __name__ == "__main__":
     args = [a for a in sys.argv[1:] if a != "--strips"]
+    load0 = os.getloadavg()[1]
     report = main(int(args[0]) if args else 250, "--strips" in sys.argv)
     if len(sys.argv) <= 1:
         (HERE / "compiled_case.md").write_text(
             f"# Whole cases in one compiled pass ({time.strftime('%Y-%m-%d')}, "
-            f"{os.cpu_count()} cores, Python {sys.version.split()[0]})\n"
+            f"{os.cpu_count()} cores, Python {sys.version.split()[0]}; the machine's load "
+            f"average (5 min) {load0:.1f} at the start, {os.getloadavg()[1]:.1f} at the end: "
+            "CPU times, interleaved, stand; wall times would not)\n"
             + "\n".join(report) + "\n")
