@@ -198,7 +198,7 @@ _KEYS = {
 
 def _choice(keys: CaseKeys, key: str, default: str, choices: dict) -> str:
     v = keys.get(key, default)
-    if v not in choices:
+    if not isinstance(v, str) or v not in choices:
         expected = " or ".join(f"{k!r} ({m})" for k, m in choices.items())
         raise CaseFileError(f"{key} = {shown(v)}: expected {expected}")
     return v
@@ -214,7 +214,7 @@ def parse_rules(keys: CaseKeys, normal: str = "hertz", tangential: str = "fastsi
     checked here.  A :class:`~railcontact.core.errors.CaseFileError` names the
     first key that is wrong."""
     preset = keys.get("solver.rules", "railcontact")
-    if preset not in PRESETS:
+    if not isinstance(preset, str) or preset not in PRESETS:
         raise CaseFileError(f"solver.rules = {shown(preset)}: expected 'railcontact' "
                             "(railcontact's own rules) or 'contact' (CONTACT's: its contact "
                             "locus and angle, wheel sampling, KPEC's and FASTSIM's grid "

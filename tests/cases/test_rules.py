@@ -91,6 +91,8 @@ def test_the_compiled_pass_asks_the_record_once():
     ({}, {"track": {"gauge_point": "spline"}}, r"track.gauge_point = 'spline': expected "
                                               r"'profile'"),
     ({"surface_slip": "apex"}, {}, r"solver.surface_slip = 'apex': expected 'sections'"),
+    ({"rules": ["contact"]}, {}, r"solver.rules = .*: expected 'railcontact'"),
+    ({}, {"track": {"gauge_point": []}}, r"track.gauge_point = .*: expected 'profile'"),
     ({"rules": "contact"}, {"thermal": {"scheme": "grid"}}, "thermal.scheme"),
     ({}, {"roller": {"radius": 0.4, "turn": "axis"}}, r"roller.turn = 'axis': expected "
                                                       r"'profile'"),
