@@ -32,7 +32,7 @@ _ALLOWED = {
     "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
              "lateral_position", "vertical_position", "slice_spacing"} | PROFILE_OPTIONS,
     "rails": None,
-    "roller": {"radius", "angular_velocity", "position", "profile_deviation"},
+    "roller": {"radius", "angular_velocity", "position", "profile_deviation", "turn"},
     "track": {"gauge", "gauge_height", "rail_offset", "gauge_point"},
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",

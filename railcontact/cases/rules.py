@@ -15,7 +15,8 @@ keys that override it (``docs/case_files.md``, "CONTACT's rules"):
   ``solver.reference_weights``, ``solver.search_grid``,
   ``solver.normal_options.wheel_sampling`` and ``rule`` (KPEC),
   ``solver.tangential_options.march`` and ``flexibility`` (FASTSIM),
-  ``thermal.scheme``; and ``solver.surface_slip``, ``track.gauge_point``).
+  ``thermal.scheme``; and ``solver.surface_slip``, ``track.gauge_point``,
+  ``roller.turn``).
 
 The case carries the record (``Case.rules``); the layers below the case take the
 rule values they follow as their own arguments (the models' options, the
@@ -93,6 +94,16 @@ class ContactRules:
         profile's z(y) crossing the gauge height, or CONTACT's spline along the
         points' chord length (:func:`railcontact.geometry.track.contact_gauge_point`;
         a fraction of a micrometre apart on a steep gauge face).
+    roller_turn : {"profile", "surface"}
+        ``roller.turn`` (a roller with ``roller.profile_deviation``): the surface of
+        the undeformed distance of a roller turned by its roll (DROLLR) and lowered:
+        the turned profile revolved about the roller's axis, the surface of the
+        contact search and of the roller's rotation (railcontact's: a flat profile
+        turned becomes a cone), or CONTACT's (its ``m_wr_undefdist``): the roller as
+        read turned as a whole about the profile origin, its axis tilted (a flat
+        profile: a tilted cylinder, 1.3 um more undeformed distance 6 mm along x
+        from the contact line at R = 0.4 m, 0.2 rad:
+        :meth:`railcontact.geometry.surfaces.RollerSurface.gap_height`).
     """
 
     locus: str = "lowest"
@@ -106,6 +117,7 @@ class ContactRules:
     thermal_scheme: str = "jaeger"
     surface_slip: str = "sections"
     gauge_point: str = "profile"
+    roller_turn: str = "profile"
 
     def differing(self, among: tuple | None = None) -> tuple:
         """The names of the rules (of ``among``; None: all) on which this record
@@ -140,12 +152,13 @@ class ContactRules:
 
 #: every rule of CONTACT's (``solver.rules = "contact"``): its contact locus (D = 2)
 #: and angle, its wheel sampling, KPEC's and FASTSIM's grid rules, its temperature
-#: scheme, its rigid slip on the surfaces (D = 3) and gauge point
+#: scheme, its rigid slip on the surfaces (D = 3), gauge point and turned roller
 CONTACT_RULES = ContactRules(locus="contact", contact_angle="wheelset",
                              reference_weights="locus", search_grid="fine",
                              wheel_sampling="contact", kpec="contact", fastsim_march="grid",
                              fastsim_flexibility="contact", thermal_scheme="contact",
-                             surface_slip="midplane", gauge_point="contact")
+                             surface_slip="midplane", gauge_point="contact",
+                             roller_turn="surface")
 
 #: each rule: its case key (dotted) and the values it takes with what they mean
 #: (``None``: a model's option, checked when the model is built, or
@@ -177,6 +190,9 @@ _KEYS = {
     "gauge_point": ("track.gauge_point", {
         "profile": "the profile's z(y) crossing the gauge height",
         "contact": "CONTACT's spline along the points' chord length"}),
+    "roller_turn": ("roller.turn", {
+        "profile": "the turned profile revolved about the roller's axis",
+        "surface": "CONTACT's: the roller as read turned as a whole, its axis tilted"}),
 }
 
 
@@ -202,8 +218,8 @@ def parse_rules(keys: CaseKeys, normal: str = "hertz", tangential: str = "fastsi
         raise CaseFileError(f"solver.rules = {shown(preset)}: expected 'railcontact' "
                             "(railcontact's own rules) or 'contact' (CONTACT's: its contact "
                             "locus and angle, wheel sampling, KPEC's and FASTSIM's grid "
-                            "rules, temperature scheme, rigid slip on the surfaces and "
-                            "gauge point)")
+                            "rules, temperature scheme, rigid slip on the surfaces, "
+                            "gauge point and turned roller's undeformed distance)")
     base = CONTACT_RULES if preset == "contact" else ContactRules()
     values = {}
     model_of = {"wheel_sampling": normal == "exact", "kpec": normal == "kpec",

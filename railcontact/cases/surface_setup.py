@@ -22,7 +22,7 @@ from .wheel_rail_setup import ProfileSource
 #: keys of one rail (``[rail]`` or an entry of ``[[rails]]``) in a surface case
 RAIL_KEYS = {"profile", "slices", "inclination", "units", "name", "lateral_position",
              "vertical_position", "slice_spacing", "lateral_range"}
-ROLLER_KEYS = {"radius", "angular_velocity", "position", "profile_deviation"}
+ROLLER_KEYS = {"radius", "angular_velocity", "position", "profile_deviation", "turn"}
 
 
 def is_surface_case(case: CaseKeys) -> bool:
@@ -67,7 +67,8 @@ class RollerSpec:
     crown; ``profile_deviation`` (dz [m], roll [rad]) or None: its profile turned
     by roll about +x about the profile origin, then lowered by dz, before it is
     revolved about the roller's axis, which stays (CONTACT's DZRAIL, DROLLR of a
-    roller)."""
+    roller); the undeformed distance's surface is the rule ``roller.turn``
+    (``Case.rules.roller_turn``)."""
 
     radius: float
     angular_velocity: float | None = None

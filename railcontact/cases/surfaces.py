@@ -130,13 +130,11 @@ def build_surface_case(case: Case) -> SurfaceScene:
         omega = 0.0
         if s.roller is not None:
             R = s.roller.radius
-            prof = surf.profile
-            if s.roller.profile_deviation is not None:
-                # the profile turned about +x (z down: a positive roll lowers the
-                # field side) and lowered, the roller's axis where it was
-                dz, roll = s.roller.profile_deviation
-                prof = prof.rotated(-roll).shifted(0.0, dz)
-            surf = RollerSurface(prof, R, s.roller.position)
+            # the profile turned about +x (z down: a positive roll lowers the field
+            # side) and lowered, the roller's axis where it was; the undeformed
+            # distance on that surface or CONTACT's turned roller (roller.turn)
+            surf = RollerSurface(surf.profile, R, s.roller.position,
+                                 s.roller.profile_deviation, case.rules.roller_turn)
             omega = -pv * r0 / R if s.roller.angular_velocity is None else \
                 s.roller.angular_velocity
         y0 = spec.lateral_position

@@ -232,14 +232,16 @@ class SurfaceWheel:
 
 
 def _rail_intersect(rail, s0, Q0, n, iterations: int = 30):
-    """lam [m] where the lines Q0 + lam n (n with no x component) meet the rail
-    surface (track position s0 + x)."""
+    """lam [m] where the lines Q0 + lam n (n with no x component) meet the rail's
+    surface of the undeformed distance (track position s0 + x;
+    :meth:`railcontact.geometry.surfaces.PlacedRail.gap_height`: a deviated
+    roller's under ``ContactRules.roller_turn``)."""
     Q0 = np.asarray(Q0, float)
     s = s0 + Q0[..., 0]
     lam = np.zeros(Q0.shape[:-1])
     for _ in range(iterations):
         y = Q0[..., 1] + lam * n[1]
-        z, dz = rail.height(s, y)
+        z, dz = rail.gap_height(s, y)
         f = Q0[..., 2] + lam * n[2] - z
         df = n[2] - dz * n[1]
         step = f / df

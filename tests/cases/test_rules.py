@@ -33,7 +33,7 @@ def test_the_preset_sets_every_rule_and_the_models_options():
     assert set(case.rules.differing()) == {
         "locus", "contact_angle", "reference_weights", "wheel_sampling", "kpec",
         "fastsim_march", "fastsim_flexibility", "thermal_scheme", "surface_slip",
-        "gauge_point"}
+        "gauge_point", "roller_turn"}
     assert case.tangential_options == {"march": "grid", "flexibility": "contact"}
     assert case.normal_options == {}
     kpec = case_from_dict(_raw({"rules": "contact", "normal": "kpec"}))
@@ -94,6 +94,8 @@ def test_the_compiled_pass_asks_the_record_once():
     ({"rules": ["contact"]}, {}, r"solver.rules = .*: expected 'railcontact'"),
     ({}, {"track": {"gauge_point": []}}, r"track.gauge_point = .*: expected 'profile'"),
     ({"rules": "contact"}, {"thermal": {"scheme": "grid"}}, "thermal.scheme"),
+    ({}, {"roller": {"radius": 0.4, "turn": "axis"}}, r"roller.turn = 'axis': expected "
+                                                      r"'profile'"),
     ({"rules": "contact", "tangential_options": {"march": "rows"}}, {}, "march"),
 ])
 def test_wrong_rules_are_named(solver, tables, match):
@@ -104,3 +106,30 @@ def test_wrong_rules_are_named(solver, tables, match):
 def test_a_sweep_changes_a_rule():
     case = case_from_dict(_raw())
     assert case.with_value("solver.rules", "contact").rules == CONTACT_RULES
+
+
+def test_the_turned_roller_follows_the_record(testbank):
+    """``roller_turn`` (``roller.turn``): a deviated roller's undeformed distance on
+    its turned profile revolved (railcontact's, the default) or CONTACT's turned
+    roller (the preset's); the surface built for the case carries it, and the
+    search's surface is the same under both."""
+    from railcontact.cases.surfaces import build_surface_case
+    raw = {"wheel": {"profile": "../profiles/circ_r100.prw", "nominal_radius": 0.13333333},
+           "rail": {"profile": "../profiles/flat_plane.prr", "lateral_position": 0.2},
+           "roller": {"radius": 0.4, "profile_deviation": [0.0, 0.2]},
+           "wheelset": {"vertical_position": -1.87e-3, "flange_back_distance": 0.2,
+                        "flange_back_position": -0.1, "velocity": 0.1},
+           "solver": {"normal": "exact", "tangential": "none"}}
+    base = testbank / "examples_conformal"
+    own = case_from_dict(raw, base)
+    contact = case_from_dict({**raw, "solver": {**raw["solver"], "rules": "contact"}}, base)
+    kept = case_from_dict({**raw, "solver": {**raw["solver"], "rules": "contact"},
+                           "roller": {**raw["roller"], "turn": "profile"}}, base)
+    assert (own.rules.roller_turn, contact.rules.roller_turn, kept.rules.roller_turn) == \
+        ("profile", "surface", "profile")
+    assert kept.rules.differing() == tuple(n for n in CONTACT_RULES.differing()
+                                           if n != "roller_turn")
+    surfs = [build_surface_case(c).rails[0].surface for c in (own, contact)]
+    assert [(s.turn, s.tilted) for s in surfs] == [("profile", False), ("surface", True)]
+    assert surfs[0].height(0.006, -0.02)[0] == surfs[1].height(0.006, -0.02)[0]
+    assert surfs[1].gap_height(0.006, -0.02)[0] > surfs[0].gap_height(0.006, -0.02)[0]
