@@ -114,13 +114,20 @@ FRAME_FIELDS = ("y_off_left", "y_off_right", "wheel_offset", "nominal_radius", "
 #: spin moment Mz [N m] on the wheel, lateral Y and vertical Q force of the rail on
 #: the wheel [N] (track plane), the lateral position of the patch relative to the
 #: wheelset centre [m] and the approach rate [m/s]
+#: (Kalker's coefficients, the spring's stiffness dN/d(delta) [N/m]) and the
+#: stand-in's creep forces Fx, Fy [N] and spin moment Mz [N m] at the given normal
+#: force (``mode`` 1 and 3 of :func:`rhs_online`)
 ROW_EXTRA = ("normal_force", "a", "b", "fx", "fy", "mz", "Y", "Q", "y_contact",
-             "approach_rate", "C11", "C22", "C23", "stiffness")
+             "approach_rate", "C11", "C22", "C23", "stiffness", "standin_fx", "standin_fy",
+             "standin_mz")
 (R_N, R_AA, R_BB, R_FX, R_FY, R_MZ, R_YF, R_QF, R_YC, R_DDOT, R_C11, R_C22,
- R_C23, R_STIFF) = range(NPF, NPF + len(ROW_EXTRA))
+ R_C23, R_STIFF, R_SFX, R_SFY, R_SMZ) = range(NPF, NPF + len(ROW_EXTRA))
 NROW = NPF + len(ROW_EXTRA)
 #: rows per wheelset
 MAX_ROWS = 2 * MAX_PATCHES
+
+#: where the Python path's tangential model solves (:class:`OnlineWheelRail`)
+TANGENTIAL_SOLVES = ("step", "stage")
 
 #: derailment codes of :attr:`OnlineContact.status` per wheelset and side
 ON_TRACK, ON_FLANGE_TIP, OFF_RAIL = 0, 1, 2
@@ -311,7 +318,15 @@ def row_forces(row, online, mode, fe, rates):
     (``rates``: lateral velocity of the wheelset centre relative to the rail [m/s],
     vertical velocity [m/s], roll rate [rad/s]), the creep forces of the compiled
     law (mode 0) or ``fe`` (mode 1: an :data:`~.equations_of_motion.EXTERNAL`
-    record; mode 2: none), and their lateral and vertical resultants (track plane)."""
+    record, the normal force and the creep forces; mode 2: none; mode 3: the
+    normal force of ``fe`` and the compiled law's creep forces at it, the
+    *stand-in*, plus ``fe``'s creep forces as a correction), and their lateral and
+    vertical resultants (track plane).  Modes 1 and 3 keep the stand-in's forces
+    at ``fe``'s normal force in the row (:data:`R_SFX`, :data:`R_SFY`,
+    :data:`R_SMZ`), so that the caller can correct the stand-in by a solution of
+    its own (:meth:`railcontact.dynamics.simulation._System.rhs`: the exact
+    tangential problem solved at the start of each step, the stand-in corrected by
+    its difference there at the steps' other stages)."""
     delta = row[P_CONTACT_ANGLE]
     cd, sd = math.cos(delta), math.sin(delta)
     yc = row[R_YC]
@@ -322,9 +337,11 @@ def row_forces(row, online, mode, fe, rates):
     row[R_DDOT] = ddot
     F = row[R_N]
     N = max(F + online.frame[G_DAMPING] * ddot, 0.0) if F > 0.0 else 0.0
+    if (mode == 1 or mode == 3) and F > 0.0 and fe.normal_force > 0.0:
+        N = fe.normal_force             # (the caller's normal force, damper included)
     row[R_N] = N
     fx = fy = mz = 0.0
-    if N > 0.0:           # the ellipse at the damped force (Hertz: a, b ~ N^(1/3))
+    if N > 0.0:           # the ellipse at the force (Hertz: a, b ~ N^(1/3))
         scale = (N / F) ** (1.0 / 3.0)
         row[R_AA] *= scale
         row[R_BB] *= scale
@@ -342,10 +359,15 @@ def row_forces(row, online, mode, fe, rates):
             fx, fy, mz = patch_forces(online.model.law, online.model.tp, N, a, b, c[0, 0],
                                       c[1, 0], c[2, 0], row[P_XI], row[P_ETA], row[P_PHI],
                                       rates[3])
-        elif mode == 1:
-            fx, fy, mz = fe.Fx, fe.Fy, fe.Mz
-            if fe.normal_force > 0.0:
-                row[R_N] = N = fe.normal_force
+        elif mode == 1 or mode == 3:
+            sfx, sfy, smz = patch_forces(online.model.law, online.model.tp, N, a, b,
+                                         c[0, 0], c[1, 0], c[2, 0], row[P_XI], row[P_ETA],
+                                         row[P_PHI], rates[3])
+            row[R_SFX], row[R_SFY], row[R_SMZ] = sfx, sfy, smz
+            if mode == 1:
+                fx, fy, mz = fe.Fx, fe.Fy, fe.Mz
+            else:
+                fx, fy, mz = sfx + fe.Fx, sfy + fe.Fy, smz + fe.Mz
     row[R_FX], row[R_FY], row[R_MZ] = fx, fy, mz
     row[R_YF] = N * sd + fy * cd
     row[R_QF] = N * cd - fy * sd
@@ -398,7 +420,8 @@ def rhs_online(t, u, system, online, mode, fext, out):
     ``mode`` 0: the creep forces of the compiled law ``online.model.law``; 1: those
     of ``fext`` (nw, MAX_ROWS) :data:`~.equations_of_motion.EXTERNAL` records per
     row (given by the caller after a ``mode`` 2 evaluation: the search, the normal
-    forces and no creep forces).  ``out``
+    forces and no creep forces); 3: the compiled law's at ``fext``'s normal forces
+    corrected by ``fext``'s creep forces (:func:`row_forces`).  ``out``
     (:class:`~.equations_of_motion.Outputs`) takes the patches (two slots per side)
     and the wheelsets' loads, vertical position and roll."""
     V = system.velocity
@@ -563,15 +586,29 @@ class OnlineWheelRail:
     track (their profiles as placed), the material, the contact ``damping`` [N s/m]
     per patch, the wheelsets' ``roll_inertia`` [kg m²] (None: their yaw inertia, as
     of an axisymmetric body) and the normal model of the Python path (``normal``:
-    any registered normal model; the compiled laws run on Hertz's spring)."""
+    any registered normal model; the compiled laws run on Hertz's spring).
+
+    ``tangential_solves``: where a tangential model of the Python path (one
+    without a compiled law, e.g. ``exact``) solves its problem per patch:
+    ``"step"`` at the first evaluation of each Runge-Kutta step, the compiled
+    FASTSIM standing in at the step's other three stages corrected by the
+    solution's difference from it at the first
+    (:meth:`railcontact.dynamics.simulation._System._online_python_forces`; a
+    patch that appears or moves by more than a grid element within the step has
+    its stage solved); ``"stage"`` at every evaluation (four times the
+    tangential solves)."""
 
     def __init__(self, wheelset, track, material: Material = STEEL,
                  damping: float = DEFAULT_DAMPING, roll_inertia: float | None = None,
-                 normal: str = "hertz"):
+                 normal: str = "hertz", tangential_solves: str = "step"):
         from ..normal.base import normal_models
         if normal not in normal_models():
             raise InputError(f"online contact normal model {normal!r}: expected one of "
                              f"{normal_models()}")
+        if tangential_solves not in TANGENTIAL_SOLVES:
+            raise InputError(f"online contact tangential_solves {tangential_solves!r}: "
+                             f"expected one of {TANGENTIAL_SOLVES}")
+        self.tangential_solves = tangential_solves
         if not (isinstance(damping, (int, float)) and math.isfinite(damping) and damping >= 0):
             raise InputError(f"contact damping {damping!r} N s/m: expected >= 0")
         self.wheelset, self.track, self.material = wheelset, track, material

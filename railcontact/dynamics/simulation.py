@@ -20,6 +20,7 @@ from ..tangential import get_tangential_model
 from ..tangential.polach import PRESETS
 from .equations_of_motion import (EXTERNAL, NORMAL_PASSES, ContactTables, Outputs, System,
                                   Track, Vehicle, rhs_core, rk4_run)
+from ..geometry.wheel_pass import P_CONTACT_ANGLE, P_Y_RAIL
 from .online_contact import (MAX_ROWS, NPF, OFF_RAIL, ON_FLANGE_TIP, OnlineWheelRail,
                              rhs_online, rk4_online)
 from .route import Route
@@ -114,11 +115,15 @@ class _System:
         self.online = None
         if self.wheel_rail is not None:
             ws_inertia = model.bodies[model.wheelsets[0][0]].yaw_inertia
-            self.online = self.wheel_rail.compiled(nw, max(self.law, 0), self.tp, ws_inertia,
-                                                   tangential if strips else None)
+            # (a model in Python: FASTSIM compiled is the stand-in of its tangential
+            # problems at the steps' inner stages, _online_python_forces)
+            self.online = self.wheel_rail.compiled(
+                nw, max(self.law, 0) if self.py_model is None else online_law("fastsim"),
+                self.tp, ws_inertia, tangential if strips else None)
             self.fext_rows = np.zeros((nw, MAX_ROWS), EXTERNAL)
             self.warm = {}
-            self.batch = False
+            self.corrections = {}
+            self.batch = self.lazy = False
             self.fastsim_grid = (nx, ny)
             if self.py_model is not None:
                 from ..normal import get_normal_model, normal_supports
@@ -126,6 +131,7 @@ class _System:
                 self.py_normal = get_normal_model(self.wheel_rail.normal)
                 self.batch = (normal_supports(self.wheel_rail.normal, "batch")
                               and tangential_supports(tangential, "strip-march"))
+                self.lazy = not self.batch and self.wheel_rail.tangential_solves == "step"
 
     @property
     def n_states(self) -> int:
@@ -148,14 +154,21 @@ class _System:
         """The last evaluation's per-wheelset values (:data:`~.equations_of_motion.WHEELSET_OUT`)."""
         return self.out.wheelset_out
 
-    def rhs(self, t, u):
+    def rhs(self, t, u, stage: bool = False):
+        """The time derivative of the state u at t [s].  ``stage``: an evaluation at
+        an inner stage of a Runge-Kutta step (the online contact's Python path then
+        corrects a stand-in instead of solving the tangential problems where the
+        contact's ``tangential_solves`` is ``"step"``: :meth:`_online_python_forces`)."""
         self.calls += 1
         if self.online is not None:
             if self.law >= 0:
                 return rhs_online(t, u, self.system, self.online, 0, self.fext_rows, self.out)
             rhs_online(t, u, self.system, self.online, 2, self.fext_rows, self.out)
-            self._online_python_forces()
-            return rhs_online(t, u, self.system, self.online, 1, self.fext_rows, self.out)
+            mode = self._online_python_forces(stage)
+            du = rhs_online(t, u, self.system, self.online, mode, self.fext_rows, self.out)
+            if mode == 1 and self.lazy:
+                self._keep_corrections()
+            return du
         if self.law >= 0:
             return rhs_core(t, u, self.system, 0, self.fext, self.out)
         self.fext[:] = 0.0
@@ -177,55 +190,111 @@ class _System:
             self.fext[idx] = (*f, N)
         return rhs_core(t, u, self.system, 1, self.fext, self.out)
 
-    def _online_python_forces(self):
-        """The creep forces and normal forces of every row of the last search with
-        the registered models at the row's approach and creepages, into
-        ``fext_rows``: a strip model with a strip-marching tangential model
-        (``fastsim-strips``, ``fastrip``) on all patches together in compiled code
-        (:func:`railcontact.cases.batch.solve_patches`); any other pair per patch
-        through its Python ``solve`` (the normal model, then the tangential one),
-        warm-started from the same wheel's patch of the last evaluation where the
-        models accept it."""
+    def _online_keys(self):
+        """The rows of the last search: (wheelset, row, key, geometry) with the key
+        (wheelset, side, flange slot, the row's rank in that slot) that follows a
+        patch from one evaluation to the next."""
         from ..geometry.track import WheelsetPose
         from ..geometry.wheel_pass import patch_geometry
+        from .online_contact import FLANGE_ANGLE
+        on = self.online
+        rows = []
+        for w in range(on.count.size):
+            shift, z, roll, yaw = on.poses[w]
+            pose = WheelsetPose(float(shift), float(z), float(roll), float(yaw))
+            seen = {}
+            for i in range(int(on.count[w])):
+                row = on.rows[w, i]
+                slot = (w, int(row[0]), abs(float(row[P_CONTACT_ANGLE])) > FLANGE_ANGLE)
+                seen[slot] = seen.get(slot, -1) + 1
+                rows.append((w, i, slot + (seen[slot],),
+                             patch_geometry(row[:NPF], self.wheel_rail.wheelset,
+                                            self.wheel_rail.track, pose)))
+        return rows
+
+    def _online_python_forces(self, stage: bool = False) -> int:
+        """The creep forces and normal forces of every row of the last search with
+        the registered models at the row's approach and creepages, into
+        ``fext_rows``; returns the mode of :func:`rhs_online` that takes them.
+
+        A strip model with a strip-marching tangential model (``fastsim-strips``,
+        ``fastrip``): all patches together in compiled code
+        (:func:`railcontact.cases.batch.solve_patches`; mode 1).  Any other pair per
+        patch through its Python ``solve``: the normal problem at the row's approach
+        (displacement-controlled: no balance), warm-started from the same patch's
+        solution of the last evaluation and on its grid where the patch's
+        potential area still fits it (``reuse_grid``: the influence coefficients
+        and the pressure are then exact starts); the tangential problem
+        warm-started from the same patch's last tangential solution.  With
+        ``tangential_solves = "step"`` (:class:`OnlineWheelRail`), at an inner stage
+        of a Runge-Kutta step (``stage``) whose patches are those of the step's
+        first evaluation, each within one grid element of where it was, the
+        tangential problem is not solved: the compiled law (FASTSIM) at the
+        stage's normal force and creepages stands in, corrected by the difference
+        between the tangential solution and the stand-in at the step's first
+        evaluation (mode 3, :func:`~.online_contact.row_forces`); else mode 1."""
         from .online_contact import R_DDOT
         on = self.online
         self.fext_rows[:] = 0.0
         nmodel, tmodel = self.py_normal, self.py_model
-        nwarm = "warm-start" in nmodel.capabilities
-        twarm = "warm-start" in tmodel.capabilities
         damping = self.wheel_rail.damping
-        geos, where = [], []
-        for w in range(on.count.size):
-            shift, z, roll, yaw = on.poses[w]
-            pose = WheelsetPose(float(shift), float(z), float(roll), float(yaw))
-            for i in range(int(on.count[w])):
-                geos.append(patch_geometry(on.rows[w, i, :NPF], self.wheel_rail.wheelset,
-                                           self.wheel_rail.track, pose))
-                where.append((w, i))
-        if self.batch and geos:
+        self._rows = rows = self._online_keys()
+        if self.batch and rows:
             # the strip models on all patches together, compiled
             # (railcontact.cases.batch.solve_patches)
             from ..cases.batch import solve_patches
-            r = solve_patches(geos, self.wheel_rail.normal, self.tangential, self.material,
-                              self.friction, self.fastsim_grid)
-            for k, (w, i) in enumerate(where):
+            r = solve_patches([g for *_, g in rows], self.wheel_rail.normal, self.tangential,
+                              self.material, self.friction, self.fastsim_grid)
+            for k, (w, i, _, _) in enumerate(rows):
                 N = max(float(r.normal_force[k]) + damping * float(on.rows[w, i, R_DDOT]),
                         1e-9)
                 self.fext_rows[w, i] = (r.Fx[k], r.Fy[k], r.Mz[k], N)
-            return
-        for geo, (w, i) in zip(geos, where):
-            row = on.rows[w, i]
-            key = (w, int(row[0]), abs(geo.contact_angle) > 0.35)
-            prev = self.warm.get(key)
-            nkw = {"warm_start": prev[0]} if (prev and nwarm) else {}
+            return 1
+        lazy = stage and self.lazy and all(
+            key in self.corrections and
+            abs(float(on.rows[w, i, P_Y_RAIL]) - self.corrections[key][3])
+            <= self.corrections[key][4] for w, i, key, _ in rows)
+        nwarm = "warm-start" in nmodel.capabilities
+        nkeep = "grid-reuse" in nmodel.capabilities
+        twarm = "warm-start" in tmodel.capabilities
+        warm = {}
+        for w, i, key, geo in rows:
+            prev = self.warm.get(key, (None, None))
+            nkw = {"warm_start": prev[0]} if (prev[0] is not None and nwarm) else {}
+            if nkw and nkeep:
+                nkw["reuse_grid"] = prev[0]
             ns = nmodel.solve(geo, self.material, penetration=geo.approach, **nkw)
-            tkw = {"warm_start": prev[1]} if (prev and twarm) else {}
+            N = max(float(ns.normal_force) + damping * float(on.rows[w, i, R_DDOT]), 1e-9)
+            if lazy:
+                c = self.corrections[key]
+                self.fext_rows[w, i] = (c[0], c[1], c[2], N)
+                warm[key] = (ns, prev[1])
+                continue
+            tkw = {"warm_start": prev[1]} if (prev[1] is not None and twarm) else {}
             ts = tmodel.solve(ns, geo, self.material, geo.creepage, self.friction,
                               geo.velocity, **tkw)
-            self.warm[key] = (ns, ts)
-            N = max(float(ns.normal_force) + damping * float(row[R_DDOT]), 1e-9)
+            warm[key] = (ns, ts)
             self.fext_rows[w, i] = (ts.fx, ts.fy, ts.mz, N)
+        self.warm.update(warm)
+        return 3 if lazy else 1
+
+    def _keep_corrections(self):
+        """After an evaluation with the tangential problems solved (mode 1): each
+        patch's correction of the stand-in, the solution's creep forces less the
+        stand-in's at the same normal force (:data:`~.online_contact.R_SFX`, ...),
+        with where the patch lay on the rail [m] and the size of its grid's
+        element across [m] (the stages that follow correct the stand-in where the
+        patch stays within it)."""
+        from .online_contact import R_FX, R_FY, R_MZ, R_SFX, R_SFY, R_SMZ
+        on = self.online
+        self.corrections = {}
+        for w, i, key, _ in self._rows:
+            row = on.rows[w, i]
+            ns = self.warm.get(key, (None,))[0]
+            dy = float(ns.y[1] - ns.y[0]) if ns is not None and ns.y.size > 1 else 0.0
+            self.corrections[key] = (float(row[R_FX] - row[R_SFX]),
+                                     float(row[R_FY] - row[R_SFY]),
+                                     float(row[R_MZ] - row[R_SMZ]), float(row[P_Y_RAIL]), dy)
 
     def active(self) -> np.ndarray:
         """Indices of the states that are degrees of freedom (roll only where given;
@@ -549,16 +618,18 @@ def _run_rk4_online(sysm: _System, u0, duration, sample_rate, step, bar):
 
 def _rk4_python(sysm: _System, u, t0, dt, n_steps, every, samples):
     """:func:`rk4_online`'s steps with the right-hand side in Python (a tangential
-    model without a compiled law: its ``solve`` per patch and evaluation)."""
+    model without a compiled law: its ``solve`` per patch, at each step's first
+    evaluation or at every one, :class:`~.online_contact.OnlineWheelRail`'s
+    ``tangential_solves``; the steps' inner stages marked as such)."""
     k = 0
     for n in range(n_steps):
         t = t0 + n * dt
         k1 = sysm.rhs(t, u)
         if np.any(sysm.online.status != 0):
             return u, k, n
-        k2 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k1)
-        k3 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k2)
-        k4 = sysm.rhs(t + dt, u + dt * k3)
+        k2 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k1, stage=True)
+        k3 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k2, stage=True)
+        k4 = sysm.rhs(t + dt, u + dt * k3, stage=True)
         u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
         if (n + 1) % every == 0 and k < samples.shape[0]:
             samples[k] = u
