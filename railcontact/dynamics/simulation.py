@@ -21,7 +21,9 @@ from ..tangential.polach import PRESETS
 from .equations_of_motion import (EXTERNAL, NORMAL_PASSES, ContactTables, Outputs, System,
                                   Track, Vehicle, rhs_core, rk4_run)
 from ..geometry.wheel_pass import P_CONTACT_ANGLE, P_Y_RAIL
-from .online_contact import (MAX_ROWS, NPF, OFF_RAIL, ON_FLANGE_TIP, OnlineWheelRail,
+from .online_contact import (C_FLANGE, C_FX, C_FY, C_MZ, C_RATIO, C_SIDE, C_TOL, C_YRAIL,
+                             G_MATCH, MAX_ROWS, NPF, OFF_RAIL, ON_FLANGE_TIP, R_FX, R_FY,
+                             R_MZ, R_SFX, R_SFY, R_SMZ, R_SPRING, OnlineWheelRail,
                              rhs_online, rk4_online)
 from .route import Route
 from .vehicle import VehicleModel
@@ -122,8 +124,8 @@ class _System:
                 self.tp, ws_inertia, tangential if strips else None)
             self.fext_rows = np.zeros((nw, MAX_ROWS), EXTERNAL)
             self.warm = {}
-            self.corrections = {}
-            self.batch = self.lazy = False
+            self.batch = False
+            self.stand_in = "none"
             self.fastsim_grid = (nx, ny)
             if self.py_model is not None:
                 from ..normal import get_normal_model, normal_supports
@@ -131,7 +133,8 @@ class _System:
                 self.py_normal = get_normal_model(self.wheel_rail.normal)
                 self.batch = (normal_supports(self.wheel_rail.normal, "batch")
                               and tangential_supports(tangential, "strip-march"))
-                self.lazy = not self.batch and self.wheel_rail.tangential_solves == "step"
+                if not self.batch:
+                    self.stand_in = self.wheel_rail.stand_in
 
     @property
     def n_states(self) -> int:
@@ -156,17 +159,26 @@ class _System:
 
     def rhs(self, t, u, stage: bool = False):
         """The time derivative of the state u at t [s].  ``stage``: an evaluation at
-        an inner stage of a Runge-Kutta step (the online contact's Python path then
-        corrects a stand-in instead of solving the tangential problems where the
-        contact's ``tangential_solves`` is ``"step"``: :meth:`_online_python_forces`)."""
+        an inner stage of a Runge-Kutta step: the online contact's Python path
+        (per patch in Python) then takes the compiled stand-ins corrected at the
+        step's first evaluation where its :class:`OnlineWheelRail` asks for them
+        (``stand_in``) and the patches are the same (mode 4 or 3 of
+        :func:`rhs_online`), and else solves its models (mode 1, the corrections
+        kept: :meth:`_keep_corrections`)."""
         self.calls += 1
         if self.online is not None:
+            on, fr = self.online, self.fext_rows
             if self.law >= 0:
-                return rhs_online(t, u, self.system, self.online, 0, self.fext_rows, self.out)
-            rhs_online(t, u, self.system, self.online, 2, self.fext_rows, self.out)
-            mode = self._online_python_forces(stage)
-            du = rhs_online(t, u, self.system, self.online, mode, self.fext_rows, self.out)
-            if mode == 1 and self.lazy:
+                return rhs_online(t, u, self.system, on, 0, fr, self.out)
+            if stage and self.stand_in == "both":
+                du = rhs_online(t, u, self.system, on, 4, fr, self.out)
+                if on.frame[G_MATCH] > 0.0:
+                    return du
+            rhs_online(t, u, self.system, on, 2, fr, self.out)
+            lazy = stage and self.stand_in == "tangential" and on.frame[G_MATCH] > 0.0
+            mode = self._online_python_forces(lazy)
+            du = rhs_online(t, u, self.system, on, mode, fr, self.out)
+            if mode == 1 and self.stand_in != "none":
                 self._keep_corrections()
             return du
         if self.law >= 0:
@@ -212,7 +224,7 @@ class _System:
                                             self.wheel_rail.track, pose)))
         return rows
 
-    def _online_python_forces(self, stage: bool = False) -> int:
+    def _online_python_forces(self, lazy: bool = False) -> int:
         """The creep forces and normal forces of every row of the last search with
         the registered models at the row's approach and creepages, into
         ``fext_rows``; returns the mode of :func:`rhs_online` that takes them.
@@ -225,14 +237,10 @@ class _System:
         solution of the last evaluation and on its grid where the patch's
         potential area still fits it (``reuse_grid``: the influence coefficients
         and the pressure are then exact starts); the tangential problem
-        warm-started from the same patch's last tangential solution.  With
-        ``tangential_solves = "step"`` (:class:`OnlineWheelRail`), at an inner stage
-        of a Runge-Kutta step (``stage``) whose patches are those of the step's
-        first evaluation, each within one grid element of where it was, the
-        tangential problem is not solved: the compiled law (FASTSIM) at the
-        stage's normal force and creepages stands in, corrected by the difference
-        between the tangential solution and the stand-in at the step's first
-        evaluation (mode 3, :func:`~.online_contact.row_forces`); else mode 1."""
+        warm-started from the same patch's last tangential solution (mode 1).
+        ``lazy``: the tangential problems not solved; FASTSIM compiled at the
+        normal forces stands in, corrected by the difference of the last
+        solutions from it (mode 3, :func:`~.online_contact.row_forces`)."""
         from .online_contact import R_DDOT
         on = self.online
         self.fext_rows[:] = 0.0
@@ -250,10 +258,6 @@ class _System:
                         1e-9)
                 self.fext_rows[w, i] = (r.Fx[k], r.Fy[k], r.Mz[k], N)
             return 1
-        lazy = stage and self.lazy and all(
-            key in self.corrections and
-            abs(float(on.rows[w, i, P_Y_RAIL]) - self.corrections[key][3])
-            <= self.corrections[key][4] for w, i, key, _ in rows)
         nwarm = "warm-start" in nmodel.capabilities
         nkeep = "grid-reuse" in nmodel.capabilities
         twarm = "warm-start" in tmodel.capabilities
@@ -266,8 +270,7 @@ class _System:
             ns = nmodel.solve(geo, self.material, penetration=geo.approach, **nkw)
             N = max(float(ns.normal_force) + damping * float(on.rows[w, i, R_DDOT]), 1e-9)
             if lazy:
-                c = self.corrections[key]
-                self.fext_rows[w, i] = (c[0], c[1], c[2], N)
+                self.fext_rows[w, i] = (0.0, 0.0, 0.0, N)
                 warm[key] = (ns, prev[1])
                 continue
             tkw = {"warm_start": prev[1]} if (prev[1] is not None and twarm) else {}
@@ -279,22 +282,25 @@ class _System:
         return 3 if lazy else 1
 
     def _keep_corrections(self):
-        """After an evaluation with the tangential problems solved (mode 1): each
-        patch's correction of the stand-in, the solution's creep forces less the
-        stand-in's at the same normal force (:data:`~.online_contact.R_SFX`, ...),
-        with where the patch lay on the rail [m] and the size of its grid's
-        element across [m] (the stages that follow correct the stand-in where the
-        patch stays within it)."""
-        from .online_contact import R_FX, R_FY, R_MZ, R_SFX, R_SFY, R_SMZ
+        """After an evaluation with the models solved (mode 1): each patch's
+        corrections of the stand-ins into the online contact's
+        (:data:`~.online_contact.CORRECTION_FIELDS`): the normal solution's force
+        over Hertz's spring's at the same approach, the tangential solution's creep
+        forces less the stand-in's at the same normal force, with where the patch
+        lay on the rail [m] and its grid's element across [m] (the stages that
+        follow take the corrections while the patch stays within it)."""
         on = self.online
-        self.corrections = {}
+        on.corrected[:] = on.count
         for w, i, key, _ in self._rows:
-            row = on.rows[w, i]
-            ns = self.warm.get(key, (None,))[0]
-            dy = float(ns.y[1] - ns.y[0]) if ns is not None and ns.y.size > 1 else 0.0
-            self.corrections[key] = (float(row[R_FX] - row[R_SFX]),
-                                     float(row[R_FY] - row[R_SFY]),
-                                     float(row[R_MZ] - row[R_SMZ]), float(row[P_Y_RAIL]), dy)
+            row, c = on.rows[w, i], on.corrections[w, i]
+            ns = self.warm[key][0]
+            spring = float(row[R_SPRING])
+            c[C_SIDE], c[C_FLANGE], c[C_YRAIL] = row[0], float(key[2]), row[P_Y_RAIL]
+            c[C_TOL] = float(ns.y[1] - ns.y[0]) if ns.y.size > 1 else 0.0
+            c[C_RATIO] = float(ns.normal_force) / spring if spring > 0.0 else 1.0
+            c[C_FX] = row[R_FX] - row[R_SFX]
+            c[C_FY] = row[R_FY] - row[R_SFY]
+            c[C_MZ] = row[R_MZ] - row[R_SMZ]
 
     def active(self) -> np.ndarray:
         """Indices of the states that are degrees of freedom (roll only where given;
