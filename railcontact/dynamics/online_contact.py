@@ -361,14 +361,13 @@ def row_forces(row, online, mode, fe, rates, corr):
     row[R_DDOT] = ddot
     F = row[R_N]
     row[R_SPRING] = F
-    if mode == 4:
-        F *= corr[C_RATIO]
-    N = max(F + online.frame[G_DAMPING] * ddot, 0.0) if F > 0.0 else 0.0
+    Fs = F * corr[C_RATIO] if mode == 4 else F
+    N = max(Fs + online.frame[G_DAMPING] * ddot, 0.0) if Fs > 0.0 else 0.0
     if (mode == 1 or mode == 3) and F > 0.0 and fe.normal_force > 0.0:
         N = fe.normal_force             # (the caller's normal force, damper included)
     row[R_N] = N
     fx = fy = mz = 0.0
-    if N > 0.0:           # the ellipse at the force (Hertz: a, b ~ N^(1/3))
+    if N > 0.0:           # Hertz's ellipse at the force (a, b ~ N^(1/3))
         scale = (N / F) ** (1.0 / 3.0)
         row[R_AA] *= scale
         row[R_BB] *= scale
