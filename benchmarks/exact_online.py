@@ -4,12 +4,13 @@ evaluation of the right-hand side spends its time, before and after, interleaved
 The scenario of ``benchmarks/dynamics_online.py`` (Manchester vehicle, 4
 wheelsets, 50 m/s, the curved irregular route from its start: the first
 ``--duration`` s lie on its tangent with ERRI-low irregularities; rk4 at the
-step of the run's Jacobian and 1000 samples per second, as that benchmark's exact
-row), run by each variant in a process of its own, the variants alternating for
-``--rounds`` rounds:
+step of the run's Jacobian, which divides the interval of ``--sample-rate``
+samples per second: 1000 as that benchmark's exact row had it, 0.5 ms), run by
+each variant in a process of its own, the variants alternating for ``--rounds``
+rounds:
 
-* ``before``: the code of ``--before`` (a git ref, default ``main``; extracted
-  beside the temporary folder with a Numba cache of its own): the normal and
+* ``before``: the code of ``--before`` (a git ref, default :data:`BEFORE`; extracted
+  into the temporary folder with a Numba cache of its own): the normal and
   tangential problems solved per patch at every evaluation, each warm-started from
   the same wheel's patch of the last evaluation interpolated to a new grid;
 * ``none``, ``tangential``, ``both``: this checkout with
@@ -29,7 +30,8 @@ convolution of the 40 x 40 grid's 80 x 80 padding, measured in each process
 after its run.  The wheel forces Q and Y of every wheel at the samples against
 the ``before`` run's: rms and largest difference.
 
-``python benchmarks/exact_online.py [--duration 0.5] [--rounds 2] [--before main]``
+``python benchmarks/exact_online.py [--duration 0.5] [--rounds 2] [--before REF]
+[--variants before,none,tangential,both] [--sample-rate 1000] [--out FILE]``
 (prints a Markdown section; ``--out`` appends it to a file).
 """
 
@@ -49,9 +51,11 @@ import numpy as np
 HERE = Path(__file__).resolve().parent
 ROOT = HERE.parent
 VARIANTS = ("before", "none", "tangential", "both")
+#: the code before the stand-ins and the kept grids (issue 30's main, 2026-11-27)
+BEFORE = "ff7965a"
 
 
-def _child(variant: str, duration: float, npz: str) -> dict:
+def _child(variant: str, duration: float, npz: str, sample_rate: float) -> dict:
     """One run in this process (the package on ``sys.path``): the measurements."""
     sys.path.insert(0, str(Path.cwd() / "benchmarks"))
     from dynamics_online import _setup
@@ -63,8 +67,9 @@ def _child(variant: str, duration: float, npz: str) -> dict:
     model, ws, tr, _, route = _setup(100.0, 50.0)
     kw = {} if variant == "before" else {"stand_in": variant}
     online = OnlineWheelRail(ws, tr, damping=6e5, normal="exact", **kw)
-    integ = Integration(method="rk4", sample_rate=1000.0)
-    simulate_vehicle(model, route, online, 50.0, 0.002, "exact", integration=integ)  # caches
+    integ = Integration(method="rk4", sample_rate=sample_rate)
+    simulate_vehicle(model, route, online, 50.0, max(2.0 / sample_rate, 2e-3), "exact",
+                     integration=integ)                     # the caches loaded
     c = Counter()
     stages = (("railcontact.dynamics.simulation", "rhs_online", "search", None),
               ("railcontact.geometry.wheel_pass", "patch_geometry", "geometry", None),
@@ -114,13 +119,14 @@ def _before_tree(ref: str) -> Path:
     return tree
 
 
-def _run(variant: str, duration: float, before: Path, npz: str) -> dict:
+def _run(variant: str, duration: float, before: Path, npz: str, sample_rate: float) -> dict:
     tree = before if variant == "before" else ROOT
     env = dict(os.environ, PYTHONPATH=str(tree),
                NUMBA_CACHE_DIR=str(tree / ".numba-exact-online") if variant == "before"
                else os.environ.get("NUMBA_CACHE_DIR", str(ROOT / ".venv" / "numba-cache")))
     p = subprocess.run([sys.executable, str(HERE / "exact_online.py"), "--child", variant,
-                        "--duration", str(duration), "--npz", npz], cwd=tree, env=env,
+                        "--duration", str(duration), "--npz", npz, "--sample-rate",
+                        str(sample_rate)], cwd=tree, env=env,
                        capture_output=True, text=True)
     if p.returncode:
         raise RuntimeError(f"{variant}: {p.stderr.strip()[-2000:]}")
@@ -148,14 +154,16 @@ def main(argv=None):
     ap = argparse.ArgumentParser(description=__doc__.split("\n")[0])
     ap.add_argument("--duration", type=float, default=0.5)
     ap.add_argument("--rounds", type=int, default=2)
-    ap.add_argument("--before", default="main")
+    ap.add_argument("--before", default=BEFORE)
+    ap.add_argument("--sample-rate", type=float, default=1000.0,
+                    help="samples per second (the rk4 step divides their interval)")
     ap.add_argument("--variants", default=",".join(VARIANTS))
     ap.add_argument("--out", default=None)
     ap.add_argument("--child", default=None)
     ap.add_argument("--npz", default=None)
     args = ap.parse_args(argv)
     if args.child:
-        print(json.dumps(_child(args.child, args.duration, args.npz)))
+        print(json.dumps(_child(args.child, args.duration, args.npz, args.sample_rate)))
         return None
     variants = args.variants.split(",")
     before = _before_tree(args.before) if "before" in variants else ROOT
@@ -166,13 +174,14 @@ def main(argv=None):
         for k in range(args.rounds):
             for v in variants:
                 npz = str(Path(tmp) / f"{v}.npz")
-                r = _run(v, args.duration, before, npz)
+                r = _run(v, args.duration, before, npz, args.sample_rate)
                 results[v].append(r)
                 forces[v] = dict(np.load(npz))
                 print(_row(r), flush=True)
     load1 = os.getloadavg()
     lines = [f"Exact + exact online, {args.duration:g} s of the route (tangent, ERRI-low), "
-             f"rk4 step {results[variants[0]][0]['step_s'] * 1e3:.3g} ms, {args.rounds} rounds "
+             f"{args.sample_rate:g} samples per second, rk4 step "
+             f"{results[variants[0]][0]['step_s'] * 1e3:.3g} ms, {args.rounds} rounds "
              f"interleaved (the best round of each variant shown), each run in a process of "
              f"its own; CPU time of the rk4 loop; load average "
              f"{load0[0]:.1f} at the start, {load1[0]:.1f} at the end (2 cores):", "",
