@@ -316,7 +316,8 @@ def test_online_input_checks(bodies):
 
 
 def test_scenario_contact_section():
-    """``[contact] mode = "online"`` in a dynamics scenario; a wrong mode names the key."""
+    """``[contact] mode = "online"`` in a dynamics scenario; a wrong mode or stand-in
+    names the key."""
     from railcontact.inputs import load_dynamics_scenario
     sc = load_dynamics_scenario(ROOT / "examples" / "dynamics_online.toml")
     assert sc.contact_mode == "online" and sc.contact_damping == 6e5
@@ -325,3 +326,8 @@ def test_scenario_contact_section():
         _contact_section({"mode": "sometimes"})
     with pytest.raises(CaseFileError, match="contact"):
         _contact_section({"dampin": 1.0})
+    assert sc.contact_stand_in == "both"
+    assert _contact_section({"mode": "online", "normal": "exact",
+                             "stand_in": "tangential"})[4] == "tangential"
+    with pytest.raises(CaseFileError, match="contact.stand_in"):
+        _contact_section({"stand_in": "all"})
