@@ -136,11 +136,16 @@ STAND_IN = ("none", "tangential", "both")
 #: 1 right) and slot (1: flange, contact angle over :data:`FLANGE_ANGLE`), where it
 #: lay on the rail profile [m] and how far it may move from there (its grid's
 #: element across [m]), the normal model's force over Hertz's spring's at its
-#: approach [-], and the creep forces Fx, Fy [N] and spin moment Mz [N m] of the
-#: tangential model less the stand-in's at the same normal force
+#: approach [-], the creep forces Fx, Fy [N] and spin moment Mz [N m] of the
+#: tangential model less the stand-in's at the same normal force, the spring's
+#: force there [N] and the exponent kappa [-] of the stand-in's normal force,
+#: N = N_0 (F / F_0)^kappa (F Hertz's spring, 0 at the correction): the normal
+#: model's relative stiffness (dN/d(delta)) / N over the spring's, so that the
+#: stand-in has the normal model's stiffness
 CORRECTION_FIELDS = ("side", "flange", "y_rail", "tolerance", "normal_ratio", "fx", "fy",
-                     "mz")
-C_SIDE, C_FLANGE, C_YRAIL, C_TOL, C_RATIO, C_FX, C_FY, C_MZ = range(len(CORRECTION_FIELDS))
+                     "mz", "spring", "exponent")
+(C_SIDE, C_FLANGE, C_YRAIL, C_TOL, C_RATIO, C_FX, C_FY, C_MZ, C_SPRING,
+ C_EXPONENT) = range(len(CORRECTION_FIELDS))
 
 #: derailment codes of :attr:`OnlineContact.status` per wheelset and side
 ON_TRACK, ON_FLANGE_TIP, OFF_RAIL = 0, 1, 2
@@ -342,7 +347,7 @@ def row_forces(row, online, mode, fe, rates, corr):
     record, the normal force and the creep forces; mode 2: none; mode 3: the
     normal force of ``fe`` and the compiled law's creep forces at it, the
     *stand-in*, plus the correction ``corr``'s; mode 4: as 3, the normal force
-    Hertz's spring's times ``corr``'s ratio, with the damper: the row's
+    the corrected spring's, N_0 (F / F_0)^kappa, with the damper: the row's
     :data:`CORRECTION_FIELDS`), and their lateral and vertical resultants (track
     plane).  Modes 1, 3 and 4 keep the stand-in's forces at the normal force in
     the row (:data:`R_SFX`, :data:`R_SFY`, :data:`R_SMZ`) and every mode the
@@ -361,7 +366,9 @@ def row_forces(row, online, mode, fe, rates, corr):
     row[R_DDOT] = ddot
     F = row[R_N]
     row[R_SPRING] = F
-    Fs = F * corr[C_RATIO] if mode == 4 else F
+    Fs = F
+    if mode == 4 and F > 0.0:         # the normal model's force and stiffness
+        Fs = corr[C_RATIO] * corr[C_SPRING] * (F / corr[C_SPRING]) ** corr[C_EXPONENT]
     N = max(Fs + online.frame[G_DAMPING] * ddot, 0.0) if Fs > 0.0 else 0.0
     if (mode == 1 or mode == 3) and F > 0.0 and fe.normal_force > 0.0:
         N = fe.normal_force             # (the caller's normal force, damper included)
