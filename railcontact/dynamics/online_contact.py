@@ -649,9 +649,10 @@ class OnlineWheelRail:
     path (per patch in Python, e.g. ``exact`` + ``exact``) at the inner three
     stages of each Runge-Kutta step, the models solved at its first evaluation:
     ``"both"``, Hertz's spring and FASTSIM, each corrected by the models'
-    difference from it at the step's first evaluation (the normal force times
-    the ratio of the normal model's to the spring's, the creep forces plus the
-    difference; mode 4 of :func:`rhs_online`); ``"tangential"``, FASTSIM at the
+    difference from it at the step's first evaluation (the normal force
+    N_0 (F / F_0)^kappa of the spring's F with the normal model's force N_0 and
+    relative stiffness there, the creep forces plus the difference; mode 4 of
+    :func:`rhs_online`, :data:`CORRECTION_FIELDS`); ``"tangential"``, FASTSIM at the
     normal model's force, solved at every stage (mode 3); ``"none"``: the models
     solved at every evaluation (four times the solves).  A stage whose patches
     are not the step's (another number, side or slot, or one moved on the rail
