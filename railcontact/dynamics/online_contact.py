@@ -367,7 +367,7 @@ def row_forces(row, online, mode, fe, rates, corr):
     F = row[R_N]
     row[R_SPRING] = F
     Fs = F
-    if mode == 4 and F > 0.0:         # the normal model's force and stiffness
+    if mode == 4 and F > 0.0 and corr[C_SPRING] > 0.0:   # the normal model's
         Fs = corr[C_RATIO] * corr[C_SPRING] * (F / corr[C_SPRING]) ** corr[C_EXPONENT]
     N = max(Fs + online.frame[G_DAMPING] * ddot, 0.0) if Fs > 0.0 else 0.0
     if (mode == 1 or mode == 3) and F > 0.0 and fe.normal_force > 0.0:
@@ -535,15 +535,16 @@ def rhs_online(t, u, system, online, mode, fext, out):
 def matches(online, w, m):
     """Whether wheelset w's m rows of the last search are the patches of its
     :attr:`~OnlineContact.corrections`: as many, each on the same side and in the
-    same slot (tread, flange) as its correction's, and within its tolerance of
-    where it lay on the rail."""
+    same slot (tread, flange) as its correction's, within its tolerance of
+    where it lay on the rail, and loaded by its spring only where it was."""
     if online.corrected[w] != m:
         return False
     for i in range(m):
         row, c = online.rows[w, i], online.corrections[w, i]
         if (row[0] != c[C_SIDE]
                 or (abs(row[P_CONTACT_ANGLE]) > FLANGE_ANGLE) != (c[C_FLANGE] > 0.5)
-                or not abs(row[P_Y_RAIL] - c[C_YRAIL]) <= c[C_TOL]):
+                or not abs(row[P_Y_RAIL] - c[C_YRAIL]) <= c[C_TOL]
+                or (row[R_N] > 0.0 and not c[C_SPRING] > 0.0)):
             return False
     return True
 
