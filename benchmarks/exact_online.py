@@ -23,8 +23,7 @@ Per run, in the rk4 loop alone (the start, the static equilibrium and the step's
 Jacobian, apart): CPU time of the process, evaluations, ms per evaluation,
 multiples of real time (CPU / simulated), exact normal and tangential solves per
 evaluation, FFT convolutions per evaluation (counted as ``exact_case.py`` counts
-them: Polonsky-Keer it + ceil(it / 10), semi-smooth Newton 2 (1 + products); the
-flat punch of the normal stand-in's stiffness it + 1),
+them: Polonsky-Keer it + ceil(it / 10), semi-smooth Newton 2 (1 + products)),
 and the CPU of the compiled solvers' iterations, the compiled search and the
 rest (Python: grids, gaps, set-up, results, the loop).  The unit, one FFT
 convolution of the 40 x 40 grid's 80 x 80 padding, measured in each process
@@ -56,12 +55,6 @@ VARIANTS = ("before", "none", "tangential", "both")
 BEFORE = "ff7965a"
 
 
-def _punch(res):
-    """The flat punch's conjugate gradients (the stand-in's stiffness exponent):
-    one product a step and the first."""
-    return res[1], res[1] + 1
-
-
 def _child(variant: str, duration: float, npz: str, sample_rate: float) -> dict:
     """One run in this process (the package on ``sys.path``): the measurements."""
     sys.path.insert(0, str(Path.cwd() / "benchmarks"))
@@ -84,8 +77,7 @@ def _child(variant: str, duration: float, npz: str, sample_rate: float) -> dict:
               ("railcontact.normal.exact", "polonsky_keer", "pk", _pk),
               ("railcontact.tangential.exact", "ExactTangentialModel.solve", "tangential",
                None),
-              ("railcontact.tangential.exact", "ssn_solve", "ssn", _ssn),
-              ("railcontact.normal.exact", "flat_punch_stiffness", "stiffness", _punch))
+              ("railcontact.tangential.exact", "ssn_solve", "ssn", _ssn))
     for mod, attr, label, count in stages:
         c.wrap(mod, attr, label, count)
     real, loop = S._rk4_python, {"cpu": 0.0, "first": True}
@@ -147,8 +139,8 @@ def _row(r: dict) -> str:
     calls, cpu, conv = cnt["calls"], cnt["cpu"], cnt["conv"]
     unit = r["unit"]
     per = r["loop_cpu"] / n
-    kern = cpu.get("pk", 0.0) + cpu.get("ssn", 0.0) + cpu.get("stiffness", 0.0)
-    convs = (conv.get("pk", 0) + conv.get("ssn", 0) + conv.get("stiffness", 0)) / n
+    kern = cpu.get("pk", 0.0) + cpu.get("ssn", 0.0)
+    convs = (conv.get("pk", 0) + conv.get("ssn", 0)) / n
     return (f"| {r['variant']} | {r['duration']:g} | {r['loop_cpu']:.2f} | "
             f"{r['loop_cpu'] / r['duration']:.1f} | {n} | {per * 1e3:.2f} | {per / unit:.0f} | "
             f"{calls.get('normal', 0) / n:.2f} | {calls.get('tangential', 0) / n:.2f} | "

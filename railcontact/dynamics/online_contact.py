@@ -136,16 +136,11 @@ STAND_IN = ("none", "tangential", "both")
 #: 1 right) and slot (1: flange, contact angle over :data:`FLANGE_ANGLE`), where it
 #: lay on the rail profile [m] and how far it may move from there (its grid's
 #: element across [m]), the normal model's force over Hertz's spring's at its
-#: approach [-], the creep forces Fx, Fy [N] and spin moment Mz [N m] of the
-#: tangential model less the stand-in's at the same normal force, the spring's
-#: force there [N] and the exponent kappa [-] of the stand-in's normal force,
-#: N = N_0 (F / F_0)^kappa (F Hertz's spring, 0 at the correction): the normal
-#: model's relative stiffness (dN/d(delta)) / N over the spring's, so that the
-#: stand-in has the normal model's stiffness
+#: approach [-], and the creep forces Fx, Fy [N] and spin moment Mz [N m] of the
+#: tangential model less the stand-in's at the same normal force
 CORRECTION_FIELDS = ("side", "flange", "y_rail", "tolerance", "normal_ratio", "fx", "fy",
-                     "mz", "spring", "exponent")
-(C_SIDE, C_FLANGE, C_YRAIL, C_TOL, C_RATIO, C_FX, C_FY, C_MZ, C_SPRING,
- C_EXPONENT) = range(len(CORRECTION_FIELDS))
+                     "mz")
+C_SIDE, C_FLANGE, C_YRAIL, C_TOL, C_RATIO, C_FX, C_FY, C_MZ = range(len(CORRECTION_FIELDS))
 
 #: derailment codes of :attr:`OnlineContact.status` per wheelset and side
 ON_TRACK, ON_FLANGE_TIP, OFF_RAIL = 0, 1, 2
@@ -347,7 +342,7 @@ def row_forces(row, online, mode, fe, rates, corr):
     record, the normal force and the creep forces; mode 2: none; mode 3: the
     normal force of ``fe`` and the compiled law's creep forces at it, the
     *stand-in*, plus the correction ``corr``'s; mode 4: as 3, the normal force
-    the corrected spring's, N_0 (F / F_0)^kappa, with the damper: the row's
+    Hertz's spring's times ``corr``'s ratio, with the damper: the row's
     :data:`CORRECTION_FIELDS`), and their lateral and vertical resultants (track
     plane).  Modes 1, 3 and 4 keep the stand-in's forces at the normal force in
     the row (:data:`R_SFX`, :data:`R_SFY`, :data:`R_SMZ`) and every mode the
@@ -366,9 +361,7 @@ def row_forces(row, online, mode, fe, rates, corr):
     row[R_DDOT] = ddot
     F = row[R_N]
     row[R_SPRING] = F
-    Fs = F
-    if mode == 4 and F > 0.0 and corr[C_SPRING] > 0.0:   # the normal model's
-        Fs = corr[C_RATIO] * corr[C_SPRING] * (F / corr[C_SPRING]) ** corr[C_EXPONENT]
+    Fs = F * corr[C_RATIO] if mode == 4 else F
     N = max(Fs + online.frame[G_DAMPING] * ddot, 0.0) if Fs > 0.0 else 0.0
     if (mode == 1 or mode == 3) and F > 0.0 and fe.normal_force > 0.0:
         N = fe.normal_force             # (the caller's normal force, damper included)
@@ -535,16 +528,15 @@ def rhs_online(t, u, system, online, mode, fext, out):
 def matches(online, w, m):
     """Whether wheelset w's m rows of the last search are the patches of its
     :attr:`~OnlineContact.corrections`: as many, each on the same side and in the
-    same slot (tread, flange) as its correction's, within its tolerance of
-    where it lay on the rail, and loaded by its spring only where it was."""
+    same slot (tread, flange) as its correction's, and within its tolerance of
+    where it lay on the rail."""
     if online.corrected[w] != m:
         return False
     for i in range(m):
         row, c = online.rows[w, i], online.corrections[w, i]
         if (row[0] != c[C_SIDE]
                 or (abs(row[P_CONTACT_ANGLE]) > FLANGE_ANGLE) != (c[C_FLANGE] > 0.5)
-                or not abs(row[P_Y_RAIL] - c[C_YRAIL]) <= c[C_TOL]
-                or (row[R_N] > 0.0 and not c[C_SPRING] > 0.0)):
+                or not abs(row[P_Y_RAIL] - c[C_YRAIL]) <= c[C_TOL]):
             return False
     return True
 
@@ -650,10 +642,9 @@ class OnlineWheelRail:
     path (per patch in Python, e.g. ``exact`` + ``exact``) at the inner three
     stages of each Runge-Kutta step, the models solved at its first evaluation:
     ``"both"``, Hertz's spring and FASTSIM, each corrected by the models'
-    difference from it at the step's first evaluation (the normal force
-    N_0 (F / F_0)^kappa of the spring's F with the normal model's force N_0 and
-    relative stiffness there, the creep forces plus the difference; mode 4 of
-    :func:`rhs_online`, :data:`CORRECTION_FIELDS`); ``"tangential"``, FASTSIM at the
+    difference from it at the step's first evaluation (the normal force times
+    the ratio of the normal model's to the spring's, the creep forces plus the
+    difference; mode 4 of :func:`rhs_online`); ``"tangential"``, FASTSIM at the
     normal model's force, solved at every stage (mode 3); ``"none"``: the models
     solved at every evaluation (four times the solves).  A stage whose patches
     are not the step's (another number, side or slot, or one moved on the rail

@@ -23,8 +23,7 @@ from .equations_of_motion import (EXTERNAL, NORMAL_PASSES, ContactTables, Output
 from ..geometry.wheel_pass import P_CONTACT_ANGLE, P_Y_RAIL
 from .online_contact import (C_FLANGE, C_FX, C_FY, C_MZ, C_RATIO, C_SIDE, C_TOL, C_YRAIL,
                              G_MATCH, MAX_ROWS, NPF, OFF_RAIL, ON_FLANGE_TIP, R_FX, R_FY,
-                             R_MZ, R_SFX, R_SFY, R_SMZ, R_SPRING, R_STIFF, C_SPRING,
-                             C_EXPONENT, OnlineWheelRail,
+                             R_MZ, R_SFX, R_SFY, R_SMZ, R_SPRING, OnlineWheelRail,
                              rhs_online, rk4_online)
 from .route import Route
 from .vehicle import VehicleModel
@@ -48,13 +47,6 @@ def _per_wheelset(table, nw: int) -> list:
             raise InputError("contact tables of the wheelsets: expected one shift grid and "
                              "one nominal radius")
     return tables
-
-
-#: evaluations with the models solved (rk4 steps) that a patch's stiffness exponent
-#: of the normal stand-in is kept for while the patch stays within its grid's
-#: element on the rail (:meth:`_System._stiffness_exponent`; docs/tuning.md,
-#: section "Dynamics")
-KAPPA_STEPS = 10
 
 
 class _System:
@@ -132,7 +124,6 @@ class _System:
                 self.tp, ws_inertia, tangential if strips else None)
             self.fext_rows = np.zeros((nw, MAX_ROWS), EXTERNAL)
             self.warm = {}
-            self.kappa = {}
             self.batch = False
             self.stand_in = "none"
             self.fastsim_grid = (nx, ny)
@@ -297,43 +288,22 @@ class _System:
         over Hertz's spring's at the same approach, the tangential solution's creep
         forces less the stand-in's at the same normal force, with where the patch
         lay on the rail [m] and its grid's element across [m] (the stages that
-        follow take the corrections while the patch stays within it)."""
+        follow take the corrections while the patch stays within it; none for a
+        patch that the spring did not load)."""
         on = self.online
         on.corrected[:] = on.count
-        for w, i, key, geo in self._rows:
+        for w, i, key, _ in self._rows:
             row, c = on.rows[w, i], on.corrections[w, i]
             ns = self.warm[key][0]
             spring = float(row[R_SPRING])
             c[C_SIDE], c[C_FLANGE], c[C_YRAIL] = row[0], float(key[2]), row[P_Y_RAIL]
-            c[C_TOL] = float(ns.y[1] - ns.y[0]) if ns.y.size > 1 else 0.0
+            # (a patch unloaded here has no correction: a stage that loads it is
+            # solved; the tolerance -1 matches no row)
+            c[C_TOL] = float(ns.y[1] - ns.y[0]) if ns.y.size > 1 and spring > 0.0 else -1.0
             c[C_RATIO] = float(ns.normal_force) / spring if spring > 0.0 else 1.0
             c[C_FX] = row[R_FX] - row[R_SFX]
             c[C_FY] = row[R_FY] - row[R_SFY]
             c[C_MZ] = row[R_MZ] - row[R_SMZ]
-            c[C_SPRING] = spring
-            c[C_EXPONENT] = self._stiffness_exponent(key, geo, ns, row, c[C_TOL])
-
-    def _stiffness_exponent(self, key, geo, ns, row, tol) -> float:
-        """The exponent kappa of a patch's normal stand-in (the normal model's
-        relative stiffness over Hertz's spring's: :data:`~.online_contact.CORRECTION_FIELDS`):
-        the normal model's contact stiffness (``contact_stiffness``, the flat punch
-        of the exact model) computed anew where the patch moved on the rail by more
-        than its grid's element or after ``KAPPA_STEPS`` evaluations, else the last
-        one's, bounded to [0.5, 2]; 1 where the model has none."""
-        spring, stiff = float(row[R_SPRING]), float(row[R_STIFF])
-        if "contact-stiffness" not in self.py_normal.capabilities or not (
-                spring > 0.0 and stiff > 0.0 and ns.normal_force > 0.0):
-            return 1.0
-        last = self.kappa.get(key)
-        y = float(row[P_Y_RAIL])
-        if last is not None and last[2] < KAPPA_STEPS and abs(y - last[1]) <= tol:
-            self.kappa[key] = (last[0], last[1], last[2] + 1)
-            return last[0]
-        k = self.py_normal.contact_stiffness(ns, self.material, geo)
-        kappa = (k / float(ns.normal_force)) / (stiff / spring) if k > 0.0 else 1.0
-        kappa = min(max(kappa, 0.5), 2.0) if math.isfinite(kappa) else 1.0
-        self.kappa[key] = (kappa, y, 1)
-        return kappa
 
     def active(self) -> np.ndarray:
         """Indices of the states that are degrees of freedom (roll only where given;
