@@ -1474,6 +1474,8 @@ def main():
     seed001_tables.main()
     import dynamics_online         # issue 30, contact online: benchmarks/dynamics_online.md
     dynamics_online.main([])
+    import exact_online            # issue 30, exact + exact online (appended to the same)
+    exact_online.main(["--out", str(HERE / "dynamics_online.md")])
     import gauge_corner_sampling   # issue 34: CONTACT's wheel sampling (prints)
     gauge_corner_sampling.main()
     import t3_t2_conformal_balance  # issue 34: case 3's vertical balance (prints)

@@ -105,22 +105,42 @@ RATE_MARGIN = 1.5
 
 #: the fields of the ``frame`` array of :class:`OnlineContact`
 FRAME_FIELDS = ("y_off_left", "y_off_right", "wheel_offset", "nominal_radius", "combine",
-                "damping", "tip_z", "tip_zone", "rate", "stiffness")
+                "damping", "tip_z", "tip_zone", "rate", "stiffness", "match")
 (G_YOFF_L, G_YOFF_R, G_E, G_R0, G_COMBINE, G_DAMPING, G_TIP_Z, G_TIP_ZONE, G_RATE,
- G_STIFFNESS) = range(10)
+ G_STIFFNESS, G_MATCH) = range(11)
 
 #: per row of :attr:`OnlineContact.rows` after the patch geometry: normal force N
 #: [N] (Hertz spring and damper), Hertz semi-axes a, b [m], creep forces Fx, Fy [N],
 #: spin moment Mz [N m] on the wheel, lateral Y and vertical Q force of the rail on
 #: the wheel [N] (track plane), the lateral position of the patch relative to the
 #: wheelset centre [m] and the approach rate [m/s]
+#: (Kalker's coefficients, the spring's stiffness dN/d(delta) [N/m]), the
+#: stand-in's creep forces Fx, Fy [N] and spin moment Mz [N m] at the row's normal
+#: force (``mode`` 1, 3 and 4 of :func:`rhs_online`) and the spring's force before
+#: the damper [N]
 ROW_EXTRA = ("normal_force", "a", "b", "fx", "fy", "mz", "Y", "Q", "y_contact",
-             "approach_rate", "C11", "C22", "C23", "stiffness")
+             "approach_rate", "C11", "C22", "C23", "stiffness", "standin_fx", "standin_fy",
+             "standin_mz", "spring_force")
 (R_N, R_AA, R_BB, R_FX, R_FY, R_MZ, R_YF, R_QF, R_YC, R_DDOT, R_C11, R_C22,
- R_C23, R_STIFF) = range(NPF, NPF + len(ROW_EXTRA))
+ R_C23, R_STIFF, R_SFX, R_SFY, R_SMZ, R_SPRING) = range(NPF, NPF + len(ROW_EXTRA))
 NROW = NPF + len(ROW_EXTRA)
 #: rows per wheelset
 MAX_ROWS = 2 * MAX_PATCHES
+
+#: what the compiled stand-ins take over at the inner stages of a Runge-Kutta step
+#: on the Python path (:class:`OnlineWheelRail`)
+STAND_IN = ("none", "tangential", "both")
+
+#: per row of :attr:`OnlineContact.corrections`, the stand-ins' corrections of
+#: each patch, from the last evaluation with the models solved: its side (0 left,
+#: 1 right) and slot (1: flange, contact angle over :data:`FLANGE_ANGLE`), where it
+#: lay on the rail profile [m] and how far it may move from there (its grid's
+#: element across [m]), the normal model's force over Hertz's spring's at its
+#: approach [-], and the creep forces Fx, Fy [N] and spin moment Mz [N m] of the
+#: tangential model less the stand-in's at the same normal force
+CORRECTION_FIELDS = ("side", "flange", "y_rail", "tolerance", "normal_ratio", "fx", "fy",
+                     "mz")
+C_SIDE, C_FLANGE, C_YRAIL, C_TOL, C_RATIO, C_FX, C_FY, C_MZ = range(len(CORRECTION_FIELDS))
 
 #: derailment codes of :attr:`OnlineContact.status` per wheelset and side
 ON_TRACK, ON_FLANGE_TIP, OFF_RAIL = 0, 1, 2
@@ -156,6 +176,11 @@ class OnlineContact(NamedTuple):
     poses: np.ndarray
     #: (1,) rk4 steps made, substeps counted (:func:`rk4_online`)
     count_substeps: np.ndarray
+    #: (nw, MAX_ROWS, len(CORRECTION_FIELDS)) the stand-ins' corrections per row
+    #: (:data:`CORRECTION_FIELDS`, modes 3 and 4 of :func:`rhs_online`)
+    corrections: np.ndarray
+    #: (nw,) rows of each wheelset in :attr:`corrections` (-1: none)
+    corrected: np.ndarray
 
 
 def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL,
@@ -182,7 +207,8 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
     fl = flange(wheel)
     frame = np.array([track.rail_offset("left"), track.rail_offset("right"),
                       wheelset.wheel_offset, wheelset.nominal_radius, 0.0, float(damping),
-                      fl.tip_z if fl is not None else math.inf, TIP_ZONE, math.nan, 1.0])
+                      fl.tip_z if fl is not None else math.inf, TIP_ZONE, math.nan, 1.0,
+                      1.0])
     tp = np.array(law_params if law_params is not None else
                   [0.3, material.shear_modulus, 12, 12, 1.0, 1.0, 1.0, 0.0], float)
     dt, tab = _tables()
@@ -195,7 +221,9 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
                          np.full(n_wheelsets, WINDOW_FLOOR),
                          np.zeros((n_wheelsets, MAX_ROWS, NROW)),
                          np.zeros(n_wheelsets, np.int64), np.zeros((n_wheelsets, 2), np.int64),
-                         np.zeros((n_wheelsets, 4)), np.zeros(1, np.int64))
+                         np.zeros((n_wheelsets, 4)), np.zeros(1, np.int64),
+                         np.zeros((n_wheelsets, MAX_ROWS, len(CORRECTION_FIELDS))),
+                         np.full(n_wheelsets, -1, np.int64))
 
 
 #: the approach's relative step [-] of the spring's stiffness (:func:`spring_stiffness`)
@@ -306,12 +334,23 @@ def search_wheelset(online, w, pose, z, roll):
 
 
 @njit(cache=True, nogil=True)
-def row_forces(row, online, mode, fe, rates):
+def row_forces(row, online, mode, fe, rates, corr):
     """The forces of one row: the normal force with the damper at the approach rate
     (``rates``: lateral velocity of the wheelset centre relative to the rail [m/s],
     vertical velocity [m/s], roll rate [rad/s]), the creep forces of the compiled
     law (mode 0) or ``fe`` (mode 1: an :data:`~.equations_of_motion.EXTERNAL`
-    record; mode 2: none), and their lateral and vertical resultants (track plane)."""
+    record, the normal force and the creep forces; mode 2: none; mode 3: the
+    normal force of ``fe`` and the compiled law's creep forces at it, the
+    *stand-in*, plus the correction ``corr``'s; mode 4: as 3, the normal force
+    Hertz's spring's times ``corr``'s ratio, with the damper: the row's
+    :data:`CORRECTION_FIELDS`), and their lateral and vertical resultants (track
+    plane).  Modes 1, 3 and 4 keep the stand-in's forces at the normal force in
+    the row (:data:`R_SFX`, :data:`R_SFY`, :data:`R_SMZ`) and every mode the
+    spring's force (:data:`R_SPRING`), so that the caller can correct the
+    stand-ins by solutions of its own
+    (:meth:`railcontact.dynamics.simulation._System.rhs`: the models solved at the
+    first evaluation of each step, the stand-ins corrected by their difference
+    there at the step's other stages)."""
     delta = row[P_CONTACT_ANGLE]
     cd, sd = math.cos(delta), math.sin(delta)
     yc = row[R_YC]
@@ -321,10 +360,14 @@ def row_forces(row, online, mode, fe, rates):
     ddot = vz * cd - vy * sd
     row[R_DDOT] = ddot
     F = row[R_N]
-    N = max(F + online.frame[G_DAMPING] * ddot, 0.0) if F > 0.0 else 0.0
+    row[R_SPRING] = F
+    Fs = F * corr[C_RATIO] if mode == 4 else F
+    N = max(Fs + online.frame[G_DAMPING] * ddot, 0.0) if Fs > 0.0 else 0.0
+    if (mode == 1 or mode == 3) and F > 0.0 and fe.normal_force > 0.0:
+        N = fe.normal_force             # (the caller's normal force, damper included)
     row[R_N] = N
     fx = fy = mz = 0.0
-    if N > 0.0:           # the ellipse at the damped force (Hertz: a, b ~ N^(1/3))
+    if N > 0.0:           # Hertz's ellipse at the force (a, b ~ N^(1/3))
         scale = (N / F) ** (1.0 / 3.0)
         row[R_AA] *= scale
         row[R_BB] *= scale
@@ -342,10 +385,15 @@ def row_forces(row, online, mode, fe, rates):
             fx, fy, mz = patch_forces(online.model.law, online.model.tp, N, a, b, c[0, 0],
                                       c[1, 0], c[2, 0], row[P_XI], row[P_ETA], row[P_PHI],
                                       rates[3])
-        elif mode == 1:
-            fx, fy, mz = fe.Fx, fe.Fy, fe.Mz
-            if fe.normal_force > 0.0:
-                row[R_N] = N = fe.normal_force
+        elif mode != 2:
+            sfx, sfy, smz = patch_forces(online.model.law, online.model.tp, N, a, b,
+                                         c[0, 0], c[1, 0], c[2, 0], row[P_XI], row[P_ETA],
+                                         row[P_PHI], rates[3])
+            row[R_SFX], row[R_SFY], row[R_SMZ] = sfx, sfy, smz
+            if mode == 1:
+                fx, fy, mz = fe.Fx, fe.Fy, fe.Mz
+            else:
+                fx, fy, mz = sfx + corr[C_FX], sfy + corr[C_FY], smz + corr[C_MZ]
     row[R_FX], row[R_FY], row[R_MZ] = fx, fy, mz
     row[R_YF] = N * sd + fy * cd
     row[R_QF] = N * cd - fy * sd
@@ -398,7 +446,11 @@ def rhs_online(t, u, system, online, mode, fext, out):
     ``mode`` 0: the creep forces of the compiled law ``online.model.law``; 1: those
     of ``fext`` (nw, MAX_ROWS) :data:`~.equations_of_motion.EXTERNAL` records per
     row (given by the caller after a ``mode`` 2 evaluation: the search, the normal
-    forces and no creep forces).  ``out``
+    forces and no creep forces); 3: the compiled law's at ``fext``'s normal forces
+    corrected by :attr:`~OnlineContact.corrections`; 4: Hertz's springs and the
+    compiled law corrected by them (:func:`row_forces`).  Every mode checks whether
+    the rows are those of the corrections (:func:`matches`), ``online.frame``'s
+    :data:`G_MATCH` 1 where they are, 0 where not.  ``out``
     (:class:`~.equations_of_motion.Outputs`) takes the patches (two slots per side)
     and the wheelsets' loads, vertical position and roll."""
     V = system.velocity
@@ -416,6 +468,7 @@ def rhs_online(t, u, system, online, mode, fext, out):
     mom = np.zeros(nw)
     wout = out.wheelset_out
     rates = np.empty(4)
+    g[G_MATCH] = 1.0
     for w in range(nw):
         ws = wsets[w]
         b = ws.body
@@ -426,6 +479,8 @@ def rhs_online(t, u, system, online, mode, fext, out):
         pose = PassPose(yrel, psi - yad, g[G_YOFF_L], g[G_YOFF_R], g[G_E], g[G_R0], V,
                         -V / g[G_R0], yd - V * yad, psid + V * k, g[G_COMBINE])
         m = search_wheelset(online, w, pose, zs[w], phi - cl)
+        if not matches(online, w, m):
+            g[G_MATCH] = 0.0
         online.poses[w, 0], online.poses[w, 1] = yrel, zs[w]
         online.poses[w, 2], online.poses[w, 3] = phi - cl, psi - yad
         rates[0], rates[1], rates[2], rates[3] = yd - V * yad, zd[w], phid, V
@@ -436,7 +491,8 @@ def rhs_online(t, u, system, online, mode, fext, out):
         mx = LOAD_BASE * (pr - pl)
         for i in range(m):
             row = online.rows[w, i]
-            Yk, Qk = row_forces(row, online, mode, fext[w, i], rates)
+            Yk, Qk = row_forces(row, online, mode, fext[w, i], rates,
+                                online.corrections[w, i])
             F[3 * b] += Yk
             F[3 * b + 1] += row[P_X] * Yk - row[R_YC] * row[R_FX] + \
                 row[R_MZ] * math.cos(row[P_CONTACT_ANGLE])
@@ -466,6 +522,23 @@ def rhs_online(t, u, system, online, mode, fext, out):
         b = wsets[w].body
         du[nd + 3 * b + 2] = mom[w] / online.roll_inertia[w]
     return du
+
+
+@njit(cache=True, nogil=True)
+def matches(online, w, m):
+    """Whether wheelset w's m rows of the last search are the patches of its
+    :attr:`~OnlineContact.corrections`: as many, each on the same side and in the
+    same slot (tread, flange) as its correction's, and within its tolerance of
+    where it lay on the rail."""
+    if online.corrected[w] != m:
+        return False
+    for i in range(m):
+        row, c = online.rows[w, i], online.corrections[w, i]
+        if (row[0] != c[C_SIDE]
+                or (abs(row[P_CONTACT_ANGLE]) > FLANGE_ANGLE) != (c[C_FLANGE] > 0.5)
+                or not abs(row[P_Y_RAIL] - c[C_YRAIL]) <= c[C_TOL]):
+            return False
+    return True
 
 
 @njit(cache=True, nogil=True)
@@ -563,15 +636,32 @@ class OnlineWheelRail:
     track (their profiles as placed), the material, the contact ``damping`` [N s/m]
     per patch, the wheelsets' ``roll_inertia`` [kg m²] (None: their yaw inertia, as
     of an axisymmetric body) and the normal model of the Python path (``normal``:
-    any registered normal model; the compiled laws run on Hertz's spring)."""
+    any registered normal model; the compiled laws run on Hertz's spring).
+
+    ``stand_in``: what compiled stand-ins take over from the models of the Python
+    path (per patch in Python, e.g. ``exact`` + ``exact``) at the inner three
+    stages of each Runge-Kutta step, the models solved at its first evaluation:
+    ``"both"``, Hertz's spring and FASTSIM, each corrected by the models'
+    difference from it at the step's first evaluation (the normal force times
+    the ratio of the normal model's to the spring's, the creep forces plus the
+    difference; mode 4 of :func:`rhs_online`); ``"tangential"``, FASTSIM at the
+    normal model's force, solved at every stage (mode 3); ``"none"``: the models
+    solved at every evaluation (four times the solves).  A stage whose patches
+    are not the step's (another number, side or slot, or one moved on the rail
+    by more than its grid's element) has the models solved
+    (:meth:`railcontact.dynamics.simulation._System.rhs`)."""
 
     def __init__(self, wheelset, track, material: Material = STEEL,
                  damping: float = DEFAULT_DAMPING, roll_inertia: float | None = None,
-                 normal: str = "hertz"):
+                 normal: str = "hertz", stand_in: str = "both"):
         from ..normal.base import normal_models
         if normal not in normal_models():
             raise InputError(f"online contact normal model {normal!r}: expected one of "
                              f"{normal_models()}")
+        if stand_in not in STAND_IN:
+            raise InputError(f"online contact stand_in {stand_in!r}: expected one of "
+                             f"{STAND_IN}")
+        self.stand_in = stand_in
         if not (isinstance(damping, (int, float)) and math.isfinite(damping) and damping >= 0):
             raise InputError(f"contact damping {damping!r} N s/m: expected >= 0")
         self.wheelset, self.track, self.material = wheelset, track, material

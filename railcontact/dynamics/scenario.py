@@ -21,7 +21,7 @@ from ..core.materials import Material
 from ..core.parallel import compute
 from ..geometry.track import Track, Wheelset
 from ..tangential import tangential_models
-from .online_contact import DEFAULT_DAMPING, OnlineWheelRail
+from .online_contact import DEFAULT_DAMPING, STAND_IN, OnlineWheelRail
 from .route import Irregularities, Route
 from .simulation import Integration, critical_speed, simulate_vehicle
 from .vehicle import G_ACC, MANCHESTER, VehicleModel
@@ -33,7 +33,7 @@ _SIM = {"velocity", "duration", "initial_lateral_shift", "sample_rate", "table_r
         "table_step", "tangential", "tangential_options", "fastsim_grid", "rtol",
         "history_wheelset", "integrator", "step", "contact", "alpha"}
 _IRR = {"spectrum", "seed", "wavelengths", "step", "file"}
-_CONTACT = {"mode", "damping", "normal", "roll_inertia"}
+_CONTACT = {"mode", "damping", "normal", "roll_inertia", "stand_in"}
 #: how the dynamics finds the wheel-rail contact (``contact.mode``): a table over the
 #: lateral shift built before the run, or a search at every evaluation
 CONTACT_MODES = ("table", "online")
@@ -183,8 +183,11 @@ class DynamicsScenario:
     Online contact (``[contact]``): ``contact_mode`` ("table" or "online": the
     contact searched at every evaluation, :mod:`railcontact.dynamics.online_contact`),
     ``contact_damping`` [N s/m] per patch, ``contact_normal`` (the normal model of
-    a tangential model without a compiled law) and ``wheelset_roll_inertia``
-    [kg m²] (0: the wheelset's yaw inertia).
+    a tangential model without a compiled law), ``wheelset_roll_inertia``
+    [kg m²] (0: the wheelset's yaw inertia) and ``contact_stand_in`` (what the
+    compiled stand-ins take over from such models at the inner stages of each rk4
+    step: "both", "tangential" or "none";
+    :class:`~railcontact.dynamics.online_contact.OnlineWheelRail`).
     """
 
     model: VehicleModel
@@ -213,6 +216,7 @@ class DynamicsScenario:
     contact_damping: float = DEFAULT_DAMPING
     contact_normal: str = "hertz"
     wheelset_roll_inertia: float = 0.0
+    contact_stand_in: str = "both"
 
 
 def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsScenario:
@@ -241,7 +245,7 @@ def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsSc
     options = sim.get("tangential_options", {})
     if not isinstance(options, dict):
         raise CaseFileError(f"simulation.tangential_options = {options!r}: expected a table")
-    cmode, cdamp, cnormal, croll = _contact_section(sections.get("contact", {}))
+    cmode, cdamp, cnormal, croll, cstand = _contact_section(sections.get("contact", {}))
     wheelset, track, material, friction = bodies()
     return DynamicsScenario(
         model=model, route=rt, wheelset=wheelset, track=track, material=material,
@@ -258,12 +262,12 @@ def scenario_from_sections(sections: dict, base_dir: Path, bodies) -> DynamicsSc
         contact=_contact_model(sim),
         alpha=_num(sim, "simulation", "alpha", 3e-5, 1e-7, 1e-3),
         contact_mode=cmode, contact_damping=cdamp, contact_normal=cnormal,
-        wheelset_roll_inertia=croll)
+        wheelset_roll_inertia=croll, contact_stand_in=cstand)
 
 
 def _contact_section(con: dict) -> tuple:
     """The ``[contact]`` table: mode, damping [N s/m], normal model, wheelset roll
-    inertia [kg m²] (0: the yaw inertia), checked."""
+    inertia [kg m²] (0: the yaw inertia) and the stand-ins, checked."""
     from ..normal.base import normal_models
     bad = set(con) - _CONTACT
     if bad:
@@ -274,8 +278,11 @@ def _contact_section(con: dict) -> tuple:
     normal = con.get("normal", "hertz")
     if normal not in normal_models():
         raise CaseFileError(f"contact.normal = {normal!r}: expected one of {normal_models()}")
+    stand_in = con.get("stand_in", "both")
+    if stand_in not in STAND_IN:
+        raise CaseFileError(f"contact.stand_in = {stand_in!r}: expected one of {STAND_IN}")
     return (mode, _num(con, "contact", "damping", DEFAULT_DAMPING, 0.0, 1e8), normal,
-            _num(con, "contact", "roll_inertia", 0.0, 0.0, 1e5))
+            _num(con, "contact", "roll_inertia", 0.0, 0.0, 1e5), stand_in)
 
 
 #: the contact of the dynamics' tables (``simulation.contact``)
@@ -309,7 +316,8 @@ def run_scenario(sc: DynamicsScenario, out=None, progress: bool = True):
     online = sc.contact_mode == "online"
     if online:
         table = OnlineWheelRail(sc.wheelset, sc.track, sc.material, sc.contact_damping,
-                                sc.wheelset_roll_inertia or None, sc.contact_normal)
+                                sc.wheelset_roll_inertia or None, sc.contact_normal,
+                                sc.contact_stand_in)
     else:
         table = build_table(sc, progress)
     ds = simulate_vehicle(sc.model, sc.route, table, sc.velocity, sc.duration,

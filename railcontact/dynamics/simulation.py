@@ -20,7 +20,10 @@ from ..tangential import get_tangential_model
 from ..tangential.polach import PRESETS
 from .equations_of_motion import (EXTERNAL, NORMAL_PASSES, ContactTables, Outputs, System,
                                   Track, Vehicle, rhs_core, rk4_run)
-from .online_contact import (MAX_ROWS, NPF, OFF_RAIL, ON_FLANGE_TIP, OnlineWheelRail,
+from ..geometry.wheel_pass import P_CONTACT_ANGLE, P_Y_RAIL
+from .online_contact import (C_FLANGE, C_FX, C_FY, C_MZ, C_RATIO, C_SIDE, C_TOL, C_YRAIL,
+                             G_MATCH, MAX_ROWS, NPF, OFF_RAIL, ON_FLANGE_TIP, R_FX, R_FY,
+                             R_MZ, R_SFX, R_SFY, R_SMZ, R_SPRING, OnlineWheelRail,
                              rhs_online, rk4_online)
 from .route import Route
 from .vehicle import VehicleModel
@@ -114,11 +117,15 @@ class _System:
         self.online = None
         if self.wheel_rail is not None:
             ws_inertia = model.bodies[model.wheelsets[0][0]].yaw_inertia
-            self.online = self.wheel_rail.compiled(nw, max(self.law, 0), self.tp, ws_inertia,
-                                                   tangential if strips else None)
+            # (a model in Python: FASTSIM compiled is the stand-in of its tangential
+            # problems at the steps' inner stages, _online_python_forces)
+            self.online = self.wheel_rail.compiled(
+                nw, max(self.law, 0) if self.py_model is None else online_law("fastsim"),
+                self.tp, ws_inertia, tangential if strips else None)
             self.fext_rows = np.zeros((nw, MAX_ROWS), EXTERNAL)
             self.warm = {}
             self.batch = False
+            self.stand_in = "none"
             self.fastsim_grid = (nx, ny)
             if self.py_model is not None:
                 from ..normal import get_normal_model, normal_supports
@@ -126,6 +133,8 @@ class _System:
                 self.py_normal = get_normal_model(self.wheel_rail.normal)
                 self.batch = (normal_supports(self.wheel_rail.normal, "batch")
                               and tangential_supports(tangential, "strip-march"))
+                if not self.batch:
+                    self.stand_in = self.wheel_rail.stand_in
 
     @property
     def n_states(self) -> int:
@@ -148,14 +157,30 @@ class _System:
         """The last evaluation's per-wheelset values (:data:`~.equations_of_motion.WHEELSET_OUT`)."""
         return self.out.wheelset_out
 
-    def rhs(self, t, u):
+    def rhs(self, t, u, stage: bool = False):
+        """The time derivative of the state u at t [s].  ``stage``: an evaluation at
+        an inner stage of a Runge-Kutta step: the online contact's Python path
+        (per patch in Python) then takes the compiled stand-ins corrected at the
+        step's first evaluation where its :class:`OnlineWheelRail` asks for them
+        (``stand_in``) and the patches are the same (mode 4 or 3 of
+        :func:`rhs_online`), and else solves its models (mode 1, the corrections
+        kept: :meth:`_keep_corrections`)."""
         self.calls += 1
         if self.online is not None:
+            on, fr = self.online, self.fext_rows
             if self.law >= 0:
-                return rhs_online(t, u, self.system, self.online, 0, self.fext_rows, self.out)
-            rhs_online(t, u, self.system, self.online, 2, self.fext_rows, self.out)
-            self._online_python_forces()
-            return rhs_online(t, u, self.system, self.online, 1, self.fext_rows, self.out)
+                return rhs_online(t, u, self.system, on, 0, fr, self.out)
+            if stage and self.stand_in == "both":
+                du = rhs_online(t, u, self.system, on, 4, fr, self.out)
+                if on.frame[G_MATCH] > 0.0:
+                    return du
+            rhs_online(t, u, self.system, on, 2, fr, self.out)
+            lazy = stage and self.stand_in == "tangential" and on.frame[G_MATCH] > 0.0
+            mode = self._online_python_forces(lazy)
+            du = rhs_online(t, u, self.system, on, mode, fr, self.out)
+            if mode == 1 and self.stand_in != "none":
+                self._keep_corrections()
+            return du
         if self.law >= 0:
             return rhs_core(t, u, self.system, 0, self.fext, self.out)
         self.fext[:] = 0.0
@@ -177,55 +202,108 @@ class _System:
             self.fext[idx] = (*f, N)
         return rhs_core(t, u, self.system, 1, self.fext, self.out)
 
-    def _online_python_forces(self):
-        """The creep forces and normal forces of every row of the last search with
-        the registered models at the row's approach and creepages, into
-        ``fext_rows``: a strip model with a strip-marching tangential model
-        (``fastsim-strips``, ``fastrip``) on all patches together in compiled code
-        (:func:`railcontact.cases.batch.solve_patches`); any other pair per patch
-        through its Python ``solve`` (the normal model, then the tangential one),
-        warm-started from the same wheel's patch of the last evaluation where the
-        models accept it."""
+    def _online_keys(self):
+        """The rows of the last search: (wheelset, row, key, geometry) with the key
+        (wheelset, side, flange slot, the row's rank in that slot) that follows a
+        patch from one evaluation to the next."""
         from ..geometry.track import WheelsetPose
         from ..geometry.wheel_pass import patch_geometry
+        from .online_contact import FLANGE_ANGLE
+        on = self.online
+        rows = []
+        for w in range(on.count.size):
+            shift, z, roll, yaw = on.poses[w]
+            pose = WheelsetPose(float(shift), float(z), float(roll), float(yaw))
+            seen = {}
+            for i in range(int(on.count[w])):
+                row = on.rows[w, i]
+                slot = (w, int(row[0]), abs(float(row[P_CONTACT_ANGLE])) > FLANGE_ANGLE)
+                seen[slot] = seen.get(slot, -1) + 1
+                rows.append((w, i, slot + (seen[slot],),
+                             patch_geometry(row[:NPF], self.wheel_rail.wheelset,
+                                            self.wheel_rail.track, pose)))
+        return rows
+
+    def _online_python_forces(self, lazy: bool = False) -> int:
+        """The creep forces and normal forces of every row of the last search with
+        the registered models at the row's approach and creepages, into
+        ``fext_rows``; returns the mode of :func:`rhs_online` that takes them.
+
+        A strip model with a strip-marching tangential model (``fastsim-strips``,
+        ``fastrip``): all patches together in compiled code
+        (:func:`railcontact.cases.batch.solve_patches`; mode 1).  Any other pair per
+        patch through its Python ``solve``: the normal problem at the row's approach
+        (displacement-controlled: no balance), warm-started from the same patch's
+        solution of the last evaluation and on its grid where the patch's
+        potential area still fits it (``reuse_grid``: the influence coefficients
+        and the pressure are then exact starts); the tangential problem
+        warm-started from the same patch's last tangential solution (mode 1).
+        ``lazy``: the tangential problems not solved; FASTSIM compiled at the
+        normal forces stands in, corrected by the difference of the last
+        solutions from it (mode 3, :func:`~.online_contact.row_forces`)."""
         from .online_contact import R_DDOT
         on = self.online
         self.fext_rows[:] = 0.0
         nmodel, tmodel = self.py_normal, self.py_model
-        nwarm = "warm-start" in nmodel.capabilities
-        twarm = "warm-start" in tmodel.capabilities
         damping = self.wheel_rail.damping
-        geos, where = [], []
-        for w in range(on.count.size):
-            shift, z, roll, yaw = on.poses[w]
-            pose = WheelsetPose(float(shift), float(z), float(roll), float(yaw))
-            for i in range(int(on.count[w])):
-                geos.append(patch_geometry(on.rows[w, i, :NPF], self.wheel_rail.wheelset,
-                                           self.wheel_rail.track, pose))
-                where.append((w, i))
-        if self.batch and geos:
+        self._rows = rows = self._online_keys()
+        if self.batch and rows:
             # the strip models on all patches together, compiled
             # (railcontact.cases.batch.solve_patches)
             from ..cases.batch import solve_patches
-            r = solve_patches(geos, self.wheel_rail.normal, self.tangential, self.material,
-                              self.friction, self.fastsim_grid)
-            for k, (w, i) in enumerate(where):
+            r = solve_patches([g for *_, g in rows], self.wheel_rail.normal, self.tangential,
+                              self.material, self.friction, self.fastsim_grid)
+            for k, (w, i, _, _) in enumerate(rows):
                 N = max(float(r.normal_force[k]) + damping * float(on.rows[w, i, R_DDOT]),
                         1e-9)
                 self.fext_rows[w, i] = (r.Fx[k], r.Fy[k], r.Mz[k], N)
-            return
-        for geo, (w, i) in zip(geos, where):
-            row = on.rows[w, i]
-            key = (w, int(row[0]), abs(geo.contact_angle) > 0.35)
-            prev = self.warm.get(key)
-            nkw = {"warm_start": prev[0]} if (prev and nwarm) else {}
+            return 1
+        nwarm = "warm-start" in nmodel.capabilities
+        nkeep = "grid-reuse" in nmodel.capabilities
+        twarm = "warm-start" in tmodel.capabilities
+        warm = {}
+        for w, i, key, geo in rows:
+            prev = self.warm.get(key, (None, None))
+            nkw = {"warm_start": prev[0]} if (prev[0] is not None and nwarm) else {}
+            if nkw and nkeep:
+                nkw["reuse_grid"] = prev[0]
             ns = nmodel.solve(geo, self.material, penetration=geo.approach, **nkw)
-            tkw = {"warm_start": prev[1]} if (prev and twarm) else {}
+            N = max(float(ns.normal_force) + damping * float(on.rows[w, i, R_DDOT]), 1e-9)
+            if lazy:
+                self.fext_rows[w, i] = (0.0, 0.0, 0.0, N)
+                warm[key] = (ns, prev[1])
+                continue
+            tkw = {"warm_start": prev[1]} if (prev[1] is not None and twarm) else {}
             ts = tmodel.solve(ns, geo, self.material, geo.creepage, self.friction,
                               geo.velocity, **tkw)
-            self.warm[key] = (ns, ts)
-            N = max(float(ns.normal_force) + damping * float(row[R_DDOT]), 1e-9)
+            warm[key] = (ns, ts)
             self.fext_rows[w, i] = (ts.fx, ts.fy, ts.mz, N)
+        self.warm.update(warm)
+        return 3 if lazy else 1
+
+    def _keep_corrections(self):
+        """After an evaluation with the models solved (mode 1): each patch's
+        corrections of the stand-ins into the online contact's
+        (:data:`~.online_contact.CORRECTION_FIELDS`): the normal solution's force
+        over Hertz's spring's at the same approach, the tangential solution's creep
+        forces less the stand-in's at the same normal force, with where the patch
+        lay on the rail [m] and its grid's element across [m] (the stages that
+        follow take the corrections while the patch stays within it; none for a
+        patch that the spring did not load)."""
+        on = self.online
+        on.corrected[:] = on.count
+        for w, i, key, _ in self._rows:
+            row, c = on.rows[w, i], on.corrections[w, i]
+            ns = self.warm[key][0]
+            spring = float(row[R_SPRING])
+            c[C_SIDE], c[C_FLANGE], c[C_YRAIL] = row[0], float(key[2]), row[P_Y_RAIL]
+            # (a patch unloaded here has no correction: a stage that loads it is
+            # solved; the tolerance -1 matches no row)
+            c[C_TOL] = float(ns.y[1] - ns.y[0]) if ns.y.size > 1 and spring > 0.0 else -1.0
+            c[C_RATIO] = float(ns.normal_force) / spring if spring > 0.0 else 1.0
+            c[C_FX] = row[R_FX] - row[R_SFX]
+            c[C_FY] = row[R_FY] - row[R_SFY]
+            c[C_MZ] = row[R_MZ] - row[R_SMZ]
 
     def active(self) -> np.ndarray:
         """Indices of the states that are degrees of freedom (roll only where given;
@@ -549,16 +627,18 @@ def _run_rk4_online(sysm: _System, u0, duration, sample_rate, step, bar):
 
 def _rk4_python(sysm: _System, u, t0, dt, n_steps, every, samples):
     """:func:`rk4_online`'s steps with the right-hand side in Python (a tangential
-    model without a compiled law: its ``solve`` per patch and evaluation)."""
+    model without a compiled law: its ``solve`` per patch, at each step's first
+    evaluation or at every one, :class:`~.online_contact.OnlineWheelRail`'s
+    ``tangential_solves``; the steps' inner stages marked as such)."""
     k = 0
     for n in range(n_steps):
         t = t0 + n * dt
         k1 = sysm.rhs(t, u)
         if np.any(sysm.online.status != 0):
             return u, k, n
-        k2 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k1)
-        k3 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k2)
-        k4 = sysm.rhs(t + dt, u + dt * k3)
+        k2 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k1, stage=True)
+        k3 = sysm.rhs(t + 0.5 * dt, u + 0.5 * dt * k2, stage=True)
+        k4 = sysm.rhs(t + dt, u + dt * k3, stage=True)
         u = u + dt / 6.0 * (k1 + 2.0 * k2 + 2.0 * k3 + k4)
         if (n + 1) % every == 0 and k < samples.shape[0]:
             samples[k] = u
