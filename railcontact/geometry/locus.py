@@ -109,12 +109,17 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
 
 
 @njit(cache=True, nogil=True)
-def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
-    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
-    each wheel circle's lowest point above the rail, or CONTACT's locus where the
-    wheel slopes ``wslope`` are given (one per sample; empty: the lowest points)."""
-    if wslope.size:
-        return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)
+def _lowest_locus_kernel(eta, rho, R, O, y_off, rb, rc):
+    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope of
+    each wheel circle's lowest point above the rail (module docstring).
+
+    The rail slope s starts extrapolated from the last two points' (25 um apart),
+    and the iteration on it ends, without another evaluation of the rail profile,
+    once the point would move by under 1e-12 m: the rail height there is that of
+    the point 1e-12 m away (a difference below 1e-11 m on slopes up to 10).  The
+    iteration contracts by about rho yaw^2 |z_r''| per pass (0.04 at 6 mrad on the
+    gauge corner); without yaw (R[1, 0] = R[2, 0] = 0) theta does not depend on s
+    and one pass gives the point."""
     n = eta.size
     theta = np.empty(n)
     P = np.empty((3, n))
@@ -122,33 +127,32 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     gap = np.empty(n)
     slope = np.empty(n)
     k = -1                      # rail interval of the previous point (the search starts there)
-    # theta depends on the rail slope s only through R[1, 0] and R[2, 0] (the yaw):
-    # without them one pass gives the point
     fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
     s = 0.0
     s1 = 0.0                    # the slopes at the last two points
     s2 = 0.0
     for i in range(n):
-        # the slope starts extrapolated from the last two points' (25 um apart), and
-        # the iteration stops once the point moves by under 1e-12 m (it contracts by
-        # about rho yaw^2 |z_r''| per pass: 0.04 at 6 mrad on the gauge corner)
         s = 2.0 * s1 - s2 if i >= 2 else s1
         tn = 0.0
         py = 0.0
         pz = 0.0
+        px = 0.0
         zr = np.nan
-        for it in range(3):
-            tn = (s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2])
-            ct = 1.0 / math.sqrt(1.0 + tn * tn)          # theta = atan(tn) in (-pi/2, pi/2)
-            st = tn * ct
+        for it in range(4):
+            tn_new = (s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2])
+            ct = 1.0 / math.sqrt(1.0 + tn_new * tn_new)      # theta = atan(tn) in (-pi/2, pi/2)
+            st = tn_new * ct
+            py_new = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
+            if it >= 1 and abs(py_new - py) <= 1e-12:
+                break
+            tn = tn_new
             px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
-            last = py
-            py = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
+            py = py_new
             pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
             zr, s, k = ppoly_at(py - y_off, rb, rc, k)
             if s != s:
                 s = 0.0
-            if fixed or (it >= 1 and abs(py - last) <= 1e-12):
+            if fixed:
                 break
         theta[i] = math.atan(tn)
         P[0, i] = px
@@ -162,26 +166,37 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
 
 
 @njit(cache=True, nogil=True)
+def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
+    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
+    each wheel circle's lowest point above the rail, or CONTACT's locus where the
+    wheel slopes ``wslope`` are given (one per sample; empty: the lowest points).
+    The one locus kernel of the package: the Python-orchestrated search
+    (:func:`compute_locus`, :func:`min_gap`) and the compiled pass
+    (:mod:`railcontact.geometry.wheel_pass`) both call it."""
+    if wslope.size:
+        return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)
+    return _lowest_locus_kernel(eta, rho, R, O, y_off, rb, rc)
+
+
+@njit(cache=True, nogil=True)
 def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc, stride, window):
     """Minimum vertical gap along the locus: coarse pass every ``stride`` samples,
     then every sample around the coarse points within ``window`` [m] of the coarse
     minimum (``wslope`` as in :func:`_locus_kernel`)."""
     n = eta.size
-    idx = np.arange(0, n, stride)
-    _, _, _, gc, _ = _locus_kernel(eta[idx], rho[idx], wslope[idx] if wslope.size else wslope,
-                                   R, O, y_off, rb, rc)
+    _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride], wslope[::stride], R, O, y_off,
+                                   rb, rc)
     gmin = np.inf
     for g in gc:
         if g < gmin:
             gmin = g
     best = np.inf
-    for k in range(idx.size):
-        if gc[k] <= gmin + window:
-            lo = max(idx[k] - stride, 0)
-            hi = min(idx[k] + stride + 1, n)
-            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi],
-                                           wslope[lo:hi] if wslope.size else wslope, R, O,
-                                           y_off, rb, rc)
+    for c in range(gc.size):
+        if gc[c] <= gmin + window:
+            lo = max(stride * c - stride, 0)
+            hi = min(stride * c + stride + 1, n)
+            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi], wslope[lo:hi], R, O, y_off,
+                                           rb, rc)
             for g in gf:
                 if g < best:
                     best = g
