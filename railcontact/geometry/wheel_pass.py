@@ -235,6 +235,26 @@ def side_min_gap(prof, pose, s, roll, memo):
 
 
 @njit(cache=True, nogil=True)
+def illinois_update(x, f, a, fa, b, fb, side):
+    """One bracket update of Illinois' regula falsi (Dowell & Jarratt 1971): the
+    trial ``x`` with residual ``f`` replaces the end of the bracket whose residual
+    has its sign (``a``, ``fa``: the end with a negative residual; ``b``, ``fb``:
+    the other), and where it replaces the same end as the step before (``side``:
+    -1 the negative end, 1 the other, 0 none yet), the other end's residual is
+    halved, so that the false position does not stall at one end.  Returns
+    (a, fa, b, fb, side).  The roll search (:func:`solve_roll`) and the strip
+    models' run ends (:func:`railcontact.normal.strip_batch._run_end`) step with
+    it."""
+    if f < 0.0:
+        if side == -1:
+            fb *= 0.5
+        return x, f, b, fb, -1
+    if side == 1:
+        fa *= 0.5
+    return a, fa, x, f, 1
+
+
+@njit(cache=True, nogil=True)
 def _roll_residual(prof, pose, targets, roll, memo):
     gl = side_min_gap(prof, pose, 0, roll, memo)
     gr = side_min_gap(prof, pose, 1, roll, memo)
@@ -310,16 +330,7 @@ def solve_roll(prof, pose, targets, tol, memo):
         if f == 0.0 or hi - lo <= tol or abs(x - x_prev) <= 0.5 * tol:
             return x, g + targets[1]
         x_prev = x
-        if f < 0:
-            lo, flo = x, f
-            if side == -1:
-                fhi *= 0.5
-            side = -1
-        else:
-            hi, fhi = x, f
-            if side == 1:
-                flo *= 0.5
-            side = 1
+        lo, flo, hi, fhi, side = illinois_update(x, f, lo, flo, hi, fhi, side)
     return math.nan, math.nan
 
 
