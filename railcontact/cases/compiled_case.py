@@ -42,7 +42,9 @@ options) with a compiled online law or ``fastsim-strips``
 (:mod:`railcontact.cases.strip_pass`: the strips of each patch sampled on its
 exact gap, the model's own compiled kernel, the strips' FASTSIM march), no
 ``friction.variation``, no patch turning (``wheelset.turn_distance`` 0) and
-similar materials (:func:`compiled_unsupported` says why not).
+similar materials (:func:`compiled_unsupported` says why not); either contact
+locus (``wheelset.locus``: each wheel circle's lowest point, or CONTACT's; the
+geometry layer's locus kernel, :func:`railcontact.geometry.locus._locus_kernel`).
 
 FASTSIM runs on the case's grid (``solver.grid``; default 40 x 40): strips across
 the ellipse and elements per strip, as the per-patch model marches the Hertzian
@@ -922,8 +924,6 @@ def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
         return "roll or vertical position prescribed"
     if s.turn_distance > 0:
         return "patch turning (wheelset.turn_distance)"
-    if s.locus != "lowest":
-        return f"the contact locus {s.locus!r} (wheelset.locus; the compiled pass has the lowest points)"
     if s.wheel_slices is not None or s.pitch != 0.0:
         return "an out-of-round wheel (wheel slices, pitch)"
     if s.wheel.left is not None or s.rail.left is not None:
@@ -944,7 +944,7 @@ def _bodies(case):
     """(PassProfiles, wheelset, track) of a case's bodies, once per set of body keys."""
     s = case.wheel_rail
     key = (s.wheel, s.rail, s.nominal_radius, s.flange_back_distance, s.flange_back_position,
-           s.gauge, s.gauge_height, s.rail_offset, str(case.base_dir))
+           s.gauge, s.gauge_height, s.rail_offset, s.locus, str(case.base_dir))
     try:
         hit = _BODIES.get(key)
     except TypeError:                     # a profile object that does not hash
