@@ -75,16 +75,19 @@ def _slopes_for(wheelset, wheel, step):
 
 
 @njit(cache=True, nogil=True)
+def _locus_arrays(n):
+    """The locus kernels' outputs for n samples: theta, point (3, n), rail
+    coordinate, gap and slope (uninitialised)."""
+    return np.empty(n), np.empty((3, n)), np.empty(n), np.empty(n), np.empty(n)
+
+
+@njit(cache=True, nogil=True)
 def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     """CONTACT's locus (module docstring): angle theta, wheel point, rail
     coordinate, vertical gap and rail slope at the samples' points whose normal is
     perpendicular to x (``wslope`` the wheel profile's slopes)."""
     n = eta.size
-    theta = np.empty(n)
-    P = np.empty((3, n))
-    yr = np.empty(n)
-    gap = np.empty(n)
-    slope = np.empty(n)
+    theta, P, yr, gap, slope = _locus_arrays(n)
     h = math.sqrt(R[0, 0] * R[0, 0] + R[0, 2] * R[0, 2])
     phase = math.atan2(R[0, 2], R[0, 0])
     k = -1
@@ -121,11 +124,7 @@ def _lowest_locus_kernel(eta, rho, R, O, y_off, rb, rc):
     gauge corner); without yaw (R[1, 0] = R[2, 0] = 0) theta does not depend on s
     and one pass gives the point."""
     n = eta.size
-    theta = np.empty(n)
-    P = np.empty((3, n))
-    yr = np.empty(n)
-    gap = np.empty(n)
-    slope = np.empty(n)
+    theta, P, yr, gap, slope = _locus_arrays(n)
     k = -1                      # rail interval of the previous point (the search starts there)
     fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
     s = 0.0
