@@ -74,7 +74,7 @@ def _slopes_for(wheelset, wheel, step):
     return np.empty(0)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _locus_arrays(n):
     """The locus kernels' outputs for n samples: theta, point (3, n), rail
     coordinate, gap and slope (uninitialised)."""
@@ -112,17 +112,24 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
 
 
 @njit(cache=True, nogil=True)
-def _lowest_locus_kernel(eta, rho, R, O, y_off, rb, rc):
-    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope of
-    each wheel circle's lowest point above the rail (module docstring).
+def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
+    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
+    each wheel circle's lowest point above the rail, or CONTACT's locus where the
+    wheel slopes ``wslope`` are given (one per sample; empty: the lowest points).
+    The one locus kernel of the package: the Python-orchestrated search
+    (:func:`compute_locus`, :func:`min_gap`) and the compiled pass
+    (:mod:`railcontact.geometry.wheel_pass`) both call it.
 
-    The rail slope s starts extrapolated from the last two points' (25 um apart),
-    and the iteration on it ends, without another evaluation of the rail profile,
-    once the point would move by under 1e-12 m: the rail height there is that of
-    the point 1e-12 m away (a difference below 1e-11 m on slopes up to 10).  The
-    iteration contracts by about rho yaw^2 |z_r''| per pass (0.04 at 6 mrad on the
-    gauge corner); without yaw (R[1, 0] = R[2, 0] = 0) theta does not depend on s
-    and one pass gives the point."""
+    For the lowest points the rail slope s starts extrapolated from the last two
+    points' (25 um apart), and the iteration on it ends, without another
+    evaluation of the rail profile, once the point would move by under 1e-12 m:
+    the rail height there is that of the point 1e-12 m away (a difference below
+    1e-11 m on slopes up to 10).  The iteration contracts by about
+    rho yaw^2 |z_r''| per pass (0.04 at 6 mrad on the gauge corner); without yaw
+    (R[1, 0] = R[2, 0] = 0) theta does not depend on s and one pass gives the
+    point."""
+    if wslope.size:
+        return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)
     n = eta.size
     theta, P, yr, gap, slope = _locus_arrays(n)
     k = -1                      # rail interval of the previous point (the search starts there)
@@ -164,36 +171,30 @@ def _lowest_locus_kernel(eta, rho, R, O, y_off, rb, rc):
     return theta, P, yr, gap, slope
 
 
-@njit(cache=True, nogil=True)
-def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
-    """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
-    each wheel circle's lowest point above the rail, or CONTACT's locus where the
-    wheel slopes ``wslope`` are given (one per sample; empty: the lowest points).
-    The one locus kernel of the package: the Python-orchestrated search
-    (:func:`compute_locus`, :func:`min_gap`) and the compiled pass
-    (:mod:`railcontact.geometry.wheel_pass`) both call it."""
-    if wslope.size:
-        return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)
-    return _lowest_locus_kernel(eta, rho, R, O, y_off, rb, rc)
+#: the minimum-gap search's coarse pass takes every this many wheel samples, and
+#: refines around the coarse points within ``MIN_GAP_WINDOW`` [m] of the coarse
+#: minimum (compile-time constants of :func:`_min_gap_kernel`)
+MIN_GAP_STRIDE = 8
+MIN_GAP_WINDOW = 2e-6
 
 
 @njit(cache=True, nogil=True)
-def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc, stride, window):
-    """Minimum vertical gap along the locus: coarse pass every ``stride`` samples,
-    then every sample around the coarse points within ``window`` [m] of the coarse
-    minimum (``wslope`` as in :func:`_locus_kernel`)."""
+def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
+    """Minimum vertical gap along the locus: coarse pass every ``MIN_GAP_STRIDE``
+    samples, then every sample around the coarse points within ``MIN_GAP_WINDOW``
+    [m] of the coarse minimum (``wslope`` as in :func:`_locus_kernel`)."""
     n = eta.size
-    _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride], wslope[::stride], R, O, y_off,
-                                   rb, rc)
+    st = MIN_GAP_STRIDE
+    _, _, _, gc, _ = _locus_kernel(eta[::st], rho[::st], wslope[::st], R, O, y_off, rb, rc)
     gmin = np.inf
     for g in gc:
         if g < gmin:
             gmin = g
     best = np.inf
     for c in range(gc.size):
-        if gc[c] <= gmin + window:
-            lo = max(stride * c - stride, 0)
-            hi = min(stride * c + stride + 1, n)
+        if gc[c] <= gmin + MIN_GAP_WINDOW:
+            lo = max(st * c - st, 0)
+            hi = min(st * c + st + 1, n)
             _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi], wslope[lo:hi], R, O, y_off,
                                            rb, rc)
             for g in gf:
@@ -322,9 +323,10 @@ def _out_of_round(wheelset: Wheelset, loc: Locus) -> Locus:
 
 
 def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, vertical: float,
-            roll: float, yaw: float, step: float = LOCUS_STEP, stride: int = 8,
+            roll: float, yaw: float, step: float = LOCUS_STEP,
             samples: tuple | None = None) -> float:
-    """Minimum vertical gap [m] of one side (fast: coarse pass, local refinement).
+    """Minimum vertical gap [m] of one side (fast: coarse pass, local refinement;
+    :func:`_min_gap_kernel`).
 
     ``samples``: search the wheel-profile samples [i0, i1) only (the range of a
     locus at a nearby pose, :attr:`Locus.samples`, which holds every sample within
@@ -339,9 +341,8 @@ def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, v
         ws = ws[samples[0]:samples[1]] if ws.size else ws
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
-    return float(_min_gap_kernel(eta, rho, ws, R, O,
-                                 track.rail_offset(side), rail._breaks, rail._coefs, stride,
-                                 2e-6))
+    return float(_min_gap_kernel(eta, rho, ws, R, O, track.rail_offset(side), rail._breaks,
+                                 rail._coefs))
 
 
 def depth_at(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, vertical: float,

@@ -205,7 +205,7 @@ def _narrow_min_gap(prof, R, O, y_off, c0, c1):
         if grow_hi:
             c1 = min(c1 + w, n)
     return _min_gap_kernel(prof.eta[c0:c1], prof.rho[c0:c1], prof.ws[c0:c1], R, O, y_off,
-                           prof.rb, prof.rc, 8, 2e-6)
+                           prof.rb, prof.rc)
 
 
 @njit(cache=True, nogil=True)
