@@ -846,13 +846,13 @@ class _Frame:
 
 
 def rows_contact(rows, wheelset, track, pose, loads, interpenetration):
-    """The :class:`~railcontact.geometry.search.WheelsetContact` of the patch rows of
+    """The :class:`~railcontact.geometry.contact.WheelsetContact` of the patch rows of
     one :func:`search_patches` (combine distance 0: a patch per region), with each
     patch's territory halfway to its side's neighbours
     (:func:`railcontact.geometry.regions.territories`); each wheel's patches from
     the field side, as the geometry layer numbers them (the rows run along the locus
     from the gauge side)."""
-    from .search import WheelsetContact
+    from .contact import WheelsetContact
     patches = []
     for s in (0, 1):
         side_rows = [r for r in rows if r[P_SIDE] == s]
