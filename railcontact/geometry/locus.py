@@ -68,10 +68,28 @@ def _wheel_slopes(wheel, step):
 
 def _slopes_for(wheelset, wheel, step):
     """The wheel slopes the locus kernels take: the profile's for CONTACT's locus,
-    an empty array (the lowest points) otherwise."""
+    None (the lowest points) otherwise."""
     if getattr(wheelset, "locus", "lowest") == "contact":
         return _wheel_slopes(wheel, step)
-    return np.empty(0)
+    return None
+
+
+@njit(cache=True, nogil=True)
+def _slopes_part(ws, lo, hi, step):
+    """The wheel slopes ``ws[lo:hi:step]`` of the samples a locus kernel takes, or
+    None where ``ws`` is (the lowest points: the branch is resolved when the kernels
+    are compiled, so that the lowest points' kernel carries no test of the rule)."""
+    if ws is None:
+        return None
+    return ws[lo:hi:step]
+
+
+@njit(cache=True, nogil=True)
+def _slopes_at(ws, idx):
+    """The wheel slopes ``ws[idx]`` at the samples ``idx``, or None where ``ws`` is."""
+    if ws is None:
+        return None
+    return ws[idx]
 
 
 @njit(cache=True, nogil=True, inline="always")
@@ -115,7 +133,7 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
 def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
     each wheel circle's lowest point above the rail, or CONTACT's locus where the
-    wheel slopes ``wslope`` are given (one per sample; empty: the lowest points).
+    wheel slopes ``wslope`` are given (one per sample; None: the lowest points).
     The one locus kernel of the package: the Python-orchestrated search
     (:func:`compute_locus`, :func:`min_gap`) and the compiled pass
     (:mod:`railcontact.geometry.wheel_pass`) both call it.
@@ -128,7 +146,7 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     rho yaw^2 |z_r''| per pass (0.04 at 6 mrad on the gauge corner); without yaw
     (R[1, 0] = R[2, 0] = 0) theta does not depend on s and one pass gives the
     point."""
-    if wslope.size:
+    if wslope is not None:
         return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)
     n = eta.size
     theta, P, yr, gap, slope = _locus_arrays(n)
@@ -185,7 +203,8 @@ def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     [m] of the coarse minimum (``wslope`` as in :func:`_locus_kernel`)."""
     n = eta.size
     st = MIN_GAP_STRIDE
-    _, _, _, gc, _ = _locus_kernel(eta[::st], rho[::st], wslope[::st], R, O, y_off, rb, rc)
+    _, _, _, gc, _ = _locus_kernel(eta[::st], rho[::st], _slopes_part(wslope, 0, n, st), R, O,
+                                   y_off, rb, rc)
     gmin = np.inf
     for g in gc:
         if g < gmin:
@@ -195,8 +214,8 @@ def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
         if gc[c] <= gmin + MIN_GAP_WINDOW:
             lo = max(st * c - st, 0)
             hi = min(st * c + st + 1, n)
-            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi], wslope[lo:hi], R, O, y_off,
-                                           rb, rc)
+            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi], _slopes_part(wslope, lo, hi, 1),
+                                           R, O, y_off, rb, rc)
             for g in gf:
                 if g < best:
                     best = g
@@ -293,16 +312,16 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     if samples is not None:
         i0, i1 = samples
         sl = slice(i0, i1)
-        theta, P, yr, gap, s = _locus_kernel(eta[sl], rho[sl], ws[sl] if ws.size else ws, R, O,
-                                             y_off, rail._breaks, rail._coefs)
+        theta, P, yr, gap, s = _locus_kernel(eta[sl], rho[sl], None if ws is None else ws[sl],
+                                             R, O, y_off, rail._breaks, rail._coefs)
         if gap.size:
             edge = float(np.min(gap)) + window
             if (i0 == 0 or gap[0] > edge) and (i1 == yw.size or gap[-1] > edge):
                 return _out_of_round(wheelset, Locus(yw[sl], zw[sl], theta, P, yr, gap, s, O,
                                                      R, (i0, i1)))
     _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride],
-                                   ws[::stride] if ws.size else ws, R, O, y_off, rail._breaks,
-                                   rail._coefs)
+                                   None if ws is None else ws[::stride], R, O, y_off,
+                                   rail._breaks, rail._coefs)
     near = np.flatnonzero(gc <= np.min(gc) + window)
     i0, i1 = 0, yw.size
     if near.size:
@@ -310,7 +329,7 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
         i1 = min(int(near[-1]) * stride + 2 * stride + 1, yw.size)
         sl = slice(i0, i1)
         yw, zw, eta, rho = yw[sl], zw[sl], eta[sl], rho[sl]
-        ws = ws[sl] if ws.size else ws
+        ws = ws[sl] if ws is not None else None
     theta, P, yr, gap, s = _locus_kernel(eta, rho, ws, R, O, y_off, rail._breaks, rail._coefs)
     return _out_of_round(wheelset, Locus(yw, zw, theta, P, yr, gap, s, O, R, (i0, i1)))
 
@@ -338,7 +357,7 @@ def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, v
     ws = _slopes_for(wheelset, wheel, step)
     if samples is not None:
         eta, rho = eta[samples[0]:samples[1]], rho[samples[0]:samples[1]]
-        ws = ws[samples[0]:samples[1]] if ws.size else ws
+        ws = ws[samples[0]:samples[1]] if ws is not None else None
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
     return float(_min_gap_kernel(eta, rho, ws, R, O, track.rail_offset(side), rail._breaks,

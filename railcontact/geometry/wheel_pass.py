@@ -41,7 +41,8 @@ from numba import njit
 
 from ..profiles.profile import ppoly_at
 from .gap import DEEPEST_GAP, FD_STEP, PatchFrame, Spline, _gap_kernel
-from .locus import LOCUS_STEP, _locus_kernel, _min_gap_kernel, _slopes_for, _wheel_samples
+from .locus import (LOCUS_STEP, _locus_kernel, _min_gap_kernel, _slopes_at, _slopes_for,
+                    _slopes_part, _wheel_samples)
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
 from .patch_curvature import force_curvature, region_curvature  # noqa: F401 (re-exported)
 from .regions import GAP_WEIGHT
@@ -51,10 +52,9 @@ from .regions import GAP_WEIGHT
 #: (``eta``: lateral position from the wheelset centre, ``rho``: radius, ``yw``,
 #: ``zw``: profile coordinates), the cubic splines (breaks, coefficients) of rail
 #: and wheel, and the locus rule: ``ws`` the wheel profile's slopes at the samples
-#: for CONTACT's locus (``Wheelset.locus = "contact"``), empty (the default) for
+#: for CONTACT's locus (``Wheelset.locus = "contact"``), None (the default) for
 #: each wheel circle's lowest point (:func:`railcontact.geometry.locus._locus_kernel`)
-PassProfiles = namedtuple("PassProfiles", "eta rho yw zw rb rc wb wc ws",
-                          defaults=(np.empty(0),))
+PassProfiles = namedtuple("PassProfiles", "eta rho yw zw rb rc wb wc ws", defaults=(None,))
 
 #: the wheelset's state and dimensions (SI): ``shift``, ``yaw``; the rail offsets
 #: ``y_off_left``, ``y_off_right`` (side frames), the wheel-profile offset ``e`` and
@@ -187,8 +187,9 @@ def _narrow_min_gap(prof, R, O, y_off, c0, c1):
     (doubled) while the coarse minimum lies at one of its ends (not the wheel's)."""
     n = prof.eta.size
     while True:
-        _, _, _, gc, _ = _locus_kernel(prof.eta[c0:c1:8], prof.rho[c0:c1:8], prof.ws[c0:c1:8],
-                                       R, O, y_off, prof.rb, prof.rc)
+        _, _, _, gc, _ = _locus_kernel(prof.eta[c0:c1:8], prof.rho[c0:c1:8],
+                                       _slopes_part(prof.ws, c0, c1, 8), R, O, y_off, prof.rb,
+                                       prof.rc)
         if gc.size == 0 or not math.isfinite(np.min(gc)):
             if c0 == 0 and c1 == n:
                 return np.inf
@@ -204,8 +205,8 @@ def _narrow_min_gap(prof, R, O, y_off, c0, c1):
             c0 = max(c0 - w, 0)
         if grow_hi:
             c1 = min(c1 + w, n)
-    return _min_gap_kernel(prof.eta[c0:c1], prof.rho[c0:c1], prof.ws[c0:c1], R, O, y_off,
-                           prof.rb, prof.rc)
+    return _min_gap_kernel(prof.eta[c0:c1], prof.rho[c0:c1], _slopes_part(prof.ws, c0, c1, 1),
+                           R, O, y_off, prof.rb, prof.rc)
 
 
 @njit(cache=True, nogil=True)
@@ -218,8 +219,9 @@ def side_min_gap(prof, pose, s, roll, memo):
     k = 2 + 6 * s
     if not memo[k + 4] == memo[k + 4]:
         n = prof.eta.size
-        _, _, _, gc, _ = _locus_kernel(prof.eta[::8], prof.rho[::8], prof.ws[::8], R, O, y_off,
-                                       prof.rb, prof.rc)
+        _, _, _, gc, _ = _locus_kernel(prof.eta[::8], prof.rho[::8],
+                                       _slopes_part(prof.ws, 0, n, 8), R, O, y_off, prof.rb,
+                                       prof.rc)
         g = np.min(gc)
         if not math.isfinite(g):
             return np.inf
@@ -361,7 +363,8 @@ def _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc, limit):
         while b < m and need[b]:
             b += 1
         t, Pb, y, g, q = _locus_kernel(prof.eta[i0 + a:i0 + b], prof.rho[i0 + a:i0 + b],
-                                       prof.ws[i0 + a:i0 + b], R, O, y_off, prof.rb, prof.rc)
+                                       _slopes_part(prof.ws, i0 + a, i0 + b, 1), R, O, y_off,
+                                       prof.rb, prof.rc)
         th[a:b] = t
         P[:, a:b] = Pb
         yr[a:b] = y
@@ -386,7 +389,8 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
         i0, i1 = int(memo[k + 1]), int(memo[k + 2])
         if dense:
             th, P, yr, gap, sl = _locus_kernel(prof.eta[i0:i1], prof.rho[i0:i1],
-                                                prof.ws[i0:i1], R, O, y_off, prof.rb, prof.rc)
+                                                _slopes_part(prof.ws, i0, i1, 1), R, O, y_off,
+                                                prof.rb, prof.rc)
             ends = (gap[0], gap[-1]) if gap.size else (np.inf, np.inf)
             gmin = np.min(gap) if gap.size else np.inf
         else:
@@ -400,7 +404,7 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
                 c += 1
             idx = idx[:c]
             _, _, _, gc, _ = _locus_kernel(prof.eta[idx], prof.rho[idx],
-                                           prof.ws[idx] if prof.ws.size else prof.ws, R, O,
+                                           _slopes_at(prof.ws, idx), R, O,
                                            y_off, prof.rb, prof.rc)
             cmin = np.min(gc)
             th, P, yr, gap, sl = _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc,
@@ -425,8 +429,9 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
                 return i0, i1, th, P, yr, gap, sl, R, O, y_off
     stride = 8
     idx = np.arange(0, n, stride)
-    _, _, _, gc, _ = _locus_kernel(prof.eta[::stride], prof.rho[::stride], prof.ws[::stride],
-                                   R, O, y_off, prof.rb, prof.rc)
+    _, _, _, gc, _ = _locus_kernel(prof.eta[::stride], prof.rho[::stride],
+                                   _slopes_part(prof.ws, 0, n, stride), R, O, y_off, prof.rb,
+                                   prof.rc)
     gmin = np.min(gc)
     first, last = -1, -1
     for j in range(gc.size):
@@ -439,8 +444,9 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
         i0 = max(first * stride - 2 * stride, 0)
         i1 = min(last * stride + 2 * stride + 1, n)
     if dense:
-        th, P, yr, gap, sl = _locus_kernel(prof.eta[i0:i1], prof.rho[i0:i1], prof.ws[i0:i1], R,
-                                           O, y_off, prof.rb, prof.rc)
+        th, P, yr, gap, sl = _locus_kernel(prof.eta[i0:i1], prof.rho[i0:i1],
+                                           _slopes_part(prof.ws, i0, i1, 1), R, O, y_off, prof.rb,
+                                           prof.rc)
     else:
         th, P, yr, gap, sl = _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc,
                                           gmin + window + SPARSE_SLACK)
