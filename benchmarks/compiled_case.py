@@ -27,7 +27,7 @@ from pathlib import Path
 import numpy as np
 
 import railcontact as rc
-from railcontact.cases import balance as balance_module
+from railcontact.cases.balance import BalanceOptions
 from railcontact.cases.case import case_from_dict
 from railcontact.cases.compiled_case import solve_case_forces
 from run_all import sweep_raws
@@ -58,14 +58,18 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
     for law in laws:
         solve_case_forces(cases[0], "hertz", law)                  # compile / load
     rc.solve(cases[0], "hertz", "fastsim")
-    keys = [f"cold_{law}" for law in laws] + ["best3_fastsim", "warm_fastsim", "solve_after",
-                                              "solve_before"]
+    keys = [f"cold_{law}" for law in laws] + ["best3_fastsim", "warm_fastsim", "cold_nojoins",
+                                              "warm_nojoins", "solve_after", "solve_before"]
     t = {k: np.zeros(n) for k in keys}
     ok = {k: np.zeros(n, bool) for k in keys}
     passes = {k: np.zeros(n) for k in keys}
+    # the compiled pass's pose steps and roll-search evaluations (both sides' minimum gaps)
+    pose = {k: np.zeros(n) for k in keys}
+    gaps = {k: np.zeros(n) for k in keys}
     dev_fn, dev_fy = [], []
+    dev_joins = {"fn": [], "fy": []}
     conv = []
-    prev = None
+    prev = {True: None, False: None}
     for b0 in range(0, n, 50):
         block = range(b0, min(b0 + 50, n))
         conv.append(conv_time(repeat=3, number=100)[0])
@@ -76,8 +80,22 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
                 r = solve_case_forces(cases[i], "hertz", law)
                 t[f"cold_{law}"][i] = time.process_time() - t0
                 ok[f"cold_{law}"][i], passes[f"cold_{law}"][i] = r.converged, r.passes
+                pose[f"cold_{law}"][i], gaps[f"cold_{law}"][i] = r.pose_passes, r.gap_evaluations
                 if law == "fastsim":
                     cold[i] = r
+        for i in block:                 # before: no handling of joining regions
+            t0 = time.process_time()
+            r = solve_case_forces(cases[i], "hertz", "fastsim", joins=False)
+            t["cold_nojoins"][i] = time.process_time() - t0
+            ok["cold_nojoins"][i], passes["cold_nojoins"][i] = r.converged, r.passes
+            pose["cold_nojoins"][i], gaps["cold_nojoins"][i] = r.pose_passes, r.gap_evaluations
+            if r.converged and cold[i].converged:
+                for side in ("left", "right"):
+                    for name, scale, key in (("normal_force", 7e4, "fn"), ("fy", 0.3 * 7e4, "fy")):
+                        a = sum(f for sd, f in zip(cold[i].side, cold[i].patches[name])
+                                if sd == side)
+                        b = sum(f for sd, f in zip(r.side, r.patches[name]) if sd == side)
+                        dev_joins[key].append(abs(a - b) / scale)
         for i in block:                 # the same, best of 3: the machine's hiccups out
             best = math.inf
             for _ in range(3):
@@ -86,45 +104,48 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
                 best = min(best, time.process_time() - t0)
             t["best3_fastsim"][i], ok["best3_fastsim"][i] = best, r.converged
             passes["best3_fastsim"][i] = r.passes
-        for i in block:
-            t0 = time.process_time()
-            r = solve_case_forces(cases[i], start=prev)
-            t["warm_fastsim"][i] = time.process_time() - t0
-            ok["warm_fastsim"][i], passes["warm_fastsim"][i] = r.converged, r.passes
-            prev = r if r.converged else None
+        for key, joins in (("warm_fastsim", True), ("warm_nojoins", False)):
+            for i in block:
+                t0 = time.process_time()
+                r = solve_case_forces(cases[i], start=prev[joins], joins=joins)
+                t[key][i] = time.process_time() - t0
+                ok[key][i], passes[key][i] = r.converged, r.passes
+                pose[key][i], gaps[key][i] = r.pose_passes, r.gap_evaluations
+                prev[joins] = r if r.converged else None
         for key, flag in (("solve_after", True), ("solve_before", False)):
-            balance_module.COMPILED_START = flag
-            try:
-                for i in block:
-                    t0 = time.process_time()
-                    res = rc.solve(cases[i], "hertz", "fastsim")
-                    t[key][i] = time.process_time() - t0
-                    ok[key][i] = res.converged
-                    passes[key][i] = res.balance.passes if res.balance else 0
-                    if flag and res.converged and cold[i].converged:
-                        for s in ("left", "right"):
-                            fa = sum(p.normal.normal_force for p in res.patches
-                                     if p.geometry.side == s)
-                            fb = sum(f for sd, f in zip(cold[i].side,
-                                                        cold[i].patches["normal_force"])
-                                     if sd == s)
-                            ya = sum(p.tangential.fy for p in res.patches if p.geometry.side == s)
-                            yb = sum(f for sd, f in zip(cold[i].side, cold[i].patches["fy"])
-                                     if sd == s)
-                            dev_fn.append(abs(fa - fb) / 7e4)
-                            dev_fy.append(abs(ya - yb) / (0.3 * 7e4))
-            finally:
-                balance_module.COMPILED_START = True
+            opts = BalanceOptions(compiled_start=flag)
+            for i in block:
+                t0 = time.process_time()
+                res = rc.solve(cases[i], "hertz", "fastsim", options=opts)
+                t[key][i] = time.process_time() - t0
+                ok[key][i] = res.converged
+                passes[key][i] = res.balance.passes if res.balance else 0
+                if flag and res.converged and cold[i].converged:
+                    for s in ("left", "right"):
+                        fa = sum(p.normal.normal_force for p in res.patches
+                                 if p.geometry.side == s)
+                        fb = sum(f for sd, f in zip(cold[i].side,
+                                                    cold[i].patches["normal_force"])
+                                 if sd == s)
+                        ya = sum(p.tangential.fy for p in res.patches if p.geometry.side == s)
+                        yb = sum(f for sd, f in zip(cold[i].side, cold[i].patches["fy"])
+                                 if sd == s)
+                        dev_fn.append(abs(fa - fb) / 7e4)
+                        dev_fy.append(abs(ya - yb) / (0.3 * 7e4))
     unit = float(np.median(conv))
     out(f"* the unit: one real FFT convolution of the padded 80 x 80 grid took "
         f"{unit * 1e6:.1f} µs in this run (median of {len(conv)} measurements between the "
         "blocks)")
     out("\n| path | median per case | mean | in convolutions (median) | max / median | "
-        "max / median of the cases that meet the load | load met | balance passes (mean) |")
-    out("|---|---|---|---|---|---|---|---|")
+        "max / median of the cases that meet the load | load met | balance passes (mean) | "
+        "pose steps (mean) | roll-search evaluations (mean / median) |")
+    out("|---|---|---|---|---|---|---|---|---|---|")
     labels = {"cold_fastsim": "compiled Hertz + FASTSIM, cold (multi-Hertzian start)",
               "best3_fastsim": "the same, each case's best of 3 runs",
               "warm_fastsim": "compiled Hertz + FASTSIM, warm (from the previous case)",
+              "cold_nojoins": "the same, cold, before: no handling of joining regions "
+                              "(`joins=False`)",
+              "warm_nojoins": "the same, warm, before (`joins=False`)",
               "cold_polach": "compiled Hertz + Polach, cold",
               "cold_linear": "compiled Hertz + linear, cold",
               "solve_after": "`rc.solve` Hertz + FASTSIM (full results), balance from the "
@@ -132,12 +153,25 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
               "solve_before": "`rc.solve` Hertz + FASTSIM (full results), before: the "
                               "geometry layer's estimate"}
     figures = {}
-    for k in ("cold_fastsim", "best3_fastsim", "warm_fastsim", "cold_polach", "cold_linear", "solve_after",
-              "solve_before"):
+    compiled = ("cold_fastsim", "best3_fastsim", "warm_fastsim", "cold_nojoins", "warm_nojoins",
+                "cold_polach", "cold_linear")
+    for k in compiled + ("solve_after", "solve_before"):
         med, ratio, met, mean, tail_met = _stats(t[k], ok[k])
         figures[k] = (med, ratio, met)
+        counts = (f"{pose[k].mean():.2f} | {gaps[k].mean():.1f} / {np.median(gaps[k]):.0f}"
+                  if k in compiled and k != "best3_fastsim" else "- | -")
         out(f"| {labels[k]} | {med * 1e3:.3f} ms | {mean * 1e3:.3f} ms | {med / unit:.1f} | "
-            f"{ratio:.1f} | {tail_met:.1f} | {met} of {n} | {passes[k].mean():.2f} |")
+            f"{ratio:.1f} | {tail_met:.1f} | {met} of {n} | {passes[k].mean():.2f} | {counts} |")
+    for k in ("cold_fastsim", "cold_nojoins", "warm_fastsim", "warm_nojoins"):
+        slow = np.argsort(t[k])[-5:][::-1]
+        out(f"* slowest of {labels[k]} (the median case: {np.median(passes[k]):.0f} passes, "
+            f"{np.median(pose[k]):.0f} pose steps, {np.median(gaps[k]):.0f} roll-search "
+            "evaluations): "
+            + ", ".join(f"{raws[i]['wheelset']['lateral_shift'] * 1e3:.2f} mm / "
+                        f"{raws[i]['wheelset']['yaw'] * 1e3:.0f} mrad "
+                        f"({t[k][i] / np.median(t[k]):.1f}x: {passes[k][i]:.0f} passes, "
+                        f"{pose[k][i]:.0f} pose steps, {gaps[k][i]:.0f} evaluations)"
+                        for i in slow))
     jumps = [i for i in range(n) if not ok["solve_before"][i]]
     out(f"\n* cases whose Hertzian force jumps across the load (the per-patch path before "
         f"the change reports `force_jump` there too): {len(jumps)}, at shifts "
@@ -150,6 +184,10 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
             f"{max(dev_fn) * 100:.4f} % of Q (median {statistics.median(dev_fn) * 100:.5f} %), "
             f"sum F_y within {max(dev_fy) * 100:.4f} % of mu Q (FASTSIM on the ellipse against "
             "FASTSIM on Hertz's grid)")
+    if dev_joins["fn"]:
+        out(f"* compiled cold with against without the handling of joining regions (both "
+            f"balanced to 1e-4): sum F_n per wheel within {max(dev_joins['fn']) * 100:.4f} % "
+            f"of Q, sum F_y within {max(dev_joins['fy']) * 100:.4f} % of mu Q")
     out(f"* speed-up of `rc.solve` from the compiled start: "
         f"{figures['solve_before'][0] / figures['solve_after'][0]:.1f}x (medians)")
     return figures, unit
@@ -253,13 +291,9 @@ def bench_manchester(out, unit):
                 t0 = time.process_time()
                 rc.solve(c, "hertz", "fastsim")
                 best["after"] = min(best["after"], time.process_time() - t0)
-                balance_module.COMPILED_START = False
-                try:
-                    t0 = time.process_time()
-                    rc.solve(c, "hertz", "fastsim")
-                    best["before"] = min(best["before"], time.process_time() - t0)
-                finally:
-                    balance_module.COMPILED_START = True
+                t0 = time.process_time()
+                rc.solve(c, "hertz", "fastsim", options=BalanceOptions(compiled_start=False))
+                best["before"] = min(best["before"], time.process_time() - t0)
             for k in t:
                 t[k].append(best[k])
     out(f"\n## Manchester 10 kN sweep ({len(cases)} cases, right wheel; CONTACT's reference "
@@ -358,9 +392,12 @@ def main(n_shift=250, strips_only=False):
 
 if __name__ == "__main__":
     args = [a for a in sys.argv[1:] if a != "--strips"]
+    load0 = os.getloadavg()[1]
     report = main(int(args[0]) if args else 250, "--strips" in sys.argv)
     if len(sys.argv) <= 1:
         (HERE / "compiled_case.md").write_text(
             f"# Whole cases in one compiled pass ({time.strftime('%Y-%m-%d')}, "
-            f"{os.cpu_count()} cores, Python {sys.version.split()[0]})\n"
+            f"{os.cpu_count()} cores, Python {sys.version.split()[0]}; the machine's load "
+            f"average (5 min) {load0:.1f} at the start, {os.getloadavg()[1]:.1f} at the end: "
+            "CPU times, interleaved, stand; wall times would not)\n"
             + "\n".join(report) + "\n")

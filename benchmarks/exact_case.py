@@ -4,7 +4,7 @@ after the sweep's extrapolated start (issue 30); ``benchmarks/exact_case.md``.
 The 1000-case sweep of ``run_all.sweep_raws`` (S1002 on 60E1 1:40, 70 kN per
 wheel, shift -4..9 mm, yaw 0..6 mrad, creepages varying, 40 x 40 grid), solved
 cold and warm-started along the sweep, "before" (the start at the previous case's
-interpenetrations alone: ``railcontact.cases.balance.EXTRAPOLATE_RATIO`` = 1) and
+interpenetrations alone: ``BalanceOptions(extrapolate_ratio=1)``) and
 "after" (the extrapolation of the two previous cases), interleaved in blocks of
 50 cases in one process; CPU time per case (the shared machine's pauses out).
 
@@ -38,11 +38,12 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import railcontact as rc                                   # noqa: E402
-import railcontact.cases.balance as balance_module         # noqa: E402
+from railcontact.cases.balance import BalanceOptions      # noqa: E402
 from run_all import sweep_raws                             # noqa: E402
 
-#: EXTRAPOLATE_RATIO of each run: 1 disables the extrapolation (the start before)
-MODES = {"before": 1.0, "after": None}
+#: the balance's options of each run: ratio 1 disables the extrapolation (the
+#: start before), the default extrapolates
+MODES = {"before": BalanceOptions(extrapolate_ratio=1.0), "after": BalanceOptions()}
 
 
 class Counter:
@@ -131,38 +132,34 @@ def run(n_cases=1000, block=50):
     from railcontact.cases.case import case_from_dict
     cases = [case_from_dict(r) for r in sweep_raws()][:n_cases]
     rc.solve(cases[0], "exact", "exact")                    # compile / load
-    after = balance_module.EXTRAPOLATE_RATIO
     keys = [(m, w) for m in MODES for w in ("cold", "warm")]
     t = {k: np.zeros(len(cases)) for k in keys}
     summary = {k: [None] * len(cases) for k in keys}
     counters = {k: Counter() for k in keys}
     prev = {m: None for m in MODES}
     units = []
-    try:
-        for b0 in range(0, len(cases), block):
-            units.append(unit_cpu())
-            for m, w in keys:
-                balance_module.EXTRAPOLATE_RATIO = MODES[m] or after
-                c = counters[(m, w)]
-                for st in STAGES:
-                    c.wrap(*st)
-                try:
-                    for i in range(b0, min(b0 + block, len(cases))):
-                        t0 = time.process_time()
-                        res = rc.solve(cases[i], "exact", "exact",
-                                       warm_start=prev[m] if w == "warm" else None)
-                        t[(m, w)][i] = time.process_time() - t0
-                        if w == "warm":
-                            prev[m] = res
-                        summary[(m, w)][i] = (
-                            res.converged, res.balance.passes,
-                            sum(p.normal.normal_force for p in res.patches),
-                            sum(p.tangential.fx for p in res.patches),
-                            sum(p.tangential.fy for p in res.patches))
-                finally:
-                    c.restore()
-    finally:
-        balance_module.EXTRAPOLATE_RATIO = after
+    for b0 in range(0, len(cases), block):
+        units.append(unit_cpu())
+        for m, w in keys:
+            c = counters[(m, w)]
+            for st in STAGES:
+                c.wrap(*st)
+            try:
+                for i in range(b0, min(b0 + block, len(cases))):
+                    t0 = time.process_time()
+                    res = rc.solve(cases[i], "exact", "exact",
+                                   warm_start=prev[m] if w == "warm" else None,
+                                   options=MODES[m])
+                    t[(m, w)][i] = time.process_time() - t0
+                    if w == "warm":
+                        prev[m] = res
+                    summary[(m, w)][i] = (
+                        res.converged, res.balance.passes,
+                        sum(p.normal.normal_force for p in res.patches),
+                        sum(p.tangential.fx for p in res.patches),
+                        sum(p.tangential.fy for p in res.patches))
+            finally:
+                c.restore()
     return t, summary, counters, float(np.median(units))
 
 

@@ -360,12 +360,12 @@ def bench_fft_unit(sizes=(20, 40, 60)):
 
 def bench_force_controlled(step=10, block=(0, 120)):
     """Issue 30's force-controlled balance of the exact case
-    (``railcontact.cases.balance.FORCE_CONTROL``: one patch a side, each side's
+    (``BalanceOptions(force_control=True)``: one patch a side, each side's
     normal problem solved for its load, the exact tangential problem at the end)
     against the general balance on the interpenetrations, case by case
     interleaved: every ``step``-th case of the 1000-case sweep cold, and the cases
     ``block`` warm-started along the sweep; every time also in FFT convolutions."""
-    import railcontact.cases.balance as B
+    from railcontact.cases.balance import BalanceOptions
     from railcontact.cases.case import case_from_dict
     raws = sweep_raws(load=7e4)
     tc = conv_time(repeat=3, number=100)[0]
@@ -375,32 +375,28 @@ def bench_force_controlled(step=10, block=(0, 120)):
     out("|---|---|---|---|---|---|---|")
     runs = (("cold, every %d-th case" % step, raws[::step], False),
             ("warm, cases %d-%d" % block, raws[block[0]:block[1]], True))
-    saved = B.FORCE_CONTROL
-    try:
-        for label, rs, warm in runs:
-            cases = [case_from_dict(r) for r in rs]
-            t = {False: [], True: []}
-            passes = {False: [], True: []}
-            ok = {False: 0, True: 0}
-            prev = {False: None, True: None}
-            for c in cases:
-                for fc in (False, True):
-                    B.FORCE_CONTROL = fc
-                    t0 = time.perf_counter()
-                    res = rc.solve(c, "exact", "exact", warm_start=prev[fc] if warm else None)
-                    t[fc].append(time.perf_counter() - t0)
-                    prev[fc] = res
-                    passes[fc].append(res.balance.passes)
-                    ok[fc] += res.converged
+    for label, rs, warm in runs:
+        cases = [case_from_dict(r) for r in rs]
+        t = {False: [], True: []}
+        passes = {False: [], True: []}
+        ok = {False: 0, True: 0}
+        prev = {False: None, True: None}
+        for c in cases:
             for fc in (False, True):
-                v = np.asarray(t[fc])
-                out(f"| {label} | {'force-controlled' if fc else 'general'} | "
-                    f"{v.mean() * 1e3:.2f} ms = {v.mean() / tc:.0f} conv. | "
-                    f"{np.median(v) * 1e3:.2f} ms = {np.median(v) / tc:.0f} conv. | "
-                    f"{v.max() / np.median(v):.1f} | {np.mean(passes[fc]):.2f} | "
-                    f"{ok[fc]} of {len(cases)} |")
-    finally:
-        B.FORCE_CONTROL = saved
+                t0 = time.perf_counter()
+                res = rc.solve(c, "exact", "exact", warm_start=prev[fc] if warm else None,
+                               options=BalanceOptions(force_control=fc))
+                t[fc].append(time.perf_counter() - t0)
+                prev[fc] = res
+                passes[fc].append(res.balance.passes)
+                ok[fc] += res.converged
+        for fc in (False, True):
+            v = np.asarray(t[fc])
+            out(f"| {label} | {'force-controlled' if fc else 'general'} | "
+                f"{v.mean() * 1e3:.2f} ms = {v.mean() / tc:.0f} conv. | "
+                f"{np.median(v) * 1e3:.2f} ms = {np.median(v) / tc:.0f} conv. | "
+                f"{v.max() / np.median(v):.1f} | {np.mean(passes[fc]):.2f} | "
+                f"{ok[fc]} of {len(cases)} |")
     out(f"* the unit: one FFT convolution of the 80 x 80 padded grid, {tc * 1e6:.1f} µs in "
         "this run")
 
@@ -1480,6 +1476,8 @@ def main():
     dynamics_online.main([])
     import gauge_corner_sampling   # issue 34: CONTACT's wheel sampling (prints)
     gauge_corner_sampling.main()
+    import t3_t2_conformal_balance  # issue 34: case 3's vertical balance (prints)
+    t3_t2_conformal_balance.main()
     import seed003_plastic         # issue 31: benchmarks/seed003_plastic.md
     seed003_plastic.main()
 

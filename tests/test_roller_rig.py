@@ -184,9 +184,10 @@ def test_rigid_slip_on_the_actual_surfaces(testbank, k):
     across the patch (CONTACT's D = 3, test-rollers3): the sphere rolling purely at
     its centre brakes by -y^2/(2 R^2) across the patch, F_x 1091 N on the rail in
     CONTACT (ours -1091.0 on the wheel); the cylinder on the ellipsoidal roller
-    -284.2 N (ours +284.2).  (On the yawed cases 1c and 2c CONTACT's experimental
-    option gives lateral forces of 745 and 244 N where ours gives 321 and 7 N: not
-    reproduced, see :func:`test_rigid_slip_of_a_yawed_sphere_is_the_rotated_one`.)"""
+    -284.2 N (ours +284.2).  (On the yawed cases 1c and 2c CONTACT's rule gives
+    lateral forces of 745 and 244 N where railcontact's default gives 321 and 7 N:
+    :func:`test_rigid_slip_of_a_yawed_sphere_is_the_rotated_one`; CONTACT's rule,
+    ``solver.surface_slip = "midplane"``: :func:`test_contacts_midplane_rule`.)"""
     ref = read_ref_out(testbank / "examples_conformal" / "test-rollers3.ref_out")[k - 1]
     (q,) = ref["patches"]
     c = _case(testbank, **CASES[k])
@@ -198,6 +199,23 @@ def test_rigid_slip_on_the_actual_surfaces(testbank, k):
         case_from_dict(dict(raw, solver=dict(raw["solver"], rigid_slip="actual")), c.base_dir)
 
 
+def _slip_fields(testbank, k, *rules):
+    """test-rollers3 case ``k`` (CASES) with the rigid slip on the surfaces, solved:
+    the mean over its contact of each rule's slip field (s_x, s_y), the fields on
+    the normal solution's grid, and the contact mask."""
+    from railcontact.cases.surfaces import build_surface_case
+    c = _case(testbank, **CASES[k])
+    case = case_from_dict(dict(c.raw, solver=dict(c.raw["solver"], rigid_slip="surfaces")),
+                          c.base_dir)
+    (p,) = rc.solve(case).patches
+    setup = build_surface_case(case)
+    n = p.normal
+    X, Y = np.meshgrid(n.x, n.y, indexing="ij")
+    fields = [rule(p.geometry, setup.wheel, setup.rails[0], setup.motion, X, Y)
+              for rule in rules]
+    return ([np.array([a[n.contact].mean() for a in f]) for f in fields], fields, n.contact)
+
+
 def test_rigid_slip_of_a_yawed_sphere_is_the_rotated_one(testbank):
     """The sphere of test-rollers3 1c, yawed by psi = -0.3 rad and moving along its
     heading, is the unyawed case 1a turned by psi: its rigid slip on the actual
@@ -207,20 +225,11 @@ def test_rigid_slip_of_a_yawed_sphere_is_the_rotated_one(testbank):
     prints mean creepages (-3.991e-4, 0) for 1a and (-3.615e-4, 2.473e-4) for 1c:
     turned by 34.38 deg = 2 |psi| and scaled by 1.0975 (1 / cos^2 psi = 1.0957),
     one turn by psi more than the bodies' motion gives; its lateral force of
-    745 N (ours 321 N) follows from that, which we do not reproduce."""
+    745 N (ours 321 N) follows from that: CONTACT's rule, a case option
+    (``solver.surface_slip = "midplane"``, on for ``.inp`` inputs), in
+    :func:`test_contacts_midplane_rule`."""
     from railcontact.geometry.surface_search import surface_slip
-    from railcontact.cases.surfaces import build_surface_case
-    mean = []
-    for k in (1, 3):
-        c = _case(testbank, **CASES[k])
-        case = case_from_dict(dict(c.raw, solver=dict(c.raw["solver"], rigid_slip="surfaces")),
-                              c.base_dir)
-        (p,) = rc.solve(case).patches
-        setup = build_surface_case(case)
-        n = p.normal
-        X, Y = np.meshgrid(n.x, n.y, indexing="ij")
-        sx, sy = surface_slip(p.geometry, setup.wheel, setup.rails[0], setup.motion, X, Y)
-        mean.append(np.array([sx[n.contact].mean(), sy[n.contact].mean()]))
+    mean = [_slip_fields(testbank, k, surface_slip)[0][0] for k in (1, 3)]
     psi = CASES[3]["yaw"]
     turned = np.array([[math.cos(psi), -math.sin(psi)], [math.sin(psi), math.cos(psi)]]) \
         @ mean[0] / math.cos(psi)
@@ -242,3 +251,24 @@ def test_half_space_ratio_counts_the_rollers_radius(testbank):
     assert q.geometry.rail_rolling_radius == pytest.approx(0.02)
     assert q.halfspace_ratio == pytest.approx(
         max(q.normal.semi_axes[1] / 0.1, q.normal.semi_axes[0] / 0.02), rel=0.03)
+
+
+def test_contacts_midplane_rule(testbank):
+    """CONTACT's rigid slip on the surfaces (``solver.surface_slip = "midplane"``,
+    :func:`railcontact.geometry.surface_search.midplane_slip`): each body's velocity
+    at its surface point, turned onto the mid-plane in the (x, n) plane only.  On
+    the unyawed sphere (case 1a) it is railcontact's own rule to 1e-7 (both remove
+    the slip of the curvature along x); on the sphere yawed by psi = -0.3 rad (1c)
+    the turn in the (x, n) plane leaves a lateral slip: its mean over the contact
+    (-1.828e-4, 1.2525e-4) against the turned (-2.022e-4, 6.255e-5), in the
+    direction of CONTACT's printed creepages (-3.615e-4, 2.473e-4), to 0.2 %."""
+    from railcontact.geometry.surface_search import midplane_slip, surface_slip
+    _, (own, mid), contact = _slip_fields(testbank, 1, surface_slip, midplane_slip)
+    assert np.abs(mid[0] - own[0])[contact].max() < 1e-7
+    assert np.abs(mid[1])[contact].max() < 1e-12
+    (own3, mid3), _, _ = _slip_fields(testbank, 3, surface_slip, midplane_slip)
+    assert own3 == pytest.approx([-2.022e-4, 6.255e-5], rel=2e-3)
+    assert mid3 == pytest.approx([-1.828e-4, 1.2525e-4], rel=2e-3)
+    # CONTACT's printed mean creepages (over its interpenetration, a larger region,
+    # so larger in size: -3.991e-4 unyawed against our -2.022e-4) point the same way
+    assert mid3[1] / mid3[0] == pytest.approx(2.473e-4 / -3.615e-4, rel=3e-3)

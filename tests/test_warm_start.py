@@ -289,8 +289,8 @@ def test_unconverged_warm_start_falls_back_to_a_cold_solve(monkeypatch):
     calls = []
     real = S._solve
 
-    def fake(case, normal, tangential, warm_start):
-        res = real(case, normal, tangential, warm_start)
+    def fake(case, normal, tangential, warm_start, options=None):
+        res = real(case, normal, tangential, warm_start, options)
         calls.append(warm_start is not None)
         if warm_start is not None:
             res.balance.converged = False             # as if the warm start had failed
@@ -327,8 +327,8 @@ def test_force_jump_shows_in_the_vertical_residual(caplog, monkeypatch):
     import railcontact.cases.solve as S
     calls, real = [], S._solve
 
-    def jumping(case, normal, tangential, warm_start):
-        out = real(case, normal, tangential, warm_start)
+    def jumping(case, normal, tangential, warm_start, options=None):
+        out = real(case, normal, tangential, warm_start, options)
         calls.append(warm_start is not None)
         out.balance.converged, out.balance.force_jump = False, True
         return out

@@ -12,8 +12,9 @@ import numpy as np
 
 from .bodies import build_wheelset_track, contact_search
 from .compiled_case import case_contact, compiled_unsupported, solve_case_forces
-from .equilibrium import VerticalBalance, balance as solve_balance
-from ..core.errors import ContactNotFoundError, RailContactError
+from .equilibrium import Neighbour, VerticalBalance, balance as solve_balance, extrapolate_start
+from ..core.checks import shown
+from ..core.errors import ContactNotFoundError, InputError, RailContactError
 from ..geometry.locus import depth_at
 from ..geometry.search import WheelsetContact
 from ..geometry.track import WheelsetPose
@@ -51,30 +52,29 @@ def solve_at_position(case, nmodel, tmodel, kw):
 
 
 
-def _first_search(case, bodies, loads, sides, start, before=None):
+def _first_search(case, bodies, loads, sides, start, before=None,
+                  ratio=None):
     """The contact search the vertical balance starts from.
 
     With ``start`` (the contact of a neighbouring case's result, e.g. the previous
     case of a sweep): at its interpenetrations, scaled to this case's loads as
     Hertz's approach (Q^(2/3)), from its roll; where that case itself started from
-    a neighbour, ``before`` (its :attr:`VerticalBalance.neighbour`), whose
-    interpenetrations differ from its own by less than the factor
-    ``EXTRAPOLATE_RATIO`` on every side, the linear extrapolation of the two (and
-    of the rolls, where they differ by less than ``EXTRAPOLATE_ROLL``): a sweep's
-    next step.  Else (or where ``start`` has no
-    interpenetration on a side): the geometry layer's multi-Hertzian estimate, one
-    load iteration (why these starts: docs/tuning.md, section "Equilibrium")."""
+    a neighbour, ``before`` (its :attr:`VerticalBalance.neighbour`, a
+    :class:`~railcontact.cases.equilibrium.Neighbour`), the linear extrapolation of
+    the two (:func:`~railcontact.cases.equilibrium.extrapolate_start` with the
+    factor ``ratio``, default ``EXTRAPOLATE_RATIO``): a sweep's next step.  Else
+    (or where ``start`` has no interpenetration on a side): the geometry layer's
+    multi-Hertzian estimate, one load iteration (why these starts: docs/tuning.md,
+    section "Equilibrium")."""
     if start is not None and start.interpenetration and start.loads:
         d1 = _scaled(start.interpenetration, start.loads, loads, sides)
         if d1 is not None:
             roll = start.pose.roll
-            d0 = _scaled(before[0], before[2], loads, sides) if before is not None else None
-            extrapolated = d0 is not None and all(
-                abs(math.log(d1[s] / d0[s])) < math.log(EXTRAPOLATE_RATIO) for s in sides)
-            if extrapolated:
-                d1 = {s: 2.0 * d1[s] - d0[s] for s in sides}
-                if math.isfinite(before[1]) and abs(roll - before[1]) < EXTRAPOLATE_ROLL:
-                    roll = 2.0 * roll - before[1]
+            d0 = _scaled(before.interpenetration, before.loads, loads, sides) \
+                if before is not None and before.loads else None
+            d1, roll, _ = extrapolate_start(
+                d1, d0, EXTRAPOLATE_RATIO if ratio is None else ratio, roll,
+                before.roll if before is not None else math.nan)
             return contact_search(case, interpenetration=d1, bodies=bodies,
                                   roll_start=roll)
     return contact_search(case, bodies=bodies, load_iterations=1)
@@ -92,11 +92,9 @@ def _scaled(interpenetration, their_loads, loads, sides):
 
 #: a sweep's case extrapolates its start linearly from its two previous cases
 #: where their interpenetrations differ by less than this factor on every side
-#: (else the previous case's alone; docs/tuning.md, section "Equilibrium")
+#: (else the previous case's alone; docs/tuning.md, section "Equilibrium"); the
+#: default of :attr:`BalanceOptions.extrapolate_ratio`
 EXTRAPOLATE_RATIO = 2.0
-
-#: ... and the roll where the two rolls differ by less than this [rad]
-EXTRAPOLATE_ROLL = 1e-3
 
 #: the uncertainty of a stand-in lateral force: FASTSIM's F_y on the exact normal
 #: solution is taken to be within this fraction of the exact F_y (docs/tuning.md,
@@ -144,9 +142,11 @@ class WheelRailContact:
     first search at its interpenetrations, the solvers from its solutions).
     ``compiled``: the case's balance in the compiled pass
     (:class:`~railcontact.cases.compiled_case.CaseForces`): the first search at its
-    interpenetrations and roll instead."""
+    interpenetrations and roll instead.  ``extrapolate_ratio``: that of
+    :func:`_first_search` (:attr:`BalanceOptions.extrapolate_ratio`)."""
 
-    def __init__(self, case, nmodel, tmodel, kw, start=None, compiled=None):
+    def __init__(self, case, nmodel, tmodel, kw, start=None, compiled=None,
+                 extrapolate_ratio=EXTRAPOLATE_RATIO):
         self.case, self.nmodel, self.tmodel, self.kw = case, nmodel, tmodel, kw
         self.bodies = build_wheelset_track(case)
         self.loads = case.wheel_rail.loads
@@ -162,7 +162,7 @@ class WheelRailContact:
                 case, self.bodies, self.loads, self.sides,
                 start.contact if start is not None else None,
                 start.balance.neighbour if start is not None and start.balance is not None
-                else None)
+                else None, extrapolate_ratio)
         self.coupled = coupled_models(case, nmodel, tmodel)
         self.lazy = (tmodel is not None and "lazy" in tmodel.capabilities
                      and not self.coupled)
@@ -234,18 +234,49 @@ def _standin_lateral(standin, neighbour) -> dict:
 
 
 
-#: whether a case with the exact models whose balanced sides have one patch each
-#: is balanced force-controlled (:func:`_force_controlled`); False gives the
-#: general balance on the interpenetrations (for comparisons)
-FORCE_CONTROL = False
+@dataclass(frozen=True)
+class BalanceOptions:
+    """How :func:`solve_wheel_rail` balances a wheel-rail case (the defaults are
+    the package's; the others serve comparisons, e.g. the benchmarks' before and
+    after: ``railcontact.cases.solve.solve(case, options=BalanceOptions(...))``).
+
+    Attributes
+    ----------
+    compiled_start : bool
+        Start the balance from the compiled pass's (:func:`compiled_start`), where
+        it runs the case's models or their nearest compiled forms; False: from the
+        geometry layer's estimate or a neighbour's interpenetrations, as before the
+        pass.
+    extrapolate_ratio : float
+        A warm-started case extrapolates its start from its two previous cases
+        where their interpenetrations differ by less than this factor
+        (:func:`~railcontact.cases.equilibrium.extrapolate_start`); 1 turns it off.
+    force_control : bool
+        Balance a case with the exact models whose balanced sides have one patch
+        each force-controlled (:func:`_force_controlled`, issue 30's design).
+        Measured slower than the general balance on the benchmark sweep (cold 58.7
+        against 50.3 ms, warm 39.9 against 28.5 ms per case: docs/tuning.md,
+        section "Equilibrium"), so off; kept for comparisons
+        (``benchmarks/run_all.py``, ``bench_force_controlled``).
+    """
+
+    compiled_start: bool = True
+    extrapolate_ratio: float = EXTRAPOLATE_RATIO
+    force_control: bool = False
+
+    def __post_init__(self):
+        for name in ("compiled_start", "force_control"):
+            if not isinstance(getattr(self, name), bool):
+                raise InputError(f"BalanceOptions.{name} = {shown(getattr(self, name))}: "
+                                 "expected True or False")
+        r = self.extrapolate_ratio
+        if isinstance(r, bool) or not isinstance(r, (int, float)) or not r >= 1.0:
+            raise InputError(f"BalanceOptions.extrapolate_ratio = {shown(r)}: expected a "
+                             "factor >= 1 (1: no extrapolation)")
 
 
-
-#: whether the balance of a case the compiled pass runs starts from that pass's
-#: result (:func:`compiled_start`); False gives the geometry layer's estimate or a
-#: neighbour's interpenetrations, as before the pass (for comparisons)
-COMPILED_START = True
-
+#: the balance's options where none are given
+DEFAULT_OPTIONS = BalanceOptions()
 
 
 def compiled_start(case, nmodel, tmodel, neighbour=None):
@@ -257,7 +288,7 @@ def compiled_start(case, nmodel, tmodel, neighbour=None):
     start the balance of the case's own models, which then usually meets the loads
     in its first pass.  None where the pass does not run the case or does not meet
     the loads (the balance then starts as it would without it)."""
-    if not COMPILED_START or tmodel is None:
+    if tmodel is None:
         return None
     names = (nmodel.name, tmodel.name)
     if compiled_unsupported(case, *names):
@@ -270,25 +301,14 @@ def compiled_start(case, nmodel, tmodel, neighbour=None):
     if (neighbour is not None and neighbour.contact is not None
             and neighbour.contact.interpenetration and neighbour.balance is not None
             and set(neighbour.contact.interpenetration) >= {"left", "right"}):
-        start = NeighbourStart(dict(neighbour.contact.interpenetration),
-                               neighbour.contact.pose.roll, neighbour.balance.jacobian)
+        start = Neighbour(dict(neighbour.contact.interpenetration),
+                          neighbour.contact.pose.roll, jacobian=neighbour.balance.jacobian)
     try:
         res = solve_case_forces(case, *names, start=start)
     except RailContactError as exc:          # the Python path says it properly
         log.debug("compiled pass: %s", exc)
         return None
     return res if res.converged else None
-
-
-
-@dataclass
-class NeighbourStart:
-    """A neighbouring case's interpenetrations [m], roll [rad] and balance
-    Jacobian, where the compiled pass starts (:func:`compiled_start`)."""
-
-    interpenetration: dict
-    roll: float
-    jacobian: object = None
 
 
 
@@ -470,7 +490,7 @@ def _load_factor(geom, ratio) -> float:
 
 
 def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float = 1e-4,
-                      start=None):
+                      start=None, options: BalanceOptions | None = None):
     """Patches of a wheel-rail case with the vertical wheel load met per side.
 
     The balance of each wheel's vertical force, normal plus tangential contact
@@ -479,13 +499,16 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     :class:`WheelRailContact` (the sides' interpenetrations the unknowns), from the
     geometry layer's multi-Hertzian estimate or, where ``start`` (the
     :class:`SolveResult` of a neighbouring case) is given, from its
-    interpenetrations and its Jacobian.  Returns the patch results, the final
-    contact search and the :class:`VerticalBalance`.
+    interpenetrations and its Jacobian; ``options`` (:class:`BalanceOptions`;
+    default :data:`DEFAULT_OPTIONS`) says how.  Returns the patch results, the
+    final contact search and the :class:`VerticalBalance`.
     """
-    compiled = compiled_start(case, nmodel, tmodel, start)
-    evaluate = WheelRailContact(case, nmodel, tmodel, kw, start, compiled)
+    opt = DEFAULT_OPTIONS if options is None else options
+    compiled = compiled_start(case, nmodel, tmodel, start) if opt.compiled_start else None
+    evaluate = WheelRailContact(case, nmodel, tmodel, kw, start, compiled,
+                                opt.extrapolate_ratio)
     fc = None
-    if FORCE_CONTROL and evaluate.lazy and "force-control" in nmodel.capabilities \
+    if opt.force_control and evaluate.lazy and "force-control" in nmodel.capabilities \
             and "warm-start" in tmodel.capabilities \
             and "contact-stiffness" in nmodel.capabilities:
         fc = _force_controlled(evaluate, rtol)
@@ -501,8 +524,8 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
         balance.standin = evaluate.standin
         results, contact = ev.results, ev.contact
     if start is not None and start.contact is not None and start.contact.interpenetration:
-        balance.neighbour = (dict(start.contact.interpenetration), start.contact.pose.roll,
-                             dict(start.contact.loads or {}))
+        balance.neighbour = Neighbour(dict(start.contact.interpenetration),
+                                      start.contact.pose.roll, dict(start.contact.loads or {}))
     side = case.wheel_rail.side
     wheel_rail_validity(results, evaluate.bodies)      # both wheels: either may derail
     if side != "both":

@@ -45,10 +45,11 @@ def build_wheelset_track(case: Case):
                   flange_back_distance=s.flange_back_distance,
                   flange_back_position=s.flange_back_position,
                   out_of_round=out_of_round_wheel(s.wheel, s.wheel_slices, s.pitch, wheel,
-                                                  case.base_dir), locus=s.locus)
+                                                  case.base_dir), locus=case.rules.locus)
     tr = Track(rail, rail_left, gauge=s.gauge, gauge_height=s.gauge_height,
                rail_offsets=None if s.rail_offset is None else {
-                   side: s.rail_offset for side in SIDES})
+                   side: s.rail_offset for side in SIDES},
+               gauge_rule=case.rules.gauge_point)
     return ws, tr
 
 

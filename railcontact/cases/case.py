@@ -9,6 +9,7 @@ from pathlib import Path
 
 from .bodies_setup import RADII, BodiesSetup, parse_bodies
 from .keys import PROFILE_OPTIONS, CaseKeys
+from .rules import ContactRules, parse_rules
 from .surface_setup import SurfaceCaseSetup, is_surface_case, parse_surface_case
 from .viscoelastic_setup import VISCOELASTIC_KEYS, viscoelastic_option
 from .wheel_rail_setup import WheelRailSetup, parse_wheel_rail
@@ -31,8 +32,8 @@ _ALLOWED = {
     "rail": {"profile", "inclination", "profile_left", "units", "slices", "name",
              "lateral_position", "vertical_position", "slice_spacing"} | PROFILE_OPTIONS,
     "rails": None,
-    "roller": {"radius", "angular_velocity", "position", "profile_deviation"},
-    "track": {"gauge", "gauge_height", "rail_offset"},
+    "roller": {"radius", "angular_velocity", "position", "profile_deviation", "turn"},
+    "track": {"gauge", "gauge_height", "rail_offset", "gauge_point"},
     "wheelset": {"flange_back_distance", "flange_back_position", "lateral_shift", "yaw", "roll",
                  "side",
                  "vertical_force", "vertical_position", "velocity", "pitch_velocity", "pitch",
@@ -44,7 +45,8 @@ _ALLOWED = {
     "solver": {"normal", "tangential", "grid", "element_size", "normal_options",
                "tangential_options", "force_tolerance", "search_length",
                "contact_angle", "rigid_slip", "allow_large", "contact_surface", "influence",
-               "influence_options", "reference_weights", "search_grid"},
+               "influence_options", "reference_weights", "search_grid", "rules",
+               "surface_slip"},
     "bodies": {"radii", "normal_force", "velocity"},
     "plasticity": {"model", "yield_stress", "pressure_factor", "pressure_limit",
                    "hardening_modulus", "voce_saturation", "voce_rate", "grid", "layers",
@@ -97,6 +99,9 @@ class Case(CaseKeys):
     #: a ``[thermal]`` table: no temperatures (they cost about a millisecond per
     #: patch, as much as a whole compiled Hertz + FASTSIM case)
     thermal: tuple | None = None
+    #: CONTACT's rules the case follows (``solver.rules`` and each rule's own key,
+    #: :class:`~railcontact.cases.rules.ContactRules`; railcontact's by default)
+    rules: ContactRules = field(default_factory=ContactRules)
 
     @property
     def is_bodies(self) -> bool:
@@ -190,7 +195,10 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         check_grid_size(grid, "solver.grid", allow_large)
     yield_stress = (None if keys.get("material.yield_stress") is None
                     else keys.number("material.yield_stress", None, 1e6, 1e11, "Pa"))
-    normal_options = _options(sol, "normal_options")
+    rules = parse_rules(keys, normal, tangential)
+    # the models' options that CONTACT's rules set, under the case's own
+    normal_options = {**rules.normal_options(normal, "bodies" not in raw),
+                      **_options(sol, "normal_options")}
     elastic_plastic = None
     if "plasticity" in raw and _plasticity_model(raw) == "elastic-plastic":
         elastic_plastic = _elastic_plastic(keys, normal)
@@ -199,13 +207,15 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
             raise CaseFileError("pressure limit given both in [plasticity] and in "
                                 "solver.normal_options; give it once")
         normal_options["pressure_limit"] = _pressure_limit(keys, normal)
-    tangential_options = _options(sol, "tangential_options")
+    tangential_options = {**rules.tangential_options(tangential),
+                          **_options(sol, "tangential_options")}
     if "viscoelastic" in raw:       # an option of both exact models
         normal_options["viscoelastic"] = viscoelastic_option(keys, normal, tangential)
         if tangential != "none":
             tangential_options["viscoelastic"] = normal_options["viscoelastic"]
     values = dict(
-        title=str(raw.get("title", "")), material=_material(keys), thermal=_thermal(keys),
+        title=str(raw.get("title", "")), material=_material(keys),
+        thermal=_thermal(keys, rules.thermal_scheme), rules=rules,
         friction=keys.number("friction.coefficient", 0.3, 0.0, 5.0),
         friction_variation=_friction_variation(keys),
         friction_along_track=_friction_variation(keys, "x"), normal=normal,
@@ -233,7 +243,7 @@ def case_from_dict(raw: dict, base_dir: Path | None = None) -> Case:
         values["bodies"] = parse_bodies(keys)
     elif is_surface_case(keys):
         # rails along the track, several rails, a roller: railcontact.cases.surfaces
-        values["surfaces"] = parse_surface_case(keys, tangential)
+        values["surfaces"] = parse_surface_case(keys, tangential, rules)
     else:
         values["wheel_rail"] = parse_wheel_rail(keys)
     if values["friction_along_track"] is not None and (
@@ -280,13 +290,13 @@ def _material(keys: CaseKeys) -> Material:
         raise CaseFileError(str(exc)) from None
 
 
-def _thermal(keys: CaseKeys) -> tuple | None:
+def _thermal(keys: CaseKeys, scheme: str = "jaeger") -> tuple | None:
     """``[thermal]``: bulk temperatures [deg C] of rail and wheel and the steel's
     heat capacity [J/(kg K)], conductivity [W/(m K)] and density [kg/m^3] (both
-    bodies), and the scheme, for the flash temperatures (docs/case_files.md)."""
+    bodies), and the ``scheme`` (the case's rule, ``thermal.scheme`` over
+    ``solver.rules``), for the flash temperatures (docs/case_files.md)."""
     if "thermal" not in keys.raw:
         return None
-    scheme = keys.get("thermal.scheme", "jaeger")
     if scheme not in SCHEMES:
         raise CaseFileError(f"thermal.scheme = {shown(scheme)}: expected one of {SCHEMES}")
     try:

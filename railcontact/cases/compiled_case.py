@@ -67,7 +67,7 @@ from numba import njit
 from ..core.hertz_theory import _axes_table
 from ..geometry.locus import LOCUS_WINDOW  # noqa: F401  (documented neighbour)
 from ..geometry.search import ESTIMATE_WINDOW
-from ..geometry.wheel_pass import (LOCUS_MARGIN, MAX_PATCHES, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
+from ..geometry.wheel_pass import (LOCUS_MARGIN, M_GAPS, M_JOINS, MAX_PATCHES, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
                                    P_B_FORCE, P_ETA, P_PHI, P_ROLLING_RADIUS, P_SIDE, P_VELOCITY, P_XI, P_Y,
                                    PATCH_FIELDS, PassPose, gap_candidates, make_patch,
                                    locus_curvatures, new_memo, pass_profiles, search_patches,
@@ -82,7 +82,8 @@ from ..geometry.patch_curvature import force_curvature
 from ..geometry.wheel_pass import locus_regions, rows_contact
 from .bodies import build_wheelset_track
 from .strip_pass import MARCHES, strip_pass, strip_row
-from .equilibrium import COUPLING_SLOPE, FORCE_FLOOR, HERTZ_SLOPE, JUMP_SLOPE, STEP_FACTOR
+from .equilibrium import (COUPLING_SLOPE, FORCE_FLOOR, HERTZ_SLOPE, JUMP_SLOPE, STEP_FACTOR,
+                          Neighbour, extrapolate_start)
 
 #: the fields of a row of :func:`evaluate_wheelset`'s output: the patch's geometry
 #: (:data:`railcontact.geometry.wheel_pass.PATCH_FIELDS`) and its solution
@@ -118,12 +119,23 @@ ESTIMATE_PASSES = 30
 #: d(ln F)/d(ln d) (the balance's first Jacobian), and the range it is held in
 ESTIMATE_DIFFERENCE = 0.02
 SLOPE_RANGE = (1.0, 20.0)
+#: the estimate carries the load with the creep forces' share of the vertical force
+#: (:func:`creep_factor`) where that factor lies in this range
+CREEP_RANGE = (0.2, 5.0)
+#: ... and differs from 1 by more than this (the first evaluation lies within some
+#: 1e-3 to 1e-2 of the estimate's load anyway); a side whose friction times the rail
+#: slope under its interpenetration is below it is not evaluated
+CREEP_MIN = 1e-2
 
 #: the balance's steps after its first evaluation are Newton steps on the pose
 #: (:func:`pose_newton`), at most ``POSE_PASSES`` evaluations, a step that does
 #: not reduce the residual halved up to ``POSE_HALVINGS`` times; then (or with
 #: False) the steps on the interpenetrations (:func:`balance_wheelset`)
 POSE_BALANCE = True
+#: where those steps do not meet the load, the steps on the interpenetrations start
+#: from the last accepted pose with the pose's evaluations as their history, where
+#: the search's memo has its ``M_JOINS`` switch on (the default; off: evaluated
+#: again there, with no history, as before)
 POSE_PASSES = 16
 POSE_HALVINGS = 3
 #: a step of :func:`pose_newton` changes no loaded patch's approach by more than
@@ -142,7 +154,7 @@ OUTCOMES = {CONVERGED: "converged", NOT_CONVERGED: "not converged", NO_POSE: "po
 
 #: fields of the balance's ``info`` array
 INFO_FIELDS = ("outcome", "passes", "d_left", "d_right", "vertical", "roll", "fz_left",
-               "fz_right", "J00", "J01", "J10", "J11", "patches")
+               "fz_right", "J00", "J01", "J10", "J11", "patches", "pose_passes")
 I_OUTCOME = 0
 I_PASSES = 1
 I_D_LEFT = 2
@@ -156,6 +168,7 @@ I_J01 = 9
 I_J10 = 10
 I_J11 = 11
 I_PATCHES = 12
+I_POSE_PASSES = 13
 
 
 @njit(cache=True, nogil=True)
@@ -392,6 +405,51 @@ def approach_for_load(loc, load, pose, prof, model):
 
 
 @njit(cache=True, nogil=True)
+def creep_factor(loc, d, s, z, roll, pose, prof, model):
+    """The factor by which the creep forces change a side's vertical force on its
+    rail at the rigid pose's locus ``loc`` (side ``s``, vertical position ``z`` [m],
+    roll [rad]) lowered by ``d`` [m]: every region a
+    patch (:func:`railcontact.geometry.wheel_pass.make_patch`, the wheel lowered
+    with it) solved by Hertz and the online law (:func:`solve_patch`), sum (F_n cos
+    d - F_y sin d) / sum F_n cos d (d: contact angle).  On a flange (some 70
+    degrees) F_y tan d changes the vertical force by a factor 0.3 to 2 (the
+    benchmark sweep's flange cases at 6.4-6.8 mm): the first estimate
+    (:func:`first_estimate`) carries the load with it.  NaN where no region is
+    loaded."""
+    gap = loc[5]
+    gmin = np.min(gap)
+    gs = np.empty(gap.size)
+    steep = 0.0
+    for j in range(gap.size):
+        gs[j] = gap[j] - gmin - d
+        if gs[j] < 0.0:
+            steep = max(steep, abs(loc[6][j]))
+    # |F_y| <= mu F_n: the factor lies within mu tan(d) of 1 (the tread: some 1e-3)
+    if model.tp[0] * steep <= CREEP_MIN:
+        return 1.0
+    O = loc[8].copy()
+    O[2] -= gmin + d
+    low = (loc[0], loc[1], loc[2], loc[3], loc[4], gs, loc[6], loc[7], O, loc[9])
+    regions = locus_regions(gs, loc[3], loc[4], pose.combine)
+    row = np.zeros(NRF)
+    vert = 0.0
+    normal = 0.0
+    for r in range(min(regions.shape[0], MAX_PATCHES)):
+        i0, i1 = regions[r, 0], regions[r, 1]
+        deepest = 0.0
+        for i in range(i0, i1 + 1):
+            deepest = min(deepest, gs[i])
+        if not deepest < 0.0:
+            continue
+        make_patch(prof, pose, s, low, i0, i1, z - gmin - d, roll, row)
+        solve_patch(row, model)
+        dl = row[P_CONTACT_ANGLE]
+        normal += row[R_NORMAL_FORCE] * math.cos(dl)
+        vert += row[R_NORMAL_FORCE] * math.cos(dl) - row[R_FY] * math.sin(dl)
+    return vert / normal if normal > 0.0 else math.nan
+
+
+@njit(cache=True, nogil=True)
 def first_estimate(prof, pose, model, loads, memo, d, slope):
     """The first estimate of each side's interpenetration into ``d`` and of its
     slope d(ln F)/d(ln d) into ``slope``: the rigid pose (both wheels touching,
@@ -414,6 +472,17 @@ def first_estimate(prof, pose, model, loads, memo, d, slope):
         memo[12] = np.nan
     d[0], slope[0] = approach_for_load(loc0, loads[0], pose, prof, model)
     d[1], slope[1] = approach_for_load(loc1, loads[1], pose, prof, model)
+    if memo[M_JOINS] != 0.0:
+        # the load with the creep forces' share of the vertical force: the
+        # normal force that carries it (the factor at the estimate's depth)
+        for s in range(2):
+            if not d[s] > 0.0:
+                continue
+            k = creep_factor(loc0 if s == 0 else loc1, d[s], s, z, roll, pose, prof, model)
+            if k == k and CREEP_RANGE[0] < k < CREEP_RANGE[1] and \
+                    abs(math.log(k)) > CREEP_MIN:
+                d[s], slope[s] = approach_for_load(loc0 if s == 0 else loc1, loads[s] / k,
+                                                   pose, prof, model)
     # the first search's loci: the samples that the estimate puts within the
     # interpenetration plus the locus margin (not the estimate's wider window)
     for s in range(2):
@@ -506,7 +575,7 @@ def pose_jacobian(out, m, pose, fz, loads, expo, J):
 
 
 @njit(cache=True, nogil=True)
-def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state, m):
+def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state, m, hist):
     """The vertical balance from an evaluation at the pose ``zr`` (vertical position
     [m], roll [rad]) whose ``m`` patches are ``out``; ``state`` (3 x 2): its
     vertical forces fz [N], interpenetrations [m] and the exponents of
@@ -524,7 +593,11 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
     sideways, up its 70 degree slope), so that the force in it is S-shaped and
     steep (d ln F / d ln d from 1.5 to 10 within 10 %, measured at 6.3 mm on the
     benchmark sweep: 9-12 passes); in the pose the force is smooth.
-    Returns (passes made, whether the load is met, patches of the last evaluation)."""
+    Every evaluation goes into ``hist`` (rows: interpenetrations [m] and vertical
+    forces [N] of both sides), the history that the steps on the
+    interpenetrations start from where these steps do not meet the load.
+    Returns (passes made, whether the load is met, patches of the last evaluation,
+    rows of ``hist`` filled)."""
     fz, depth, expo = state[0], state[1], state[2]
     J = np.empty((2, 2))
     g = np.empty(2)
@@ -536,6 +609,8 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
     for s in range(2):
         g[s] = (max(fz[s], 0.0) / loads[s]) ** (2.0 / 3.0) - 1.0
     passes = 0
+    nh = 0
+    slow = 0
     have_j = False
     while passes < max_passes:
         if abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol:
@@ -549,16 +624,16 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
                         num = J[s, 0] * Ja[s, 0] + J[s, 1] * Ja[s, 1]
                         if den > 0.0 and num > 0.0:
                             expo[s] = num / den
-            return passes, True, m
+            return passes, True, m, nh
         if not have_j:
             for s in range(2):
                 expo[s] = min(max(expo[s], EXPONENT_RANGE[0]), EXPONENT_RANGE[1])
             if not pose_jacobian(out, m, pose, fz, loads, expo, J):
-                return passes, False, m
+                return passes, False, m, nh
             have_j = True
         det = J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0]
         if not (det != 0.0 and math.isfinite(det)):
-            return passes, False, m
+            return passes, False, m, nh
         dz = -(J[1, 1] * g[0] - J[0, 1] * g[1]) / det
         dr = -(-J[1, 0] * g[0] + J[0, 0] * g[1]) / det
         # the trust region: no loaded patch's approach changes by more than
@@ -590,6 +665,9 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
             window[1] = depth[1] + grow + LOCUS_MARGIN
             mm = evaluate_pose(prof, pose, model, cand, window, memo, out, fz2, d2)
             passes += 1
+            if mm > 0 and nh < hist.shape[0]:
+                hist[nh, 0], hist[nh, 1], hist[nh, 2], hist[nh, 3] = d2[0], d2[1], fz2[0], fz2[1]
+                nh += 1
             if mm > 0:
                 for s in range(2):
                     g2[s] = (max(fz2[s], 0.0) / loads[s]) ** (2.0 / 3.0) - 1.0
@@ -605,7 +683,7 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
             dz *= 0.5
             dr *= 0.5
         if not ok:
-            return passes, False, m
+            return passes, False, m, nh
         # Broyden's update of J with the step made (z and roll in m and rad: both
         # some 1e-4 here)
         nn = dz * dz + dr * dr
@@ -621,7 +699,15 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
             fz[s] = fz2[s]
             depth[s] = d2[s]
         m = mm
-    return passes, abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol, m
+        # two steps in a row that did not halve the residual (the force curved
+        # between flange and root: Broyden's steps converge slowly there): the steps
+        # on the interpenetrations take over, with these evaluations as brackets
+        slow = slow + 1 if max(abs(g[0]), abs(g[1])) > 0.5 * size else 0
+        if memo[M_JOINS] != 0.0 and slow >= 2 and not (
+                abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol):
+            return passes, False, m, nh
+    return passes, abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol, \
+        m, nh
 
 
 @njit(cache=True, nogil=True)
@@ -643,6 +729,47 @@ def _bracket(hv, hr, n, s, at):
     if lo >= 0 and hi >= 0 and hv[hi, s] <= hv[lo, s]:
         return -1, -1
     return lo, hi
+
+
+@njit(cache=True, nogil=True)
+def _history_jacobian(hv, hr, n, v, fz, loads, J):
+    """The Jacobian d(ln F)/d(ln d) into ``J`` with which the steps on the
+    interpenetrations start at ln d = ``v`` (vertical forces ``fz`` [N]) from a
+    history of ``n`` points (ln d ``hv``, residuals ``hr``): each side's slope
+    across its bracket of the load (:func:`_bracket`; the force may be steep and
+    S-shaped there), held in ``SLOPE_RANGE``; a side without one keeps its slope,
+    and its rate with the other side's interpenetration (the roll moves its contact)
+    is the least-squares fit of its residual's change that its own slope leaves,
+    held to ``COUPLING_SLOPE``.  Back to diagonal where that is no Jacobian the
+    steps can take (a non-positive determinant)."""
+    r = np.empty(2)
+    for s in range(2):
+        r[s] = math.log(max(fz[s], FORCE_FLOOR * loads[s]) / loads[s])
+    bracketed = np.zeros(2, dtype=np.bool_)
+    for s in range(2):
+        lo, hi = _bracket(hv, hr, n, s, v)
+        if lo >= 0 and hi >= 0:
+            sl = (hr[hi, s] - hr[lo, s]) / (hv[hi, s] - hv[lo, s])
+            if sl > 0.0:
+                J[s, s] = min(max(sl, SLOPE_RANGE[0]), SLOPE_RANGE[1])
+                J[s, 1 - s] = 0.0
+                bracketed[s] = True
+    for s in range(2):
+        if bracketed[s]:
+            continue
+        o = 1 - s
+        num = 0.0
+        den = 0.0
+        for k in range(n):
+            do = hv[k, o] - v[o]
+            num += (hr[k, s] - r[s] - J[s, s] * (hv[k, s] - v[s])) * do
+            den += do * do
+        if den > 0.0:
+            J[s, o] = min(max(num / den, -COUPLING_SLOPE), COUPLING_SLOPE)
+    if not (J[0, 0] > 0.0 and J[1, 1] > 0.0 and J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0] > 0.0):
+        J[0, 1] = J[1, 0] = 0.0
+    if not (J[0, 0] > 0.0 and J[1, 1] > 0.0):
+        J[0, 0], J[1, 1] = HERTZ_SLOPE, HERTZ_SLOPE
 
 
 @njit(cache=True, nogil=True)
@@ -670,7 +797,8 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
     (NaN: the first estimate's slopes, else 1.5 I; its diagonal the exponents of
     :func:`pose_newton`) and a neighbour's pose (vertical position [m], roll
     [rad]; NaN: none), evaluated too where the first evaluation lies further than
-    ``POSE_RESTART`` from the load.
+    ``POSE_RESTART`` from the load (where the memo's ``M_JOINS`` is on, into rows of
+    its own: the first evaluation's are kept where it serves better).
     ``out``: the patch rows of the last evaluation; ``info``: :data:`INFO_FIELDS`.
     Returns the outcome code (:data:`OUTCOMES`)."""
     d = np.empty(2)
@@ -689,11 +817,19 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
     if not (J[0, 0] > 0 and J[1, 1] > 0 and J[0, 0] * J[1, 1] - J[0, 1] * J[1, 0] > 0):
         J[0, 0], J[0, 1], J[1, 0], J[1, 1] = HERTZ_SLOPE, 0.0, 0.0, HERTZ_SLOPE
     clip = math.log(STEP_FACTOR)
-    hv = np.empty((max_passes + 1, 2))
-    hr = np.empty((max_passes + 1, 2))
+    hv = np.empty((2 * max_passes + 2, 2))
+    hr = np.empty((2 * max_passes + 2, 2))
+    n = 0
     fz = np.empty(2)
     nan2 = np.full(2, np.nan)
     m, z, roll, v, passes = _trial(prof, pose, model, nan2, np.log(d), memo, out, fz)
+    # the evaluations at poses (interpenetrations [m], vertical forces [N])
+    hist = np.empty((POSE_PASSES + 2, 4))
+    nh = 0
+    if m > 0:
+        hist[0, 0], hist[0, 1], hist[0, 2], hist[0, 3] = math.exp(v[0]), math.exp(v[1]), \
+            fz[0], fz[1]
+        nh = 1
     if POSE_BALANCE and m > 0 and not (abs(fz[0] / loads[0] - 1.0) <= tol and
                                        abs(fz[1] / loads[1] - 1.0) <= tol):
         zr = np.array([z, roll])
@@ -712,9 +848,13 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
             fzn = np.empty(2)
             dn = np.empty(2)
             wn = np.array([1.5 * start[0] + LOCUS_MARGIN, 1.5 * start[1] + LOCUS_MARGIN])
-            mn = evaluate_pose(prof, pose, model, zn, wn, memo, out, fzn, dn)
+            keep = memo[M_JOINS] != 0.0
+            on = np.empty_like(out) if keep else out
+            mn = evaluate_pose(prof, pose, model, zn, wn, memo, on, fzn, dn)
             passes += 1
             if mn > 0:
+                hist[nh, 0], hist[nh, 1], hist[nh, 2], hist[nh, 3] = dn[0], dn[1], fzn[0], fzn[1]
+                nh += 1
                 wn_ = max(abs(math.log(max(fzn[0], FORCE_FLOOR * loads[0]) / loads[0])),
                           abs(math.log(max(fzn[1], FORCE_FLOOR * loads[1]) / loads[1])))
                 if wn_ < worst:
@@ -722,16 +862,20 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
                     state[0] = fzn
                     state[1] = dn
                     m = mn
-                else:
+                    if keep:
+                        out[:mn] = on[:mn]
+                elif not keep:
                     m, z, roll, v, k = _trial(prof, pose, model, nan2, v, memo, out, fz)
                     passes += k
-        k, met, mp = pose_newton(prof, pose, model, loads, tol, min(max_passes - passes,
-                                                                    POSE_PASSES),
-                                 zr, memo, out, state, m)
+        k, met, mp, nk = pose_newton(prof, pose, model, loads, tol,
+                                     min(max_passes - passes, POSE_PASSES), zr, memo, out,
+                                     state, m, hist[nh:])
+        nh += nk
         fz[:] = state[0]
         depth = state[1]
         expo = state[2]
         passes += k
+        info[I_POSE_PASSES] = k
         if met:
             info[I_OUTCOME] = CONVERGED
             info[I_PASSES] = passes
@@ -743,15 +887,30 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
             info[I_PATCHES] = mp
             return CONVERGED
         # not met in the pose: the balance in the interpenetrations from the last
-        # accepted pose's
+        # accepted pose's, its history the pose's evaluations (the brackets of the
+        # load they hold, and each side's slope across its bracket: where the
+        # flange and its root share the load the force is steep and S-shaped in
+        # the interpenetration, and a step from the Hertzian slope overshoots far)
         if depth[0] > 0.0 and depth[1] > 0.0 and passes < max_passes:
-            m, z, roll, v, k = _trial(prof, pose, model, nan2, np.log(depth), memo, out, fz)
-            passes += k
+            if memo[M_JOINS] != 0.0 and mp > 0:
+                for j in range(nh):
+                    if hist[j, 0] > 0.0 and hist[j, 1] > 0.0:
+                        for s in range(2):
+                            hv[n, s] = math.log(hist[j, s])
+                            hr[n, s] = math.log(max(hist[j, 2 + s], FORCE_FLOOR * loads[s])
+                                                / loads[s])
+                        n += 1
+                v = np.log(depth)
+                m, z, roll = mp, zr[0], zr[1]
+                _history_jacobian(hv, hr, n, v, fz, loads, J)
+            else:
+                m, z, roll, v, k = _trial(prof, pose, model, nan2, np.log(depth), memo, out,
+                                          fz)
+                passes += k
     r = np.empty(2)
     prev_r = np.full(2, np.nan)
     older_r = np.full(2, np.nan)
     outcome = NOT_CONVERGED
-    n = 0
     while True:
         if m <= 0:
             outcome = NO_POSE
@@ -766,7 +925,7 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
         if not (off0 or off1):
             outcome = CONVERGED
             break
-        if passes >= max_passes or n > max_passes:
+        if passes >= max_passes or n >= hv.shape[0] - 1:
             break
         # a side whose bracket shows a jump: left to the Python path
         jump = False
@@ -829,6 +988,8 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
     info[I_J00], info[I_J01], info[I_J10], info[I_J11] = \
         J[0, 0], J[0, 1], J[1, 0], J[1, 1]
     info[I_PATCHES] = m
+    if info[I_POSE_PASSES] != info[I_POSE_PASSES]:
+        info[I_POSE_PASSES] = 0
     return outcome
 
 
@@ -872,13 +1033,19 @@ class CaseForces:
     #: the patch rows of the last evaluation (:data:`ROW_FIELDS`)
     rows: np.ndarray = field(repr=False, default=None)
     #: the interpenetrations [m] and roll [rad] of the neighbour this case started
-    #: from (None: cold), from which the next case extrapolates its start
-    neighbour: tuple | None = field(repr=False, default=None)
+    #: from (:class:`~railcontact.cases.equilibrium.Neighbour`; None: cold), from
+    #: which the next case extrapolates its start
+    neighbour: Neighbour | None = field(repr=False, default=None)
     #: the search's memo at the end (:data:`railcontact.geometry.wheel_pass.MEMO_SIZE`):
     #: the wheel samples of its loci and minima, where the next case's search starts
     memo: np.ndarray | None = field(repr=False, default=None)
     #: the case's lateral shift [m] and yaw [rad]
     pose_keys: tuple = (math.nan, math.nan)
+    #: of ``passes``, the evaluations at a pose (:func:`pose_newton`'s steps)
+    pose_passes: int = 0
+    #: the roll searches' evaluations (each both sides' minimum gap,
+    #: :func:`railcontact.geometry.wheel_pass.solve_roll`), over the case
+    gap_evaluations: int = 0
 
     @property
     def converged(self) -> bool:
@@ -904,6 +1071,13 @@ class CaseForces:
             "cpu_time_s": self.cpu_time})
 
 
+#: the rules of :class:`~railcontact.cases.rules.ContactRules` that apply to the
+#: compiled pass's cases (the models' rules come as their options), followed there
+#: only as railcontact's (the contact locus, ``wheelset.locus``, either way: the
+#: shared locus kernel has both)
+COMPILED_RULES = ("gauge_point",)
+
+
 def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
     """Why a case cannot run in the compiled pass, or None where it can."""
     s = case.wheel_rail
@@ -924,6 +1098,10 @@ def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
         return "roll or vertical position prescribed"
     if s.turn_distance > 0:
         return "patch turning (wheelset.turn_distance)"
+    rules = case.rules.differing(COMPILED_RULES)
+    if rules:
+        return (f"CONTACT's rules {', '.join(rules)} (solver.rules, track.gauge_point; the "
+                "compiled pass has railcontact's: the profile's gauge point)")
     if s.wheel_slices is not None or s.pitch != 0.0:
         return "an out-of-round wheel (wheel slices, pitch)"
     if s.wheel.left is not None or s.rail.left is not None:
@@ -944,7 +1122,7 @@ def _bodies(case):
     """(PassProfiles, wheelset, track) of a case's bodies, once per set of body keys."""
     s = case.wheel_rail
     key = (s.wheel, s.rail, s.nominal_radius, s.flange_back_distance, s.flange_back_position,
-           s.gauge, s.gauge_height, s.rail_offset, s.locus, str(case.base_dir))
+           s.gauge, s.gauge_height, s.rail_offset, case.rules, str(case.base_dir))
     try:
         hit = _BODIES.get(key)
     except TypeError:                     # a profile object that does not hash
@@ -1009,35 +1187,36 @@ MEMO_YAW = 1e-3
 
 #: a chain of cases extrapolates its start from the last two where their
 #: interpenetrations differ by less than this factor (smooth neighbours; else the
-#: last case's alone)
+#: last case's alone): the default of :func:`solve_case_forces`'s ``extrapolate_ratio``
 EXTRAPOLATE_RATIO = 1.2
 
 
-def _start_array(start):
+def _start_array(start, ratio=EXTRAPOLATE_RATIO):
     """(start array of :func:`balance_wheelset`, roll to start from) for a
-    neighbour's result: its interpenetrations, or where it started from its own
-    neighbour and both are close, their extrapolation in ln d (and the roll's)."""
+    neighbour's result (:class:`CaseForces` or a
+    :class:`~railcontact.cases.equilibrium.Neighbour`): its interpenetrations, or
+    where it started from its own neighbour and both are close, their extrapolation
+    in ln d (and the roll's: :func:`~railcontact.cases.equilibrium.extrapolate_start`)."""
     st = np.full(8, np.nan)
     if start is None:
         return st, 0.0
-    st[6], st[7] = getattr(start, "vertical", math.nan), start.roll
-    d1 = np.array([start.interpenetration["left"], start.interpenetration["right"]])
-    st[0], st[1] = d1
+    st[6], st[7] = start.vertical, start.roll
+    d1 = {"left": start.interpenetration["left"], "right": start.interpenetration["right"]}
     roll = start.roll if math.isfinite(start.roll) else 0.0
     before = getattr(start, "neighbour", None)
-    if before is not None:
-        d0 = np.array([before[0]["left"], before[0]["right"]])
-        if np.all(d0 > 0) and np.all(np.abs(np.log(d1 / d0)) < math.log(EXTRAPOLATE_RATIO)):
-            st[0], st[1] = d1 * d1 / d0
-            if math.isfinite(before[1]) and abs(roll - before[1]) < 1e-3:
-                roll = 2.0 * roll - before[1]
+    d, roll, _ = extrapolate_start(d1, before.interpenetration if before is not None else None,
+                                   ratio, roll, before.roll if before is not None else math.nan,
+                                   in_log=True)
+    st[0], st[1] = d["left"], d["right"]
     if start.jacobian is not None:
         st[2:6] = np.ravel(start.jacobian)
     return st, roll
 
 
-def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | None = None,
-                      max_passes: int = 40) -> CaseForces:
+def solve_case_forces(case, normal=None, tangential=None,
+                      start: CaseForces | Neighbour | None = None, max_passes: int = 40,
+                      extrapolate_ratio: float = EXTRAPOLATE_RATIO,
+                      joins: bool = True) -> CaseForces:
     """Solve a wheel-rail case in one compiled pass (module docstring): both wheels'
     loads met, the forces of every patch.
 
@@ -1047,12 +1226,24 @@ def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | No
         A wheel-rail case the pass runs (:func:`compiled_unsupported`).
     normal, tangential : str, optional
         Model names overriding the case's.
-    start : CaseForces, optional
-        A neighbouring case's result (the previous case of a sweep): the balance
-        starts from its interpenetrations and Jacobian, and the roll search from
-        its roll.
+    start : CaseForces or Neighbour, optional
+        A neighbouring case's result (the previous case of a sweep) or balance: the
+        balance starts from its interpenetrations and Jacobian, and the roll search
+        from its roll.
     max_passes : int
         Limit of the balance's evaluations.
+    extrapolate_ratio : float
+        Where ``start`` itself started from a neighbour, the two are extrapolated
+        where their interpenetrations differ by less than this factor
+        (:func:`~railcontact.cases.equilibrium.extrapolate_start`, in ln d); 1
+        turns it off.
+    joins : bool
+        Where the flange and its root (or any two regions) share a wheel's load:
+        the roll search's samples cover every local minimum of the gap
+        (:func:`railcontact.geometry.wheel_pass._note_minimum`), and the steps on
+        the interpenetrations start from the pose steps' history
+        (:func:`balance_wheelset`).  False: as before both (for comparisons,
+        ``benchmarks/compiled_case.py``).
 
     Returns
     -------
@@ -1063,7 +1254,7 @@ def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | No
     """
     t0 = time.perf_counter()
     prof, pose, model, loads = case_pass_inputs(case, normal, tangential)
-    st, roll0 = _start_array(start)
+    st, roll0 = _start_array(start, extrapolate_ratio)
     memo = new_memo(roll0)
     s = case.wheel_rail
     near = start is not None and abs(getattr(start, "pose_keys", (math.nan,))[0]
@@ -1081,6 +1272,8 @@ def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | No
         # needs, else searches afresh), from the extrapolated roll
         memo[:] = start.memo
         memo[0] = roll0
+    memo[M_GAPS] = 0.0
+    memo[M_JOINS] = 1.0 if joins else 0.0
     out = np.zeros((2 * MAX_PATCHES, NRF))
     info = np.empty(len(INFO_FIELDS))
     code = balance_wheelset(prof, pose, model, loads, float(case.force_tolerance),
@@ -1088,12 +1281,16 @@ def solve_case_forces(case, normal=None, tangential=None, start: CaseForces | No
     res = _case_forces(out, info, code, loads, (normal or case.normal).lower(),
                        (tangential or case.tangential).lower(), time.perf_counter() - t0)
     if start is not None and getattr(start, "converged", True):
-        res.neighbour = (dict(start.interpenetration), float(start.roll))
+        res.neighbour = Neighbour(dict(start.interpenetration), float(start.roll))
     res.memo = memo
     res.pose_keys = (float(s.lateral_shift), float(s.yaw))
+    res.gap_evaluations = int(memo[M_GAPS])
+    if info[I_POSE_PASSES] == info[I_POSE_PASSES]:
+        res.pose_passes = int(info[I_POSE_PASSES])
     if code != CONVERGED and start is not None:
         # a start that did not serve: the case again, cold (its time counts)
-        cold = solve_case_forces(case, normal, tangential, None, max_passes)
+        cold = solve_case_forces(case, normal, tangential, None, max_passes,
+                                 extrapolate_ratio, joins)
         cold.cpu_time += res.cpu_time
         return cold
     return res

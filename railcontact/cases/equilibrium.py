@@ -99,6 +99,80 @@ COUPLING_SLOPE = 10.0
 #: forces below this fraction of the load count as this fraction (ln 0 = -inf)
 FORCE_FLOOR = 1e-6
 
+#: a chain of cases' start (:func:`extrapolate_start`) extrapolates the roll where
+#: its last two cases' rolls differ by less than this [rad]
+EXTRAPOLATE_ROLL = 1e-3
+
+
+@dataclass
+class Neighbour:
+    """A neighbouring case's balance, where the next case of a sweep or time history
+    starts: the one record of the case layer's balance
+    (:attr:`VerticalBalance.neighbour`) and the compiled pass
+    (:attr:`railcontact.cases.compiled_case.CaseForces.neighbour`, the start of
+    :func:`railcontact.cases.compiled_case.solve_case_forces`).
+
+    Attributes
+    ----------
+    interpenetration : dict
+        The vertical interpenetration [m] of each side.
+    roll : float
+        The wheelset's roll [rad] (NaN: not known).
+    loads : dict or None
+        The vertical load [N] of each side (None: not kept).
+    jacobian : ndarray or None
+        The balance's d(ln F)/d(ln d) at the end (None: not kept).
+    vertical : float
+        The wheelset's vertical position [m] (NaN: not kept).
+    """
+
+    interpenetration: dict
+    roll: float
+    loads: dict | None = None
+    jacobian: np.ndarray | None = field(default=None, repr=False)
+    vertical: float = math.nan
+
+
+def extrapolate_start(last: dict, before: dict | None, ratio: float, roll: float = math.nan,
+                      roll_before: float = math.nan, in_log: bool = False):
+    """A chain of cases' start: the interpenetrations [m] of its last two cases
+    extrapolated by one step, where they differ by less than the factor ``ratio``
+    on every side (smooth neighbours; ``ratio`` <= 1 turns it off), and the roll
+    [rad] too where the two rolls differ by less than ``EXTRAPOLATE_ROLL``.
+
+    Parameters
+    ----------
+    last, before : dict
+        Each side's interpenetration [m] of the last case and of the one before it
+        (None: no case before; then no extrapolation).
+    ratio : float
+        The largest factor between the two cases' interpenetrations on a side.
+    roll, roll_before : float
+        The two cases' rolls [rad] (NaN: not known; not extrapolated).
+    in_log : bool
+        Extrapolate ln d (d_last^2 / d_before) rather than d (2 d_last - d_before):
+        the compiled pass's rule; the case layer's is linear (docs/tuning.md,
+        section "Equilibrium", on why each).
+
+    Returns
+    -------
+    dict, float, bool
+        The interpenetrations [m] and roll [rad] to start from, and whether they
+        were extrapolated (else ``last`` and ``roll`` as given).
+    """
+    if before is None or not all(before.get(s, 0.0) > 0.0 and last[s] > 0.0 for s in last):
+        return last, roll, False
+    limit = math.log(ratio) if ratio > 0.0 else -math.inf
+    if not all(abs(math.log(last[s] / before[s])) < limit for s in last):
+        return last, roll, False
+    if in_log:
+        d = {s: last[s] * last[s] / before[s] for s in last}
+    else:
+        d = {s: 2.0 * last[s] - before[s] for s in last}
+    if math.isfinite(roll_before) and abs(roll - roll_before) < EXTRAPOLATE_ROLL:
+        roll = 2.0 * roll - roll_before
+    return d, roll, True
+
 
 @dataclass
 class VerticalBalance:
@@ -122,10 +196,10 @@ class VerticalBalance:
     jacobian : ndarray or None
         The last Broyden Jacobian d(ln F)/d(ln d) (sides in the order of
         ``residual``), from which a neighbouring case may start.
-    neighbour : tuple or None
+    neighbour : Neighbour or None
         Where the balance started from a neighbouring case: that case's
-        interpenetrations [m] (dict), roll [rad] and loads [N] (dict), from which
-        the next case of a sweep extrapolates its start.
+        interpenetrations, roll and loads (:class:`Neighbour`), from which the next
+        case of a sweep extrapolates its start (:func:`extrapolate_start`).
     """
 
     converged: bool
@@ -134,7 +208,7 @@ class VerticalBalance:
     residual: dict
     standin: list | None = field(default=None, repr=False)
     jacobian: np.ndarray | None = field(default=None, repr=False)
-    neighbour: tuple | None = field(default=None, repr=False)
+    neighbour: Neighbour | None = field(default=None, repr=False)
 
     @property
     def status(self) -> SolverStatus:

@@ -19,7 +19,7 @@ from .patches import bodies_validity, case_models, coupled_models
 from .results import PatchResult, SolveResult
 from .surfaces import solve_on_surfaces
 from ..tangential.inverse import solve_for_forces
-from .balance import solve_at_position, solve_wheel_rail
+from .balance import BalanceOptions, solve_at_position, solve_wheel_rail
 from ..core.checks import shown
 from ..core.errors import InputError
 
@@ -27,7 +27,8 @@ log = logging.getLogger(__name__)
 
 
 def solve(case: Case, normal: str | None = None, tangential: str | None = None,
-          warm_start: "SolveResult | None" = None) -> SolveResult:
+          warm_start: "SolveResult | None" = None,
+          options: BalanceOptions | None = None) -> SolveResult:
     """Solve one contact case.
 
     Parameters
@@ -40,6 +41,10 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
         The result of a similar case (the previous case of a sweep or time history):
         models that accept warm starts (the exact solvers) start from its patches'
         solutions (same side, within 3 mm on the rail) instead of cold.
+    options : BalanceOptions, optional
+        How a wheel-rail case's vertical balance runs
+        (:class:`railcontact.cases.balance.BalanceOptions`; default: the package's),
+        e.g. for a comparison of its starts.
 
     For wheel-rail cases the geometry layer finds the wheelset position under the
     vertical load and the patches; each patch is solved with its own penetration.
@@ -58,19 +63,22 @@ def solve(case: Case, normal: str | None = None, tangential: str | None = None,
             raise InputError(f"{name} = {shown(value)}: expected a model name (str) or None")
     if warm_start is not None and not isinstance(warm_start, SolveResult):
         raise InputError(f"warm_start = {shown(warm_start)}: expected a SolveResult or None")
+    if options is not None and not isinstance(options, BalanceOptions):
+        raise InputError(f"options = {shown(options)}: expected a "
+                         "railcontact.cases.balance.BalanceOptions or None")
     if not case.is_bodies and is_surface_case(case):
         return _finish(solve_on_surfaces(case, normal, tangential, warm_start=warm_start),
                        case)
     if warm_start is not None:
-        res = _solve(case, normal, tangential, warm_start)
+        res = _solve(case, normal, tangential, warm_start, options)
         # a force that jumps across the load is the model's: a cold start meets it too
         if res.converged or (res.balance is not None and res.balance.force_jump):
             return _finish(res, case)
         log.info("warm-started case did not converge; solving it again cold")
-        cold = _solve(case, normal, tangential, None)
+        cold = _solve(case, normal, tangential, None, options)
         cold.cpu_time += res.cpu_time                 # the failed attempt counts
         return _finish(cold, case)
-    return _finish(_solve(case, normal, tangential, None), case)
+    return _finish(_solve(case, normal, tangential, None, options), case)
 
 
 #: p_max [Pa] beyond which a result is flagged where the case gives no yield stress:
@@ -125,7 +133,7 @@ def _check_pressure(res: SolveResult, case: Case) -> SolveResult:
 
 
 
-def _solve(case, normal, tangential, warm_start):
+def _solve(case, normal, tangential, warm_start, options=None):
     """:func:`solve` with or without a warm start."""
     t0 = time.perf_counter()
     nname, tname, nmodel, tmodel, kw = case_models(case, normal, tangential)
@@ -162,7 +170,7 @@ def _solve(case, normal, tangential, warm_start):
     else:
         results, contact, balance = solve_wheel_rail(case, nmodel, tmodel, kw,
                                                       rtol=case.force_tolerance,
-                                                      start=warm_start)
+                                                      start=warm_start, options=options)
         pose = contact.pose
     return SolveResult(results, nname, tname, time.perf_counter() - t0, case.title, pose, contact,
                        balance)

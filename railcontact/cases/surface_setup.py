@@ -16,12 +16,13 @@ from dataclasses import dataclass
 from ..core.checks import shown
 from ..core.errors import CaseFileError
 from .keys import PROFILE_OPTIONS, CaseKeys
+from .rules import ContactRules
 from .wheel_rail_setup import ProfileSource
 
 #: keys of one rail (``[rail]`` or an entry of ``[[rails]]``) in a surface case
 RAIL_KEYS = {"profile", "slices", "inclination", "units", "name", "lateral_position",
              "vertical_position", "slice_spacing", "lateral_range"}
-ROLLER_KEYS = {"radius", "angular_velocity", "position", "profile_deviation"}
+ROLLER_KEYS = {"radius", "angular_velocity", "position", "profile_deviation", "turn"}
 
 
 def is_surface_case(case: CaseKeys) -> bool:
@@ -66,7 +67,8 @@ class RollerSpec:
     crown; ``profile_deviation`` (dz [m], roll [rad]) or None: its profile turned
     by roll about +x about the profile origin, then lowered by dz, before it is
     revolved about the roller's axis, which stays (CONTACT's DZRAIL, DROLLR of a
-    roller)."""
+    roller); the undeformed distance's surface is the rule ``roller.turn``
+    (``Case.rules.roller_turn``)."""
 
     radius: float
     angular_velocity: float | None = None
@@ -90,15 +92,12 @@ class SurfaceCaseSetup:
     (dx, dy, dz [m], roll, yaw, pitch [rad]) about its profile origin in wheelset
     coordinates: :class:`~railcontact.geometry.surface_search.SurfaceWheel`).
 
-    Search: ``search_length`` [m] (None: the default), ``contact_angle`` ("local" or
-    "wheelset"), ``rigid_slip`` ("planar" or "surfaces") and ``combine_distance``
-    [m]: interpenetration regions on one rail laterally closer than this are one
-    patch (CONTACT's D_SEP; 0: every region its own patch); ``reference_weights``
-    ("surface" or "locus": how a patch's reference point and angle weight its
-    interpenetration, :func:`railcontact.geometry.surface_search.search`);
-    ``search_grid`` ("fine", or "contact": CONTACT's gap mesh of its brute-force
-    search from the element size and the wheel's radius,
-    :func:`railcontact.geometry.surface_search.contact_gap_mesh`).
+    Search: ``search_length`` [m] (None: the default), ``rigid_slip`` ("planar" or
+    "surfaces") and ``combine_distance`` [m]: interpenetration regions on one rail
+    laterally closer than this are one patch (CONTACT's D_SEP; 0: every region its
+    own patch).  The search's rules (the contact angle, the reference point's
+    weights, the search grid) are the case's
+    :class:`~railcontact.cases.rules.ContactRules` (``Case.rules``).
     """
 
     wheel: ProfileSource
@@ -121,19 +120,18 @@ class SurfaceCaseSetup:
     lateral_velocity: float = 0.0
     yaw_rate: float = 0.0
     search_length: float | None = None
-    contact_angle: str = "local"
     rigid_slip: str = "planar"
     combine_distance: float = 0.0
     wheel_deviation: tuple | None = None
-    reference_weights: str = "surface"
-    search_grid: str = "fine"
 
 
-def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
+def parse_surface_case(case: CaseKeys, tangential: str,
+                       rules: ContactRules = ContactRules()) -> SurfaceCaseSetup:
     """Validate and parse the keys of a case on rail surfaces (no file read); a
     :class:`~railcontact.core.errors.CaseFileError` names the first key that is
     wrong.  ``tangential`` is the case's tangential model (``rigid_slip =
-    "surfaces"`` needs the exact one)."""
+    "surfaces"`` needs the exact one), ``rules`` its CONTACT rules (CONTACT's search
+    grid needs ``solver.element_size``)."""
     raw = case.raw
     if "rails" in raw and "slices" in raw.get("rail", {}):
         raise CaseFileError("give the rails either as [[rails]] or as [rail], not both")
@@ -164,27 +162,11 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
                             "wheel; expected 'left' or 'right'")
     z = _optional(case, "wheelset.vertical_position", -0.2, 0.2, "m")
     loads = case.wheel_loads()
-    inc = case.get("solver.contact_angle", "local")
-    if inc not in ("local", "wheelset"):
-        raise CaseFileError(f"solver.contact_angle = {shown(inc)}: expected 'local' (the rail's "
-                            "inclination at each point of the patch) or 'wheelset' (on its "
-                            "cross-section at the wheelset's position, as CONTACT)")
     slip = case.get("solver.rigid_slip", "planar")
     if slip not in ("planar", "surfaces"):
         raise CaseFileError(f"solver.rigid_slip = {shown(slip)}: expected 'planar' (the creepages of "
                             "the reference point) or 'surfaces' (on the actual surfaces)")
-    weights = case.get("solver.reference_weights", "surface")
-    if weights not in ("surface", "locus"):
-        raise CaseFileError(f"solver.reference_weights = {shown(weights)}: expected 'surface' "
-                            "(each cell of the interpenetration with g^2, CONTACT's D = 5) or "
-                            "'locus' (each lateral line at its lowest point with (-g)^2.5, "
-                            "CONTACT's contact locus, D = 2, 3)")
-    mesh = case.get("solver.search_grid", "fine")
-    if mesh not in ("fine", "contact"):
-        raise CaseFileError(f"solver.search_grid = {shown(mesh)}: expected 'fine' (0.2 x "
-                            "0.075 mm) or 'contact' (CONTACT's gap mesh of its brute-force "
-                            "search, from solver.element_size)")
-    if mesh == "contact" and case.get("solver.element_size") is None:
+    if rules.search_grid == "contact" and case.get("solver.element_size") is None:
         raise CaseFileError("solver.search_grid = 'contact' needs solver.element_size")
     if slip == "surfaces" and tangential != "exact":
         raise CaseFileError("solver.rigid_slip = 'surfaces' needs solver.tangential = 'exact'")
@@ -208,10 +190,9 @@ def parse_surface_case(case: CaseKeys, tangential: str) -> SurfaceCaseSetup:
         lateral_velocity=case.number("wheelset.lateral_velocity", 0.0, -10.0, 10.0, "m/s"),
         yaw_rate=case.number("wheelset.yaw_rate", 0.0, -10.0, 10.0, "rad/s"),
         search_length=_optional(case, "solver.search_length", 1e-3, 1.0, "m"),
-        contact_angle=inc, rigid_slip=slip,
+        rigid_slip=slip,
         combine_distance=case.number("wheelset.combine_distance", 0.0, 0.0, 0.1, "m"),
-        wheel_deviation=_wheel_deviation(case), reference_weights=weights,
-        search_grid=mesh)
+        wheel_deviation=_wheel_deviation(case))
 
 
 def _speed(case: CaseKeys) -> float:

@@ -37,7 +37,8 @@ from .surface_setup import RailSpec
 from .equilibrium import VerticalBalance
 from ..core.errors import CaseFileError, ContactNotFoundError, ProfileError
 from ..geometry.surface_search import (FINE, Motion, SurfaceContact, SurfacePose,
-                                      SurfaceWheel, contact_gap_mesh, search, surface_slip)
+                                      SurfaceWheel, contact_gap_mesh, midplane_slip, search,
+                                      surface_slip)
 from ..geometry.sliced_surface import SlicedSurface
 from ..geometry.surfaces import PlacedRail, ProfileSurface, RollerSurface
 from ..geometry.track import Track
@@ -92,6 +93,10 @@ class SurfaceScene:
     combine_distance: float = 0.0
     reference_weights: str = "surface"
     fine: tuple = FINE
+    #: the rule of the rigid slip on the surfaces (``ContactRules.surface_slip``)
+    #: and the rail's share of the mid-plane velocity in CONTACT's
+    slip_rule: str = "sections"
+    rail_share: float = 0.5
 
 
 def build_surface_case(case: Case) -> SurfaceScene:
@@ -125,13 +130,11 @@ def build_surface_case(case: Case) -> SurfaceScene:
         omega = 0.0
         if s.roller is not None:
             R = s.roller.radius
-            prof = surf.profile
-            if s.roller.profile_deviation is not None:
-                # the profile turned about +x (z down: a positive roll lowers the
-                # field side) and lowered, the roller's axis where it was
-                dz, roll = s.roller.profile_deviation
-                prof = prof.rotated(-roll).shifted(0.0, dz)
-            surf = RollerSurface(prof, R, s.roller.position)
+            # the profile turned about +x (z down: a positive roll lowers the field
+            # side) and lowered, the roller's axis where it was; the undeformed
+            # distance on that surface or CONTACT's turned roller (roller.turn)
+            surf = RollerSurface(surf.profile, R, s.roller.position,
+                                 s.roller.profile_deviation, case.rules.roller_turn)
             omega = -pv * r0 / R if s.roller.angular_velocity is None else \
                 s.roller.angular_velocity
         y0 = spec.lateral_position
@@ -147,11 +150,17 @@ def build_surface_case(case: Case) -> SurfaceScene:
                        s.roll, s.yaw)
     motion = Motion(0.0 if s.roller is not None else s.velocity, pv, s.lateral_velocity,
                     0.0, 0.0, s.yaw_rate)
+    rules = case.rules
+    # the rail's share of CONTACT's mid-plane velocity, (1 - nu_r) G_w over its sum
+    # with (1 - nu_w) G_r
+    (e_r, nu_r), (e_w, nu_w) = case.material.bodies
+    g_r, g_w = e_r / (2.0 * (1.0 + nu_r)), e_w / (2.0 * (1.0 + nu_w))
     return SurfaceScene(wheel, rails, s.side, pose, motion, s.load, s.search_length,
-                        s.contact_angle, s.rigid_slip, s.combine_distance,
-                        s.reference_weights,
+                        rules.contact_angle, s.rigid_slip, s.combine_distance,
+                        rules.reference_weights,
                         contact_gap_mesh(s.nominal_radius, *case.element_size)
-                        if s.search_grid == "contact" else FINE)
+                        if rules.search_grid == "contact" else FINE, rules.surface_slip,
+                        (1 - nu_r) * g_w / ((1 - nu_r) * g_w + (1 - nu_w) * g_r))
 
 
 def beyond_slices(setup: SurfaceScene) -> list:
@@ -232,7 +241,11 @@ def _surface_slip_field(g, ns, setup, creep):
     creepages (xi - phi y, eta + phi x), on the normal solution's grid: the exact
     tangential solver's ``extra_slip`` (``solver.rigid_slip = "surfaces"``)."""
     X, Y = np.meshgrid(ns.x, ns.y, indexing="ij")
-    sx, sy = surface_slip(g, setup.wheel, setup.rails[g.rail_index], setup.motion, X, Y)
+    if setup.slip_rule == "midplane":
+        sx, sy = midplane_slip(g, setup.wheel, setup.rails[g.rail_index], setup.motion, X, Y,
+                               setup.rail_share)
+    else:
+        sx, sy = surface_slip(g, setup.wheel, setup.rails[g.rail_index], setup.motion, X, Y)
     xi, eta, phi = creep
     return sx - (xi - phi * Y), sy - (eta + phi * X)
 

@@ -56,8 +56,9 @@ class WheelRailSetup:
 
     Patch rules: ``combine_distance``, ``full_interaction_distance`` (None: full
     interaction in a combined patch), ``turn_distance`` (0: no turning of nearby
-    patches' angles) and ``separation_angle``; ``locus``, the contact locus
-    ("lowest" or CONTACT's, "contact": :class:`railcontact.geometry.track.Wheelset`).
+    patches' angles) and ``separation_angle``.  The contact locus and the gauge
+    point's rule are the case's :class:`~railcontact.cases.rules.ContactRules`
+    (``Case.rules``).
     """
 
     wheel: ProfileSource
@@ -92,9 +93,6 @@ class WheelRailSetup:
     #: ``solver.influence = "blanco"``: Blanco's corrected influence coefficients on
     #: the conformal patches (CONTACT's INFLCF = 4; None: the half-space's)
     influence: ConformalInfluence | None = None
-    #: ``wheelset.locus``: "lowest" (each wheel circle's lowest point above the rail)
-    #: or "contact" (CONTACT's contact locus, set for ``.inp`` cases)
-    locus: str = "lowest"
 
     @property
     def balanced_sides(self) -> tuple:
@@ -144,13 +142,8 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
         raise CaseFileError(f"solver.contact_surface = {shown(surface)}: expected 'planar' (a "
                             "tangent plane per patch) or 'conformal' (a curved reference "
                             "surface, CONTACT's DISCNS = 4)")
-    locus = case.get("wheelset.locus", "lowest")
-    if locus not in ("lowest", "contact"):
-        raise CaseFileError(f"wheelset.locus = {shown(locus)}: expected 'lowest' (each wheel "
-                            "circle's lowest point above the rail) or 'contact' (CONTACT's "
-                            "contact locus)")
     return WheelRailSetup(
-        conformal=surface == "conformal", influence=_influence(case, surface), locus=locus,
+        conformal=surface == "conformal", influence=_influence(case, surface),
         wheel=profiles["wheel"], rail=profiles["rail"],
         nominal_radius=case.number("wheel.nominal_radius", 0.46, 0.02, 1.5, "m"),
         flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.1, 2.5, "m"),

@@ -7,6 +7,12 @@ given roll); module 3 with a Hertzian geometry (IPOTCN = -1 or -3) becomes a
 ``[bodies]`` case.  Every option is checked: one that railcontact does not
 support raises :class:`~railcontact.contact_inp.reader.InpError` naming the case,
 the option and what is supported.  ``docs/contact_users.md`` lists the mapping.
+
+Every mapped case follows CONTACT's rules where its discretisation differs from
+railcontact's (``solver.rules = "contact"``,
+:class:`~railcontact.cases.rules.ContactRules`: its contact locus and angle, its
+wheel sampling, KPEC's and FASTSIM's grid rules, its temperature scheme and gauge
+point); only the brute-force search (D = 5) sets two rules of its own.
 """
 
 from __future__ import annotations
@@ -17,9 +23,7 @@ from pathlib import Path
 
 import numpy as np
 
-from ..cases.bodies import load_profiles, wheel_rail_setup
 from ..cases.case import case_from_dict
-from ..geometry.track import contact_gauge_point
 from ..geometry.turning import default_turn_distance
 from ..core.hertz_theory import hertz_curvatures, hertz_ellipse
 from ..core.materials import Material
@@ -128,21 +132,6 @@ def _friction(case) -> dict:
     return {"coefficient": _need(case, "FKIN")}
 
 
-def _normal_options(normal: str, wheel_rail: bool = False) -> dict:
-    """``solver.normal_options`` of CONTACT's conventions, as a table to merge into
-    ``solver`` (empty where there are none): KPEC (B = 5) on the grid's elements
-    (``rule="contact"``, :func:`railcontact.normal.semi_hertzian.contact_kpec`); the
-    exact model of a wheel-rail case (module 1) with CONTACT's planar undeformed
-    distance, the wheel linear between profile samples one DS apart
-    (``wheel_sampling="contact"``, :class:`railcontact.geometry.gap.SampledWheelGap`;
-    CONTACT's ``m_wr_undefdist.f90``)."""
-    if normal == "kpec":
-        return {"normal_options": {"rule": "contact"}}
-    if normal == "exact" and wheel_rail:
-        return {"normal_options": {"wheel_sampling": "contact"}}
-    return {}
-
-
 def _tangential_model(case) -> tuple:
     """(tangential model, options) from the TANG and MATER digits."""
     if case.digits["T"] == 0:
@@ -155,10 +144,8 @@ def _tangential_model(case) -> tuple:
         if k0 is not None and (abs(k0 - 1.0) > 1e-12 or abs(alpha - 1.0) > 1e-12):
             raise _unsupported(case, f"K0_MF = {k0:g}, ALFAMF = {alpha:g} (slope reduction of "
                                      "the modified FASTSIM)", "expected K0_MF = ALFAMF = 1")
-    if m == "fastsim":
-        # CONTACT's modified FASTSIM: its blended flexibilities, the march over the
-        # elements of its grid
-        return m, {"march": "grid", "flexibility": "contact"}
+    # (FASTSIM: CONTACT's modified FASTSIM, its blended flexibilities and the march
+    # over the elements of its grid, by solver.rules = "contact")
     return m, {}
 
 
@@ -219,7 +206,8 @@ def _blanco(case, conformal: bool) -> dict:
 
 def _thermal(case) -> dict:
     """HEAT = 1, 3 in module 1: ``[thermal]`` from BKTEMP, HEATCP, LAMBDA [W/mm C],
-    DENS [kg/mm^3] (one steel for both bodies), with CONTACT's scheme."""
+    DENS [kg/mm^3] (one steel for both bodies); CONTACT's scheme by the case's
+    ``solver.rules``."""
     v = [[_need(case, f"{k}{b}") for k in ("BKTEMP", "HEATCP", "LAMBDA", "DENS")]
          for b in (1, 2)]
     if v[0][1:] != v[1][1:]:
@@ -227,7 +215,7 @@ def _thermal(case) -> dict:
                                  "module 1", "expected one steel for rail and wheel")
     return {"rail_temperature": v[0][0], "wheel_temperature": v[1][0],
             "heat_capacity": v[0][1], "conductivity": v[0][2] * 1e3,
-            "density": v[0][3] * 1e9, "scheme": "contact"}
+            "density": v[0][3] * 1e9}
 
 
 def map_case(case: InpCase, profile_dirs=()) -> MappedCase:
@@ -301,9 +289,8 @@ def _map_module3(case: InpCase) -> MappedCase:
            "solver": {"normal": normal, "tangential": tang, "grid": [v["MX"], v["MY"]],
                       # the potential contact area is SCALE times the ellipse
                       "normal_options": ({"margin": scale - 1.0} if normal == "exact"
-                                         else _normal_options(normal).get("normal_options",
-                                                                          {})),
-                      "tangential_options": topt}}
+                                         else {}),
+                      "tangential_options": topt, "rules": "contact"}}
     return MappedCase(case.number, 3, raw, {"module": 3, "semi_axes_mm": (a / MM, b / MM)})
 
 
@@ -374,15 +361,6 @@ def _rail_frame(raw: dict, base_dir: Path) -> dict:
         # then the rotation, for rail-profile coordinates; its top is at z = 0
         return {"cant": incl, "origin_shift": (y0, z0), "z_top": 0.0}
     return {"cant": 0.0, "origin_shift": (0.0, 0.0), "z_top": z0}
-
-
-def _contact_gauge_point(raw: dict, base_dir: Path, side: str) -> float:
-    """The gauge point [m] of the case's rail, as the track holds it, by CONTACT's
-    rule (:func:`railcontact.geometry.track.contact_gauge_point`)."""
-    case = case_from_dict(raw, base_dir)
-    rails = load_profiles(wheel_rail_setup(case).rail, "rail", case.base_dir)
-    rail = rails[1] if side == "left" and rails[1] is not None else rails[0]
-    return contact_gauge_point(rail, float(raw["track"]["gauge_height"]))
 
 
 def _map_module1(case: InpCase, dirs) -> MappedCase:
@@ -474,10 +452,12 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
                         "yaw_rate": v.get("VYAW") or 0.0,
                         "combine_distance": d_sep * MM, "full_interaction_distance": d_comb * MM,
                         "turn_distance": d_turn * MM if d_turn > d_sep else 0.0,
-                        "separation_angle": min(a_sep, math.pi), "locus": "contact"},
+                        "separation_angle": min(a_sep, math.pi)},
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
-                      **_normal_options(normal, wheel_rail=True), "tangential_options": topt}}
+                      "tangential_options": topt,
+                      # CONTACT's contact locus, wheel sampling, gauge point, ...
+                      "rules": "contact"}}
     if conformal:
         raw["solver"]["contact_surface"] = "conformal"
     if (v.get("INFLCF") or 2) == 4:
@@ -489,11 +469,9 @@ def _map_module1(case: InpCase, dirs) -> MappedCase:
     if "rail_offset" in track:
         # CONTACT's rail origin at z = RAILZ0; railcontact's in the track plane
         frame["z_top"] = -(v.get("RAILZ0") or 0.0) * MM
-    else:
-        # the rail placed by its gauge point as CONTACT finds it (on the spline along
-        # the points' chord length; railcontact's own rule differs by a fraction of a
-        # micrometre on a steep gauge face)
-        track["rail_offset"] = 0.5 * track["gauge"] - _contact_gauge_point(raw, base, side)
+    # (else the rail is placed by its gauge point as CONTACT finds it, on the spline
+    # along the points' chord length: solver.rules' gauge_point; railcontact's own
+    # rule differs by a fraction of a micrometre on a steep gauge face)
     if force == "force":
         raw["wheelset"]["vertical_force"] = _need(case, "FZ_WS")
     else:
@@ -542,7 +520,8 @@ def _map_surfaces(case: InpCase, dirs) -> MappedCase:
     cross-section at the wheelset: ``solver.contact_angle = "wheelset"``) for D =
     2 (contact locus) and D = 5 (brute-force search) alike (railcontact searches
     the surfaces once, on a 3-D grid), D = 3 the rigid slip on the actual surfaces
-    (``solver.rigid_slip = "surfaces"``), the patch separation distance D_SEP, and
+    (``solver.rigid_slip = "surfaces"``, by CONTACT's rule of it: the preset's
+    ``surface_slip = "midplane"``), the patch separation distance D_SEP, and
     CONTACT's profile processing (MIRRORY, SCALE, SMOOTH) applied to every
     slice."""
     d, v = case.digits, case.values
@@ -649,15 +628,15 @@ def _surface_case(case, dirs, side, normal, force, tang, topt, rail, roller,
            "friction": _friction(case), "wheel": wheel, "rail": rail, "wheelset": ws,
            "solver": {"normal": normal, "tangential": tang,
                       "element_size": [_need(case, "DX") * MM, _need(case, "DS") * MM],
-                      "contact_angle": "wheelset", **_normal_options(normal, wheel_rail=True),
                       "tangential_options": topt,
-                      # CONTACT's reference point: its contact locus for D = 2, 3,
-                      # the 2-D gap function for the brute-force search D = 5
-                      "reference_weights": "surface" if discns == 5 else "locus"}}
+                      # CONTACT's contact angle, wheel sampling, ...; its reference
+                      # point of the contact locus (D = 2, 3)
+                      "rules": "contact"}}
     if discns == 5:
-        # CONTACT's gap mesh of its brute-force search (its wheel sampled in slices
-        # about 1.5 DX apart through the lowest line)
-        raw["solver"]["search_grid"] = "contact"
+        # the brute-force search: CONTACT's reference point on the 2-D gap function,
+        # on the gap mesh of its search (its wheel sampled in slices about 1.5 DX
+        # apart through the lowest line)
+        raw["solver"].update(reference_weights="surface", search_grid="contact")
     if roller:
         # CONTACT's roller rig: NOMRAD_R and VPITCH_ROL read in the places of CANT
         # and VS; the wheelset does not travel

@@ -39,18 +39,23 @@ the rail as CONTACT's super-grid places it: the rail's s (the chord length along
 its points) at the patch's reference point plus the element's distance from it
 in the tangent plane, so that the element of a grid laid on the super-grid
 (:class:`SupergridNormal`) keeps its place from case to case.  A new
-patch takes its predecessors' tractions (:func:`carried_tractions`): a previous
-patch with loaded elements on its grid within its own band (halfway to the other
-patches of its wheel); where the band holds at least half of that patch's
-traction, the new one continues it with all of its tractions, on its grid
-extended over them (CONTACT extends a continued patch's potential contact area
-over the previous contact area), else (the lesser part of a split) those on its
-own grid.  Patches that merge (t1_merge_cp), split (t1_split_cp) or move so take
-the old tractions where they acted.  The tractions are carried to the new grid
-by area weighting (each old element's force shared among the four new elements
-around its centre: total force and moment kept; where the grids coincide, as
-CONTACT's super-grid makes them, the transfer is exact); their displacement
-difference at the new elements is then that of the previous time step
+patch takes its predecessors' tractions as CONTACT does (:func:`carried_tractions`;
+``m_wr_locatecp.f90``, ``wr_connect_cps``, and ``m_wr_solvecp.f90``,
+``merge_prev_potcon``): a previous patch with loaded elements on its grid within
+its own band (halfway to the other patches of its wheel) is a predecessor, and
+every new patch connected to it takes its whole previous solution (a patch that
+splits gives each part a copy, patches that merge give all theirs), on the new
+grid extended to the rectangle that also holds the contact area CONTACT keeps
+with the predecessor (its element division of the time before,
+:attr:`PatchState.kept`: after a steady case its own contact area, after a
+transient step with P = 0, 1, 3 that of the patches it continued, after P = 2
+none, the old grid's first element); tractions outside that rectangle are lost.
+Patches that merge (t1_merge_cp), split (t1_split_cp, t3_t2_conformal case 3) or
+move so take the old tractions where they acted.  The tractions are carried to
+the new grid by area weighting (each old element's force shared among the four
+new elements around its centre: total force and moment kept; where the grids
+coincide, as CONTACT's super-grid makes them, the transfer is exact); their
+displacement difference at the new elements is then that of the previous time step
 (:func:`railcontact.tangential.exact.previous_displacement`).
 
 A conformal patch (DISCNS = 4, kept by D = 0, 1; :mod:`railcontact.cases.conformal`)
@@ -182,7 +187,16 @@ class PatchState:
     materials: ``x0`` [m] the track position of its reference point (the rail's
     material coordinate, S_WS included), ``m`` [m] per grid column the arc length
     along the rail profile where the column lies (:class:`_Frames`), signed to
-    increase with y."""
+    increase with y.
+
+    ``area`` is the rectangle (x_lo, x_hi, m_lo, m_hi) [m] of the element centres
+    in contact at this instance (x along the track as ``x0 + x``); ``kept`` the
+    rectangle of the earlier contact area that CONTACT keeps with the patch (its
+    element division of the previous time, ``igv``), over which a following
+    patch's grid is extended (:func:`carried_tractions`): after a steady case its
+    own contact area, after a transient case that continued earlier patches (P = 0,
+    1, 3) their contact areas, else (P = 2, a new patch) none: None, the grid's
+    first element."""
 
     x0: float
     m: np.ndarray
@@ -190,11 +204,42 @@ class PatchState:
     y: np.ndarray
     px: np.ndarray
     py: np.ndarray
+    area: tuple | None = None
+    kept: tuple | None = None
 
 
-#: a new patch continues a previous one whose traction lies in its band by at
-#: least this share (:func:`carried_tractions`)
-INHERIT = 0.5
+def _placement(s: PatchState, x0, m_of, x, y, back, bounds):
+    """Where the loaded elements of a previous patch ``s`` fall on a new patch's grid
+    (see :func:`carried_tractions`): their mask in ``s``, their material place
+    (x_tr before the material moved ``back``, m), fractional indices (fi, fj) on
+    the new grid and the columns' places ``(cols, m_cols)`` used; and whether ``s``
+    is the new patch's predecessor (loaded elements on its grid within its band)."""
+    mx, my = x.size, y.size
+    dy = float(y[1] - y[0])
+    # the new grid's columns along the rail profile, far enough to hold every old
+    # traction (the arc length grows about as y)
+    span = float(np.ptp(m_of(y[[0, -1]]))) + float(np.ptp(s.m))
+    extra = int(min(math.ceil(span / dy) + 2, 2000))
+    cols = np.arange(-extra, my + extra)
+    m_cols = m_of(y[0] + cols * dy)
+    keep = (s.px != 0.0) | (s.py != 0.0)
+    X, M = np.broadcast_arrays(s.x[:, None], s.m[None, :])
+    xm, mm = X[keep] + s.x0, M[keep]
+    fi = (xm - back - x0 - x[0]) / float(x[1] - x[0])
+    fj = np.interp(mm, m_cols, cols)
+    yy = y[0] + fj * dy
+    band = (yy >= bounds[0]) & (yy <= bounds[1])
+    on = band & (fi > -0.5) & (fi < mx - 0.5) & (fj > -0.5) & (fj < my - 0.5)
+    return keep, xm, mm, fi, fj, bool(on.any())
+
+
+def is_predecessor(s: PatchState, x0, m_of, x, y, back: float = 0.0,
+                   bounds=(-math.inf, math.inf)) -> bool:
+    """Whether the previous patch ``s`` is a predecessor of the new patch on the grid
+    (x, y) (as in :func:`carried_tractions`)."""
+    if x.size < 2 or y.size < 2 or not ((s.px != 0.0) | (s.py != 0.0)).any():
+        return False
+    return _placement(s, x0, m_of, x, y, back, bounds)[5]
 
 
 def carried_tractions(states, x0, m_of, x, y, back: float = 0.0,
@@ -204,49 +249,49 @@ def carried_tractions(states, x0, m_of, x, y, back: float = 0.0,
     along the rail profile of its lateral coordinate y (see :class:`PatchState`),
     the material moved ``back`` [m] towards -x since (T = 2: DQ).
 
-    A previous patch is the new one's predecessor where some of its loaded
-    elements lie on the new grid within the patch's own band ``bounds`` (patch
-    coordinate y [m], halfway to the other patches of its wheel).  Where the band
-    holds at least :data:`INHERIT` of the predecessor's traction (the sum of
-    |p| over its elements), the new patch continues it: all its tractions are
-    carried, on the new grid extended (same spacing and alignment) until it holds
-    them, as CONTACT extends a continued patch's potential contact area over its
-    predecessor's contact area (patches that merge continue several).  Another
-    patch split from it takes its tractions on its own grid and band only.  Each old element's force goes
-    to the four elements around its centre by area weighting (force and moment
-    kept; exact where the grids coincide).  Returns the extended grid's centres
-    (xe, ye) [m] and the tractions on it."""
+    CONTACT's rule (``m_wr_locatecp.f90``, ``wr_connect_cps``, ``wr_update_allcps``;
+    ``m_wr_solvecp.f90``, ``merge_prev_potcon``): a previous patch is the new one's
+    predecessor where some of its loaded elements lie on the new grid within the
+    patch's own band ``bounds`` (patch coordinate y [m], halfway to the other
+    patches of its wheel); every new patch connected to it takes its whole
+    previous solution (patches that split each a copy, patches that merge all of
+    theirs) on its grid extended to the rectangle that also holds the
+    predecessor's kept contact area (:attr:`PatchState.kept`; None: the
+    predecessor grid's first element): the predecessor's tractions inside that
+    rectangle are carried, those outside it are lost.  A patch split from a
+    steady or continued contact area so starts from all of the area's tractions;
+    one split from a contact formed in a P = 2 step (t1_split_cp) from those
+    between the old grid's first element and its own grid's end.  Each old
+    element's force goes to the four elements around its centre by area weighting
+    (force and moment kept; exact where the grids coincide).  Returns the extended
+    grid's centres (xe, ye) [m] and the tractions on it."""
     mx, my = x.size, y.size
     dx, dy = float(x[1] - x[0]), float(y[1] - y[0])
-    span = float(np.ptp(m_of(y[[0, -1]])))
-    for s in states:
-        span += float(np.ptp(s.m))
-    # the new grid's columns along the rail profile, far enough to hold every old
-    # traction (the arc length grows about as y)
-    extra = int(min(math.ceil(span / dy) + 2, 2000))
-    cols = np.arange(-extra, my + extra)
-    m_cols = m_of(y[0] + cols * dy)
     pts = []
     for s in states:
-        keep = (s.px != 0.0) | (s.py != 0.0)
-        if not keep.any():
+        if not ((s.px != 0.0) | (s.py != 0.0)).any():
+            continue
+        keep, xm, mm, fi, fj, connected = _placement(s, x0, m_of, x, y, back, bounds)
+        if not connected:
+            continue
+        # the merged grid: the new grid's rectangle and the kept area's, in the
+        # grids' frame before the material moved
+        if s.kept is not None:
+            kx0, kx1, km0, km1 = s.kept
+        else:
+            kx0 = kx1 = s.x0 + float(s.x[0])
+            km0 = km1 = float(s.m[0])
+        gm = m_of(y[[0, -1]])
+        lo_x, hi_x = min(x0 + x[0], kx0), max(x0 + x[-1], kx1)
+        lo_m, hi_m = min(float(gm.min()), km0), max(float(gm.max()), km1)
+        tol_x, tol_m = 0.5 * abs(dx), 0.5 * abs(dy)
+        inside = ((xm > lo_x - tol_x) & (xm < hi_x + tol_x)
+                  & (mm > lo_m - tol_m) & (mm < hi_m + tol_m))
+        if not inside.any():
             continue
         da = float((s.x[1] - s.x[0]) * (s.y[1] - s.y[0]))
-        X, M = np.broadcast_arrays(s.x[:, None], s.m[None, :])
-        fi = (X[keep] + s.x0 - back - x0 - x[0]) / dx
-        fj = np.interp(M[keep], m_cols, cols)
-        yy = y[0] + fj * dy
-        band = (yy >= bounds[0]) & (yy <= bounds[1])
-        on = band & (fi > -0.5) & (fi < mx - 0.5) & (fj > -0.5) & (fj < my - 0.5)
-        if not on.any():
-            continue
-        fx, fy = s.px[keep] * da, s.py[keep] * da
-        mag = np.hypot(fx, fy)
-        if mag[band].sum() < INHERIT * mag.sum():
-            # a patch split from it that holds the lesser part: the tractions on
-            # its own grid and band only
-            fi, fj, fx, fy = fi[on], fj[on], fx[on], fy[on]
-        pts.append((fi, fj, fx, fy))
+        fx, fy = s.px[keep][inside] * da, s.py[keep][inside] * da
+        pts.append((fi[inside], fj[inside], fx, fy))
     if not pts:
         return x, y, np.zeros((mx, my)), np.zeros((mx, my))
     fi, fj, fx, fy = (np.concatenate([q[k] for q in pts]) for k in range(4))
@@ -521,8 +566,12 @@ class WheelRailSequence:
                                                              rtol=c.force_tolerance)
             res = SolveResult(results, nname, "exact", time.perf_counter() - t0, c.title,
                               contact.pose, contact, balance)
+        # what CONTACT keeps of the earlier contact area with each patch: P = 2
+        # clears it, P = 0, 1 (and 3) keep its predecessors' contact areas
+        pv = case.digits["P"]
+        pred = [] if pv == 2 else (prev if pv == 3 else (self.last or []))
         self.last_previous = prev
-        self.last = [_state(p, frames) for p in results]
+        self.last = [_state(p, frames, _kept_area(pred, p, frames, dq)) for p in results]
         table = rows(res, mapped)
         if t == 1:
             # CONTACT prints a shift's CKSI, CETA [mm] and CPHI [rad], VELOC 1
@@ -535,11 +584,37 @@ class WheelRailSequence:
         return table
 
 
-def _state(p: PatchResult, frames) -> PatchState:
+def _state(p: PatchResult, frames, kept=False) -> PatchState:
+    """The patch's :class:`PatchState`; ``kept`` its kept contact area
+    (:attr:`PatchState.kept`), False: its own contact area (a steady case)."""
     x0, m_of = frames(p.geometry)
     ts = p.tangential
-    y = np.asarray(ts.y)
-    return PatchState(x0, m_of(y), np.asarray(ts.x), y, -ts.traction_x, -ts.traction_y)
+    x, y = np.asarray(ts.x), np.asarray(ts.y)
+    m = m_of(y)
+    contact = np.asarray(ts.contact, dtype=bool)
+    area = None
+    if contact.any():
+        rows_, cols_ = contact.any(axis=1), contact.any(axis=0)
+        area = (x0 + float(x[rows_].min()), x0 + float(x[rows_].max()),
+                float(m[cols_].min()), float(m[cols_].max()))
+    return PatchState(x0, m, x, y, -ts.traction_x, -ts.traction_y, area,
+                      area if kept is False else kept)
+
+
+def _kept_area(states, p: PatchResult, frames, back: float):
+    """CONTACT's kept contact area of a patch after a transient step that continued
+    the previous patches ``states`` (its element division of the previous time,
+    copied at the step's start, P = 0, 1): the rectangle over the contact areas of
+    its predecessors; None where it has none."""
+    x0, m_of = frames(p.geometry)
+    x, y = np.asarray(p.tangential.x), np.asarray(p.tangential.y)
+    boxes = [s.area for s in states if s.area is not None
+             and is_predecessor(s, x0, m_of, x, y, back, p.geometry.bounds)]
+    if not boxes:
+        return None
+    b = np.array(boxes)
+    return (float(b[:, 0].min()), float(b[:, 1].max()), float(b[:, 2].min()),
+            float(b[:, 3].max()))
 
 
 def run_case(seq: WheelRailSequence, case: InpCase, profile_dirs=()) -> list:

@@ -23,6 +23,19 @@ import math
 
 from numba import njit
 
+
+@njit(cache=True, nogil=True)
+def region_depth(gap, i0, i1):
+    """The deepest sample im of region [i0, i1] of a locus's vertical gap ``gap``
+    [m] (the first of equal ones) and its interpenetration d = -gap[im] [m] (not
+    positive where the region does not interpenetrate)."""
+    im = i0
+    for i in range(i0, i1 + 1):
+        if gap[i] < gap[im]:
+            im = i
+    return im, -gap[im]
+
+
 @njit(cache=True, nogil=True)
 def level_curvature(loc, i0, i1, level):
     """Half the lateral curvature B [1/m] of the Hertzian gap with the depth and
@@ -36,11 +49,7 @@ def level_curvature(loc, i0, i1, level):
     without a finite gap."""
     gap, yr, slope = loc[5], loc[4], loc[6]
     n = gap.size
-    im = i0
-    for i in range(i0, i1 + 1):
-        if gap[i] < gap[im]:
-            im = i
-    d = -gap[im]
+    im, d = region_depth(gap, i0, i1)
     if not d > 0.0:
         return math.nan
     g0 = -(1.0 - level) * d
@@ -93,11 +102,7 @@ def moment_curvature(loc, i0, i1):
     n = gap.size
     if i0 < 1 or i1 > n - 2:
         return math.nan
-    im = i0
-    for i in range(i0, i1 + 1):
-        if gap[i] < gap[im]:
-            im = i
-    d = -gap[im]
+    im, d = region_depth(gap, i0, i1)
     if not d > 0.0:
         return math.nan
     p = MOMENT_POWER

@@ -232,14 +232,16 @@ class SurfaceWheel:
 
 
 def _rail_intersect(rail, s0, Q0, n, iterations: int = 30):
-    """lam [m] where the lines Q0 + lam n (n with no x component) meet the rail
-    surface (track position s0 + x)."""
+    """lam [m] where the lines Q0 + lam n (n with no x component) meet the rail's
+    surface of the undeformed distance (track position s0 + x;
+    :meth:`railcontact.geometry.surfaces.PlacedRail.gap_height`: a deviated
+    roller's under ``ContactRules.roller_turn``)."""
     Q0 = np.asarray(Q0, float)
     s = s0 + Q0[..., 0]
     lam = np.zeros(Q0.shape[:-1])
     for _ in range(iterations):
         y = Q0[..., 1] + lam * n[1]
-        z, dz = rail.height(s, y)
+        z, dz = rail.gap_height(s, y)
         f = Q0[..., 2] + lam * n[2] - z
         df = n[2] - dz * n[1]
         step = f / df
@@ -489,6 +491,70 @@ def surface_slip(patch: "SurfacePatch", wheel: SurfaceWheel, rail, motion: Motio
         v_r = np.zeros_like(v_w)
     dv = (v_r - v_w) / patch.velocity
     return dv[..., 0], gap.sign * (dv @ gap.t + turn / patch.velocity)
+
+
+def midplane_slip(patch: "SurfacePatch", wheel: SurfaceWheel, rail, motion: Motion, x, y,
+                  rail_share: float = 0.5):
+    """CONTACT's rule for the rigid slip on the actual surfaces (its D = 3,
+    ``m_wr_rigslip``; ``ContactRules.surface_slip = "midplane"``), at the points (x,
+    y) of a patch's tangent plane (arrays of one shape): each body's velocity at its
+    own undeformed surface point on the plane's normal through (x, y) (the wheel's
+    rigid-body velocity, a rail at rest, a roller turning about its axis); on a
+    track or test rig the contact frame's velocity, the wheelset's forward speed VS
+    along x, taken from both; then each body's (x, n) components turned onto the
+    direction in the (x, n) plane of the mid-plane velocity (``rail_share`` times the
+    rail's plus the rest times the wheel's: (1 - nu_r) G_w / ((1 - nu_r) G_w + (1 -
+    nu_w) G_r), 0.5 for one material), the lateral components as they are; the
+    difference (rail's minus wheel's) over the rolling velocity V (|VS| on a track or
+    test rig, the mean of both bodies' x velocities at the patch's centre on a
+    roller rig).
+
+    The turn acts in the (x, n) plane only: for a body moving along x it removes the
+    slip of the surfaces' curvature along the rolling direction as
+    :func:`surface_slip` does; for a body rolling along a heading turned by the yaw
+    psi it leaves a lateral slip of about tan(psi) times the curvature slip along
+    the heading (a sphere of radius R yawed by 0.3 rad on a plane: the slip
+    (x_h^2 + y_a^2) sin(psi) / (2 R) across x where the exact answer is y_a^2 / (2 R)
+    along the heading; x_h, y_a along the heading and the axle).  Returns (s_x, s_y)
+    [-]."""
+    gap = patch.gap_function
+    sp = gap.pose
+    mo = motion.mirrored(patch.side)
+    x, y = np.broadcast_arrays(np.asarray(x, float), np.asarray(y, float))
+    ex, t, n = np.array([1.0, 0.0, 0.0]), gap.t, gap.n
+    Q0 = gap.C + x[..., None] * ex + (gap.sign * y)[..., None] * t
+    lw = wheel.intersect(sp, Q0, n)
+    lw = np.where(np.isfinite(lw), lw, 0.0)
+    Qw = Q0 + lw[..., None] * n
+    O, R = wheel.frame(sp)
+    om_w = R @ np.array([mo.roll_rate, mo.pitch_velocity, 0.0]) + np.array([0, 0, mo.yaw_rate])
+    v_w = np.array([mo.velocity, mo.lateral_velocity, mo.vertical_velocity]) \
+        + np.cross(om_w, Qw - O)
+    if rail.is_roller:
+        surf = rail.surface
+        Qr = Q0 + _rail_intersect(rail, sp.s, Q0, n)[..., None] * n
+        O_r = np.array([surf.position, rail.lateral_position,
+                        rail.vertical_position + surf.radius])
+        v_r = np.cross(np.array([0.0, rail.angular_velocity, 0.0]), Qr - O_r)
+        i0 = np.unravel_index(np.argmin(x * x + y * y), x.shape)
+        V = -0.5 * float(v_r[i0][0] + v_w[i0][0])
+    else:
+        v_r = np.zeros_like(v_w)
+        V = mo.velocity
+        v_w = v_w - V * ex
+        v_r = v_r - V * ex
+    sgn = 1.0 if V >= 0 else -1.0
+    V = abs(V)
+    # components along the plane's axes: x, t (y), n
+    comp = lambda v: (v[..., 0], v @ t, v @ n)  # noqa: E731
+    (wx, wy, wn), (rx, ry, rn) = comp(v_w), comp(v_r)
+    mx = rail_share * rx + (1.0 - rail_share) * wx
+    mn = rail_share * rn + (1.0 - rail_share) * wn
+    scale = -sgn / np.sqrt(np.maximum(mx * mx + mn * mn, 1e-16 * V * V))
+    rx1 = (rx * mx + rn * mn) * scale
+    wx1 = (wx * mx + wn * mn) * scale
+    V = V if V > 1e-9 else 1.0
+    return (rx1 - wx1) / V, gap.sign * (ry - wy) / V
 
 
 def _combine_labels(lab, n: int, y, distance: float):

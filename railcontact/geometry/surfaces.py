@@ -10,7 +10,9 @@ lateral slope dz/dy at track positions s [m] and lateral profile positions y [m]
   slices, interpolated as CONTACT does (:mod:`railcontact.geometry.sliced_surface`).
 * :class:`RollerSurface`: a roller of a roller rig, the profile revolved about an
   axis along y at depth ``radius`` below its crown: z(x, y) = R - sqrt((R - z_p(y))^2
-  - x^2), x = s - ``position``.
+  - x^2), x = s - ``position``; a deviated profile (turned and lowered) revolved
+  about the same axis, and for the undeformed distance either that surface or
+  CONTACT's: the roller as read, turned and lowered as a whole (``turn``).
 
 :class:`PlacedRail` places a surface in the side frame of a wheel (y to the field
 side, z down): its profile origin at (``lateral_position``, ``vertical_position``).
@@ -50,30 +52,114 @@ class ProfileSurface:
         return (-math.inf, math.inf)
 
 
+#: the values of :class:`RollerSurface`'s ``turn`` (``ContactRules.roller_turn``)
+ROLLER_TURNS = ("profile", "surface")
+
+
+def _revolved(profile: Profile, radius: float, x, y):
+    """The profile revolved about the axis along y at depth ``radius`` below its
+    origin: height z [m] (down) and slope dz/dy at (x, y) (NaN beyond the section's
+    radius)."""
+    zp, dp = profile.z_and_slope(y)
+    rho = radius - zp
+    root = np.sqrt(np.maximum(rho * rho - x * x, 0.0))
+    with np.errstate(invalid="ignore", divide="ignore"):
+        z = np.where(np.abs(x) < rho, radius - root, np.nan)
+        dz = rho * dp / root
+    return z, dz
+
+
 class RollerSurface:
     """A roller of radius ``radius`` [m] at its crown (the profile origin), its axis
     along y at track position ``position`` [m], carrying the lateral profile
-    ``profile`` (a rail profile: z down into the roller)."""
+    ``profile`` (a rail profile: z down into the roller).
 
-    def __init__(self, profile: Profile, radius: float, position: float = 0.0):
+    ``deviation`` (dz [m], roll [rad]) or None deviates the roller's profile
+    (CONTACT's DZRAIL, DROLLR of a roller): the profile turned by roll about +x
+    about its origin (a positive roll lowers the field side), then lowered by dz,
+    and revolved about the roller's axis, which stays: the surface of
+    :meth:`height` (the contact search) and of the roller's kinematics (it turns
+    about its axis; a flat profile turned becomes a cone).  ``turn`` picks the
+    surface of the undeformed distance (:meth:`gap_height`):
+
+    - ``"profile"`` (railcontact's): the same surface;
+    - ``"surface"`` (CONTACT's, its ``m_wr_undefdist``: the profile as read
+      revolved, then the whole surface turned and lowered with the rail's marker):
+      the undeviated roller turned by roll about +x through the profile origin and
+      lowered by dz, its axis tilted (a flat profile: a cylinder of radius R with a
+      tilted axis).  Both surfaces share the turned profile at x = 0; along x the
+      cone's curvature is cos(roll) / (R - z_p) at its section's radius, the tilted
+      cylinder's 1 / R (test-rollers3 case 11: 1/412 against 1/400 per mm, the
+      undeformed distance 1.34 um larger 6 mm from the contact line).
+
+    ``profile`` is the deviated profile (that of the search); ``profile_as_read`` the
+    one given.
+    """
+
+    def __init__(self, profile: Profile, radius: float, position: float = 0.0,
+                 deviation: tuple | None = None, turn: str = "profile"):
         if profile.kind != "rail":
             raise ProfileError(f"profile {profile.name!r} is a wheel profile; expected the "
                                "roller's (rail) profile")
         if not (isinstance(radius, (int, float)) and math.isfinite(radius) and 0.02 <= radius <= 10):
             raise InputError(f"roller.radius = {radius!r} m: expected a radius in [0.02, 10] m")
+        if turn not in ROLLER_TURNS:
+            raise InputError(f"roller.turn = {turn!r}: expected 'profile' (the turned profile "
+                             "revolved about the roller's axis) or 'surface' (CONTACT's: the "
+                             "revolved roller turned as a whole)")
+        self.profile_as_read = profile
+        self.deviation = None
+        if deviation is not None:
+            dz, roll = (float(v) for v in deviation)
+            if not (math.isfinite(dz) and math.isfinite(roll)):
+                raise InputError(f"roller.profile_deviation = {deviation!r}: expected finite "
+                                 "[dz, roll] (m, rad)")
+            self.deviation = (dz, roll)
+            profile = profile.rotated(-roll).shifted(0.0, dz)
         self.profile, self.radius, self.position = profile, float(radius), float(position)
+        self.turn = turn
         self.name = f"roller {profile.name}"
 
     def height(self, s, y):
+        """Height z [m] and slope dz/dy [-] at (s, y) of the roller's surface (its
+        deviated profile revolved about its axis)."""
         s, y = np.broadcast_arrays(np.asarray(s, float), np.asarray(y, float))
-        zp, dp = self.profile.z_and_slope(y)
-        rho = self.radius - zp
+        return _revolved(self.profile, self.radius, s - self.position, y)
+
+    @property
+    def tilted(self) -> bool:
+        """Whether the undeformed distance follows CONTACT's turned surface (a
+        deviation that turns or lowers, and ``turn = "surface"``)."""
+        return self.turn == "surface" and self.deviation is not None \
+            and any(v != 0.0 for v in self.deviation)
+
+    def gap_height(self, s, y, iterations: int = 30):
+        """Height z [m] and slope dz/dy [-] at (s, y) of the surface of the
+        undeformed distance (``turn``): :meth:`height`, or CONTACT's turned
+        surface, z solved by Newton's method from the search's surface (both meet
+        on the contact line, x = 0)."""
+        z0, d0 = self.height(s, y)
+        if not self.tilted:
+            return z0, d0
+        s, y = np.broadcast_arrays(np.asarray(s, float), np.asarray(y, float))
+        dz, roll = self.deviation
+        c, sn = math.cos(roll), -math.sin(roll)     # the profile's turn by -roll
         x = s - self.position
-        root = np.sqrt(np.maximum(rho * rho - x * x, 0.0))
+        # a point (y, z) of the turned surface comes from (c y - sn (z - dz), sn y + c
+        # (z - dz)) of the roller as read
+        z = np.where(np.isfinite(z0), z0, 0.0)
+        for _ in range(iterations):
+            zd = z - dz
+            h, hy = _revolved(self.profile_as_read, self.radius, x, c * y - sn * zd)
+            step = (sn * y + c * zd - h) / (c + sn * hy)
+            z = z - step
+            if np.all(~np.isfinite(step) | (np.abs(step) < 1e-14)):
+                break
+        h, hy = _revolved(self.profile_as_read, self.radius, x, c * y - sn * (z - dz))
         with np.errstate(invalid="ignore", divide="ignore"):
-            z = np.where(np.abs(x) < rho, self.radius - root, np.nan)
-            dz = rho * dp / root
-        return z, dz
+            slope = (c * hy - sn) / (c + sn * hy)
+        bad = ~np.isfinite(h)
+        return np.where(bad, np.nan, z), np.where(bad, np.nan, slope)
 
     def section(self, s: float) -> Profile:
         return self.profile
@@ -127,6 +213,20 @@ class PlacedRail:
         and side-frame lateral position y (NaN outside the rail's lateral range)."""
         yr = np.asarray(y, float) - self.lateral_position
         z, d = self.surface.height(s, yr)
+        if self.lateral_range is not None:
+            out = (yr < self.lateral_range[0]) | (yr > self.lateral_range[1])
+            z = np.where(out, np.nan, z)
+            d = np.where(out, np.nan, d)
+        return z + self.vertical_position, d
+
+    def gap_height(self, s, y):
+        """:meth:`height` of the surface of the undeformed distance: a roller's
+        (:meth:`RollerSurface.gap_height`, CONTACT's turned surface under its rule),
+        else the rail's surface itself."""
+        if not self.is_roller:
+            return self.height(s, y)
+        yr = np.asarray(y, float) - self.lateral_position
+        z, d = self.surface.gap_height(s, yr)
         if self.lateral_range is not None:
             out = (yr < self.lateral_range[0]) | (yr > self.lateral_range[1])
             z = np.where(out, np.nan, z)

@@ -47,6 +47,11 @@ class Track:
         ``{"left": o, "right": o}``: lateral positions [m] of the rail-profile origins
         in the side frames, instead of placing the rails by the gauge (worn rails stay
         where the new ones were: the new track's ``rail_offset`` of each side).
+    gauge_rule : {"profile", "contact"}
+        Where the gauge point of a rail placed by the gauge lies: where the profile's
+        z(y) crosses the gauge height (railcontact's), or CONTACT's rule on the
+        spline along the points' chord length (:func:`contact_gauge_point`; the
+        case's ``track.gauge_point``, :class:`railcontact.cases.rules.ContactRules`).
     """
 
     rail_right: Profile
@@ -54,6 +59,7 @@ class Track:
     gauge: float = 1.435
     gauge_height: float = 0.014
     rail_offsets: dict | None = None
+    gauge_rule: str = "profile"
     _offsets: dict = field(init=False, repr=False, default_factory=dict)
 
     def __post_init__(self) -> None:
@@ -61,6 +67,9 @@ class Track:
             self.rail_left = self.rail_right
         _check("track.gauge", self.gauge, 0.1, 2.0, "m")       # 0.1: scaled rigs
         _check("track.gauge_height", self.gauge_height, 0.0, 0.05, "m")
+        if self.gauge_rule not in ("profile", "contact"):
+            raise InputError(f"track.gauge_point = {self.gauge_rule!r}: expected 'profile' or "
+                             "'contact'")
         for side in SIDES:
             rail = self.rail(side)
             if rail.kind != "rail":
@@ -76,7 +85,10 @@ class Track:
         return self.rail_right if side == "right" else self.rail_left
 
     def gauge_point(self, rail: Profile) -> float:
-        """Lateral position [m] of the gauge point in rail-profile coordinates."""
+        """Lateral position [m] of the gauge point in rail-profile coordinates, by the
+        track's ``gauge_rule``."""
+        if self.gauge_rule == "contact":
+            return contact_gauge_point(rail, float(self.gauge_height))
         return _gauge_point(rail, self.gauge_height)
 
     def rail_offset(self, side: str) -> float:

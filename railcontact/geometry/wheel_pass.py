@@ -67,7 +67,15 @@ PassPose = namedtuple("PassPose", "shift yaw y_off_left y_off_right e r0 velocit
 #: secant slope, per side s (0 left, 1 right) at 2 + 6 s: the roll of the last locus,
 #: its first and end wheel samples, the roll it serves within, and the first and end
 #: samples of its minimum's neighbourhood (``MIN_WINDOW``)
-MEMO_SIZE = 14
+MEMO_SIZE = 16
+#: the memo's count of the roll search's evaluations (each both sides' minimum gap)
+M_GAPS = 14
+#: the memo's switch (1: on, the default; 0: off, as before, for comparisons) of
+#: the search's and the balance's handling of joining regions: the roll search's
+#: samples cover the locus's local minima (:func:`_note_minimum`), and the compiled
+#: balance's steps on the interpenetrations start from its pose's history
+#: (:func:`railcontact.cases.compiled_case.balance_wheelset`)
+M_JOINS = 15
 
 #: the roll search of a case's later searches looks for each side's minimum gap
 #: among the wheel samples whose gap was within this [m] of the last locus's minimum
@@ -76,6 +84,8 @@ MEMO_SIZE = 14
 #: (then the search is made again over the locus windows)
 MIN_WINDOW = 1.5e-5
 MIN_MARGIN = 16
+#: ... and the samples between the locus's local minima within its window
+#: (:func:`_note_minimum`; where the memo's ``M_JOINS`` is on)
 
 #: a locus deeper than its side's target by more than this [m] shows a missed
 #: minimum (the roll search's tolerance puts the sides' gaps within ~1e-12 m)
@@ -137,11 +147,14 @@ P_B_FORCE = 26
 MAX_PATCHES = 8
 
 
-def new_memo(roll: float = 0.0) -> np.ndarray:
-    """A fresh memo (:data:`MEMO_SIZE`) whose roll search starts at ``roll``."""
+def new_memo(roll: float = 0.0, joins: bool = True) -> np.ndarray:
+    """A fresh memo (:data:`MEMO_SIZE`) whose roll search starts at ``roll``;
+    ``joins``: its :data:`M_JOINS` switch."""
     m = np.zeros(MEMO_SIZE)
     m[0], m[1] = roll, ROLL_SLOPE
     m[2:] = np.nan
+    m[M_GAPS] = 0.0
+    m[M_JOINS] = 1.0 if joins else 0.0
     return m
 
 
@@ -258,6 +271,7 @@ def illinois_update(x, f, a, fa, b, fb, side):
 
 @njit(cache=True, nogil=True)
 def _roll_residual(prof, pose, targets, roll, memo):
+    memo[M_GAPS] += 1.0
     gl = side_min_gap(prof, pose, 0, roll, memo)
     gr = side_min_gap(prof, pose, 1, roll, memo)
     return (gl + targets[0]) - (gr + targets[1]), gr
@@ -279,6 +293,17 @@ def solve_roll(prof, pose, targets, tol, memo):
     x1 = x0 - f0 / slope
     if abs(x1 - x0) <= 0.01 * tol:
         return x0, g0 + targets[1]
+    # the bracket of the root that the secant steps find (the residual grows with
+    # the roll): with the memo's M_JOINS on, a step that leaves it is the
+    # bracket's regula falsi point instead, and the bracketed search below starts
+    # from it (where the deepest point passes between the flange and its root, the
+    # residual's slope jumps and the secant steps cycle about the kink)
+    guard = memo[M_JOINS] != 0.0
+    blo, bhi, fblo, fbhi = -math.inf, math.inf, math.nan, math.nan
+    if f0 < 0:
+        blo, fblo = x0, f0
+    else:
+        bhi, fbhi = x0, f0
     # secant steps (as _secant_roll)
     for _ in range(8):
         f1, g1 = _roll_residual(prof, pose, targets, x1, memo)
@@ -286,6 +311,10 @@ def solve_roll(prof, pose, targets, tol, memo):
             break
         if f1 == 0.0:
             return x1, g1 + targets[1]
+        if f1 < 0 and x1 > blo:
+            blo, fblo = x1, f1
+        elif f1 > 0 and x1 < bhi:
+            bhi, fbhi = x1, f1
         if f1 == f0 and abs(x1 - x0) <= tol:
             return x1, g1 + targets[1]
         if f1 == f0 or abs(x1 - roll0) > 0.05:
@@ -297,21 +326,29 @@ def solve_roll(prof, pose, targets, tol, memo):
             if 0.1 * ROLL_SLOPE < last < 10 * ROLL_SLOPE:
                 memo[1] = last
             return x0, g0 + targets[1]
+        if guard and blo < bhi and math.isfinite(blo) and math.isfinite(bhi) and \
+                not blo < x1 < bhi:
+            x1 = (blo * fbhi - bhi * fblo) / (fbhi - fblo)
+            if not blo < x1 < bhi:
+                x1 = 0.5 * (blo + bhi)
     # bracketed search (as _bracketed_roll): bisection with secant steps
-    span = 2e-3
-    lo, hi = roll0 - span, roll0 + span
-    flo, _ = _roll_residual(prof, pose, targets, lo, memo)
-    while flo > 0:
-        lo -= 4 * span
-        if lo < -0.1:
-            return math.nan, math.nan
+    if guard and math.isfinite(blo) and math.isfinite(bhi) and blo < bhi:
+        lo, hi, flo, fhi = blo, bhi, fblo, fbhi
+    else:
+        span = 2e-3
+        lo, hi = roll0 - span, roll0 + span
         flo, _ = _roll_residual(prof, pose, targets, lo, memo)
-    fhi, _ = _roll_residual(prof, pose, targets, hi, memo)
-    while fhi < 0:
-        hi += 4 * span
-        if hi > 0.1:
-            return math.nan, math.nan
+        while flo > 0:
+            lo -= 4 * span
+            if lo < -0.1:
+                return math.nan, math.nan
+            flo, _ = _roll_residual(prof, pose, targets, lo, memo)
         fhi, _ = _roll_residual(prof, pose, targets, hi, memo)
+        while fhi < 0:
+            hi += 4 * span
+            if hi > 0.1:
+                return math.nan, math.nan
+            fhi, _ = _roll_residual(prof, pose, targets, hi, memo)
     if not (math.isfinite(flo) and math.isfinite(fhi)):
         return math.nan, math.nan
     side = 0
@@ -415,7 +452,7 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
             edge = gmin + window
             if (i0 == 0 or ends[0] > edge) and (i1 == n or ends[1] > edge):
                 memo[k], memo[k + 3] = roll, WINDOW_ROLL * window / REGION_MARGIN
-                _note_minimum(gap, i0, n, memo, k)
+                _note_minimum(gap, i0, n, memo, k, window)
                 # the next locus: the samples within the window and a margin
                 first, last = -1, -1
                 for j in range(gap.size):
@@ -452,13 +489,18 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
                                           gmin + window + SPARSE_SLACK)
     memo[k], memo[k + 1], memo[k + 2] = roll, i0, i1
     memo[k + 3] = WINDOW_ROLL * window / REGION_MARGIN
-    _note_minimum(gap, i0, n, memo, k)
+    _note_minimum(gap, i0, n, memo, k, window)
     return i0, i1, th, P, yr, gap, sl, R, O, y_off
 
 
 @njit(cache=True, nogil=True)
-def _note_minimum(gap, i0, n, memo, k):
-    """The memo takes the wheel samples within ``MIN_WINDOW`` of the locus's minimum."""
+def _note_minimum(gap, i0, n, memo, k, window):
+    """The memo takes the wheel samples within ``MIN_WINDOW`` of the locus's minimum,
+    and, where the locus has other local minima of the gap within ``window`` [m]
+    (the locus's own) of it, the samples between them: any of them may be the
+    deepest point at the next pose (the flange and its root, whose depths cross as
+    the wheelset rolls), and a minimum outside the roll search's samples makes its
+    minimum gap jump where the deeper one passes the window's edge."""
     g = np.min(gap)
     first, last = -1, -1
     for j in range(gap.size):
@@ -469,6 +511,15 @@ def _note_minimum(gap, i0, n, memo, k):
     if first < 0:
         memo[k + 4] = np.nan
         return
+    if memo[M_JOINS] != 0.0:
+        edge = g + window
+        for j in range(1, gap.size - 1):
+            # a local minimum between computed samples (the sparse locus leaves
+            # +inf where it computes none)
+            if gap[j] <= edge and gap[j] <= gap[j - 1] and gap[j] <= gap[j + 1] and \
+                    gap[j - 1] < np.inf and gap[j + 1] < np.inf:
+                first = min(first, j)
+                last = max(last, j)
     memo[k + 4] = max(i0 + first - MIN_MARGIN, 0)
     memo[k + 5] = min(i0 + last + MIN_MARGIN + 1, n)
 

@@ -275,47 +275,103 @@ def strip_window_geometry(frame, sign, rail, wheel, win, grid, y, q):
     ``grid``: the strips' centres into ``y`` and (x_m, g, A, B) into ``q`` (4,
     strips), as :func:`strip_geometry`.  Returns the strip width [m]."""
     n = grid.strips
-    xc, dx, yc, hy, core = window_of(win, grid.margin)
+    w = lateral_window(win, grid)
     xs = np.empty((1, 3))
     ys = np.empty((1, n))
     F = frame.reshape((1, frame.size))
-    dy = 2.0 * hy / n
-    refine = grid.refine
+    ends = (F, sign, rail, wheel, xs)
+    dy = 0.0
     for it in range(grid.widen + 2):
-        dy = 2.0 * hy / n
+        dy = lay_strips(w, y)
         for j in range(n):
-            y[j] = yc + hy * (-1.0 + (2.0 * j + 1.0) / n)
             ys[0, j] = sign * y[j]
-        xs[0, 0], xs[0, 1], xs[0, 2] = xc, xc - dx, xc + dx
+        xs[0, 0], xs[0, 1], xs[0, 2] = w[0], w[0] - w[1], w[0] + w[1]
         h = _gap_lines_kernel(xs, ys, F, rail.breaks, rail.coefs, wheel.breaks,
                               wheel.coefs)[0]
         for k in range(3):
             for j in range(n):
                 h[k, j] = (1.0 if h[k, j] < DEEPEST_GAP else h[k, j]) + win[0]
-        edge, y_lo, y_hi = strip_lines(h, y, dx, dy, win[1], (yc, core), q)
-        if refine and not edge and y_hi > y_lo:
-            # the strips again, on the run's ends (where g crosses the penetration,
-            # found on the gap itself): their positions relative to the contact's
-            # edges, and with them the strip sums, continuous in the gap
-            lo, hi = n, -1
-            for j in range(n):
-                if q[1, j] < win[1]:
-                    lo = min(lo, j)
-                    hi = max(hi, j)
-            y_lo = _run_end(F, sign, rail, wheel, xs, (y[lo], q[1, lo] - win[1]),
-                            y[lo] - dy, win)
-            y_hi = _run_end(F, sign, rail, wheel, xs, (y[hi], q[1, hi] - win[1]),
-                            y[hi] + dy, win)
-            yc, core = 0.5 * (y_lo + y_hi), 0.5 * (y_hi - y_lo)
-            hy = core * (1.0 + grid.margin)
-            refine = False
-            continue
-        if not edge or it == grid.widen:
+        if not next_window(w, grid, it, (h, y, dy, win), q, ends):
             break
-        hy *= 1.6
     for j in range(n):
-        q[0, j] += xc
+        q[0, j] += w[0]
     return dy
+
+
+#: fields of a patch's lateral window while its strips are laid (:func:`lateral_window`,
+#: a float array): x_c, d [m] (the gap sampled at x_c + (0, -d, +d)), y_c, the
+#: half-width, the half-width of the extent [m], and 1 while the window is still to be
+#: laid again on the run's ends (:attr:`StripGrid.refine`), else 0
+LATERAL_FIELDS = ("x_c", "d", "y_c", "half_width", "core", "refine")
+
+
+@njit(cache=True, nogil=True)
+def lateral_window(win, grid):
+    """A patch's first lateral window (:data:`LATERAL_FIELDS`) from its window
+    ``win`` (:data:`WINDOW_FIELDS`) and the :class:`StripGrid` ``grid``
+    (:func:`window_of`)."""
+    w = np.empty(len(LATERAL_FIELDS))
+    w[0], w[1], w[2], w[3], w[4] = window_of(win, grid.margin)
+    w[5] = 1.0 if grid.refine else 0.0
+    return w
+
+
+@njit(cache=True, nogil=True)
+def lay_strips(w, y):
+    """The strips' centres [m] across the lateral window ``w``
+    (:data:`LATERAL_FIELDS`) into ``y``; returns their width [m]."""
+    n = y.size
+    for j in range(n):
+        y[j] = w[2] + w[3] * (-1.0 + (2.0 * j + 1.0) / n)
+    return 2.0 * w[3] / n
+
+
+@njit(cache=True, nogil=True)
+def _gap_ends(ends, y, q, dy, win):
+    """The lateral ends [m] of a patch's run of interpenetrating strips (``q`` of
+    :func:`strip_lines`, the strips at ``y``, width ``dy``) where the strip
+    quantity g crosses the penetration, found on the gap of the geometry layer
+    itself (``ends`` = (frame, sign, rail, wheel, xs), :func:`_run_end`)."""
+    F, sign, rail, wheel, xs = ends
+    lo, hi = y.size, -1
+    for j in range(y.size):
+        if q[1, j] < win[1]:
+            lo = min(lo, j)
+            hi = max(hi, j)
+    y_lo = _run_end(F, sign, rail, wheel, xs, (y[lo], q[1, lo] - win[1]), y[lo] - dy, win)
+    y_hi = _run_end(F, sign, rail, wheel, xs, (y[hi], q[1, hi] - win[1]), y[hi] + dy, win)
+    return y_lo, y_hi
+
+
+@njit(cache=True, nogil=True)
+def next_window(w, grid, it, lines, q, ends):
+    """One pass of a patch's strips and its next lateral window: the strip
+    quantities into ``q`` (:func:`strip_lines`) from ``lines`` = (h, y, dy, win),
+    the gap h sampled on the strips at y [m] (width dy [m]) laid across the
+    lateral window ``w`` (:data:`LATERAL_FIELDS`, changed in place; ``win``:
+    :data:`WINDOW_FIELDS`) in pass ``it``.  The window is laid again on the run's
+    ends, widened by ``grid.margin`` (:class:`StripGrid`), on the first pass that
+    finds the run inside it where ``grid.refine``; widened x 1.6 while the run
+    reaches an outer strip, ``grid.widen`` times at the most.  ``ends`` selects
+    how the run's ends are found: None, interpolated between the strips
+    (:func:`strip_lines`); (frame, sign, rail, wheel, xs) of the geometry layer,
+    on the gap itself (:func:`_gap_ends`).  Returns whether to lay the strips
+    again."""
+    h, y, dy, win = lines
+    edge, y_lo, y_hi = strip_lines(h, y, w[1], dy, win[1], (w[2], w[4]), q)
+    if w[5] != 0.0 and not edge and y_hi > y_lo:
+        # the strips again, on the run's ends: their positions relative to the
+        # contact's edges, and with them the strip sums, continuous in the gap
+        if ends is not None:
+            y_lo, y_hi = _gap_ends(ends, y, q, dy, win)
+        w[2], w[4] = 0.5 * (y_lo + y_hi), 0.5 * (y_hi - y_lo)
+        w[3] = w[4] * (1.0 + grid.margin)
+        w[5] = 0.0
+        return True
+    if not edge or it == grid.widen:
+        return False
+    w[3] *= 1.6
+    return True
 
 
 @njit(cache=True, nogil=True)
@@ -377,25 +433,15 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
 def _sampled_geometry(patch, win, grid, y, q):
     """:func:`strip_window_geometry` of a patch whose gap is a Python function (a
     bodies case): its ``gap`` sampled, :func:`strip_lines` on the samples."""
-    n = grid.strips
-    xc, dx, yc, hy, core = window_of(win, grid.margin)
-    u = -1.0 + (2.0 * np.arange(n) + 1.0) / n
-    refine = grid.refine
+    w = lateral_window(win, grid)
+    dy = 0.0
     for it in range(grid.widen + 2):
-        dy = 2.0 * hy / n
-        y[:] = yc + hy * u
-        h = np.ascontiguousarray(patch.gap(xc + dx * np.array([0.0, -1.0, 1.0])[:, None],
+        dy = lay_strips(w, y)
+        h = np.ascontiguousarray(patch.gap(w[0] + w[1] * np.array([0.0, -1.0, 1.0])[:, None],
                                            y[None, :]), dtype=float) + win[0]
-        edge, y_lo, y_hi = strip_lines(h, y, dx, dy, win[1], (yc, core), q)
-        if refine and not edge and y_hi > y_lo:
-            yc, core = 0.5 * (y_lo + y_hi), 0.5 * (y_hi - y_lo)
-            hy = core * (1.0 + grid.margin)
-            refine = False
-            continue
-        if not edge or it == grid.widen:
+        if not next_window(w, grid, it, (h, y, dy, win), q, None):
             break
-        hy *= 1.6
-    q[0] += xc
+    q[0] += w[0]
     return dy
 
 

@@ -48,13 +48,12 @@ and stresses at arbitrary points by direct summation (:func:`stresses_at_points`
 from __future__ import annotations
 
 import math
-import sys
 
 import numpy as np
 from numba import njit
 from scipy import fft
 
-from ..core.errors import InputError
+from ..core.errors import InputError, RailContactError
 
 #: order of the six stress components in every array of this package
 COMPONENTS = ("xx", "yy", "zz", "xy", "xz", "yz")
@@ -588,21 +587,46 @@ def _depth_stresses(S, tables, L, shape, out):
                 out[c, i, j] = r[c, i, j]
 
 
-def _own_references() -> int:
-    """What ``sys.getrefcount`` reports inside :meth:`_Cache._recycle` for an array
-    that nobody else holds (the interpreter's own count, measured once: it differs
-    between Python versions)."""
-    seen = []
+class _Entry:
+    """Spectra in the cache (:class:`_Cache`) and the leases held on them: once
+    forgotten (``epoch``: the cache's epoch then, None while kept), the array goes
+    back for reuse when its last lease is given back (``reuse``)."""
 
-    def probe(S):
-        seen.append(sys.getrefcount(S))
+    __slots__ = ("spectra", "leases", "epoch", "reuse")
 
-    def caller():
-        S = np.empty(1)
-        probe(S)
+    def __init__(self, spectra):
+        self.spectra = spectra
+        self.leases = 0
+        self.epoch = None
+        self.reuse = False
 
-    caller()
-    return seen[0]
+
+class _SpectraLease:
+    """The right to read the kernel spectra of one key of the cache, held for a
+    ``with`` block: ``with _CACHE.lease(key, build) as S:`` gives the spectra
+    (those kept, or new ones from ``build(key)``, put in the cache) and gives the
+    lease back at the block's end, however it ends.  An array under a lease is
+    never handed out for other spectra: the cache may forget the spectra
+    meanwhile, but their array goes back for reuse only when the last lease on
+    them is given back."""
+
+    __slots__ = ("cache", "key", "build", "entry")
+
+    def __init__(self, cache, key, build):
+        self.cache, self.key, self.build = cache, key, build
+        self.entry = None
+
+    def __enter__(self) -> np.ndarray:
+        if self.entry is not None:
+            raise RailContactError("spectra lease entered twice: expected one with-block "
+                                   "at a time per lease")
+        self.entry = self.cache._acquire(self.key, self.build)
+        return self.entry.spectra
+
+    def __exit__(self, *exc) -> bool:
+        entry, self.entry = self.entry, None
+        self.cache._release(entry)
+        return False
 
 
 class _Cache:
@@ -611,27 +635,72 @@ class _Cache:
     400 x 400 elements).  The arrays of forgotten spectra are kept for the next
     spectra of the same shape (up to a quarter of the budget): filling fresh memory
     costs more than building the spectra of a 40 x 40 grid (measured, docs/subsurface.md).
-    Safe for threads: one lock around every change, and an array still held by a
-    caller is never handed out again."""
+    Safe for threads: one lock around every change, and the spectra are read under
+    a lease (:meth:`lease`): an array with a lease held on it is never handed out
+    again until the last one is given back."""
 
     def __init__(self, budget_bytes: int = 256 * 2 ** 20):
         import threading
         from collections import OrderedDict
         self.budget = budget_bytes
-        self.items = OrderedDict()
+        self.items = OrderedDict()          # key -> _Entry
         self.size = 0
         self.free = {}
         self.free_size = 0
+        self.epoch = 0                      # + 1 at every clear(release=True)
         self.lock = threading.Lock()
-        self.own = _own_references()
 
-    def lookup(self, key):
-        """The spectra of key = (mx, my, dx, dy, depth, poisson), or None."""
+    def lease(self, key, build) -> _SpectraLease:
+        """A lease (:class:`_SpectraLease`, a context manager) on the spectra of key =
+        (mx, my, dx, dy, depth, poisson): those kept, or ``build(key)``'s (built
+        outside the lock) put in the cache."""
+        return _SpectraLease(self, key, build)
+
+    def _acquire(self, key, build) -> _Entry:
+        """The entry of key with one lease more: the one kept (another thread's,
+        where it put the key while this one built its spectra), or a new one."""
+        S = None
+        while True:
+            with self.lock:
+                entry = self.items.get(key)
+                if entry is not None:
+                    self.items.move_to_end(key)
+                    entry.leases += 1
+                    return entry
+                if S is not None:
+                    return self._put(key, S)
+            S = build(key)
+
+    def _put(self, key, S) -> _Entry:
+        """Add the spectra of a key with one lease on them (the lock held); forget
+        the least recently used ones beyond the budget (the newest is always kept)."""
+        entry = _Entry(S)
+        entry.leases = 1
+        self.items[key] = entry
+        self.size += S.nbytes
+        while self.size > self.budget and len(self.items) > 1:
+            _, old = self.items.popitem(last=False)
+            self.size -= old.spectra.nbytes
+            self._forget(old, True)
+        return entry
+
+    def _release(self, entry) -> None:
+        """Give a lease back: the array of forgotten spectra goes back for reuse
+        with the last lease (unless the reusable arrays were released since)."""
         with self.lock:
-            S = self.items.get(key)
-            if S is not None:
-                self.items.move_to_end(key)
-            return S
+            entry.leases -= 1
+            if entry.leases == 0 and entry.epoch is not None:
+                if entry.reuse and entry.epoch == self.epoch:
+                    self._recycle(entry.spectra)
+                entry.reuse = False
+
+    def _forget(self, entry, reuse: bool) -> None:
+        """Spectra out of the cache (the lock held): their array kept for reuse
+        (``reuse``) now, or when the last lease on it is given back."""
+        entry.epoch, entry.reuse = self.epoch, reuse
+        if entry.leases == 0 and reuse:
+            self._recycle(entry.spectra)
+            entry.reuse = False
 
     def array(self, shape) -> np.ndarray:
         """An array of this shape for new spectra: a forgotten one, or a new one."""
@@ -644,41 +713,21 @@ class _Cache:
         return np.empty(shape)
 
     def _recycle(self, S) -> None:
-        """Keep a forgotten array for reuse (the lock held), unless someone else still
-        holds it (a thread between its lookup and its use: it is never overwritten
-        then): more references than an array held by its one caller has."""
-        if sys.getrefcount(S) > self.own:
-            return
+        """Keep the array of forgotten spectra, under no lease, for reuse (the lock
+        held), within a quarter of the budget."""
         if self.free_size + S.nbytes <= self.budget // 4:
             self.free.setdefault(S.shape, []).append(S)
             self.free_size += S.nbytes
 
-    def put(self, key, S) -> np.ndarray:
-        """Add the spectra of a key and return the spectra kept for it (another
-        thread's, where it put the same key first); forget the least recently used
-        ones beyond the budget (the newest is always kept)."""
-        with self.lock:
-            held = self.items.get(key)
-            if held is not None:
-                self.items.move_to_end(key)
-                return held
-            self.items[key] = S
-            self.size += S.nbytes
-            while self.size > self.budget and len(self.items) > 1:
-                _, old = self.items.popitem(last=False)
-                self.size -= old.nbytes
-                self._recycle(old)
-                del old
-            return S
-
     def clear(self, release: bool = False):
-        """Forget the spectra (their arrays kept for reuse unless ``release``)."""
+        """Forget the spectra (their arrays kept for reuse unless ``release``; those
+        under a lease when their last lease is given back)."""
         with self.lock:
+            if release:
+                self.epoch += 1
             while self.items:
-                _, S = self.items.popitem()
-                if not release:
-                    self._recycle(S)
-                del S
+                _, entry = self.items.popitem()
+                self._forget(entry, not release)
             self.size = 0
             if release:
                 self.free.clear()
@@ -709,16 +758,16 @@ def convolve_depths(loads, dx, dy, depths, poisson) -> np.ndarray:
     tables = np.stack([_SLOT.astype(float), _SIGN, _IMAG.astype(float),
                        np.repeat(active[:, None].astype(float), 6, axis=1), _PARX])
     out = np.empty((zs.size, 6, mx, my))        # depth first: each depth's block contiguous
-    builder = None
+    builder = []
+
+    def build(key):
+        if not builder:
+            builder.append(_Builder(mx, my, dx, dy, poisson))
+        return builder[0].spectra(key[4])
     for k, z in enumerate(zs):
         key = (int(mx), int(my), float(dx), float(dy), float(z), float(poisson))
-        S = _CACHE.lookup(key)
-        if S is None:
-            if builder is None:
-                builder = _Builder(mx, my, dx, dy, poisson)
-            S = builder.spectra(float(z))
-            S = _CACHE.put(key, S)
-        _depth_stresses(S, tables, L, (N1, N2), out[k])
+        with _CACHE.lease(key, build) as S:
+            _depth_stresses(S, tables, L, (N1, N2), out[k])
     return out.transpose(1, 2, 3, 0)
 
 

@@ -68,9 +68,9 @@ def _sweep_case(j):
         "solver": {"grid": [40, 40]}})
 
 
-def test_force_controlled_balance_meets_the_load_as_the_general_one(monkeypatch):
+def test_force_controlled_balance_meets_the_load_as_the_general_one():
     """The force-controlled balance (one patch a side, exact models; off by default,
-    balance.FORCE_CONTROL) meets each load to 1e-4 with the exact F_y, its patches
+    BalanceOptions.force_control) meets each load to 1e-4 with the exact F_y, its patches
     are its last search's (whose approaches carry the load by the contact
     stiffness), and it agrees with the general balance: F_n to 1e-4 (measured
     <= 3.5e-5 on these tread cases), F_x and F_y within 0.6 % of mu Q (measured
@@ -82,10 +82,8 @@ def test_force_controlled_balance_meets_the_load_as_the_general_one(monkeypatch)
     mu_q = 0.3 * 7e4
     for j in (20, 150):
         case = _sweep_case(j)
-        monkeypatch.setattr(B, "FORCE_CONTROL", False)
         ref = rc.solve(case, "exact", "exact")
-        monkeypatch.setattr(B, "FORCE_CONTROL", True)
-        res = rc.solve(case, "exact", "exact")
+        res = rc.solve(case, "exact", "exact", options=B.BalanceOptions(force_control=True))
         assert res.converged and ref.converged
         assert res.balance.passes <= B.FORCE_CONTROL_SEARCHES
         for side in ("left", "right"):
@@ -103,3 +101,17 @@ def test_force_controlled_balance_meets_the_load_as_the_general_one(monkeypatch)
             assert abs(slope * (b.geometry.approach / b.normal.penetration - 1)) <= 1e-4
         # its Jacobian for a neighbour: K delta / F_n, Hertz's 1.5 on the tread
         assert np.all(np.abs(np.diag(res.balance.jacobian) - 1.5) < 0.1)
+
+
+def test_balance_options_are_checked_where_they_enter():
+    """BalanceOptions and rc.solve's ``options`` say which input is wrong."""
+    import railcontact.cases.balance as B
+    from railcontact.core.errors import InputError
+    assert B.BalanceOptions() == B.DEFAULT_OPTIONS
+    assert B.DEFAULT_OPTIONS.extrapolate_ratio == B.EXTRAPOLATE_RATIO
+    with pytest.raises(InputError, match="extrapolate_ratio"):
+        B.BalanceOptions(extrapolate_ratio=0.5)
+    with pytest.raises(InputError, match="compiled_start"):
+        B.BalanceOptions(compiled_start=1)
+    with pytest.raises(InputError, match="options"):
+        rc.solve(_sweep_case(20), "hertz", "fastsim", options={"force_control": True})

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from railcontact.cases.equilibrium import JUMP_SLOPE, VerticalBalance, balance
+from railcontact.cases.equilibrium import (EXTRAPOLATE_ROLL, JUMP_SLOPE, VerticalBalance, balance,
+                                          extrapolate_start)
 
 SIDES = ("left", "right")
 Q = {"left": 6e4, "right": 5e4}
@@ -322,3 +323,23 @@ def test_one_side_provisional():
     assert bal.converged and ev.final
     kinds = [final for _, final in f.calls]
     assert not kinds[0] and all(kinds[kinds.index(True):])
+
+
+def test_extrapolate_start_linear_and_in_log():
+    """A chain's start: one step of the last two cases' interpenetrations, linear
+    (2 d1 - d0) or in ln d (d1^2 / d0), and the roll's, where the two differ by less
+    than the factor (ratio 1: off) and the rolls by less than EXTRAPOLATE_ROLL."""
+    d1, d0 = {"left": 1.1e-4, "right": 2.0e-4}, {"left": 1.0e-4, "right": 1.8e-4}
+    d, roll, done = extrapolate_start(d1, d0, 2.0, 1e-4, 0.5e-4)
+    assert done and d == {"left": 2.0 * 1.1e-4 - 1.0e-4, "right": 2.0 * 2.0e-4 - 1.8e-4}
+    assert roll == pytest.approx(1.5e-4, rel=1e-12)
+    d, _, _ = extrapolate_start(d1, d0, 1.2, in_log=True)
+    assert d["left"] == pytest.approx(1.21e-4, rel=1e-12)
+    assert d["right"] == pytest.approx(4e-4 / 1.8, rel=1e-12)
+    # off: a side beyond the factor, ratio 1, no case before, none > 0 there
+    for before, ratio in ((d0, 1.05), (d0, 1.0), (None, 2.0), ({"left": 0.0, "right": 1e-4}, 2.0)):
+        d, roll, done = extrapolate_start(d1, before, ratio, 1e-4, 0.0)
+        assert not done and d is d1 and roll == 1e-4
+    # the roll kept where the two rolls differ by more than EXTRAPOLATE_ROLL
+    _, roll, done = extrapolate_start(d1, d0, 2.0, 1e-4, 1e-4 - 2 * EXTRAPOLATE_ROLL)
+    assert done and roll == 1e-4

@@ -44,9 +44,9 @@ def test_an_unconverged_warm_start_is_solved_again_cold(neighbour, monkeypatch):
     calls = []
     real = case_solve._solve
 
-    def spy(case, normal, tangential, warm_start):
+    def spy(case, normal, tangential, warm_start, options=None):
         calls.append(warm_start is not None)
-        res = real(case, normal, tangential, warm_start)
+        res = real(case, normal, tangential, warm_start, options)
         if warm_start is not None:            # as if the warm-started balance had failed
             res.balance = dataclasses.replace(res.balance, converged=False)
         return res

@@ -53,17 +53,20 @@ def test_a_good_surface_case_passes():
 
 
 def test_parsed_once_into_typed_values():
-    s = _check({"wheel": WHEEL, "rails": [dict(SLICED, name="nose", vertical_position=-1e-3),
-                                          {"profile": "60E1", "inclination": 0.0}],
-                "wheelset": {"side": "left", "vertical_force": [5e4, 6e4], "yaw": 0.01,
-                             "position": 0.2}, "solver": {"search_length": 0.05}})
+    raw = {"wheel": WHEEL, "rails": [dict(SLICED, name="nose", vertical_position=-1e-3),
+                                     {"profile": "60E1", "inclination": 0.0}],
+           "wheelset": {"side": "left", "vertical_force": [5e4, 6e4], "yaw": 0.01,
+                        "position": 0.2}, "solver": {"search_length": 0.05}}
+    s = _check(raw)
     assert isinstance(s, SurfaceCaseSetup) and s.side == "left" and s.load == 5e4
     assert (s.position, s.yaw, s.search_length, s.vertical_position) == (0.2, 0.01, 0.05, None)
     nose, plain = s.rails
     assert isinstance(nose, RailSpec) and nose.slices == "x.slcs" and nose.name == "nose"
     assert (nose.lateral_position, nose.vertical_position) == (0.75, -1e-3)
     assert plain.lateral_position is None and plain.profile.inclination == 0.0
-    assert s.roller is None and s.pitch_velocity is None and s.contact_angle == "local"
+    assert s.roller is None and s.pitch_velocity is None
+    # the search's rules are the case's record (railcontact's by default)
+    assert case_from_dict(raw).rules.contact_angle == "local"
     # a prescribed height replaces the load; a roller's speed defaults to rolling
     r = _check({"wheel": WHEEL, "rail": {"profile": "60E1"}, "roller": {"radius": 0.5},
                 "wheelset": {"vertical_position": 1e-3}})

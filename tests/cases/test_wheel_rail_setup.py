@@ -27,7 +27,7 @@ def test_example_parsed_into_typed_values():
         s.yaw = 0.1
     ws, tr = build_wheelset_track(case)
     assert ws.nominal_radius == 0.46 and tr.gauge == 1.435
-    assert s.locus == ws.locus == "lowest"
+    assert case.rules.locus == ws.locus == "lowest"
     assert build_wheelset_track(case.with_value("wheelset.locus", "contact"))[0].locus == \
         "contact"
     # a sweep's changed key is parsed again

@@ -3,6 +3,9 @@
 
 import pytest
 
+from railcontact.cases.bodies import build_wheelset_track
+from railcontact.cases.case import case_from_dict
+from railcontact.cases.rules import CONTACT_RULES
 from railcontact.contact_inp import InpError, load_inp
 from tests.contact_inp.test_reader import CASE1, _write
 
@@ -20,11 +23,14 @@ def test_mapping_to_a_case_in_si_units(files):
     (m1, m2) = load_inp(_write(files, CASE1))
     r = m1.raw
     assert r["material"]["young_modulus"] == pytest.approx(2 * 82e9 * 1.28)
-    # the exact model with CONTACT's planar undeformed distance (the wheel linear
-    # between profile samples one DS apart)
+    # CONTACT's rules, one preset: the exact model with CONTACT's planar undeformed
+    # distance (the wheel linear between profile samples one DS apart)
     assert r["solver"] == {"normal": "exact", "tangential": "exact",
                            "element_size": [2e-4, 2.5e-4], "tangential_options": {},
-                           "normal_options": {"wheel_sampling": "contact"}}
+                           "rules": "contact"}
+    case = case_from_dict(r, files)
+    assert case.rules == CONTACT_RULES
+    assert case.normal_options == {"wheel_sampling": "contact"}
     ws = r["wheelset"]
     assert ws["side"] == "right" and ws["roll"] == 0.0001 and ws["yaw"] == 0.0024
     assert ws["lateral_shift"] == pytest.approx(1.5e-3) and ws["vertical_force"] == 1e4
@@ -33,12 +39,15 @@ def test_mapping_to_a_case_in_si_units(files):
     assert (ws["combine_distance"], ws["full_interaction_distance"],
             ws["turn_distance"]) == pytest.approx((8e-3, 4e-3, 12e-3))
     # CONTACT's contact locus (the wheel's normal perpendicular to x)
-    assert ws["locus"] == "contact"
+    ws_body, track = build_wheelset_track(case)
+    assert ws_body.locus == "contact"
     # the rail placed by CONTACT's gauge point: 14 mm below the top on the spline
     # along the points' chord length, y = -43.0325577 mm (railcontact's own rule, on
     # z(y): -43.0328785 mm)
-    assert r["track"] == {"gauge": pytest.approx(1.435), "gauge_height": pytest.approx(0.014),
-                          "rail_offset": pytest.approx(0.7175 + 0.0430325577, abs=2e-10)}
+    assert r["track"] == {"gauge": pytest.approx(1.435), "gauge_height": pytest.approx(0.014)}
+    assert track.rail_offset("right") == pytest.approx(0.7175 + 0.0430325577, abs=2e-10)
+    own = build_wheelset_track(case.with_value("track.gauge_point", "profile"))[1]
+    assert own.rail_offset("right") == pytest.approx(0.7175 + 0.0430328785, abs=2e-10)
     w = r["wheel"]
     assert w["mirror_y"] is True and w["mirror_z"] is False and w["nominal_radius"] == 0.46
     assert w["smoothing"] == {"method": "weighted", "length": pytest.approx(0.01)}

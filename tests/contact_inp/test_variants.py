@@ -46,7 +46,7 @@ def _run(name, testbank, tmp_path):
 
 @pytest.mark.parametrize("name", ["cattaneo_load_shift", "visc_load_vel", "ertz_load_creep_vel",
                                   "catt3d_plast_load", "t1_force_cp_load_pos", "varfric_load_pos",
-                                  "t1_zws_pos"])
+                                  "t1_zws_pos", "rollers3_load_creep"])
 def test_variant_within_tolerance(name, testbank, tmp_path):
     (n, worst, notes), ref = _run(name, testbank, tmp_path)
     assert n == len(ref) and n > 0

@@ -64,3 +64,13 @@ def test_force_curvature_keeps_a_hertzian_patchs():
     neg = np.flatnonzero(gap < 0)
     im = int(np.argmin(gap))
     assert force_curvature(_loc(y, gap), int(neg[0]), int(neg[-1]), im, 3.6) == 3.6
+
+
+def test_region_depth():
+    """The region's deepest sample (the first of two equal ones) and its depth;
+    samples outside the region do not count."""
+    from railcontact.geometry.patch_curvature import region_depth
+    gap = np.array([-9.0, 1.0, -2.0, -3.0, 0.5, -3.0, -9.0]) * 1e-6
+    im, d = region_depth(gap, 1, 5)
+    assert im == 3 and d == 3e-6
+    assert region_depth(np.array([1e-6, 2e-6]), 0, 1) == (0, -1e-6)

@@ -119,15 +119,25 @@ def test_cache_reuses_the_arrays_of_forgotten_spectra():
     assert np.abs(other[..., 0] - first[..., 0]).max() > 1e-3 * np.abs(first).max()
     clear_cache(release=True)
     assert kernels._CACHE.free_size == 0 and not kernels._CACHE.free
-    # an array still held elsewhere (a thread between its lookup and its use) is
-    # never handed out again
+    # an array under a lease (a thread between its lookup and its use) is never
+    # handed out again while the lease is held; it goes back for reuse with the lease
     convolve_depths(loads, 0.1, 0.2, [0.05], NU)
-    held = kernels._CACHE.lookup((6, 4, 0.1, 0.2, 0.05, NU))
-    kept = held.copy()
-    clear_cache()
+    with kernels._CACHE.lease((6, 4, 0.1, 0.2, 0.05, NU), None) as held:
+        kept = held.copy()
+        clear_cache()
+        assert kernels._CACHE.free_size == 0
+        convolve_depths(loads, 0.3, 0.2, [0.05], NU)
+        np.testing.assert_array_equal(held, kept)
+    assert kernels._CACHE.free_size == held.nbytes
+    np.testing.assert_array_equal(convolve_depths(loads, 0.1, 0.25, [0.05], NU), other)
     assert kernels._CACHE.free_size == 0
-    convolve_depths(loads, 0.3, 0.2, [0.05], NU)
-    np.testing.assert_array_equal(held, kept)
+    # an array forgotten under a lease and released before the lease is given back
+    # does not come back with it
+    with kernels._CACHE.lease((6, 4, 0.1, 0.25, 0.05, NU), None):
+        clear_cache()
+        assert kernels._CACHE.free_size > 0             # the other grid's, under no lease
+        clear_cache(release=True)
+    assert kernels._CACHE.free_size == 0 and not kernels._CACHE.free
 
 
 def test_inputs_checked():
@@ -221,20 +231,24 @@ def small_cache(monkeypatch):
     clear_cache(release=True)
 
 
-def test_spectra_cache_shared_by_threads(small_cache):
-    """Threads evaluating four grids through a cache that holds two: no error, every
-    result equal to the one computed alone, and the cache's byte count true."""
+@pytest.mark.parametrize("arrays", [2, 4])
+def test_spectra_cache_shared_by_threads(small_cache, monkeypatch, arrays):
+    """Threads evaluating twice as many grids as the cache holds (2: no array kept
+    for reuse; 4: one, handed out again while other threads hold leases): no error,
+    every result equal to the one computed alone, the cache's byte count true and
+    within the budget, and no lease left held."""
     import threading
-    cache, _ = small_cache
+    cache, one = small_cache
+    monkeypatch.setattr(cache, "budget", arrays * one)
     loads = np.random.default_rng(1).normal(size=(3, 3, 2))
-    dxs = [0.1 + 0.01 * i for i in range(4)]
+    dxs = [0.1 + 0.01 * i for i in range(2 * arrays)]
     alone = {dx: convolve_depths(loads, dx, 0.2, [0.05], NU).copy() for dx in dxs}
     failures = []
 
     def work(seed):
         r = np.random.default_rng(seed)
         for _ in range(400):
-            dx = dxs[r.integers(4)]
+            dx = dxs[r.integers(len(dxs))]
             try:
                 if not np.array_equal(convolve_depths(loads, dx, 0.2, [0.05], NU), alone[dx]):
                     failures.append("wrong stresses")
@@ -246,7 +260,30 @@ def test_spectra_cache_shared_by_threads(small_cache):
     for t in threads:
         t.join()
     assert failures == []
-    assert cache.size == sum(S.nbytes for S in cache.items.values())
+    assert cache.size == sum(e.spectra.nbytes for e in cache.items.values()) <= cache.budget
+    assert cache.free_size == sum(S.nbytes for v in cache.free.values() for S in v)
+    assert cache.free_size <= cache.budget // 4
+    assert all(e.leases == 0 for e in cache.items.values())
+
+
+def test_spectra_lease_given_back_however_the_block_ends(small_cache, monkeypatch):
+    """A lease is given back when its block raises (the spectra forgotten meanwhile
+    go back for reuse then), and one lease is not held twice at a time."""
+    from railcontact.core.errors import RailContactError
+    cache, one = small_cache
+    monkeypatch.setattr(cache, "budget", 4 * one)           # one array kept for reuse
+    loads = np.random.default_rng(4).normal(size=(3, 3, 2))
+    convolve_depths(loads, 0.1, 0.2, [0.05], NU)
+    lease = cache.lease((3, 2, 0.1, 0.2, 0.05, NU), None)
+    with pytest.raises(ZeroDivisionError):
+        with lease:
+            clear_cache()
+            1 / 0
+    assert cache.free_size == one
+    convolve_depths(loads, 0.1, 0.2, [0.05], NU)
+    with lease, pytest.raises(RailContactError, match="twice"):
+        with lease:
+            pass
 
 
 def test_spectra_cache_keeps_its_budget(small_cache):
