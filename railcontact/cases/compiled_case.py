@@ -42,7 +42,9 @@ options) with a compiled online law or ``fastsim-strips``
 (:mod:`railcontact.cases.strip_pass`: the strips of each patch sampled on its
 exact gap, the model's own compiled kernel, the strips' FASTSIM march), no
 ``friction.variation``, no patch turning (``wheelset.turn_distance`` 0) and
-similar materials (:func:`compiled_unsupported` says why not).
+similar materials (:func:`compiled_unsupported` says why not); either contact
+locus (``wheelset.locus``: each wheel circle's lowest point, or CONTACT's; the
+geometry layer's locus kernel, :func:`railcontact.geometry.locus._locus_kernel`).
 
 FASTSIM runs on the case's grid (``solver.grid``; default 40 x 40): strips across
 the ellipse and elements per strip, as the per-patch model marches the Hertzian
@@ -1071,8 +1073,9 @@ class CaseForces:
 
 #: the rules of :class:`~railcontact.cases.rules.ContactRules` that apply to the
 #: compiled pass's cases (the models' rules come as their options), followed there
-#: only as railcontact's
-COMPILED_RULES = ("locus", "gauge_point")
+#: only as railcontact's (the contact locus, ``wheelset.locus``, either way: the
+#: shared locus kernel has both)
+COMPILED_RULES = ("gauge_point",)
 
 
 def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
@@ -1097,9 +1100,8 @@ def compiled_unsupported(case, normal=None, tangential=None) -> str | None:
         return "patch turning (wheelset.turn_distance)"
     rules = case.rules.differing(COMPILED_RULES)
     if rules:
-        return (f"CONTACT's rules {', '.join(rules)} (solver.rules, wheelset.locus, "
-                "track.gauge_point; the compiled pass has railcontact's: the lowest points, "
-                "the profile's gauge point)")
+        return (f"CONTACT's rules {', '.join(rules)} (solver.rules, track.gauge_point; the "
+                "compiled pass has railcontact's: the profile's gauge point)")
     if s.wheel_slices is not None or s.pitch != 0.0:
         return "an out-of-round wheel (wheel slices, pitch)"
     if s.wheel.left is not None or s.rail.left is not None:

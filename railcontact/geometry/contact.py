@@ -21,6 +21,8 @@ from typing import Callable
 
 import numpy as np
 
+from ..core.errors import ContactNotFoundError
+
 
 @dataclass
 class ContactGeometry:
@@ -175,3 +177,47 @@ def interaction_factor(distance: float, full: float, separate: float) -> float:
     if distance >= separate:
         return 0.0
     return float(((separate - distance) / (separate - full)) ** 0.8)
+
+
+@dataclass
+class WheelsetContact:
+    """Result of the contact search for one wheelset position.
+
+    Attributes
+    ----------
+    pose : WheelsetPose
+        Lateral shift and yaw as given; vertical position and roll as solved.
+    patches : list of ContactGeometry
+        All contact patches, left side first, each side from field to gauge side.
+    loci : dict
+        The contact locus of each side (side frame).
+    loads : dict or None
+        The vertical wheel load [N] of each side the search was given, else None.
+    interpenetration : dict or None
+        The vertical interpenetration [m] of each side the patches were cut at.
+
+    How the solve layer's vertical-force iteration ended is not the search's: see
+    :class:`railcontact.cases.equilibrium.VerticalBalance`.
+    """
+
+    pose: WheelsetPose
+    patches: list
+    loci: dict = field(repr=False, default_factory=dict)
+    loads: dict | None = None
+    interpenetration: dict | None = None
+
+    def side_patches(self, side: str) -> list:
+        return [p for p in self.patches if p.side == side]
+
+    def equivalent_point(self, side: str) -> dict:
+        """Weighted combination of a side's patches (CONTACT's patch-combination rule).
+
+        Returns rolling radius [m], contact angle [rad] and y positions [m].
+        """
+        ps = self.side_patches(side)
+        if not ps:
+            raise ContactNotFoundError(f"no contact on the {side} side")
+        w = np.array([p.weight for p in ps])
+        w = w / w.sum()
+        return {k: float(np.dot(w, [getattr(p, k) for p in ps]))
+                for k in ("rolling_radius", "contact_angle", "y_rail", "y_wheel")}

@@ -68,10 +68,35 @@ def _wheel_slopes(wheel, step):
 
 def _slopes_for(wheelset, wheel, step):
     """The wheel slopes the locus kernels take: the profile's for CONTACT's locus,
-    an empty array (the lowest points) otherwise."""
+    None (the lowest points) otherwise."""
     if getattr(wheelset, "locus", "lowest") == "contact":
         return _wheel_slopes(wheel, step)
-    return np.empty(0)
+    return None
+
+
+@njit(cache=True, nogil=True)
+def _slopes_part(ws, lo, hi, step):
+    """The wheel slopes ``ws[lo:hi:step]`` of the samples a locus kernel takes, or
+    None where ``ws`` is (the lowest points: the branch is resolved when the kernels
+    are compiled, so that the lowest points' kernel carries no test of the rule)."""
+    if ws is None:
+        return None
+    return ws[lo:hi:step]
+
+
+@njit(cache=True, nogil=True)
+def _slopes_at(ws, idx):
+    """The wheel slopes ``ws[idx]`` at the samples ``idx``, or None where ``ws`` is."""
+    if ws is None:
+        return None
+    return ws[idx]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _locus_arrays(n):
+    """The locus kernels' outputs for n samples: theta, point (3, n), rail
+    coordinate, gap and slope (uninitialised)."""
+    return np.empty(n), np.empty((3, n)), np.empty(n), np.empty(n), np.empty(n)
 
 
 @njit(cache=True, nogil=True)
@@ -80,11 +105,7 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     coordinate, vertical gap and rail slope at the samples' points whose normal is
     perpendicular to x (``wslope`` the wheel profile's slopes)."""
     n = eta.size
-    theta = np.empty(n)
-    P = np.empty((3, n))
-    yr = np.empty(n)
-    gap = np.empty(n)
-    slope = np.empty(n)
+    theta, P, yr, gap, slope = _locus_arrays(n)
     h = math.sqrt(R[0, 0] * R[0, 0] + R[0, 2] * R[0, 2])
     phase = math.atan2(R[0, 2], R[0, 0])
     k = -1
@@ -112,43 +133,50 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
 def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
     each wheel circle's lowest point above the rail, or CONTACT's locus where the
-    wheel slopes ``wslope`` are given (one per sample; empty: the lowest points)."""
-    if wslope.size:
+    wheel slopes ``wslope`` are given (one per sample; None: the lowest points).
+    The one locus kernel of the package: the Python-orchestrated search
+    (:func:`compute_locus`, :func:`min_gap`) and the compiled pass
+    (:mod:`railcontact.geometry.wheel_pass`) both call it.
+
+    For the lowest points the rail slope s starts extrapolated from the last two
+    points' (25 um apart), and the iteration on it ends, without another
+    evaluation of the rail profile, once the point would move by under 1e-12 m:
+    the rail height there is that of the point 1e-12 m away (a difference below
+    1e-11 m on slopes up to 10).  The iteration contracts by about
+    rho yaw^2 |z_r''| per pass (0.04 at 6 mrad on the gauge corner); without yaw
+    (R[1, 0] = R[2, 0] = 0) theta does not depend on s and one pass gives the
+    point."""
+    if wslope is not None:
         return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)
     n = eta.size
-    theta = np.empty(n)
-    P = np.empty((3, n))
-    yr = np.empty(n)
-    gap = np.empty(n)
-    slope = np.empty(n)
+    theta, P, yr, gap, slope = _locus_arrays(n)
     k = -1                      # rail interval of the previous point (the search starts there)
-    # theta depends on the rail slope s only through R[1, 0] and R[2, 0] (the yaw):
-    # without them one pass gives the point
     fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
     s = 0.0
     s1 = 0.0                    # the slopes at the last two points
     s2 = 0.0
     for i in range(n):
-        # the slope starts extrapolated from the last two points' (25 um apart), and
-        # the iteration stops once the point moves by under 1e-12 m (it contracts by
-        # about rho yaw^2 |z_r''| per pass: 0.04 at 6 mrad on the gauge corner)
         s = 2.0 * s1 - s2 if i >= 2 else s1
         tn = 0.0
         py = 0.0
         pz = 0.0
+        px = 0.0
         zr = np.nan
-        for it in range(3):
-            tn = (s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2])
-            ct = 1.0 / math.sqrt(1.0 + tn * tn)          # theta = atan(tn) in (-pi/2, pi/2)
-            st = tn * ct
+        for it in range(4):
+            tn_new = (s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2])
+            ct = 1.0 / math.sqrt(1.0 + tn_new * tn_new)      # theta = atan(tn) in (-pi/2, pi/2)
+            st = tn_new * ct
+            py_new = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
+            if it >= 1 and abs(py_new - py) <= 1e-12:
+                break
+            tn = tn_new
             px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
-            last = py
-            py = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
+            py = py_new
             pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
             zr, s, k = ppoly_at(py - y_off, rb, rc, k)
             if s != s:
                 s = 0.0
-            if fixed or (it >= 1 and abs(py - last) <= 1e-12):
+            if fixed:
                 break
         theta[i] = math.atan(tn)
         P[0, i] = px
@@ -161,27 +189,33 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     return theta, P, yr, gap, slope
 
 
+#: the minimum-gap search's coarse pass takes every this many wheel samples, and
+#: refines around the coarse points within ``MIN_GAP_WINDOW`` [m] of the coarse
+#: minimum (compile-time constants of :func:`_min_gap_kernel`)
+MIN_GAP_STRIDE = 8
+MIN_GAP_WINDOW = 2e-6
+
+
 @njit(cache=True, nogil=True)
-def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc, stride, window):
-    """Minimum vertical gap along the locus: coarse pass every ``stride`` samples,
-    then every sample around the coarse points within ``window`` [m] of the coarse
-    minimum (``wslope`` as in :func:`_locus_kernel`)."""
+def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
+    """Minimum vertical gap along the locus: coarse pass every ``MIN_GAP_STRIDE``
+    samples, then every sample around the coarse points within ``MIN_GAP_WINDOW``
+    [m] of the coarse minimum (``wslope`` as in :func:`_locus_kernel`)."""
     n = eta.size
-    idx = np.arange(0, n, stride)
-    _, _, _, gc, _ = _locus_kernel(eta[idx], rho[idx], wslope[idx] if wslope.size else wslope,
-                                   R, O, y_off, rb, rc)
+    st = MIN_GAP_STRIDE
+    _, _, _, gc, _ = _locus_kernel(eta[::st], rho[::st], _slopes_part(wslope, 0, n, st), R, O,
+                                   y_off, rb, rc)
     gmin = np.inf
     for g in gc:
         if g < gmin:
             gmin = g
     best = np.inf
-    for k in range(idx.size):
-        if gc[k] <= gmin + window:
-            lo = max(idx[k] - stride, 0)
-            hi = min(idx[k] + stride + 1, n)
-            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi],
-                                           wslope[lo:hi] if wslope.size else wslope, R, O,
-                                           y_off, rb, rc)
+    for c in range(gc.size):
+        if gc[c] <= gmin + MIN_GAP_WINDOW:
+            lo = max(st * c - st, 0)
+            hi = min(st * c + st + 1, n)
+            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi], _slopes_part(wslope, lo, hi, 1),
+                                           R, O, y_off, rb, rc)
             for g in gf:
                 if g < best:
                     best = g
@@ -278,16 +312,16 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
     if samples is not None:
         i0, i1 = samples
         sl = slice(i0, i1)
-        theta, P, yr, gap, s = _locus_kernel(eta[sl], rho[sl], ws[sl] if ws.size else ws, R, O,
-                                             y_off, rail._breaks, rail._coefs)
+        theta, P, yr, gap, s = _locus_kernel(eta[sl], rho[sl], None if ws is None else ws[sl],
+                                             R, O, y_off, rail._breaks, rail._coefs)
         if gap.size:
             edge = float(np.min(gap)) + window
             if (i0 == 0 or gap[0] > edge) and (i1 == yw.size or gap[-1] > edge):
                 return _out_of_round(wheelset, Locus(yw[sl], zw[sl], theta, P, yr, gap, s, O,
                                                      R, (i0, i1)))
     _, _, _, gc, _ = _locus_kernel(eta[::stride], rho[::stride],
-                                   ws[::stride] if ws.size else ws, R, O, y_off, rail._breaks,
-                                   rail._coefs)
+                                   None if ws is None else ws[::stride], R, O, y_off,
+                                   rail._breaks, rail._coefs)
     near = np.flatnonzero(gc <= np.min(gc) + window)
     i0, i1 = 0, yw.size
     if near.size:
@@ -295,7 +329,7 @@ def compute_locus(wheelset: Wheelset, track: Track, side: str, lateral_shift: fl
         i1 = min(int(near[-1]) * stride + 2 * stride + 1, yw.size)
         sl = slice(i0, i1)
         yw, zw, eta, rho = yw[sl], zw[sl], eta[sl], rho[sl]
-        ws = ws[sl] if ws.size else ws
+        ws = ws[sl] if ws is not None else None
     theta, P, yr, gap, s = _locus_kernel(eta, rho, ws, R, O, y_off, rail._breaks, rail._coefs)
     return _out_of_round(wheelset, Locus(yw, zw, theta, P, yr, gap, s, O, R, (i0, i1)))
 
@@ -308,9 +342,10 @@ def _out_of_round(wheelset: Wheelset, loc: Locus) -> Locus:
 
 
 def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, vertical: float,
-            roll: float, yaw: float, step: float = LOCUS_STEP, stride: int = 8,
+            roll: float, yaw: float, step: float = LOCUS_STEP,
             samples: tuple | None = None) -> float:
-    """Minimum vertical gap [m] of one side (fast: coarse pass, local refinement).
+    """Minimum vertical gap [m] of one side (fast: coarse pass, local refinement;
+    :func:`_min_gap_kernel`).
 
     ``samples``: search the wheel-profile samples [i0, i1) only (the range of a
     locus at a nearby pose, :attr:`Locus.samples`, which holds every sample within
@@ -322,12 +357,11 @@ def min_gap(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, v
     ws = _slopes_for(wheelset, wheel, step)
     if samples is not None:
         eta, rho = eta[samples[0]:samples[1]], rho[samples[0]:samples[1]]
-        ws = ws[samples[0]:samples[1]] if ws.size else ws
+        ws = ws[samples[0]:samples[1]] if ws is not None else None
     R = rotation(yaw_s, roll_s)
     O = np.array([0.0, y_ws, z_ws - r0])
-    return float(_min_gap_kernel(eta, rho, ws, R, O,
-                                 track.rail_offset(side), rail._breaks, rail._coefs, stride,
-                                 2e-6))
+    return float(_min_gap_kernel(eta, rho, ws, R, O, track.rail_offset(side), rail._breaks,
+                                 rail._coefs))
 
 
 def depth_at(wheelset: Wheelset, track: Track, side: str, lateral_shift: float, vertical: float,

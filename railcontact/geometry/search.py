@@ -34,7 +34,7 @@ from __future__ import annotations
 
 import logging
 import math
-from dataclasses import dataclass, field
+from dataclasses import dataclass
 
 import numpy as np
 from scipy.optimize import brentq
@@ -43,69 +43,24 @@ from scipy.signal import find_peaks
 from ..core.errors import ContactNotFoundError, InputError
 from ..core.hertz_theory import hertz_ellipse
 from ..core.materials import STEEL, Material
-from .contact import ContactGeometry, interaction_factor
+from .contact import ContactGeometry, WheelsetContact, interaction_factor  # noqa: F401
 from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
-from .locus import Locus
+from .locus import Locus, compute_locus
 from .patch_curvature import force_curvature
-from .pose import solve_pose
+from .pose import REGION_MARGIN, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
 from .turning import turned_angles
+from .wheel_pass import (MAX_PATCHES, NPF, P_SIDE, PassPose, new_memo, pass_profiles,
+                         rows_contact, search_patches)
 
 
 log = logging.getLogger(__name__)
 
 
-
 #: local minima of the gap deeper than the global minimum plus this are candidates [m]
 CANDIDATE_DEPTH = 3e-4
-
-
-
-@dataclass
-class WheelsetContact:
-    """Result of the contact search for one wheelset position.
-
-    Attributes
-    ----------
-    pose : WheelsetPose
-        Lateral shift and yaw as given; vertical position and roll as solved.
-    patches : list of ContactGeometry
-        All contact patches, left side first, each side from field to gauge side.
-    loci : dict
-        The contact locus of each side (side frame).
-    loads : dict or None
-        The vertical wheel load [N] of each side the search was given, else None.
-    interpenetration : dict or None
-        The vertical interpenetration [m] of each side the patches were cut at.
-
-    How the solve layer's vertical-force iteration ended is not the search's: see
-    :class:`railcontact.cases.equilibrium.VerticalBalance`.
-    """
-
-    pose: WheelsetPose
-    patches: list
-    loci: dict = field(repr=False, default_factory=dict)
-    loads: dict | None = None
-    interpenetration: dict | None = None
-
-    def side_patches(self, side: str) -> list:
-        return [p for p in self.patches if p.side == side]
-
-    def equivalent_point(self, side: str) -> dict:
-        """Weighted combination of a side's patches (CONTACT's patch-combination rule).
-
-        Returns rolling radius [m], contact angle [rad] and y positions [m].
-        """
-        ps = self.side_patches(side)
-        if not ps:
-            raise ContactNotFoundError(f"no contact on the {side} side")
-        w = np.array([p.weight for p in ps])
-        w = w / w.sum()
-        return {k: float(np.dot(w, [getattr(p, k) for p in ps]))
-                for k in ("rolling_radius", "contact_angle", "y_rail", "y_wheel")}
-
 
 
 def _locus_curvatures(loc: Locus, i: int, r0: float):
@@ -127,7 +82,6 @@ def _locus_curvatures(loc: Locus, i: int, r0: float):
     return A, max(B, 1e-3)
 
 
-
 def _candidates(loc: Locus):
     g = np.where(np.isfinite(loc.gap), loc.gap, 1.0)
     peaks, _ = find_peaks(-g, prominence=1e-7)
@@ -136,7 +90,6 @@ def _candidates(loc: Locus):
     if loc.i_min not in idx:
         idx.append(loc.i_min)
     return sorted(idx)
-
 
 
 def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -> float:
@@ -172,13 +125,11 @@ def _approach_for_load(loc: Locus, load: float, r0: float, material: Material) -
     return brentq(lambda d: vertical_force(d) - load, 0.0, hi, xtol=1e-13)
 
 
-
 #: the loci of the multi-Hertzian estimate cover the wheel samples within this [m] of
 #: the closest approach: every candidate (a local minimum within CANDIDATE_DEPTH of
 #: it) with the samples of its curvature fit, and the same candidates (their
 #: prominence is decided within 0.1 mm of them)
 ESTIMATE_WINDOW = CANDIDATE_DEPTH + 2e-4
-
 
 
 @dataclass(frozen=True)
@@ -191,7 +142,6 @@ class WheelsetMotion:
     pitch_velocity: float | None = None
     lateral_velocity: float = 0.0
     yaw_rate: float = 0.0
-
 
 
 @dataclass(frozen=True)
@@ -217,7 +167,6 @@ class PatchRules:
     separation_angle: float = math.pi / 2
 
 
-
 @dataclass(frozen=True)
 class SearchStart:
     """Where a search starts and how long its load iteration runs: ``roll`` [rad],
@@ -230,7 +179,6 @@ class SearchStart:
 
     roll: float = 0.0
     load_iterations: int = 10
-
 
 
 def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
@@ -318,6 +266,12 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         if not all(math.isfinite(v) and v >= 0 for v in targets.values()):
             raise InputError(f"interpenetration = {interpenetration!r}: expected values >= 0 m")
         loads = loads or {s: math.nan for s in SIDES}
+    if interpenetration is not None and roll is None and PASS_SEARCH:
+        found = _pass_contact(wheelset, track, (lateral_shift, yaw, float(roll_start)), targets,
+                              loads, (velocity, pitch_velocity, lateral_velocity, yaw_rate),
+                              rules)
+        if found is not None:
+            return found
     # the rigid pose under a load is only the start of the multi-Hertzian estimate:
     # its roll to 1e-8 rad (gaps to 15 nm), the poses of the patches' to 1e-12
     estimate = loads is not None and interpenetration is None
@@ -364,6 +318,42 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         patches.extend(reversed(side_patches))
     return WheelsetContact(pose, patches, loci, loads, targets)
 
+
+#: :func:`find_contact` under prescribed interpenetrations (a free roll, one patch
+#: per region, no turning, round wheels with the same profiles on both sides)
+#: searches in the compiled pass (:func:`railcontact.geometry.wheel_pass.search_patches`,
+#: the same steps on the same locus kernel; on the benchmark sweep's poses its
+#: patches agree with this module's search to 4e-9 relative, positions to 1e-13 m);
+#: False: this module's search (for comparisons)
+PASS_SEARCH = True
+
+
+def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
+    """The :class:`WheelsetContact` of the compiled search (``PASS_SEARCH``) at
+    ``keys`` = (lateral shift [m], yaw [rad], start roll [rad]) under the
+    interpenetrations ``targets`` [m], with each side's locus at the pose over its
+    regions (as :func:`find_contact`'s); None where the pass does not serve (then
+    :func:`find_contact` searches itself, and says why a pose is not found)."""
+    if (wheelset.out_of_round is not None or rules.combine_distance != 0.0
+            or rules.turn_distance > rules.combine_distance):
+        return None
+    prof = pass_profiles(wheelset, track)
+    if prof is None:
+        return None
+    shift, yaw, roll0 = keys
+    r0 = wheelset.nominal_radius
+    pose = PassPose(float(shift), float(yaw), track.rail_offset("left"),
+                    track.rail_offset("right"), wheelset.wheel_offset, r0, *motion, 0.0)
+    out = np.zeros((2 * MAX_PATCHES, NPF))
+    m, z, roll = search_patches(prof, pose, np.array([targets["left"], targets["right"]]),
+                                new_memo(roll0), out)
+    if m < 0 or max(np.count_nonzero(out[:m, P_SIDE] == s) for s in (0, 1)) >= MAX_PATCHES:
+        return None                  # no pose, or regions beyond the pass's rows
+    contact = rows_contact(out[:m], wheelset, track, WheelsetPose(shift, z, roll, yaw), loads,
+                           targets)
+    contact.loci = {s: compute_locus(wheelset, track, s, shift, z, roll, yaw,
+                                     window=targets[s] + REGION_MARGIN) for s in SIDES}
+    return contact
 
 
 def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,

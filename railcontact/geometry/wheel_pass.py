@@ -41,7 +41,8 @@ from numba import njit
 
 from ..profiles.profile import ppoly_at
 from .gap import DEEPEST_GAP, FD_STEP, PatchFrame, Spline, _gap_kernel
-from .locus import LOCUS_STEP, _wheel_samples
+from .locus import (LOCUS_STEP, _locus_kernel, _min_gap_kernel, _slopes_at, _slopes_for,
+                    _slopes_part, _wheel_samples)
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
 from .patch_curvature import force_curvature, region_curvature  # noqa: F401 (re-exported)
 from .regions import GAP_WEIGHT
@@ -49,9 +50,11 @@ from .regions import GAP_WEIGHT
 #: the profiles of a wheelset on its track, one wheel and one rail profile (right
 #: convention) shared by both sides: the wheel samples every ``LOCUS_STEP``
 #: (``eta``: lateral position from the wheelset centre, ``rho``: radius, ``yw``,
-#: ``zw``: profile coordinates) and the cubic splines (breaks, coefficients) of rail
-#: and wheel
-PassProfiles = namedtuple("PassProfiles", "eta rho yw zw rb rc wb wc")
+#: ``zw``: profile coordinates), the cubic splines (breaks, coefficients) of rail
+#: and wheel, and the locus rule: ``ws`` the wheel profile's slopes at the samples
+#: for CONTACT's locus (``Wheelset.locus = "contact"``), None (the default) for
+#: each wheel circle's lowest point (:func:`railcontact.geometry.locus._locus_kernel`)
+PassProfiles = namedtuple("PassProfiles", "eta rho yw zw rb rc wb wc ws", defaults=(None,))
 
 #: the wheelset's state and dimensions (SI): ``shift``, ``yaw``; the rail offsets
 #: ``y_off_left``, ``y_off_right`` (side frames), the wheel-profile offset ``e`` and
@@ -164,7 +167,7 @@ def pass_profiles(wheelset, track) -> PassProfiles:
     yw, zw, eta, rho = _wheel_samples(wheel, LOCUS_STEP, wheelset.wheel_offset,
                                       wheelset.nominal_radius)
     return PassProfiles(eta, rho, yw, zw, rail._breaks, rail._coefs, wheel._breaks,
-                        wheel._coefs)
+                        wheel._coefs, _slopes_for(wheelset, wheel, LOCUS_STEP))
 
 
 @njit(cache=True, nogil=True)
@@ -192,89 +195,14 @@ def side_frame(pose, s, z, roll):
 
 
 @njit(cache=True, nogil=True)
-def locus_points(eta, rho, R, O, y_off, rb, rc):
-    """:func:`railcontact.geometry.locus._locus_kernel` (angle, wheel point, rail
-    coordinate, vertical gap, rail slope per wheel sample), except that the
-    iteration on the rail slope ends without another profile evaluation once the
-    point moves by under 1e-12 m: the rail height there is that of the point
-    1e-12 m away (a difference below 1e-11 m on slopes up to 10), and a sample
-    costs one evaluation of the rail profile less."""
-    n = eta.size
-    theta = np.empty(n)
-    P = np.empty((3, n))
-    yr = np.empty(n)
-    gap = np.empty(n)
-    slope = np.empty(n)
-    k = -1
-    fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
-    s = 0.0
-    s1 = 0.0
-    s2 = 0.0
-    for i in range(n):
-        s = 2.0 * s1 - s2 if i >= 2 else s1
-        tn = 0.0
-        py = 0.0
-        pz = 0.0
-        px = 0.0
-        zr = np.nan
-        for it in range(4):
-            tn_new = (s * R[1, 0] - R[2, 0]) / (s * R[1, 2] - R[2, 2])
-            ct = 1.0 / math.sqrt(1.0 + tn_new * tn_new)
-            st = tn_new * ct
-            py_new = O[1] + eta[i] * R[1, 1] + rho[i] * (st * R[1, 0] + ct * R[1, 2])
-            if it >= 1 and abs(py_new - py) <= 1e-12:
-                break
-            tn = tn_new
-            px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
-            py = py_new
-            pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
-            zr, s, k = ppoly_at(py - y_off, rb, rc, k)
-            if s != s:
-                s = 0.0
-            if fixed:
-                break
-        theta[i] = math.atan(tn)
-        P[0, i] = px
-        P[1, i] = py
-        P[2, i] = pz
-        yr[i] = py - y_off
-        gap[i] = zr - pz if zr == zr else np.inf
-        slope[i] = s
-        s2, s1 = s1, s
-    return theta, P, yr, gap, slope
-
-
-@njit(cache=True, nogil=True)
-def min_gap_points(eta, rho, R, O, y_off, rb, rc):
-    """Minimum vertical gap over the samples: every 8th, then every sample around
-    the coarse points within 2 um of the coarse minimum
-    (:func:`railcontact.geometry.locus._min_gap_kernel` on :func:`locus_points`)."""
-    n = eta.size
-    _, _, _, gc, _ = locus_points(eta[::8], rho[::8], R, O, y_off, rb, rc)
-    gmin = np.inf
-    for g in gc:
-        if g < gmin:
-            gmin = g
-    best = np.inf
-    for c in range(gc.size):
-        if gc[c] <= gmin + 2e-6:
-            lo = max(8 * c - 8, 0)
-            hi = min(8 * c + 9, n)
-            _, _, _, gf, _ = locus_points(eta[lo:hi], rho[lo:hi], R, O, y_off, rb, rc)
-            for g in gf:
-                if g < best:
-                    best = g
-    return best
-
-
-@njit(cache=True, nogil=True)
 def _narrow_min_gap(prof, R, O, y_off, c0, c1):
     """Minimum vertical gap over the wheel samples [c0, c1), the range widened
     (doubled) while the coarse minimum lies at one of its ends (not the wheel's)."""
     n = prof.eta.size
     while True:
-        _, _, _, gc, _ = locus_points(prof.eta[c0:c1:8], prof.rho[c0:c1:8], R, O, y_off,
-                                      prof.rb, prof.rc)
+        _, _, _, gc, _ = _locus_kernel(prof.eta[c0:c1:8], prof.rho[c0:c1:8],
+                                       _slopes_part(prof.ws, c0, c1, 8), R, O, y_off, prof.rb,
+                                       prof.rc)
         if gc.size == 0 or not math.isfinite(np.min(gc)):
             if c0 == 0 and c1 == n:
                 return np.inf
@@ -290,7 +218,8 @@ def _narrow_min_gap(prof, R, O, y_off, c0, c1):
             c0 = max(c0 - w, 0)
         if grow_hi:
             c1 = min(c1 + w, n)
-    return min_gap_points(prof.eta[c0:c1], prof.rho[c0:c1], R, O, y_off, prof.rb, prof.rc)
+    return _min_gap_kernel(prof.eta[c0:c1], prof.rho[c0:c1], _slopes_part(prof.ws, c0, c1, 1),
+                           R, O, y_off, prof.rb, prof.rc)
 
 
 @njit(cache=True, nogil=True)
@@ -303,7 +232,8 @@ def side_min_gap(prof, pose, s, roll, memo):
     k = 2 + 6 * s
     if not memo[k + 4] == memo[k + 4]:
         n = prof.eta.size
-        _, _, _, gc, _ = locus_points(prof.eta[::8], prof.rho[::8], R, O, y_off, prof.rb,
+        _, _, _, gc, _ = _locus_kernel(prof.eta[::8], prof.rho[::8],
+                                       _slopes_part(prof.ws, 0, n, 8), R, O, y_off, prof.rb,
                                        prof.rc)
         g = np.min(gc)
         if not math.isfinite(g):
@@ -317,6 +247,26 @@ def side_min_gap(prof, pose, s, roll, memo):
         memo[k + 4] = max(8 * first - 8 - MIN_MARGIN, 0)
         memo[k + 5] = min(8 * last + 9 + MIN_MARGIN, n)
     return _narrow_min_gap(prof, R, O, y_off, int(memo[k + 4]), int(memo[k + 5]))
+
+
+@njit(cache=True, nogil=True)
+def illinois_update(x, f, a, fa, b, fb, side):
+    """One bracket update of Illinois' regula falsi (Dowell & Jarratt 1971): the
+    trial ``x`` with residual ``f`` replaces the end of the bracket whose residual
+    has its sign (``a``, ``fa``: the end with a negative residual; ``b``, ``fb``:
+    the other), and where it replaces the same end as the step before (``side``:
+    -1 the negative end, 1 the other, 0 none yet), the other end's residual is
+    halved, so that the false position does not stall at one end.  Returns
+    (a, fa, b, fb, side).  The roll search (:func:`solve_roll`) and the strip
+    models' run ends (:func:`railcontact.normal.strip_batch._run_end`) step with
+    it."""
+    if f < 0.0:
+        if side == -1:
+            fb *= 0.5
+        return x, f, b, fb, -1
+    if side == 1:
+        fa *= 0.5
+    return a, fa, x, f, 1
 
 
 @njit(cache=True, nogil=True)
@@ -419,16 +369,7 @@ def solve_roll(prof, pose, targets, tol, memo):
         if f == 0.0 or hi - lo <= tol or abs(x - x_prev) <= 0.5 * tol:
             return x, g + targets[1]
         x_prev = x
-        if f < 0:
-            lo, flo = x, f
-            if side == -1:
-                fhi *= 0.5
-            side = -1
-        else:
-            hi, fhi = x, f
-            if side == 1:
-                flo *= 0.5
-            side = 1
+        lo, flo, hi, fhi, side = illinois_update(x, f, lo, flo, hi, fhi, side)
     return math.nan, math.nan
 
 
@@ -458,8 +399,9 @@ def _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc, limit):
         b = a
         while b < m and need[b]:
             b += 1
-        t, Pb, y, g, q = locus_points(prof.eta[i0 + a:i0 + b], prof.rho[i0 + a:i0 + b], R,
-                                      O, y_off, prof.rb, prof.rc)
+        t, Pb, y, g, q = _locus_kernel(prof.eta[i0 + a:i0 + b], prof.rho[i0 + a:i0 + b],
+                                       _slopes_part(prof.ws, i0 + a, i0 + b, 1), R, O, y_off,
+                                       prof.rb, prof.rc)
         th[a:b] = t
         P[:, a:b] = Pb
         yr[a:b] = y
@@ -483,8 +425,9 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
     if memo[k] == memo[k] and abs(roll - memo[k]) <= memo[k + 3]:
         i0, i1 = int(memo[k + 1]), int(memo[k + 2])
         if dense:
-            th, P, yr, gap, sl = locus_points(prof.eta[i0:i1], prof.rho[i0:i1], R, O, y_off,
-                                               prof.rb, prof.rc)
+            th, P, yr, gap, sl = _locus_kernel(prof.eta[i0:i1], prof.rho[i0:i1],
+                                                _slopes_part(prof.ws, i0, i1, 1), R, O, y_off,
+                                                prof.rb, prof.rc)
             ends = (gap[0], gap[-1]) if gap.size else (np.inf, np.inf)
             gmin = np.min(gap) if gap.size else np.inf
         else:
@@ -497,8 +440,9 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
                 idx[c] = i1 - 1
                 c += 1
             idx = idx[:c]
-            _, _, _, gc, _ = locus_points(prof.eta[idx], prof.rho[idx], R, O, y_off,
-                                           prof.rb, prof.rc)
+            _, _, _, gc, _ = _locus_kernel(prof.eta[idx], prof.rho[idx],
+                                           _slopes_at(prof.ws, idx), R, O,
+                                           y_off, prof.rb, prof.rc)
             cmin = np.min(gc)
             th, P, yr, gap, sl = _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc,
                                               cmin + window + SPARSE_SLACK)
@@ -522,8 +466,9 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
                 return i0, i1, th, P, yr, gap, sl, R, O, y_off
     stride = 8
     idx = np.arange(0, n, stride)
-    _, _, _, gc, _ = locus_points(prof.eta[::stride], prof.rho[::stride], R, O, y_off,
-                                   prof.rb, prof.rc)
+    _, _, _, gc, _ = _locus_kernel(prof.eta[::stride], prof.rho[::stride],
+                                   _slopes_part(prof.ws, 0, n, stride), R, O, y_off, prof.rb,
+                                   prof.rc)
     gmin = np.min(gc)
     first, last = -1, -1
     for j in range(gc.size):
@@ -536,8 +481,9 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
         i0 = max(first * stride - 2 * stride, 0)
         i1 = min(last * stride + 2 * stride + 1, n)
     if dense:
-        th, P, yr, gap, sl = locus_points(prof.eta[i0:i1], prof.rho[i0:i1], R, O, y_off,
-                                           prof.rb, prof.rc)
+        th, P, yr, gap, sl = _locus_kernel(prof.eta[i0:i1], prof.rho[i0:i1],
+                                           _slopes_part(prof.ws, i0, i1, 1), R, O, y_off, prof.rb,
+                                           prof.rc)
     else:
         th, P, yr, gap, sl = _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc,
                                           gmin + window + SPARSE_SLACK)
@@ -957,13 +903,13 @@ class _Frame:
 
 
 def rows_contact(rows, wheelset, track, pose, loads, interpenetration):
-    """The :class:`~railcontact.geometry.search.WheelsetContact` of the patch rows of
+    """The :class:`~railcontact.geometry.contact.WheelsetContact` of the patch rows of
     one :func:`search_patches` (combine distance 0: a patch per region), with each
     patch's territory halfway to its side's neighbours
     (:func:`railcontact.geometry.regions.territories`); each wheel's patches from
     the field side, as the geometry layer numbers them (the rows run along the locus
     from the gauge side)."""
-    from .search import WheelsetContact
+    from .contact import WheelsetContact
     patches = []
     for s in (0, 1):
         side_rows = [r for r in rows if r[P_SIDE] == s]

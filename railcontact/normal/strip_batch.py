@@ -32,6 +32,7 @@ from numba import njit
 
 from ..core.errors import InputError
 from ..geometry.gap import DEEPEST_GAP, GapEvaluator, Spline, _gap_lines_kernel
+from ..geometry.wheel_pass import illinois_update
 from ..core.hertz_theory import hertz_ellipses
 from .strip_theory import MIN_CURVATURE, STRIP_MODELS, parabola_min, strip_pressures
 
@@ -261,16 +262,7 @@ def _run_end(frame, sign, rail, wheel, xs, inside, outside, win):
             break
         x = (a * fb - b * fa) / (fb - fa) if fb < 1e-3 else 0.5 * (a + b)
         fx = _line_minimum(frame, sign, rail, wheel, xs, x, win[0]) - pen
-        if fx < 0.0:
-            a, fa = x, fx
-            if side == -1:
-                fb *= 0.5
-            side = -1
-        else:
-            b, fb = x, fx
-            if side == 1:
-                fa *= 0.5
-            side = 1
+        a, fa, b, fb, side = illinois_update(x, fx, a, fa, b, fb, side)
     return (a * fb - b * fa) / (fb - fa) if fb < 1e-3 else 0.5 * (a + b)
 
 

@@ -28,8 +28,8 @@ def _side_sums(sides, values):
                                                   (3e-3, 2e-3, (1e-3, -5e-4, 0.1)),
                                                   (5.5e-3, 0.0, None),
                                                   (8e-3, 4e-3, None)])
-def test_loads_met_and_forces_of_the_per_patch_path(shift, yaw, creepage):
-    case = _case(shift, yaw, creepage)
+def test_loads_met_and_forces_of_the_per_patch_path(shift, yaw, creepage, **extra):
+    case = _case(shift, yaw, creepage, **extra)
     res = solve_case_forces(case)
     assert res.converged and res.load_residual() <= case.force_tolerance
     ref = rc.solve(case, "hertz", "fastsim")
@@ -84,10 +84,24 @@ def test_unsupported_cases_say_why():
     assert "roll" in compiled_unsupported(case)
     with pytest.raises(ValueError, match="roll"):
         solve_case_forces(case)
-    # CONTACT's contact locus and out-of-round wheels are not in the compiled pass
-    # (its locus is the lowest points of round wheels): never silently ignored
-    assert "locus" in compiled_unsupported(_case(6e-3, 6e-3, locus="contact"))
+    # out-of-round wheels are not in the compiled pass (its loci are those of round
+    # wheels): never silently ignored
     assert "out-of-round" in compiled_unsupported(_case(0.0, pitch=0.01))
+
+
+@pytest.mark.parametrize("shift, yaw", [(3e-3, 4e-3), (6e-3, 6e-3)])
+def test_contact_locus_loads_met_and_forces_of_the_per_patch_path(shift, yaw, monkeypatch):
+    # CONTACT's locus (wheelset.locus = "contact", every .inp case's) runs in the
+    # pass: the per-patch path's own balance (not started from the pass) agrees as
+    # with the lowest points
+    from railcontact.cases import balance
+    assert compiled_unsupported(_case(shift, yaw, locus="contact")) is None
+    monkeypatch.setattr(balance, "DEFAULT_OPTIONS", balance.BalanceOptions(compiled_start=False))
+    test_loads_met_and_forces_of_the_per_patch_path(shift, yaw, None, locus="contact")
+    lowest = solve_case_forces(_case(shift, yaw))
+    contact = solve_case_forces(_case(shift, yaw, locus="contact"))
+    assert not np.allclose(lowest.patches["y_rail"], contact.patches["y_rail"], rtol=0,
+                           atol=5e-9)
 
 
 def test_to_xarray_has_the_patches():

@@ -28,7 +28,10 @@ def test_loci_of_given_interpenetrations_hold_the_same_patches(monkeypatch):
     (tread, and flange root with flange on the deep right wheel) are those of loci
     over the whole LOCUS_WINDOW."""
     import railcontact.geometry.pose as pose
+    from railcontact.geometry import search
     from railcontact.geometry.locus import LOCUS_WINDOW
+    # the geometry layer's own search (solve_pose's windows), not the compiled pass's
+    monkeypatch.setattr(search, "PASS_SEARCH", False)
     tr = Track(rail_profile("60E1", math.atan(1 / 40)))
     runs = []
     for margin in (pose.REGION_MARGIN, LOCUS_WINDOW):

@@ -81,3 +81,46 @@ def test_multi_hertzian_approach_carries_the_load(shift, candidates):
             total += hertz_ellipse(A, B, STEEL.contact_modulus, penetration=pen).force * c
     assert total == pytest.approx(6e4, rel=1e-9)
     assert 1e-5 < d < 1e-3
+
+
+@pytest.mark.parametrize("locus", ["lowest", "contact"])
+def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeypatch):
+    """Under prescribed interpenetrations find_contact runs the compiled pass's search
+    (wheel_pass.search_patches, PASS_SEARCH): the same patches and loci as its own
+    search to round-off (the same locus kernel), on tread, two-point and flange
+    contact with yaw; with patch turning it searches itself."""
+    from railcontact.geometry import search, wheel_pass
+    from railcontact.geometry.search import PatchRules
+    ws, tr = Wheelset(s1002(), locus=locus), Track(rail_profile("60E1", math.atan(1 / 40)))
+    calls = []
+    monkeypatch.setattr(search, "search_patches",
+                        lambda *a: calls.append(1) or wheel_pass.search_patches(*a))
+    for shift, yaw, d in ((0.0, 0.0, (8e-5, 8e-5)), (5.5e-3, 2e-3, (6e-5, 9e-5)),
+                          (8e-3, 6e-3, (6e-5, 1.2e-4))):
+        d = {"left": d[0], "right": d[1]}
+        monkeypatch.setattr(search, "PASS_SEARCH", True)
+        a = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d)
+        monkeypatch.setattr(search, "PASS_SEARCH", False)
+        b = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d)
+        assert abs(a.pose.roll - b.pose.roll) < 1e-12
+        assert abs(a.pose.vertical - b.pose.vertical) < 1e-12
+        assert len(a.patches) == len(b.patches) >= 2
+        for p, q in zip(a.patches, b.patches):
+            assert p.side == q.side
+            assert np.allclose(p.position, q.position, rtol=0, atol=1e-12)
+            assert p.approach == pytest.approx(q.approach, rel=1e-8, abs=1e-14)
+            assert np.allclose(p.curvatures, q.curvatures, rtol=1e-7)
+            assert p.contact_angle == pytest.approx(q.contact_angle, abs=1e-11)
+            assert np.allclose(p.creepage, q.creepage, rtol=1e-8, atol=1e-12)
+            assert np.allclose(p.bounds, q.bounds, rtol=1e-9, atol=1e-12)
+        for s in ("left", "right"):
+            la, lb = a.loci[s], b.loci[s]
+            i0, i1 = max(la.samples[0], lb.samples[0]), min(la.samples[1], lb.samples[1])
+            assert i1 - i0 > 10
+            assert np.allclose(la.gap[i0 - la.samples[0]:i1 - la.samples[0]],
+                               lb.gap[i0 - lb.samples[0]:i1 - lb.samples[0]], rtol=0, atol=1e-12)
+    assert len(calls) == 3
+    monkeypatch.setattr(search, "PASS_SEARCH", True)
+    find_contact(ws, tr, 5.5e-3, 2e-3, vertical_force=7e4, interpenetration=d,
+                 rules=PatchRules(turn_distance=0.02))
+    assert len(calls) == 3

@@ -56,6 +56,23 @@ def test_patches_are_the_geometry_layers(bodies, shift, yaw, d):
             assert row[k] == pytest.approx(c, rel=1e-6, abs=1e-9)
 
 
+# CONTACT's locus (each wheel section's point whose normal is perpendicular to x):
+# the pass takes it from the same kernel (the wheel slopes in PassProfiles.ws)
+@pytest.mark.parametrize("shift, yaw, d", [(3e-3, 4e-3, (7e-5, 9e-5)),
+                                           (7.5e-3, 6e-3, (6e-5, 1.2e-4))])
+def test_contact_locus_patches_are_the_geometry_layers(bodies, shift, yaw, d):
+    ws = Wheelset(s1002(), locus="contact")
+    tr = bodies[1]
+    assert pass_profiles(ws, tr).ws.size == pass_profiles(ws, tr).eta.size
+    test_patches_are_the_geometry_layers((ws, tr), shift, yaw, d)
+    # and the locus is CONTACT's, not the lowest points: here the two loci's patches
+    # lie 8 to 63 nm apart laterally, far beyond the agreement above (0.1 nm)
+    lowest, contact = (find_contact(w, tr, shift, yaw, vertical_force=7e4,
+                                    interpenetration={"left": d[0], "right": d[1]})
+                       for w in (bodies[0], ws))
+    assert max(abs(a.y_rail - b.y_rail) for a, b in zip(lowest.patches, contact.patches)) > 5e-9
+
+
 def test_a_second_search_reuses_the_memo_and_agrees(bodies):
     ws, tr = bodies
     prof, pose = pass_profiles(ws, tr), _pose(ws, tr, 2e-3, 3e-3)
