@@ -90,20 +90,22 @@ def strip_row(row, prof, pose, z, roll, model):
     online law and the case's creepages, NaN: the row's).  Returns (F_n [N], F_x,
     F_y [N], M_z [N m] on the wheel, equivalent semi-axes a, b [m], p_max [Pa],
     area [m^2])."""
-    return strip_row_ends(row, prof, pose, z, roll, model, np.full(2, np.nan))
+    return strip_row_ends(row, prof, pose, z, roll, model, np.full(3, np.nan))
 
 
 @njit(cache=True, nogil=True)
 def strip_row_ends(row, prof, pose, z, roll, model, ends):
     """:func:`strip_row` with the strips laid from the run's ends of an earlier
-    evaluation of the patch (``ends`` (2,) [m], the strips' lateral coordinate of
-    the row's gap frame; NaN: none), which take the ends found
+    evaluation of the patch (``ends`` (3,): the run's two ends [m] in the strips'
+    lateral coordinate of the row's gap frame, NaN: none), which take the ends
+    found and whether the warm start was kept (1) or not (0)
     (:func:`railcontact.normal.strip_batch.strip_window_ends`: a warm start for a
     time history, the same layout to the ends' tolerance, 1e-9 m)."""
     sp = model.strips
     pen = row[P_APPROACH]
     if not pen > 0.0:
         ends[0] = ends[1] = math.nan
+        ends[2] = 0.0
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     frame = np.empty(24)
     win = np.empty(8)

@@ -279,7 +279,7 @@ def search_wheelset(online, w, pose, z, roll):
     if strip:
         prev = online.strip_ends[w].copy()
         online.strip_ends[w, :, 0] = -1.0
-        ends = np.empty(2)
+        ends = np.empty(3)
     for s in range(2):
         win = online.window[w]
         loc = side_locus(prof, pose, s, z, roll, win, online.memo[w], False)
@@ -317,6 +317,11 @@ def search_wheelset(online, w, pose, z, roll):
                 se[0], se[1], se[2] = s, row[P_Y] + ends[0] * ca, row[P_Y] + ends[1] * ca
                 row[R_N], row[R_AA], row[R_BB] = F, a, b
                 row[R_FX], row[R_FY], row[R_MZ] = fx, fy, mz
+                if g[G_STIFFNESS] > 0.0:
+                    # the strip model's spring: its force with the exponent of the
+                    # region's Hertz spring (the rk4 step's substeps follow it)
+                    row[R_STIFF] = spring_stiffness(loc, regions[r, 0], regions[r, 1], row,
+                                                    F, online.model, work)
                 if F > 0.0 and row[P_Z_WHEEL] >= g[G_TIP_Z] - g[G_TIP_ZONE]:
                     online.status[w, s] = ON_FLANGE_TIP
                 m += 1

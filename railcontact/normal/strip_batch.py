@@ -339,14 +339,15 @@ def strip_window_geometry(frame, sign, rail, wheel, win, grid, y, q):
     with the window ``win`` (:data:`WINDOW_FIELDS`) and the :class:`StripGrid`
     ``grid``: the strips' centres into ``y`` and (x_m, g, A, B) into ``q`` (4,
     strips), as :func:`strip_geometry`.  Returns the strip width [m]."""
-    return strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, np.full(2, np.nan))
+    return strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, np.full(3, np.nan))
 
 
 @njit(cache=True, nogil=True)
 def strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, ends):
     """:func:`strip_window_geometry` started from the run's ends of an earlier
-    evaluation of the same patch (``ends`` (2,), [m] in the strips' lateral
-    coordinate; NaN: none), a warm start of the refined layout (``grid.refine``)
+    evaluation of the same patch (``ends`` (3,): the two ends [m] in the strips'
+    lateral coordinate, NaN: none; the third is set to 1 where the warm start was
+    kept, else 0), a warm start of the refined layout (``grid.refine``)
     for a time history: each end bracketed by steps from the earlier one
     (:data:`WARM_STEP`) and found on the gap as by the cold path
     (:func:`_falsi`, 1e-9 m), the strips laid on them once.  The warm start
@@ -375,11 +376,12 @@ def strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, ends):
             h = _sample_lines(F, sign, rail, wheel, xs, 0.5 * (y_lo + y_hi), h2, win, y, ys)
             edge, r_lo, r_hi = strip_lines(h, y, dx, dy, win[1], (0.5 * (y_lo + y_hi), c2), q)
             if not edge and abs(r_lo - y_lo) <= dy and abs(r_hi - y_hi) <= dy:
-                ends[0], ends[1] = y_lo, y_hi
+                ends[0], ends[1], ends[2] = y_lo, y_hi, 1.0
                 for j in range(n):
                     q[0, j] += xc
                 return dy
     ends[0] = ends[1] = math.nan
+    ends[2] = 0.0
     dy = 2.0 * hy / n
     for it in range(grid.widen + 2):
         dy = 2.0 * hy / n
