@@ -252,7 +252,7 @@ def strip_compare(args):
     from railcontact.dynamics.online_contact import OnlineWheelRail
     from railcontact.dynamics.vehicle import G_ACC
     V, T, normal = args.velocity, args.strip_compare, args.strip_normal
-    model, ws, tr, table, route = _setup(max(T, 20.0), V)
+    model, ws, tr, table, route = _setup(max(T, args.duration), V)   # the route
     q0 = model.wheelsets[0][1] * G_ACC / 2
     runs = {"before": (False, 5e-4), "after": (True, None)}
 
