@@ -352,9 +352,11 @@ def strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, ends):
     (:data:`WARM_STEP`) and found on the gap as by the cold path
     (:func:`_falsi`, 1e-9 m), the strips laid on them once.  The warm start
     replaces the first sampling of the strips (3 x strips gap points) and the
-    ends' brackets from it; it is kept where the ends are found, the run is
-    inside the window and the strips' run agrees with the ends to a strip width,
-    else the cold path runs.  The run's ends found (either path; NaN where the
+    ends' brackets from it; it is kept where the earlier ends and the ends found
+    lie within the cold path's first window (the region's extent widened by
+    ``grid.margin``: a run of another region, or of two regions that have since
+    parted, is not taken) and the strips' run agrees with the ends to a strip
+    width, else the cold path runs.  The run's ends found (either path; NaN where the
     strips were not laid on them) go back into ``ends``.  Returns the strip
     width [m]."""
     n = grid.strips
@@ -364,7 +366,7 @@ def strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, ends):
     F = frame.reshape((1, frame.size))
     xs[0, 0], xs[0, 1], xs[0, 2] = xc, xc - dx, xc + dx
     refine = grid.refine
-    if refine and ends[1] > ends[0] and ends[1] > yc - core and ends[0] < yc + core:
+    if refine and ends[0] > yc - hy and ends[1] < yc + hy and ends[1] > ends[0]:
         width = ends[1] - ends[0]
         ok_lo, y_lo = _bracket_end(F, sign, rail, wheel, xs, ends[0], -1.0, width, win)
         ok_hi, y_hi = _bracket_end(F, sign, rail, wheel, xs, ends[1], 1.0, width, win) \
@@ -375,7 +377,8 @@ def strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, ends):
             dy = 2.0 * h2 / n
             h = _sample_lines(F, sign, rail, wheel, xs, 0.5 * (y_lo + y_hi), h2, win, y, ys)
             edge, r_lo, r_hi = strip_lines(h, y, dx, dy, win[1], (0.5 * (y_lo + y_hi), c2), q)
-            if not edge and abs(r_lo - y_lo) <= dy and abs(r_hi - y_hi) <= dy:
+            if not edge and abs(r_lo - y_lo) <= dy and abs(r_hi - y_hi) <= dy and \
+                    y_lo > yc - hy and y_hi < yc + hy:
                 ends[0], ends[1], ends[2] = y_lo, y_hi, 1.0
                 for j in range(n):
                     q[0, j] += xc
