@@ -28,6 +28,15 @@ own), as multiples of real time (wall / simulated):
 
 Run alone (``python benchmarks/dynamics_online.py [--duration 100]``, writes
 ``benchmarks/dynamics_online.md``) or from ``benchmarks/run_all.py``.
+
+``--strip-compare T`` runs only the strip model online (``--strip-normal``, ANALYN
+by default, + ``fastsim-strips``) over T s as before and after the warm-started
+strips and the strip springs' stiffness, interleaved in one process
+(``--strip-repeats`` pairs; CPU time): before = each evaluation's strips laid
+afresh (``warm_strips=False``) and the step bounded to 0.5 ms (the former
+``simulation.STRIP_ONLINE_STEP``), after = the defaults; with the rms difference
+of the wheel forces between the two (writes ``--out``, by default
+``benchmarks/dynamics_online_strips.md``).
 """
 
 from __future__ import annotations
@@ -86,9 +95,16 @@ def main(argv=None):
     ap.add_argument("--smooth-duration", type=float, default=10.0)
     ap.add_argument("--strips-only", action="store_true",
                     help="only the online runs of Hertz + FASTSIM and the strip models")
-    ap.add_argument("--out", default=str(HERE / "dynamics_online.md"))
+    ap.add_argument("--strip-compare", type=float, default=None,
+                    help="only the strip model online, before/after, over this many s")
+    ap.add_argument("--strip-normal", default="analyn")
+    ap.add_argument("--strip-repeats", type=int, default=1)
+    ap.add_argument("--out", default=None)
     args = ap.parse_args(argv)
     lines.clear()
+    if args.strip_compare is not None:
+        return strip_compare(args)
+    args.out = args.out or str(HERE / "dynamics_online.md")
     from railcontact.dynamics.online_contact import OnlineWheelRail
     from railcontact.dynamics.vehicle import G_ACC
     V, T = args.velocity, args.duration
@@ -229,6 +245,76 @@ def main(argv=None):
             f"most in a row at 200 Hz); 99.9th percentile of |Y/Q| over all wheels "
             f"{float(np.nanpercentile(yq, 99.9)):.2f}; status {o_ds.attrs['status']}.")
     Path(args.out).write_text("\n".join(lines) + "\n")
+    return lines
+
+
+def strip_compare(args):
+    """``--strip-compare``: the strip model online before and after, interleaved."""
+    from railcontact.dynamics import Integration, simulate_vehicle
+    from railcontact.dynamics.online_contact import OnlineWheelRail
+    from railcontact.dynamics.vehicle import G_ACC
+    V, T, normal = args.velocity, args.strip_compare, args.strip_normal
+    model, ws, tr, table, route = _setup(max(T, args.duration), V)   # the issue's route
+    q0 = model.wheelsets[0][1] * G_ACC / 2
+    runs = {"before": (False, 5e-4), "after": (True, None)}
+
+    def one(name, duration):
+        warm, step = runs[name]
+        c = OnlineWheelRail(ws, tr, damping=args.damping, normal=normal, warm_strips=warm)
+        w0, c0 = time.perf_counter(), time.process_time()
+        ds = simulate_vehicle(model, route, c, V, duration, "fastsim-strips",
+                              integration=Integration(sample_rate=200.0, step=step))
+        return ds, time.perf_counter() - w0, time.process_time() - c0
+
+    for name in runs:                                 # compile / load the caches
+        one(name, 0.02)
+    out(f"# {normal} + fastsim-strips online: before and after (branch striponline)\n")
+    out(f"Manchester vehicle, {V:g} m/s, the curved irregular route of "
+        "`dynamics_online.py`, "
+        f"{T:g} s; before: each evaluation's strips laid afresh, the rk4 step bounded to "
+        "0.5 ms; after: the strips laid from the last evaluation's run ends "
+        "(`warm_strips`), the strip springs' stiffness dividing the Jacobian's step.  "
+        "Interleaved in one process, CPU time of the process (shared machine).\n")
+    out("| run | CPU [s] | CPU / real time | wall [s] | rk4 step [ms] | steps (divided) "
+        "| RHS calls | µs CPU per RHS call | status |")
+    out("|---|---|---|---|---|---|---|---|---|")
+    res = {}
+    for _ in range(max(args.strip_repeats, 1)):
+        for name in runs:
+            ds, wall, cpu = one(name, T)
+            res[name] = ds
+            calls = ds.attrs["rhs_calls"]
+            out(f"| {name} | {cpu:.1f} | {cpu / T:.3f} | {wall:.0f} | "
+                f"{ds.attrs['step_s'] * 1e3:.3f} | {ds.attrs['rk4_steps']} "
+                f"({ds.attrs['rk4_substepped']}) | {calls} | {1e6 * cpu / calls:.0f} | "
+                f"{ds.attrs['status']} |")
+    a, b = res["before"], res["after"]
+    n = min(a.sizes["time"], b.sizes["time"])
+    a, b = a.isel(time=slice(0, n)), b.isel(time=slice(0, n))
+    t, dist = a["time"].values, a["distance"].values
+    parts = [("all samples", np.ones(n, bool)),
+             ("tangent (t >= 0.5 s, the first 300 m)", (t >= 0.5) & (dist <= 300.0)),
+             ("curve (R 2500 m)", a["curvature"].values > 0.99 / 2500.0)]
+    out("\nAfter against before, every wheel of the four wheelsets: rms difference [N] "
+        "(/ static wheel load Q0; / rms of the before run):\n")
+    out("| samples | n | Q | Y | Fx | Fy |")
+    out("|---|---|---|---|---|---|")
+    for label, sel in parts:
+        if sel.sum() < 10:
+            continue
+        cells = []
+        for v in ("Q", "Y", "longitudinal_force", "lateral_creep_force"):
+            x, y = a[v].values[sel], b[v].values[sel]
+            d = float(np.sqrt(np.nanmean((x - y) ** 2)))
+            r = float(np.sqrt(np.nanmean(x ** 2)))
+            cells.append(f"{d:.0f} ({100 * d / q0:.2f} %; {100 * d / r:.1f} %)")
+        out(f"| {label} | {int(sel.sum())} | " + " | ".join(cells) + " |")
+    for name, ds in res.items():
+        yq = np.abs(ds["Y_over_Q"].values)
+        out(f"\n{name}: max |Y/Q| {float(np.nanmax(yq)):.2f} (Nadal's limit "
+            f"{ds.attrs['nadal_limit']:.2f}), 99.9th percentile "
+            f"{float(np.nanpercentile(yq, 99.9)):.2f}")
+    Path(args.out or HERE / "dynamics_online_strips.md").write_text("\n".join(lines) + "\n")
     return lines
 
 

@@ -41,7 +41,7 @@ from numba import njit
 from ..geometry.gap import Spline, strip_spin
 from ..geometry.wheel_pass import (P_A, P_APPROACH, P_B, P_CONTACT_ANGLE, P_ETA, P_PHI,
                                    P_SPIN_DERIVATIVE, P_VELOCITY, P_XI, P_Y_RAIL, row_frame)
-from ..normal.strip_batch import StripGrid, strip_totals, strip_window_geometry
+from ..normal.strip_batch import StripGrid, strip_totals, strip_window_ends
 from ..normal.strip_theory import (MIN_CURVATURE, STRIP_MODELS, StripRule, StripSet, strip_patch,
                                     strip_rule)
 from ..tangential.fastsim import (StripArrays, flex_material, semi_ellipse_weights,
@@ -90,9 +90,22 @@ def strip_row(row, prof, pose, z, roll, model):
     online law and the case's creepages, NaN: the row's).  Returns (F_n [N], F_x,
     F_y [N], M_z [N m] on the wheel, equivalent semi-axes a, b [m], p_max [Pa],
     area [m^2])."""
+    return strip_row_ends(row, prof, pose, z, roll, model, np.full(3, np.nan))
+
+
+@njit(cache=True, nogil=True)
+def strip_row_ends(row, prof, pose, z, roll, model, ends):
+    """:func:`strip_row` with the strips laid from the run's ends of an earlier
+    evaluation of the patch (``ends`` (3,): the run's two ends [m] in the strips'
+    lateral coordinate of the row's gap frame, NaN: none), which take the ends
+    found and whether the warm start was kept (1) or not (0)
+    (:func:`railcontact.normal.strip_batch.strip_window_ends`: a warm start for a
+    time history, the same layout to the ends' tolerance, 1e-9 m)."""
     sp = model.strips
     pen = row[P_APPROACH]
     if not pen > 0.0:
+        ends[0] = ends[1] = math.nan
+        ends[2] = 0.0
         return 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0, 0.0
     frame = np.empty(24)
     win = np.empty(8)
@@ -103,7 +116,8 @@ def strip_row(row, prof, pose, z, roll, model):
     y = np.empty(n)
     q = np.empty((4, n))
     rail = Spline(prof.rb, prof.rc)
-    dy = strip_window_geometry(frame, sgn, rail, Spline(prof.wb, prof.wc), win, sp.grid, y, q)
+    dy = strip_window_ends(frame, sgn, rail, Spline(prof.wb, prof.wc), win, sp.grid, y, q,
+                           ends)
     hstar = q[1] - pen
     half = np.empty(n)
     peak = np.empty(n)
@@ -142,4 +156,4 @@ def strip_row(row, prof, pose, z, roll, model):
     return F, fx, fy, mz, a, b, pmax, area
 
 
-__all__ = ["StripPass", "StripRule", "strip_pass", "strip_row", "MARCHES"]
+__all__ = ["StripPass", "StripRule", "strip_pass", "strip_row", "strip_row_ends", "MARCHES"]

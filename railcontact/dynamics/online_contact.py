@@ -64,7 +64,7 @@ import numpy as np
 from numba import njit
 
 from ..cases.compiled_case import PassModel, _tables, hertz_patch, patch_hertz
-from ..cases.strip_pass import MARCHES, strip_pass, strip_row
+from ..cases.strip_pass import MARCHES, strip_pass, strip_row_ends
 from ..normal.strip_theory import STRIP_MODELS
 from ..core.errors import InputError
 from ..core.materials import Material, STEEL
@@ -105,9 +105,10 @@ RATE_MARGIN = 1.5
 
 #: the fields of the ``frame`` array of :class:`OnlineContact`
 FRAME_FIELDS = ("y_off_left", "y_off_right", "wheel_offset", "nominal_radius", "combine",
-                "damping", "tip_z", "tip_zone", "rate", "stiffness", "match")
+                "damping", "tip_z", "tip_zone", "rate", "stiffness", "match",
+                "warm_strips")
 (G_YOFF_L, G_YOFF_R, G_E, G_R0, G_COMBINE, G_DAMPING, G_TIP_Z, G_TIP_ZONE, G_RATE,
- G_STIFFNESS, G_MATCH) = range(11)
+ G_STIFFNESS, G_MATCH, G_WARM) = range(12)
 
 #: per row of :attr:`OnlineContact.rows` after the patch geometry: normal force N
 #: [N] (Hertz spring and damper), Hertz semi-axes a, b [m], creep forces Fx, Fy [N],
@@ -154,8 +155,9 @@ class OnlineContact(NamedTuple):
     #: :data:`FRAME_FIELDS`: rail offsets, wheel-profile offset, r0 [m], combine distance
     #: [m], contact damping [N s/m], the flange tip's profile height and the tip zone [m],
     #: the contact's rate [1/s] that the run's rk4 step resolves (:func:`rk4_online`;
-    #: NaN until its first step), and whether an evaluation computes the springs'
-    #: stiffness (1; 0: not, :data:`R_STIFF` 0)
+    #: NaN until its first step), whether an evaluation computes the springs'
+    #: stiffness (1; 0: not, :data:`R_STIFF` 0), and whether a strip model's
+    #: strips are laid from the last evaluation's (1; 0: each evaluation afresh)
     frame: np.ndarray
     #: Hertz and the creep law (:class:`~railcontact.cases.compiled_case.PassModel`)
     model: PassModel
@@ -181,6 +183,10 @@ class OnlineContact(NamedTuple):
     corrections: np.ndarray
     #: (nw,) rows of each wheelset in :attr:`corrections` (-1: none)
     corrected: np.ndarray
+    #: (nw, MAX_ROWS, 3) the last evaluation's strip runs per row of a strip model:
+    #: side (-1: none) and the run's lateral ends [m] in the rail's frame, where the
+    #: next evaluation's strips start from (:func:`strip_ends_guess`)
+    strip_ends: np.ndarray
 
 
 def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL,
@@ -208,7 +214,7 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
     frame = np.array([track.rail_offset("left"), track.rail_offset("right"),
                       wheelset.wheel_offset, wheelset.nominal_radius, 0.0, float(damping),
                       fl.tip_z if fl is not None else math.inf, TIP_ZONE, math.nan, 1.0,
-                      1.0])
+                      1.0, 1.0])
     tp = np.array(law_params if law_params is not None else
                   [0.3, material.shear_modulus, 12, 12, 1.0, 1.0, 1.0, 0.0], float)
     dt, tab = _tables()
@@ -223,7 +229,8 @@ def online_contact(wheelset, track, n_wheelsets: int, material: Material = STEEL
                          np.zeros(n_wheelsets, np.int64), np.zeros((n_wheelsets, 2), np.int64),
                          np.zeros((n_wheelsets, 4)), np.zeros(1, np.int64),
                          np.zeros((n_wheelsets, MAX_ROWS, len(CORRECTION_FIELDS))),
-                         np.full(n_wheelsets, -1, np.int64))
+                         np.full(n_wheelsets, -1, np.int64),
+                         np.full((n_wheelsets, MAX_ROWS, 3), -1.0))
 
 
 #: the approach's relative step [-] of the spring's stiffness (:func:`spring_stiffness`)
@@ -270,6 +277,23 @@ def spring_stiffness(loc, i0, i1, row, F, model, work):
 
 
 @njit(cache=True, nogil=True)
+def strip_ends_guess(prev, s, row, warm, ends):
+    """The strips' run ends [m] (their lateral coordinate in the row's gap frame)
+    of the patch row on side s from the last evaluation's runs ``prev``
+    (:attr:`OnlineContact.strip_ends` of the wheelset): the run on the same side
+    whose ends hold the row's reference point, else (or not ``warm``) NaN."""
+    ends[0] = ends[1] = math.nan
+    if not warm:
+        return
+    ca = math.cos(row[P_CONTACT_ANGLE])
+    for i in range(prev.shape[0]):
+        if prev[i, 0] == s and prev[i, 1] <= row[P_Y] <= prev[i, 2]:
+            ends[0] = (prev[i, 1] - row[P_Y]) / ca
+            ends[1] = (prev[i, 2] - row[P_Y]) / ca
+            return
+
+
+@njit(cache=True, nogil=True)
 def search_wheelset(online, w, pose, z, roll):
     """Wheelset w's patches at the pose (lateral shift and yaw in ``pose``, vertical
     position z [m] and roll [rad] relative to the rails) into ``online.rows[w]``,
@@ -279,6 +303,11 @@ def search_wheelset(online, w, pose, z, roll):
     rows = online.rows[w]
     m = 0
     deepest = 0.0
+    strip = online.model.strips.rule.code >= 0
+    if strip:
+        prev = online.strip_ends[w].copy()
+        online.strip_ends[w, :, 0] = -1.0
+        ends = np.empty(3)
     for s in range(2):
         win = online.window[w]
         loc = side_locus(prof, pose, s, z, roll, win, online.memo[w], False)
@@ -304,12 +333,23 @@ def search_wheelset(online, w, pose, z, roll):
             if not d > 0.0:
                 continue
             row[R_YC] = row[P_Y] - pose.shift
-            if online.model.strips.rule.code >= 0:
+            if strip:
                 # a strip model: its normal force at the approach and its creep
-                # forces (:mod:`railcontact.cases.strip_pass`, the compiled case's)
-                F, fx, fy, mz, a, b, _, _ = strip_row(row, prof, pose, z, roll, online.model)
+                # forces (:mod:`railcontact.cases.strip_pass`, the compiled case's),
+                # the strips laid from the last evaluation's run of the patch
+                strip_ends_guess(prev, s, row, g[G_WARM] > 0.0, ends)
+                F, fx, fy, mz, a, b, _, _ = strip_row_ends(row, prof, pose, z, roll,
+                                                           online.model, ends)
+                ca = math.cos(row[P_CONTACT_ANGLE])
+                se = online.strip_ends[w, m]
+                se[0], se[1], se[2] = s, row[P_Y] + ends[0] * ca, row[P_Y] + ends[1] * ca
                 row[R_N], row[R_AA], row[R_BB] = F, a, b
                 row[R_FX], row[R_FY], row[R_MZ] = fx, fy, mz
+                if g[G_STIFFNESS] > 0.0:
+                    # the strip model's spring: its force with the exponent of the
+                    # region's Hertz spring (the rk4 step's substeps follow it)
+                    row[R_STIFF] = spring_stiffness(loc, regions[r, 0], regions[r, 1], row,
+                                                    F, online.model, work)
                 if F > 0.0 and row[P_Z_WHEEL] >= g[G_TIP_Z] - g[G_TIP_ZONE]:
                     online.status[w, s] = ON_FLANGE_TIP
                 m += 1
@@ -649,11 +689,15 @@ class OnlineWheelRail:
     solved at every evaluation (four times the solves).  A stage whose patches
     are not the step's (another number, side or slot, or one moved on the rail
     by more than its grid's element) has the models solved
-    (:meth:`railcontact.dynamics.simulation._System.rhs`)."""
+    (:meth:`railcontact.dynamics.simulation._System.rhs`).
+
+    A compiled strip model lays each evaluation's strips from the last evaluation's
+    run of the patch (``warm_strips``, :func:`strip_ends_guess`; False: afresh, as
+    the compiled case; the same layout to 1e-9 m in the run's ends)."""
 
     def __init__(self, wheelset, track, material: Material = STEEL,
                  damping: float = DEFAULT_DAMPING, roll_inertia: float | None = None,
-                 normal: str = "hertz", stand_in: str = "both"):
+                 normal: str = "hertz", stand_in: str = "both", warm_strips: bool = True):
         from ..normal.base import normal_models
         if normal not in normal_models():
             raise InputError(f"online contact normal model {normal!r}: expected one of "
@@ -666,6 +710,7 @@ class OnlineWheelRail:
             raise InputError(f"contact damping {damping!r} N s/m: expected >= 0")
         self.wheelset, self.track, self.material = wheelset, track, material
         self.damping, self.roll_inertia, self.normal = float(damping), roll_inertia, normal
+        self.warm_strips = bool(warm_strips)
         fl = flange(wheelset.wheel("right"))
         #: the wheels' largest flange angle [rad] (NaN without a flange)
         self.flange_angle = fl.max_angle if fl is not None else math.nan
@@ -683,9 +728,11 @@ class OnlineWheelRail:
         if tangential is not None and self.compiled_strips(tangential):
             strips = strip_pass(self.normal, tangential, self.material, 40, 20,
                                 int(law_params[2]))
-        return online_contact(self.wheelset, self.track, n_wheelsets, self.material, law,
-                              law_params, self.damping,
-                              self.roll_inertia if self.roll_inertia else roll_inertia, strips)
+        on = online_contact(self.wheelset, self.track, n_wheelsets, self.material, law,
+                            law_params, self.damping,
+                            self.roll_inertia if self.roll_inertia else roll_inertia, strips)
+        on.frame[G_WARM] = 1.0 if self.warm_strips else 0.0
+        return on
 
     def compiled_strips(self, tangential: str) -> bool:
         """Whether the run's models go in compiled code as a strip model with its

@@ -537,11 +537,14 @@ def static_contact(sysm: _System, u0, passes: int = 8) -> np.ndarray:
     return u
 
 
-#: the rk4 step [s] of an online run with a compiled strip model at most: with the
-#: step of the Jacobian at the start (0.71 ms) the Manchester vehicle's 100 s run
-#: with ANALYN + fastsim-strips diverged at 75 s in the curve; at 0.5 ms it completed
-#: (benchmarks/dynamics_online.md)
-STRIP_ONLINE_STEP = 5e-4
+#: the rk4 step [s] of an online run with a compiled strip model at most (None: the
+#: step of the Jacobian at the start, as Hertz's).  With the step of the Jacobian
+#: (0.71 ms) and no stiffness of the strip springs (their rows' R_STIFF 0, so that
+#: no step was divided) the Manchester vehicle's 100 s run with ANALYN +
+#: fastsim-strips diverged at 75 s in the curve, and 0.5 ms bounded the step; the
+#: strip springs' stiffness divides the steps where the contact stiffens, as
+#: Hertz's (benchmarks/dynamics_online.md)
+STRIP_ONLINE_STEP = None
 
 
 def online_step(sysm: _System, u0, sample_rate: float, step: float | None = None):
@@ -549,7 +552,7 @@ def online_step(sysm: _System, u0, sample_rate: float, step: float | None = None
     right-hand side at the start (by central differences over the degrees of
     freedom: the wheel-rail contact's vertical and roll modes, the creep forces),
     at most 1 ms, ``step``, the sampling interval, which it divides exactly, and
-    with a compiled strip model ``STRIP_ONLINE_STEP``.
+    with a compiled strip model ``STRIP_ONLINE_STEP`` (None: no bound).
     Returns (step, steps per sample)."""
     act = sysm.active()
     J = np.empty((act.size, act.size))
@@ -563,7 +566,7 @@ def online_step(sysm: _System, u0, sample_rate: float, step: float | None = None
     sysm.online.memo[:] = memo
     rho = float(np.max(np.abs(np.linalg.eigvals(J))))
     dt = min(1.0 / rho, 1e-3, step or 1.0, 1.0 / sample_rate)
-    if sysm.online.model.strips.rule.code >= 0:
+    if sysm.online.model.strips.rule.code >= 0 and STRIP_ONLINE_STEP is not None:
         dt = min(dt, STRIP_ONLINE_STEP)
     every = int(math.ceil(1.0 / (sample_rate * dt)))
     return 1.0 / (sample_rate * every), every

@@ -250,12 +250,21 @@ def _run_end(frame, sign, rail, wheel, xs, inside, outside, win):
     positions ``inside`` (g below it; its g known) and ``outside`` (above): by
     Illinois' regula falsi (bisection where the outside misses a surface), to
     1e-9 m."""
-    a, fa = inside
     b = outside
-    pen = win[1]
-    fb = _line_minimum(frame, sign, rail, wheel, xs, b, win[0]) - pen
+    fb = _line_minimum(frame, sign, rail, wheel, xs, b, win[0]) - win[1]
     if not fb >= 0.0:
         return b
+    return _falsi(frame, sign, rail, wheel, xs, inside, (b, fb), win)
+
+
+@njit(cache=True, nogil=True)
+def _falsi(frame, sign, rail, wheel, xs, inside, outside, win):
+    """:func:`_run_end`'s regula falsi from a bracket: ``inside`` and ``outside``
+    the lateral positions [m] and their g minus the penetration [m] (below 0 and
+    at least 0)."""
+    a, fa = inside
+    b, fb = outside
+    pen = win[1]
     side = 0
     for _ in range(30):
         if abs(b - a) <= 1e-9:
@@ -266,6 +275,55 @@ def _run_end(frame, sign, rail, wheel, xs, inside, outside, win):
     return (a * fb - b * fa) / (fb - fa) if fb < 1e-3 else 0.5 * (a + b)
 
 
+#: the warm start's first step [-] from a run's end of the last evaluation, as a
+#: fraction of that run's width (:func:`strip_window_ends`)
+WARM_STEP = 0.01
+#: at most this many steps (each 4 times longer, at most a quarter of the run's
+#: width) to bracket a run's end from the last evaluation's
+WARM_TRIES = 5
+
+
+@njit(cache=True, nogil=True)
+def _bracket_end(frame, sign, rail, wheel, xs, guess, outward, width, win):
+    """The run's end near ``guess`` [m] (the last evaluation's end; ``outward``
+    +1 or -1: the direction out of the run): a bracket by steps from the guess,
+    then :func:`_falsi`.  Returns (found, end [m])."""
+    pen = win[1]
+    y0 = guess
+    f0 = _line_minimum(frame, sign, rail, wheel, xs, y0, win[0]) - pen
+    h = WARM_STEP * width
+    for _ in range(WARM_TRIES):
+        if not (f0 == f0):
+            return False, math.nan
+        y1 = y0 + outward * h if f0 < 0.0 else y0 - outward * h
+        f1 = _line_minimum(frame, sign, rail, wheel, xs, y1, win[0]) - pen
+        if f0 < 0.0 and f1 >= 0.0:
+            return True, _falsi(frame, sign, rail, wheel, xs, (y0, f0), (y1, f1), win)
+        if f0 >= 0.0 and f1 < 0.0:
+            return True, _falsi(frame, sign, rail, wheel, xs, (y1, f1), (y0, f0), win)
+        y0, f0 = y1, f1
+        h = min(4.0 * h, 0.25 * width)
+    return False, math.nan
+
+
+@njit(cache=True, nogil=True)
+def _sample_lines(F, sign, rail, wheel, xs, w, win, y, ys):
+    """The strips laid across the lateral window ``w`` (:data:`LATERAL_FIELDS`,
+    :func:`lay_strips`, their centres into ``y``) and the gap on the three lines
+    ``xs`` through them, the approach added (:func:`strip_window_geometry`):
+    (3, strips), and the strip width [m]."""
+    n = y.size
+    dy = lay_strips(w, y)
+    for j in range(n):
+        ys[0, j] = sign * y[j]
+    h = _gap_lines_kernel(xs, ys, F, rail.breaks, rail.coefs, wheel.breaks,
+                          wheel.coefs)[0]
+    for k in range(3):
+        for j in range(n):
+            h[k, j] = (1.0 if h[k, j] < DEEPEST_GAP else h[k, j]) + win[0]
+    return h, dy
+
+
 @njit(cache=True, nogil=True)
 def strip_window_geometry(frame, sign, rail, wheel, win, grid, y, q):
     """The strip quantities of one patch of the geometry layer (its packed gap
@@ -274,25 +332,60 @@ def strip_window_geometry(frame, sign, rail, wheel, win, grid, y, q):
     with the window ``win`` (:data:`WINDOW_FIELDS`) and the :class:`StripGrid`
     ``grid``: the strips' centres into ``y`` and (x_m, g, A, B) into ``q`` (4,
     strips), as :func:`strip_geometry`.  Returns the strip width [m]."""
+    return strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, np.full(3, np.nan))
+
+
+@njit(cache=True, nogil=True)
+def strip_window_ends(frame, sign, rail, wheel, win, grid, y, q, ends):
+    """:func:`strip_window_geometry` started from the run's ends of an earlier
+    evaluation of the same patch (``ends`` (3,): the two ends [m] in the strips'
+    lateral coordinate, NaN: none; the third is set to 1 where the warm start was
+    kept, else 0), a warm start of the refined layout (``grid.refine``)
+    for a time history: each end bracketed by steps from the earlier one
+    (:data:`WARM_STEP`) and found on the gap as by the cold path
+    (:func:`_falsi`, 1e-9 m), the strips laid on them once.  The warm start
+    replaces the first sampling of the strips (3 x strips gap points) and the
+    ends' brackets from it; it is kept where the earlier ends and the ends found
+    lie within the cold path's first window (the region's extent widened by
+    ``grid.margin``: a run of another region, or of two regions that have since
+    parted, is not taken) and the strips' run agrees with the ends to a strip
+    width, else the cold path runs.  The run's ends found (either path; NaN where the
+    strips were not laid on them) go back into ``ends``.  Returns the strip
+    width [m]."""
     n = grid.strips
     w = lateral_window(win, grid)
     xs = np.empty((1, 3))
     ys = np.empty((1, n))
     F = frame.reshape((1, frame.size))
-    ends = (F, sign, rail, wheel, xs)
+    xs[0, 0], xs[0, 1], xs[0, 2] = w[0], w[0] - w[1], w[0] + w[1]
+    lo_w, hi_w = w[2] - w[3], w[2] + w[3]
+    if grid.refine and ends[0] > lo_w and ends[1] < hi_w and ends[1] > ends[0]:
+        width = ends[1] - ends[0]
+        ok_lo, y_lo = _bracket_end(F, sign, rail, wheel, xs, ends[0], -1.0, width, win)
+        ok_hi, y_hi = _bracket_end(F, sign, rail, wheel, xs, ends[1], 1.0, width, win) \
+            if ok_lo else (False, math.nan)
+        if ok_lo and ok_hi and y_hi > y_lo:
+            warm = w.copy()
+            warm[2], warm[4] = 0.5 * (y_lo + y_hi), 0.5 * (y_hi - y_lo)
+            warm[3] = warm[4] * (1.0 + grid.margin)
+            h, dy = _sample_lines(F, sign, rail, wheel, xs, warm, win, y, ys)
+            edge, r_lo, r_hi = strip_lines(h, y, w[1], dy, win[1], (warm[2], warm[4]), q)
+            if not edge and abs(r_lo - y_lo) <= dy and abs(r_hi - y_hi) <= dy and \
+                    y_lo > lo_w and y_hi < hi_w:
+                ends[0], ends[1], ends[2] = y_lo, y_hi, 1.0
+                for j in range(n):
+                    q[0, j] += w[0]
+                return dy
+    finder = (F, sign, rail, wheel, xs)
     dy = 0.0
     for it in range(grid.widen + 2):
-        dy = lay_strips(w, y)
-        for j in range(n):
-            ys[0, j] = sign * y[j]
-        xs[0, 0], xs[0, 1], xs[0, 2] = w[0], w[0] - w[1], w[0] + w[1]
-        h = _gap_lines_kernel(xs, ys, F, rail.breaks, rail.coefs, wheel.breaks,
-                              wheel.coefs)[0]
-        for k in range(3):
-            for j in range(n):
-                h[k, j] = (1.0 if h[k, j] < DEEPEST_GAP else h[k, j]) + win[0]
-        if not next_window(w, grid, it, (h, y, dy, win), q, ends):
+        h, dy = _sample_lines(F, sign, rail, wheel, xs, w, win, y, ys)
+        if not next_window(w, grid, it, (h, y, dy, win), q, finder):
             break
+    refined = grid.refine and w[5] == 0.0
+    ends[0] = w[2] - w[4] if refined else math.nan
+    ends[1] = w[2] + w[4] if refined else math.nan
+    ends[2] = 0.0
     for j in range(n):
         q[0, j] += w[0]
     return dy

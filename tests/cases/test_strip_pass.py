@@ -94,3 +94,37 @@ def test_no_approach_gives_no_force():
     row[RF["approach"]] = 0.0
     assert strip_row(row, prof, pose, res.vertical, res.roll, model) == (0.0,) * 8
     assert math.isfinite(res.patches["fy"][0])
+
+
+@pytest.mark.parametrize("normal", ["analyn", "kik-piotrowski"])
+def test_warm_start_lays_the_same_strips(normal):
+    """:func:`strip_row_ends` from the run's ends of an earlier evaluation (the
+    online dynamics' warm start) lays the strips the cold path lays: from the
+    ends moved out by 2 % and 5 % of the run's width and in by 2 % and 20 %, the
+    warm start is kept, the ends are found again to 1e-8 m and the forces equal
+    the cold path's to 1e-9 (the ends' tolerance, 1e-9 m; measured 1e-12); from
+    ends off the patch or outside the cold path's first window (out by 20 %: the
+    region's extent widened by 15 % of its half-width), the cold path (the same
+    numbers)."""
+    from railcontact.cases.strip_pass import strip_row_ends
+    case = _case(4e-3, 2e-3)
+    res = solve_case_forces(case, normal, "fastsim-strips")
+    prof, pose, model, _ = case_pass_inputs(case, normal, "fastsim-strips")
+    for row in res.rows:
+        cold = np.full(3, np.nan)
+        ref = strip_row_ends(row.copy(), prof, pose, res.vertical, res.roll, model, cold)
+        assert ref[0] > 0 and cold[2] == 0.0 and cold[1] > cold[0]
+        assert ref == strip_row(row.copy(), prof, pose, res.vertical, res.roll, model)
+        width = cold[1] - cold[0]
+        for out in (0.02, 0.05, -0.02, -0.2):
+            ends = np.array([cold[0] - out * width, cold[1] + out * width, np.nan])
+            got = strip_row_ends(row.copy(), prof, pose, res.vertical, res.roll, model, ends)
+            assert ends[2] == 1.0
+            assert ends[:2] == pytest.approx(cold[:2], abs=1e-8)
+            for a, b in zip(got, ref):
+                assert a == pytest.approx(b, rel=1e-9, abs=1e-9 * ref[0])
+        for lo, hi in ((cold[1] + 2 * width, cold[1] + 3 * width),
+                       (cold[0] - 0.2 * width, cold[1] + 0.2 * width)):
+            ends = np.array([lo, hi, np.nan])
+            got = strip_row_ends(row.copy(), prof, pose, res.vertical, res.roll, model, ends)
+            assert ends[2] == 0.0 and got == ref

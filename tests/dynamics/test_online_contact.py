@@ -302,6 +302,60 @@ def test_exact_online_with_stand_ins_against_every_stage_solved(bodies):
     assert solves[1] < 0.6 * solves[0]
 
 
+@pytest.mark.parametrize("normal", ["analyn", "kik-piotrowski"])
+def test_strip_springs_have_their_stiffness(bodies, normal):
+    """A strip model's rows carry their spring's stiffness (the rk4 step's substeps
+    follow it, as Hertz's): the strip force times the exponent of the region's
+    Hertz spring over the approach, against dN/d(delta) of the strip model by
+    central differences in the wheelset's vertical position (+-0.2 um), within
+    20 % on the tread and the flange of S1002/60E1 (measured 0.88-1.15: the strip
+    model's exponent 1.42-1.71 against Hertz's region's)."""
+    from railcontact.dynamics.online_contact import (G_STIFFNESS, R_N, R_STIFF,
+                                                     search_wheelset)
+    from railcontact.geometry import find_contact
+    from railcontact.geometry.wheel_pass import P_APPROACH, P_CONTACT_ANGLE, PassPose
+    ws, tr = bodies
+    tp = np.array([0.3, STEEL.shear_modulus, 12, 12, 1.0, 1.0, 1.0, 0.0])
+    oc = OnlineWheelRail(ws, tr, normal=normal).compiled(1, 1, tp, 1120.0, "fastsim-strips")
+    g = oc.frame
+    flanges = 0
+    for y, yaw in ((0.0, 0.0), (4e-3, 2e-3), (7e-3, 3e-3), (6.2e-3, 0.0)):
+        pose = PassPose(y, yaw, g[0], g[1], g[2], g[3], 30.0, -30.0 / g[3], 0.02, 0.001, 0.0)
+        c = find_contact(ws, tr, y, yaw, vertical_force=6e4)
+        z, roll = c.pose.vertical, c.pose.roll
+        g[G_STIFFNESS] = 1.0
+        m = search_wheelset(oc, 0, pose, z, roll)
+        rows = oc.rows[0, :m].copy()
+        g[G_STIFFNESS] = 0.0
+        moved = []
+        for dz in (-2e-7, 2e-7):
+            assert search_wheelset(oc, 0, pose, z + dz, roll) == m
+            moved.append(oc.rows[0, :m].copy())
+        g[G_STIFFNESS] = 1.0
+        for k in range(m):
+            k_fd = (moved[1][k, R_N] - moved[0][k, R_N]) / \
+                (moved[1][k, P_APPROACH] - moved[0][k, P_APPROACH])
+            assert rows[k, R_STIFF] == pytest.approx(k_fd, rel=0.2)
+            flanges += abs(rows[k, P_CONTACT_ANGLE]) > 0.5
+    assert flanges >= 1
+
+
+def test_warm_strips_run_as_the_cold(bodies):
+    """The online strip model with its strips laid from the last evaluation's
+    (``warm_strips``, the default) runs as with each evaluation's afresh: a
+    wheelset let go 3 mm off centre, 0.05 s, the wheel forces equal to 1e-3 N."""
+    ws, tr = bodies
+    m = _wheelset()
+    runs = [simulate_vehicle(m, Route.tangent(50.0),
+                             OnlineWheelRail(ws, tr, normal="analyn", warm_strips=w), 20.0,
+                             0.05, "fastsim-strips", 0.3, STEEL, 3e-3,
+                             integration=Integration(method="rk4", sample_rate=1000))
+            for w in (False, True)]
+    for v in ("Q", "Y", "longitudinal_force", "lateral_creep_force"):
+        np.testing.assert_allclose(runs[1][v].values, runs[0][v].values, rtol=0, atol=1e-3)
+    assert float(np.abs(runs[0]["Y"].values).max()) > 100.0
+
+
 def test_online_input_checks(bodies):
     ws, tr = bodies
     with pytest.raises(InputError, match="damping"):
