@@ -212,12 +212,7 @@ class PlacedRail:
         """Surface height z [m] and slope dz/dy in the side frame at track position s
         and side-frame lateral position y (NaN outside the rail's lateral range)."""
         yr = np.asarray(y, float) - self.lateral_position
-        z, d = self.surface.height(s, yr)
-        if self.lateral_range is not None:
-            out = (yr < self.lateral_range[0]) | (yr > self.lateral_range[1])
-            z = np.where(out, np.nan, z)
-            d = np.where(out, np.nan, d)
-        return z + self.vertical_position, d
+        return self._placed(yr, *self.surface.height(s, yr))
 
     def gap_height(self, s, y):
         """:meth:`height` of the surface of the undeformed distance: a roller's
@@ -226,7 +221,12 @@ class PlacedRail:
         if not self.is_roller:
             return self.height(s, y)
         yr = np.asarray(y, float) - self.lateral_position
-        z, d = self.surface.gap_height(s, yr)
+        return self._placed(yr, *self.surface.gap_height(s, yr))
+
+    def _placed(self, yr, z, d):
+        """The surface's height z and slope d at its own lateral positions ``yr``
+        [m] placed in the side frame: NaN outside the lateral range, the vertical
+        position added."""
         if self.lateral_range is not None:
             out = (yr < self.lateral_range[0]) | (yr > self.lateral_range[1])
             z = np.where(out, np.nan, z)
