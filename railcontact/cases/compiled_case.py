@@ -1215,7 +1215,7 @@ def _start_array(start, ratio=EXTRAPOLATE_RATIO):
 
 def solve_case_forces(case, normal=None, tangential=None,
                       start: CaseForces | Neighbour | None = None, max_passes: int = 40,
-                      extrapolate_ratio: float = EXTRAPOLATE_RATIO,
+                      extrapolate_ratio: float = EXTRAPOLATE_RATIO, *,
                       joins: bool = True) -> CaseForces:
     """Solve a wheel-rail case in one compiled pass (module docstring): both wheels'
     loads met, the forces of every patch.
@@ -1242,8 +1242,10 @@ def solve_case_forces(case, normal=None, tangential=None,
         the roll search's samples cover every local minimum of the gap
         (:func:`railcontact.geometry.wheel_pass._note_minimum`), and the steps on
         the interpenetrations start from the pose steps' history
-        (:func:`balance_wheelset`).  False: as before both (for comparisons,
-        ``benchmarks/compiled_case.py``).
+        (:func:`balance_wheelset`).  False: as before both (keyword only, for
+        comparisons: the before rows of ``benchmarks/compiled_case.py`` and
+        ``tests/cases/test_compiled_case.py``; the package's own paths, e.g.
+        :func:`railcontact.cases.balance.compiled_start`, always join).
 
     Returns
     -------
@@ -1290,7 +1292,7 @@ def solve_case_forces(case, normal=None, tangential=None,
     if code != CONVERGED and start is not None:
         # a start that did not serve: the case again, cold (its time counts)
         cold = solve_case_forces(case, normal, tangential, None, max_passes,
-                                 extrapolate_ratio, joins)
+                                 extrapolate_ratio, joins=joins)
         cold.cpu_time += res.cpu_time
         return cold
     return res

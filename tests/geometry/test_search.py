@@ -55,6 +55,8 @@ def test_load_iterations_and_roll_start():
         find_contact(ws, tr, vertical_force=6e4, start=SearchStart(load_iterations=0))
     with pytest.raises(InputError, match="roll_start"):
         find_contact(ws, tr, vertical_force=6e4, start=SearchStart(0.5))
+    with pytest.raises(InputError, match="compiled_pass"):
+        find_contact(ws, tr, interpenetration=d, start=SearchStart(compiled_pass=1))
 
 
 @pytest.mark.parametrize("shift, candidates", [(1e-3, 1), (4.75e-3, 2), (5e-3, 2)])
@@ -86,8 +88,8 @@ def test_multi_hertzian_approach_carries_the_load(shift, candidates):
 @pytest.mark.parametrize("locus", ["lowest", "contact"])
 def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeypatch):
     """Under prescribed interpenetrations find_contact runs the compiled pass's search
-    (wheel_pass.search_patches, PASS_SEARCH): the same patches and loci as its own
-    search to round-off (the same locus kernel), on tread, two-point and flange
+    (wheel_pass.search_patches, SearchStart.compiled_pass): the same patches and loci
+    as its own search to round-off (the same locus kernel), on tread, two-point and flange
     contact with yaw; with patch turning it searches itself."""
     from railcontact.geometry import search, wheel_pass
     from railcontact.geometry.search import PatchRules
@@ -98,10 +100,9 @@ def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeyp
     for shift, yaw, d in ((0.0, 0.0, (8e-5, 8e-5)), (5.5e-3, 2e-3, (6e-5, 9e-5)),
                           (8e-3, 6e-3, (6e-5, 1.2e-4))):
         d = {"left": d[0], "right": d[1]}
-        monkeypatch.setattr(search, "PASS_SEARCH", True)
         a = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d)
-        monkeypatch.setattr(search, "PASS_SEARCH", False)
-        b = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d)
+        b = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d,
+                         start=SearchStart(compiled_pass=False))
         assert abs(a.pose.roll - b.pose.roll) < 1e-12
         assert abs(a.pose.vertical - b.pose.vertical) < 1e-12
         assert len(a.patches) == len(b.patches) >= 2
@@ -120,7 +121,6 @@ def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeyp
             assert np.allclose(la.gap[i0 - la.samples[0]:i1 - la.samples[0]],
                                lb.gap[i0 - lb.samples[0]:i1 - lb.samples[0]], rtol=0, atol=1e-12)
     assert len(calls) == 3
-    monkeypatch.setattr(search, "PASS_SEARCH", True)
     find_contact(ws, tr, 5.5e-3, 2e-3, vertical_force=7e4, interpenetration=d,
                  rules=PatchRules(turn_distance=0.02))
     assert len(calls) == 3
