@@ -140,8 +140,13 @@ def strip_row_ends(row, prof, pose, z, roll, model, ends):
         else:
             L = np.empty((3, n))
             local = sp.march == MARCH_LOCAL
-            strip_flexibilities(half, q[2], q[3], pen, (a, b, F), (xi, eta, phi), mu, sp.mat,
-                                local, L)
+            # the local ellipses' approach: the deepest strip's interpenetration, not
+            # the row's (the gap at the locus's deepest sample, which jumps, by some
+            # 0.5 um on a deep flange patch, where that sample passes to the next:
+            # the creep forces, and the balance's vertical force, jumped with it)
+            deep = -np.min(hstar)
+            strip_flexibilities(half, q[2], q[3], deep if deep > 0.0 else pen, (a, b, F),
+                                (xi, eta, phi), mu, sp.mat, local, L)
             phis = np.full(n, phi)
             if local:
                 d = row[P_CONTACT_ANGLE]
