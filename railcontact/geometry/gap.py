@@ -294,6 +294,21 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
 
 
 
+def profile_groups(patches) -> tuple[list, list]:
+    """The indices of ``patches`` whose gap is a :class:`GapEvaluator`, grouped by
+    their rail and wheel profile pair (each group evaluated in one compiled loop),
+    and the indices of the others (bodies cases: their ``gap`` in Python)."""
+    groups: dict = {}
+    others = []
+    for k, p in enumerate(patches):
+        f = p.gap_function
+        if isinstance(f, GapEvaluator):
+            groups.setdefault((id(f.rail), id(f.wheel)), []).append(k)
+        else:
+            others.append(k)
+    return list(groups.values()), others
+
+
 def sample_gap_lines(patches, x, y) -> np.ndarray:
     """Undeformed distance [m] of many patches at once on lines of constant y:
     ``x`` (patches, nx) and ``y`` (patches, ny) in each patch's tangent-plane
@@ -303,14 +318,10 @@ def sample_gap_lines(patches, x, y) -> np.ndarray:
     x = np.ascontiguousarray(x, dtype=float)
     y = np.ascontiguousarray(y, dtype=float)
     h = np.empty((x.shape[0], x.shape[1], y.shape[1]))
-    groups: dict = {}
-    for k, p in enumerate(patches):
-        f = p.gap_function
-        if isinstance(f, GapEvaluator):
-            groups.setdefault((id(f.rail), id(f.wheel)), []).append(k)
-        else:
-            h[k] = p.gap(x[k][:, None], y[k][None, :])
-    for idx in groups.values():
+    groups, others = profile_groups(patches)
+    for k in others:
+        h[k] = patches[k].gap(x[k][:, None], y[k][None, :])
+    for idx in groups:
         f0 = patches[idx[0]].gap_function
         frames = np.array([patches[k].gap_function.frame for k in idx])
         sign = np.array([patches[k].gap_function.sign for k in idx])

@@ -31,7 +31,7 @@ import numpy as np
 from numba import njit
 
 from ..core.errors import InputError
-from ..geometry.gap import DEEPEST_GAP, GapEvaluator, Spline, _gap_lines_kernel
+from ..geometry.gap import DEEPEST_GAP, Spline, _gap_lines_kernel, profile_groups
 from ..geometry.wheel_pass import illinois_update
 from ..core.hertz_theory import hertz_ellipses
 from .strip_theory import MIN_CURVATURE, STRIP_MODELS, parabola_min, strip_pressures
@@ -504,14 +504,10 @@ def strip_geometry(patches, strips: int = 40, penetration=None, margin: float = 
     y = np.empty((n, strips))
     q = np.empty((n, 4, strips))
     dy = np.empty(n)
-    groups: dict = {}
-    for k, p in enumerate(patches):
-        f = p.gap_function
-        if isinstance(f, GapEvaluator):
-            groups.setdefault((id(f.rail), id(f.wheel)), []).append(k)
-        else:
-            dy[k] = _sampled_geometry(p, wins[k], grid, y[k], q[k])
-    for idx in groups.values():
+    groups, others = profile_groups(patches)
+    for k in others:
+        dy[k] = _sampled_geometry(patches[k], wins[k], grid, y[k], q[k])
+    for idx in groups:
         f0 = patches[idx[0]].gap_function
         frames = np.array([patches[k].gap_function.frame for k in idx])
         signs = np.array([patches[k].gap_function.sign for k in idx], float)
