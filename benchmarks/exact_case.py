@@ -5,7 +5,8 @@ The 1000-case sweep of ``run_all.sweep_raws`` (S1002 on 60E1 1:40, 70 kN per
 wheel, shift -4..9 mm, yaw 0..6 mrad, creepages varying, 40 x 40 grid), solved
 cold and warm-started along the sweep, "before" (a cold case from the geometry
 layer's multi-Hertzian estimate, a warm one from the extrapolation of its two
-previous cases alone: ``BalanceOptions(hertz_start=False)``) and "after" (the
+previous cases alone: ``BalanceOptions(hertz_start=False)``, and
+``equilibrium.FINAL_SLOPE`` = 0) and "after" (the
 default: a cold case from the compiled pass's Hertz + FASTSIM balance, a warm one
 from it where its first evaluation misses the load by more than
 ``balance.RESTART_MISS``), interleaved in blocks of 50 cases in one process; CPU
@@ -29,6 +30,7 @@ from __future__ import annotations
 
 import argparse
 import functools
+import os
 import importlib
 import sys
 import time
@@ -41,12 +43,17 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import railcontact as rc                                   # noqa: E402
+from railcontact.cases import equilibrium                 # noqa: E402
 from railcontact.cases.balance import BalanceOptions      # noqa: E402
 from run_all import sweep_raws                             # noqa: E402
 
 #: the balance's options of each run: no compiled Hertz + FASTSIM start (before),
 #: the default (after)
 MODES = {"before": BalanceOptions(hertz_start=False), "after": BalanceOptions()}
+
+#: ``equilibrium.FINAL_SLOPE`` of each run: before, no floor (0), as main before
+#: this change; after, the default
+FINAL_SLOPES = {"before": 0.0, "after": equilibrium.FINAL_SLOPE}
 
 
 class Counter:
@@ -157,6 +164,7 @@ def run(n_cases=1000, block=50, offset=0):
             c = counters[(m, w)]
             for st in STAGES:
                 c.wrap(*st)
+            equilibrium.FINAL_SLOPE = FINAL_SLOPES[m]
             try:
                 for i in range(b0, min(b0 + block, len(cases))):
                     t0 = time.process_time()
@@ -173,6 +181,7 @@ def run(n_cases=1000, block=50, offset=0):
                         sum(p.tangential.fy for p in res.patches))
             finally:
                 c.restore()
+                equilibrium.FINAL_SLOPE = FINAL_SLOPES["after"]
     return t, summary, counters, float(np.median(units))
 
 
@@ -267,17 +276,22 @@ def main(argv=None):
     ap.add_argument("--no-manchester", dest="manchester", action="store_false",
                     help="leave out the Manchester sweep's timing")
     args = ap.parse_args(argv)
+    load0 = os.getloadavg()[0]
     t, summary, counters, unit = run(args.cases, offset=args.offset)
+    load1 = os.getloadavg()[0]
     lines = report(t, summary, counters, unit, args.cases, args.offset)
     head = ["# The exact + exact case: where its FFT convolutions go (issue 30)", "",
             f"`python benchmarks/exact_case.py --cases {args.cases}`: the 1000-case sweep "
             "(S1002 on 60E1 1:40, 70 kN per wheel, shift -4..9 mm, yaw 0..6 mrad, creepages "
             "varying, 40 x 40 grid), cold and warm-started along the sweep, before "
-            "(`BalanceOptions(hertz_start=False)`: cold from the multi-Hertzian estimate, "
+            "(`BalanceOptions(hertz_start=False)` and `equilibrium.FINAL_SLOPE` = 0: cold "
+            "from the multi-Hertzian estimate, "
             "warm from the extrapolation of the two previous cases) and after (the "
             "default: cold from the compiled Hertz + FASTSIM balance, warm from it where "
             "the first evaluation misses a load by more than `RESTART_MISS`), interleaved "
-            "in blocks of 50 cases in one process; CPU time per case.", ""]
+            "in blocks of 50 cases in one process; CPU time per case.  Machine load "
+            f"(1-minute load average, 2 cores shared): {load0:.1f} at the start, "
+            f"{load1:.1f} at the end.", ""]
     if args.manchester:
         import exact_manchester
         lines += ["", "The Manchester 10 kN sweep (one wheel, the roll prescribed: the compiled "

@@ -272,10 +272,11 @@ class BalanceOptions:
     force_control : bool
         Balance a case with the exact models whose balanced sides have one patch
         each force-controlled (:func:`_force_controlled`, issue 30's design).
-        Measured slower than the general balance on the benchmark sweep (cold 58.7
-        against 50.3 ms, warm 39.9 against 28.5 ms per case: docs/tuning.md,
-        section "Equilibrium"), so off; kept for comparisons
-        (``benchmarks/run_all.py``, ``bench_force_controlled``).
+        Measured slower than the general balance on the benchmark sweep (cold 17.7
+        against 11.9 ms, warm 10.5 against 7.2 ms per case: more normal and
+        tangential solves for fewer passes; docs/tuning.md, section
+        "Equilibrium"), so off; kept for comparisons (``benchmarks/run_all.py``,
+        ``bench_force_controlled``).
     """
 
     compiled_start: bool = True
