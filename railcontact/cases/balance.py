@@ -11,6 +11,7 @@ from dataclasses import dataclass
 import numpy as np
 
 from .bodies import build_wheelset_track, contact_search
+from .conformal import is_conformal
 from .compiled_case import case_contact, compiled_unsupported, solve_case_forces
 from .equilibrium import Neighbour, VerticalBalance, balance as solve_balance, extrapolate_start
 from ..core.checks import shown
@@ -21,6 +22,7 @@ from ..geometry.track import WheelsetPose
 from .patches import (add_tangential, coupled_models, lateral_ratio, nearest_patch,
                       patch_creepage, patch_friction, solve_case_patches, wheel_rail_validity)
 from .results import PatchResult, patch_vertical_force, vertical_force_on_rail
+from ..normal import get_normal_model
 from ..tangential import get_tangential_model
 
 from ..core.status import SolverStatus
@@ -169,12 +171,26 @@ class WheelRailContact:
         self.previous = start.patches if start is not None else None
         # the results whose tangential solutions start the next tangential solves
         self.tangential_start = self.previous
+        if start is None and compiled is not None and self.lazy \
+                and "warm-start" in nmodel.capabilities:
+            # a cold case from the compiled pass: Hertz's pressure on its patches
+            # starts the first normal solves
+            self.previous = _hertz_pressures(case, self.first)
         # the neighbour's solved patches and FASTSIM's on them: the stand-in's correction
         self.neighbour = None
         if start is not None and start.balance is not None and start.balance.standin:
             self.neighbour = (start.patches, start.balance.standin)
         self.standin = None         # FASTSIM on the last provisional evaluation's patches
         self.last = None
+
+    def restart(self, compiled):
+        """Start again from the compiled pass's result ``compiled`` (its patches, or
+        a search at its interpenetrations and roll); the neighbour's solutions stay
+        the solvers' warm starts."""
+        self.first = case_contact(compiled, self.case) or contact_search(
+            self.case, interpenetration=dict(compiled.interpenetration), bodies=self.bodies,
+            roll_start=compiled.roll)
+        self.last = self.standin = None
 
     def start(self) -> dict:
         """The interpenetrations [m] of the first search."""
@@ -215,6 +231,26 @@ class WheelRailContact:
 
 
 
+def _hertz_pressures(case, contact):
+    """Hertz's normal solutions of the loaded patches of ``contact`` (patch results
+    without a tangential solution), whose pressure (``pressure_at``) starts a cold
+    exact case's first normal solves from the compiled pass's patches (measured on
+    every 10th case of the 1000-case sweep: 13.1 against 14.1 Polonsky-Keer
+    iterations per solve, 12.39 against 12.87 ms per case, the same forces to 3e-6
+    of Q: docs/tuning.md, section "Equilibrium"); None where there are none."""
+    hertz = get_normal_model("hertz")
+    out = []
+    for g in contact.patches:
+        if g.approach > 0:
+            try:
+                ns = hertz.solve(g, case.material, penetration=g.approach)
+            except RailContactError as exc:           # e.g. a concave curvature
+                log.debug("no Hertzian pressure start on a patch: %s", exc)
+                continue
+            out.append(PatchResult(g, ns, None, patch_creepage(case, g)))
+    return out or None
+
+
 def _standin_lateral(standin, neighbour) -> dict:
     """F_y [N] standing in for each patch's tangential solution (by the id of its
     geometry): FASTSIM's on the patch's normal solution (``standin``), where a
@@ -251,21 +287,31 @@ class BalanceOptions:
         A warm-started case extrapolates its start from its two previous cases
         where their interpenetrations differ by less than this factor
         (:func:`~railcontact.cases.equilibrium.extrapolate_start`); 1 turns it off.
+    hertz_start : bool
+        A case with models the compiled pass does not run but whose tangential
+        model is lazy (the exact ones) starts from the compiled pass's balance of
+        Hertz + FASTSIM (:func:`hertz_estimate`): a cold case always (its patches,
+        no first search), a warm-started one where its first evaluation, at the
+        neighbour's (extrapolated) interpenetrations, misses a side's load by more
+        than ``RESTART_MISS`` in |ln(F/Q)| (the S-shaped force of flange contact:
+        docs/tuning.md, section "Equilibrium").  False: as before.
     force_control : bool
         Balance a case with the exact models whose balanced sides have one patch
         each force-controlled (:func:`_force_controlled`, issue 30's design).
-        Measured slower than the general balance on the benchmark sweep (cold 58.7
-        against 50.3 ms, warm 39.9 against 28.5 ms per case: docs/tuning.md,
-        section "Equilibrium"), so off; kept for comparisons
-        (``benchmarks/run_all.py``, ``bench_force_controlled``).
+        Measured slower than the general balance on the benchmark sweep (cold 17.7
+        against 11.9 ms, warm 10.5 against 7.2 ms per case: more normal and
+        tangential solves for fewer passes; docs/tuning.md, section
+        "Equilibrium"), so off; kept for comparisons (``benchmarks/run_all.py``,
+        ``bench_force_controlled``).
     """
 
     compiled_start: bool = True
     extrapolate_ratio: float = EXTRAPOLATE_RATIO
     force_control: bool = False
+    hertz_start: bool = True
 
     def __post_init__(self):
-        for name in ("compiled_start", "force_control"):
+        for name in ("compiled_start", "force_control", "hertz_start"):
             if not isinstance(getattr(self, name), bool):
                 raise InputError(f"BalanceOptions.{name} = {shown(getattr(self, name))}: "
                                  "expected True or False")
@@ -310,6 +356,54 @@ def compiled_start(case, nmodel, tmodel, neighbour=None):
         return None
     return res if res.converged else None
 
+
+
+#: a warm-started case with the exact models whose first evaluation misses a side's
+#: load by more than this in |ln(F/Q)| starts again from :func:`hertz_estimate`
+#: (docs/tuning.md, section "Equilibrium")
+RESTART_MISS = 0.5
+
+
+def hertz_estimate(case, neighbour=None):
+    """The compiled pass's balance of the case with Hertz + FASTSIM
+    (:func:`railcontact.cases.compiled_case.solve_case_forces`), the start of a
+    case whose models it does not run (the exact ones): its interpenetrations,
+    roll, Jacobian and patches; ``neighbour`` (a neighbouring case's
+    :class:`SolveResult`) starts its search from that case's interpenetrations and
+    roll.  None where the pass does not run the case, the case asks for a conformal
+    contact surface, or the pass does not meet its loads."""
+    if compiled_unsupported(case, "hertz", "fastsim") or is_conformal(case):
+        return None             # (the pass's patches are planar)
+    start = None
+    if (neighbour is not None and neighbour.contact is not None
+            and set(neighbour.contact.interpenetration or ()) >= {"left", "right"}):
+        start = Neighbour(dict(neighbour.contact.interpenetration), neighbour.contact.pose.roll)
+    try:
+        res = solve_case_forces(case, "hertz", "fastsim", start=start)
+    except RailContactError as exc:
+        log.debug("compiled pass (Hertz + FASTSIM estimate): %s", exc)
+        return None
+    return res if res.converged else None
+
+
+def _hertz_restart(evaluate, start):
+    """A warm-started case's restart from :func:`hertz_estimate` where the first
+    evaluation (made here, at the balance's start) misses a side's load by more
+    than ``RESTART_MISS``: returns the compiled pass's result (``evaluate`` then
+    starts from its patches) or None (no restart; the first evaluation is kept
+    for the balance's first pass)."""
+    ev = evaluate(evaluate.start())
+    miss = max(abs(math.log(max(ev.forces[s], 1e-6 * q) / q)) for s, q in evaluate.loads.items()
+               if s in evaluate.sides)
+    if miss <= RESTART_MISS:
+        return None
+    est = hertz_estimate(evaluate.case, start)
+    if est is None:
+        return None
+    log.debug("first evaluation %.3g off the load: restarted from the compiled Hertz "
+              "balance", miss)
+    evaluate.restart(est)
+    return est
 
 
 #: searches of the force-controlled balance at most (:func:`_force_controlled`)
@@ -505,8 +599,18 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     """
     opt = DEFAULT_OPTIONS if options is None else options
     compiled = compiled_start(case, nmodel, tmodel, start) if opt.compiled_start else None
+    # the exact models (a lazy tangential model: its stand-in balance), coupled or not
+    hertz = (opt.compiled_start and opt.hertz_start and compiled is None
+             and tmodel is not None and "lazy" in tmodel.capabilities
+             and not opt.force_control)
+    if hertz and start is None:
+        compiled = hertz_estimate(case)
     evaluate = WheelRailContact(case, nmodel, tmodel, kw, start, compiled,
                                 opt.extrapolate_ratio)
+    restarted = 0
+    if hertz and start is not None and compiled is None and RESTART_MISS > 0:
+        compiled = _hertz_restart(evaluate, start)
+        restarted = int(compiled is not None)
     fc = None
     if opt.force_control and evaluate.lazy and "force-control" in nmodel.capabilities \
             and "warm-start" in tmodel.capabilities \
@@ -520,7 +624,8 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
         if compiled is not None:
             jac = compiled.jacobian
         ev, balance = solve_balance(evaluate, evaluate.start(), evaluate.loads, rtol,
-                                    max_iter, jacobian=jac)
+                                    max_iter - restarted, jacobian=jac)
+        balance.passes += restarted             # the evaluation before the restart
         balance.standin = evaluate.standin
         results, contact = ev.results, ev.contact
     if start is not None and start.contact is not None and start.contact.interpenetration:

@@ -96,6 +96,13 @@ JUMP_SLOPE = 100.0
 #: residual exceeds this times their difference
 COUPLING_SLOPE = 10.0
 
+#: the final evaluations (the tangential problems solved) start from the provisional
+#: steps' Jacobian with each diagonal entry at least this, d(ln F)/d(ln d) (Hertz's):
+#: on a flange's flat stretch the provisional steps learn a slope of 0.2-0.3, and the
+#: first final step from a stand-in error of some 9 % of the load then overshoots
+#: it 25-fold (docs/tuning.md, section "Equilibrium"); 0 turns it off
+FINAL_SLOPE = 1.0
+
 #: forces below this fraction of the load count as this fraction (ln 0 = -inf)
 FORCE_FLOOR = 1e-6
 
@@ -360,6 +367,7 @@ def _broyden(track, v, J):
             if not ev.final:                         # met by a provisional evaluation
                 ev, r = track.make_final(v, ev, r)
                 points, prev_r, older_r, held = [(v, r)], None, None, {}
+                J = _final_jacobian(J)
                 continue
             if off.any():                            # the others met, held at a jump:
                 track.best = (track.worst(ev), ev)   # this evaluation is the result
@@ -376,6 +384,7 @@ def _broyden(track, v, J):
             # a jump of the provisional force: evaluated again with the final forces
             ev, r = track.make_final(v, ev, r)
             points, prev_r, older_r, held = [(v, r)], None, None, {}
+            J = _final_jacobian(J)
             continue
         if held and all(s in held for s in np.flatnonzero(off)):
             return True, J                           # every side off the load jumps
@@ -398,7 +407,8 @@ def _broyden(track, v, J):
         track.final = track.final or switch
         ev, r_new, cand = _trial(track, v, cand)
         if switch:
-            points, prev_r, older_r = [], None, None    # afresh; J stays
+            points, prev_r, older_r = [], None, None    # afresh; J stays (floored)
+            J = _final_jacobian(J)
         elif np.any(cand != v):
             # Broyden's update, except across a jump (it would leave J garbage)
             dv = cand - v
@@ -408,6 +418,18 @@ def _broyden(track, v, J):
                 J = HERTZ_SLOPE * np.eye(n)
         older_r, prev_r, v, r = prev_r, r, cand, r_new
         points.append((v, r))
+
+
+def _final_jacobian(J):
+    """The Jacobian the final evaluations start from: the provisional steps' with
+    each diagonal entry at least ``FINAL_SLOPE`` (1.5 I where that leaves it
+    without a positive determinant)."""
+    if FINAL_SLOPE <= 0:
+        return J
+    out = J.copy()
+    d = np.diag(out)
+    np.fill_diagonal(out, np.maximum(d, FINAL_SLOPE))
+    return out if np.linalg.det(out) > 0 else HERTZ_SLOPE * np.eye(J.shape[0])
 
 
 def _newton(J, r, v, held, clip):

@@ -115,3 +115,52 @@ def test_balance_options_are_checked_where_they_enter():
         B.BalanceOptions(compiled_start=1)
     with pytest.raises(InputError, match="options"):
         rc.solve(_sweep_case(20), "hertz", "fastsim", options={"force_control": True})
+
+
+def _warm_start_case(j):
+    """Case j of the 1000-case sweep at 60 kN (tests/test_warm_start.py's), exact
+    models, 40 x 40 grid."""
+    from tests.test_warm_start import _sweep_raw
+    return rc.case_from_dict(_sweep_raw(j, grid=[40, 40]))
+
+
+def test_a_warm_flange_case_restarts_from_the_hertz_estimate():
+    """Sweep case 198 (6.34 mm, flange contact joining on the right wheel) started
+    from case 197: the extrapolated start lands on the other branch of the flange's
+    S-shaped force (its first evaluation 0.3 of the load off in ln F: beyond
+    RESTART_MISS), and the balance restarts from the compiled Hertz + FASTSIM
+    balance: 6 passes (the first evaluation counted) against 11, the same forces
+    within the grids' path (measured 50 N of sum F_n = 191 kN, 12 N of F_x)."""
+    from railcontact.cases.balance import BalanceOptions, RESTART_MISS
+    assert RESTART_MISS == 0.5
+    prev = rc.solve(_warm_start_case(197))
+    before = rc.solve(_warm_start_case(198), warm_start=prev,
+                      options=BalanceOptions(hertz_start=False))
+    after = rc.solve(_warm_start_case(198), warm_start=prev)
+    for res in (before, after):
+        assert res.converged and max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
+    assert after.balance.passes <= 7 < before.balance.passes
+    fn = [sum(p.normal.normal_force for p in r.patches) for r in (before, after)]
+    fx = [sum(p.tangential.fx for p in r.patches) for r in (before, after)]
+    assert abs(fn[1] - fn[0]) < 1e-3 * 1.2e5 and abs(fx[1] - fx[0]) < 5e-3 * 0.3 * 6e4
+
+
+def test_a_cold_exact_case_starts_from_the_compiled_patches(monkeypatch):
+    """A cold exact case starts at the compiled pass's balance with its patches (no
+    first contact search), the multi-Hertzian estimate's search otherwise; both meet
+    the loads with the same forces on the tread (sweep case 100, 1.2 mm)."""
+    from railcontact.cases import balance as B
+    searches = []
+    real = B.contact_search
+    monkeypatch.setattr(B, "contact_search", lambda *a, **k: searches.append(1) or real(*a, **k))
+    out = {}
+    for flag in (False, True):
+        searches.clear()
+        res = rc.solve(_warm_start_case(100), options=B.BalanceOptions(hertz_start=flag))
+        assert res.converged
+        out[flag] = (len(searches), res.balance.passes,
+                     sum(p.normal.normal_force for p in res.patches),
+                     sum(p.tangential.fx for p in res.patches))
+    assert out[True][0] < out[True][1] and out[False][0] == out[False][1]
+    assert out[True][2] == pytest.approx(out[False][2], rel=2e-4)
+    assert out[True][3] == pytest.approx(out[False][3], abs=5e-3 * 0.3 * 6e4)

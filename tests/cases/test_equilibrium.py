@@ -343,3 +343,33 @@ def test_extrapolate_start_linear_and_in_log():
     # the roll kept where the two rolls differ by more than EXTRAPOLATE_ROLL
     _, roll, done = extrapolate_start(d1, d0, 2.0, 1e-4, 1e-4 - 2 * EXTRAPOLATE_ROLL)
     assert done and roll == 1e-4
+
+
+def test_final_jacobian_floors_the_diagonal():
+    """The final evaluations start from the provisional Jacobian with each diagonal
+    entry at least FINAL_SLOPE (1.5 I where that leaves no positive determinant)."""
+    from railcontact.cases import equilibrium as E
+    assert E.FINAL_SLOPE == 1.0
+    J = np.array([[0.25, 0.1], [-0.2, 2.0]])
+    assert np.allclose(E._final_jacobian(J), [[1.0, 0.1], [-0.2, 2.0]])
+    assert np.allclose(E._final_jacobian(np.array([[0.2, 3.0], [3.0, 0.2]])), 1.5 * np.eye(2))
+
+
+def test_a_flat_provisional_force_does_not_overshoot_the_final_step(monkeypatch):
+    """Provisional forces flat in d (slope 0.25, as on a flange's flat stretch) and 2 %
+    above the final ones at their root: the provisional steps learn that slope, and
+    the first final step from a residual of -0.12 in ln F takes it to 1.81 of the
+    load without the floor, 1.43 with FINAL_SLOPE = 1."""
+    from railcontact.cases import equilibrium as E
+
+    def standin(d):
+        return ({s: 1.02 * Q[s] * (d[s] / ROOT[s]) ** 0.25 for s in SIDES},
+                {s: 1e-3 for s in SIDES})
+    peak = {}
+    for floor in (0.0, 1.0):
+        monkeypatch.setattr(E, "FINAL_SLOPE", floor)
+        f = Forces(hertz, standin)
+        ev, bal = balance(f, start(0.8), Q, 1e-4)
+        assert bal.converged and ev.final and residual(ev) <= 1e-4
+        peak[floor] = max(max(hertz(d)[s] / Q[s] for s in SIDES) for d, fin in f.calls if fin)
+    assert peak[0.0] > 1.7 and peak[1.0] < 1.5
