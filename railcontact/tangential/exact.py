@@ -572,9 +572,8 @@ def _initial_tractions(warm, x, y, contact, bound):
     if same_grid(warm.x, warm.y, x, y):
         tx, ty = -warm.traction_x, -warm.traction_y
     else:
-        X, Y = np.broadcast_arrays(x[:, None], y[None, :])
-        tx = -bilinear(warm.x, warm.y, warm.traction_x, X, Y)
-        ty = -bilinear(warm.x, warm.y, warm.traction_y, X, Y)
+        tx = -bilinear(warm.x, warm.y, warm.traction_x, x[:, None], y[None, :])
+        ty = -bilinear(warm.x, warm.y, warm.traction_y, x[:, None], y[None, :])
     return _bounded_start(np.ascontiguousarray(tx, dtype=float),
                           np.ascontiguousarray(ty, dtype=float), contact,
                           np.ascontiguousarray(bound, dtype=float))
