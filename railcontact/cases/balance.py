@@ -76,7 +76,7 @@ def _first_search(case, bodies, loads, sides, start, before=None,
                 d1, d0, EXTRAPOLATE_RATIO if ratio is None else ratio, roll,
                 before.roll if before is not None else math.nan)
             return contact_search(case, interpenetration=d1, bodies=bodies,
-                                  roll_start=roll, neighbour=start)
+                                  roll_start=roll)
     return contact_search(case, bodies=bodies, load_iterations=1)
 
 

@@ -55,16 +55,12 @@ def build_wheelset_track(case: Case):
 
 def contact_search(case: Case, interpenetration: dict | None = None,
                    bodies=None, roll_start: float = 0.0,
-                   load_iterations: int = 10,
-                   neighbour: WheelsetContact | None = None) -> WheelsetContact:
+                   load_iterations: int = 10) -> WheelsetContact:
     """Geometry layer only: wheelset position and contact patches of a wheel-rail case.
 
     ``bodies`` = (Wheelset, Track) built once by the caller, else built here;
     ``roll_start`` the roll [rad] where the search starts (an earlier search's);
-    ``load_iterations`` as in :func:`railcontact.geometry.find_contact`;
-    ``neighbour``: a neighbouring case's search (e.g. the previous case of a
-    sweep), whose compiled search's wheel samples the first search may start from
-    (:attr:`railcontact.geometry.search.SearchStart.neighbour`).
+    ``load_iterations`` as in :func:`railcontact.geometry.find_contact`.
     """
     s = wheel_rail_setup(case)
     ws, tr = bodies or build_wheelset_track(case)
@@ -78,4 +74,4 @@ def contact_search(case: Case, interpenetration: dict | None = None,
                         interpenetration=interpenetration, roll=s.roll,
                         side=s.side if s.roll is not None else "both",
                         start=SearchStart(roll_start if s.roll is None else 0.0,
-                                          load_iterations, neighbour=neighbour))
+                                          load_iterations))

@@ -67,8 +67,7 @@ from numba import njit
 from ..core.hertz_theory import _axes_table
 from ..geometry.locus import LOCUS_WINDOW  # noqa: F401  (documented neighbour)
 from ..geometry.search import ESTIMATE_WINDOW
-from ..geometry.wheel_pass import (LOCUS_MARGIN, M_GAPS, M_JOINS, MAX_PATCHES, MEMO_SHIFT,
-                                   MEMO_YAW, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
+from ..geometry.wheel_pass import (LOCUS_MARGIN, M_GAPS, M_JOINS, MAX_PATCHES, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
                                    P_B_FORCE, P_ETA, P_PHI, P_ROLLING_RADIUS, P_SIDE, P_VELOCITY, P_XI, P_Y,
                                    PATCH_FIELDS, PassPose, gap_candidates, make_patch,
                                    locus_curvatures, new_memo, pass_profiles, search_patches,
@@ -1180,6 +1179,11 @@ def case_pass_inputs(case, normal=None, tangential=None):
     loads = np.array([s.loads["left"], s.loads["right"]], float)
     return prof, pose, model, loads
 
+
+#: a case's search starts from its neighbour's wheel samples where their lateral
+#: shifts differ by at most this [m] and their yaws by at most ``MEMO_YAW`` [rad]
+MEMO_SHIFT = 5e-4
+MEMO_YAW = 1e-3
 
 #: a chain of cases extrapolates its start from the last two where their
 #: interpenetrations differ by less than this factor (smooth neighbours; else the

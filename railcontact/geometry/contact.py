@@ -195,12 +195,6 @@ class WheelsetContact:
         The vertical wheel load [N] of each side the search was given, else None.
     interpenetration : dict or None
         The vertical interpenetration [m] of each side the patches were cut at.
-    memo : numpy.ndarray or None
-        The compiled search's memo after this search
-        (:data:`railcontact.geometry.wheel_pass.MEMO_SIZE`: its loci's wheel samples
-        and minima), where a neighbouring case's first search may start
-        (:attr:`railcontact.geometry.search.SearchStart.neighbour`); None where the
-        search ran in Python.
 
     How the solve layer's vertical-force iteration ended is not the search's: see
     :class:`railcontact.cases.equilibrium.VerticalBalance`.
@@ -211,7 +205,6 @@ class WheelsetContact:
     loci: dict = field(repr=False, default_factory=dict)
     loads: dict | None = None
     interpenetration: dict | None = None
-    memo: np.ndarray | None = field(repr=False, default=None, compare=False)
 
     def side_patches(self, side: str) -> list:
         return [p for p in self.patches if p.side == side]

@@ -53,8 +53,7 @@ from .pose import REGION_MARGIN, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
 from .turning import turned_angles
-from .wheel_pass import (M_GAPS, MAX_PATCHES, MEMO_SHIFT, MEMO_YAW, NPF, P_SIDE, PassPose,
-                         new_memo, pass_profiles,
+from .wheel_pass import (MAX_PATCHES, NPF, P_SIDE, PassPose, new_memo, pass_profiles,
                          rows_contact, search_patches)
 
 
@@ -183,19 +182,11 @@ class SearchStart:
     (:func:`railcontact.geometry.wheel_pass.search_patches`, the same steps on the
     same locus kernel; on the benchmark sweep's poses its patches agree with this
     module's search to 4e-9 relative, positions to 1e-13 m); False: this module's
-    own search (for comparisons, ``tests/geometry/test_search.py``).
-    ``neighbour``: the :class:`WheelsetContact` of a neighbouring case's search
-    (e.g. the previous case of a sweep); where it keeps its compiled search's memo
-    (:attr:`WheelsetContact.memo`) and its lateral shift and yaw lie within
-    ``MEMO_SHIFT`` and ``MEMO_YAW`` of these, the first compiled search of this
-    case starts from its wheel samples, as the compiled case's does (each use
-    checks that they hold what it needs, else searches afresh: it changes the
-    work, and the result within the roll search's tolerance)."""
+    own search (for comparisons, ``tests/geometry/test_search.py``)."""
 
     roll: float = 0.0
     load_iterations: int = 10
     compiled_pass: bool = True
-    neighbour: WheelsetContact | None = None
 
 
 def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
@@ -290,7 +281,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     if interpenetration is not None and roll is None and start.compiled_pass:
         found = _pass_contact(wheelset, track, (lateral_shift, yaw, float(roll_start)), targets,
                               loads, (velocity, pitch_velocity, lateral_velocity, yaw_rate),
-                              rules, start.neighbour)
+                              rules)
         if found is not None:
             return found
     # the rigid pose under a load is only the start of the multi-Hertzian estimate:
@@ -340,79 +331,45 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     return WheelsetContact(pose, patches, loci, loads, targets)
 
 
-def _pass_contact(wheelset, track, keys, targets, loads, motion, rules, neighbour=None):
+def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
     """The :class:`WheelsetContact` of the compiled search
     (:attr:`SearchStart.compiled_pass`) at
     ``keys`` = (lateral shift [m], yaw [rad], start roll [rad]) under the
     interpenetrations ``targets`` [m], with each side's locus at the pose over its
     regions (as :func:`find_contact`'s, computed where read: :class:`SearchLoci`);
     None where the pass does not serve (then :func:`find_contact` searches itself,
-    and says why a pose is not found).  The case's successive searches keep the
-    search's memo (:func:`_pass_state`); the first starts from ``neighbour``'s
-    (:attr:`SearchStart.neighbour`) where it is near."""
+    and says why a pose is not found)."""
     if (wheelset.out_of_round is not None or rules.combine_distance != 0.0
             or rules.turn_distance > rules.combine_distance):
         return None
-    shift, yaw, roll0 = keys
-    state = _pass_state(wheelset, track, float(shift), float(yaw), neighbour)
-    if state.profiles is None:
+    prof = _pass_profiles(wheelset, track)
+    if prof is None:
         return None
-    # the roll search starts at roll0; the memo's windows of the case's last search
-    # (its loci's wheel samples and minima) serve where the roll is close to theirs
-    state.memo[0] = roll0
+    shift, yaw, roll0 = keys
     r0 = wheelset.nominal_radius
     pose = PassPose(float(shift), float(yaw), track.rail_offset("left"),
                     track.rail_offset("right"), wheelset.wheel_offset, r0, *motion, 0.0)
     out = np.zeros((2 * MAX_PATCHES, NPF))
-    m, z, roll = search_patches(state.profiles, pose,
-                                np.array([targets["left"], targets["right"]]), state.memo,
-                                out)
+    m, z, roll = search_patches(prof, pose, np.array([targets["left"], targets["right"]]),
+                                new_memo(roll0), out)
     if m < 0 or max(np.count_nonzero(out[:m, P_SIDE] == s) for s in (0, 1)) >= MAX_PATCHES:
-        state.memo[:] = new_memo(roll0)   # the next search of the case starts afresh
         return None                  # no pose, or regions beyond the pass's rows
     contact = rows_contact(out[:m], wheelset, track, WheelsetPose(shift, z, roll, yaw), loads,
                            targets)
     contact.loci = SearchLoci(wheelset, track, contact.pose,
                               {s: targets[s] + REGION_MARGIN for s in SIDES})
-    contact.memo = state.memo.copy()
     return contact
 
 
-@dataclass
-class _PassState:
-    """What the compiled searches of one case (one track, shift and yaw) carry over:
-    the track (held for the identity check), the profiles' :class:`PassProfiles`
-    (None where the sides' profiles differ) and the search's memo
-    (:data:`railcontact.geometry.wheel_pass.MEMO_SIZE`)."""
-
-    track: Track
-    profiles: object
-    memo: np.ndarray
-
-
-def _pass_state(wheelset, track, shift, yaw, neighbour=None) -> _PassState:
-    """The wheelset's :class:`_PassState` for this track, shift and yaw (in its
-    ``gap_memo``, beside the Python search's, bounded in size as that is): the
-    successive searches of a case's vertical balance keep the memo, as the
-    compiled case's balance does, instead of a fresh one per search (issue 30).
-    A new state's memo is ``neighbour``'s (a :class:`WheelsetContact`) where that
-    has one and lies within ``MEMO_SHIFT`` and ``MEMO_YAW``, else fresh."""
-    if len(wheelset.gap_memo) > 64:
-        wheelset.gap_memo.clear()
-    key = ("pass", shift, yaw)
-    state = wheelset.gap_memo.get(key)
-    if state is None or state.track is not track:
-        prof = next((v.profiles for v in wheelset.gap_memo.values()
-                     if isinstance(v, _PassState) and v.track is track), None)
-        memo = new_memo()
-        if (neighbour is not None and neighbour.memo is not None
-                and abs(neighbour.pose.lateral_shift - shift) <= MEMO_SHIFT
-                and abs(neighbour.pose.yaw - yaw) <= MEMO_YAW):
-            memo[:] = neighbour.memo
-            memo[M_GAPS] = 0.0
-        state = wheelset.gap_memo[key] = _PassState(
-            track, prof if prof is not None else pass_profiles(wheelset, track), memo)
-    return state
+def _pass_profiles(wheelset, track):
+    """The compiled search's :class:`~railcontact.geometry.wheel_pass.PassProfiles`
+    of a wheelset on a track (None where the sides' profiles differ), made once per
+    wheelset and track and kept in the wheelset's ``gap_memo`` (the track held, so
+    that the identity check is sound): a case's searches share them (issue 30)."""
+    hit = wheelset.gap_memo.get("pass profiles")
+    if hit is None or hit[0] is not track:
+        hit = wheelset.gap_memo["pass profiles"] = (track, pass_profiles(wheelset, track))
+    return hit[1]
 
 
 class SearchLoci(Mapping):

@@ -146,13 +146,6 @@ P_B_FORCE = 26
 #: at most this many patches per side
 MAX_PATCHES = 8
 
-#: a case's search starts from its neighbour's wheel samples (its memo) where their
-#: lateral shifts differ by at most this [m] and their yaws by at most ``MEMO_YAW``
-#: [rad] (the compiled case's, :func:`railcontact.cases.compiled_case.solve_case_forces`,
-#: and the geometry layer's, :class:`railcontact.geometry.search.SearchStart`)
-MEMO_SHIFT = 5e-4
-MEMO_YAW = 1e-3
-
 
 def new_memo(roll: float = 0.0, joins: bool = True) -> np.ndarray:
     """A fresh memo (:data:`MEMO_SIZE`) whose roll search starts at ``roll``;

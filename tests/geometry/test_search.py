@@ -126,49 +126,29 @@ def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeyp
     assert len(calls) == 3
 
 
-def test_a_search_starts_from_its_neighbours_memo():
-    """A case's compiled search keeps its memo over the case's searches and starts
-    from a neighbouring case's (SearchStart.neighbour, WheelsetContact.memo, issue
-    30): the same pose and patches as a fresh search to the roll search's tolerance,
-    with no more evaluations of the minimum gaps; a neighbour beyond MEMO_SHIFT is
-    not used.  The loci are computed where read (SearchLoci), those of the
-    geometry layer's own search."""
-    from railcontact.geometry.locus import Locus
+def test_compiled_search_computes_its_loci_where_read():
+    """The compiled search's loci (SearchLoci, issue 30) are computed where read:
+    those of compute_locus at the search's pose over the regions' window, exactly;
+    the pass's profiles are made once per wheelset and track."""
+    from railcontact.geometry import search
+    from railcontact.geometry.locus import compute_locus
+    from railcontact.geometry.pose import REGION_MARGIN
     from railcontact.geometry.search import SearchLoci
-    from railcontact.geometry.wheel_pass import M_GAPS, MEMO_SHIFT
-    rail = rail_profile("60E1", math.atan(1 / 40))
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
     d = {"left": 6e-5, "right": 9e-5}
-    near = find_contact(Wheelset(s1002()), Track(rail), 5.5e-3, 2e-3, vertical_force=7e4,
-                        interpenetration=d)
-    assert near.memo is not None and isinstance(near.loci, SearchLoci)
-    assert set(near.loci) == {"left", "right"} and isinstance(near.loci["left"], Locus)
-    shift = 5.5e-3 + 0.4 * MEMO_SHIFT
-    fresh = find_contact(Wheelset(s1002()), Track(rail), shift, 2e-3, vertical_force=7e4,
-                         interpenetration=d)
-    ws, tr = Wheelset(s1002()), Track(rail)
-    seeded = find_contact(ws, tr, shift, 2e-3, vertical_force=7e4,
-                          interpenetration=d, start=SearchStart(neighbour=near))
-    assert seeded.memo[M_GAPS] <= fresh.memo[M_GAPS]
-    assert abs(seeded.pose.roll - fresh.pose.roll) < 1e-12
-    assert abs(seeded.pose.vertical - fresh.pose.vertical) < 1e-12
-    assert len(seeded.patches) == len(fresh.patches) >= 2
-    for p, q in zip(seeded.patches, fresh.patches):
-        # the pose to 1e-12 (the roll search's tolerance) moves the weighted
-        # reference point by some 1e-12 m
-        assert p.approach == pytest.approx(q.approach, rel=1e-8, abs=1e-14)
-        assert np.allclose(p.position, q.position, rtol=0, atol=1e-11)
-    # the case's next search (its wheelset and track) keeps the memo
-    d2 = {"left": 6.2e-5, "right": 8.8e-5}
-    later = find_contact(ws, tr, shift, 2e-3, vertical_force=7e4, interpenetration=d2,
-                         start=SearchStart(roll=seeded.pose.roll))
-    cold = find_contact(Wheelset(s1002()), Track(rail), shift, 2e-3, vertical_force=7e4,
-                        interpenetration=d2, start=SearchStart(roll=seeded.pose.roll))
-    assert later.memo[M_GAPS] - seeded.memo[M_GAPS] <= cold.memo[M_GAPS]
-    assert abs(later.pose.roll - cold.pose.roll) < 1e-12
-    far = find_contact(Wheelset(s1002()), Track(rail), 5.5e-3 + 2 * MEMO_SHIFT, 2e-3,
-                       vertical_force=7e4, interpenetration=d,
-                       start=SearchStart(neighbour=near))
-    alone = find_contact(Wheelset(s1002()), Track(rail), 5.5e-3 + 2 * MEMO_SHIFT, 2e-3,
-                         vertical_force=7e4, interpenetration=d)
-    assert far.memo[M_GAPS] == alone.memo[M_GAPS]
-    assert far.pose.roll == alone.pose.roll
+    c = find_contact(ws, tr, 5.5e-3, 2e-3, vertical_force=7e4, interpenetration=d)
+    assert isinstance(c.loci, SearchLoci) and set(c.loci) == {"left", "right"}
+    assert not c.loci._loci                       # nothing computed yet
+    p = c.pose
+    for s in ("left", "right"):
+        ref = compute_locus(ws, tr, s, p.lateral_shift, p.vertical, p.roll, p.yaw,
+                            window=d[s] + REGION_MARGIN)
+        assert c.loci[s].samples == ref.samples
+        assert np.array_equal(c.loci[s].gap, ref.gap)
+        assert np.array_equal(c.loci[s].y_rail, ref.y_rail)
+    with pytest.raises(KeyError):
+        c.loci["middle"]
+    prof = search._pass_profiles(ws, tr)
+    assert search._pass_profiles(ws, tr) is prof
+    assert search._pass_profiles(ws, Track(rail_profile("60E1", math.atan(1 / 40)))) \
+        is not prof
