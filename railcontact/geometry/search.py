@@ -34,6 +34,7 @@ from __future__ import annotations
 
 import logging
 import math
+from collections.abc import Mapping
 from dataclasses import dataclass
 
 import numpy as np
@@ -335,12 +336,13 @@ def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
     (:attr:`SearchStart.compiled_pass`) at
     ``keys`` = (lateral shift [m], yaw [rad], start roll [rad]) under the
     interpenetrations ``targets`` [m], with each side's locus at the pose over its
-    regions (as :func:`find_contact`'s); None where the pass does not serve (then
-    :func:`find_contact` searches itself, and says why a pose is not found)."""
+    regions (as :func:`find_contact`'s, computed where read: :class:`SearchLoci`);
+    None where the pass does not serve (then :func:`find_contact` searches itself,
+    and says why a pose is not found)."""
     if (wheelset.out_of_round is not None or rules.combine_distance != 0.0
             or rules.turn_distance > rules.combine_distance):
         return None
-    prof = pass_profiles(wheelset, track)
+    prof = _pass_profiles(wheelset, track)
     if prof is None:
         return None
     shift, yaw, roll0 = keys
@@ -354,9 +356,51 @@ def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
         return None                  # no pose, or regions beyond the pass's rows
     contact = rows_contact(out[:m], wheelset, track, WheelsetPose(shift, z, roll, yaw), loads,
                            targets)
-    contact.loci = {s: compute_locus(wheelset, track, s, shift, z, roll, yaw,
-                                     window=targets[s] + REGION_MARGIN) for s in SIDES}
+    contact.loci = SearchLoci(wheelset, track, contact.pose,
+                              {s: targets[s] + REGION_MARGIN for s in SIDES})
     return contact
+
+
+def _pass_profiles(wheelset, track):
+    """The compiled search's :class:`~railcontact.geometry.wheel_pass.PassProfiles`
+    of a wheelset on a track (None where the sides' profiles differ), made once per
+    wheelset and track and kept in the wheelset's ``gap_memo`` (the track held, so
+    that the identity check is sound): a case's searches share them (issue 30)."""
+    hit = wheelset.gap_memo.get("pass profiles")
+    if hit is None or hit[0] is not track:
+        hit = wheelset.gap_memo["pass profiles"] = (track, pass_profiles(wheelset, track))
+    return hit[1]
+
+
+class SearchLoci(Mapping):
+    """The contact locus of each side (``side`` -> :class:`Locus`) of a compiled
+    search at ``pose`` over the wheel samples within ``window`` [m] per side of the
+    closest approach, computed where first read (:func:`compute_locus`, the same
+    loci as :func:`find_contact`'s): the solvers read the patches alone, so a
+    case's balance does not compute them per search (issue 30)."""
+
+    def __init__(self, wheelset, track, pose, window):
+        self._args = (wheelset, track, pose)
+        self._window = dict(window)
+        self._loci = {}
+
+    def __getitem__(self, side):
+        if side not in self._window:
+            raise KeyError(side)
+        if side not in self._loci:
+            ws, tr, p = self._args
+            self._loci[side] = compute_locus(ws, tr, side, p.lateral_shift, p.vertical,
+                                             p.roll, p.yaw, window=self._window[side])
+        return self._loci[side]
+
+    def __iter__(self):
+        return iter(self._window)
+
+    def __len__(self):
+        return len(self._window)
+
+    def __repr__(self):
+        return f"SearchLoci({sorted(self._window)})"
 
 
 def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,

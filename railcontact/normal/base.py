@@ -259,8 +259,18 @@ def bilinear(x, y, f, xq, yq) -> np.ndarray:
     onto its grid several times per case).  ``map_coordinates`` itself was measured
     (issue 29) 1.9x to 4.8x slower per call on 30 x 30 to 120 x 120 grids and 10 %
     slower on FASTSIM over an exact pressure (``pressure_at``), so it stays the
-    reference of the tests."""
-    xq, yq = np.broadcast_arrays(np.asarray(xq, float), np.asarray(yq, float))
+    reference of the tests.  Points on grid lines, ``xq`` of shape (n, 1) and ``yq``
+    of shape (1, m) (another grid's centres, as a warm start asks), are
+    interpolated line by line (:func:`_bilinear_lines`: the same arithmetic, no
+    broadcast arrays; issue 30)."""
+    xq, yq = np.asarray(xq, float), np.asarray(yq, float)
+    if xq.ndim == 2 and yq.ndim == 2 and xq.shape[1] == 1 and yq.shape[0] == 1:
+        out = np.empty((xq.shape[0], yq.shape[1]))
+        _bilinear_lines(np.ascontiguousarray(f, dtype=float),
+                        np.ascontiguousarray((xq[:, 0] - x[0]) / (x[1] - x[0])),
+                        np.ascontiguousarray((yq[0] - y[0]) / (y[1] - y[0])), out)
+        return out
+    xq, yq = np.broadcast_arrays(xq, yq)
     u = ((xq - x[0]) / (x[1] - x[0])).ravel()
     v = ((yq - y[0]) / (y[1] - y[0])).ravel()
     out = np.empty(u.size)
@@ -269,18 +279,31 @@ def bilinear(x, y, f, xq, yq) -> np.ndarray:
 
 
 @njit(cache=True, nogil=True)
+def _bilinear_lines(f, u, v, out):
+    """out[i, j] = f bilinear at the fractional indices (u[i], v[j]) (the lines of
+    another grid); 0 outside the grid of centres."""
+    for i in range(u.size):
+        for j in range(v.size):
+            out[i, j] = _bilinear_at(f, u[i], v[j])
+
+
+@njit(cache=True, nogil=True)
+def _bilinear_at(f, a, b):
+    """f bilinear at the fractional index (a, b); 0 outside the grid of centres."""
+    mx, my = f.shape
+    if not (0.0 <= a <= mx - 1 and 0.0 <= b <= my - 1):
+        return 0.0
+    i = min(int(a), mx - 2)
+    j = min(int(b), my - 2)
+    a -= i
+    b -= j
+    return ((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1])
+            + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))
+
+
+@njit(cache=True, nogil=True)
 def _bilinear_kernel(f, u, v, out):
     """out[k] = f bilinear at the fractional indices (u[k], v[k]); 0 outside the
     grid of centres."""
-    mx, my = f.shape
     for k in range(u.size):
-        a, b = u[k], v[k]
-        if not (0.0 <= a <= mx - 1 and 0.0 <= b <= my - 1):
-            out[k] = 0.0
-            continue
-        i = min(int(a), mx - 2)
-        j = min(int(b), my - 2)
-        a -= i
-        b -= j
-        out[k] = ((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1])
-                  + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))
+        out[k] = _bilinear_at(f, u[k], v[k])

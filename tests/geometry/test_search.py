@@ -124,3 +124,31 @@ def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeyp
     find_contact(ws, tr, 5.5e-3, 2e-3, vertical_force=7e4, interpenetration=d,
                  rules=PatchRules(turn_distance=0.02))
     assert len(calls) == 3
+
+
+def test_compiled_search_computes_its_loci_where_read():
+    """The compiled search's loci (SearchLoci, issue 30) are computed where read:
+    those of compute_locus at the search's pose over the regions' window, exactly;
+    the pass's profiles are made once per wheelset and track."""
+    from railcontact.geometry import search
+    from railcontact.geometry.locus import compute_locus
+    from railcontact.geometry.pose import REGION_MARGIN
+    from railcontact.geometry.search import SearchLoci
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    d = {"left": 6e-5, "right": 9e-5}
+    c = find_contact(ws, tr, 5.5e-3, 2e-3, vertical_force=7e4, interpenetration=d)
+    assert isinstance(c.loci, SearchLoci) and set(c.loci) == {"left", "right"}
+    assert not c.loci._loci                       # nothing computed yet
+    p = c.pose
+    for s in ("left", "right"):
+        ref = compute_locus(ws, tr, s, p.lateral_shift, p.vertical, p.roll, p.yaw,
+                            window=d[s] + REGION_MARGIN)
+        assert c.loci[s].samples == ref.samples
+        assert np.array_equal(c.loci[s].gap, ref.gap)
+        assert np.array_equal(c.loci[s].y_rail, ref.y_rail)
+    with pytest.raises(KeyError):
+        c.loci["middle"]
+    prof = search._pass_profiles(ws, tr)
+    assert search._pass_profiles(ws, tr) is prof
+    assert search._pass_profiles(ws, Track(rail_profile("60E1", math.atan(1 / 40)))) \
+        is not prof
