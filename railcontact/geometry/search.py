@@ -48,7 +48,7 @@ from .contact import ContactGeometry, WheelsetContact, interaction_factor  # noq
 from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
 from .locus import Locus, compute_locus
-from .patch_curvature import force_curvature
+from .patch_curvature import at_fraction, deepest_fraction, force_curvature
 from .pose import REGION_MARGIN, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
@@ -449,7 +449,13 @@ def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
                                                x_ref - float(loc.origin[0]))
     # curvatures at the deepest point, in the patch's tangent-plane coordinates
     sgn = 1.0 if side == "right" else -1.0
-    Pm = np.array([loc.point[0, im], y_off + loc.y_rail[im], float(rail.z_at(loc.y_rail[im]))])
+    # the locus's minimum between the samples (continuous in the pose; as the
+    # compiled pass, wheel_pass.make_patch)
+    gl = np.ascontiguousarray(loc.gap, dtype=float)
+    f = float(deepest_fraction(gl, im))
+    y_min = float(at_fraction(np.ascontiguousarray(loc.y_rail, dtype=float), im, f))
+    x_min = float(at_fraction(np.ascontiguousarray(loc.point[0], dtype=float), im, f))
+    Pm = np.array([x_min, y_off + y_min, float(rail.z_at(y_min))])
     d = Pm - C
     x_m = float(d[0])
     y_m = sgn * float(d @ gapf.t)
@@ -465,7 +471,8 @@ def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
         h_m = math.nan
     approach = -h_m
     # robust fallback: vertical interpenetration of the deepest locus point projected on n
-    vertical = -float(loc.gap[im]) * math.cos(math.atan(float(loc.slope[im])))
+    vertical = -float(loc.gap[im]) * math.cos(math.atan(float(at_fraction(
+        np.ascontiguousarray(loc.slope, dtype=float), im, f))))
     if not math.isfinite(approach) or (approach <= 0.0 < vertical):
         approach = vertical
     approach = max(0.0, approach)

@@ -44,7 +44,8 @@ from .gap import DEEPEST_GAP, FD_STEP, PatchFrame, Spline, _gap_kernel
 from .locus import (LOCUS_STEP, _locus_kernel, _min_gap_kernel, _slopes_at, _slopes_for,
                     _slopes_part, _wheel_samples)
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
-from .patch_curvature import force_curvature, region_curvature  # noqa: F401 (re-exported)
+from .patch_curvature import (at_fraction, deepest_fraction, force_curvature,  # noqa: F401
+                              region_curvature)
 from .regions import GAP_WEIGHT
 
 #: the profiles of a wheelset on its track, one wheel and one rail profile (right
@@ -630,9 +631,12 @@ def make_patch(prof, pose, s, loc, i0, i1, z, roll, row):
     L1 = R[0, 1] * (C[0] - O[0]) + R[1, 1] * (C[1] - O[1]) + R[2, 1] * (C[2] - O[2])
     y_w = L1 - pose.e
     z_w, _, _ = ppoly_at(y_w, prof.wb, prof.wc, -1)
-    zr_m, _, _ = ppoly_at(yr[im], prof.rb, prof.rc, -1)
-    d0 = P[0, im] - C[0]
-    d1 = y_off + yr[im] - C[1]
+    # the locus's minimum between the samples (continuous in the pose)
+    f = deepest_fraction(gap, im)
+    y_min = at_fraction(yr, im, f)
+    zr_m, _, _ = ppoly_at(y_min, prof.rb, prof.rc, -1)
+    d0 = at_fraction(P[0], im, f) - C[0]
+    d1 = y_off + y_min - C[1]
     d2 = zr_m - C[2]
     x_m = d0
     y_m = d1 * t[1] + d2 * t[2]
@@ -641,7 +645,7 @@ def make_patch(prof, pose, s, loc, i0, i1, z, roll, row):
         A, B, _ = _curvatures(0.0, 0.0, C, t, nv, y_off, R, O, pose, prof)
         h_m = math.nan
     approach = -h_m
-    vertical = -gap[im] * math.cos(math.atan(slope[im]))
+    vertical = -gap[im] * math.cos(math.atan(at_fraction(slope, im, f)))
     if not math.isfinite(approach) or (approach <= 0.0 < vertical):
         approach = vertical
     approach = max(0.0, approach)

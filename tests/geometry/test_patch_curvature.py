@@ -74,3 +74,31 @@ def test_region_depth():
     im, d = region_depth(gap, 1, 5)
     assert im == 3 and d == 3e-6
     assert region_depth(np.array([1e-6, 2e-6]), 0, 1) == (0, -1e-6)
+
+
+def test_the_deepest_fraction_is_the_parabolas_vertex_and_continuous():
+    """On a parabola sampled every 25 um the vertex is recovered exactly (closed
+    form), and where the deepest sample passes to its neighbour (their gaps equal)
+    both give the point half-way between them: the interpolated point does not jump."""
+    from railcontact.geometry.patch_curvature import (at_fraction, deepest_fraction,
+                                                      deepest_slope)
+    y = np.arange(0.0, 5e-4, 2.5e-5)
+    for y0 in (1.51e-4, 1.62e-4, 1.6249e-4):
+        gap = -1e-4 + 3.0 * (y - y0) ** 2
+        im = int(np.argmin(gap))
+        f = deepest_fraction(gap, im)
+        assert -0.5 <= f <= 0.5
+        assert at_fraction(y, im, f) == pytest.approx(y0, abs=1e-12)
+        # a linear slope along the samples is interpolated exactly
+        assert deepest_slope(gap, 0.2 + 40.0 * y, im) == pytest.approx(0.2 + 40.0 * y0,
+                                                                       abs=1e-9)
+    # the switch: samples 6 and 7 equally deep, an asymmetric gap about them
+    gap = -1e-4 + 3.0 * (y - 1.625e-4) ** 2 + 50.0 * (y - 1.625e-4) ** 3
+    gap[7] = gap[6]
+    assert deepest_fraction(gap, 6) == pytest.approx(0.5)
+    assert deepest_fraction(gap, 7) == pytest.approx(-0.5)
+    assert at_fraction(y, 6, 0.5) == pytest.approx(at_fraction(y, 7, -0.5), abs=1e-15)
+    # the locus's ends and samples without a gap: the deepest sample itself
+    assert deepest_fraction(gap, 0) == 0.0
+    gap[5] = np.inf
+    assert deepest_fraction(gap, 6) == 0.0
