@@ -175,17 +175,10 @@ class SearchStart:
     the fixed-point iterations between the multi-Hertzian interpenetrations and the
     wheelset position under a vertical force (they stop earlier when the
     interpenetrations change by less than 1 nm; one gives a first estimate, what
-    :func:`railcontact.solve` needs); ``compiled_pass``: under prescribed
-    interpenetrations with a free roll (one patch per region, no turning, round
-    wheels with the same profiles on both sides) search in the compiled pass
-    (:func:`railcontact.geometry.wheel_pass.search_patches`, the same steps on the
-    same locus kernel; on the benchmark sweep's poses its patches agree with this
-    module's search to 4e-9 relative, positions to 1e-13 m); False: this module's
-    own search (for comparisons, ``tests/geometry/test_search.py``)."""
+    :func:`railcontact.solve` needs)."""
 
     roll: float = 0.0
     load_iterations: int = 10
-    compiled_pass: bool = True
 
 
 def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
@@ -222,9 +215,18 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     side : {"both", "left", "right"}
         Wheels to consider; a prescribed roll needs "left" or "right".
     start : SearchStart, optional
-        The roll where the search starts, the limit of the load iterations and
-        whether the compiled pass searches where it can (default: roll 0, 10
-        iterations, the compiled pass).
+        The roll where the search starts and the limit of the load iterations
+        (default: roll 0, 10 iterations).
+
+    Notes
+    -----
+    Under prescribed interpenetrations with a free roll, one patch per region
+    (``rules.combine_distance`` 0), no turning and round wheels with the same
+    profiles on both sides, the compiled pass searches
+    (:func:`railcontact.geometry.wheel_pass.search_patches`: the same steps on the
+    same locus kernel; on the benchmark sweep's poses its patches agree with this
+    module's own search to 4e-9 relative, positions to 1e-13 m); every other search
+    runs here.
     """
     motion = motion or WheelsetMotion()
     rules = rules or PatchRules()
@@ -235,9 +237,6 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                                                    rules.full_interaction_distance)
     turn_distance, separation_angle = rules.turn_distance, rules.separation_angle
     roll_start, load_iterations = start.roll, start.load_iterations
-    if not isinstance(start.compiled_pass, bool):
-        raise InputError(f"SearchStart.compiled_pass = {start.compiled_pass!r}: expected "
-                         "True or False")
     for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
                          ("wheelset.yaw", yaw, 0.1)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and abs(v) <= lim):
@@ -277,7 +276,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         if not all(math.isfinite(v) and v >= 0 for v in targets.values()):
             raise InputError(f"interpenetration = {interpenetration!r}: expected values >= 0 m")
         loads = loads or {s: math.nan for s in SIDES}
-    if interpenetration is not None and roll is None and start.compiled_pass:
+    if interpenetration is not None and roll is None:
         found = _pass_contact(wheelset, track, (lateral_shift, yaw, float(roll_start)), targets,
                               loads, (velocity, pitch_velocity, lateral_velocity, yaw_rate),
                               rules)
@@ -331,8 +330,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
 
 
 def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
-    """The :class:`WheelsetContact` of the compiled search
-    (:attr:`SearchStart.compiled_pass`) at
+    """The :class:`WheelsetContact` of the compiled search at
     ``keys`` = (lateral shift [m], yaw [rad], start roll [rad]) under the
     interpenetrations ``targets`` [m], with each side's locus at the pose over its
     regions (as :func:`find_contact`'s); None where the pass does not serve (then

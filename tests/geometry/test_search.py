@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from railcontact.geometry import Track, Wheelset, find_contact
-from railcontact.geometry.search import SearchStart
+from railcontact.geometry.search import PatchRules, SearchStart
 from railcontact.profiles import rail_profile, s1002
 
 
@@ -55,8 +55,6 @@ def test_load_iterations_and_roll_start():
         find_contact(ws, tr, vertical_force=6e4, start=SearchStart(load_iterations=0))
     with pytest.raises(InputError, match="roll_start"):
         find_contact(ws, tr, vertical_force=6e4, start=SearchStart(0.5))
-    with pytest.raises(InputError, match="compiled_pass"):
-        find_contact(ws, tr, interpenetration=d, start=SearchStart(compiled_pass=1))
 
 
 @pytest.mark.parametrize("shift, candidates", [(1e-3, 1), (4.75e-3, 2), (5e-3, 2)])
@@ -85,14 +83,21 @@ def test_multi_hertzian_approach_carries_the_load(shift, candidates):
     assert 1e-5 < d < 1e-3
 
 
+#: rules that send find_contact to the geometry layer's own search with the results of
+#: one patch per region: a combine distance (1 nm) below the locus's sample spacing
+OWN_SEARCH = PatchRules(combine_distance=1e-9)
+
+
 @pytest.mark.parametrize("locus", ["lowest", "contact"])
 def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeypatch):
     """Under prescribed interpenetrations find_contact runs the compiled pass's search
-    (wheel_pass.search_patches, SearchStart.compiled_pass): the same patches and loci
-    as its own search to round-off (the same locus kernel), on tread, two-point and flange
-    contact with yaw; with patch turning it searches itself."""
+    (wheel_pass.search_patches): the same patches and loci as the geometry layer's own
+    search to round-off (the same locus kernel), on tread, two-point and flange contact
+    with yaw; with patch turning it searches itself.  The own search is the one every
+    case that combines regions runs (every .inp case): a combine distance below the
+    locus's sample spacing (OWN_SEARCH) combines none, so its patches are those of
+    one patch per region."""
     from railcontact.geometry import search, wheel_pass
-    from railcontact.geometry.search import PatchRules
     ws, tr = Wheelset(s1002(), locus=locus), Track(rail_profile("60E1", math.atan(1 / 40)))
     calls = []
     monkeypatch.setattr(search, "search_patches",
@@ -102,7 +107,7 @@ def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeyp
         d = {"left": d[0], "right": d[1]}
         a = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d)
         b = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d,
-                         start=SearchStart(compiled_pass=False))
+                         rules=OWN_SEARCH)
         assert abs(a.pose.roll - b.pose.roll) < 1e-12
         assert abs(a.pose.vertical - b.pose.vertical) < 1e-12
         assert len(a.patches) == len(b.patches) >= 2
