@@ -100,6 +100,9 @@ def _module1_deviations(rows, ref, cases=None):
             if p["fn_N"] < 0.1 * load:
                 small = max(small, abs(r["fn_N"] / p["fn_N"] - 1))
                 continue
+            # CONTACT's printed mu; with friction varying across the patch the
+            # largest it prints (docs/conventions.md, "The friction coefficient of a
+            # patch's figures")
             mu = float(p.get("mu") or r.get("mu") or 0.3)
             scale = mu * p["fn_N"]
             worst["fn"] = max(worst["fn"], abs(r["fn_N"] / p["fn_N"] - 1))
