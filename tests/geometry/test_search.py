@@ -129,3 +129,56 @@ def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeyp
     find_contact(ws, tr, 5.5e-3, 2e-3, vertical_force=7e4, interpenetration=d,
                  rules=PatchRules(turn_distance=0.02))
     assert len(calls) == 3
+
+
+@pytest.mark.parametrize("locus", ["lowest", "contact"])
+def test_prescribed_roll_searches_in_the_compiled_pass(locus, monkeypatch):
+    """Under a prescribed roll (one wheel, CONTACT's single-wheel mode: every .inp
+    wheel-rail case) find_contact's pose comes from the compiled pass's kernels
+    (search._fixed_roll_pose: the side's minimum gap once per case and roll, the locus
+    from the pass's memo of the case) and its patches are those of the geometry
+    layer's own pose search (solve_pose, reached where the pass does not serve) to
+    round-off: a sequence of interpenetrations as a balance makes them, on tread,
+    two-point and flange contact with yaw, with CONTACT's rules of combining regions
+    (8 mm) and turning them (12 mm), under a load and rigidly."""
+    from railcontact.geometry import search
+    rail = rail_profile("60E1", math.atan(1 / 40))
+    rules = PatchRules(8e-3, 4e-3, 12e-3)
+    calls = []
+    real = search._fixed_roll_pose
+    monkeypatch.setattr(search, "_fixed_roll_pose",
+                        lambda *a: calls.append(1) or real(*a))
+    for shift, yaw, roll, side in ((0.0, 0.0, 0.0, "right"), (5.5e-3, 2e-3, 1e-3, "right"),
+                                   (-6e-3, -4e-3, -1.5e-3, "left")):
+        runs = []
+        for own in (False, True):
+            ws, tr = Wheelset(s1002(), locus=locus), Track(rail)   # fresh memos
+            if own:
+                monkeypatch.setattr(search, "pass_profiles", lambda *a: None)
+            before = len(calls)
+            out = [find_contact(ws, tr, shift, yaw, vertical_force=7e4, roll=roll, side=side,
+                                rules=rules)]
+            out += [find_contact(ws, tr, shift, yaw, roll=roll, side=side, rules=rules,
+                                 interpenetration={side: d})
+                    for d in (6e-5, 9e-5, 7.5e-5, 7.6e-5, 1.2e-4)]
+            out.append(find_contact(ws, tr, shift, yaw, roll=roll, side=side, rules=rules))
+            # every search in the pass (the estimate's iterations too), none in the own
+            assert len(calls) - before >= len(out) if not own else len(calls) == before
+            runs.append(out)
+            monkeypatch.undo()
+            monkeypatch.setattr(search, "_fixed_roll_pose",
+                                lambda *a: calls.append(1) or real(*a))
+        for a, b in zip(*runs):
+            assert a.pose.roll == b.pose.roll
+            assert a.pose.vertical == pytest.approx(b.pose.vertical, abs=1e-13)
+            assert len(a.patches) == len(b.patches) >= 1
+            for p, q in zip(a.patches, b.patches):
+                assert p.side == q.side == side
+                assert np.allclose(p.position, q.position, rtol=0, atol=1e-12)
+                assert p.approach == pytest.approx(q.approach, rel=1e-9, abs=1e-15)
+                assert np.allclose(p.curvatures, q.curvatures, rtol=1e-8)
+                assert p.contact_angle == pytest.approx(q.contact_angle, abs=1e-12)
+                assert np.allclose(p.creepage, q.creepage, rtol=1e-9, atol=1e-13)
+                assert len(p.interaction) == len(q.interaction)
+                assert np.allclose(np.reshape(p.interaction, -1), np.reshape(q.interaction, -1),
+                                   rtol=0, atol=1e-12)
