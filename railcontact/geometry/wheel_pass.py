@@ -24,7 +24,9 @@ definitions, so that the two give the same patches to their tolerances:
 
 The rigid-contact case, the turning of nearby patches' angles and profiles that
 differ between the sides are not here: their searches run in Python
-(:func:`railcontact.geometry.find_contact`).
+(:func:`railcontact.geometry.find_contact`).  Under a prescribed roll (one wheel)
+:func:`~railcontact.geometry.find_contact` takes the pose and the locus from
+:func:`side_min_gap` and :func:`side_locus` and makes the patches itself.
 
 Inputs are named tuples (:class:`PassProfiles`, :class:`PassPose`) and a small
 float array (the memo of the search, :data:`MEMO_SIZE`), so that every kernel takes
