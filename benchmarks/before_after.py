@@ -11,7 +11,8 @@ lines.
 
 SECTION is a ``bench_*`` function of run_all.py without its prefix, e.g.
 ``hertz_fastsim`` (default: hertz_fastsim, exact_module3, exact_wheel_rail,
-dynamics).  Example: ``before_after.py 7dc4656 3 hertz_fastsim`` for issue 29's
+dynamics), or a name of :data:`CALLS` (``compiled_sweep``, ``compiled_strips``:
+the sweeps of ``benchmarks/compiled_case.py``).  Example: ``before_after.py 7dc4656 3 hertz_fastsim`` for issue 29's
 layout against the main it started from.
 """
 
@@ -27,7 +28,12 @@ from pathlib import Path
 ROOT = Path(__file__).resolve().parents[1]
 DEFAULT = ("hertz_fastsim", "exact_module3", "exact_wheel_rail", "dynamics")
 #: sections that take the result of another
-CALLS = {"hertz_fastsim": "t = run_all.bench_hertz_fastsim(); run_all.bench_contact_sweep(t)"}
+CALLS = {"hertz_fastsim": "t = run_all.bench_hertz_fastsim(); run_all.bench_contact_sweep(t)",
+         # benchmarks/compiled_case.py's sweeps (the compiled pass), printed
+         "compiled_sweep": "import compiled_case as c; "
+                           "c.bench_compiled_sweep(print, run_all.conv_time)",
+         "compiled_strips": "import compiled_case as c; "
+                            "c.bench_strip_sweep(print, run_all.conv_time)"}
 
 
 def run(tree: Path, section: str) -> tuple[float, str]:

@@ -9,6 +9,12 @@ the shared machine's scheduling pauses out); the timings of the paths compared a
 interleaved in blocks of 50 cases, so that a slower phase of the (shared) machine
 falls on all of them alike, and each is also given in units of one real FFT
 convolution of the exact solvers' padded 80 x 80 grid measured between the blocks.
+
+The code before a change is timed from its commit, each tree in a process of its
+own, alternating (no switch in the package keeps an old path alive for it):
+``python benchmarks/before_after.py REF 2 compiled_sweep`` runs
+:func:`bench_compiled_sweep` at ``REF`` and on this checkout (``compiled_strips``:
+:func:`bench_strip_sweep`).
 """
 
 from __future__ import annotations
@@ -58,8 +64,8 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
     for law in laws:
         solve_case_forces(cases[0], "hertz", law)                  # compile / load
     rc.solve(cases[0], "hertz", "fastsim")
-    keys = [f"cold_{law}" for law in laws] + ["best3_fastsim", "warm_fastsim", "cold_nojoins",
-                                              "warm_nojoins", "solve_after", "solve_before"]
+    keys = [f"cold_{law}" for law in laws] + ["best3_fastsim", "warm_fastsim", "solve_after",
+                                              "solve_before"]
     t = {k: np.zeros(n) for k in keys}
     ok = {k: np.zeros(n, bool) for k in keys}
     passes = {k: np.zeros(n) for k in keys}
@@ -67,9 +73,8 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
     pose = {k: np.zeros(n) for k in keys}
     gaps = {k: np.zeros(n) for k in keys}
     dev_fn, dev_fy = [], []
-    dev_joins = {"fn": [], "fy": []}
     conv = []
-    prev = {True: None, False: None}
+    prev = None
     for b0 in range(0, n, 50):
         block = range(b0, min(b0 + 50, n))
         conv.append(conv_time(repeat=3, number=100)[0])
@@ -83,19 +88,6 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
                 pose[f"cold_{law}"][i], gaps[f"cold_{law}"][i] = r.pose_passes, r.gap_evaluations
                 if law == "fastsim":
                     cold[i] = r
-        for i in block:                 # before: no handling of joining regions
-            t0 = time.process_time()
-            r = solve_case_forces(cases[i], "hertz", "fastsim", joins=False)
-            t["cold_nojoins"][i] = time.process_time() - t0
-            ok["cold_nojoins"][i], passes["cold_nojoins"][i] = r.converged, r.passes
-            pose["cold_nojoins"][i], gaps["cold_nojoins"][i] = r.pose_passes, r.gap_evaluations
-            if r.converged and cold[i].converged:
-                for side in ("left", "right"):
-                    for name, scale, key in (("normal_force", 7e4, "fn"), ("fy", 0.3 * 7e4, "fy")):
-                        a = sum(f for sd, f in zip(cold[i].side, cold[i].patches[name])
-                                if sd == side)
-                        b = sum(f for sd, f in zip(r.side, r.patches[name]) if sd == side)
-                        dev_joins[key].append(abs(a - b) / scale)
         for i in block:                 # the same, best of 3: the machine's hiccups out
             best = math.inf
             for _ in range(3):
@@ -104,14 +96,13 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
                 best = min(best, time.process_time() - t0)
             t["best3_fastsim"][i], ok["best3_fastsim"][i] = best, r.converged
             passes["best3_fastsim"][i] = r.passes
-        for key, joins in (("warm_fastsim", True), ("warm_nojoins", False)):
-            for i in block:
-                t0 = time.process_time()
-                r = solve_case_forces(cases[i], start=prev[joins], joins=joins)
-                t[key][i] = time.process_time() - t0
-                ok[key][i], passes[key][i] = r.converged, r.passes
-                pose[key][i], gaps[key][i] = r.pose_passes, r.gap_evaluations
-                prev[joins] = r if r.converged else None
+        for i in block:
+            t0 = time.process_time()
+            r = solve_case_forces(cases[i], start=prev)
+            t["warm_fastsim"][i] = time.process_time() - t0
+            ok["warm_fastsim"][i], passes["warm_fastsim"][i] = r.converged, r.passes
+            pose["warm_fastsim"][i], gaps["warm_fastsim"][i] = r.pose_passes, r.gap_evaluations
+            prev = r if r.converged else None
         for key, flag in (("solve_after", True), ("solve_before", False)):
             opts = BalanceOptions(compiled_start=flag)
             for i in block:
@@ -143,9 +134,6 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
     labels = {"cold_fastsim": "compiled Hertz + FASTSIM, cold (multi-Hertzian start)",
               "best3_fastsim": "the same, each case's best of 3 runs",
               "warm_fastsim": "compiled Hertz + FASTSIM, warm (from the previous case)",
-              "cold_nojoins": "the same, cold, before: no handling of joining regions "
-                              "(`joins=False`)",
-              "warm_nojoins": "the same, warm, before (`joins=False`)",
               "cold_polach": "compiled Hertz + Polach, cold",
               "cold_linear": "compiled Hertz + linear, cold",
               "solve_after": "`rc.solve` Hertz + FASTSIM (full results), balance from the "
@@ -153,8 +141,7 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
               "solve_before": "`rc.solve` Hertz + FASTSIM (full results), before: the "
                               "geometry layer's estimate"}
     figures = {}
-    compiled = ("cold_fastsim", "best3_fastsim", "warm_fastsim", "cold_nojoins", "warm_nojoins",
-                "cold_polach", "cold_linear")
+    compiled = ("cold_fastsim", "best3_fastsim", "warm_fastsim", "cold_polach", "cold_linear")
     for k in compiled + ("solve_after", "solve_before"):
         med, ratio, met, mean, tail_met = _stats(t[k], ok[k])
         figures[k] = (med, ratio, met)
@@ -162,7 +149,7 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
                   if k in compiled and k != "best3_fastsim" else "- | -")
         out(f"| {labels[k]} | {med * 1e3:.3f} ms | {mean * 1e3:.3f} ms | {med / unit:.1f} | "
             f"{ratio:.1f} | {tail_met:.1f} | {met} of {n} | {passes[k].mean():.2f} | {counts} |")
-    for k in ("cold_fastsim", "cold_nojoins", "warm_fastsim", "warm_nojoins"):
+    for k in ("cold_fastsim", "warm_fastsim"):
         slow = np.argsort(t[k])[-5:][::-1]
         out(f"* slowest of {labels[k]} (the median case: {np.median(passes[k]):.0f} passes, "
             f"{np.median(pose[k]):.0f} pose steps, {np.median(gaps[k]):.0f} roll-search "
@@ -184,10 +171,6 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
             f"{max(dev_fn) * 100:.4f} % of Q (median {statistics.median(dev_fn) * 100:.5f} %), "
             f"sum F_y within {max(dev_fy) * 100:.4f} % of mu Q (FASTSIM on the ellipse against "
             "FASTSIM on Hertz's grid)")
-    if dev_joins["fn"]:
-        out(f"* compiled cold with against without the handling of joining regions (both "
-            f"balanced to 1e-4): sum F_n per wheel within {max(dev_joins['fn']) * 100:.4f} % "
-            f"of Q, sum F_y within {max(dev_joins['fy']) * 100:.4f} % of mu Q")
     out(f"* speed-up of `rc.solve` from the compiled start: "
         f"{figures['solve_before'][0] / figures['solve_after'][0]:.1f}x (medians)")
     return figures, unit

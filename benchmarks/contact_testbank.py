@@ -13,7 +13,9 @@ case by case in ``benchmarks/contact_inputs.py``; here they are run and counted.
     python benchmarks/contact_testbank.py --quick    # read and map only; module 3 solved
     python benchmarks/contact_testbank.py FILTER     # files whose path contains FILTER
 
-Writes ``benchmarks/contact_testbank.md``.
+Writes ``benchmarks/contact_testbank.md`` and, run whole, the same table into
+``docs/contact_users.md`` between its markers (:data:`DOC_BEGIN`, :data:`DOC_END`;
+``tests/test_contact_testbank_doc.py`` checks that the two agree).
 """
 
 from __future__ import annotations
@@ -28,9 +30,16 @@ HERE = Path(__file__).resolve().parent
 SHARED = HERE.parent.parent / "shared"
 REF = Path(os.environ.get("RAILCONTACT_REFERENCE", SHARED / "reference"))
 BANK = SHARED / "contact_testbank"
+TABLE_HEADER = "| input | status | against CONTACT |"
 TOL = {"fn": 0.01, "ft": 0.01, "pmax": 0.03, "area": 0.03, "temp": 0.03}
 
 lines: list = []
+#: the user guide's copy of the table lies between these lines
+DOC = HERE.parent / "docs" / "contact_users.md"
+DOC_BEGIN = ("<!-- testbank table: written by `python benchmarks/contact_testbank.py` (its "
+             "table in benchmarks/contact_testbank.md); tests/test_contact_testbank_doc.py "
+             "checks that the two agree -->")
+DOC_END = "<!-- end of the testbank table -->"
 
 
 def out(s=""):
@@ -91,6 +100,9 @@ def _module1_deviations(rows, ref, cases=None):
             if p["fn_N"] < 0.1 * load:
                 small = max(small, abs(r["fn_N"] / p["fn_N"] - 1))
                 continue
+            # CONTACT's printed mu; with friction varying across the patch the
+            # largest it prints (docs/conventions.md, "The friction coefficient of a
+            # patch's figures")
             mu = float(p.get("mu") or r.get("mu") or 0.3)
             scale = mu * p["fn_N"]
             worst["fn"] = max(worst["fn"], abs(r["fn_N"] / p["fn_N"] - 1))
@@ -212,7 +224,7 @@ def main(argv=None):
     out("Largest deviation from CONTACT's `.ref_out` over each file's cases: F_n, F_x and "
         "F_y (`ft`: relative to CONTACT's force or mu F_n, the larger), p_max, elements in "
         "contact (`area`), largest surface temperature (`temp`); tolerances 1, 1, 3, 3, 3 %.\n")
-    out("| input | status | against CONTACT |")
+    out(TABLE_HEADER)
     out("|---|---|---|")
     counts = {}
     for root in (BANK, REF):
@@ -224,6 +236,32 @@ def main(argv=None):
     out("\n" + ", ".join(f"{v} {k}" for k, v in sorted(counts.items())))
     if not filters:
         (HERE / "contact_testbank.md").write_text("\n".join(lines) + "\n")
+        if not quick:
+            write_doc_table(table_of(lines))
+
+
+def table_of(text_lines) -> list:
+    """The table's lines (its header, rule and rows) among the lines of
+    ``benchmarks/contact_testbank.md``."""
+    i = text_lines.index(TABLE_HEADER)
+    j = i
+    while j + 1 < len(text_lines) and text_lines[j + 1].startswith("|"):
+        j += 1
+    return list(text_lines[i:j + 1])
+
+
+def doc_table(doc_lines) -> list:
+    """The table's lines between the user guide's markers."""
+    i = doc_lines.index(DOC_BEGIN)
+    return list(doc_lines[i + 1:doc_lines.index(DOC_END, i)])
+
+
+def write_doc_table(table) -> None:
+    """Replace the user guide's copy of the table (between its markers)."""
+    doc = DOC.read_text().split("\n")
+    i = doc.index(DOC_BEGIN)
+    doc[i + 1:doc.index(DOC_END, i)] = table
+    DOC.write_text("\n".join(doc))
 
 
 if __name__ == "__main__":

@@ -67,7 +67,7 @@ from numba import njit
 from ..core.hertz_theory import _axes_table
 from ..geometry.locus import LOCUS_WINDOW  # noqa: F401  (documented neighbour)
 from ..geometry.search import ESTIMATE_WINDOW
-from ..geometry.wheel_pass import (LOCUS_MARGIN, M_GAPS, M_JOINS, MAX_PATCHES, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
+from ..geometry.wheel_pass import (LOCUS_MARGIN, M_GAPS, MAX_PATCHES, NPF, TRIM_MARGIN, P_A, P_APPROACH, P_B, P_CONTACT_ANGLE,
                                    P_B_FORCE, P_ETA, P_PHI, P_ROLLING_RADIUS, P_SIDE, P_VELOCITY, P_XI, P_Y,
                                    PATCH_FIELDS, PassPose, gap_candidates, make_patch,
                                    locus_curvatures, new_memo, pass_profiles, search_patches,
@@ -133,9 +133,7 @@ CREEP_MIN = 1e-2
 #: False) the steps on the interpenetrations (:func:`balance_wheelset`)
 POSE_BALANCE = True
 #: where those steps do not meet the load, the steps on the interpenetrations start
-#: from the last accepted pose with the pose's evaluations as their history, where
-#: the search's memo has its ``M_JOINS`` switch on (the default; off: evaluated
-#: again there, with no history, as before)
+#: from the last accepted pose with the pose's evaluations as their history
 POSE_PASSES = 16
 POSE_HALVINGS = 3
 #: a step of :func:`pose_newton` changes no loaded patch's approach by more than
@@ -472,17 +470,15 @@ def first_estimate(prof, pose, model, loads, memo, d, slope):
         memo[12] = np.nan
     d[0], slope[0] = approach_for_load(loc0, loads[0], pose, prof, model)
     d[1], slope[1] = approach_for_load(loc1, loads[1], pose, prof, model)
-    if memo[M_JOINS] != 0.0:
-        # the load with the creep forces' share of the vertical force: the
-        # normal force that carries it (the factor at the estimate's depth)
-        for s in range(2):
-            if not d[s] > 0.0:
-                continue
-            k = creep_factor(loc0 if s == 0 else loc1, d[s], s, z, roll, pose, prof, model)
-            if k == k and CREEP_RANGE[0] < k < CREEP_RANGE[1] and \
-                    abs(math.log(k)) > CREEP_MIN:
-                d[s], slope[s] = approach_for_load(loc0 if s == 0 else loc1, loads[s] / k,
-                                                   pose, prof, model)
+    # the load with the creep forces' share of the vertical force: the normal force
+    # that carries it (the factor at the estimate's depth)
+    for s in range(2):
+        if not d[s] > 0.0:
+            continue
+        k = creep_factor(loc0 if s == 0 else loc1, d[s], s, z, roll, pose, prof, model)
+        if k == k and CREEP_RANGE[0] < k < CREEP_RANGE[1] and abs(math.log(k)) > CREEP_MIN:
+            d[s], slope[s] = approach_for_load(loc0 if s == 0 else loc1, loads[s] / k,
+                                               pose, prof, model)
     # the first search's loci: the samples that the estimate puts within the
     # interpenetration plus the locus margin (not the estimate's wider window)
     for s in range(2):
@@ -703,7 +699,7 @@ def pose_newton(prof, pose, model, loads, tol, max_passes, zr, memo, out, state,
         # between flange and root: Broyden's steps converge slowly there): the steps
         # on the interpenetrations take over, with these evaluations as brackets
         slow = slow + 1 if max(abs(g[0]), abs(g[1])) > 0.5 * size else 0
-        if memo[M_JOINS] != 0.0 and slow >= 2 and not (
+        if slow >= 2 and not (
                 abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol):
             return passes, False, m, nh
     return passes, abs(fz[0] / loads[0] - 1.0) <= tol and abs(fz[1] / loads[1] - 1.0) <= tol, \
@@ -797,8 +793,8 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
     (NaN: the first estimate's slopes, else 1.5 I; its diagonal the exponents of
     :func:`pose_newton`) and a neighbour's pose (vertical position [m], roll
     [rad]; NaN: none), evaluated too where the first evaluation lies further than
-    ``POSE_RESTART`` from the load (where the memo's ``M_JOINS`` is on, into rows of
-    its own: the first evaluation's are kept where it serves better).
+    ``POSE_RESTART`` from the load (into rows of its own: the first evaluation's are
+    kept where it serves better).
     ``out``: the patch rows of the last evaluation; ``info``: :data:`INFO_FIELDS`.
     Returns the outcome code (:data:`OUTCOMES`)."""
     d = np.empty(2)
@@ -848,8 +844,7 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
             fzn = np.empty(2)
             dn = np.empty(2)
             wn = np.array([1.5 * start[0] + LOCUS_MARGIN, 1.5 * start[1] + LOCUS_MARGIN])
-            keep = memo[M_JOINS] != 0.0
-            on = np.empty_like(out) if keep else out
+            on = np.empty_like(out)
             mn = evaluate_pose(prof, pose, model, zn, wn, memo, on, fzn, dn)
             passes += 1
             if mn > 0:
@@ -862,11 +857,7 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
                     state[0] = fzn
                     state[1] = dn
                     m = mn
-                    if keep:
-                        out[:mn] = on[:mn]
-                elif not keep:
-                    m, z, roll, v, k = _trial(prof, pose, model, nan2, v, memo, out, fz)
-                    passes += k
+                    out[:mn] = on[:mn]
         k, met, mp, nk = pose_newton(prof, pose, model, loads, tol,
                                      min(max_passes - passes, POSE_PASSES), zr, memo, out,
                                      state, m, hist[nh:])
@@ -892,7 +883,7 @@ def balance_wheelset(prof, pose, model, loads, tol, max_passes, start, memo, out
         # flange and its root share the load the force is steep and S-shaped in
         # the interpenetration, and a step from the Hertzian slope overshoots far)
         if depth[0] > 0.0 and depth[1] > 0.0 and passes < max_passes:
-            if memo[M_JOINS] != 0.0 and mp > 0:
+            if mp > 0:
                 for j in range(nh):
                     if hist[j, 0] > 0.0 and hist[j, 1] > 0.0:
                         for s in range(2):
@@ -1215,8 +1206,7 @@ def _start_array(start, ratio=EXTRAPOLATE_RATIO):
 
 def solve_case_forces(case, normal=None, tangential=None,
                       start: CaseForces | Neighbour | None = None, max_passes: int = 40,
-                      extrapolate_ratio: float = EXTRAPOLATE_RATIO, *,
-                      joins: bool = True) -> CaseForces:
+                      extrapolate_ratio: float = EXTRAPOLATE_RATIO) -> CaseForces:
     """Solve a wheel-rail case in one compiled pass (module docstring): both wheels'
     loads met, the forces of every patch.
 
@@ -1237,15 +1227,6 @@ def solve_case_forces(case, normal=None, tangential=None,
         where their interpenetrations differ by less than this factor
         (:func:`~railcontact.cases.equilibrium.extrapolate_start`, in ln d); 1
         turns it off.
-    joins : bool
-        Where the flange and its root (or any two regions) share a wheel's load:
-        the roll search's samples cover every local minimum of the gap
-        (:func:`railcontact.geometry.wheel_pass._note_minimum`), and the steps on
-        the interpenetrations start from the pose steps' history
-        (:func:`balance_wheelset`).  False: as before both (keyword only, for
-        comparisons: the before rows of ``benchmarks/compiled_case.py`` and
-        ``tests/cases/test_compiled_case.py``; the package's own paths, e.g.
-        :func:`railcontact.cases.balance.compiled_start`, always join).
 
     Returns
     -------
@@ -1275,7 +1256,6 @@ def solve_case_forces(case, normal=None, tangential=None,
         memo[:] = start.memo
         memo[0] = roll0
     memo[M_GAPS] = 0.0
-    memo[M_JOINS] = 1.0 if joins else 0.0
     out = np.zeros((2 * MAX_PATCHES, NRF))
     info = np.empty(len(INFO_FIELDS))
     code = balance_wheelset(prof, pose, model, loads, float(case.force_tolerance),
@@ -1292,7 +1272,7 @@ def solve_case_forces(case, normal=None, tangential=None,
     if code != CONVERGED and start is not None:
         # a start that did not serve: the case again, cold (its time counts)
         cold = solve_case_forces(case, normal, tangential, None, max_passes,
-                                 extrapolate_ratio, joins=joins)
+                                 extrapolate_ratio)
         cold.cpu_time += res.cpu_time
         return cold
     return res

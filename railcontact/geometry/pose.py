@@ -49,7 +49,20 @@ class PoseMemo:
     windows: dict = field(default_factory=dict)
     #: the last roll search's secant slope [m/rad]
     slope: float = ROLL_SLOPE
+    #: per (side, prescribed roll) the compiled search's memo and the side's minimum
+    #: gap at vertical position 0 (:func:`railcontact.geometry.search.find_contact`
+    #: under a prescribed roll)
+    fixed_roll: dict = field(default_factory=dict)
 
+
+
+def locus_window(loci_window, target: float) -> float:
+    """The window [m] of a side's locus (:func:`solve_pose`'s ``loci_window``) under
+    the interpenetration ``target`` [m]."""
+    if loci_window is None:
+        return LOCUS_WINDOW
+    regions = target + REGION_MARGIN
+    return regions if loci_window == "regions" else max(float(loci_window), regions)
 
 
 def _memo(wheelset, track, y_ws, yaw) -> PoseMemo:
@@ -85,10 +98,7 @@ def solve_pose(wheelset, track, y_ws, yaw, targets, roll0=0.0, tol=1e-12,
     cache, windows = memo.gaps, memo.windows
 
     def window(side):
-        if loci_window is None:
-            return LOCUS_WINDOW
-        regions = targets[side] + REGION_MARGIN
-        return regions if loci_window == "regions" else max(float(loci_window), regions)
+        return locus_window(loci_window, targets[side])
 
     if roll_given is not None:
         (side,) = sides

@@ -49,12 +49,13 @@ from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
 from .locus import Locus, compute_locus
 from .patch_curvature import at_fraction, deepest_fraction, force_curvature
-from .pose import REGION_MARGIN, solve_pose
+from .pose import REGION_MARGIN, _memo, locus_window, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
 from .turning import turned_angles
-from .wheel_pass import (MAX_PATCHES, NPF, P_SIDE, PassPose, new_memo, pass_profiles,
-                         rows_contact, search_patches)
+from .wheel_pass import (MAX_PATCHES, MISSED_DEPTH, NPF, P_SIDE, PassPose, new_memo,
+                         pass_profiles, rows_contact, search_patches, side_locus,
+                         side_min_gap)
 
 
 log = logging.getLogger(__name__)
@@ -176,17 +177,10 @@ class SearchStart:
     the fixed-point iterations between the multi-Hertzian interpenetrations and the
     wheelset position under a vertical force (they stop earlier when the
     interpenetrations change by less than 1 nm; one gives a first estimate, what
-    :func:`railcontact.solve` needs); ``compiled_pass``: under prescribed
-    interpenetrations with a free roll (one patch per region, no turning, round
-    wheels with the same profiles on both sides) search in the compiled pass
-    (:func:`railcontact.geometry.wheel_pass.search_patches`, the same steps on the
-    same locus kernel; on the benchmark sweep's poses its patches agree with this
-    module's search to 4e-9 relative, positions to 1e-13 m); False: this module's
-    own search (for comparisons, ``tests/geometry/test_search.py``)."""
+    :func:`railcontact.solve` needs)."""
 
     roll: float = 0.0
     load_iterations: int = 10
-    compiled_pass: bool = True
 
 
 def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
@@ -223,9 +217,21 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     side : {"both", "left", "right"}
         Wheels to consider; a prescribed roll needs "left" or "right".
     start : SearchStart, optional
-        The roll where the search starts, the limit of the load iterations and
-        whether the compiled pass searches where it can (default: roll 0, 10
-        iterations, the compiled pass).
+        The roll where the search starts and the limit of the load iterations
+        (default: roll 0, 10 iterations).
+
+    Notes
+    -----
+    Under prescribed interpenetrations with a free roll, one patch per region
+    (``rules.combine_distance`` 0), no turning and round wheels with the same
+    profiles on both sides, the compiled pass searches
+    (:func:`railcontact.geometry.wheel_pass.search_patches`: the same steps on the
+    same locus kernel; on the benchmark sweep's poses its patches agree with this
+    module's own search to 4e-9 relative, positions to 1e-13 m).  Under a prescribed
+    roll (one wheel; every ``.inp`` wheel-rail case) with round wheels of the same
+    profiles on both sides, the pose and the locus come from the compiled pass's
+    kernels (:func:`_fixed_roll_pose`; the regions and patches here, which combine and
+    turn as ``rules`` say).  Every other search runs here.
     """
     motion = motion or WheelsetMotion()
     rules = rules or PatchRules()
@@ -236,9 +242,6 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                                                    rules.full_interaction_distance)
     turn_distance, separation_angle = rules.turn_distance, rules.separation_angle
     roll_start, load_iterations = start.roll, start.load_iterations
-    if not isinstance(start.compiled_pass, bool):
-        raise InputError(f"SearchStart.compiled_pass = {start.compiled_pass!r}: expected "
-                         "True or False")
     for name, v, lim in (("wheelset.lateral_shift", lateral_shift, 0.05),
                          ("wheelset.yaw", yaw, 0.1)):
         if not (isinstance(v, (int, float)) and math.isfinite(v) and abs(v) <= lim):
@@ -278,7 +281,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
         if not all(math.isfinite(v) and v >= 0 for v in targets.values()):
             raise InputError(f"interpenetration = {interpenetration!r}: expected values >= 0 m")
         loads = loads or {s: math.nan for s in SIDES}
-    if interpenetration is not None and roll is None and start.compiled_pass:
+    if interpenetration is not None and roll is None:
         found = _pass_contact(wheelset, track, (lateral_shift, yaw, float(roll_start)), targets,
                               loads, (velocity, pitch_velocity, lateral_velocity, yaw_rate),
                               rules)
@@ -287,10 +290,21 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     # the rigid pose under a load is only the start of the multi-Hertzian estimate:
     # its roll to 1e-8 rad (gaps to 15 nm), the poses of the patches' to 1e-12
     estimate = loads is not None and interpenetration is None
-    z, roll, loci = solve_pose(wheelset, track, lateral_shift, yaw, targets,
-                                roll0=float(roll_start), tol=1e-8 if estimate else 1e-12,
-                                loci_window="regions" if interpenetration is not None
-                                else ESTIMATE_WINDOW if estimate else None, **pose_kw)
+    # a prescribed roll (one side): the compiled pass's kernels where they serve,
+    # round wheels with the same profiles on both sides
+    prof = _pass_profiles(wheelset, track) if roll is not None and \
+        wheelset.out_of_round is None else None
+
+    def pose_of(targets, roll0, tol, loci_window):
+        if prof is not None:
+            return _fixed_roll_pose(wheelset, track, prof, (side, lateral_shift, yaw, roll),
+                                    targets, loci_window)
+        return solve_pose(wheelset, track, lateral_shift, yaw, targets, roll0=roll0, tol=tol,
+                          loci_window=loci_window, **pose_kw)
+
+    z, roll, loci = pose_of(targets, float(roll_start), 1e-8 if estimate else 1e-12,
+                            "regions" if interpenetration is not None
+                            else ESTIMATE_WINDOW if estimate else None)
     if estimate:
         for k in range(load_iterations):
             new = dict(targets)
@@ -298,10 +312,8 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
             change = max(abs(new[s] - targets[s]) for s in sides)
             targets = new
             # the last iteration's loci need to hold the patches only
-            z, roll, loci = solve_pose(wheelset, track, lateral_shift, yaw, targets,
-                                        roll0=roll, loci_window="regions"
-                                        if k == load_iterations - 1 else ESTIMATE_WINDOW,
-                                        **pose_kw)
+            z, roll, loci = pose_of(targets, roll, 1e-12, "regions"
+                                    if k == load_iterations - 1 else ESTIMATE_WINDOW)
             if change < 1e-9:
                 break
     pose = WheelsetPose(lateral_shift, z, roll, yaw)
@@ -332,8 +344,7 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
 
 
 def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
-    """The :class:`WheelsetContact` of the compiled search
-    (:attr:`SearchStart.compiled_pass`) at
+    """The :class:`WheelsetContact` of the compiled search at
     ``keys`` = (lateral shift [m], yaw [rad], start roll [rad]) under the
     interpenetrations ``targets`` [m], with each side's locus at the pose over its
     regions (as :func:`find_contact`'s, computed where read: :class:`SearchLoci`);
@@ -401,6 +412,43 @@ class SearchLoci(Mapping):
 
     def __repr__(self):
         return f"SearchLoci({sorted(self._window)})"
+
+
+def _fixed_roll_pose(wheelset, track, prof, keys, targets, loci_window):
+    """:func:`~railcontact.geometry.pose.solve_pose` under a prescribed roll (one
+    side, ``keys`` = (side, lateral shift [m], yaw [rad], roll [rad])) by the compiled
+    pass's kernels on the wheelset's profiles ``prof``
+    (:class:`~railcontact.geometry.wheel_pass.PassProfiles`): the side's minimum gap at vertical position 0
+    (:func:`~railcontact.geometry.wheel_pass.side_min_gap`), which the interpenetration
+    does not change and which is found once per case and roll, puts the wheelset at
+    z = gap + target, and the side's locus there
+    (:func:`~railcontact.geometry.wheel_pass.side_locus`, the same locus kernel, over
+    the wheel samples that the last locus of the case held within its window:
+    the pass's memo, kept per case and roll).  Returns (z, roll, {side: Locus}), or
+    :func:`~railcontact.geometry.pose.solve_pose`'s where no contact is found (its
+    error says why)."""
+    side, shift, yaw, roll = keys
+    s = SIDES.index(side)
+    pose = PassPose(float(shift), float(yaw), track.rail_offset("left"),
+                    track.rail_offset("right"), wheelset.wheel_offset,
+                    wheelset.nominal_radius, 1.0, 0.0, 0.0, 0.0, 0.0)
+    cache = _memo(wheelset, track, shift, yaw).fixed_roll
+    key = (side, float(roll))
+    if key not in cache:
+        memo = new_memo(float(roll))
+        cache[key] = (memo, float(side_min_gap(prof, pose, s, float(roll), memo)))
+    memo, g = cache[key]
+    target = float(targets[side])
+    window = locus_window(loci_window, target)
+    if math.isfinite(g):
+        i0, i1, theta, P, yr, gap, slope, R, O, _ = side_locus(prof, pose, s, g + target,
+                                                               float(roll), window, memo)
+        # (a locus deeper than the target: a minimum the gap search missed)
+        if gap.size and -target - MISSED_DEPTH <= float(np.min(gap)) < np.inf:
+            return g + target, roll, {side: Locus(prof.yw[i0:i1], prof.zw[i0:i1], theta, P, yr,
+                                                  gap, slope, O, R, (int(i0), int(i1)))}
+    return solve_pose(wheelset, track, shift, yaw, targets, tol=1e-12, roll_given=roll,
+                      sides=(side,), loci_window=loci_window)
 
 
 def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,

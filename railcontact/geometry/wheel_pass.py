@@ -24,7 +24,9 @@ definitions, so that the two give the same patches to their tolerances:
 
 The rigid-contact case, the turning of nearby patches' angles and profiles that
 differ between the sides are not here: their searches run in Python
-(:func:`railcontact.geometry.find_contact`).
+(:func:`railcontact.geometry.find_contact`).  Under a prescribed roll (one wheel)
+:func:`~railcontact.geometry.find_contact` takes the pose and the locus from
+:func:`side_min_gap` and :func:`side_locus` and makes the patches itself.
 
 Inputs are named tuples (:class:`PassProfiles`, :class:`PassPose`) and a small
 float array (the memo of the search, :data:`MEMO_SIZE`), so that every kernel takes
@@ -68,15 +70,9 @@ PassPose = namedtuple("PassPose", "shift yaw y_off_left y_off_right e r0 velocit
 #: secant slope, per side s (0 left, 1 right) at 2 + 6 s: the roll of the last locus,
 #: its first and end wheel samples, the roll it serves within, and the first and end
 #: samples of its minimum's neighbourhood (``MIN_WINDOW``)
-MEMO_SIZE = 16
+MEMO_SIZE = 15
 #: the memo's count of the roll search's evaluations (each both sides' minimum gap)
 M_GAPS = 14
-#: the memo's switch (1: on, the default; 0: off, as before, for comparisons) of
-#: the search's and the balance's handling of joining regions: the roll search's
-#: samples cover the locus's local minima (:func:`_note_minimum`), and the compiled
-#: balance's steps on the interpenetrations start from its pose's history
-#: (:func:`railcontact.cases.compiled_case.balance_wheelset`)
-M_JOINS = 15
 
 #: the roll search of a case's later searches looks for each side's minimum gap
 #: among the wheel samples whose gap was within this [m] of the last locus's minimum
@@ -86,7 +82,7 @@ M_JOINS = 15
 MIN_WINDOW = 1.5e-5
 MIN_MARGIN = 16
 #: ... and the samples between the locus's local minima within its window
-#: (:func:`_note_minimum`; where the memo's ``M_JOINS`` is on)
+#: (:func:`_note_minimum`)
 
 #: a locus deeper than its side's target by more than this [m] shows a missed
 #: minimum (the roll search's tolerance puts the sides' gaps within ~1e-12 m)
@@ -148,14 +144,12 @@ P_B_FORCE = 26
 MAX_PATCHES = 8
 
 
-def new_memo(roll: float = 0.0, joins: bool = True) -> np.ndarray:
-    """A fresh memo (:data:`MEMO_SIZE`) whose roll search starts at ``roll``;
-    ``joins``: its :data:`M_JOINS` switch."""
+def new_memo(roll: float = 0.0) -> np.ndarray:
+    """A fresh memo (:data:`MEMO_SIZE`) whose roll search starts at ``roll``."""
     m = np.zeros(MEMO_SIZE)
     m[0], m[1] = roll, ROLL_SLOPE
     m[2:] = np.nan
     m[M_GAPS] = 0.0
-    m[M_JOINS] = 1.0 if joins else 0.0
     return m
 
 
@@ -295,11 +289,10 @@ def solve_roll(prof, pose, targets, tol, memo):
     if abs(x1 - x0) <= 0.01 * tol:
         return x0, g0 + targets[1]
     # the bracket of the root that the secant steps find (the residual grows with
-    # the roll): with the memo's M_JOINS on, a step that leaves it is the
-    # bracket's regula falsi point instead, and the bracketed search below starts
-    # from it (where the deepest point passes between the flange and its root, the
-    # residual's slope jumps and the secant steps cycle about the kink)
-    guard = memo[M_JOINS] != 0.0
+    # the roll): a step that leaves it is the bracket's regula falsi point
+    # instead, and the bracketed search below starts from it (where the deepest
+    # point passes between the flange and its root, the residual's slope jumps and
+    # the secant steps cycle about the kink)
     blo, bhi, fblo, fbhi = -math.inf, math.inf, math.nan, math.nan
     if f0 < 0:
         blo, fblo = x0, f0
@@ -327,13 +320,12 @@ def solve_roll(prof, pose, targets, tol, memo):
             if 0.1 * ROLL_SLOPE < last < 10 * ROLL_SLOPE:
                 memo[1] = last
             return x0, g0 + targets[1]
-        if guard and blo < bhi and math.isfinite(blo) and math.isfinite(bhi) and \
-                not blo < x1 < bhi:
+        if blo < bhi and math.isfinite(blo) and math.isfinite(bhi) and not blo < x1 < bhi:
             x1 = (blo * fbhi - bhi * fblo) / (fbhi - fblo)
             if not blo < x1 < bhi:
                 x1 = 0.5 * (blo + bhi)
     # bracketed search (as _bracketed_roll): bisection with secant steps
-    if guard and math.isfinite(blo) and math.isfinite(bhi) and blo < bhi:
+    if math.isfinite(blo) and math.isfinite(bhi) and blo < bhi:
         lo, hi, flo, fhi = blo, bhi, fblo, fbhi
     else:
         span = 2e-3
@@ -512,15 +504,14 @@ def _note_minimum(gap, i0, n, memo, k, window):
     if first < 0:
         memo[k + 4] = np.nan
         return
-    if memo[M_JOINS] != 0.0:
-        edge = g + window
-        for j in range(1, gap.size - 1):
-            # a local minimum between computed samples (the sparse locus leaves
-            # +inf where it computes none)
-            if gap[j] <= edge and gap[j] <= gap[j - 1] and gap[j] <= gap[j + 1] and \
-                    gap[j - 1] < np.inf and gap[j + 1] < np.inf:
-                first = min(first, j)
-                last = max(last, j)
+    edge = g + window
+    for j in range(1, gap.size - 1):
+        # a local minimum between computed samples (the sparse locus leaves +inf
+        # where it computes none)
+        if gap[j] <= edge and gap[j] <= gap[j - 1] and gap[j] <= gap[j + 1] and \
+                gap[j - 1] < np.inf and gap[j + 1] < np.inf:
+            first = min(first, j)
+            last = max(last, j)
     memo[k + 4] = max(i0 + first - MIN_MARGIN, 0)
     memo[k + 5] = min(i0 + last + MIN_MARGIN + 1, n)
 

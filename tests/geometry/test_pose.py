@@ -29,7 +29,7 @@ def test_loci_of_given_interpenetrations_hold_the_same_patches(monkeypatch):
     over the whole LOCUS_WINDOW."""
     import railcontact.geometry.pose as pose
     from railcontact.geometry.locus import LOCUS_WINDOW
-    from railcontact.geometry.search import SearchStart
+    from railcontact.geometry.search import PatchRules
     tr = Track(rail_profile("60E1", math.atan(1 / 40)))
     runs = []
     for margin in (pose.REGION_MARGIN, LOCUS_WINDOW):
@@ -37,9 +37,10 @@ def test_loci_of_given_interpenetrations_hold_the_same_patches(monkeypatch):
         out = []
         for y, d in ((1e-3, {"left": 7e-5, "right": 6.5e-5}),
                      (6.44e-3, {"left": 7.6e-5, "right": 6.3e-4})):
-            # the geometry layer's own search (solve_pose's windows), not the pass's
+            # the geometry layer's own search (solve_pose's windows), not the pass's:
+            # the rules of a case that combines regions, none combined (1 nm)
             c = find_contact(Wheelset(s1002()), tr, lateral_shift=y, interpenetration=d,
-                             start=SearchStart(compiled_pass=False))
+                             rules=PatchRules(combine_distance=1e-9))
             out.append((c, [c.loci[s].y_wheel.size for s in ("left", "right")]))
         runs.append(out)
     for (small, n_small), (full, n_full) in zip(*runs):

@@ -6,7 +6,7 @@ import numpy as np
 import pytest
 
 from railcontact.geometry import Track, Wheelset, find_contact
-from railcontact.geometry.search import SearchStart
+from railcontact.geometry.search import PatchRules, SearchStart
 from railcontact.profiles import rail_profile, s1002
 
 
@@ -55,8 +55,6 @@ def test_load_iterations_and_roll_start():
         find_contact(ws, tr, vertical_force=6e4, start=SearchStart(load_iterations=0))
     with pytest.raises(InputError, match="roll_start"):
         find_contact(ws, tr, vertical_force=6e4, start=SearchStart(0.5))
-    with pytest.raises(InputError, match="compiled_pass"):
-        find_contact(ws, tr, interpenetration=d, start=SearchStart(compiled_pass=1))
 
 
 @pytest.mark.parametrize("shift, candidates", [(1e-3, 1), (4.75e-3, 2), (5e-3, 2)])
@@ -85,14 +83,21 @@ def test_multi_hertzian_approach_carries_the_load(shift, candidates):
     assert 1e-5 < d < 1e-3
 
 
+#: rules that send find_contact to the geometry layer's own search with the results of
+#: one patch per region: a combine distance (1 nm) below the locus's sample spacing
+OWN_SEARCH = PatchRules(combine_distance=1e-9)
+
+
 @pytest.mark.parametrize("locus", ["lowest", "contact"])
 def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeypatch):
     """Under prescribed interpenetrations find_contact runs the compiled pass's search
-    (wheel_pass.search_patches, SearchStart.compiled_pass): the same patches and loci
-    as its own search to round-off (the same locus kernel), on tread, two-point and flange
-    contact with yaw; with patch turning it searches itself."""
+    (wheel_pass.search_patches): the same patches and loci as the geometry layer's own
+    search to round-off (the same locus kernel), on tread, two-point and flange contact
+    with yaw; with patch turning it searches itself.  The own search is the one every
+    case that combines regions runs (every .inp case): a combine distance below the
+    locus's sample spacing (OWN_SEARCH) combines none, so its patches are those of
+    one patch per region."""
     from railcontact.geometry import search, wheel_pass
-    from railcontact.geometry.search import PatchRules
     ws, tr = Wheelset(s1002(), locus=locus), Track(rail_profile("60E1", math.atan(1 / 40)))
     calls = []
     monkeypatch.setattr(search, "search_patches",
@@ -102,7 +107,7 @@ def test_prescribed_interpenetrations_search_in_the_compiled_pass(locus, monkeyp
         d = {"left": d[0], "right": d[1]}
         a = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d)
         b = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d,
-                         start=SearchStart(compiled_pass=False))
+                         rules=OWN_SEARCH)
         assert abs(a.pose.roll - b.pose.roll) < 1e-12
         assert abs(a.pose.vertical - b.pose.vertical) < 1e-12
         assert len(a.patches) == len(b.patches) >= 2
@@ -152,3 +157,56 @@ def test_compiled_search_computes_its_loci_where_read():
     assert search._pass_profiles(ws, tr) is prof
     assert search._pass_profiles(ws, Track(rail_profile("60E1", math.atan(1 / 40)))) \
         is not prof
+
+
+@pytest.mark.parametrize("locus", ["lowest", "contact"])
+def test_prescribed_roll_searches_in_the_compiled_pass(locus, monkeypatch):
+    """Under a prescribed roll (one wheel, CONTACT's single-wheel mode: every .inp
+    wheel-rail case) find_contact's pose comes from the compiled pass's kernels
+    (search._fixed_roll_pose: the side's minimum gap once per case and roll, the locus
+    from the pass's memo of the case) and its patches are those of the geometry
+    layer's own pose search (solve_pose, reached where the pass does not serve) to
+    round-off: a sequence of interpenetrations as a balance makes them, on tread,
+    two-point and flange contact with yaw, with CONTACT's rules of combining regions
+    (8 mm) and turning them (12 mm), under a load and rigidly."""
+    from railcontact.geometry import search
+    rail = rail_profile("60E1", math.atan(1 / 40))
+    rules = PatchRules(8e-3, 4e-3, 12e-3)
+    calls = []
+    real = search._fixed_roll_pose
+    monkeypatch.setattr(search, "_fixed_roll_pose",
+                        lambda *a: calls.append(1) or real(*a))
+    for shift, yaw, roll, side in ((0.0, 0.0, 0.0, "right"), (5.5e-3, 2e-3, 1e-3, "right"),
+                                   (-6e-3, -4e-3, -1.5e-3, "left")):
+        runs = []
+        for own in (False, True):
+            ws, tr = Wheelset(s1002(), locus=locus), Track(rail)   # fresh memos
+            if own:
+                monkeypatch.setattr(search, "pass_profiles", lambda *a: None)
+            before = len(calls)
+            out = [find_contact(ws, tr, shift, yaw, vertical_force=7e4, roll=roll, side=side,
+                                rules=rules)]
+            out += [find_contact(ws, tr, shift, yaw, roll=roll, side=side, rules=rules,
+                                 interpenetration={side: d})
+                    for d in (6e-5, 9e-5, 7.5e-5, 7.6e-5, 1.2e-4)]
+            out.append(find_contact(ws, tr, shift, yaw, roll=roll, side=side, rules=rules))
+            # every search in the pass (the estimate's iterations too), none in the own
+            assert len(calls) - before >= len(out) if not own else len(calls) == before
+            runs.append(out)
+            monkeypatch.undo()
+            monkeypatch.setattr(search, "_fixed_roll_pose",
+                                lambda *a: calls.append(1) or real(*a))
+        for a, b in zip(*runs):
+            assert a.pose.roll == b.pose.roll
+            assert a.pose.vertical == pytest.approx(b.pose.vertical, abs=1e-13)
+            assert len(a.patches) == len(b.patches) >= 1
+            for p, q in zip(a.patches, b.patches):
+                assert p.side == q.side == side
+                assert np.allclose(p.position, q.position, rtol=0, atol=1e-12)
+                assert p.approach == pytest.approx(q.approach, rel=1e-9, abs=1e-15)
+                assert np.allclose(p.curvatures, q.curvatures, rtol=1e-8)
+                assert p.contact_angle == pytest.approx(q.contact_angle, abs=1e-12)
+                assert np.allclose(p.creepage, q.creepage, rtol=1e-9, atol=1e-13)
+                assert len(p.interaction) == len(q.interaction)
+                assert np.allclose(np.reshape(p.interaction, -1), np.reshape(q.interaction, -1),
+                                   rtol=0, atol=1e-12)
