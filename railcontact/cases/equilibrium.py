@@ -100,7 +100,8 @@ COUPLING_SLOPE = 10.0
 #: steps' Jacobian with each diagonal entry at least this, d(ln F)/d(ln d) (Hertz's):
 #: on a flange's flat stretch the provisional steps learn a slope of 0.2-0.3, and the
 #: first final step from a stand-in error of some 9 % of the load then overshoots
-#: it 25-fold (docs/tuning.md, section "Equilibrium"); 0 turns it off
+#: it 25-fold (docs/tuning.md, section "Equilibrium"); one side (a prescribed roll)
+#: floors its secant slope alike; 0 turns it off
 FINAL_SLOPE = 1.0
 
 #: forces below this fraction of the load count as this fraction (ln 0 = -inf)
@@ -559,5 +560,7 @@ def _scalar(track, v0, jacobian):
         # provisional: met, or a jump of the provisional force; evaluate it as final
         ev, r = track.make_final(np.array([x]), ev, r)
         evals = {x: (ev, r)}
+        if FINAL_SLOPE > 0:
+            slope = max(slope, FINAL_SLOPE)
         if not track.off(ev)[0]:
             return False

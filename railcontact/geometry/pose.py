@@ -71,7 +71,7 @@ def _memo(wheelset, track, y_ws, yaw) -> PoseMemo:
     if len(wheelset.gap_memo) > 64:
         wheelset.gap_memo.clear()
     memo = wheelset.gap_memo.get((y_ws, yaw))
-    if memo is None or memo.track is not track or len(memo.gaps) > 256:
+    if memo is None or memo.track is not track or len(memo.gaps) + len(memo.fixed_roll) > 256:
         memo = wheelset.gap_memo[(y_ws, yaw)] = PoseMemo(track)
     return memo
 

@@ -224,6 +224,14 @@ class Wheelset:
             if w.kind != "wheel":
                 raise ProfileError(f"{side} wheel profile {w.name!r} is a rail profile")
 
+    def __setattr__(self, name, value) -> None:
+        # a changed wheelset empties its search memo (the pass profiles, the minimum
+        # gaps and the loci's wheel samples are the old wheelset's)
+        object.__setattr__(self, name, value)
+        memo = self.__dict__.get("gap_memo")
+        if memo and name != "gap_memo":
+            memo.clear()
+
     def wheel(self, side: str) -> Profile:
         return self.wheel_right if side == "right" else self.wheel_left
 

@@ -373,3 +373,21 @@ def test_a_flat_provisional_force_does_not_overshoot_the_final_step(monkeypatch)
         assert bal.converged and ev.final and residual(ev) <= 1e-4
         peak[floor] = max(max(hertz(d)[s] / Q[s] for s in SIDES) for d, fin in f.calls if fin)
     assert peak[0.0] > 1.7 and peak[1.0] < 1.5
+
+
+def test_one_side_floors_the_final_slope_too(monkeypatch):
+    """The one-sided balance (a prescribed roll: every .inp wheel-rail case) on the
+    flat provisional force above: the first final step takes the right wheel to 1.81
+    of its load without FINAL_SLOPE's floor, 1.06 with it (measured)."""
+    from railcontact.cases import equilibrium as E
+
+    def standin(d):
+        return ({s: 1.02 * Q[s] * (d[s] / ROOT[s]) ** 0.25 for s in d}, {s: 1e-3 for s in d})
+    peak = {}
+    for floor in (0.0, 1.0):
+        monkeypatch.setattr(E, "FINAL_SLOPE", floor)
+        f = Forces(lambda d: hertz(d, tuple(d)), standin)
+        ev, bal = balance(f, {"right": 0.8 * ROOT["right"]}, {"right": Q["right"]}, 1e-4)
+        assert bal.converged and ev.final and residual(ev) <= 1e-4
+        peak[floor] = max(hertz(d, tuple(d))["right"] / Q["right"] for d, fin in f.calls if fin)
+    assert peak[0.0] > 1.7 and peak[1.0] < 1.2

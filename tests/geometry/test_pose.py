@@ -50,3 +50,15 @@ def test_loci_of_given_interpenetrations_hold_the_same_patches(monkeypatch):
             assert p.side == q.side
             assert p.approach == q.approach and p.contact_angle == q.contact_angle
             assert p.extent == q.extent and p.curvatures == q.curvatures
+
+
+def test_the_memo_of_prescribed_rolls_is_bounded():
+    """A wheelset searched at one shift and yaw under ever new prescribed rolls (a
+    contact element's steps without lateral motion) keeps at most 257 rolls' memos
+    (it kept every one: 300 of 300)."""
+    from railcontact.geometry.pose import _memo
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    for k in range(300):
+        find_contact(ws, tr, 1e-3, 0.0, roll=1e-3 * k / 300, side="right",
+                     interpenetration={"right": 5e-5})
+    assert 0 < len(_memo(ws, tr, 1e-3, 0.0).fixed_roll) <= 257
