@@ -338,10 +338,9 @@ def compiled_start(case, nmodel, tmodel, neighbour=None):
         return None
     names = (nmodel.name, tmodel.name)
     if compiled_unsupported(case, *names):
-        # other models (the exact ones) start as before: Hertz + FASTSIM's balance
-        # as their start saved 0.1 of 4.9 passes per exact case on 20 cases of the
-        # benchmark sweep, and moved flange cases by up to 2.4 % of mu Q (the grids
-        # follow the balance's path)
+        # other models (the exact ones): their own balance, which takes the
+        # compiled Hertz + FASTSIM balance as its start where BalanceOptions.hertz_start
+        # says so (solve_wheel_rail), not as their result
         return None
     start = None
     if (neighbour is not None and neighbour.contact is not None

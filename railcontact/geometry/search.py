@@ -294,10 +294,11 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     # round wheels with the same profiles on both sides
     prof = _pass_profiles(wheelset, track) if roll is not None and \
         wheelset.out_of_round is None else None
+    fixed = (side, lateral_shift, yaw, roll)        # the prescribed roll, bound here
 
     def pose_of(targets, roll0, tol, loci_window):
         if prof is not None:
-            return _fixed_roll_pose(wheelset, track, prof, (side, lateral_shift, yaw, roll),
+            return _fixed_roll_pose(wheelset, track, prof, fixed,
                                     targets, loci_window)
         return solve_pose(wheelset, track, lateral_shift, yaw, targets, roll0=roll0, tol=tol,
                           loci_window=loci_window, **pose_kw)
