@@ -109,11 +109,12 @@ FORCE_FLOOR = 1e-6
 #: a chain of cases' start (:func:`extrapolate_start`) extrapolates the roll where
 #: its last two cases' rolls differ by less than this [rad]
 EXTRAPOLATE_ROLL = 1e-3
-#: ... and, where the case before those two is known too (``older`` of
-#: :func:`extrapolate_start`), not where a side's interpenetrations bend: their second
-#: difference larger than ``EXTRAPOLATE_BEND`` times the last step and than
+#: a chain's start is not extrapolated where, the case before its last two known too
+#: (``older`` of :func:`extrapolate_start`), a side's three interpenetrations bend: their
+#: second difference larger than ``EXTRAPOLATE_BEND`` times the last step and than
 #: ``EXTRAPOLATE_BEND_DEPTH`` times the last interpenetration (a chain turning at a
-#: peak, where one step on overshoots: docs/tuning.md, "The warm chain's bends")
+#: peak, where one step on overshoots: docs/tuning.md, section "Equilibrium", the
+#: warm chain's bends)
 EXTRAPOLATE_BEND = 0.35
 EXTRAPOLATE_BEND_DEPTH = 1e-2
 
