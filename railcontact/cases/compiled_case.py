@@ -1187,7 +1187,8 @@ def _start_array(start, ratio=EXTRAPOLATE_RATIO):
     neighbour's result (:class:`CaseForces` or a
     :class:`~railcontact.cases.equilibrium.Neighbour`): its interpenetrations, or
     where it started from its own neighbour and both are close, their extrapolation
-    in ln d (and the roll's: :func:`~railcontact.cases.equilibrium.extrapolate_start`)."""
+    in ln d (and the roll's: :func:`~railcontact.cases.equilibrium.extrapolate_start`),
+    not where the chain's last three interpenetrations bend (its ``older``)."""
     st = np.full(8, np.nan)
     if start is None:
         return st, 0.0
@@ -1197,7 +1198,8 @@ def _start_array(start, ratio=EXTRAPOLATE_RATIO):
     before = getattr(start, "neighbour", None)
     d, roll, _ = extrapolate_start(d1, before.interpenetration if before is not None else None,
                                    ratio, roll, before.roll if before is not None else math.nan,
-                                   in_log=True)
+                                   in_log=True,
+                                   older=getattr(before, "before", None))
     st[0], st[1] = d["left"], d["right"]
     if start.jacobian is not None:
         st[2:6] = np.ravel(start.jacobian)
@@ -1263,7 +1265,9 @@ def solve_case_forces(case, normal=None, tangential=None,
     res = _case_forces(out, info, code, loads, (normal or case.normal).lower(),
                        (tangential or case.tangential).lower(), time.perf_counter() - t0)
     if start is not None and getattr(start, "converged", True):
-        res.neighbour = Neighbour(dict(start.interpenetration), float(start.roll))
+        nb = getattr(start, "neighbour", None)
+        res.neighbour = Neighbour(dict(start.interpenetration), float(start.roll),
+                                  before=dict(nb.interpenetration) if nb is not None else None)
     res.memo = memo
     res.pose_keys = (float(s.lateral_shift), float(s.yaw))
     res.gap_evaluations = int(memo[M_GAPS])

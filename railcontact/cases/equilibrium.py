@@ -110,6 +110,14 @@ FORCE_FLOOR = 1e-6
 #: a chain of cases' start (:func:`extrapolate_start`) extrapolates the roll where
 #: its last two cases' rolls differ by less than this [rad]
 EXTRAPOLATE_ROLL = 1e-3
+#: a chain's start is not extrapolated where, the case before its last two known too
+#: (``older`` of :func:`extrapolate_start`), a side's three interpenetrations bend: their
+#: second difference larger than ``EXTRAPOLATE_BEND`` times the last step and than
+#: ``EXTRAPOLATE_BEND_DEPTH`` times the last interpenetration (a chain turning at a
+#: peak, where one step on overshoots: docs/tuning.md, section "Equilibrium", the
+#: warm chain's bends)
+EXTRAPOLATE_BEND = 0.35
+EXTRAPOLATE_BEND_DEPTH = 1e-2
 
 
 @dataclass
@@ -132,6 +140,10 @@ class Neighbour:
         The balance's d(ln F)/d(ln d) at the end (None: not kept).
     vertical : float
         The wheelset's vertical position [m] (NaN: not kept).
+    before : dict or None
+        The interpenetrations [m] of the case this neighbour itself started from
+        (None: not kept; the compiled pass's chains keep it, ``older`` of
+        :func:`extrapolate_start`).
     """
 
     interpenetration: dict
@@ -139,10 +151,12 @@ class Neighbour:
     loads: dict | None = None
     jacobian: np.ndarray | None = field(default=None, repr=False)
     vertical: float = math.nan
+    before: dict | None = None
 
 
 def extrapolate_start(last: dict, before: dict | None, ratio: float, roll: float = math.nan,
-                      roll_before: float = math.nan, in_log: bool = False):
+                      roll_before: float = math.nan, in_log: bool = False,
+                      older: dict | None = None):
     """A chain of cases' start: the interpenetrations [m] of its last two cases
     extrapolated by one step, where they differ by less than the factor ``ratio``
     on every side (smooth neighbours; ``ratio`` <= 1 turns it off), and the roll
@@ -161,6 +175,12 @@ def extrapolate_start(last: dict, before: dict | None, ratio: float, roll: float
         Extrapolate ln d (d_last^2 / d_before) rather than d (2 d_last - d_before):
         the compiled pass's rule; the case layer's is linear (docs/tuning.md,
         section "Equilibrium", on why each).
+    older : dict, optional
+        Each side's interpenetration [m] of the case before ``before`` (the compiled
+        pass's chains keep it): no extrapolation where a side's three bend, its
+        second difference |d_last - 2 d_before + d_older| above both
+        ``EXTRAPOLATE_BEND`` |d_last - d_before| and ``EXTRAPOLATE_BEND_DEPTH``
+        d_last.
 
     Returns
     -------
@@ -173,6 +193,13 @@ def extrapolate_start(last: dict, before: dict | None, ratio: float, roll: float
     limit = math.log(ratio) if ratio > 0.0 else -math.inf
     if not all(abs(math.log(last[s] / before[s])) < limit for s in last):
         return last, roll, False
+    if older is not None:
+        for s in last:
+            if older.get(s, 0.0) > 0.0:
+                bend = abs(last[s] - 2.0 * before[s] + older[s])
+                if bend > EXTRAPOLATE_BEND * abs(last[s] - before[s]) and \
+                        bend > EXTRAPOLATE_BEND_DEPTH * last[s]:
+                    return last, roll, False
     if in_log:
         d = {s: last[s] * last[s] / before[s] for s in last}
     else:

@@ -258,3 +258,36 @@ def test_the_flange_force_has_no_sawtooth_in_the_interpenetration():
     steps = np.diff(force)
     assert np.all(steps > 0.0)
     assert np.max(np.abs(steps / steps.mean() - 1.0)) < 0.2
+
+
+#: the extrapolated start before the bend's test (equilibrium.EXTRAPOLATE_BEND),
+#: measured on the chains below: balance passes and roll-search evaluations of the
+#: last case
+BEFORE_BEND = {206: (9, 19), 455: (9, 33)}
+
+
+@pytest.mark.parametrize("j", [206, 455])
+def test_a_warm_chain_past_the_flanges_peak_starts_from_the_last_case(j):
+    # 6.76 mm / 0 mrad and 6.70 mm / 2 mrad of the benchmark sweep, warm from the
+    # four cases before: the right wheel's interpenetration peaks there (1060, 1109,
+    # then 1006 um; 755, 799, then 796 um), the start extrapolated in ln d from the
+    # last two lay 15 % and 6 % off (where the vertical force is flat in it, d ln F /
+    # d ln d some 0.5: 3 % of the load), and the pose's steps, then the steps on the
+    # interpenetrations with a roll search each, took 9 passes; the chain's last
+    # three interpenetrations bend there, so the start is the last case's own
+    from railcontact.cases.equilibrium import extrapolate_start
+    prev = None
+    for i in range(j - 4, j + 1):
+        before = prev
+        prev = solve_case_forces(_sweep_case(i), start=prev)
+        assert prev.converged and prev.load_residual() <= 1e-4
+    nb = before.neighbour
+    _, _, done = extrapolate_start(before.interpenetration, nb.interpenetration, 1.2,
+                                   in_log=True, older=nb.before)
+    assert nb.before is not None and not done
+    passes, gaps = BEFORE_BEND[j]
+    assert prev.passes <= 5 < passes and prev.gap_evaluations <= 8 < gaps
+    cold = solve_case_forces(_sweep_case(j))
+    assert cold.converged
+    assert prev.interpenetration["right"] == pytest.approx(cold.interpenetration["right"],
+                                                           rel=2e-3)

@@ -8,7 +8,8 @@ from dataclasses import dataclass
 import numpy as np
 import pytest
 
-from railcontact.cases.equilibrium import (EXTRAPOLATE_ROLL, JUMP_SLOPE, VerticalBalance, balance,
+from railcontact.cases.equilibrium import (EXTRAPOLATE_BEND, EXTRAPOLATE_BEND_DEPTH,
+                                          EXTRAPOLATE_ROLL, JUMP_SLOPE, VerticalBalance, balance,
                                           extrapolate_start)
 
 SIDES = ("left", "right")
@@ -391,3 +392,31 @@ def test_one_side_floors_the_final_slope_too(monkeypatch):
         assert bal.converged and ev.final and residual(ev) <= 1e-4
         peak[floor] = max(hertz(d, tuple(d))["right"] / Q["right"] for d, fin in f.calls if fin)
     assert peak[0.0] > 1.7 and peak[1.0] < 1.2
+
+
+def test_extrapolate_start_not_where_the_last_three_bend():
+    """With the case before the two (``older``): no extrapolation where a side's
+    second difference exceeds EXTRAPOLATE_BEND times its last step and
+    EXTRAPOLATE_BEND_DEPTH times its interpenetration (a chain turning at a peak,
+    the flange's 957, 1060, 1109 um of the benchmark sweep); a straight or gently
+    curving chain, and a bend small against the interpenetration, extrapolate as
+    without it."""
+    d1, d0 = {"left": 84.5e-6, "right": 1109.3e-6}, {"left": 84.2e-6, "right": 1060.0e-6}
+    peak = {"left": 84.0e-6, "right": 957.0e-6}
+    d, roll, done = extrapolate_start(d1, d0, 1.2, 1e-3, 1.2e-3, in_log=True, older=peak)
+    assert not done and d is d1 and roll == 1e-3
+    # the flange's approach (437, 574, 708 um): a bend of 2.7 um, extrapolated
+    d, _, done = extrapolate_start({"left": 83.9e-6, "right": 707.7e-6},
+                                   {"left": 83.8e-6, "right": 573.8e-6}, 2.0, in_log=True,
+                                   older={"left": 83.7e-6, "right": 437.2e-6})
+    assert done and d["right"] == pytest.approx(707.7e-6 ** 2 / 573.8e-6, rel=1e-12)
+    # each bound alone does not stop it (bends of 5 um on a step of 1 um at 1 mm, of
+    # 20 um on a step of 100 um); both do (50 um on 100 um)
+    last = {"right": 1.0e-3}
+    assert EXTRAPOLATE_BEND * 1e-6 < 5e-6 < EXTRAPOLATE_BEND_DEPTH * 1e-3
+    assert extrapolate_start(last, {"right": 0.999e-3}, 1.2, older={"right": 1.003e-3})[2]
+    assert EXTRAPOLATE_BEND_DEPTH * 1e-3 < 2e-5 < EXTRAPOLATE_BEND * 1e-4
+    assert extrapolate_start(last, {"right": 0.9e-3}, 1.2, older={"right": 0.82e-3})[2]
+    assert not extrapolate_start(last, {"right": 0.9e-3}, 1.2, older={"right": 0.85e-3})[2]
+    # without the case before (the case layer's chains): as before
+    assert extrapolate_start(d1, d0, 1.2, in_log=True)[2]
