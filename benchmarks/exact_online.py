@@ -48,7 +48,10 @@ t = 0 has it).  Then, in the same process: the Hertz + FASTSIM online run and th
 table run over the same time (from t = 0) and the exact run's wheel forces Q, Y
 against theirs at the same samples (rms, largest difference), max |Y/Q| of each, the
 samples with a flange patch loaded.  ``--from-states FILE``: the comparison of a
-saved (possibly partial) run's states instead of a run.
+saved (possibly partial) run's states instead of a run.  ``--initial FILE``: the run
+starts from the first state of a saved run (its time), e.g. to time the same stretch
+on two versions of the code (the wheel forces at the samples are saved beside
+``--save``, ``*.forces.npz``).
 """
 
 from __future__ import annotations
@@ -187,6 +190,21 @@ def main(argv=None):
     ap.add_argument("--save", default=None, help="--route-run: states (.npz)")
     ap.add_argument("--chunk", type=float, default=0.05,
                     help="--route-run: simulated seconds per progress line")
+    ap.add_argument("--initial", default=None,
+                    help="--route-run: start from the first state of a saved run (.npz of "
+                         "--save) at its time, instead of --start's handover")
+    ap.add_argument("--refs", default=None,
+                    help="--route-run: the Hertz and table runs to compare with, kept in "
+                         "REFS-hertz.nc and REFS-table.nc (run to max(100 s, the run's "
+                         "end) where they are not there yet)")
+    ap.add_argument("--refs-only", action="store_true",
+                    help="--route-run: only make the --refs files")
+    ap.add_argument("--no-refs", action="store_true",
+                    help="--route-run: without the Hertz and table runs to compare with")
+    ap.add_argument("--all-wheelsets", action="store_true",
+                    help="--route-run: a stage with one wheelset's patches moved solves "
+                         "every wheelset (simulation.STAGE_SOLVES_PER_WHEELSET False, as "
+                         "before)")
     ap.add_argument("--from-states", default=None,
                     help="--route-run: compare a saved run's states (.npz) instead")
     args = ap.parse_args(argv)
@@ -314,10 +332,16 @@ def route_run(args):
     head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                           capture_output=True, text=True).stdout.strip()
     _log(log, f"route run: exact + exact (stand-ins both), {T:g} s from t = {T0:g} s, "
-              f"{rate:g} samples/s, commit {head}, load average {load0[0]:.1f}")
+              f"{rate:g} samples/s, commit {head}, load average {load0[0]:.1f}"
+              + (", every wheelset solved at a stage that does not match"
+                 if args.all_wheelsets else ""))
+    if args.all_wheelsets:
+        S.STAGE_SOLVES_PER_WHEELSET = False
     hertz = OnlineWheelRail(ws, tr, damping=6e5)
     exact = OnlineWheelRail(ws, tr, damping=6e5, normal="exact")
     integ = Integration(method="rk4", sample_rate=rate)
+    if args.refs_only:
+        return _references(args, model, route, table, hertz, integ, max(100.0, T0 + T))
     for c, law in ((hertz, "fastsim"), (exact, "exact")):       # the caches loaded
         simulate_vehicle(model, route, c, V, 2.0 / rate, law, integration=integ)
     # the exact run's system, its static equilibrium and its step (as simulate_vehicle)
@@ -339,7 +363,11 @@ def route_run(args):
             unit=unit_cpu(), counts={"calls": {"normal": int(z["normal"]),
                                                "tangential": int(z["tangential"])}},
             load0=load0, load1=os.getloadavg(), q0=q0), dx, model, route, table, hertz, integ)
-    if T0 > 0:                      # the Hertz + FASTSIM online run's state at T0
+    if args.initial:                # a saved run's first state
+        z = np.load(args.initial)
+        T0, u = float(z["t"][0]), z["Y"][0].copy()
+        _log(log, f"the first state of {args.initial} (t = {T0:g} s) handed over")
+    elif T0 > 0:                    # the Hertz + FASTSIM online run's state at T0
         sh = S._System(model, route, hertz, V, "fastsim")
         uh = S.static_contact(sh, np.zeros(sh.n_states))
         dth, eh = S.online_step(sh, uh, rate)
@@ -399,6 +427,8 @@ def route_run(args):
     c0 = time.process_time()
     dx = _wheel_forces(sx, t, Y)
     _log(log, f"the exact run's samples evaluated again: {time.process_time() - c0:.1f} s CPU")
+    if args.save:
+        np.savez(args.save[:-4] + ".forces.npz", t=t, Q=dx["Q"].values, Y=dx["Y"].values)
     unit = unit_cpu()
     conv = counts["conv"].get("pk", 0) + counts["conv"].get("ssn", 0)
     load1 = os.getloadavg()
@@ -408,18 +438,36 @@ def route_run(args):
         load0=load0, load1=load1, q0=q0), dx, model, route, table, hertz, integ)
 
 
-def _route_report(args, r, dx, model, route, table, hertz, integ):
-    """The Markdown section of a route run and its comparison with the Hertz +
-    FASTSIM online and the table runs (run here, from t = 0)."""
+def _references(args, model, route, table, hertz, integ, T1):
+    """The Hertz + FASTSIM online run and the table run from t = 0 to ``T1`` [s]
+    (their wheel forces), from ``--refs``'s files where they reach ``T1``, else run
+    (and kept there)."""
+    import xarray as xr
     from railcontact.dynamics import simulate_vehicle
-    T0, T1 = r["T0"], r["T0"] + r["T"]
     refs = {}
-    for name, c in (("Hertz + FASTSIM online", hertz), ("table", table)):
+    for name, c, tag in (("Hertz + FASTSIM online", hertz, "hertz"), ("table", table, "table")):
+        path = f"{args.refs}-{tag}.nc" if args.refs else None
+        if path and Path(path).exists():
+            ds = xr.load_dataset(path)
+            if float(ds["time"].values[-1]) >= T1 - 1e-9:
+                refs[name] = ds
+                continue
         c0 = time.process_time()
         ds = simulate_vehicle(model, route, c, 50.0, T1, "fastsim", integration=integ)
-        refs[name] = ds
         _log(args.log, f"{name} run to t = {T1:g} s: {time.process_time() - c0:.1f} s CPU, "
                        f"status {ds.attrs['status']}")
+        ds = ds[["Q", "Y", "Y_over_Q", "patch_normal_force"]]
+        if path:
+            ds.to_netcdf(path, engine="h5netcdf")
+        refs[name] = ds
+    return refs
+
+
+def _route_report(args, r, dx, model, route, table, hertz, integ):
+    """The Markdown section of a route run and its comparison with the Hertz +
+    FASTSIM online and the table runs (from t = 0, :func:`_references`)."""
+    T0, T1 = r["T0"], r["T0"] + r["T"]
+    refs = {} if args.no_refs else _references(args, model, route, table, hertz, integ, T1)
     n, per = r["evals"], r["cpu"] / max(r["evals"], 1)
     calls = r["counts"]["calls"]
     lines = [f"Exact + exact online (`stand_in=\"both\"`), {r['T']:g} s of the route from "
