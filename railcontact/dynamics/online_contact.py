@@ -693,10 +693,11 @@ class OnlineWheelRail:
     the ratio of the normal model's to the spring's, the creep forces plus the
     difference; mode 4 of :func:`rhs_online`); ``"tangential"``, FASTSIM at the
     normal model's force, solved at every stage (mode 3); ``"none"``: the models
-    solved at every evaluation (four times the solves).  A stage whose patches
-    are not the step's (another number, side or slot, or one moved on the rail
-    by more than its grid's element) has the models solved
-    (:meth:`railcontact.dynamics.simulation._System.rhs`).
+    solved at every evaluation (four times the solves).  A stage where a
+    wheelset's patches are not the step's (another number, side or slot, or one
+    moved on the rail by more than its grid's element) has the models solved on
+    that wheelset's patches, the others keeping their stand-ins (mode 5 of
+    :func:`rhs_online`; :meth:`railcontact.dynamics.simulation._System.rhs`).
 
     A compiled strip model lays each evaluation's strips from the last evaluation's
     run of the patch (``warm_strips``, :func:`strip_ends_guess`; False: afresh, as

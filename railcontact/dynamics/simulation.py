@@ -171,7 +171,9 @@ class _System:
         step's first evaluation where its :class:`OnlineWheelRail` asks for them
         (``stand_in``) and the patches are the same (mode 4 or 3 of
         :func:`rhs_online`), and else solves its models (mode 1, the corrections
-        kept: :meth:`_keep_corrections`)."""
+        kept: :meth:`_keep_corrections`); with both stand-ins, on the wheelsets
+        whose patches are not the same alone (mode 5, the others' stand-ins kept;
+        :data:`STAGE_SOLVES_PER_WHEELSET`)."""
         self.calls += 1
         if self.online is not None:
             on, fr = self.online, self.fext_rows
