@@ -33,12 +33,32 @@ the ``before`` run's: rms and largest difference.
 ``python benchmarks/exact_online.py [--duration 0.5] [--rounds 2] [--before REF]
 [--variants before,none,tangential,both] [--sample-rate 1000] [--out FILE]``
 (prints a Markdown section; ``--out`` appends it to a file).
+
+``--route-run``: one ``exact`` + ``exact`` run (``stand_in="both"``, this checkout)
+over ``--duration`` s of the route from ``--start`` s (the issue's 100 s run, or the
+part of it where the curve and the flange contact are), at ``--sample-rate``
+samples per second (200 as the Hertz runs of ``dynamics_online.py``: the same rk4
+step), in this process, with its progress (simulated time, CPU, evaluations, solves
+and convolutions per evaluation, per chunk) logged to ``--log`` and its states saved
+to ``--save`` (an ``.npz``, rewritten at each chunk: a run stopped early leaves the
+part it made).  From ``--start`` > 0 the run starts from the state of the Hertz +
+FASTSIM online run at that time (the same route from t = 0, compiled), handed over;
+the exact run's step is that of its own Jacobian at the route's start (as a run from
+t = 0 has it).  Then, in the same process: the Hertz + FASTSIM online run and the
+table run over the same time (from t = 0) and the exact run's wheel forces Q, Y
+against theirs at the same samples (rms, largest difference), max |Y/Q| of each, the
+samples with a flange patch loaded.  ``--from-states FILE``: the comparison of a
+saved (possibly partial) run's states instead of a run.  ``--initial FILE``: the run
+starts from the first state of a saved run (its time), e.g. to time the same stretch
+on two versions of the code (the wheel forces at the samples are saved beside
+``--save``, ``*.forces.npz``).
 """
 
 from __future__ import annotations
 
 import argparse
 import json
+import math
 import os
 import subprocess
 import sys
@@ -161,7 +181,35 @@ def main(argv=None):
     ap.add_argument("--out", default=None)
     ap.add_argument("--child", default=None)
     ap.add_argument("--npz", default=None)
+    ap.add_argument("--route-run", action="store_true",
+                    help="one exact + exact run over --duration s from --start s, with "
+                         "its progress logged, against the Hertz and table runs")
+    ap.add_argument("--start", type=float, default=0.0,
+                    help="--route-run: start time [s] (the Hertz run's state handed over)")
+    ap.add_argument("--log", default=None, help="--route-run: progress log file")
+    ap.add_argument("--save", default=None, help="--route-run: states (.npz)")
+    ap.add_argument("--chunk", type=float, default=0.05,
+                    help="--route-run: simulated seconds per progress line")
+    ap.add_argument("--initial", default=None,
+                    help="--route-run: start from the first state of a saved run (.npz of "
+                         "--save) at its time, instead of --start's handover")
+    ap.add_argument("--refs", default=None,
+                    help="--route-run: the Hertz and table runs to compare with, kept in "
+                         "REFS-hertz.nc and REFS-table.nc (run to max(100 s, the run's "
+                         "end) where they are not there yet)")
+    ap.add_argument("--refs-only", action="store_true",
+                    help="--route-run: only make the --refs files")
+    ap.add_argument("--no-refs", action="store_true",
+                    help="--route-run: without the Hertz and table runs to compare with")
+    ap.add_argument("--all-wheelsets", action="store_true",
+                    help="--route-run: a stage with one wheelset's patches moved solves "
+                         "every wheelset (simulation.STAGE_SOLVES_PER_WHEELSET False, as "
+                         "before)")
+    ap.add_argument("--from-states", default=None,
+                    help="--route-run: compare a saved run's states (.npz) instead")
     args = ap.parse_args(argv)
+    if args.route_run:
+        return route_run(args)
     if args.child:
         print(json.dumps(_child(args.child, args.duration, args.npz, args.sample_rate)))
         return None
@@ -210,6 +258,264 @@ def main(argv=None):
                          f"{100 * np.max(np.abs(dy)) / q0:.3f} % |")
     text = "\n".join(lines)
     print(text)
+    if args.out:
+        with open(args.out, "a") as f:
+            f.write("\n" + text + "\n")
+    return lines
+
+
+# ----------------------------------------------------------------- --route-run
+def _log(path, text):
+    line = f"{time.strftime('%H:%M:%S', time.gmtime())} {text}"
+    print(line, flush=True)
+    if path:
+        with open(path, "a") as f:
+            f.write(line + "\n")
+
+
+def _online_run(sysm, u, t0, duration, dt, every, sample_rate, chunk=None, note=None):
+    """Rk4 of the online contact from (t0 [s], u) over ``duration`` [s], as
+    :func:`railcontact.dynamics.simulation._run_rk4_online` steps it (the compiled
+    loop with a compiled law, else the Python one), in chunks of ``chunk`` samples,
+    ``note(k, t, steps)`` after each.  Returns the sample times, the states, the
+    steps made, the loop's CPU time [s] and the status (completed, derailed,
+    diverged)."""
+    import railcontact.dynamics.simulation as S
+    n = int(math.floor(duration * sample_rate + 1e-9))
+    t = t0 + np.arange(n + 1) / sample_rate
+    Y = np.empty((n + 1, u.size))
+    Y[0] = u
+    chunk = chunk or max(1, n // 100)
+    cpu, steps, written, status = 0.0, 0, n, "completed"
+    for k0 in range(0, n, chunk):
+        k1 = min(k0 + chunk, n)
+        c0 = time.process_time()
+        if sysm.law >= 0:
+            u, k, m = S.rk4_online(u, t[k0], dt, (k1 - k0) * every, every, sysm.system,
+                                   sysm.online, sysm.fext_rows, sysm.out, Y[k0 + 1:k1 + 1])
+        else:
+            u, k, m = S._rk4_python(sysm, u, t[k0], dt, (k1 - k0) * every, every,
+                                    Y[k0 + 1:k1 + 1])
+        cpu += time.process_time() - c0
+        steps += m
+        if not np.all(np.isfinite(u)):
+            written, status = k0, f"diverged before t = {t[k1]:.4g} s"
+            break
+        if m < (k1 - k0) * every:
+            written, status = k0 + k, f"derailed at t = {t[k0] + m * dt:.4f} s"
+            break
+        if note is not None:
+            note(k1, t[:k1 + 1], Y[:k1 + 1], steps, cpu)
+    return t[:written + 1], Y[:written + 1], steps, cpu, status
+
+
+def _wheel_forces(sysm, t, Y):
+    """The dataset of a run's samples (the forces evaluated again at each)."""
+    import railcontact.dynamics.simulation as S
+    return S._dataset(sysm, t, Y.T, 0.0)
+
+
+def route_run(args):
+    """``--route-run``: see the module's docstring."""
+    sys.path.insert(0, str(HERE))
+    from dynamics_online import _setup
+    from exact_case import Counter, _pk, _ssn, unit_cpu
+    import railcontact.dynamics.simulation as S
+    from railcontact.dynamics import Integration, simulate_vehicle
+    from railcontact.dynamics.online_contact import OnlineWheelRail
+    from railcontact.dynamics.vehicle import G_ACC
+    V, T0, T, rate = 50.0, args.start, args.duration, args.sample_rate
+    log = args.log
+    model, ws, tr, table, route = _setup(max(100.0, T0 + T), V)
+    q0 = model.wheelsets[0][1] * G_ACC / 2
+    load0 = os.getloadavg()
+    head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                          capture_output=True, text=True).stdout.strip()
+    _log(log, f"route run: exact + exact (stand-ins both), {T:g} s from t = {T0:g} s, "
+              f"{rate:g} samples/s, commit {head}, load average {load0[0]:.1f}"
+              + (", every wheelset solved at a stage that does not match"
+                 if args.all_wheelsets else ""))
+    if args.all_wheelsets:
+        S.STAGE_SOLVES_PER_WHEELSET = False
+    hertz = OnlineWheelRail(ws, tr, damping=6e5)
+    exact = OnlineWheelRail(ws, tr, damping=6e5, normal="exact")
+    integ = Integration(method="rk4", sample_rate=rate)
+    if args.refs_only:
+        return _references(args, model, route, table, hertz, integ, max(100.0, T0 + T))
+    for c, law in ((hertz, "fastsim"), (exact, "exact")):       # the caches loaded
+        simulate_vehicle(model, route, c, V, 2.0 / rate, law, integration=integ)
+    # the exact run's system, its static equilibrium and its step (as simulate_vehicle)
+    sx = S._System(model, route, exact, V, "exact")
+    u = S.static_contact(sx, np.zeros(sx.n_states))
+    dt, every = S.online_step(sx, u, rate)
+    _log(log, f"exact: rk4 step {dt * 1e3:.4g} ms ({every} per sample)")
+    if args.from_states:            # a saved (possibly partial) run's states
+        z = np.load(args.from_states)
+        t, Y = z["t"], z["Y"]
+        k = int(np.max(np.nonzero(np.all(np.isfinite(Y), axis=1))[0]))
+        t, Y = t[:k + 1], Y[:k + 1]
+        n = max(int(z["evaluations"]), 1)
+        dx = _wheel_forces(sx, t, Y)
+        return _route_report(args, dict(
+            head=head, T0=float(z["start"]), T=float(t[-1] - z["start"]), rate=rate,
+            dt=float(z["dt"]), status=f"saved states to t = {t[-1]:.3f} s", cpu=float(z["cpu"]),
+            wall=math.nan, evals=n, steps=int(z["steps"]), conv=int(z["conv"]),
+            unit=unit_cpu(), counts={"calls": {"normal": int(z["normal"]),
+                                               "tangential": int(z["tangential"])}},
+            load0=load0, load1=os.getloadavg(), q0=q0), dx, model, route, table, hertz, integ)
+    if args.initial:                # a saved run's first state
+        z = np.load(args.initial)
+        T0, u = float(z["t"][0]), z["Y"][0].copy()
+        _log(log, f"the first state of {args.initial} (t = {T0:g} s) handed over")
+    elif T0 > 0:                    # the Hertz + FASTSIM online run's state at T0
+        sh = S._System(model, route, hertz, V, "fastsim")
+        uh = S.static_contact(sh, np.zeros(sh.n_states))
+        dth, eh = S.online_step(sh, uh, rate)
+        th, Yh, _, cpu_h, st = _online_run(sh, uh, 0.0, T0, dth, eh, rate)
+        if st != "completed":
+            raise RuntimeError(f"the Hertz run to t = {T0:g} s: {st}")
+        u = Yh[-1].copy()
+        _log(log, f"the Hertz + FASTSIM online state at t = {th[-1]:g} s handed over "
+                  f"(its step {dth * 1e3:.4g} ms, {cpu_h:.1f} s CPU)")
+    c = Counter()
+    for mod, attr, label, count in (
+            ("railcontact.dynamics.simulation", "rhs_online", "search", None),
+            ("railcontact.normal.exact", "ExactNormalModel.solve", "normal", None),
+            ("railcontact.normal.exact", "polonsky_keer", "pk", _pk),
+            ("railcontact.tangential.exact", "ExactTangentialModel.solve", "tangential", None),
+            ("railcontact.tangential.exact", "ssn_solve", "ssn", _ssn)):
+        c.wrap(mod, attr, label, count)
+    sx.calls = 0
+    last = {"calls": 0, "cpu": 0.0, "normal": 0, "tangential": 0, "conv": 0,
+            "wall": time.perf_counter(), "saved": time.perf_counter()}
+    per = max(1, int(round(args.chunk * rate)))
+
+    def note(k, t, Y, steps, cpu):
+        ev = sx.calls - last["calls"]
+        conv = c.conv.get("pk", 0) + c.conv.get("ssn", 0)
+        d_cpu = cpu - last["cpu"]
+        _log(log, f"t = {t[-1]:.3f} s: CPU {cpu:.1f} s ({d_cpu / (args.chunk):.1f} x real time "
+                  f"in this chunk), wall {time.perf_counter() - last['wall']:.1f} s, "
+                  f"evaluations {sx.calls} (+{ev}, {1e3 * d_cpu / max(ev, 1):.2f} ms each), "
+                  f"normal/tangential solves per evaluation "
+                  f"{(c.calls.get('normal', 0) - last['normal']) / max(ev, 1):.2f}/"
+                  f"{(c.calls.get('tangential', 0) - last['tangential']) / max(ev, 1):.2f}, "
+                  f"convolutions per evaluation {(conv - last['conv']) / max(ev, 1):.0f}, "
+                  f"rows {int(sx.online.count.sum())}, load {os.getloadavg()[0]:.1f}")
+        last.update(calls=sx.calls, cpu=cpu, normal=c.calls.get("normal", 0),
+                    tangential=c.calls.get("tangential", 0), conv=conv)
+        if args.save and (time.perf_counter() - last["saved"] > 60 or k == n_all):
+            np.savez(args.save, t=t, Y=Y, steps=steps, cpu=cpu, evaluations=sx.calls,
+                     dt=dt, start=T0, conv=conv, normal=c.calls.get("normal", 0),
+                     tangential=c.calls.get("tangential", 0))
+            last["saved"] = time.perf_counter()
+
+    n_all = int(math.floor(T * rate + 1e-9))
+    w0 = time.perf_counter()
+    t, Y, steps, cpu, status = _online_run(sx, u, T0, T, dt, every, rate, per, note)
+    wall = time.perf_counter() - w0
+    evals = sx.calls
+    counts = {k: dict(v) for k, v in (("calls", c.calls), ("cpu", c.cpu), ("conv", c.conv))}
+    c.restore()
+    if args.save:
+        np.savez(args.save, t=t, Y=Y, steps=steps, cpu=cpu, evaluations=evals, dt=dt,
+                 start=T0, conv=counts["conv"].get("pk", 0) + counts["conv"].get("ssn", 0),
+                 normal=counts["calls"].get("normal", 0),
+                 tangential=counts["calls"].get("tangential", 0))
+    _log(log, f"exact run: {status}, {t[-1] - T0:g} s simulated, loop CPU {cpu:.1f} s, "
+              f"wall {wall:.1f} s, {evals} evaluations, {steps} steps")
+    c0 = time.process_time()
+    dx = _wheel_forces(sx, t, Y)
+    _log(log, f"the exact run's samples evaluated again: {time.process_time() - c0:.1f} s CPU")
+    if args.save:
+        np.savez(args.save[:-4] + ".forces.npz", t=t, Q=dx["Q"].values, Y=dx["Y"].values)
+    unit = unit_cpu()
+    conv = counts["conv"].get("pk", 0) + counts["conv"].get("ssn", 0)
+    load1 = os.getloadavg()
+    return _route_report(args, dict(
+        head=head, T0=T0, T=t[-1] - T0, rate=rate, dt=dt, status=status, cpu=cpu,
+        wall=wall, evals=evals, steps=steps, conv=conv, unit=unit, counts=counts,
+        load0=load0, load1=load1, q0=q0), dx, model, route, table, hertz, integ)
+
+
+def _references(args, model, route, table, hertz, integ, T1):
+    """The Hertz + FASTSIM online run and the table run from t = 0 to ``T1`` [s]
+    (their wheel forces), from ``--refs``'s files where they reach ``T1``, else run
+    (and kept there)."""
+    import xarray as xr
+    from railcontact.dynamics import simulate_vehicle
+    refs = {}
+    for name, c, tag in (("Hertz + FASTSIM online", hertz, "hertz"), ("table", table, "table")):
+        path = f"{args.refs}-{tag}.nc" if args.refs else None
+        if path and Path(path).exists():
+            ds = xr.load_dataset(path)
+            if float(ds["time"].values[-1]) >= T1 - 1e-9:
+                refs[name] = ds
+                continue
+        c0 = time.process_time()
+        ds = simulate_vehicle(model, route, c, 50.0, T1, "fastsim", integration=integ)
+        _log(args.log, f"{name} run to t = {T1:g} s: {time.process_time() - c0:.1f} s CPU, "
+                       f"status {ds.attrs['status']}")
+        ds = ds[["Q", "Y", "Y_over_Q", "patch_normal_force"]]
+        if path:
+            ds.to_netcdf(path, engine="h5netcdf")
+        refs[name] = ds
+    return refs
+
+
+def _route_report(args, r, dx, model, route, table, hertz, integ):
+    """The Markdown section of a route run and its comparison with the Hertz +
+    FASTSIM online and the table runs (from t = 0, :func:`_references`)."""
+    T0, T1 = r["T0"], r["T0"] + r["T"]
+    refs = {} if args.no_refs else _references(args, model, route, table, hertz, integ, T1)
+    n, per = r["evals"], r["cpu"] / max(r["evals"], 1)
+    calls = r["counts"]["calls"]
+    lines = [f"Exact + exact online (`stand_in=\"both\"`), {r['T']:g} s of the route from "
+             f"t = {T0:g} s ({'the Hertz + FASTSIM online state handed over' if T0 > 0 else 'static equilibrium'}), "
+             f"{r['rate']:g} samples per second, rk4 step {r['dt'] * 1e3:.4g} ms; commit "
+             f"{r['head']}; load average {r['load0'][0]:.1f} at the start, "
+             f"{r['load1'][0]:.1f} at the end (2 cores); status {r['status']}.", "",
+             "| simulated [s] | loop CPU [s] | loop wall [s] | x real time (CPU) | evaluations "
+             "| ms per evaluation | = FFT convolutions | normal / tangential solves per "
+             "evaluation | FFT convolutions per evaluation (counted) | unit [µs] |",
+             "|" + "---|" * 10,
+             f"| {r['T']:g} | {r['cpu']:.1f} | {r['wall']:.1f} | {r['cpu'] / r['T']:.1f} | {n} | "
+             f"{per * 1e3:.2f} | {per / r['unit']:.0f} | "
+             f"{calls.get('normal', 0) / n:.2f} / {calls.get('tangential', 0) / n:.2f} | "
+             f"{r['conv'] / n:.0f} | {r['unit'] * 1e6:.1f} |", ""]
+    sel_t = lambda ds: (ds["time"].values >= T0 - 1e-9) & (ds["time"].values <= T1 + 1e-9)
+    xs = dx.isel(time=sel_t(dx))
+    flange = (xs["patch_normal_force"].values[..., 1] > 0).any(axis=(1, 2))
+    lines += ["Wheel forces of every wheel (4 wheelsets x 2) at the samples, the exact run "
+              "against each: rms and largest difference [N] (/ Q0 = "
+              f"{r['q0'] / 1e3:.1f} kN); all samples, and those with a flange patch loaded "
+              f"in the exact run ({int(flange.sum())} of {flange.size}):", "",
+              "| against | samples | Q rms | Q max | Y rms | Y max | flange samples: Q rms | "
+              "Q max | Y rms | Y max |", "|" + "---|" * 10]
+    yq = {"exact + exact": xs}
+    for name, ds in refs.items():
+        rs = ds.isel(time=sel_t(ds))
+        m = min(rs.sizes["time"], xs.sizes["time"])
+        yq[name] = rs.isel(time=slice(0, m))
+        cells = []
+        for sel in (np.ones(m, bool), flange[:m]):
+            for v in ("Q", "Y"):
+                d = (xs[v].values[:m] - rs[v].values[:m])[sel]
+                cells += ([f"{np.sqrt(np.mean(d ** 2)):.0f} ({100 * np.sqrt(np.mean(d ** 2)) / r['q0']:.2f} %)",
+                           f"{np.max(np.abs(d)):.0f} ({100 * np.max(np.abs(d)) / r['q0']:.2f} %)"]
+                          if d.size else ["", ""])
+        lines.append(f"| {name} | {m} | " + " | ".join(cells) + " |")
+    lines += ["", "| run | max \\|Y/Q\\| | at t [s] | wheelset, wheel | Y [kN] | Q [kN] | "
+              "99.9th percentile \\|Y/Q\\| |", "|---|---|---|---|---|---|---|"]
+    for name, ds in yq.items():
+        a = np.abs(ds["Y_over_Q"].values)
+        k = np.unravel_index(int(np.nanargmax(a)), a.shape)
+        lines.append(f"| {name} | {a[k]:.2f} | {float(ds['time'].values[k[0]]):.3f} | "
+                     f"{k[1] + 1}, {('left', 'right')[k[2]]} | "
+                     f"{float(ds['Y'].values[k]) / 1e3:.1f} | {float(ds['Q'].values[k]) / 1e3:.1f} | "
+                     f"{float(np.nanpercentile(a, 99.9)):.2f} |")
+    text = "\n".join(lines)
+    _log(args.log, "report:\n" + text)
     if args.out:
         with open(args.out, "a") as f:
             f.write("\n" + text + "\n")

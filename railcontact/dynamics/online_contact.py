@@ -488,9 +488,11 @@ def rhs_online(t, u, system, online, mode, fext, out):
     row (given by the caller after a ``mode`` 2 evaluation: the search, the normal
     forces and no creep forces); 3: the compiled law's at ``fext``'s normal forces
     corrected by :attr:`~OnlineContact.corrections`; 4: Hertz's springs and the
-    compiled law corrected by them (:func:`row_forces`).  Every mode checks whether
-    the rows are those of the corrections (:func:`matches`), ``online.frame``'s
-    :data:`G_MATCH` 1 where they are, 0 where not.  ``out``
+    compiled law corrected by them (:func:`row_forces`); 5: per wheelset, 4 where
+    its rows are those of its corrections, else 1 (the caller solved that
+    wheelset's patches alone).  Every mode checks whether the rows are those of the
+    corrections (:func:`matches`), ``online.frame``'s :data:`G_MATCH` 1 where they
+    are (every wheelset's), 0 where not.  ``out``
     (:class:`~.equations_of_motion.Outputs`) takes the patches (two slots per side)
     and the wheelsets' loads, vertical position and roll."""
     V = system.velocity
@@ -519,8 +521,13 @@ def rhs_online(t, u, system, online, mode, fext, out):
         pose = PassPose(yrel, psi - yad, g[G_YOFF_L], g[G_YOFF_R], g[G_E], g[G_R0], V,
                         -V / g[G_R0], yd - V * yad, psid + V * k, g[G_COMBINE])
         m = search_wheelset(online, w, pose, zs[w], phi - cl)
+        mw = mode
         if not matches(online, w, m):
             g[G_MATCH] = 0.0
+            if mode == 5:
+                mw = 1
+        elif mode == 5:
+            mw = 4
         online.poses[w, 0], online.poses[w, 1] = yrel, zs[w]
         online.poses[w, 2], online.poses[w, 3] = phi - cl, psi - yad
         rates[0], rates[1], rates[2], rates[3] = yd - V * yad, zd[w], phid, V
@@ -531,7 +538,7 @@ def rhs_online(t, u, system, online, mode, fext, out):
         mx = LOAD_BASE * (pr - pl)
         for i in range(m):
             row = online.rows[w, i]
-            Yk, Qk = row_forces(row, online, mode, fext[w, i], rates,
+            Yk, Qk = row_forces(row, online, mw, fext[w, i], rates,
                                 online.corrections[w, i])
             F[3 * b] += Yk
             F[3 * b + 1] += row[P_X] * Yk - row[R_YC] * row[R_FX] + \
@@ -686,10 +693,11 @@ class OnlineWheelRail:
     the ratio of the normal model's to the spring's, the creep forces plus the
     difference; mode 4 of :func:`rhs_online`); ``"tangential"``, FASTSIM at the
     normal model's force, solved at every stage (mode 3); ``"none"``: the models
-    solved at every evaluation (four times the solves).  A stage whose patches
-    are not the step's (another number, side or slot, or one moved on the rail
-    by more than its grid's element) has the models solved
-    (:meth:`railcontact.dynamics.simulation._System.rhs`).
+    solved at every evaluation (four times the solves).  A stage where a
+    wheelset's patches are not the step's (another number, side or slot, or one
+    moved on the rail by more than its grid's element) has the models solved on
+    that wheelset's patches, the others keeping their stand-ins (mode 5 of
+    :func:`rhs_online`; :meth:`railcontact.dynamics.simulation._System.rhs`).
 
     A compiled strip model lays each evaluation's strips from the last evaluation's
     run of the patch (``warm_strips``, :func:`strip_ends_guess`; False: afresh, as

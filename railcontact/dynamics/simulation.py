@@ -24,7 +24,7 @@ from ..geometry.wheel_pass import P_CONTACT_ANGLE, P_Y_RAIL
 from .online_contact import (C_FLANGE, C_FX, C_FY, C_MZ, C_RATIO, C_SIDE, C_TOL, C_YRAIL,
                              G_MATCH, MAX_ROWS, NPF, OFF_RAIL, ON_FLANGE_TIP, R_FX, R_FY,
                              R_MZ, R_SFX, R_SFY, R_SMZ, R_SPRING, OnlineWheelRail,
-                             rhs_online, rk4_online)
+                             matches, rhs_online, rk4_online)
 from .route import Route
 from .vehicle import VehicleModel
 from .wheel_rail import WheelRailTable, online_law, python_patch_forces
@@ -47,6 +47,13 @@ def _per_wheelset(table, nw: int) -> list:
             raise InputError("contact tables of the wheelsets: expected one shift grid and "
                              "one nominal radius")
     return tables
+
+
+#: at an inner stage of an rk4 step of the online contact's Python path (``stand_in``
+#: "both"), solve only the wheelsets whose patches are not those of the step's first
+#: evaluation (False: every wheelset's where one's are not, as before; for
+#: benchmarks/exact_online.py's before-and-after)
+STAGE_SOLVES_PER_WHEELSET = True
 
 
 class _System:
@@ -164,7 +171,9 @@ class _System:
         step's first evaluation where its :class:`OnlineWheelRail` asks for them
         (``stand_in``) and the patches are the same (mode 4 or 3 of
         :func:`rhs_online`), and else solves its models (mode 1, the corrections
-        kept: :meth:`_keep_corrections`)."""
+        kept: :meth:`_keep_corrections`); with both stand-ins, on the wheelsets
+        whose patches are not the same alone (mode 5, the others' stand-ins kept;
+        :data:`STAGE_SOLVES_PER_WHEELSET`)."""
         self.calls += 1
         if self.online is not None:
             on, fr = self.online, self.fext_rows
@@ -173,6 +182,18 @@ class _System:
             if stage and self.stand_in == "both":
                 du = rhs_online(t, u, self.system, on, 4, fr, self.out)
                 if on.frame[G_MATCH] > 0.0:
+                    return du
+                if STAGE_SOLVES_PER_WHEELSET:
+                    # only the wheelsets whose patches are not their corrections' solved
+                    # (a patch of one wheelset appearing or moving on its rail had
+                    # all the wheelsets solved; benchmarks/dynamics_online.md), the
+                    # others' stand-ins kept
+                    solve = np.array([not matches(on, w, int(on.count[w]))
+                                      for w in range(on.count.size)])
+                    rhs_online(t, u, self.system, on, 2, fr, self.out)
+                    self._online_python_forces(False, solve)
+                    du = rhs_online(t, u, self.system, on, 5, fr, self.out)
+                    self._keep_corrections(solve)
                     return du
             rhs_online(t, u, self.system, on, 2, fr, self.out)
             lazy = stage and self.stand_in == "tangential" and on.frame[G_MATCH] > 0.0
@@ -202,16 +223,19 @@ class _System:
             self.fext[idx] = (*f, N)
         return rhs_core(t, u, self.system, 1, self.fext, self.out)
 
-    def _online_keys(self):
+    def _online_keys(self, wheelsets=None):
         """The rows of the last search: (wheelset, row, key, geometry) with the key
         (wheelset, side, flange slot, the row's rank in that slot) that follows a
-        patch from one evaluation to the next."""
+        patch from one evaluation to the next (``wheelsets``: a boolean per
+        wheelset, those alone)."""
         from ..geometry.track import WheelsetPose
         from ..geometry.wheel_pass import patch_geometry
         from .online_contact import FLANGE_ANGLE
         on = self.online
         rows = []
         for w in range(on.count.size):
+            if wheelsets is not None and not wheelsets[w]:
+                continue
             shift, z, roll, yaw = on.poses[w]
             pose = WheelsetPose(float(shift), float(z), float(roll), float(yaw))
             seen = {}
@@ -224,7 +248,7 @@ class _System:
                                             self.wheel_rail.track, pose)))
         return rows
 
-    def _online_python_forces(self, lazy: bool = False) -> int:
+    def _online_python_forces(self, lazy: bool = False, wheelsets=None) -> int:
         """The creep forces and normal forces of every row of the last search with
         the registered models at the row's approach and creepages, into
         ``fext_rows``; returns the mode of :func:`rhs_online` that takes them.
@@ -240,13 +264,15 @@ class _System:
         warm-started from the same patch's last tangential solution (mode 1).
         ``lazy``: the tangential problems not solved; FASTSIM compiled at the
         normal forces stands in, corrected by the difference of the last
-        solutions from it (mode 3, :func:`~.online_contact.row_forces`)."""
+        solutions from it (mode 3, :func:`~.online_contact.row_forces`).
+        ``wheelsets``: a boolean per wheelset, the patches of those alone solved
+        (the others' rows left as they are: mode 5 takes their stand-ins)."""
         from .online_contact import R_DDOT
         on = self.online
         self.fext_rows[:] = 0.0
         nmodel, tmodel = self.py_normal, self.py_model
         damping = self.wheel_rail.damping
-        self._rows = rows = self._online_keys()
+        self._rows = rows = self._online_keys(wheelsets)
         if self.batch and rows:
             # the strip models on all patches together, compiled
             # (railcontact.cases.batch.solve_patches)
@@ -281,7 +307,7 @@ class _System:
         self.warm.update(warm)
         return 3 if lazy else 1
 
-    def _keep_corrections(self):
+    def _keep_corrections(self, wheelsets=None):
         """After an evaluation with the models solved (mode 1): each patch's
         corrections of the stand-ins into the online contact's
         (:data:`~.online_contact.CORRECTION_FIELDS`): the normal solution's force
@@ -289,10 +315,14 @@ class _System:
         forces less the stand-in's at the same normal force, with where the patch
         lay on the rail [m] and its grid's element across [m] (the stages that
         follow take the corrections while the patch stays within it; none for a
-        patch that the spring did not load)."""
+        patch that the spring did not load).  ``wheelsets``: a boolean per
+        wheelset, those alone (the others' corrections kept)."""
         on = self.online
-        on.corrected[:] = on.count
+        keep = np.ones(on.count.size, bool) if wheelsets is None else np.asarray(wheelsets)
+        on.corrected[keep] = on.count[keep]
         for w, i, key, _ in self._rows:
+            if not keep[w]:
+                continue
             row, c = on.rows[w, i], on.corrections[w, i]
             ns = self.warm[key][0]
             spring = float(row[R_SPRING])

@@ -265,6 +265,49 @@ def test_exact_stand_ins_give_the_solution_where_they_were_corrected(bodies):
     assert np.max(np.abs(stage - full)) <= 1e-4 * scale
 
 
+def test_exact_stage_solves_only_the_wheelset_whose_patches_moved(bodies):
+    """A bogie (2 wheelsets) on exact + exact online contact: at an inner stage
+    where one wheelset's patch has moved on its rail beyond its grid's element
+    (its correction displaced 1 mm), that wheelset's patches alone are solved
+    (the exact normal solves counted: its rows, not the bogie's), the other keeps
+    its stand-ins and its corrections unchanged, and the derivative equals the full
+    evaluation's within the normal solver's tolerance (1e-4 of the largest entry,
+    as where every patch is solved)."""
+    from railcontact.dynamics.online_contact import C_YRAIL
+    from railcontact.dynamics.simulation import _System, static_contact
+    ws, tr = bodies
+    m = VehicleModel.from_parameters("bogie")
+    sysm = _System(m, Route.tangent(50.0), OnlineWheelRail(ws, tr, normal="exact"), 20.0,
+                   "exact")
+    u = np.zeros(sysm.n_states)
+    for w in m.wheelsets:
+        u[3 * w[0]] = 2e-3
+    u = static_contact(sysm, u)
+    u[3 * len(m.bodies) + 3 * m.wheelsets[0][0]] = 0.05
+    on = sysm.online
+    sysm.rhs(0.0, u)
+    full = sysm.rhs(0.0, u)
+    assert on.count.size == 2 and np.all(on.corrected == on.count) and on.count[0] >= 2
+    solves = [0]
+    real = sysm.py_normal.solve
+
+    def counted(*a, **k):
+        solves[0] += 1
+        return real(*a, **k)
+    sysm.py_normal.solve = counted
+    other = on.corrections[1].copy()
+    y_rail = float(on.corrections[0, 0, C_YRAIL])
+    on.corrections[0, 0, C_YRAIL] += 1e-3              # as if the patch had moved 1 mm
+    stage = sysm.rhs(0.0, u, stage=True)
+    assert solves[0] == on.count[0]
+    assert float(on.corrections[0, 0, C_YRAIL]) == pytest.approx(y_rail, abs=1e-12)
+    assert np.array_equal(on.corrections[1], other)
+    assert np.max(np.abs(stage - full)) <= 1e-4 * np.max(np.abs(full))
+    solves[0] = 0
+    sysm.rhs(0.0, u, stage=True)                       # both match again: no solve
+    assert solves[0] == 0
+
+
 def test_exact_online_with_stand_ins_against_every_stage_solved(bodies):
     """exact + exact online, 4 ms of the wheelset let go 2 mm off centre at 20 m/s:
     with the compiled stand-ins at the rk4 steps' inner stages (the default, the
