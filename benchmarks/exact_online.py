@@ -51,7 +51,9 @@ samples with a flange patch loaded.  ``--from-states FILE``: the comparison of a
 saved (possibly partial) run's states instead of a run.  ``--initial FILE``: the run
 starts from the first state of a saved run (its time), e.g. to time the same stretch
 on two versions of the code (the wheel forces at the samples are saved beside
-``--save``, ``*.forces.npz``).
+``--save``, ``*.forces.npz``); ``--initial-time T``: from its state at T instead
+(e.g. ``--initial runs/full.npz --initial-time 23.85 --duration 0.1 --no-refs``:
+the stretch of the 100 s run where the wheel loads spiked, issue 30).
 """
 
 from __future__ import annotations
@@ -193,6 +195,10 @@ def main(argv=None):
     ap.add_argument("--initial", default=None,
                     help="--route-run: start from the first state of a saved run (.npz of "
                          "--save) at its time, instead of --start's handover")
+    ap.add_argument("--initial-time", type=float, default=None,
+                    help="--route-run with --initial: the saved run's state at this time "
+                         "[s] (its nearest sample) instead of its first, e.g. to restart "
+                         "just before a stretch of it")
     ap.add_argument("--refs", default=None,
                     help="--route-run: the Hertz and table runs to compare with, kept in "
                          "REFS-hertz.nc and REFS-table.nc (run to max(100 s, the run's "
@@ -365,7 +371,9 @@ def route_run(args):
             load0=load0, load1=os.getloadavg(), q0=q0), dx, model, route, table, hertz, integ)
     if args.initial:                # a saved run's first state
         z = np.load(args.initial)
-        T0, u = float(z["t"][0]), z["Y"][0].copy()
+        k0 = 0 if args.initial_time is None else int(np.argmin(np.abs(z["t"] -
+                                                                      args.initial_time)))
+        T0, u = float(z["t"][k0]), z["Y"][k0].copy()
         _log(log, f"the first state of {args.initial} (t = {T0:g} s) handed over")
     elif T0 > 0:                    # the Hertz + FASTSIM online run's state at T0
         sh = S._System(model, route, hertz, V, "fastsim")
@@ -506,14 +514,16 @@ def _route_report(args, r, dx, model, route, table, hertz, integ):
                           if d.size else ["", ""])
         lines.append(f"| {name} | {m} | " + " | ".join(cells) + " |")
     lines += ["", "| run | max \\|Y/Q\\| | at t [s] | wheelset, wheel | Y [kN] | Q [kN] | "
-              "99.9th percentile \\|Y/Q\\| |", "|---|---|---|---|---|---|---|"]
+              "99.9th percentile \\|Y/Q\\| | Q min, max [kN] |", "|---|---|---|---|---|---|---|---|"]
     for name, ds in yq.items():
         a = np.abs(ds["Y_over_Q"].values)
         k = np.unravel_index(int(np.nanargmax(a)), a.shape)
         lines.append(f"| {name} | {a[k]:.2f} | {float(ds['time'].values[k[0]]):.3f} | "
                      f"{k[1] + 1}, {('left', 'right')[k[2]]} | "
                      f"{float(ds['Y'].values[k]) / 1e3:.1f} | {float(ds['Q'].values[k]) / 1e3:.1f} | "
-                     f"{float(np.nanpercentile(a, 99.9)):.2f} |")
+                     f"{float(np.nanpercentile(a, 99.9)):.2f} | "
+                     f"{float(np.min(ds['Q'].values)) / 1e3:.1f}, "
+                     f"{float(np.max(ds['Q'].values)) / 1e3:.1f} |")
     text = "\n".join(lines)
     _log(args.log, "report:\n" + text)
     if args.out:

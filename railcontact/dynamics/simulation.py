@@ -229,7 +229,7 @@ class _System:
         patch from one evaluation to the next (``wheelsets``: a boolean per
         wheelset, those alone)."""
         from ..geometry.track import WheelsetPose
-        from ..geometry.wheel_pass import patch_geometry
+        from ..geometry.wheel_pass import patch_geometry, row_territories
         from .online_contact import FLANGE_ANGLE
         on = self.online
         rows = []
@@ -239,13 +239,19 @@ class _System:
             shift, z, roll, yaw = on.poses[w]
             pose = WheelsetPose(float(shift), float(z), float(roll), float(yaw))
             seen = {}
-            for i in range(int(on.count[w])):
+            m = int(on.count[w])
+            # each patch's territory halfway to its side's neighbours: a patch
+            # solved on a grid of its own (exact) loads its own region alone (a
+            # small region beside a loaded one had the neighbour's load again,
+            # and the stand-ins that ratio: issue 30's spikes, docs/dynamics.md)
+            lands = row_territories([on.rows[w, i] for i in range(m)])
+            for i in range(m):
                 row = on.rows[w, i]
                 slot = (w, int(row[0]), abs(float(row[P_CONTACT_ANGLE])) > FLANGE_ANGLE)
                 seen[slot] = seen.get(slot, -1) + 1
                 rows.append((w, i, slot + (seen[slot],),
                              patch_geometry(row[:NPF], self.wheel_rail.wheelset,
-                                            self.wheel_rail.track, pose)))
+                                            self.wheel_rail.track, pose, lands[i])))
         return rows
 
     def _online_python_forces(self, lazy: bool = False, wheelsets=None) -> int:

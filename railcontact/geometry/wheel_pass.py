@@ -906,16 +906,29 @@ def rows_contact(rows, wheelset, track, pose, loads, interpenetration):
     from the gauge side)."""
     from .contact import WheelsetContact
     patches = []
+    lands = row_territories(rows)
     for s in (0, 1):
-        side_rows = [r for r in rows if r[P_SIDE] == s]
-        side = []
-        spans = [(min(r[P_YR_FIRST], r[P_YR_LAST]), max(r[P_YR_FIRST], r[P_YR_LAST]))
-                 for r in side_rows]
-        for r, (lo, hi) in zip(side_rows, spans):
-            below = [h for l, h in spans if h < lo]
-            above = [l for l, h in spans if l > hi]
-            territory = (0.5 * (lo + max(below)) if below else -math.inf,
-                         0.5 * (hi + min(above)) if above else math.inf)
-            side.append(patch_geometry(r, wheelset, track, pose, territory))
+        side = [patch_geometry(r, wheelset, track, pose, lands[i])
+                for i, r in enumerate(rows) if r[P_SIDE] == s]
         patches.extend(reversed(side))
     return WheelsetContact(pose, patches, {}, dict(loads), dict(interpenetration))
+
+
+def row_territories(rows) -> list:
+    """Each patch row's territory on the rail profile [m] (lateral bounds, for
+    :func:`patch_geometry`): halfway from its region's span (:data:`P_YR_FIRST`,
+    :data:`P_YR_LAST`) to the nearest span of another row on the same side, or
+    unbounded where there is none (:func:`railcontact.geometry.regions.territories`'
+    rule).  A patch solved on a grid of its own (the exact normal model,
+    :func:`railcontact.normal.potential_area.own_gap`) takes only its own
+    interpenetration region inside it: without it, a grid reaching a neighbour's
+    region would load that region a second time."""
+    spans = [(min(r[P_YR_FIRST], r[P_YR_LAST]), max(r[P_YR_FIRST], r[P_YR_LAST]))
+             for r in rows]
+    out = []
+    for r, (lo, hi) in zip(rows, spans):
+        below = [h for q, (l, h) in zip(rows, spans) if q[P_SIDE] == r[P_SIDE] and h < lo]
+        above = [l for q, (l, h) in zip(rows, spans) if q[P_SIDE] == r[P_SIDE] and l > hi]
+        out.append((0.5 * (lo + max(below)) if below else -math.inf,
+                    0.5 * (hi + min(above)) if above else math.inf))
+    return out

@@ -265,6 +265,35 @@ def test_exact_stand_ins_give_the_solution_where_they_were_corrected(bodies):
     assert np.max(np.abs(stage - full)) <= 1e-4 * scale
 
 
+def test_exact_small_patch_beside_a_loaded_one_takes_its_own_load(bodies):
+    """A wheel with a small second tread region 9 mm beside its loaded patch (the
+    pose of issue 30's 100 s route run, wheelset 3 at t = 23.8794 s, relative to
+    the rails: shift -5.474 mm, yaw -1.066 mrad, roll 0.433 mrad, 8.7 um up): each
+    patch's exact normal problem is solved in its own territory (halfway to its
+    neighbour), so that its force is its own region's, within 25 % of its Hertz
+    spring's (the exact and Hertz forces of the loaded patches differ by about 5
+    %).  Without the territories the small region's grid grew over the loaded
+    one's and took its load again, 58.8 kN for a spring of 0.46 kN, and the
+    stand-ins multiplied that ratio: the run's single-sample spikes of Q."""
+    from railcontact.dynamics.online_contact import R_SPRING, rhs_online
+    from railcontact.dynamics.simulation import _System
+    ws, tr = bodies
+    m = _wheelset()
+    sysm = _System(m, Route.tangent(50.0), OnlineWheelRail(ws, tr, normal="exact"), 50.0,
+                   "exact")
+    u = np.zeros(sysm.n_states)
+    u[0:3] = -5.473997774641781e-3, -1.0659483875711468e-3, 4.332825936701933e-4
+    u[6 * len(m.bodies)] = -8.737718498932018e-6
+    on = sysm.online
+    rhs_online(0.0, u, sysm.system, on, 2, sysm.fext_rows, sysm.out)
+    rows = on.rows[0, :on.count[0]]
+    left = rows[:, 0] == 0
+    assert left.sum() == 2 and np.min(rows[left, R_SPRING]) < 1e3 < 5e4 < np.max(rows[:, R_SPRING])
+    sysm._online_python_forces()
+    N = sysm.fext_rows[0, :on.count[0]]["normal_force"]    # (at rest: no damper)
+    assert np.all(np.abs(N / rows[:, R_SPRING] - 1.0) <= 0.25), (N, rows[:, R_SPRING])
+
+
 def test_exact_stage_solves_only_the_wheelset_whose_patches_moved(bodies):
     """A bogie (2 wheelsets) on exact + exact online contact: at an inner stage
     where one wheelset's patch has moved on its rail beyond its grid's element
