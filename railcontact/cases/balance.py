@@ -342,16 +342,26 @@ def compiled_start(case, nmodel, tmodel, neighbour=None):
         # compiled Hertz + FASTSIM balance as its start where BalanceOptions.hertz_start
         # says so (solve_wheel_rail), not as their result
         return None
+    return _compiled_balance(case, names, neighbour, jacobian=True)
+
+
+def _compiled_balance(case, names, neighbour, jacobian):
+    """:func:`~railcontact.cases.compiled_case.solve_case_forces` of the case with
+    the models ``names``, started from ``neighbour`` (a neighbouring case's
+    :class:`SolveResult`, both sides in contact) where given: its interpenetrations
+    and roll, and with ``jacobian`` its balance's Jacobian.  None where the pass
+    raises (the Python path says it properly) or does not meet the loads."""
     start = None
     if (neighbour is not None and neighbour.contact is not None
-            and neighbour.contact.interpenetration and neighbour.balance is not None
-            and set(neighbour.contact.interpenetration) >= {"left", "right"}):
+            and set(neighbour.contact.interpenetration or ()) >= {"left", "right"}
+            and not (jacobian and neighbour.balance is None)):
         start = Neighbour(dict(neighbour.contact.interpenetration),
-                          neighbour.contact.pose.roll, jacobian=neighbour.balance.jacobian)
+                          neighbour.contact.pose.roll,
+                          jacobian=neighbour.balance.jacobian if jacobian else None)
     try:
         res = solve_case_forces(case, *names, start=start)
-    except RailContactError as exc:          # the Python path says it properly
-        log.debug("compiled pass: %s", exc)
+    except RailContactError as exc:
+        log.debug("compiled pass (%s + %s): %s", *names, exc)
         return None
     return res if res.converged else None
 
@@ -373,16 +383,7 @@ def hertz_estimate(case, neighbour=None):
     contact surface, or the pass does not meet its loads."""
     if compiled_unsupported(case, "hertz", "fastsim") or is_conformal(case):
         return None             # (the pass's patches are planar)
-    start = None
-    if (neighbour is not None and neighbour.contact is not None
-            and set(neighbour.contact.interpenetration or ()) >= {"left", "right"}):
-        start = Neighbour(dict(neighbour.contact.interpenetration), neighbour.contact.pose.roll)
-    try:
-        res = solve_case_forces(case, "hertz", "fastsim", start=start)
-    except RailContactError as exc:
-        log.debug("compiled pass (Hertz + FASTSIM estimate): %s", exc)
-        return None
-    return res if res.converged else None
+    return _compiled_balance(case, ("hertz", "fastsim"), neighbour, jacobian=False)
 
 
 def _hertz_restart(evaluate, start):
