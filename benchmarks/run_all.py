@@ -173,9 +173,10 @@ def _mbench_deviations(rows, element, offset=None, timed=False, wheelset=None):
     exact = importlib.import_module("railcontact.normal.exact")
     real = exact.make_grid
 
-    def shifted(ex, ey, grid=None, element_size=None, center=(0.0, 0.0)):
-        x, y = real(ex, ey, grid, element_size, center)
-        return x + offset[0] * element, y + offset[1] * element
+    def shifted(ex, ey, grid=None, element_size=None, center=(0.0, 0.0), origin=(0.0, 0.0)):
+        # the lattice through the solver's origin moved by the offset's fractions
+        moved = (origin[0] + offset[0] * element, origin[1] + offset[1] * element)
+        return real(ex, ey, grid, element_size, center, origin=moved)
 
     prof = REF / "profiles"
     out = {k: [] for k in ("Fn", "Fx", "Fy", "pmax", "area", "ms", "dy_ref", "angle",
