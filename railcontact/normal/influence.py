@@ -208,10 +208,29 @@ def _normal_block(mx, my, dx, dy, contact_modulus, ms, ns) -> Convolution:
 def bounding_box(mask: np.ndarray):
     """Slices of the smallest block of the grid that holds every true element of
     ``mask`` (the block the exact solvers work on), or None where there is none."""
-    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
-    if rows.size == 0:
+    i0, i1, j0, j1 = box_bounds(np.ascontiguousarray(mask, dtype=np.bool_))
+    if i1 < 0:
         return None
-    return slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1)
+    return slice(i0, i1 + 1), slice(j0, j1 + 1)
+
+
+@njit(cache=True, nogil=True)
+def box_bounds(mask):
+    """First and last row, first and last column holding a true element of the 2-D
+    ``mask`` (-1 each where there is none): :func:`bounding_box`'s scan, compiled
+    (a few microseconds of NumPy calls per solve otherwise)."""
+    i0, i1, j0, j1 = -1, -1, mask.shape[1], -1
+    for i in range(mask.shape[0]):
+        for j in range(mask.shape[1]):
+            if mask[i, j]:
+                if i0 < 0:
+                    i0 = i
+                i1 = i
+                j0 = min(j0, j)
+                j1 = max(j1, j)
+    if i1 < 0:
+        j0 = -1
+    return i0, i1, j0, j1
 
 
 def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: float,
