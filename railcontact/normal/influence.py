@@ -180,6 +180,7 @@ def normal_operator(mx: int, my: int, dx: float, dy: float, contact_modulus: flo
     return Convolution(normal_kernel(mx, my, dx, dy, contact_modulus), mx, my)
 
 
+@lru_cache(maxsize=4096)
 def block_size(m: int, n: int, grid_m: int, grid_n: int, extra_rows: int = 0):
     """The largest block of a grid whose zero-padded FFT has the size of an m x n
     block's (``extra_rows``: output rows below the block, as the rolling difference

@@ -78,7 +78,9 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
             p = np.maximum(-h, 0.0) / op.diag * 0.5
     else:
         p = np.array(p0, dtype=float)
-    p = np.ascontiguousarray(np.minimum(p, plimit))
+    if math.isfinite(plimit):
+        p = np.minimum(p, plimit)
+    p = np.ascontiguousarray(p)
     scale = gap_scale(h) if scale is None else float(scale)
     if regions is None:
         cols, fm = np.zeros(h.shape[1], dtype=np.int64), np.ones((1, 1))
