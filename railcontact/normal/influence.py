@@ -202,8 +202,10 @@ def normal_operator_block(mx: int, my: int, dx: float, dy: float, contact_modulu
 
 @lru_cache(maxsize=64)
 def _normal_block(mx, my, dx, dy, contact_modulus, ms, ns) -> Convolution:
-    K = normal_kernel(mx, my, dx, dy, contact_modulus)
-    return Convolution(K[mx - ms:mx - 1 + ms, my - ns:my - 1 + ns], ms, ns)
+    # the grid's kernel (:func:`normal_kernel`) at the block's offsets only
+    Lx, Ly, _ = _rect_integrals(mx, my, float(dx), float(dy))
+    rows, cols = slice(mx - ms, mx - 1 + ms), slice(my - ns, my - 1 + ns)
+    return Convolution((Lx[rows, cols] + Ly[rows, cols]) / (np.pi * contact_modulus), ms, ns)
 
 
 def bounding_box(mask: np.ndarray):
