@@ -1453,6 +1453,8 @@ def main():
         "(benchmarks/exact_case.md)\n")
     for s in exact_case.main([]):
         out(s)
+    import exact_normal                 # issue 30, the exact normal solve: benchmarks/exact_normal.md
+    exact_normal.main([])
     bench_strips_accuracy()
     bench_dynamics()
     bench_fmu()

@@ -281,10 +281,42 @@ def bilinear(x, y, f, xq, yq) -> np.ndarray:
 @njit(cache=True, nogil=True)
 def _bilinear_lines(f, u, v, out):
     """out[i, j] = f bilinear at the fractional indices (u[i], v[j]) (the lines of
-    another grid); 0 outside the grid of centres."""
+    another grid); 0 outside the grid of centres.  The arithmetic of
+    :func:`_bilinear_at`, its cell and fraction found once per line."""
+    mx, my = f.shape
+    ic, ac, inside_u = _cells(u, mx)
+    jc, bc, inside_v = _cells(v, my)
     for i in range(u.size):
+        if not inside_u[i]:
+            for j in range(v.size):
+                out[i, j] = 0.0
+            continue
+        i0, a = ic[i], ac[i]
         for j in range(v.size):
-            out[i, j] = _bilinear_at(f, u[i], v[j])
+            if not inside_v[j]:
+                out[i, j] = 0.0
+                continue
+            j0, b = jc[j], bc[j]
+            out[i, j] = ((1.0 - a) * ((1.0 - b) * f[i0, j0] + b * f[i0, j0 + 1])
+                         + a * ((1.0 - b) * f[i0 + 1, j0] + b * f[i0 + 1, j0 + 1]))
+
+
+@njit(cache=True, nogil=True)
+def _cells(u, m):
+    """The cell (its lower centre, at most m - 2), the fraction within it and
+    whether it lies on the m centres, of each fractional index u (as
+    :func:`_bilinear_at` finds them)."""
+    cell = np.zeros(u.size, dtype=np.int64)
+    frac = np.zeros(u.size)
+    inside = np.zeros(u.size, dtype=np.bool_)
+    for k in range(u.size):
+        a = u[k]
+        if 0.0 <= a <= m - 1:
+            i = min(int(a), m - 2)
+            cell[k] = i
+            frac[k] = a - i
+            inside[k] = True
+    return cell, frac, inside
 
 
 @njit(cache=True, nogil=True)

@@ -32,12 +32,13 @@ from ..geometry.conformal import influence_angles
 from ..geometry.gap import sampled_wheel_geometry
 from .base import NormalSolution, bilinear, make_grid, register, resized_elements, same_grid
 from .conformal_influence import blanco_normal_operator
-from .influence import bounding_box, normal_operator, normal_operator_block
+from .influence import box_bounds, bounding_box, normal_operator, normal_operator_block
 from .polonsky_keer import flat_punch_stiffness, gap_scale, polonsky_keer
 from .viscoelastic import (ViscoelasticOption, active_set_normal, final_material,
                            viscoelastic_normal_operator)
 from .potential_area import (AREA_SAMPLES, FORCE_BOX, GROWTH_STEPS, crossings, cut_regions,
-                             edge_sides, fits, grown_box, own_gap, plausible_growth,
+                             edge_sides, fits, grown_box, inside_bounds, own_gap,
+                             plausible_growth,
                              strip_edges, subregions)
 
 
@@ -147,32 +148,33 @@ class ExactNormalModel:
             xs = cx + np.linspace(-2 * hx, 2 * hx, AREA_SAMPLES)
             ys = cy + np.linspace(-2 * hy, 2 * hy, AREA_SAMPLES)
             h = geometry.gap(xs[:, None], ys[None, :]) + geometry.approach - penetration
-            inside = (h < 0) & ~geometry.foreign(ys)[None, :]
-            if not inside.any():
+            i0, i1, j0, j1 = inside_bounds(h, np.ascontiguousarray(geometry.foreign(ys),
+                                                                   dtype=np.bool_))
+            if i1 < 0:
                 break
-            ix = np.flatnonzero(inside.any(axis=1))
-            iy = np.flatnonzero(inside.any(axis=0))
-            if ix[0] == 0 or ix[-1] == xs.size - 1:
+            if i0 == 0 or i1 == xs.size - 1:
                 hx *= 2
-            if iy[0] == 0 or iy[-1] == ys.size - 1:
+            if j0 == 0 or j1 == ys.size - 1:
                 hy *= 2
-            if 0 < ix[0] and ix[-1] < xs.size - 1 and 0 < iy[0] and iy[-1] < ys.size - 1:
+            if 0 < i0 and i1 < xs.size - 1 and 0 < j0 and j1 < ys.size - 1:
                 dx, dy = xs[1] - xs[0], ys[1] - ys[0]
                 if continuous:
-                    return self._region_box(xs, ys, h, ix, iy, dx, dy)
-                lo_x, hi_x = xs[ix[0]] - dx, xs[ix[-1]] + dx
-                lo_y, hi_y = ys[iy[0]] - dy, ys[iy[-1]] + dy
+                    return self._region_box(xs, ys, h, (i0, i1, j0, j1), dx, dy)
+                lo_x, hi_x = xs[i0] - dx, xs[i1] + dx
+                lo_y, hi_y = ys[j0] - dy, ys[j1] + dy
                 return self._widened(lo_x, hi_x, lo_y, hi_y)
         return (cx, cy), (hx * (1 + self.margin), hy * (1 + self.margin))
 
-    def _region_box(self, xs, ys, h, ix, iy, sx, sy):
-        """Potential area from the gap h on the lines xs, ys, negative on the rows ix
-        and columns iy (inside the lines): the region's ends where the smallest gap
-        along the other axis crosses zero, interpolated between the lines, plus 1.5
-        coarse samples (sx, sy: where the first sample outside lies on average),
-        widened by the margin.  Returns its centre and half-extents [m]."""
-        lo_x, hi_x = crossings(xs, h.min(axis=1), ix[0], ix[-1])
-        lo_y, hi_y = crossings(ys, h.min(axis=0), iy[0], iy[-1])
+    def _region_box(self, xs, ys, h, bounds, sx, sy):
+        """Potential area from the gap h on the lines xs, ys, negative from row
+        i0 to i1 and column j0 to j1 (``bounds``, inside the lines): the region's
+        ends where the smallest gap along the other axis crosses zero, interpolated
+        between the lines, plus 1.5 coarse samples (sx, sy: where the first sample
+        outside lies on average), widened by the margin.  Returns its centre and
+        half-extents [m]."""
+        i0, i1, j0, j1 = bounds
+        lo_x, hi_x = crossings(xs, h.min(axis=1), i0, i1)
+        lo_y, hi_y = crossings(ys, h.min(axis=0), j0, j1)
         return self._widened(lo_x - 1.5 * sx, hi_x + 1.5 * sx, lo_y - 1.5 * sy, hi_y + 1.5 * sy)
 
     def _widened(self, lo_x, hi_x, lo_y, hi_y):
@@ -196,15 +198,14 @@ class ExactNormalModel:
             return None
         h0 = own_gap(geometry, x, y) + app
         h = h0 - (app if penetration is None else penetration)
-        box = bounding_box(h < 0)
-        if box is None or box[0].start == 0 or box[0].stop == x.size or box[1].start == 0 \
-                or box[1].stop == y.size:
+        bounds = box_bounds(h < 0)
+        i0, i1, j0, j1 = bounds
+        if i1 < 0 or i0 == 0 or i1 == x.size - 1 or j0 == 0 or j1 == y.size - 1:
             return None
-        ix, iy = np.arange(x.size)[box[0]], np.arange(y.size)[box[1]]
         x0, x1, y0, y1 = geometry.extent
         sx = 4.0 * max(0.5 * (x1 - x0), 1e-4) / (AREA_SAMPLES - 1)   # the coarse spacing
         sy = 4.0 * max(0.5 * (y1 - y0), 1e-4) / (AREA_SAMPLES - 1)
-        (cx, cy), (ex, ey) = self._region_box(x, y, h, ix, iy, sx, sy)
+        (cx, cy), (ex, ey) = self._region_box(x, y, h, bounds, sx, sy)
         return h0 if fits(sol, cx, cy, ex, ey, grid) else None
 
     def _displacement_controlled(self, grid_key, h, dA, p0, regions=None, angles=None):

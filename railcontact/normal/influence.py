@@ -180,6 +180,7 @@ def normal_operator(mx: int, my: int, dx: float, dy: float, contact_modulus: flo
     return Convolution(normal_kernel(mx, my, dx, dy, contact_modulus), mx, my)
 
 
+@lru_cache(maxsize=4096)
 def block_size(m: int, n: int, grid_m: int, grid_n: int, extra_rows: int = 0):
     """The largest block of a grid whose zero-padded FFT has the size of an m x n
     block's (``extra_rows``: output rows below the block, as the rolling difference
@@ -201,17 +202,38 @@ def normal_operator_block(mx: int, my: int, dx: float, dy: float, contact_modulu
 
 @lru_cache(maxsize=64)
 def _normal_block(mx, my, dx, dy, contact_modulus, ms, ns) -> Convolution:
-    K = normal_kernel(mx, my, dx, dy, contact_modulus)
-    return Convolution(K[mx - ms:mx - 1 + ms, my - ns:my - 1 + ns], ms, ns)
+    # the grid's kernel (:func:`normal_kernel`) at the block's offsets only
+    Lx, Ly, _ = _rect_integrals(mx, my, float(dx), float(dy))
+    rows, cols = slice(mx - ms, mx - 1 + ms), slice(my - ns, my - 1 + ns)
+    return Convolution((Lx[rows, cols] + Ly[rows, cols]) / (np.pi * contact_modulus), ms, ns)
 
 
 def bounding_box(mask: np.ndarray):
     """Slices of the smallest block of the grid that holds every true element of
     ``mask`` (the block the exact solvers work on), or None where there is none."""
-    rows, cols = np.flatnonzero(mask.any(axis=1)), np.flatnonzero(mask.any(axis=0))
-    if rows.size == 0:
+    i0, i1, j0, j1 = box_bounds(np.ascontiguousarray(mask, dtype=np.bool_))
+    if i1 < 0:
         return None
-    return slice(rows[0], rows[-1] + 1), slice(cols[0], cols[-1] + 1)
+    return slice(i0, i1 + 1), slice(j0, j1 + 1)
+
+
+@njit(cache=True, nogil=True)
+def box_bounds(mask):
+    """First and last row, first and last column holding a true element of the 2-D
+    ``mask`` (-1 each where there is none): :func:`bounding_box`'s scan, compiled
+    (a few microseconds of NumPy calls per solve otherwise)."""
+    i0, i1, j0, j1 = -1, -1, mask.shape[1], -1
+    for i in range(mask.shape[0]):
+        for j in range(mask.shape[1]):
+            if mask[i, j]:
+                if i0 < 0:
+                    i0 = i
+                i1 = i
+                j0 = min(j0, j)
+                j1 = max(j1, j)
+    if i1 < 0:
+        j0 = -1
+    return i0, i1, j0, j1
 
 
 def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: float,

@@ -78,7 +78,9 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
             p = np.maximum(-h, 0.0) / op.diag * 0.5
     else:
         p = np.array(p0, dtype=float)
-    p = np.ascontiguousarray(np.minimum(p, plimit))
+    if math.isfinite(plimit):
+        p = np.minimum(p, plimit)
+    p = np.ascontiguousarray(p)
     scale = gap_scale(h) if scale is None else float(scale)
     if regions is None:
         cols, fm = np.zeros(h.shape[1], dtype=np.int64), np.ones((1, 1))
@@ -96,10 +98,7 @@ def polonsky_keer(op, h, dA, force=None, tol=1e-9, maxiter=2000, p0=None, scale=
     # the result is a solution only where the contact conditions hold: checked on the
     # displacements of the final pressure (a fresh product), whatever the
     # iteration's own test said
-    u = _apply(p, influence.khat, influence.shape, np.zeros(influence.shape), influence.cols,
-               influence.factors, influence.modulation)
-    residual = _violation(p, u, h, force is not None, plimit)
-    umax = float(np.max(u))
+    residual, umax = _check(p, influence, h, force is not None, plimit)
     allowed = KKT_FACTOR * float(tol) * umax
     if converged and residual > allowed:
         log.warning("Polonsky-Keer on %d x %d: the iteration's test passed after %d "
@@ -115,9 +114,20 @@ def gap_scale(h) -> float:
     its largest magnitude over the points where both surfaces were found (a missed
     surface is marked by a gap of ``MISSED_GAP`` or more: 1 m, which would make the
     test hundreds of times looser than the patch's gaps of some millimetres)."""
-    h = np.asarray(h, dtype=float)
-    found = np.abs(h[h < MISSED_GAP])
-    return float(found.max()) if found.size else float(np.max(np.abs(h)))
+    return float(_gap_scale(np.ascontiguousarray(h, dtype=float)))
+
+
+@njit(cache=True, nogil=True)
+def _gap_scale(h):
+    """:func:`gap_scale`, compiled (for a 2-D ``h``, or of any shape, flattened)."""
+    found = -1.0
+    every = 0.0
+    for v in h.ravel():
+        a = abs(v)
+        every = max(every, a)
+        if v < MISSED_GAP:
+            found = max(found, a)
+    return found if found >= 0.0 else every
 
 
 
@@ -535,6 +545,16 @@ def _pk_kernel(influence, h, dA, force, controlled, p, scale, plimit, tol, maxit
             converged = True
             break
     return gbar, it, converged
+
+
+@njit(cache=True, nogil=True)
+def _check(p, influence, h, controlled, plimit):
+    """The final pressure's test (:func:`polonsky_keer`): its displacements A p by
+    a fresh product, the largest violation [m] of the contact conditions
+    (:func:`_violation`) and the largest displacement [m]."""
+    u = _apply(p, influence.khat, influence.shape, np.zeros(influence.shape),
+               influence.cols, influence.factors, influence.modulation)
+    return _violation(p, u, h, controlled, plimit), np.max(u)
 
 
 @njit(cache=True, nogil=True)

@@ -40,6 +40,26 @@ def strip_edges(contact, x):
 
 
 
+@njit(cache=True, nogil=True)
+def inside_bounds(h, foreign):
+    """First and last row, first and last column of the elements of the gap ``h``
+    (rows x, columns y) that overlap (h < 0) in a column that is not ``foreign``
+    (bool, one per column); -1 each where none does."""
+    i0, i1, j0, j1 = -1, -1, h.shape[1], -1
+    for i in range(h.shape[0]):
+        for j in range(h.shape[1]):
+            if h[i, j] < 0 and not foreign[j]:
+                if i0 < 0:
+                    i0 = i
+                i1 = i
+                j0 = min(j0, j)
+                j1 = max(j1, j)
+    if i1 < 0:
+        j0 = -1
+    return i0, i1, j0, j1
+
+
+
 def crossings(s, g, i0, i1):
     """Where g (negative from index i0 to i1, positive just outside) crosses zero on
     either side, linearly interpolated between the samples s."""
@@ -127,8 +147,21 @@ GROWTH_STEPS = 3
 
 def edge_sides(contact):
     """Which sides of the grid (x low, x high, y low, y high) the contact reaches."""
-    return (contact[0, :].any(), contact[-1, :].any(), contact[:, 0].any(),
-            contact[:, -1].any())
+    return _edge_sides(np.ascontiguousarray(contact, dtype=np.bool_))
+
+
+@njit(cache=True, nogil=True)
+def _edge_sides(contact):
+    """:func:`edge_sides`, compiled."""
+    mx, my = contact.shape
+    lo_x = hi_x = lo_y = hi_y = False
+    for j in range(my):
+        lo_x = lo_x or contact[0, j]
+        hi_x = hi_x or contact[mx - 1, j]
+    for i in range(mx):
+        lo_y = lo_y or contact[i, 0]
+        hi_y = hi_y or contact[i, my - 1]
+    return lo_x, hi_x, lo_y, hi_y
 
 
 

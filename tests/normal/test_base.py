@@ -67,3 +67,19 @@ def test_element_lattice_through_a_given_origin():
     assert x[0] <= -1e-3 and x[-1] >= 1e-3 and y[0] <= -2e-3 and y[-1] >= 2e-3
     x0, _ = make_grid(1e-3, 2e-3, element_size=(4e-4, 2.5e-4))
     assert np.any(np.abs(x0) < 1e-15)                   # default: through the reference
+
+
+def test_bilinear_on_lines_equals_the_points_exactly():
+    """Another grid's lines (an (n, 1) x (1, m) query, the warm start's) give the
+    point-by-point interpolation bit for bit, lines outside the grid zero."""
+    rng = np.random.default_rng(4)
+    x, y = make_grid(2e-3, 1e-3, (40, 37))
+    f = rng.random((40, 37))
+    xl = np.linspace(x[0] - 4e-4, x[-1] + 4e-4, 43)
+    yl = np.linspace(y[0] - 2e-4, y[-1] + 3e-4, 31)
+    xl[5], yl[7] = x[-1], y[0]
+    lines = bilinear(x, y, f, xl[:, None], yl[None, :])
+    X, Y = np.broadcast_arrays(xl[:, None], yl[None, :])
+    points = bilinear(x, y, f, X.ravel(), Y.ravel()).reshape(X.shape)
+    assert np.array_equal(lines, points)
+    assert not lines[0].any() and not lines[:, -1].any() and lines[5].any()

@@ -98,3 +98,34 @@ def test_kernel_is_symmetric_and_decays_like_one_over_r():
     r = 39 * dx
     assert K[-1, my - 1] == pytest.approx(dx * dy / (math.pi * MAT.contact_modulus * r),
                                           rel=1e-4)
+
+
+def test_bounding_box_is_that_of_the_true_elements():
+    """The compiled scan of ``bounding_box`` gives the slices of NumPy's
+    row/column test, and None for a mask without a true element (also on a
+    strided view)."""
+    from railcontact.normal.influence import bounding_box
+    rng = np.random.default_rng(3)
+    for shape, density in (((40, 40), 0.01), ((7, 13), 0.2), ((1, 5), 0.5), ((30, 2), 0.05)):
+        for _ in range(20):
+            mask = rng.random(shape) < density
+            rows = np.flatnonzero(mask.any(axis=1))
+            cols = np.flatnonzero(mask.any(axis=0))
+            want = None if rows.size == 0 else (slice(rows[0], rows[-1] + 1),
+                                                slice(cols[0], cols[-1] + 1))
+            assert bounding_box(mask) == want
+            assert bounding_box(mask.T[::-1]) == bounding_box(np.ascontiguousarray(mask.T[::-1]))
+    assert bounding_box(np.zeros((4, 4), bool)) is None
+
+
+def test_a_block_operator_is_the_grid_kernel_cut_to_the_block():
+    """The operator of a block is built from the grid's kernel at the block's
+    offsets: the same kernel and spectrum as cutting ``normal_kernel``."""
+    from railcontact.normal.influence import normal_operator_block
+    for mx, my, ms, ns in ((40, 40, 28, 28), (40, 30, 12, 30), (17, 40, 3, 2)):
+        op = normal_operator_block(mx, my, 1.3e-4, 0.9e-4, MAT.contact_modulus, ms, ns)
+        K = normal_kernel(mx, my, 1.3e-4, 0.9e-4, MAT.contact_modulus)
+        a, b = op.mx, op.my
+        ref = Convolution(K[mx - a:mx - 1 + a, my - b:my - 1 + b], a, b)
+        assert np.array_equal(op.kernel, ref.kernel)
+        assert np.array_equal(op.khat, ref.khat)

@@ -181,3 +181,16 @@ def test_a_missed_surface_leaves_the_gap_scale(sphere):
     q, _, _, ok2 = polonsky_keer(op, missed, dx * dx, tol=1e-6)
     assert ok and ok2
     assert q.sum() == pytest.approx(p.sum(), rel=1e-5)
+
+
+def test_gap_scale_is_the_largest_found_gap():
+    """The compiled gap scale: the largest |h| where both surfaces were found
+    (h < MISSED_GAP), or the largest |h| where none was."""
+    rng = np.random.default_rng(2)
+    for _ in range(20):
+        h = rng.normal(0.0, 1e-3, (9, 11))
+        h[rng.random(h.shape) < 0.2] = 1.0
+        found = np.abs(h[h < MISSED_GAP])
+        assert gap_scale(h) == float(found.max())
+    assert gap_scale(np.full((3, 3), 1.0)) == 1.0
+    assert gap_scale(np.array([[-2.0, 0.7]])) == 2.0

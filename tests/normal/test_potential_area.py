@@ -56,3 +56,21 @@ def test_fits_needs_the_same_grid_and_a_box_inside():
     assert not fits(sol, 3.0, 0.0, 4.0, 2.5, None)                # sticks out
     assert not fits(sol, 0.0, 0.0, 0.5, 0.5, None)                # fills too little
     assert not fits(SimpleNamespace(x=np.zeros(1), y=np.zeros(3)), 0, 0, 1, 1, None)
+
+
+def test_compiled_edge_sides_and_overlap_bounds_against_numpy():
+    """``edge_sides`` and ``inside_bounds`` (compiled) against their NumPy
+    definitions on random masks and gaps, foreign columns included."""
+    from railcontact.normal.potential_area import inside_bounds
+    rng = np.random.default_rng(5)
+    for shape in ((49, 49), (3, 8), (12, 2)):
+        for _ in range(20):
+            c = rng.random(shape) < 0.1
+            assert edge_sides(c) == (c[0, :].any(), c[-1, :].any(), c[:, 0].any(),
+                                     c[:, -1].any())
+            h = rng.normal(0.3, 1.0, shape)
+            foreign = rng.random(shape[1]) < 0.2
+            inside = (h < 0) & ~foreign[None, :]
+            ix, iy = np.flatnonzero(inside.any(axis=1)), np.flatnonzero(inside.any(axis=0))
+            want = (-1,) * 4 if ix.size == 0 else (ix[0], ix[-1], iy[0], iy[-1])
+            assert inside_bounds(h, foreign) == want
