@@ -381,6 +381,20 @@ def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
     return contact
 
 
+def search_memo(wheelset, track, lateral_shift, yaw, memo=None):
+    """The compiled search's memo that a case's searches at the lateral shift [m] and
+    yaw [rad] share (:func:`find_contact` under prescribed interpenetrations;
+    :data:`~railcontact.geometry.wheel_pass.MEMO_SIZE` floats; None: none yet).
+    With ``memo``, a copy of it is held first: the wheel samples and secant slope
+    of a search at the same pose (the compiled pass's) or a neighbouring one (the
+    previous case of a sweep), from which the next search starts (each use checks
+    that they hold what it needs, else searches afresh)."""
+    held = _memo(wheelset, track, float(lateral_shift), float(yaw))
+    if memo is not None:
+        held.search = np.array(memo, dtype=float)
+    return held.search
+
+
 def _pass_profiles(wheelset, track):
     """The compiled search's :class:`~railcontact.geometry.wheel_pass.PassProfiles`
     of a wheelset on a track (None where the sides' profiles differ), made once per

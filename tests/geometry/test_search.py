@@ -228,3 +228,32 @@ def test_a_changed_wheelset_is_searched_afresh():
                          interpenetration=d, **kw)
         assert a.pose == b.pose
         assert [p.approach for p in a.patches] == [p.approach for p in b.patches]
+
+
+def test_a_cases_searches_share_one_memo():
+    """A case's compiled searches under prescribed interpenetrations (one wheelset,
+    track, shift and yaw) share one memo (search_memo: the last loci's wheel samples
+    and the roll search's secant slope, issue 30): a balance's sequence of searches
+    finds the pose and patches of searches from a fresh memo each (a new wheelset)
+    to the roll search's tolerance, on tread, two-point and flange contact."""
+    from railcontact.geometry.search import search_memo
+    tr = Track(rail_profile("60E1", math.atan(1 / 40)))
+    for shift, yaw, d0 in ((0.0, 0.0, 8e-5), (5.5e-3, 2e-3, 7e-5), (8e-3, 6e-3, 9e-5)):
+        ws = Wheelset(s1002())
+        roll = 0.0
+        for f in (1.0, 1.3, 0.9, 1.02, 1.001):
+            d = {"left": d0 * f, "right": d0 * f * 1.1}
+            a = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d,
+                             start=SearchStart(roll))
+            b = find_contact(Wheelset(s1002()), tr, shift, yaw, vertical_force=7e4,
+                             interpenetration=d, start=SearchStart(roll))
+            assert abs(a.pose.roll - b.pose.roll) < 1e-11
+            assert abs(a.pose.vertical - b.pose.vertical) < 1e-11
+            assert len(a.patches) == len(b.patches) >= 2
+            for p, q in zip(a.patches, b.patches):
+                assert np.allclose(p.position, q.position, rtol=0, atol=1e-11)
+                assert p.approach == pytest.approx(q.approach, rel=1e-6, abs=1e-13)
+                assert np.allclose(p.curvatures, q.curvatures, rtol=1e-6)
+                assert np.allclose(p.creepage, q.creepage, rtol=1e-6, atol=1e-11)
+            roll = a.pose.roll
+        assert search_memo(ws, tr, shift, yaw) is not None
