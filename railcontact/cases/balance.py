@@ -242,8 +242,8 @@ def _seed_search(case, bodies, compiled, start) -> None:
     :attr:`VerticalBalance.search`) where its lateral shift and yaw are within
     ``MEMO_SHIFT`` and ``MEMO_YAW`` of the case's (the compiled pass's rule), else
     none (the first search starts afresh).  The searches' results are those of a
-    fresh memo to the roll search's tolerance (1e-12 rad; docs/tuning.md, section
-    "Equilibrium")."""
+    fresh memo to the roll search's tolerance (1e-12 rad; measured: docs/tuning.md,
+    section "Geometry search")."""
     s = case.wheel_rail
     if s.roll is not None:
         return

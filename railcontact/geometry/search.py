@@ -363,8 +363,8 @@ def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
                     track.rail_offset("right"), wheelset.wheel_offset, r0, *motion, 0.0)
     out = np.zeros((2 * MAX_PATCHES, NPF))
     # the case's searches share one memo (the wheel samples of the last loci and
-    # the roll search's secant slope; issue 30): 368 against 244 us per search on
-    # the benchmark sweep's poses
+    # the roll search's secant slope; issue 30; docs/tuning.md, section "Geometry
+    # search")
     held = _memo(wheelset, track, shift, yaw)
     if held.search is None:
         held.search = new_memo(roll0)
