@@ -53,9 +53,9 @@ from .pose import REGION_MARGIN, _memo, locus_window, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
 from .turning import turned_angles
-from .wheel_pass import (MAX_PATCHES, MISSED_DEPTH, NPF, P_SIDE, PassPose, new_memo,
-                         pass_profiles, rows_contact, search_patches, side_locus,
-                         side_min_gap)
+from .wheel_pass import (MAX_PATCHES, MISSED_DEPTH, NPF, P_SIDE, PassPose, make_patch,
+                         new_memo, pass_profiles, patch_geometry, rows_contact,
+                         search_patches, side_locus, side_min_gap)
 
 
 log = logging.getLogger(__name__)
@@ -331,6 +331,14 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                                    [end_distance(loc, p[1], q[0], p[0], q[1])
                                     for p, q in zip(regions[:-1], regions[1:])],
                                    combine_distance, turn_distance, separation_angle)
+        if prof is not None and loads is not None and all(
+                a is None for a in angles) and not any(j for _, _, j in regions):
+            # a prescribed roll, regions of one patch each (none combined, none
+            # turned): the compiled pass's patches of the same locus
+            patches.extend(reversed(_pass_patches(
+                wheelset, track, prof, sd, loc, regions, (pose, z, roll),
+                (velocity, pitch_velocity, lateral_velocity, yaw_rate))))
+            continue
         side_patches = []
         for (i0, i1, joins), lim, angle in zip(regions, territories(loc, regions), angles):
             factors = [(y, interaction_factor(d, full, combine_distance)) for y, d in joins]
@@ -472,6 +480,31 @@ def _fixed_roll_pose(wheelset, track, prof, keys, targets, loci_window):
                                                   gap, slope, O, R, (int(i0), int(i1)))}
     return solve_pose(wheelset, track, shift, yaw, targets, tol=1e-12, roll_given=roll,
                       sides=(side,), loci_window=loci_window)
+
+
+def _pass_patches(wheelset, track, prof, side, loc, regions, at, motion) -> list:
+    """The patches of a side's locus regions (none combined or turned) by the
+    compiled pass's :func:`~railcontact.geometry.wheel_pass.make_patch` on the
+    locus ``loc`` of :func:`_fixed_roll_pose` (the same kernel's samples), each
+    within its territory (:func:`~railcontact.geometry.regions.territories`), as
+    :func:`~railcontact.geometry.wheel_pass.patch_geometry` makes the geometry of
+    a row: :func:`_make_patch`'s patches to round-off (their rows agree to 4e-9
+    relative on the benchmark sweep's poses, issue 30) for some 30 us per patch
+    instead of 150.  ``at`` = (WheelsetPose, vertical position [m], roll [rad]);
+    ``motion`` as :func:`_make_patch`'s."""
+    pose, z, roll = at
+    pp = PassPose(float(pose.lateral_shift), float(pose.yaw), track.rail_offset("left"),
+                  track.rail_offset("right"), wheelset.wheel_offset,
+                  wheelset.nominal_radius, *(float(v) for v in motion), 0.0)
+    j0, j1 = loc.samples
+    kernel_loc = (j0, j1, loc.theta, loc.point, loc.y_rail, loc.gap, loc.slope, loc.axes,
+                  loc.origin, track.rail_offset(side))
+    rows = np.zeros((len(regions), NPF))
+    for k, (i0, i1, _) in enumerate(regions):
+        make_patch(prof, pp, SIDES.index(side), kernel_loc, int(i0), int(i1), float(z),
+                   float(roll), rows[k])
+    return [patch_geometry(row, wheelset, track, pose, lim)
+            for row, lim in zip(rows, territories(loc, regions))]
 
 
 def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,

@@ -168,14 +168,19 @@ def test_prescribed_roll_searches_in_the_compiled_pass(locus, monkeypatch):
     layer's own pose search (solve_pose, reached where the pass does not serve) to
     round-off: a sequence of interpenetrations as a balance makes them, on tread,
     two-point and flange contact with yaw, with CONTACT's rules of combining regions
-    (8 mm) and turning them (12 mm), under a load and rigidly."""
+    (8 mm) and turning them (12 mm), under a load and rigidly.  Where no region is
+    combined or turned, under a load, the patches are the compiled pass's
+    (search._pass_patches: wheel_pass.make_patch on the same locus)."""
     from railcontact.geometry import search
     rail = rail_profile("60E1", math.atan(1 / 40))
     rules = PatchRules(8e-3, 4e-3, 12e-3)
-    calls = []
+    calls, made = [], []
     real = search._fixed_roll_pose
     monkeypatch.setattr(search, "_fixed_roll_pose",
                         lambda *a: calls.append(1) or real(*a))
+    real_patches = search._pass_patches
+    monkeypatch.setattr(search, "_pass_patches",
+                        lambda *a: made.append(1) or real_patches(*a))
     for shift, yaw, roll, side in ((0.0, 0.0, 0.0, "right"), (5.5e-3, 2e-3, 1e-3, "right"),
                                    (-6e-3, -4e-3, -1.5e-3, "left")):
         runs = []
@@ -196,6 +201,8 @@ def test_prescribed_roll_searches_in_the_compiled_pass(locus, monkeypatch):
             monkeypatch.undo()
             monkeypatch.setattr(search, "_fixed_roll_pose",
                                 lambda *a: calls.append(1) or real(*a))
+            monkeypatch.setattr(search, "_pass_patches",
+                                lambda *a: made.append(1) or real_patches(*a))
         for a, b in zip(*runs):
             assert a.pose.roll == b.pose.roll
             assert a.pose.vertical == pytest.approx(b.pose.vertical, abs=1e-13)
@@ -210,6 +217,7 @@ def test_prescribed_roll_searches_in_the_compiled_pass(locus, monkeypatch):
                 assert len(p.interaction) == len(q.interaction)
                 assert np.allclose(np.reshape(p.interaction, -1), np.reshape(q.interaction, -1),
                                    rtol=0, atol=1e-12)
+    assert made                         # the compiled patches served
 
 
 def test_a_changed_wheelset_is_searched_afresh():
