@@ -49,7 +49,7 @@ from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
 from .locus import Locus, compute_locus
 from .patch_curvature import at_fraction, deepest_fraction, force_curvature
-from .pose import REGION_MARGIN, _memo, locus_window, solve_pose
+from .pose import REGION_MARGIN, ROLL_SLOPE, _memo, locus_window, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
 from .turning import turned_angles
@@ -230,8 +230,10 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     module's own search to 4e-9 relative, positions to 1e-13 m).  Under a prescribed
     roll (one wheel; every ``.inp`` wheel-rail case) with round wheels of the same
     profiles on both sides, the pose and the locus come from the compiled pass's
-    kernels (:func:`_fixed_roll_pose`; the regions and patches here, which combine and
-    turn as ``rules`` say).  Every other search runs here.
+    kernels (:func:`_fixed_roll_pose`; the regions here, which combine and turn as
+    ``rules`` say, and the patches of regions neither combined nor turned by the
+    pass's :func:`~railcontact.geometry.wheel_pass.make_patch`, :func:`_pass_patches`).
+    Every other search runs here.
     """
     motion = motion or WheelsetMotion()
     rules = rules or PatchRules()
@@ -377,7 +379,9 @@ def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
     if held.search is None:
         held.search = new_memo(roll0)
     memo = held.search
-    memo[0] = roll0
+    # the roll search as from a fresh memo (its start and secant slope): only the
+    # loci's wheel samples carry over, so that its pose is a fresh search's
+    memo[0], memo[1] = roll0, ROLL_SLOPE
     m, z, roll = search_patches(prof, pose, np.array([targets["left"], targets["right"]]),
                                 memo, out)
     if m < 0 or max(np.count_nonzero(out[:m, P_SIDE] == s) for s in (0, 1)) >= MAX_PATCHES:
