@@ -12,12 +12,13 @@ import numpy as np
 
 from .bodies import build_wheelset_track, contact_search
 from .conformal import is_conformal
-from .compiled_case import case_contact, compiled_unsupported, solve_case_forces
+from .compiled_case import (MEMO_SHIFT, MEMO_YAW, case_contact, compiled_unsupported,
+                            solve_case_forces)
 from .equilibrium import Neighbour, VerticalBalance, balance as solve_balance, extrapolate_start
 from ..core.checks import shown
 from ..core.errors import ContactNotFoundError, InputError, RailContactError
 from ..geometry.locus import depth_at
-from ..geometry.search import WheelsetContact
+from ..geometry.search import WheelsetContact, search_memo
 from ..geometry.track import WheelsetPose
 from .patches import (add_tangential, coupled_models, lateral_ratio, nearest_patch,
                       patch_creepage, patch_friction, solve_case_patches, wheel_rail_validity)
@@ -153,6 +154,7 @@ class WheelRailContact:
         self.bodies = build_wheelset_track(case)
         self.loads = case.wheel_rail.loads
         self.sides = case.wheel_rail.balanced_sides
+        _seed_search(case, self.bodies, compiled, start)
         if compiled is not None:
             # the compiled pass's patches (no second search), or a search at its
             # interpenetrations where it combined regions
@@ -185,8 +187,10 @@ class WheelRailContact:
 
     def restart(self, compiled):
         """Start again from the compiled pass's result ``compiled`` (its patches, or
-        a search at its interpenetrations and roll); the neighbour's solutions stay
-        the solvers' warm starts."""
+        a search at its interpenetrations and roll; its search memo that of the
+        case's next searches); the neighbour's solutions stay the solvers' warm
+        starts."""
+        _seed_search(self.case, self.bodies, compiled, None)
         self.first = case_contact(compiled, self.case) or contact_search(
             self.case, interpenetration=dict(compiled.interpenetration), bodies=self.bodies,
             roll_start=compiled.roll)
@@ -229,6 +233,29 @@ class WheelRailContact:
         self.last = ContactEvaluation(dict(d), contact, results, forces, done, uncertainty)
         return self.last
 
+
+
+def _seed_search(case, bodies, compiled, start) -> None:
+    """The memo the case's compiled contact searches start from
+    (:func:`~railcontact.geometry.search.search_memo`): the compiled pass's at the
+    case's pose (``compiled``), else a neighbouring case's (``start``'s
+    :attr:`VerticalBalance.search`) where its lateral shift and yaw are within
+    ``MEMO_SHIFT`` and ``MEMO_YAW`` of the case's (the compiled pass's rule), else
+    none (the first search starts afresh).  The searches' results are those of a
+    fresh memo to the roll search's tolerance (1e-12 rad; measured: docs/tuning.md,
+    section "Geometry search")."""
+    s = case.wheel_rail
+    if s.roll is not None:
+        return
+    memo = None
+    if compiled is not None:
+        memo = getattr(compiled, "memo", None)
+    elif start is not None and start.balance is not None and start.balance.search is not None:
+        shift, yaw, held = start.balance.search
+        if abs(shift - s.lateral_shift) <= MEMO_SHIFT and abs(yaw - s.yaw) <= MEMO_YAW:
+            memo = held
+    if memo is not None:
+        search_memo(*bodies, s.lateral_shift, s.yaw, memo)
 
 
 def _hertz_pressures(case, contact):
@@ -631,6 +658,11 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     if start is not None and start.contact is not None and start.contact.interpenetration:
         balance.neighbour = Neighbour(dict(start.contact.interpenetration),
                                       start.contact.pose.roll, dict(start.contact.loads or {}))
+    ws = case.wheel_rail
+    if ws.roll is None:
+        held = search_memo(*evaluate.bodies, ws.lateral_shift, ws.yaw)
+        if held is not None:
+            balance.search = (float(ws.lateral_shift), float(ws.yaw), held.copy())
     side = case.wheel_rail.side
     wheel_rail_validity(results, evaluate.bodies)      # both wheels: either may derail
     if side != "both":

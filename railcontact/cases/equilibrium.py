@@ -235,6 +235,10 @@ class VerticalBalance:
         Where the balance started from a neighbouring case: that case's
         interpenetrations, roll and loads (:class:`Neighbour`), from which the next
         case of a sweep extrapolates its start (:func:`extrapolate_start`).
+    search : tuple or None
+        (lateral shift [m], yaw [rad], memo) of the case's last compiled contact
+        search (:func:`railcontact.geometry.search.search_memo`), from which a
+        neighbouring case's searches start (None: not kept).
     """
 
     converged: bool
@@ -244,6 +248,7 @@ class VerticalBalance:
     standin: list | None = field(default=None, repr=False)
     jacobian: np.ndarray | None = field(default=None, repr=False)
     neighbour: Neighbour | None = field(default=None, repr=False)
+    search: tuple | None = field(default=None, repr=False)
 
     @property
     def status(self) -> SolverStatus:

@@ -53,6 +53,10 @@ class PoseMemo:
     #: gap at vertical position 0 (:func:`railcontact.geometry.search.find_contact`
     #: under a prescribed roll)
     fixed_roll: dict = field(default_factory=dict)
+    #: the compiled search's memo under a free roll
+    #: (:func:`railcontact.geometry.search.find_contact` at prescribed
+    #: interpenetrations): its loci's wheel samples and secant slope (None: none yet)
+    search: object = None
 
 
 

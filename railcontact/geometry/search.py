@@ -49,13 +49,13 @@ from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
 from .locus import Locus, compute_locus
 from .patch_curvature import at_fraction, deepest_fraction, force_curvature
-from .pose import REGION_MARGIN, _memo, locus_window, solve_pose
+from .pose import REGION_MARGIN, ROLL_SLOPE, _memo, locus_window, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
 from .turning import turned_angles
-from .wheel_pass import (MAX_PATCHES, MISSED_DEPTH, NPF, P_SIDE, PassPose, new_memo,
-                         pass_profiles, rows_contact, search_patches, side_locus,
-                         side_min_gap)
+from .wheel_pass import (MAX_PATCHES, MISSED_DEPTH, NPF, P_SIDE, PassPose, make_patch,
+                         new_memo, pass_profiles, patch_geometry, rows_contact,
+                         search_patches, side_locus, side_min_gap)
 
 
 log = logging.getLogger(__name__)
@@ -230,8 +230,10 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
     module's own search to 4e-9 relative, positions to 1e-13 m).  Under a prescribed
     roll (one wheel; every ``.inp`` wheel-rail case) with round wheels of the same
     profiles on both sides, the pose and the locus come from the compiled pass's
-    kernels (:func:`_fixed_roll_pose`; the regions and patches here, which combine and
-    turn as ``rules`` say).  Every other search runs here.
+    kernels (:func:`_fixed_roll_pose`; the regions here, which combine and turn as
+    ``rules`` say, and the patches of regions neither combined nor turned by the
+    pass's :func:`~railcontact.geometry.wheel_pass.make_patch`, :func:`_pass_patches`).
+    Every other search runs here.
     """
     motion = motion or WheelsetMotion()
     rules = rules or PatchRules()
@@ -331,6 +333,14 @@ def find_contact(wheelset: Wheelset, track: Track, lateral_shift: float = 0.0,
                                    [end_distance(loc, p[1], q[0], p[0], q[1])
                                     for p, q in zip(regions[:-1], regions[1:])],
                                    combine_distance, turn_distance, separation_angle)
+        if prof is not None and loads is not None and all(
+                a is None for a in angles) and not any(j for _, _, j in regions):
+            # a prescribed roll, regions of one patch each (none combined, none
+            # turned): the compiled pass's patches of the same locus
+            patches.extend(reversed(_pass_patches(
+                wheelset, track, prof, sd, loc, regions, (pose, z, roll),
+                (velocity, pitch_velocity, lateral_velocity, yaw_rate))))
+            continue
         side_patches = []
         for (i0, i1, joins), lim, angle in zip(regions, territories(loc, regions), angles):
             factors = [(y, interaction_factor(d, full, combine_distance)) for y, d in joins]
@@ -362,8 +372,18 @@ def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
     pose = PassPose(float(shift), float(yaw), track.rail_offset("left"),
                     track.rail_offset("right"), wheelset.wheel_offset, r0, *motion, 0.0)
     out = np.zeros((2 * MAX_PATCHES, NPF))
+    # the case's searches share one memo (the wheel samples of the last loci and
+    # the roll search's secant slope; issue 30; docs/tuning.md, section "Geometry
+    # search")
+    held = _memo(wheelset, track, shift, yaw)
+    if held.search is None:
+        held.search = new_memo(roll0)
+    memo = held.search
+    # the roll search as from a fresh memo (its start and secant slope): only the
+    # loci's wheel samples carry over, so that its pose is a fresh search's
+    memo[0], memo[1] = roll0, ROLL_SLOPE
     m, z, roll = search_patches(prof, pose, np.array([targets["left"], targets["right"]]),
-                                new_memo(roll0), out)
+                                memo, out)
     if m < 0 or max(np.count_nonzero(out[:m, P_SIDE] == s) for s in (0, 1)) >= MAX_PATCHES:
         return None                  # no pose, or regions beyond the pass's rows
     contact = rows_contact(out[:m], wheelset, track, WheelsetPose(shift, z, roll, yaw), loads,
@@ -371,6 +391,20 @@ def _pass_contact(wheelset, track, keys, targets, loads, motion, rules):
     contact.loci = SearchLoci(wheelset, track, contact.pose,
                               {s: targets[s] + REGION_MARGIN for s in SIDES})
     return contact
+
+
+def search_memo(wheelset, track, lateral_shift, yaw, memo=None):
+    """The compiled search's memo that a case's searches at the lateral shift [m] and
+    yaw [rad] share (:func:`find_contact` under prescribed interpenetrations;
+    :data:`~railcontact.geometry.wheel_pass.MEMO_SIZE` floats; None: none yet).
+    With ``memo``, a copy of it is held first: the wheel samples and secant slope
+    of a search at the same pose (the compiled pass's) or a neighbouring one (the
+    previous case of a sweep), from which the next search starts (each use checks
+    that they hold what it needs, else searches afresh)."""
+    held = _memo(wheelset, track, float(lateral_shift), float(yaw))
+    if memo is not None:
+        held.search = np.array(memo, dtype=float)
+    return held.search
 
 
 def _pass_profiles(wheelset, track):
@@ -450,6 +484,31 @@ def _fixed_roll_pose(wheelset, track, prof, keys, targets, loci_window):
                                                   gap, slope, O, R, (int(i0), int(i1)))}
     return solve_pose(wheelset, track, shift, yaw, targets, tol=1e-12, roll_given=roll,
                       sides=(side,), loci_window=loci_window)
+
+
+def _pass_patches(wheelset, track, prof, side, loc, regions, at, motion) -> list:
+    """The patches of a side's locus regions (none combined or turned) by the
+    compiled pass's :func:`~railcontact.geometry.wheel_pass.make_patch` on the
+    locus ``loc`` of :func:`_fixed_roll_pose` (the same kernel's samples), each
+    within its territory (:func:`~railcontact.geometry.regions.territories`), as
+    :func:`~railcontact.geometry.wheel_pass.patch_geometry` makes the geometry of
+    a row: :func:`_make_patch`'s patches to round-off (their rows agree to 4e-9
+    relative on the benchmark sweep's poses, issue 30) for some 30 us per patch
+    instead of 150.  ``at`` = (WheelsetPose, vertical position [m], roll [rad]);
+    ``motion`` as :func:`_make_patch`'s."""
+    pose, z, roll = at
+    pp = PassPose(float(pose.lateral_shift), float(pose.yaw), track.rail_offset("left"),
+                  track.rail_offset("right"), wheelset.wheel_offset,
+                  wheelset.nominal_radius, *(float(v) for v in motion), 0.0)
+    j0, j1 = loc.samples
+    kernel_loc = (j0, j1, loc.theta, loc.point, loc.y_rail, loc.gap, loc.slope, loc.axes,
+                  loc.origin, track.rail_offset(side))
+    rows = np.zeros((len(regions), NPF))
+    for k, (i0, i1, _) in enumerate(regions):
+        make_patch(prof, pp, SIDES.index(side), kernel_loc, int(i0), int(i1), float(z),
+                   float(roll), rows[k])
+    return [patch_geometry(row, wheelset, track, pose, lim)
+            for row, lim in zip(rows, territories(loc, regions))]
 
 
 def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,

@@ -30,6 +30,7 @@ import math
 from dataclasses import dataclass
 
 import numpy as np
+from numba import njit
 
 from ..profiles.profile import Profile
 
@@ -107,9 +108,48 @@ def contact_size(normal) -> tuple:
             0.5 * float(ys.max() - ys.min() + normal.dy))
 
 
+#: the samples of a profile's curvature over a patch's half-width (:func:`_smallest_radius`)
+CURVATURE_SAMPLES = 21
+
+
+@njit(cache=True, nogil=True)
+def _largest_curvature(breaks, coefs, y0, half, y_min, y_max):
+    """The largest |curvature| [1/m] of a cubic piecewise polynomial (``breaks``,
+    ``coefs`` as scipy's PPoly holds them) at ``CURVATURE_SAMPLES`` points evenly over
+    y0 +- half (numpy's linspace), those within [y_min, y_max] and the breaks; -1
+    where there is none."""
+    n = CURVATURE_SAMPLES
+    start, stop = y0 - half, y0 + half
+    step = (stop - start) / (n - 1)
+    nb = breaks.size - 1
+    best = -1.0
+    for i in range(n):
+        y = start + i * step if i < n - 1 else stop
+        if not (y_min <= y <= y_max) or not (breaks[0] <= y <= breaks[nb]):
+            continue
+        k = np.searchsorted(breaks, y, side="right") - 1
+        k = min(max(k, 0), nb - 1)
+        t = y - breaks[k]
+        d1 = (3.0 * coefs[0, k] * t + 2.0 * coefs[1, k]) * t + coefs[2, k]
+        d2 = 6.0 * coefs[0, k] * t + 2.0 * coefs[1, k]
+        c = abs(d2 / (1.0 + d1 * d1) ** 1.5)
+        if c == c and c > best:
+            best = c
+    return best
+
+
 def _smallest_radius(profile: Profile, y0: float, half: float) -> float:
-    """Smallest radius of curvature [m] of a profile over y0 +- half (its own y)."""
-    ys = np.linspace(y0 - half, y0 + half, 21)
+    """Smallest radius of curvature [m] of a profile over y0 +- half (its own y):
+    the curvature at ``CURVATURE_SAMPLES`` points (compiled on a cubic spline's
+    coefficients, as :meth:`Profile.curvature` evaluates them)."""
+    coefs = getattr(profile, "_coefs", None)
+    if coefs is not None and coefs.ndim == 2 and coefs.shape[0] == 4:
+        k = _largest_curvature(profile._breaks, coefs, float(y0), float(half),
+                               profile.y_min, profile.y_max)
+        if k < 0.0:
+            return math.inf
+        return 1.0 / k if k > 0 else math.inf
+    ys = np.linspace(y0 - half, y0 + half, CURVATURE_SAMPLES)
     ys = ys[(ys >= profile.y_min) & (ys <= profile.y_max)]
     if ys.size == 0:
         return math.inf

@@ -42,9 +42,11 @@ import numpy as np
 from numba import njit
 
 from ..profiles.profile import ppoly_at
-from .gap import DEEPEST_GAP, FD_STEP, PatchFrame, Spline, _gap_kernel
+from .contact import ContactGeometry, WheelsetContact
+from .gap import DEEPEST_GAP, FD_STEP, GapEvaluator, PatchFrame, Spline, _gap_kernel
 from .locus import (LOCUS_STEP, _locus_kernel, _min_gap_kernel, _slopes_at, _slopes_for,
-                    _slopes_part, _wheel_samples)
+                    _slopes_part, _wheel_samples, side_pose)
+from .track import rotation
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
 from .patch_curvature import (at_fraction, deepest_fraction, force_curvature,  # noqa: F401
                               region_curvature)
@@ -853,10 +855,6 @@ def patch_geometry(row, wheelset, track, pose, territory=(-math.inf, math.inf)):
     (:class:`~railcontact.geometry.track.WheelsetPose`), as
     :func:`railcontact.geometry.search._make_patch` makes it (a patch of one
     region; ``territory``: its lateral bounds on the rail profile [m])."""
-    from .contact import ContactGeometry
-    from .gap import GapEvaluator
-    from .locus import side_pose
-    from .track import rotation
     side = "right" if row[P_SIDE] == 1 else "left"
     sgn = 1.0 if side == "right" else -1.0
     y_ws, z_ws, roll_s, yaw_s = side_pose(side, pose.lateral_shift, pose.vertical, pose.roll,
@@ -904,7 +902,6 @@ def rows_contact(rows, wheelset, track, pose, loads, interpenetration):
     (:func:`railcontact.geometry.regions.territories`); each wheel's patches from
     the field side, as the geometry layer numbers them (the rows run along the locus
     from the gauge side)."""
-    from .contact import WheelsetContact
     patches = []
     lands = row_territories(rows)
     for s in (0, 1):

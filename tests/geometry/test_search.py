@@ -168,14 +168,19 @@ def test_prescribed_roll_searches_in_the_compiled_pass(locus, monkeypatch):
     layer's own pose search (solve_pose, reached where the pass does not serve) to
     round-off: a sequence of interpenetrations as a balance makes them, on tread,
     two-point and flange contact with yaw, with CONTACT's rules of combining regions
-    (8 mm) and turning them (12 mm), under a load and rigidly."""
+    (8 mm) and turning them (12 mm), under a load and rigidly.  Where no region is
+    combined or turned, under a load, the patches are the compiled pass's
+    (search._pass_patches: wheel_pass.make_patch on the same locus)."""
     from railcontact.geometry import search
     rail = rail_profile("60E1", math.atan(1 / 40))
     rules = PatchRules(8e-3, 4e-3, 12e-3)
-    calls = []
+    calls, made = [], []
     real = search._fixed_roll_pose
     monkeypatch.setattr(search, "_fixed_roll_pose",
                         lambda *a: calls.append(1) or real(*a))
+    real_patches = search._pass_patches
+    monkeypatch.setattr(search, "_pass_patches",
+                        lambda *a: made.append(1) or real_patches(*a))
     for shift, yaw, roll, side in ((0.0, 0.0, 0.0, "right"), (5.5e-3, 2e-3, 1e-3, "right"),
                                    (-6e-3, -4e-3, -1.5e-3, "left")):
         runs = []
@@ -196,6 +201,8 @@ def test_prescribed_roll_searches_in_the_compiled_pass(locus, monkeypatch):
             monkeypatch.undo()
             monkeypatch.setattr(search, "_fixed_roll_pose",
                                 lambda *a: calls.append(1) or real(*a))
+            monkeypatch.setattr(search, "_pass_patches",
+                                lambda *a: made.append(1) or real_patches(*a))
         for a, b in zip(*runs):
             assert a.pose.roll == b.pose.roll
             assert a.pose.vertical == pytest.approx(b.pose.vertical, abs=1e-13)
@@ -210,6 +217,7 @@ def test_prescribed_roll_searches_in_the_compiled_pass(locus, monkeypatch):
                 assert len(p.interaction) == len(q.interaction)
                 assert np.allclose(np.reshape(p.interaction, -1), np.reshape(q.interaction, -1),
                                    rtol=0, atol=1e-12)
+    assert made                         # the compiled patches served
 
 
 def test_a_changed_wheelset_is_searched_afresh():
@@ -228,3 +236,32 @@ def test_a_changed_wheelset_is_searched_afresh():
                          interpenetration=d, **kw)
         assert a.pose == b.pose
         assert [p.approach for p in a.patches] == [p.approach for p in b.patches]
+
+
+def test_a_cases_searches_share_one_memo():
+    """A case's compiled searches under prescribed interpenetrations (one wheelset,
+    track, shift and yaw) share one memo (search_memo: the last loci's wheel samples
+    and the roll search's secant slope, issue 30): a balance's sequence of searches
+    finds the pose and patches of searches from a fresh memo each (a new wheelset)
+    to the roll search's tolerance, on tread, two-point and flange contact."""
+    from railcontact.geometry.search import search_memo
+    tr = Track(rail_profile("60E1", math.atan(1 / 40)))
+    for shift, yaw, d0 in ((0.0, 0.0, 8e-5), (5.5e-3, 2e-3, 7e-5), (8e-3, 6e-3, 9e-5)):
+        ws = Wheelset(s1002())
+        roll = 0.0
+        for f in (1.0, 1.3, 0.9, 1.02, 1.001):
+            d = {"left": d0 * f, "right": d0 * f * 1.1}
+            a = find_contact(ws, tr, shift, yaw, vertical_force=7e4, interpenetration=d,
+                             start=SearchStart(roll))
+            b = find_contact(Wheelset(s1002()), tr, shift, yaw, vertical_force=7e4,
+                             interpenetration=d, start=SearchStart(roll))
+            assert abs(a.pose.roll - b.pose.roll) < 1e-11
+            assert abs(a.pose.vertical - b.pose.vertical) < 1e-11
+            assert len(a.patches) == len(b.patches) >= 2
+            for p, q in zip(a.patches, b.patches):
+                assert np.allclose(p.position, q.position, rtol=0, atol=1e-11)
+                assert p.approach == pytest.approx(q.approach, rel=1e-6, abs=1e-13)
+                assert np.allclose(p.curvatures, q.curvatures, rtol=1e-6)
+                assert np.allclose(p.creepage, q.creepage, rtol=1e-6, atol=1e-11)
+            roll = a.pose.roll
+        assert search_memo(ws, tr, shift, yaw) is not None

@@ -90,3 +90,25 @@ def test_a_run_over_nadals_limit_is_flagged():
     assert _validity(sysm, t, 0.7 * YQ, loaded) == []
     sysm.flange_angle = math.nan                           # a conical table: no flange
     assert _validity(sysm, t, YQ, loaded) == []
+
+
+def test_smallest_radius_compiled_as_the_profiles_curvature():
+    """The half-space check's smallest radius of curvature, compiled on the profile's
+    spline coefficients, is that of Profile.curvature at the same 21 points to
+    round-off (1e-14 relative), inside, across and beyond a profile's ends."""
+    from railcontact.geometry import validity
+    rng = np.random.default_rng(3)
+    for prof in (s1002(), rail_profile("60E1")):
+        for _ in range(300):
+            y0 = rng.uniform(prof.y_min - 0.004, prof.y_max + 0.004)
+            half = rng.uniform(0.0, 0.008)
+            ys = np.linspace(y0 - half, y0 + half, validity.CURVATURE_SAMPLES)
+            ys = ys[(ys >= prof.y_min) & (ys <= prof.y_max)]
+            k = np.abs(np.asarray(prof.curvature(ys), float)) if ys.size else np.zeros(0)
+            k = k[np.isfinite(k)]
+            want = 1.0 / k.max() if k.size and k.max() > 0 else math.inf
+            got = validity._smallest_radius(prof, y0, half)
+            if math.isinf(want):
+                assert math.isinf(got)
+            else:
+                assert got == pytest.approx(want, rel=1e-14)
