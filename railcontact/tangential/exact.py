@@ -43,11 +43,13 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+from scipy import fft
 
 from ..core.errors import InputError
 from ..core.materials import InterfaceLayer, Material, STEEL
-from ..normal.base import bilinear, same_grid
-from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
+from ..normal.base import same_grid
+from ..normal.influence import (TangentialOperator, block_size, bounding_box,
+                                _rect_integrals as rect_integrals, tangential_kernels)
 from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
                                    viscoelastic_tangential_kernels)
 from ..core.status import SolverStatus
@@ -99,7 +101,67 @@ def _sub_operator(mx, my, dx, dy, G, nu, ms, ns):
     box: outside the contact the tractions are zero and the slip is not needed),
     from the grid's kernels cut to the block's offsets; cached per FFT size (it
     serves the block and every smaller one, :func:`block_size`)."""
+    if not isinstance(G, Viscoelastic):
+        return _elastic_block(mx, my, dx, dy, G, nu,
+                              *block_size(ms, ns, mx, my, extra_rows=1))[0]
     return _block_operator(mx, my, dx, dy, G, nu, *block_size(ms, ns, mx, my, extra_rows=1))
+
+
+class _SpectraOperator(TangentialOperator):
+    """A :class:`~railcontact.normal.influence.TangentialOperator` from its kernels'
+    spectra (``spectra`` (xx, xy, yy) on the padded grid ``shape``) for an mx x my
+    block with one extra row."""
+
+    def __init__(self, spectra, shape, mx: int, my: int):
+        self.kxx, self.kxy, self.kyy = spectra
+        self.shape, self.mx, self.my, self.rows = shape, mx, my, 1
+
+
+@lru_cache(maxsize=64)
+def _elastic_block(mx, my, dx, dy, G, nu, ms, ns):
+    """The FFT operator of an ms x ns block of the mx x my grid (elastic bodies of
+    shear modulus G [Pa] and Poisson's ratio nu) and the grid's self terms (dxx,
+    dyy) [m/Pa] of the rolling difference: :func:`_block_operator` and
+    :func:`_kernels` in one compiled pass over the block's offsets alone, from the
+    grid's element integrals (:func:`~railcontact.normal.influence.rect_integrals`,
+    cached per grid and shared with the normal solve): the same values, without the
+    whole grid's kernels (issue 30: a new grid's set-up)."""
+    rect = rect_integrals(mx, my, float(dx), float(dy))
+    shape = (fft.next_fast_len(2 * ms, real=True), fft.next_fast_len(2 * ns - 1, real=True))
+    c = 1.0 / (np.pi * G)
+    spectra, dxx, dyy = _block_spectra(rect, (c, float(nu), float(dx)), (mx, my, ms, ns), shape)
+    return _SpectraOperator(spectra, shape, ms, ns), (dxx, dyy)
+
+
+@njit(cache=True, nogil=True)
+def _block_spectra(rect, consts, sizes, shape):
+    """Spectra (xx, xy, yy) on the padded grid ``shape`` of the tangential kernels
+    of an ms x ns block with one extra row, and the self terms (dxx, dyy) of the
+    rolling difference, from the mx x my grid's element integrals ``rect`` (Lx, Ly,
+    R: :func:`~railcontact.normal.influence.tangential_kernels`' arithmetic, element by
+    element); ``consts`` (1/(pi G), nu, dx), ``sizes`` (mx, my, ms, ns)."""
+    Lx, Ly, Rr = rect
+    c, nu, dx = consts
+    mx, my, ms, ns = sizes
+    N1, N2 = shape
+    k = np.zeros((3, N1, N2))
+    cn = c * nu
+    for a in range(2 * ms):
+        ga = mx - ms + a                  # the grid kernel's row
+        i = (a - (ms - 1)) % N1
+        for b in range(2 * ns - 1):
+            gb = my - ns + b
+            j = (b - (ns - 1)) % N2
+            lx, ly = Lx[ga, gb], Ly[ga, gb]
+            k[0, i, j] = c * ((1 - nu) * (lx + ly) + nu * ly)
+            k[1, i, j] = cn * Rr[ga, gb]
+            k[2, i, j] = c * ((1 - nu) * (lx + ly) + nu * lx)
+    ox, oy = mx - 1, my - 1
+    s0 = Lx[ox, oy] + Ly[ox, oy]
+    s1 = Lx[ox + 1, oy] + Ly[ox + 1, oy]
+    dxx = (c * ((1 - nu) * s0 + nu * Ly[ox, oy]) - c * ((1 - nu) * s1 + nu * Ly[ox + 1, oy])) / dx
+    dyy = (c * ((1 - nu) * s0 + nu * Lx[ox, oy]) - c * ((1 - nu) * s1 + nu * Lx[ox + 1, oy])) / dx
+    return (np.fft.rfft2(k[0]), np.fft.rfft2(k[1]), np.fft.rfft2(k[2])), dxx, dyy
 
 
 @lru_cache(maxsize=64)
@@ -263,7 +325,17 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     if isinstance(G, Viscoelastic) and mode != "rolling":
         raise InputError(f"viscoelastic materials with mode {mode!r}: expected steady "
                          "rolling ('rolling')")
-    _, (dxx, dyy) = _kernels(mx, my, dx, dy, G, nu)
+    # the problem lives on the contact's bounding box: tractions are zero outside the
+    # contact and the slip is needed only inside it, so the FFT products run on the
+    # box's (smaller) padded grid, with the same arithmetic
+    box = bounding_box(contact) or (slice(0, 1), slice(0, 1))
+    ms, ns = contact[box].shape
+    if isinstance(G, Viscoelastic):
+        op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
+        _, (dxx, dyy) = _kernels(mx, my, dx, dy, G, nu)
+    else:
+        op, (dxx, dyy) = _elastic_block(mx, my, dx, dy, G, nu,
+                                        *block_size(ms, ns, mx, my, extra_rows=1))
     if mode == "shift":
         kx, ky = _self_terms(mx, my, dx, dy, G, nu)
         dxx, dyy = kx, ky
@@ -292,12 +364,6 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
         g0 = bound if layer is None else np.ascontiguousarray(np.minimum(bound, layer.tau))
         px, py = initial_march(wx, wy, contact, g0, dxx, dyy)
     shift = mode == "shift"
-    # the problem lives on the contact's bounding box: tractions are zero outside the
-    # contact and the slip is needed only inside it, so the FFT products run on the
-    # box's (smaller) padded grid, with the same arithmetic
-    box = bounding_box(contact) or (slice(0, 1), slice(0, 1))
-    ms, ns = contact[box].shape
-    op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
     cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
     if angles is None:
         sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex)
@@ -569,14 +635,58 @@ def _initial_tractions(warm, x, y, contact, bound):
     """Tractions on the rail (body 1) from a previous solution ``warm``: on the same
     grid as they are, on another grid interpolated (linear, zero outside); inside
     the contact and within the traction bound."""
+    bound = np.ascontiguousarray(bound, dtype=float)
     if same_grid(warm.x, warm.y, x, y):
-        tx, ty = -warm.traction_x, -warm.traction_y
-    else:
-        tx = -bilinear(warm.x, warm.y, warm.traction_x, x[:, None], y[None, :])
-        ty = -bilinear(warm.x, warm.y, warm.traction_y, x[:, None], y[None, :])
-    return _bounded_start(np.ascontiguousarray(tx, dtype=float),
-                          np.ascontiguousarray(ty, dtype=float), contact,
-                          np.ascontiguousarray(bound, dtype=float))
+        return _bounded_start(np.ascontiguousarray(-warm.traction_x, dtype=float),
+                              np.ascontiguousarray(-warm.traction_y, dtype=float), contact,
+                              bound)
+    # bilinear (:func:`~railcontact.normal.base.bilinear`'s arithmetic) at this grid's
+    # centres, the fractional indices of its lines in the warm start's grid
+    wx, wy = warm.x, warm.y
+    u = np.ascontiguousarray((x - wx[0]) / (wx[1] - wx[0]), dtype=float)
+    v = np.ascontiguousarray((y - wy[0]) / (wy[1] - wy[0]), dtype=float)
+    return _interpolated_start((np.ascontiguousarray(warm.traction_x, dtype=float),
+                                np.ascontiguousarray(warm.traction_y, dtype=float)),
+                               (u, v), contact, bound)
+
+
+@njit(cache=True, nogil=True)
+def _interpolated_start(fields, lines, contact, bound):
+    """The tractions on body 1 [Pa] of a warm start's ``fields`` (traction_x,
+    traction_y on body 2, on their own grid) bilinear at the fractional indices
+    ``lines`` (u, v) of this grid's centres (zero outside its centres), inside the
+    contact (zero outside) and scaled onto ``bound`` [Pa] where they exceed it: the
+    interpolation and :func:`_bounded_start` in one compiled loop, over the contact's
+    elements alone (issue 30: a new grid's warm start)."""
+    fx, fy = fields
+    u, v = lines
+    ox, oy = np.zeros(contact.shape), np.zeros(contact.shape)
+    for i in range(contact.shape[0]):
+        for j in range(contact.shape[1]):
+            if contact[i, j]:
+                a = -_bilinear_at(fx, u[i], v[j])
+                b = -_bilinear_at(fy, u[i], v[j])
+                mag = np.hypot(a, b)
+                if mag > bound[i, j]:
+                    s = bound[i, j] / mag
+                    a, b = a * s, b * s
+                ox[i, j], oy[i, j] = a, b
+    return ox, oy
+
+
+@njit(cache=True, nogil=True)
+def _bilinear_at(f, a, b):
+    """f bilinear at the fractional index (a, b) of its grid of centres; 0 outside
+    them (the arithmetic of :func:`~railcontact.normal.base.bilinear`)."""
+    mx, my = f.shape
+    if not (0.0 <= a <= mx - 1 and 0.0 <= b <= my - 1):
+        return 0.0
+    i = min(int(a), mx - 2)
+    j = min(int(b), my - 2)
+    a -= i
+    b -= j
+    return ((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1])
+            + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))
 
 
 @njit(cache=True, nogil=True)
