@@ -48,7 +48,7 @@ from scipy import fft
 from ..core.errors import InputError
 from ..core.materials import InterfaceLayer, Material, STEEL
 from ..normal.base import same_grid
-from ..normal.influence import (TangentialOperator, block_size, bounding_box,
+from ..normal.influence import (TangentialOperator, block_size,
                                 _rect_integrals as rect_integrals, tangential_kernels)
 from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
                                    viscoelastic_tangential_kernels)
@@ -328,8 +328,9 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     # the problem lives on the contact's bounding box: tractions are zero outside the
     # contact and the slip is needed only inside it, so the FFT products run on the
     # box's (smaller) padded grid, with the same arithmetic
-    box = bounding_box(contact) or (slice(0, 1), slice(0, 1))
-    ms, ns = contact[box].shape
+    i0, i1, j0, j1 = _contact_box(contact)
+    box = (slice(i0, i1), slice(j0, j1))
+    ms, ns = i1 - i0, j1 - j0
     if isinstance(G, Viscoelastic):
         op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
         _, (dxx, dyy) = _kernels(mx, my, dx, dy, G, nu)
@@ -348,23 +349,32 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
         dxx, dyy = dxx + (flex if mode == "shift" else flex / dx), \
             dyy + (flex if mode == "shift" else flex / dx)
     xi, eta, phi = creepage
-    wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
-    x_spin = x + SPIN_OFFSET * dx if mode == "rolling" else x
-    wy = np.ascontiguousarray(np.where(contact, eta + phi * x_spin[:, None], 0.0))
-    if w_extra is not None:
-        wx = np.ascontiguousarray(wx + np.where(contact, w_extra[0], 0.0))
-        wy = np.ascontiguousarray(wy + np.where(contact, w_extra[1], 0.0))
     rho = 1.0 / (0.5 * (dxx + dyy))
-
-    if p0 is not None:
-        px, py = p0[0].copy(), p0[1].copy()
-    elif mode == "shift":
-        px, py = np.zeros((mx, my)), np.zeros((mx, my))
-    else:
-        g0 = bound if layer is None else np.ascontiguousarray(np.minimum(bound, layer.tau))
-        px, py = initial_march(wx, wy, contact, g0, dxx, dyy)
     shift = mode == "shift"
-    cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
+    if p0 is not None and w_extra is None:
+        # a warm start (the sweep's and the balance's solves): the box's fields in
+        # one compiled pass, the same arithmetic as the whole grid's below
+        cb, gb, *q = _box_fields(contact, np.ascontiguousarray(bound, dtype=float),
+                                 (np.ascontiguousarray(p0[0], dtype=float),
+                                  np.ascontiguousarray(p0[1], dtype=float)),
+                                 (float(xi), float(eta), float(phi), SPIN_OFFSET * dx),
+                                 (np.asarray(x, dtype=float), np.asarray(y, dtype=float)),
+                                 (i0, i1, j0, j1, not shift))
+    else:
+        wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
+        x_spin = x + SPIN_OFFSET * dx if mode == "rolling" else x
+        wy = np.ascontiguousarray(np.where(contact, eta + phi * x_spin[:, None], 0.0))
+        if w_extra is not None:
+            wx = np.ascontiguousarray(wx + np.where(contact, w_extra[0], 0.0))
+            wy = np.ascontiguousarray(wy + np.where(contact, w_extra[1], 0.0))
+        if p0 is not None:
+            px, py = p0[0].copy(), p0[1].copy()
+        elif mode == "shift":
+            px, py = np.zeros((mx, my)), np.zeros((mx, my))
+        else:
+            g0 = bound if layer is None else np.ascontiguousarray(np.minimum(bound, layer.tau))
+            px, py = initial_march(wx, wy, contact, g0, dxx, dyy)
+        cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
     if angles is None:
         sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex)
     else:
@@ -426,6 +436,56 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     px, py, sx, sy, stick = _grid_fields((qx, qy, sbx, sby), sb, (box[0].start, box[1].start),
                                          contact, np.ascontiguousarray(bound, dtype=float))
     return px, py, sx, sy, stick, it, converged
+
+
+@njit(cache=True, nogil=True)
+def _contact_box(contact):
+    """(i0, i1, j0, j1): the rows i0..i1-1 and columns j0..j1-1 of the smallest block
+    holding every element of ``contact`` (:func:`~railcontact.normal.influence.bounding_box`,
+    compiled; (0, 1, 0, 1) where there is none)."""
+    mx, my = contact.shape
+    i0, i1, j0, j1 = mx, -1, my, -1
+    for i in range(mx):
+        for j in range(my):
+            if contact[i, j]:
+                i0, i1 = min(i0, i), max(i1, i)
+                j0, j1 = min(j0, j), max(j1, j)
+    if i1 < 0:
+        return 0, 1, 0, 1
+    return i0, i1 + 1, j0, j1 + 1
+
+
+@njit(cache=True, nogil=True)
+def _box_fields(contact, bound, p, creep, lines, box):
+    """The fields of :func:`steady_rolling` on the contact's box ``box`` (i0, i1,
+    j0, j1, rolling): contact, bound [Pa], the start's tractions ``p`` (px, py)
+    [Pa] and the rigid slip w = (xi - phi y, eta + phi (x + x_off)) in the contact
+    (zero outside; ``creep`` (xi, eta, phi, x_off), x_off added in rolling only),
+    ``lines`` the grid's centres (x, y) [m]: the NumPy expressions' arithmetic
+    element by element, the box alone (issue 30: the set-up of a warm-started
+    solve)."""
+    px, py = p
+    xi, eta, phi, xoff = creep
+    x, y = lines
+    i0, i1, j0, j1, rolling = box
+    ms, ns = i1 - i0, j1 - j0
+    cb = np.empty((ms, ns), dtype=np.bool_)
+    gb, qx, qy = np.empty((ms, ns)), np.empty((ms, ns)), np.empty((ms, ns))
+    wx, wy = np.zeros((ms, ns)), np.zeros((ms, ns))
+    for a in range(ms):
+        i = i0 + a
+        xs = x[i] + xoff if rolling else x[i]
+        for b in range(ns):
+            j = j0 + b
+            c = contact[i, j]
+            cb[a, b] = c
+            gb[a, b] = bound[i, j]
+            qx[a, b] = px[i, j]
+            qy[a, b] = py[i, j]
+            if c:
+                wx[a, b] = xi - phi * y[j]
+                wy[a, b] = eta + phi * xs
+    return cb, gb, qx, qy, wx, wy
 
 
 @njit(cache=True, nogil=True)
