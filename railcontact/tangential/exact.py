@@ -43,11 +43,13 @@ from typing import NamedTuple
 
 import numpy as np
 from numba import njit
+from scipy import fft
 
 from ..core.errors import InputError
 from ..core.materials import InterfaceLayer, Material, STEEL
-from ..normal.base import bilinear, same_grid
-from ..normal.influence import TangentialOperator, block_size, bounding_box, tangential_kernels
+from ..normal.base import same_grid
+from ..normal.influence import (TangentialOperator, block_size,
+                                _rect_integrals as rect_integrals, tangential_kernels)
 from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
                                    viscoelastic_tangential_kernels)
 from ..core.status import SolverStatus
@@ -99,7 +101,67 @@ def _sub_operator(mx, my, dx, dy, G, nu, ms, ns):
     box: outside the contact the tractions are zero and the slip is not needed),
     from the grid's kernels cut to the block's offsets; cached per FFT size (it
     serves the block and every smaller one, :func:`block_size`)."""
+    if not isinstance(G, Viscoelastic):
+        return _elastic_block(mx, my, dx, dy, G, nu,
+                              *block_size(ms, ns, mx, my, extra_rows=1))[0]
     return _block_operator(mx, my, dx, dy, G, nu, *block_size(ms, ns, mx, my, extra_rows=1))
+
+
+class _SpectraOperator(TangentialOperator):
+    """A :class:`~railcontact.normal.influence.TangentialOperator` from its kernels'
+    spectra (``spectra`` (xx, xy, yy) on the padded grid ``shape``) for an mx x my
+    block with one extra row."""
+
+    def __init__(self, spectra, shape, mx: int, my: int):
+        self.kxx, self.kxy, self.kyy = spectra
+        self.shape, self.mx, self.my, self.rows = shape, mx, my, 1
+
+
+@lru_cache(maxsize=64)
+def _elastic_block(mx, my, dx, dy, G, nu, ms, ns):
+    """The FFT operator of an ms x ns block of the mx x my grid (elastic bodies of
+    shear modulus G [Pa] and Poisson's ratio nu) and the grid's self terms (dxx,
+    dyy) [m/Pa] of the rolling difference: :func:`_block_operator` and
+    :func:`_kernels` in one compiled pass over the block's offsets alone, from the
+    grid's element integrals (:func:`~railcontact.normal.influence.rect_integrals`,
+    cached per grid and shared with the normal solve): the same values, without the
+    whole grid's kernels (issue 30: a new grid's set-up)."""
+    rect = rect_integrals(mx, my, float(dx), float(dy))
+    shape = (fft.next_fast_len(2 * ms, real=True), fft.next_fast_len(2 * ns - 1, real=True))
+    c = 1.0 / (np.pi * G)
+    spectra, dxx, dyy = _block_spectra(rect, (c, float(nu), float(dx)), (mx, my, ms, ns), shape)
+    return _SpectraOperator(spectra, shape, ms, ns), (dxx, dyy)
+
+
+@njit(cache=True, nogil=True)
+def _block_spectra(rect, consts, sizes, shape):
+    """Spectra (xx, xy, yy) on the padded grid ``shape`` of the tangential kernels
+    of an ms x ns block with one extra row, and the self terms (dxx, dyy) of the
+    rolling difference, from the mx x my grid's element integrals ``rect`` (Lx, Ly,
+    R: :func:`~railcontact.normal.influence.tangential_kernels`' arithmetic, element by
+    element); ``consts`` (1/(pi G), nu, dx), ``sizes`` (mx, my, ms, ns)."""
+    Lx, Ly, Rr = rect
+    c, nu, dx = consts
+    mx, my, ms, ns = sizes
+    N1, N2 = shape
+    k = np.zeros((3, N1, N2))
+    cn = c * nu
+    for a in range(2 * ms):
+        ga = mx - ms + a                  # the grid kernel's row
+        i = (a - (ms - 1)) % N1
+        for b in range(2 * ns - 1):
+            gb = my - ns + b
+            j = (b - (ns - 1)) % N2
+            lx, ly = Lx[ga, gb], Ly[ga, gb]
+            k[0, i, j] = c * ((1 - nu) * (lx + ly) + nu * ly)
+            k[1, i, j] = cn * Rr[ga, gb]
+            k[2, i, j] = c * ((1 - nu) * (lx + ly) + nu * lx)
+    ox, oy = mx - 1, my - 1
+    s0 = Lx[ox, oy] + Ly[ox, oy]
+    s1 = Lx[ox + 1, oy] + Ly[ox + 1, oy]
+    dxx = (c * ((1 - nu) * s0 + nu * Ly[ox, oy]) - c * ((1 - nu) * s1 + nu * Ly[ox + 1, oy])) / dx
+    dyy = (c * ((1 - nu) * s0 + nu * Lx[ox, oy]) - c * ((1 - nu) * s1 + nu * Lx[ox + 1, oy])) / dx
+    return (np.fft.rfft2(k[0]), np.fft.rfft2(k[1]), np.fft.rfft2(k[2])), dxx, dyy
 
 
 @lru_cache(maxsize=64)
@@ -263,7 +325,18 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     if isinstance(G, Viscoelastic) and mode != "rolling":
         raise InputError(f"viscoelastic materials with mode {mode!r}: expected steady "
                          "rolling ('rolling')")
-    _, (dxx, dyy) = _kernels(mx, my, dx, dy, G, nu)
+    # the problem lives on the contact's bounding box: tractions are zero outside the
+    # contact and the slip is needed only inside it, so the FFT products run on the
+    # box's (smaller) padded grid, with the same arithmetic
+    i0, i1, j0, j1 = _contact_box(contact)
+    box = (slice(i0, i1), slice(j0, j1))
+    ms, ns = i1 - i0, j1 - j0
+    if isinstance(G, Viscoelastic):
+        op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
+        _, (dxx, dyy) = _kernels(mx, my, dx, dy, G, nu)
+    else:
+        op, (dxx, dyy) = _elastic_block(mx, my, dx, dy, G, nu,
+                                        *block_size(ms, ns, mx, my, extra_rows=1))
     if mode == "shift":
         kx, ky = _self_terms(mx, my, dx, dy, G, nu)
         dxx, dyy = kx, ky
@@ -276,29 +349,32 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
         dxx, dyy = dxx + (flex if mode == "shift" else flex / dx), \
             dyy + (flex if mode == "shift" else flex / dx)
     xi, eta, phi = creepage
-    wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
-    x_spin = x + SPIN_OFFSET * dx if mode == "rolling" else x
-    wy = np.ascontiguousarray(np.where(contact, eta + phi * x_spin[:, None], 0.0))
-    if w_extra is not None:
-        wx = np.ascontiguousarray(wx + np.where(contact, w_extra[0], 0.0))
-        wy = np.ascontiguousarray(wy + np.where(contact, w_extra[1], 0.0))
     rho = 1.0 / (0.5 * (dxx + dyy))
-
-    if p0 is not None:
-        px, py = p0[0].copy(), p0[1].copy()
-    elif mode == "shift":
-        px, py = np.zeros((mx, my)), np.zeros((mx, my))
-    else:
-        g0 = bound if layer is None else np.ascontiguousarray(np.minimum(bound, layer.tau))
-        px, py = initial_march(wx, wy, contact, g0, dxx, dyy)
     shift = mode == "shift"
-    # the problem lives on the contact's bounding box: tractions are zero outside the
-    # contact and the slip is needed only inside it, so the FFT products run on the
-    # box's (smaller) padded grid, with the same arithmetic
-    box = bounding_box(contact) or (slice(0, 1), slice(0, 1))
-    ms, ns = contact[box].shape
-    op = _sub_operator(mx, my, dx, dy, G, nu, ms, ns)
-    cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
+    if p0 is not None and w_extra is None:
+        # a warm start (the sweep's and the balance's solves): the box's fields in
+        # one compiled pass, the same arithmetic as the whole grid's below
+        cb, gb, *q = _box_fields(contact, np.ascontiguousarray(bound, dtype=float),
+                                 (np.ascontiguousarray(p0[0], dtype=float),
+                                  np.ascontiguousarray(p0[1], dtype=float)),
+                                 (float(xi), float(eta), float(phi), SPIN_OFFSET * dx),
+                                 (np.asarray(x, dtype=float), np.asarray(y, dtype=float)),
+                                 (i0, i1, j0, j1, not shift))
+    else:
+        wx = np.ascontiguousarray(np.where(contact, xi - phi * y[None, :], 0.0))
+        x_spin = x + SPIN_OFFSET * dx if mode == "rolling" else x
+        wy = np.ascontiguousarray(np.where(contact, eta + phi * x_spin[:, None], 0.0))
+        if w_extra is not None:
+            wx = np.ascontiguousarray(wx + np.where(contact, w_extra[0], 0.0))
+            wy = np.ascontiguousarray(wy + np.where(contact, w_extra[1], 0.0))
+        if p0 is not None:
+            px, py = p0[0].copy(), p0[1].copy()
+        elif mode == "shift":
+            px, py = np.zeros((mx, my)), np.zeros((mx, my))
+        else:
+            g0 = bound if layer is None else np.ascontiguousarray(np.minimum(bound, layer.tau))
+            px, py = initial_march(wx, wy, contact, g0, dxx, dyy)
+        cb, gb, *q = (np.ascontiguousarray(a[box]) for a in (contact, bound, px, py, wx, wy))
     if angles is None:
         sop = SlipOperator(op.kxx, op.kxy, op.kyy, op.shape, dx, shift, flex)
     else:
@@ -360,6 +436,56 @@ def steady_rolling(x, y, contact, bound, creepage, G, nu, tol=1e-7, maxiter=60, 
     px, py, sx, sy, stick = _grid_fields((qx, qy, sbx, sby), sb, (box[0].start, box[1].start),
                                          contact, np.ascontiguousarray(bound, dtype=float))
     return px, py, sx, sy, stick, it, converged
+
+
+@njit(cache=True, nogil=True)
+def _contact_box(contact):
+    """(i0, i1, j0, j1): the rows i0..i1-1 and columns j0..j1-1 of the smallest block
+    holding every element of ``contact`` (:func:`~railcontact.normal.influence.bounding_box`,
+    compiled; (0, 1, 0, 1) where there is none)."""
+    mx, my = contact.shape
+    i0, i1, j0, j1 = mx, -1, my, -1
+    for i in range(mx):
+        for j in range(my):
+            if contact[i, j]:
+                i0, i1 = min(i0, i), max(i1, i)
+                j0, j1 = min(j0, j), max(j1, j)
+    if i1 < 0:
+        return 0, 1, 0, 1
+    return i0, i1 + 1, j0, j1 + 1
+
+
+@njit(cache=True, nogil=True)
+def _box_fields(contact, bound, p, creep, lines, box):
+    """The fields of :func:`steady_rolling` on the contact's box ``box`` (i0, i1,
+    j0, j1, rolling): contact, bound [Pa], the start's tractions ``p`` (px, py)
+    [Pa] and the rigid slip w = (xi - phi y, eta + phi (x + x_off)) in the contact
+    (zero outside; ``creep`` (xi, eta, phi, x_off), x_off added in rolling only),
+    ``lines`` the grid's centres (x, y) [m]: the NumPy expressions' arithmetic
+    element by element, the box alone (issue 30: the set-up of a warm-started
+    solve)."""
+    px, py = p
+    xi, eta, phi, xoff = creep
+    x, y = lines
+    i0, i1, j0, j1, rolling = box
+    ms, ns = i1 - i0, j1 - j0
+    cb = np.empty((ms, ns), dtype=np.bool_)
+    gb, qx, qy = np.empty((ms, ns)), np.empty((ms, ns)), np.empty((ms, ns))
+    wx, wy = np.zeros((ms, ns)), np.zeros((ms, ns))
+    for a in range(ms):
+        i = i0 + a
+        xs = x[i] + xoff if rolling else x[i]
+        for b in range(ns):
+            j = j0 + b
+            c = contact[i, j]
+            cb[a, b] = c
+            gb[a, b] = bound[i, j]
+            qx[a, b] = px[i, j]
+            qy[a, b] = py[i, j]
+            if c:
+                wx[a, b] = xi - phi * y[j]
+                wy[a, b] = eta + phi * xs
+    return cb, gb, qx, qy, wx, wy
 
 
 @njit(cache=True, nogil=True)
@@ -569,14 +695,58 @@ def _initial_tractions(warm, x, y, contact, bound):
     """Tractions on the rail (body 1) from a previous solution ``warm``: on the same
     grid as they are, on another grid interpolated (linear, zero outside); inside
     the contact and within the traction bound."""
+    bound = np.ascontiguousarray(bound, dtype=float)
     if same_grid(warm.x, warm.y, x, y):
-        tx, ty = -warm.traction_x, -warm.traction_y
-    else:
-        tx = -bilinear(warm.x, warm.y, warm.traction_x, x[:, None], y[None, :])
-        ty = -bilinear(warm.x, warm.y, warm.traction_y, x[:, None], y[None, :])
-    return _bounded_start(np.ascontiguousarray(tx, dtype=float),
-                          np.ascontiguousarray(ty, dtype=float), contact,
-                          np.ascontiguousarray(bound, dtype=float))
+        return _bounded_start(np.ascontiguousarray(-warm.traction_x, dtype=float),
+                              np.ascontiguousarray(-warm.traction_y, dtype=float), contact,
+                              bound)
+    # bilinear (:func:`~railcontact.normal.base.bilinear`'s arithmetic) at this grid's
+    # centres, the fractional indices of its lines in the warm start's grid
+    wx, wy = warm.x, warm.y
+    u = np.ascontiguousarray((x - wx[0]) / (wx[1] - wx[0]), dtype=float)
+    v = np.ascontiguousarray((y - wy[0]) / (wy[1] - wy[0]), dtype=float)
+    return _interpolated_start((np.ascontiguousarray(warm.traction_x, dtype=float),
+                                np.ascontiguousarray(warm.traction_y, dtype=float)),
+                               (u, v), contact, bound)
+
+
+@njit(cache=True, nogil=True)
+def _interpolated_start(fields, lines, contact, bound):
+    """The tractions on body 1 [Pa] of a warm start's ``fields`` (traction_x,
+    traction_y on body 2, on their own grid) bilinear at the fractional indices
+    ``lines`` (u, v) of this grid's centres (zero outside its centres), inside the
+    contact (zero outside) and scaled onto ``bound`` [Pa] where they exceed it: the
+    interpolation and :func:`_bounded_start` in one compiled loop, over the contact's
+    elements alone (issue 30: a new grid's warm start)."""
+    fx, fy = fields
+    u, v = lines
+    ox, oy = np.zeros(contact.shape), np.zeros(contact.shape)
+    for i in range(contact.shape[0]):
+        for j in range(contact.shape[1]):
+            if contact[i, j]:
+                a = -_bilinear_at(fx, u[i], v[j])
+                b = -_bilinear_at(fy, u[i], v[j])
+                mag = np.hypot(a, b)
+                if mag > bound[i, j]:
+                    s = bound[i, j] / mag
+                    a, b = a * s, b * s
+                ox[i, j], oy[i, j] = a, b
+    return ox, oy
+
+
+@njit(cache=True, nogil=True)
+def _bilinear_at(f, a, b):
+    """f bilinear at the fractional index (a, b) of its grid of centres; 0 outside
+    them (the arithmetic of :func:`~railcontact.normal.base.bilinear`)."""
+    mx, my = f.shape
+    if not (0.0 <= a <= mx - 1 and 0.0 <= b <= my - 1):
+        return 0.0
+    i = min(int(a), mx - 2)
+    j = min(int(b), my - 2)
+    a -= i
+    b -= j
+    return ((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1])
+            + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))
 
 
 @njit(cache=True, nogil=True)

@@ -216,6 +216,52 @@ def test_block_operator_equals_the_grid_operator_on_the_block():
         assert np.abs(b - ref).max() <= 1e-12 * np.abs(ref).max()
 
 
+def test_compiled_block_operator_equals_the_grid_kernels_cut_to_the_block():
+    """A new grid's set-up (issue 30): the compiled block operator (its kernels'
+    spectra from the grid's element integrals, over the block's offsets alone) and
+    the self terms of the rolling difference are those of the whole grid's kernels
+    cut to the block, bit for bit, on grids and blocks of several sizes."""
+    from railcontact.normal.influence import block_size
+    from railcontact.tangential.exact import _block_operator, _elastic_block, _kernels
+    rng = np.random.default_rng(30)
+    for mx, my, ms, ns in ((17, 12, 11, 7), (40, 40, 22, 17), (9, 30, 9, 30), (5, 3, 1, 1)):
+        dx, dy = rng.uniform(0.5e-4, 3e-4, 2)
+        G, nu = 8e10 * rng.uniform(0.5, 1.5), rng.uniform(0.2, 0.4)
+        bs = block_size(ms, ns, mx, my, extra_rows=1)
+        ref = _block_operator(mx, my, dx, dy, G, nu, *bs)
+        op, selfs = _elastic_block(mx, my, dx, dy, G, nu, *bs)
+        assert op.shape == ref.shape and (op.mx, op.my, op.rows) == (ref.mx, ref.my, 1)
+        for k in ("kxx", "kxy", "kyy"):
+            assert np.array_equal(getattr(op, k), getattr(ref, k))
+        assert selfs == _kernels(mx, my, dx, dy, G, nu)[1]
+
+
+def test_warm_start_on_another_grid_is_the_bilinear_interpolation_bounded():
+    """A warm start from a solution on another grid (a neighbouring case's): its
+    tractions bilinear at this grid's centres (zero outside its own), inside the
+    contact and scaled onto the bound where they exceed it, in one compiled loop:
+    bit for bit the NumPy composition of ``bilinear`` and the bounding."""
+    from types import SimpleNamespace
+    from railcontact.normal.base import bilinear
+    from railcontact.tangential.exact import _initial_tractions
+    rng = np.random.default_rng(31)
+    wx, wy = np.linspace(-4e-3, 4e-3, 30), np.linspace(-3e-3, 3.2e-3, 25)
+    warm = SimpleNamespace(x=wx, y=wy, traction_x=rng.normal(size=(30, 25)) * 1e8,
+                           traction_y=rng.normal(size=(30, 25)) * 1e8)
+    x, y = np.linspace(-4.3e-3, 3.9e-3, 28) + 1e-5, np.linspace(-3.1e-3, 3.3e-3, 27)
+    contact = rng.random((28, 27)) < 0.7
+    bound = rng.random((28, 27)) * 1.5e8
+    px, py = _initial_tractions(warm, x, y, contact, bound)
+    tx = -bilinear(wx, wy, warm.traction_x, x[:, None], y[None, :])
+    ty = -bilinear(wx, wy, warm.traction_y, x[:, None], y[None, :])
+    mag = np.hypot(tx, ty)
+    scale = np.where(mag > bound, bound / np.where(mag > 0, mag, 1.0), 1.0)
+    assert np.array_equal(px, np.where(contact, tx * scale, 0.0))
+    assert np.array_equal(py, np.where(contact, ty * scale, 0.0))
+    assert (np.hypot(px, py) <= bound * (1 + 1e-15)).all()
+    assert np.count_nonzero(px) > 0.5 * contact.sum()
+
+
 def test_solution_on_the_contact_box_equals_the_whole_grid_solution():
     """Solving on the contact's bounding box gives the solution of the whole grid:
     the same problem placed in a grid twice as large (zero bound outside) has the
