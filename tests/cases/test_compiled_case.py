@@ -291,3 +291,24 @@ def test_a_warm_chain_past_the_flanges_peak_starts_from_the_last_case(j):
     assert cold.converged
     assert prev.interpenetration["right"] == pytest.approx(cold.interpenetration["right"],
                                                            rel=2e-3)
+
+
+def test_the_linear_law_runs_in_the_pass():
+    """Hertz + ``linear`` in the compiled pass is Kalker's linear theory, not FASTSIM
+    (the law's code 0 once read as "none" and the pass ran FASTSIM under the linear
+    law's name): the creep forces agree with the per-patch path's linear theory to
+    1 % (the same theory on the ellipse of the row against that of Hertz's grid)
+    and, at these creepages below saturation, differ from FASTSIM's by more than
+    2 %."""
+    case = _case(3e-3, 2e-3, (1e-3, -5e-4, 0.1))
+    lin = solve_case_forces(case, "hertz", "linear")
+    fs = solve_case_forces(case, "hertz", "fastsim")
+    ref = rc.solve(case, "hertz", "linear")
+    assert lin.converged and fs.converged and ref.converged
+    for key, attr in (("fx", "fx"), ("fy", "fy")):
+        got = _side_sums(lin.side, lin.patches[key])
+        other = _side_sums(fs.side, fs.patches[key])
+        for s in ("left", "right"):
+            want = sum(getattr(r.tangential, attr) for r in ref.patches if r.geometry.side == s)
+            assert got[s] == pytest.approx(want, rel=1e-2)
+            assert abs(got[s] - other[s]) > 2e-2 * abs(want)
