@@ -48,7 +48,7 @@ from .contact import ContactGeometry, WheelsetContact, interaction_factor  # noq
 from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
 from .locus import Locus, compute_locus
-from .patch_curvature import at_fraction, deepest_fraction, force_curvature
+from .patch_curvature import at_fraction, deepest_fraction, deepest_gap, force_curvature
 from .pose import REGION_MARGIN, _memo, locus_window, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
@@ -520,7 +520,8 @@ def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
         h_m = math.nan
     approach = -h_m
     # robust fallback: vertical interpenetration of the deepest locus point projected on n
-    vertical = -float(loc.gap[im]) * math.cos(math.atan(float(at_fraction(
+    # (the gap and the slope both at the locus's minimum between the samples)
+    vertical = -float(deepest_gap(gl, im)) * math.cos(math.atan(float(at_fraction(
         np.ascontiguousarray(loc.slope, dtype=float), im, f))))
     if not math.isfinite(approach) or (approach <= 0.0 < vertical):
         approach = vertical
