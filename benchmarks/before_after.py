@@ -12,12 +12,14 @@ lines.
 SECTION is a ``bench_*`` function of run_all.py without its prefix, e.g.
 ``hertz_fastsim`` (default: hertz_fastsim, exact_module3, exact_wheel_rail,
 dynamics), or a name of :data:`CALLS` (``compiled_sweep``, ``compiled_strips``:
-the sweeps of ``benchmarks/compiled_case.py``).  Example: ``before_after.py 7dc4656 3 hertz_fastsim`` for issue 29's
+the sweeps of ``benchmarks/compiled_case.py``).  ``benchmarks/exact_case.py --before
+REF`` takes its "before" from a ref the same way (:func:`ref_tree`).  Example: ``before_after.py 7dc4656 3 hertz_fastsim`` for issue 29's
 layout against the main it started from.
 """
 
 from __future__ import annotations
 
+import contextlib
 import os
 import subprocess
 import sys
@@ -50,25 +52,33 @@ def run(tree: Path, section: str) -> tuple[float, str]:
     return time.perf_counter() - t0, "\n".join(lines)
 
 
-def main(argv: list) -> None:
-    ref = argv[0] if argv else "HEAD"
-    rounds = int(argv[1]) if len(argv) > 1 else 2
-    sections = argv[2:] or list(DEFAULT)
+@contextlib.contextmanager
+def ref_tree(ref: str):
+    """The git ref ``ref`` checked out as a temporary worktree beside this checkout
+    (so that ``../shared`` is found the same way), removed on exit; yields its path."""
     with tempfile.TemporaryDirectory(prefix=".railcontact-before-", dir=ROOT.parent) as tmp:
         old = Path(tmp)                 # an empty folder beside this checkout
         subprocess.run(["git", "-C", str(ROOT), "worktree", "add", "-q", "--detach", str(old),
                         ref], check=True)
         try:
-            for section in sections:
-                for r in range(rounds):
-                    for tag, tree in (("before", old), ("after", ROOT)):
-                        wall, text = run(tree, section)
-                        name = ref if tag == "before" else "this checkout"
-                        print(f"### {section}, round {r + 1}, {tag} ({name}, {wall:.0f} s)\n"
-                              f"{text}", flush=True)
+            yield old
         finally:
             subprocess.run(["git", "-C", str(ROOT), "worktree", "remove", "--force", str(old)],
                            check=False)
+
+
+def main(argv: list) -> None:
+    ref = argv[0] if argv else "HEAD"
+    rounds = int(argv[1]) if len(argv) > 1 else 2
+    sections = argv[2:] or list(DEFAULT)
+    with ref_tree(ref) as old:
+        for section in sections:
+            for r in range(rounds):
+                for tag, tree in (("before", old), ("after", ROOT)):
+                    wall, text = run(tree, section)
+                    name = ref if tag == "before" else "this checkout"
+                    print(f"### {section}, round {r + 1}, {tag} ({name}, {wall:.0f} s)\n"
+                          f"{text}", flush=True)
 
 
 if __name__ == "__main__":

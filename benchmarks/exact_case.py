@@ -1,16 +1,16 @@
-"""Where an exact + exact wheel-rail case spends its FFT convolutions, before and
-after the compiled Hertz + FASTSIM start (issue 30); ``benchmarks/exact_case.md``.
+"""Where an exact + exact wheel-rail case spends its FFT convolutions, and the same
+against the code of a git ref (issue 30); ``benchmarks/exact_case.md``.
 
 The 1000-case sweep of ``run_all.sweep_raws`` (S1002 on 60E1 1:40, 70 kN per
 wheel, shift -4..9 mm, yaw 0..6 mrad, creepages varying, 40 x 40 grid), solved
-cold and warm-started along the sweep, "before" (a cold case from the geometry
-layer's multi-Hertzian estimate, a warm one from the extrapolation of its two
-previous cases alone: ``BalanceOptions(hertz_start=False)``, and
-``equilibrium.FINAL_SLOPE`` = 0) and "after" (the
-default: a cold case from the compiled pass's Hertz + FASTSIM balance, a warm one
-from it where its first evaluation misses the load by more than
-``balance.RESTART_MISS``), interleaved in blocks of 50 cases in one process; CPU
-time per case (the shared machine's pauses out).
+cold and warm-started along the sweep with the package's defaults, each tree in
+a worker process of its own: this checkout ("after") and, with ``--before REF``,
+the ref checked out as a temporary worktree beside it ("before";
+``before_after.ref_tree``: its own library, this script's sweep and counting), the
+two interleaved in blocks of 50 cases (each worker keeps its warm chain across
+its blocks); CPU time per case (the shared machine's pauses out).  The library
+keeps no switch for a "before": e.g. the start before the compiled Hertz +
+FASTSIM start is the commit before it (``--before c632828^``).
 
 The stages are counted by wrapping their functions: the balance's passes
 (provisional, or final: the tangential problems solved), the contact searches,
@@ -23,15 +23,17 @@ products)), FASTSIM (the stand-ins of the provisional passes).  Every time is al
 given in units of one FFT convolution of the 80 x 80 padded grid
 (``polonsky_keer._convolve``), its CPU time measured between the blocks.
 
-``python benchmarks/exact_case.py [--cases 1000] [--out benchmarks/exact_case.md]``
+``python benchmarks/exact_case.py [--cases 1000] [--before REF] [--out benchmarks/exact_case.md]``
 """
 
 from __future__ import annotations
 
 import argparse
 import functools
-import os
 import importlib
+import json
+import os
+import subprocess
 import sys
 import time
 from collections import defaultdict
@@ -43,17 +45,11 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import railcontact as rc                                   # noqa: E402
-from railcontact.cases import equilibrium                 # noqa: E402
-from railcontact.cases.balance import BalanceOptions      # noqa: E402
 from run_all import sweep_raws                             # noqa: E402
 
-#: the balance's options of each run: no compiled Hertz + FASTSIM start (before),
-#: the default (after)
-MODES = {"before": BalanceOptions(hertz_start=False), "after": BalanceOptions()}
-
-#: ``equilibrium.FINAL_SLOPE`` of each run: before, no floor (0), as main before
-#: this change; after, the default
-FINAL_SLOPES = {"before": 0.0, "after": equilibrium.FINAL_SLOPE}
+ROOT = HERE.parent
+#: the line a worker prefixes its block's results with (JSON)
+TAG = "@exact_case "
 
 
 class Counter:
@@ -67,11 +63,15 @@ class Counter:
         self.saved = []
 
     def wrap(self, mod, attr, label, count=None, skip=None):
+        """Count ``mod.attr`` under ``label``; a stage the code does not have (an
+        older tree's) is left out."""
         owner = importlib.import_module(mod)
         *path, name = attr.split(".")
         for p in path:
-            owner = getattr(owner, p)
-        real = getattr(owner, name)
+            owner = getattr(owner, p, None)
+        real = getattr(owner, name, None)
+        if real is None:
+            return
         me = self
 
         @functools.wraps(real)
@@ -94,6 +94,17 @@ class Counter:
         for owner, name, real in reversed(self.saved):
             setattr(owner, name, real)
         self.saved = []
+
+    def state(self) -> dict:
+        """The counts, for a worker's JSON line."""
+        return {k: dict(getattr(self, k)) for k in ("calls", "cpu", "iters", "conv")}
+
+    def add(self, state: dict) -> None:
+        """Add a worker's counts (:meth:`state`)."""
+        for k, d in state.items():
+            mine = getattr(self, k)
+            for label, v in d.items():
+                mine[label] += v
 
 
 def _pk(res):
@@ -146,42 +157,94 @@ def unit_cpu(number=300, repeat=5):
     return best
 
 
-def run(n_cases=1000, block=50, offset=0):
-    """Both modes, cold and warm, interleaved in blocks; returns the per-case CPU
-    times, results' summaries and the stage counters."""
+def worker(n_cases, offset):
+    """``--worker``: the sweep's cases ``offset`` .. ``offset + n_cases`` of the
+    library on ``sys.path`` (the tree this process was started in); reads lines
+    "i0 i1" on stdin, solves cases i0 .. i1 (indices into those) cold and then
+    warm-started along the sweep (the warm chain kept across blocks), and writes a
+    line :data:`TAG` + JSON: the unit measured before the block, and per run the
+    CPU times, the results' summaries and the stage counts."""
     from railcontact.cases.case import case_from_dict
     cases = [case_from_dict(r) for r in sweep_raws()][offset:offset + n_cases]
     rc.solve(cases[0], "exact", "exact")                    # compile / load
-    keys = [(m, w) for m in MODES for w in ("cold", "warm")]
-    t = {k: np.zeros(len(cases)) for k in keys}
-    summary = {k: [None] * len(cases) for k in keys}
-    counters = {k: Counter() for k in keys}
-    prev = {m: None for m in MODES}
-    units = []
-    for b0 in range(0, len(cases), block):
-        units.append(unit_cpu())
-        for m, w in keys:
-            c = counters[(m, w)]
+    prev = None
+    for line in sys.stdin:
+        if not line.strip():
+            break
+        i0, i1 = map(int, line.split())
+        out = {"unit": unit_cpu()}
+        for w in ("cold", "warm"):
+            c = Counter()
             for st in STAGES:
                 c.wrap(*st)
-            equilibrium.FINAL_SLOPE = FINAL_SLOPES[m]
+            t, summary = [], []
             try:
-                for i in range(b0, min(b0 + block, len(cases))):
+                for i in range(i0, i1):
                     t0 = time.process_time()
                     res = rc.solve(cases[i], "exact", "exact",
-                                   warm_start=prev[m] if w == "warm" else None,
-                                   options=MODES[m])
-                    t[(m, w)][i] = time.process_time() - t0
+                                   warm_start=prev if w == "warm" else None)
+                    t.append(time.process_time() - t0)
                     if w == "warm":
-                        prev[m] = res
-                    summary[(m, w)][i] = (
-                        res.converged, res.balance.passes,
-                        sum(p.normal.normal_force for p in res.patches),
-                        sum(p.tangential.fx for p in res.patches),
-                        sum(p.tangential.fy for p in res.patches))
+                        prev = res
+                    summary.append((
+                        bool(res.converged), int(res.balance.passes),
+                        float(sum(p.normal.normal_force for p in res.patches)),
+                        float(sum(p.tangential.fx for p in res.patches)),
+                        float(sum(p.tangential.fy for p in res.patches))))
             finally:
                 c.restore()
-                equilibrium.FINAL_SLOPE = FINAL_SLOPES["after"]
+            out[w] = {"t": t, "summary": summary, "counts": c.state()}
+        print(TAG + json.dumps(out), flush=True)
+
+
+def _start_worker(tree, n_cases, offset):
+    """A :func:`worker` process on the library of ``tree`` (another tree's with a
+    Numba cache of its own; this checkout's with the environment's)."""
+    env = dict(os.environ, PYTHONPATH=str(tree))
+    if Path(tree).resolve() != ROOT:
+        env["NUMBA_CACHE_DIR"] = str(Path(tree) / ".venv-bench-numba")
+    return subprocess.Popen([sys.executable, str(Path(__file__).resolve()), "--worker",
+                             "--cases", str(n_cases), "--offset", str(offset)],
+                            cwd=tree, env=env, stdin=subprocess.PIPE,
+                            stdout=subprocess.PIPE, text=True)
+
+
+def _ask(proc, i0, i1) -> dict:
+    """One block of a worker: its JSON result."""
+    proc.stdin.write(f"{i0} {i1}\n")
+    proc.stdin.flush()
+    for line in proc.stdout:
+        if line.startswith(TAG):
+            return json.loads(line[len(TAG):])
+    raise RuntimeError(f"exact_case worker stopped (exit {proc.wait()})")
+
+
+def run(n_cases=1000, block=50, offset=0, trees=None):
+    """The sweep in the worker of each of ``trees`` ({"before": path, "after":
+    path}; default this checkout as "after"), the trees alternating block by
+    block; returns the per-case CPU times, results' summaries, the stage counters
+    and the unit (median of the workers' measurements)."""
+    trees = trees or {"after": ROOT}
+    procs = {m: _start_worker(tree, n_cases, offset) for m, tree in trees.items()}
+    keys = [(m, w) for m in trees for w in ("cold", "warm")]
+    t = {k: np.zeros(n_cases) for k in keys}
+    summary = {k: [None] * n_cases for k in keys}
+    counters = {k: Counter() for k in keys}
+    units = []
+    try:
+        for b0 in range(0, n_cases, block):
+            b1 = min(b0 + block, n_cases)
+            for m, proc in procs.items():
+                res = _ask(proc, b0, b1)
+                units.append(res["unit"])
+                for w in ("cold", "warm"):
+                    t[(m, w)][b0:b1] = res[w]["t"]
+                    summary[(m, w)][b0:b1] = [tuple(x) for x in res[w]["summary"]]
+                    counters[(m, w)].add(res[w]["counts"])
+    finally:
+        for proc in procs.values():
+            proc.stdin.close()
+            proc.wait()
     return t, summary, counters, float(np.median(units))
 
 
@@ -196,7 +259,7 @@ def report(t, summary, counters, unit, n, offset=0):
     shifts = np.array([r["wheelset"]["lateral_shift"] for r in sweep_raws()])[offset:offset + n]
     out(f"* the unit: one FFT convolution of the 80 x 80 padded grid (40 x 40 elements; "
         f"the solvers' compiled product), {unit * 1e6:.1f} µs of CPU in this run (median "
-        f"of {n // 50 if n >= 50 else 1} measurements between the blocks)")
+        f"of the workers' measurements before each block)")
     out("")
     out("| run | mean | median | max / median | cases over 3x the median | balance passes "
         "(mean, max) | load met |")
@@ -211,7 +274,7 @@ def report(t, summary, counters, unit, n, offset=0):
             f"{offset + int(np.argmax(v))}, {shifts[int(np.argmax(v))] * 1e3:.2f} mm) | "
             f"{int(np.sum(v > 3 * med))} | {passes.mean():.2f}, {passes.max()} | "
             f"{ok} of {n} |")
-    for w in ("cold", "warm"):
+    for w in ("cold", "warm") if ("before", "cold") in summary else ():
         a = np.array([x[2:] for x in summary[("before", w)]])
         b = np.array([x[2:] for x in summary[("after", w)]])
         mq = 0.3 * 1.4e5
@@ -273,23 +336,37 @@ def main(argv=None):
     ap.add_argument("--out", default=str(HERE / "exact_case.md"))
     ap.add_argument("--offset", type=int, default=0,
                     help="the first case of the sweep to run (a subset: --cases from it)")
+    ap.add_argument("--before", default=None, metavar="REF",
+                    help="a git ref whose code runs the same sweep as 'before', "
+                         "interleaved block by block with this checkout's")
     ap.add_argument("--no-manchester", dest="manchester", action="store_false",
                     help="leave out the Manchester sweep's timing")
+    ap.add_argument("--worker", action="store_true",
+                    help="(internal) a worker process: see worker()")
     args = ap.parse_args(argv)
+    if args.worker:
+        return worker(args.cases, args.offset)
     load0 = os.getloadavg()[0]
-    t, summary, counters, unit = run(args.cases, offset=args.offset)
+    if args.before:
+        from before_after import ref_tree
+        with ref_tree(args.before) as old:
+            t, summary, counters, unit = run(args.cases, offset=args.offset,
+                                             trees={"before": old, "after": ROOT})
+    else:
+        t, summary, counters, unit = run(args.cases, offset=args.offset)
     load1 = os.getloadavg()[0]
     lines = report(t, summary, counters, unit, args.cases, args.offset)
+    head_ref = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
+                              capture_output=True, text=True).stdout.strip()
+    before = (f"before (the code of `{args.before}`) and after (this checkout, {head_ref}), "
+              "each in a worker process of its own, interleaved in blocks of 50 cases"
+              if args.before else f"the code of {head_ref}, in blocks of 50 cases")
     head = ["# The exact + exact case: where its FFT convolutions go (issue 30)", "",
-            f"`python benchmarks/exact_case.py --cases {args.cases}`: the 1000-case sweep "
+            f"`python benchmarks/exact_case.py --cases {args.cases}"
+            + (f" --before {args.before}" if args.before else "") + "`: the 1000-case sweep "
             "(S1002 on 60E1 1:40, 70 kN per wheel, shift -4..9 mm, yaw 0..6 mrad, creepages "
-            "varying, 40 x 40 grid), cold and warm-started along the sweep, before "
-            "(`BalanceOptions(hertz_start=False)` and `equilibrium.FINAL_SLOPE` = 0: cold "
-            "from the multi-Hertzian estimate, "
-            "warm from the extrapolation of the two previous cases) and after (the "
-            "default: cold from the compiled Hertz + FASTSIM balance, warm from it where "
-            "the first evaluation misses a load by more than `RESTART_MISS`), interleaved "
-            "in blocks of 50 cases in one process; CPU time per case.  Machine load "
+            "varying, 40 x 40 grid), cold and warm-started along the sweep with the "
+            f"package's defaults, {before}; CPU time per case.  Machine load "
             f"(1-minute load average, 2 cores shared): {load0:.1f} at the start, "
             f"{load1:.1f} at the end.", ""]
     if args.manchester:

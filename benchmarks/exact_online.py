@@ -50,8 +50,12 @@ against theirs at the same samples (rms, largest difference), max |Y/Q| of each,
 samples with a flange patch loaded.  ``--from-states FILE``: the comparison of a
 saved (possibly partial) run's states instead of a run.  ``--initial FILE``: the run
 starts from the first state of a saved run (its time), e.g. to time the same stretch
-on two versions of the code (the wheel forces at the samples are saved beside
-``--save``, ``*.forces.npz``); ``--initial-time T``: from its state at T instead
+on two versions of the code, each in a checkout of its own (the wheel forces at the
+samples are saved beside ``--save``, ``*.forces.npz``; the library keeps no switch
+for a "before": the inner stages that solved every wheelset where one's patches had
+moved were measured in 5cf8d1f with its ``--all-wheelsets``, since removed: the
+figures are kept in ``benchmarks/dynamics_online.md``, and a checkout of 5cf8d1f
+reruns them); ``--initial-time T``: from its state at T instead
 (e.g. ``--initial runs/full.npz --initial-time 23.85 --duration 0.1 --no-refs``:
 the stretch of the 100 s run where the wheel loads spiked, issue 30).
 """
@@ -207,10 +211,6 @@ def main(argv=None):
                     help="--route-run: only make the --refs files")
     ap.add_argument("--no-refs", action="store_true",
                     help="--route-run: without the Hertz and table runs to compare with")
-    ap.add_argument("--all-wheelsets", action="store_true",
-                    help="--route-run: a stage with one wheelset's patches moved solves "
-                         "every wheelset (simulation.STAGE_SOLVES_PER_WHEELSET False, as "
-                         "before)")
     ap.add_argument("--from-states", default=None,
                     help="--route-run: compare a saved run's states (.npz) instead")
     args = ap.parse_args(argv)
@@ -338,11 +338,7 @@ def route_run(args):
     head = subprocess.run(["git", "-C", str(ROOT), "rev-parse", "--short", "HEAD"],
                           capture_output=True, text=True).stdout.strip()
     _log(log, f"route run: exact + exact (stand-ins both), {T:g} s from t = {T0:g} s, "
-              f"{rate:g} samples/s, commit {head}, load average {load0[0]:.1f}"
-              + (", every wheelset solved at a stage that does not match"
-                 if args.all_wheelsets else ""))
-    if args.all_wheelsets:
-        S.STAGE_SOLVES_PER_WHEELSET = False
+              f"{rate:g} samples/s, commit {head}, load average {load0[0]:.1f}")
     hertz = OnlineWheelRail(ws, tr, damping=6e5)
     exact = OnlineWheelRail(ws, tr, damping=6e5, normal="exact")
     integ = Integration(method="rk4", sample_rate=rate)

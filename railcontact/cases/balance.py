@@ -314,31 +314,32 @@ class BalanceOptions:
         A warm-started case extrapolates its start from its two previous cases
         where their interpenetrations differ by less than this factor
         (:func:`~railcontact.cases.equilibrium.extrapolate_start`); 1 turns it off.
-    hertz_start : bool
-        A case with models the compiled pass does not run but whose tangential
-        model is lazy (the exact ones) starts from the compiled pass's balance of
-        Hertz + FASTSIM (:func:`hertz_estimate`): a cold case always (its patches,
-        no first search), a warm-started one where its first evaluation, at the
-        neighbour's (extrapolated) interpenetrations, misses a side's load by more
-        than ``RESTART_MISS`` in |ln(F/Q)| (the S-shaped force of flange contact:
-        docs/tuning.md, section "Equilibrium").  False: as before.
     force_control : bool
         Balance a case with the exact models whose balanced sides have one patch
-        each force-controlled (:func:`_force_controlled`, issue 30's design).
-        Measured slower than the general balance on the benchmark sweep (cold 17.7
-        against 11.9 ms, warm 10.5 against 7.2 ms per case: more normal and
-        tangential solves for fewer passes; docs/tuning.md, section
-        "Equilibrium"), so off; kept for comparisons (``benchmarks/run_all.py``,
-        ``bench_force_controlled``).
+        each force-controlled (:func:`_force_controlled`): issue 30's named design,
+        "a side with one patch force-controlled".  Measured slower than the general
+        balance on the benchmark sweep: cold 17.7 against 11.9 ms, warm 10.5
+        against 7.2 ms per case (more normal and tangential solves for fewer
+        passes; docs/tuning.md, section "Equilibrium"), so off; its figures are
+        measured by ``benchmarks/run_all.py``'s ``bench_force_controlled``.
+
+    A case with models the compiled pass does not run but whose tangential model
+    is lazy (the exact ones) starts from the compiled pass's balance of Hertz +
+    FASTSIM (:func:`hertz_estimate`): a cold case always (its patches, no first
+    search), a warm-started one where its first evaluation, at the neighbour's
+    (extrapolated) interpenetrations, misses a side's load by more than
+    ``RESTART_MISS`` in |ln(F/Q)| (the S-shaped force of flange contact:
+    docs/tuning.md, section "Equilibrium").  Not an option: the start before it is
+    measured against the commit before it (``benchmarks/exact_case.py --before
+    REF``).
     """
 
     compiled_start: bool = True
     extrapolate_ratio: float = EXTRAPOLATE_RATIO
     force_control: bool = False
-    hertz_start: bool = True
 
     def __post_init__(self):
-        for name in ("compiled_start", "force_control", "hertz_start"):
+        for name in ("compiled_start", "force_control"):
             if not isinstance(getattr(self, name), bool):
                 raise InputError(f"BalanceOptions.{name} = {shown(getattr(self, name))}: "
                                  "expected True or False")
@@ -366,8 +367,8 @@ def compiled_start(case, nmodel, tmodel, neighbour=None):
     names = (nmodel.name, tmodel.name)
     if compiled_unsupported(case, *names):
         # other models (the exact ones): their own balance, which takes the
-        # compiled Hertz + FASTSIM balance as its start where BalanceOptions.hertz_start
-        # says so (solve_wheel_rail), not as their result
+        # compiled Hertz + FASTSIM balance as its start (solve_wheel_rail:
+        # hertz_estimate), not as their result
         return None
     return _compiled_balance(case, names, neighbour, jacobian=True)
 
@@ -627,7 +628,7 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     opt = DEFAULT_OPTIONS if options is None else options
     compiled = compiled_start(case, nmodel, tmodel, start) if opt.compiled_start else None
     # the exact models (a lazy tangential model: its stand-in balance), coupled or not
-    hertz = (opt.compiled_start and opt.hertz_start and compiled is None
+    hertz = (opt.compiled_start and compiled is None
              and tmodel is not None and "lazy" in tmodel.capabilities
              and not opt.force_control)
     if hertz and start is None:

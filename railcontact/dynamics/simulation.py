@@ -49,13 +49,6 @@ def _per_wheelset(table, nw: int) -> list:
     return tables
 
 
-#: at an inner stage of an rk4 step of the online contact's Python path (``stand_in``
-#: "both"), solve only the wheelsets whose patches are not those of the step's first
-#: evaluation (False: every wheelset's where one's are not, as before; for
-#: benchmarks/exact_online.py's before-and-after)
-STAGE_SOLVES_PER_WHEELSET = True
-
-
 class _System:
     """A vehicle on a route at speed V with a tangential law: the right-hand side.
 
@@ -172,8 +165,9 @@ class _System:
         (``stand_in``) and the patches are the same (mode 4 or 3 of
         :func:`rhs_online`), and else solves its models (mode 1, the corrections
         kept: :meth:`_keep_corrections`); with both stand-ins, on the wheelsets
-        whose patches are not the same alone (mode 5, the others' stand-ins kept;
-        :data:`STAGE_SOLVES_PER_WHEELSET`)."""
+        whose patches are not the same alone (mode 5, the others' stand-ins kept:
+        solving every wheelset's there cost 2.27 against 2.10 solves per
+        evaluation in flange contact, benchmarks/dynamics_online.md)."""
         self.calls += 1
         if self.online is not None:
             on, fr = self.online, self.fext_rows
@@ -183,18 +177,17 @@ class _System:
                 du = rhs_online(t, u, self.system, on, 4, fr, self.out)
                 if on.frame[G_MATCH] > 0.0:
                     return du
-                if STAGE_SOLVES_PER_WHEELSET:
-                    # only the wheelsets whose patches are not their corrections' solved
-                    # (a patch of one wheelset appearing or moving on its rail had
-                    # all the wheelsets solved; benchmarks/dynamics_online.md), the
-                    # others' stand-ins kept
-                    solve = np.array([not matches(on, w, int(on.count[w]))
-                                      for w in range(on.count.size)])
-                    rhs_online(t, u, self.system, on, 2, fr, self.out)
-                    self._online_python_forces(False, solve)
-                    du = rhs_online(t, u, self.system, on, 5, fr, self.out)
-                    self._keep_corrections(solve)
-                    return du
+                # only the wheelsets whose patches are not their corrections' solved
+                # (a patch of one wheelset appearing or moving on its rail had all
+                # the wheelsets solved; benchmarks/dynamics_online.md), the others'
+                # stand-ins kept
+                solve = np.array([not matches(on, w, int(on.count[w]))
+                                  for w in range(on.count.size)])
+                rhs_online(t, u, self.system, on, 2, fr, self.out)
+                self._online_python_forces(False, solve)
+                du = rhs_online(t, u, self.system, on, 5, fr, self.out)
+                self._keep_corrections(solve)
+                return du
             rhs_online(t, u, self.system, on, 2, fr, self.out)
             lazy = stage and self.stand_in == "tangential" and on.frame[G_MATCH] > 0.0
             mode = self._online_python_forces(lazy)

@@ -70,6 +70,35 @@ def at_fraction(v, im, f):
 
 
 @njit(cache=True, nogil=True)
+def deepest_gap(gap, im):
+    """The gap [m] at the locus's minimum between the samples (sample im +
+    :func:`deepest_fraction`): the cubic through the four samples about it (im - 1,
+    im, im + 1 and the next one on the minimum's side) there, continuous in the pose
+    (at f = 0 the sample's own gap; where the deepest sample passes to its neighbour
+    both take the same four samples at the same point); the parabola's vertex
+    through the three where the fourth has no finite gap (the locus's ends), the
+    deepest sample's gap where f is 0.  (The parabola's vertex alone jumps there by
+    (gap[im - 1] - gap[im + 2]) / 8.)"""
+    f = deepest_fraction(gap, im)
+    if f == 0.0:
+        return gap[im]
+    a, b, c = gap[im - 1], gap[im], gap[im + 1]
+    x = abs(f)
+    if f < 0.0:
+        a, c = c, a                         # mirrored: the minimum towards im - 1
+        j = im - 2
+    else:
+        j = im + 2
+    if 0 <= j < gap.size and math.isfinite(gap[j]):
+        # Lagrange's cubic through x = -1, 0, 1, 2 (a, b, c, the fourth)
+        return (-a * x * (x - 1.0) * (x - 2.0) / 6.0
+                + b * (x + 1.0) * (x - 1.0) * (x - 2.0) / 2.0
+                - c * (x + 1.0) * x * (x - 2.0) / 2.0
+                + gap[j] * (x + 1.0) * x * (x - 1.0) / 6.0)
+    return b + 0.5 * x * (c - a) + 0.5 * x * x * (a - 2.0 * b + c)
+
+
+@njit(cache=True, nogil=True)
 def deepest_slope(gap, slope, im):
     """The rail slope dz/dy at the locus's minimum (:func:`deepest_fraction`)
     about the deepest sample im: continuous in the pose where the deepest sample

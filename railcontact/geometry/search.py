@@ -48,7 +48,7 @@ from .contact import ContactGeometry, WheelsetContact, interaction_factor  # noq
 from .gap import GapEvaluator, curvatures_fd
 from .kinematics import kinematic_creepage
 from .locus import Locus, compute_locus
-from .patch_curvature import at_fraction, deepest_fraction, force_curvature
+from .patch_curvature import at_fraction, deepest_fraction, deepest_gap, force_curvature
 from .pose import REGION_MARGIN, ROLL_SLOPE, _memo, locus_window, solve_pose
 from .regions import GAP_WEIGHT, contact_regions, end_distance, territories, weighted_angle
 from .track import SIDES, Track, Wheelset, WheelsetPose
@@ -459,7 +459,12 @@ def _fixed_roll_pose(wheelset, track, prof, keys, targets, loci_window):
     z = gap + target, and the side's locus there
     (:func:`~railcontact.geometry.wheel_pass.side_locus`, the same locus kernel, over
     the wheel samples that the last locus of the case held within its window:
-    the pass's memo, kept per case and roll).  Returns (z, roll, {side: Locus}), or
+    the pass's memo, kept per case and roll), trimmed to its samples within the
+    window and one on either side (:func:`_window_span`), so that the locus's extent
+    does not depend on the case's earlier searches (before, it spanned the memo's
+    samples: on 384 combinations of shift, yaw, roll, side, interpenetration and
+    earlier searches, 162 loci spanned other samples, their patches within 2.8e-13
+    relative).  Returns (z, roll, {side: Locus}), or
     :func:`~railcontact.geometry.pose.solve_pose`'s where no contact is found (its
     error says why)."""
     side, shift, yaw, roll = keys
@@ -480,8 +485,10 @@ def _fixed_roll_pose(wheelset, track, prof, keys, targets, loci_window):
                                                                float(roll), window, memo)
         # (a locus deeper than the target: a minimum the gap search missed)
         if gap.size and -target - MISSED_DEPTH <= float(np.min(gap)) < np.inf:
-            return g + target, roll, {side: Locus(prof.yw[i0:i1], prof.zw[i0:i1], theta, P, yr,
-                                                  gap, slope, O, R, (int(i0), int(i1)))}
+            a, b = _window_span(gap, window)
+            return g + target, roll, {side: Locus(
+                prof.yw[i0 + a:i0 + b], prof.zw[i0 + a:i0 + b], theta[a:b], P[:, a:b],
+                yr[a:b], gap[a:b], slope[a:b], O, R, (int(i0 + a), int(i0 + b)))}
     return solve_pose(wheelset, track, shift, yaw, targets, tol=1e-12, roll_given=roll,
                       sides=(side,), loci_window=loci_window)
 
@@ -509,6 +516,15 @@ def _pass_patches(wheelset, track, prof, side, loc, regions, at, motion) -> list
                    float(roll), rows[k])
     return [patch_geometry(row, wheelset, track, pose, lim)
             for row, lim in zip(rows, territories(loc, regions))]
+
+
+def _window_span(gap, window):
+    """The samples [a, b) of a locus's gap ``gap`` [m] within ``window`` [m] of its
+    minimum, and one on either side where the locus has it: what the prescribed-roll
+    locus keeps (:func:`_fixed_roll_pose`; the memo's span covers it, its ends lying
+    beyond the window)."""
+    inside = np.flatnonzero(gap <= float(np.min(gap)) + window)
+    return max(int(inside[0]) - 1, 0), min(int(inside[-1]) + 2, gap.size)
 
 
 def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
@@ -579,7 +595,8 @@ def _make_patch(wheelset, track, side, loc, region, pose, rigid, motion,
         h_m = math.nan
     approach = -h_m
     # robust fallback: vertical interpenetration of the deepest locus point projected on n
-    vertical = -float(loc.gap[im]) * math.cos(math.atan(float(at_fraction(
+    # (the gap and the slope both at the locus's minimum between the samples)
+    vertical = -float(deepest_gap(gl, im)) * math.cos(math.atan(float(at_fraction(
         np.ascontiguousarray(loc.slope, dtype=float), im, f))))
     if not math.isfinite(approach) or (approach <= 0.0 < vertical):
         approach = vertical

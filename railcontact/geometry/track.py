@@ -52,6 +52,12 @@ class Track:
         z(y) crosses the gauge height (railcontact's), or CONTACT's rule on the
         spline along the points' chord length (:func:`contact_gauge_point`; the
         case's ``track.gauge_point``, :class:`railcontact.cases.rules.ContactRules`).
+
+    A track is not changed after it is built: assigning an attribute raises
+    :class:`~railcontact.core.errors.InputError` (the rails' offsets are placed when
+    it is built, and the compiled search keeps its pass profiles by the track's
+    identity, :func:`railcontact.geometry.search.find_contact`); build a new one,
+    e.g. ``dataclasses.replace(track, gauge=1.432)``.
     """
 
     rail_right: Profile
@@ -80,6 +86,20 @@ class Track:
                 self._offsets[side] = float(self.rail_offsets[side])
             else:
                 self._offsets[side] = self.gauge / 2.0 - self.gauge_point(rail)
+        object.__setattr__(self, "_built", True)
+
+    def __setattr__(self, name, value) -> None:
+        # built once: the offsets and the search memos' pass profiles are this track's
+        if self.__dict__.get("_built"):
+            raise InputError(f"Track.{name} = {value!r}: a Track is not changed after it is "
+                             f"built (its rail offsets and the contact search's profiles "
+                             f"are kept by it); build a new one, e.g. "
+                             f"dataclasses.replace(track, {name}=...)")
+        object.__setattr__(self, name, value)
+
+    def __delattr__(self, name) -> None:
+        raise InputError(f"del Track.{name}: a Track is not changed after it is built; "
+                         "build a new one")
 
     def rail(self, side: str) -> Profile:
         return self.rail_right if side == "right" else self.rail_left

@@ -48,8 +48,8 @@ from .locus import (LOCUS_STEP, _locus_kernel, _min_gap_kernel, _slopes_at, _slo
                     _slopes_part, _wheel_samples, side_pose)
 from .track import rotation
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
-from .patch_curvature import (at_fraction, deepest_fraction, force_curvature,  # noqa: F401
-                              region_curvature)
+from .patch_curvature import (at_fraction, deepest_fraction, deepest_gap,  # noqa: F401
+                              force_curvature, region_curvature)
 from .regions import GAP_WEIGHT
 
 #: the profiles of a wheelset on its track, one wheel and one rail profile (right
@@ -638,7 +638,7 @@ def make_patch(prof, pose, s, loc, i0, i1, z, roll, row):
         A, B, _ = _curvatures(0.0, 0.0, C, t, nv, y_off, R, O, pose, prof)
         h_m = math.nan
     approach = -h_m
-    vertical = -gap[im] * math.cos(math.atan(at_fraction(slope, im, f)))
+    vertical = -deepest_gap(gap, im) * math.cos(math.atan(at_fraction(slope, im, f)))
     if not math.isfinite(approach) or (approach <= 0.0 < vertical):
         approach = vertical
     approach = max(0.0, approach)

@@ -124,7 +124,7 @@ def _warm_start_case(j):
     return rc.case_from_dict(_sweep_raw(j, grid=[40, 40]))
 
 
-def test_a_warm_flange_case_restarts_from_the_hertz_estimate():
+def test_a_warm_flange_case_restarts_from_the_hertz_estimate(monkeypatch):
     """Sweep case 198 (6.34 mm, flange contact joining on the right wheel) started
     from case 197: the extrapolated start lands on the other branch of the flange's
     S-shaped force (its first evaluation 0.3 of the load off in ln F: beyond
@@ -132,13 +132,14 @@ def test_a_warm_flange_case_restarts_from_the_hertz_estimate():
     balance: 8 passes (the first evaluation counted) against 13, the same forces
     within the grids' path (measured 99 N of sum F_n = 191 kN, 2 N of F_x; 6 against
     11 passes before a patch's deepest point became the locus's minimum between
-    its samples, geometry.patch_curvature.deepest_fraction)."""
-    from railcontact.cases.balance import BalanceOptions, RESTART_MISS
-    assert RESTART_MISS == 0.5
+    its samples, geometry.patch_curvature.deepest_fraction).  The balance without
+    the restart: RESTART_MISS = 0 (no restart), set here alone."""
+    from railcontact.cases import balance as B
+    assert B.RESTART_MISS == 0.5
     prev = rc.solve(_warm_start_case(197))
-    before = rc.solve(_warm_start_case(198), warm_start=prev,
-                      options=BalanceOptions(hertz_start=False))
     after = rc.solve(_warm_start_case(198), warm_start=prev)
+    monkeypatch.setattr(B, "RESTART_MISS", 0.0)
+    before = rc.solve(_warm_start_case(198), warm_start=prev)
     for res in (before, after):
         assert res.converged and max(abs(v) for v in res.vertical_residual.values()) <= 1e-4
     assert after.balance.passes <= 8 and after.balance.passes + 4 <= before.balance.passes
@@ -149,16 +150,20 @@ def test_a_warm_flange_case_restarts_from_the_hertz_estimate():
 
 def test_a_cold_exact_case_starts_from_the_compiled_patches(monkeypatch):
     """A cold exact case starts at the compiled pass's balance with its patches (no
-    first contact search), the multi-Hertzian estimate's search otherwise; both meet
-    the loads with the same forces on the tread (sweep case 100, 1.2 mm)."""
+    first contact search), the multi-Hertzian estimate's search otherwise (here
+    where hertz_estimate is made to return None, as where the pass does not meet
+    the loads); both meet the loads with the same forces on the tread (sweep case
+    100, 1.2 mm)."""
     from railcontact.cases import balance as B
     searches = []
     real = B.contact_search
     monkeypatch.setattr(B, "contact_search", lambda *a, **k: searches.append(1) or real(*a, **k))
     out = {}
-    for flag in (False, True):
+    for flag in (True, False):
         searches.clear()
-        res = rc.solve(_warm_start_case(100), options=B.BalanceOptions(hertz_start=flag))
+        if not flag:
+            monkeypatch.setattr(B, "hertz_estimate", lambda *a, **k: None)
+        res = rc.solve(_warm_start_case(100))
         assert res.converged
         out[flag] = (len(searches), res.balance.passes,
                      sum(p.normal.normal_force for p in res.patches),

@@ -102,3 +102,33 @@ def test_the_deepest_fraction_is_the_parabolas_vertex_and_continuous():
     assert deepest_fraction(gap, 0) == 0.0
     gap[5] = np.inf
     assert deepest_fraction(gap, 6) == 0.0
+
+
+def test_the_deepest_gap_is_continuous_where_the_deepest_sample_passes_on():
+    """The gap at the locus's minimum between the samples (deepest_gap): a cubic
+    gap's own value at the parabola's vertex (closed form, the four samples' cubic
+    exact), the sample's gap where the vertex is the sample, and where the deepest
+    sample passes to its neighbour (their gaps equal) the same value from either
+    side, where the parabola's vertex alone jumps by (gap[5] - gap[8]) / 8."""
+    from railcontact.geometry.patch_curvature import deepest_fraction, deepest_gap
+    y = np.arange(0.0, 5e-4, 2.5e-5)
+    h = 2.5e-5
+    for y0 in (1.51e-4, 1.62e-4, 1.6249e-4, 1.5e-4):
+        gap = -1e-4 + 3.0 * (y - y0) ** 2 + 4e3 * (y - y0) ** 3
+        im = int(np.argmin(gap))
+        f = deepest_fraction(gap, im)
+        yv = y[im] + f * h
+        assert deepest_gap(gap, im) == pytest.approx(
+            -1e-4 + 3.0 * (yv - y0) ** 2 + 4e3 * (yv - y0) ** 3, rel=0, abs=1e-18)
+    gap = -1e-4 + 3.0 * (y - 1.5e-4) ** 2
+    assert deepest_gap(gap, 6) == gap[6]
+    # the switch: samples 6 and 7 equally deep, an asymmetric gap about them
+    gap = -1e-4 + 3.0 * (y - 1.625e-4) ** 2 + 4e3 * (y - 1.625e-4) ** 3
+    gap[7] = gap[6]
+    assert deepest_gap(gap, 6) == pytest.approx(deepest_gap(gap, 7), rel=0, abs=1e-18)
+    vertex = [gap[i] - (gap[i - 1] - gap[i + 1]) ** 2
+              / (8 * (gap[i - 1] - 2 * gap[i] + gap[i + 1])) for i in (6, 7)]
+    assert abs(vertex[0] - vertex[1]) == pytest.approx(abs(gap[5] - gap[8]) / 8, rel=1e-9)
+    assert abs(vertex[0] - vertex[1]) > 1e-11
+    # without a fourth sample (the locus's end): the parabola's vertex
+    assert deepest_gap(gap[:8], 6) == pytest.approx(vertex[0], rel=0, abs=1e-18)

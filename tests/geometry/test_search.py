@@ -265,3 +265,24 @@ def test_a_cases_searches_share_one_memo():
                 assert np.allclose(p.creepage, q.creepage, rtol=1e-6, atol=1e-11)
             roll = a.pose.roll
         assert search_memo(ws, tr, shift, yaw) is not None
+
+
+def test_a_prescribed_roll_locus_does_not_depend_on_earlier_searches():
+    """A prescribed-roll locus (search._fixed_roll_pose) spans its samples within the
+    window and one on either side, whatever the case searched before (before: the
+    memo's span of the last locus, e.g. a deeper search's: 162 of 384 combinations
+    measured spanned other samples, their patches within 2.8e-13 relative), its
+    patches the same."""
+    tr = Track(rail_profile("60E1", math.atan(1 / 40)))
+    for y, roll, side in ((-2e-3, 0.0, "right"), (-2e-3, 1e-3, "left")):
+        cold = find_contact(Wheelset(s1002()), tr, y, 0.0, roll=roll, side=side,
+                            interpenetration={side: 1e-5})
+        ws = Wheelset(s1002())
+        for d in (3e-4, 1e-5):          # a deeper search first (before: 2200-3697
+            # against 2392-3569 on the right)
+            after = find_contact(ws, tr, y, 0.0, roll=roll, side=side,
+                                 interpenetration={side: d})
+        lc, la = cold.loci[side], after.loci[side]
+        assert la.samples == lc.samples and la.gap.size == lc.samples[1] - lc.samples[0]
+        assert np.array_equal(la.gap, lc.gap)
+        assert [p.approach for p in after.patches] == [p.approach for p in cold.patches]

@@ -98,3 +98,33 @@ def test_contact_gauge_point_of_the_manchester_rail(refdir):
     assert contact_gauge_point(rail, 0.014) == pytest.approx(-43.0325577e-3, abs=1e-10)
     assert (_gauge_point(rail, 0.014) - contact_gauge_point(rail, 0.014)) \
         == pytest.approx(-0.32e-6, abs=0.01e-6)
+
+
+def test_a_track_refuses_a_change_after_it_is_built():
+    """A Track is not changed after it is built (the compiled search keeps its pass
+    profiles by the track's identity, so a changed gauge kept the old rails'
+    places): assigning raises InputError naming the attribute and the way out,
+    dataclasses.replace, whose track is placed and searched afresh (before: the
+    assignment was taken, the offsets and the search's profiles stayed the old
+    track's)."""
+    import dataclasses
+    from railcontact.geometry import find_contact
+    rail = rail_profile("60E1", math.atan(1 / 40))
+    tr = Track(rail)
+    ws = Wheelset(s1002())
+    d = {"left": 6e-5, "right": 9e-5}
+    a = find_contact(ws, tr, 1e-3, 0.0, interpenetration=d)
+    with pytest.raises(InputError, match=r"Track\.gauge = 1\.43.*dataclasses\.replace"):
+        tr.gauge = 1.43
+    with pytest.raises(InputError, match=r"Track\.rail_left"):
+        tr.rail_left = rail
+    with pytest.raises(InputError, match=r"del Track\.gauge"):
+        del tr.gauge
+    assert tr.gauge == 1.435 and tr.rail_offset("left") + tr.gauge_point(rail) == \
+        pytest.approx(1.435 / 2, abs=1e-12)
+    new = dataclasses.replace(tr, gauge=1.43)
+    assert new.rail_offset("left") + new.gauge_point(rail) == pytest.approx(1.43 / 2, abs=1e-12)
+    b = find_contact(ws, new, 1e-3, 0.0, interpenetration=d)
+    c = find_contact(Wheelset(s1002()), Track(rail, gauge=1.43), 1e-3, 0.0, interpenetration=d)
+    assert b.pose == c.pose and b.pose != a.pose
+    assert [p.approach for p in b.patches] == [p.approach for p in c.patches]
