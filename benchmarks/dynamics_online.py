@@ -57,6 +57,25 @@ def out(s=""):
     lines.append(s)
 
 
+#: the line from which ``dynamics_online.md`` holds the records of earlier runs (the
+#: 100 s exact + exact route, branches' measurements), kept when the script rewrites
+#: the part above it
+RECORDS = "<!-- records of earlier runs: kept by benchmarks/dynamics_online.py -->"
+
+
+def write_report(path, lines, append=False) -> None:
+    """Write ``lines`` to the report ``path``, keeping its records of earlier runs
+    (from :data:`RECORDS` on) below them; ``append``: after the part above the
+    records instead of replacing it (``exact_online.py --out``)."""
+    path = Path(path)
+    old = path.read_text() if path.is_file() else ""
+    head, mark, records = old.partition(RECORDS)
+    text = "\n".join(lines) + "\n"
+    if append:
+        text = head.rstrip("\n") + "\n\n" + text
+    path.write_text(text + ("\n" + mark + records if mark else ""))
+
+
 def _setup(duration, velocity):
     from railcontact.dynamics import Route, VehicleModel, WheelRailTable
     from railcontact.dynamics.route import Irregularities
@@ -148,7 +167,7 @@ def main(argv=None):
         if ds.attrs.get("status") != "completed":
             out(f"\n{label}: status {ds.attrs.get('status')}: {ds.attrs.get('derailment', '')}\n")
     if args.strips_only:
-        Path(args.out).write_text("\n".join(lines) + "\n")
+        write_report(args.out, lines)
         return lines
     for name, c, law, dur in (("online", online_ex, "exact", args.exact_duration),):
         from railcontact.dynamics import Integration, simulate_vehicle
@@ -244,7 +263,7 @@ def main(argv=None):
             f"{int(above.sum())} samples of {above.size} ({1e3 * longest / 200.0:.0f} ms at "
             f"most in a row at 200 Hz); 99.9th percentile of |Y/Q| over all wheels "
             f"{float(np.nanpercentile(yq, 99.9)):.2f}; status {o_ds.attrs['status']}.")
-    Path(args.out).write_text("\n".join(lines) + "\n")
+    write_report(args.out, lines)
     return lines
 
 

@@ -265,8 +265,8 @@ def main(argv=None):
     text = "\n".join(lines)
     print(text)
     if args.out:
-        with open(args.out, "a") as f:
-            f.write("\n" + text + "\n")
+        from dynamics_online import write_report
+        write_report(args.out, lines, append=True)
     return lines
 
 
@@ -523,8 +523,8 @@ def _route_report(args, r, dx, model, route, table, hertz, integ):
     text = "\n".join(lines)
     _log(args.log, "report:\n" + text)
     if args.out:
-        with open(args.out, "a") as f:
-            f.write("\n" + text + "\n")
+        from dynamics_online import write_report
+        write_report(args.out, lines, append=True)
     return lines
 
 
