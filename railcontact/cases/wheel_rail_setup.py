@@ -149,7 +149,7 @@ def parse_wheel_rail(case: CaseKeys) -> WheelRailSetup:
         flange_back_distance=case.number("wheelset.flange_back_distance", 1.360, 0.1, 2.5, "m"),
         flange_back_position=case.number("wheelset.flange_back_position", -0.070, -0.2, 0.2,
                                          "m"),
-        gauge=case.number("track.gauge", 1.435, 0.1, 2.5, "m"),
+        gauge=case.number("track.gauge", 1.435, 0.1, 2.0, "m"),   # as Track checks it
         gauge_height=case.number("track.gauge_height", 0.014, 0.0, 0.05, "m"),
         rail_offset=_optional(case, "track.rail_offset", 0.05, 1.0, "m"),
         lateral_shift=case.number("wheelset.lateral_shift", 0.0, -0.05, 0.05, "m"),

@@ -15,6 +15,7 @@ from __future__ import annotations
 import math
 from dataclasses import dataclass, field
 from functools import lru_cache
+from types import MappingProxyType
 
 import numpy as np
 from scipy.optimize import brentq, minimize_scalar
@@ -86,7 +87,21 @@ class Track:
                 self._offsets[side] = float(self.rail_offsets[side])
             else:
                 self._offsets[side] = self.gauge / 2.0 - self.gauge_point(rail)
+        if self.rail_offsets is not None:       # read-only, as the offsets placed from it
+            object.__setattr__(self, "rail_offsets", MappingProxyType(dict(self.rail_offsets)))
         object.__setattr__(self, "_built", True)
+
+    def __getstate__(self) -> dict:
+        # (a read-only mapping does not pickle: its dict travels, e.g. to Dask workers)
+        state = dict(self.__dict__)
+        if state.get("rail_offsets") is not None:
+            state["rail_offsets"] = dict(state["rail_offsets"])
+        return state
+
+    def __setstate__(self, state: dict) -> None:
+        if state.get("rail_offsets") is not None:
+            state = {**state, "rail_offsets": MappingProxyType(dict(state["rail_offsets"]))}
+        self.__dict__.update(state)
 
     def __setattr__(self, name, value) -> None:
         # built once: the offsets and the search memos' pass profiles are this track's

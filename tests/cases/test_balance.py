@@ -178,7 +178,8 @@ def test_a_warm_case_searches_from_its_neighbours_memo(monkeypatch):
     (VerticalBalance.search) where the two poses are within MEMO_SHIFT and MEMO_YAW,
     else afresh (sweep cases 100, 101: 1.2 mm, 52 um apart; issue 30); its forces are
     those of a fresh memo's to the roll search's tolerance (measured 7e-9 of the
-    load; on the 1000-case sweep 0.0135 % of Q at most: docs/tuning.md)."""
+    load; on the 1000-case sweep 0.0013 % of Q at most warm, 1.6e-7 % cold:
+    docs/tuning.md)."""
     from railcontact.cases import balance as B
     from railcontact.cases.compiled_case import MEMO_SHIFT
     prev = rc.solve(_warm_start_case(100), "exact", "exact")

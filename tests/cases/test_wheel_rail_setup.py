@@ -35,7 +35,9 @@ def test_example_parsed_into_typed_values():
 
 
 @pytest.mark.parametrize("key, value, match", [
-    ("track.gauge", 1435.0, r"track.gauge = 1435.0: expected a value in \[0.1, 2.5\] m"),
+    ("track.gauge", 1435.0, r"track.gauge = 1435.0: expected a value in \[0.1, 2\] m"),
+    # the range the Track checks (before: 2.2 passed the case and failed building it)
+    ("track.gauge", 2.2, r"track.gauge = 2.2: expected a value in \[0.1, 2\] m"),
     ("wheelset.flange_back_distance", 1360, "wheelset.flange_back_distance"),
     ("wheelset.lateral_shift", 3.0, "wheelset.lateral_shift"),
     ("wheelset.pitch_velocity", math.nan, "wheelset.pitch_velocity"),

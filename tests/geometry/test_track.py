@@ -128,3 +128,25 @@ def test_a_track_refuses_a_change_after_it_is_built():
     c = find_contact(Wheelset(s1002()), Track(rail, gauge=1.43), 1e-3, 0.0, interpenetration=d)
     assert b.pose == c.pose and b.pose != a.pose
     assert [p.approach for p in b.patches] == [p.approach for p in c.patches]
+
+
+def test_a_tracks_rail_offsets_are_read_only():
+    """The rail offsets a Track is built with are placed when it is built, so the
+    mapping it keeps refuses a change (before: ``track.rail_offsets["left"] = 0.8``
+    was taken and ignored, the track kept 0.75), the caller's dict changed later
+    leaves it as built, and a copy, deepcopy or pickle keeps both."""
+    import copy
+    import pickle
+    rail = rail_profile("60E1", math.atan(1 / 40))
+    given = {"left": 0.75, "right": 0.75}
+    tr = Track(rail, rail_offsets=given)
+    with pytest.raises(TypeError):
+        tr.rail_offsets["left"] = 0.80
+    given["left"] = 0.80
+    assert tr.rail_offsets["left"] == 0.75 == tr.rail_offset("left")
+    for other in (copy.deepcopy(tr), pickle.loads(pickle.dumps(tr)), copy.copy(tr)):
+        assert other.rail_offsets["left"] == 0.75 == other.rail_offset("left")
+        with pytest.raises(TypeError):
+            other.rail_offsets["left"] = 0.80
+        with pytest.raises(InputError):
+            other.gauge = 1.43
