@@ -308,7 +308,7 @@ def bench_cli_overhead(out, n=1000, small=3, repeat=3):
     (``railcontact.cases.sweep.sweep``, results to JSON) on the same cases, each in a
     fresh process (sync scheduler both): the time per case is the difference between
     a run of ``n`` and one of ``small`` cases (the start-up, imports and Numba's cache
-    once per process, cancel); each the best of ``repeat``, after a first run.  CPU time (user
+    once per process, cancel); each the best of ``repeat``, the two interleaved run by run, after a first run.  CPU time (user
     + system) of the processes: the shared machine's scheduling pauses out."""
     with tempfile.TemporaryDirectory() as tmp:
         case = Path(tmp) / "case.toml"
@@ -340,9 +340,12 @@ def bench_cli_overhead(out, n=1000, small=3, repeat=3):
             dt = _child_cpu() - t0
             return dt, int(proc.stdout.split()[-1])
         cli(small)                      # Numba's cache filled for the command's kernels
-        res = {}
-        for name, f in (("cli", cli), ("lib", lib)):
-            res[name] = (min(f(small) for _ in range(repeat)), min(f(n) for _ in range(repeat)))
+        runs = {name: {small: [], n: []} for name in ("cli", "lib")}
+        for _ in range(repeat):         # interleaved: the machine's drift falls on both
+            for m in (small, n):
+                for name, f in (("cli", cli), ("lib", lib)):
+                    runs[name][m].append(f(m))
+        res = {name: (min(r[small]), min(r[n])) for name, r in runs.items()}
     per = {k: (v[1][0] - v[0][0]) / (v[1][1] - v[0][1]) for k, v in res.items()}
     out(f"\n## The command-line sweep's own overhead ({res['cli'][1][1]} cases, Hertz + "
         "FASTSIM, sync, each in a fresh process, CPU time)")
