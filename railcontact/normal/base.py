@@ -282,7 +282,7 @@ def bilinear(x, y, f, xq, yq) -> np.ndarray:
 def _bilinear_lines(f, u, v, out):
     """out[i, j] = f bilinear at the fractional indices (u[i], v[j]) (the lines of
     another grid); 0 outside the grid of centres.  The arithmetic of
-    :func:`_bilinear_at`, its cell and fraction found once per line."""
+    :func:`bilinear_at`, its cell and fraction found once per line."""
     mx, my = f.shape
     ic, ac, inside_u = _cells(u, mx)
     jc, bc, inside_v = _cells(v, my)
@@ -305,7 +305,7 @@ def _bilinear_lines(f, u, v, out):
 def _cells(u, m):
     """The cell (its lower centre, at most m - 2), the fraction within it and
     whether it lies on the m centres, of each fractional index u (as
-    :func:`_bilinear_at` finds them)."""
+    :func:`bilinear_at` finds them)."""
     cell = np.zeros(u.size, dtype=np.int64)
     frac = np.zeros(u.size)
     inside = np.zeros(u.size, dtype=np.bool_)
@@ -320,7 +320,7 @@ def _cells(u, m):
 
 
 @njit(cache=True, nogil=True)
-def _bilinear_at(f, a, b):
+def bilinear_at(f, a, b):
     """f bilinear at the fractional index (a, b); 0 outside the grid of centres."""
     mx, my = f.shape
     if not (0.0 <= a <= mx - 1 and 0.0 <= b <= my - 1):
@@ -338,4 +338,4 @@ def _bilinear_kernel(f, u, v, out):
     """out[k] = f bilinear at the fractional indices (u[k], v[k]); 0 outside the
     grid of centres."""
     for k in range(u.size):
-        out[k] = _bilinear_at(f, u[k], v[k])
+        out[k] = bilinear_at(f, u[k], v[k])

@@ -14,6 +14,8 @@ from __future__ import annotations
 import numpy as np
 from numba import njit
 
+from .influence import box_bounds
+
 
 
 @njit(cache=True, nogil=True)
@@ -45,18 +47,11 @@ def inside_bounds(h, foreign):
     """First and last row, first and last column of the elements of the gap ``h``
     (rows x, columns y) that overlap (h < 0) in a column that is not ``foreign``
     (bool, one per column); -1 each where none does."""
-    i0, i1, j0, j1 = -1, -1, h.shape[1], -1
+    mask = np.zeros(h.shape, dtype=np.bool_)
     for i in range(h.shape[0]):
         for j in range(h.shape[1]):
-            if h[i, j] < 0 and not foreign[j]:
-                if i0 < 0:
-                    i0 = i
-                i1 = i
-                j0 = min(j0, j)
-                j1 = max(j1, j)
-    if i1 < 0:
-        j0 = -1
-    return i0, i1, j0, j1
+            mask[i, j] = h[i, j] < 0 and not foreign[j]
+    return box_bounds(mask)
 
 
 

@@ -47,7 +47,7 @@ from scipy import fft
 
 from ..core.errors import InputError
 from ..core.materials import InterfaceLayer, Material, STEEL
-from ..normal.base import same_grid
+from ..normal.base import bilinear_at, same_grid
 from ..normal.influence import (TangentialOperator, block_size,
                                 _rect_integrals as rect_integrals, tangential_kernels)
 from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
@@ -716,37 +716,17 @@ def _interpolated_start(fields, lines, contact, bound):
     traction_y on body 2, on their own grid) bilinear at the fractional indices
     ``lines`` (u, v) of this grid's centres (zero outside its centres), inside the
     contact (zero outside) and scaled onto ``bound`` [Pa] where they exceed it: the
-    interpolation and :func:`_bounded_start` in one compiled loop, over the contact's
-    elements alone (issue 30: a new grid's warm start)."""
+    interpolation over the contact's elements, then :func:`_bounded_start`
+    (issue 30: a new grid's warm start)."""
     fx, fy = fields
     u, v = lines
-    ox, oy = np.zeros(contact.shape), np.zeros(contact.shape)
+    tx, ty = np.zeros(contact.shape), np.zeros(contact.shape)
     for i in range(contact.shape[0]):
         for j in range(contact.shape[1]):
             if contact[i, j]:
-                a = -_bilinear_at(fx, u[i], v[j])
-                b = -_bilinear_at(fy, u[i], v[j])
-                mag = np.hypot(a, b)
-                if mag > bound[i, j]:
-                    s = bound[i, j] / mag
-                    a, b = a * s, b * s
-                ox[i, j], oy[i, j] = a, b
-    return ox, oy
-
-
-@njit(cache=True, nogil=True)
-def _bilinear_at(f, a, b):
-    """f bilinear at the fractional index (a, b) of its grid of centres; 0 outside
-    them (the arithmetic of :func:`~railcontact.normal.base.bilinear`)."""
-    mx, my = f.shape
-    if not (0.0 <= a <= mx - 1 and 0.0 <= b <= my - 1):
-        return 0.0
-    i = min(int(a), mx - 2)
-    j = min(int(b), my - 2)
-    a -= i
-    b -= j
-    return ((1.0 - a) * ((1.0 - b) * f[i, j] + b * f[i, j + 1])
-            + a * ((1.0 - b) * f[i + 1, j] + b * f[i + 1, j + 1]))
+                tx[i, j] = -bilinear_at(fx, u[i], v[j])
+                ty[i, j] = -bilinear_at(fy, u[i], v[j])
+    return _bounded_start(tx, ty, contact, bound)
 
 
 @njit(cache=True, nogil=True)
