@@ -12,8 +12,7 @@ import numpy as np
 
 from .bodies import build_wheelset_track, contact_search
 from .conformal import is_conformal
-from .compiled_case import (MEMO_SHIFT, MEMO_YAW, case_contact, compiled_unsupported,
-                            solve_case_forces)
+from .compiled_case import case_contact, compiled_unsupported, near_pose, solve_case_forces
 from .equilibrium import Neighbour, VerticalBalance, balance as solve_balance, extrapolate_start
 from ..core.checks import shown
 from ..core.errors import ContactNotFoundError, InputError, RailContactError
@@ -252,7 +251,7 @@ def _seed_search(case, bodies, compiled, start) -> None:
         memo = getattr(compiled, "memo", None)
     elif start is not None and start.balance is not None and start.balance.search is not None:
         shift, yaw, held = start.balance.search
-        if abs(shift - s.lateral_shift) <= MEMO_SHIFT and abs(yaw - s.yaw) <= MEMO_YAW:
+        if near_pose((shift, yaw), s.lateral_shift, s.yaw):
             memo = held
     if memo is not None:
         search_memo(*bodies, s.lateral_shift, s.yaw, memo)

@@ -1178,6 +1178,13 @@ def case_pass_inputs(case, normal=None, tangential=None):
 MEMO_SHIFT = 5e-4
 MEMO_YAW = 1e-3
 
+
+def near_pose(keys, shift: float, yaw: float) -> bool:
+    """Whether the pose ``keys`` = (lateral shift [m], yaw [rad]) of a neighbouring
+    case's search lies within ``MEMO_SHIFT`` and ``MEMO_YAW`` of (shift, yaw): where
+    a case's searches start from that neighbour's memo (NaN keys: never)."""
+    return abs(keys[0] - shift) <= MEMO_SHIFT and abs(keys[1] - yaw) <= MEMO_YAW
+
 #: a chain of cases extrapolates its start from the last two where their
 #: interpenetrations differ by less than this factor (smooth neighbours; else the
 #: last case's alone): the default of :func:`solve_case_forces`'s ``extrapolate_ratio``
@@ -1244,11 +1251,9 @@ def solve_case_forces(case, normal=None, tangential=None,
     st, roll0 = _start_array(start, extrapolate_ratio)
     memo = new_memo(roll0)
     s = case.wheel_rail
-    near = start is not None and abs(getattr(start, "pose_keys", (math.nan,))[0]
-                                      - s.lateral_shift) <= MEMO_SHIFT and \
-        abs(start.pose_keys[1] - s.yaw) <= MEMO_YAW
-    if start is not None and not near and math.isfinite(getattr(start, "pose_keys",
-                                                                 (math.nan,))[0]):
+    keys = getattr(start, "pose_keys", (math.nan, math.nan))
+    near = start is not None and near_pose(keys, s.lateral_shift, s.yaw)
+    if start is not None and not near and math.isfinite(keys[0]):
         # a neighbour in the sweep's order that is no neighbour in the pose (the
         # first case of the next yaw after the last of this one): the first
         # estimate serves better (4 passes from such a start, 2 from the estimate)

@@ -319,9 +319,7 @@ class _System:
         on = self.online
         keep = np.ones(on.count.size, bool) if wheelsets is None else np.asarray(wheelsets)
         on.corrected[keep] = on.count[keep]
-        for w, i, key, _ in self._rows:
-            if not keep[w]:
-                continue
+        for w, i, key, _ in self._rows:        # (the rows of those wheelsets alone)
             row, c = on.rows[w, i], on.corrections[w, i]
             ns = self.warm[key][0]
             spring = float(row[R_SPRING])

@@ -48,7 +48,7 @@ from scipy import fft
 from ..core.errors import InputError
 from ..core.materials import InterfaceLayer, Material, STEEL
 from ..normal.base import bilinear_at, same_grid
-from ..normal.influence import (TangentialOperator, block_size,
+from ..normal.influence import (TangentialOperator, block_size, box_bounds,
                                 _rect_integrals as rect_integrals, tangential_kernels)
 from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
                                    viscoelastic_tangential_kernels)
@@ -123,7 +123,7 @@ def _elastic_block(mx, my, dx, dy, G, nu, ms, ns):
     shear modulus G [Pa] and Poisson's ratio nu) and the grid's self terms (dxx,
     dyy) [m/Pa] of the rolling difference: :func:`_block_operator` and
     :func:`_kernels` in one compiled pass over the block's offsets alone, from the
-    grid's element integrals (:func:`~railcontact.normal.influence.rect_integrals`,
+    grid's element integrals (:func:`railcontact.normal.influence._rect_integrals`,
     cached per grid and shared with the normal solve): the same values, without the
     whole grid's kernels (issue 30: a new grid's set-up)."""
     rect = rect_integrals(mx, my, float(dx), float(dy))
@@ -443,13 +443,7 @@ def _contact_box(contact):
     """(i0, i1, j0, j1): the rows i0..i1-1 and columns j0..j1-1 of the smallest block
     holding every element of ``contact`` (:func:`~railcontact.normal.influence.bounding_box`,
     compiled; (0, 1, 0, 1) where there is none)."""
-    mx, my = contact.shape
-    i0, i1, j0, j1 = mx, -1, my, -1
-    for i in range(mx):
-        for j in range(my):
-            if contact[i, j]:
-                i0, i1 = min(i0, i), max(i1, i)
-                j0, j1 = min(j0, j), max(j1, j)
+    i0, i1, j0, j1 = box_bounds(contact)
     if i1 < 0:
         return 0, 1, 0, 1
     return i0, i1 + 1, j0, j1 + 1
