@@ -22,6 +22,8 @@ import numpy as np
 from numba import njit
 from scipy import fft
 
+from ..core.errors import InputError
+
 
 def _log_sum(a, b, r):
     """ln(a + r) with r = hypot(a, b), accurate when a < 0 (a + r = b^2 / (r - a))."""
@@ -178,13 +180,18 @@ def _tangential_rows(Lx, Ly, R, rows, c, nu):
     return out
 
 
+def _check_extra_rows(extra_rows) -> None:
+    if extra_rows not in (0, 1):
+        raise InputError(f"extra_rows = {extra_rows!r}: expected 0 or 1 (the row of the "
+                         "rolling difference)")
+
+
 def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float,
                   extra_rows: int = 0) -> np.ndarray:
     """Kernel A[di, dj] for offsets di in [-(mx-1), mx-1+extra_rows], dj in
     [-(my-1), my-1] [m/Pa] (:func:`normal_coefficient` of :func:`rect_integrals`);
     ``extra_rows`` 0 or 1 (the row of the rolling difference)."""
-    if extra_rows not in (0, 1):
-        raise ValueError(f"extra_rows = {extra_rows!r}: expected 0 or 1")
+    _check_extra_rows(extra_rows)
     Lx, Ly, _ = rect_integrals(mx, my, float(dx), float(dy))
     return _normal_cut(Lx, Ly, (0, 0), (2 * mx - 1 + extra_rows, 2 * my - 1),
                        float(contact_modulus))
@@ -323,8 +330,7 @@ def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: fl
     [-(mx-1), mx-1+extra_rows], ``extra_rows`` 0 or 1 (the row of the rolling
     difference).
     """
-    if extra_rows not in (0, 1):
-        raise ValueError(f"extra_rows = {extra_rows!r}: expected 0 or 1")
+    _check_extra_rows(extra_rows)
     Lx, Ly, Rr = rect_integrals(mx, my, float(dx), float(dy))
     k = _tangential_rows(Lx, Ly, Rr, 2 * mx - 1 + extra_rows, 1.0 / (np.pi * shear_modulus),
                          float(poisson_ratio))

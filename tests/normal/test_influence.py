@@ -147,5 +147,6 @@ def test_the_kernels_share_the_element_integrals_by_the_sum_rule():
     assert np.allclose(kxx + kyy, (2 - nu) / (1 - nu) * A, rtol=1e-13, atol=0)
     Lx, Ly, _ = rect_integrals(mx, my, dx, dy)
     assert np.allclose(A, (Lx + Ly) / (math.pi * MAT.contact_modulus), rtol=1e-15, atol=0)
-    with pytest.raises(ValueError, match="extra_rows"):
+    from railcontact.core.errors import InputError
+    with pytest.raises(InputError, match="extra_rows"):
         normal_kernel(mx, my, dx, dy, MAT.contact_modulus, extra_rows=2)
