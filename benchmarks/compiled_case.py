@@ -50,6 +50,38 @@ def _stats(t, ok):
     return med, float(t.max() / med), int(np.count_nonzero(ok)), float(t.mean()), tail_met
 
 
+def _warm_up(cases, rows, every=25):
+    """Compile / load every kernel path the timed rows reach before timing them, as
+    ``exact_case.py``'s workers do: each of ``rows`` (callables ``row(case, start)``
+    returning its result, ``start`` a neighbour's result or None) on every
+    ``every``-th case, cold and its next neighbour warm from it.  With an empty
+    Numba cache (``make bench`` keys the cache by the sources' hash, so it is empty
+    after every change) a path met first inside a timed row is compiled there: the
+    geometry layer's start (``BalanceOptions(compiled_start=False)``) calls
+    ``patch_curvature.force_curvature`` from Python with other argument types than
+    the compiled pass, and its first case took 0.86 s of CPU, 213x that row's median
+    (138x in the 0fa3ddc record)."""
+    for i in range(0, len(cases) - 1, every):
+        for row in rows:
+            row(cases[i + 1], row(cases[i], None))
+
+
+def _compiled_row(*models):
+    """A :func:`_warm_up` row: the compiled pass (``solve_case_forces``) of
+    ``models``, warm from a converged start."""
+    def row(case, start):
+        return solve_case_forces(case, *models,
+                                 start=start if start is not None and start.converged else None)
+    return row
+
+
+def _solve_row(compiled_start):
+    """A :func:`_warm_up` row: ``rc.solve`` Hertz + FASTSIM with or without the
+    compiled start (it takes no warm start: the neighbour is solved cold)."""
+    opts = BalanceOptions(compiled_start=compiled_start)
+    return lambda case, start: rc.solve(case, "hertz", "fastsim", options=opts)
+
+
 def bench_compiled_sweep(out, conv_time, n_shift=250):
     """The 1000-case sweep: compiled pass cold and warm (each case from its
     neighbour) per online law, and the per-patch path with and without the compiled
@@ -61,9 +93,8 @@ def bench_compiled_sweep(out, conv_time, n_shift=250):
         "FASTSIM grid; CPU time per case)")
     cases = [case_from_dict(r) for r in raws]
     laws = ("fastsim", "polach", "linear")
-    for law in laws:
-        solve_case_forces(cases[0], "hertz", law)                  # compile / load
-    rc.solve(cases[0], "hertz", "fastsim")
+    _warm_up(cases, [_compiled_row("hertz", law) for law in laws]
+             + [_solve_row(True), _solve_row(False)])
     keys = [f"cold_{law}" for law in laws] + ["best3_fastsim", "warm_fastsim", "solve_after",
                                               "solve_before"]
     t = {k: np.zeros(n) for k in keys}
@@ -190,8 +221,7 @@ def bench_strip_sweep(out, conv_time, n_shift=250):
     n = len(raws)
     cases = [case_from_dict(r) for r in raws]
     pairs = (("hertz", "fastsim"),) + STRIP_PAIRS
-    for p in pairs:
-        solve_case_forces(cases[0], *p)                         # compile / load
+    _warm_up(cases, [_compiled_row(*p) for p in pairs])
     keys = [(p, w) for p in pairs for w in ("cold", "warm")]
     t = {k: np.zeros(n) for k in keys}
     ok = {k: np.zeros(n, bool) for k in keys}
@@ -263,7 +293,7 @@ def bench_manchester(out, unit):
         cases.append(rc.case_from_dict(raw))
     theirs = [float(r["time_ms_mkl_1thread"]) * 1e-3 for r in rows]
     t = {"compiled": [], "after": [], "before": []}
-    solve_case_forces(cases[0])
+    _warm_up(cases, [_compiled_row(), _solve_row(True), _solve_row(False)], every=5)
     for c in cases:
         for _ in range(1):
             best = {k: math.inf for k in t}

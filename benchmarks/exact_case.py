@@ -45,6 +45,7 @@ HERE = Path(__file__).resolve().parent
 sys.path.insert(0, str(HERE))
 
 import railcontact as rc                                   # noqa: E402
+from md_report import write_report                         # noqa: E402
 from run_all import sweep_raws                             # noqa: E402
 
 ROOT = HERE.parent
@@ -366,23 +367,19 @@ def main(argv=None):
     before = (f"before (the code of `{args.before}`) and after (this checkout, {head_ref}), "
               "each in a worker process of its own, interleaved in blocks of 50 cases"
               if args.before else f"the code of {head_ref}, in blocks of 50 cases")
-    head = ["# The exact + exact case: where its FFT convolutions go (issue 30)", "",
-            f"`python benchmarks/exact_case.py --cases {args.cases}"
-            + (f" --before {args.before}" if args.before else "") + "`: the 1000-case sweep "
-            "(S1002 on 60E1 1:40, 70 kN per wheel, shift -4..9 mm, yaw 0..6 mrad, creepages "
-            "varying, 40 x 40 grid), cold and warm-started along the sweep with the "
-            f"package's defaults, {before}; CPU time per case.  Machine load "
-            f"(1-minute load average, 2 cores shared): {load0:.1f} at the start, "
-            f"{load1:.1f} at the end.", ""]
+    intro = (f"`python benchmarks/exact_case.py --cases {args.cases}"
+             + (f" --before {args.before}" if args.before else "") + "`: the 1000-case sweep "
+             "(S1002 on 60E1 1:40, 70 kN per wheel, shift -4..9 mm, yaw 0..6 mrad, creepages "
+             "varying, 40 x 40 grid), cold and warm-started along the sweep with the "
+             f"package's defaults, {before}; CPU time per case.  Machine load "
+             f"(1-minute load average, 2 cores shared): {load0:.1f} at the start, "
+             f"{load1:.1f} at the end.")
     if args.manchester:
         import exact_manchester
         lines += ["", "The Manchester 10 kN sweep (one wheel, the roll prescribed: the compiled "
                   "pass does not run it, the start is unchanged):", ""] + exact_manchester.main()
-    text = "\n".join(head + lines) + "\n"
-    print(text)
-    if args.out:
-        Path(args.out).write_text(text)
-    return lines
+    return write_report("The exact + exact case: where its FFT convolutions go (issue 30)",
+                        intro, lines, args.out)
 
 
 if __name__ == "__main__":

@@ -40,6 +40,7 @@ sys.path.insert(0, str(HERE))
 
 import railcontact as rc                                   # noqa: E402
 from railcontact.normal import exact                       # noqa: E402
+from md_report import write_report                         # noqa: E402
 from run_all import sweep_raws                             # noqa: E402
 
 #: (attribute of railcontact.normal.exact, label): the stages timed
@@ -167,17 +168,12 @@ def main(argv=None):
     ap.add_argument("--out", default=str(HERE / "exact_normal.md"))
     args = ap.parse_args(argv)
     t, stages = run(args.cases)
-    lines = report(t, stages, args.cases)
-    head = ["# The exact normal solve of a wheel-rail case: where its time goes (issue 30)",
-            "", f"`python benchmarks/exact_normal.py --cases {args.cases}`: the first "
-            f"{args.cases} cases of the 1000-case sweep, exact + exact, cold and warm-started "
-            "along the sweep, interleaved in blocks of 50; CPU time of each stage of "
-            "`ExactNormalModel.solve` per solve.", ""]
-    text = "\n".join(head + lines) + "\n"
-    print(text)
-    if args.out:
-        Path(args.out).write_text(text)
-    return lines
+    return write_report(
+        "The exact normal solve of a wheel-rail case: where its time goes (issue 30)",
+        f"`python benchmarks/exact_normal.py --cases {args.cases}`: the first {args.cases} "
+        "cases of the 1000-case sweep, exact + exact, cold and warm-started along the sweep, "
+        "interleaved in blocks of 50; CPU time of each stage of `ExactNormalModel.solve` per "
+        "solve.", report(t, stages, args.cases), args.out)
 
 
 if __name__ == "__main__":

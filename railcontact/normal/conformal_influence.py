@@ -53,7 +53,7 @@ from functools import lru_cache
 import numpy as np
 
 from ..core.errors import InputError
-from .influence import (Convolution, ShiftedConvolution, _rect_integrals, rigid_slip_of,
+from .influence import (Convolution, ShiftedConvolution, normal_kernel, rigid_slip_of,
                         tangential_kernels)
 
 __all__ = ["blanco_coefficients", "column_weights", "ModulatedConvolution",
@@ -116,8 +116,8 @@ def blanco_normal_operator(base: Convolution, angles) -> ModulatedConvolution:
 def _normal_rows(mx, my, dx, dy, contact_modulus):
     """The half-space normal kernel with one extra row of offsets in x (the rolling
     difference), as a :class:`ShiftedConvolution`."""
-    Lx, Ly, _ = _rect_integrals(mx, my, dx, dy)
-    return ShiftedConvolution((Lx + Ly) / (np.pi * contact_modulus), mx, my, 1)
+    return ShiftedConvolution(normal_kernel(mx, my, dx, dy, contact_modulus, extra_rows=1),
+                              mx, my, 1)
 
 
 @lru_cache(maxsize=16)

@@ -22,6 +22,8 @@ import numpy as np
 from numba import njit
 from scipy import fft
 
+from ..core.errors import InputError
+
 
 def _log_sum(a, b, r):
     """ln(a + r) with r = hypot(a, b), accurate when a < 0 (a + r = b^2 / (r - a))."""
@@ -70,7 +72,7 @@ def _element_integrals(mx: int, my: int, dx: float, dy: float, extra_rows: int =
 
 @njit(cache=True, nogil=True)
 def _rect_kernel(mx, my, dx, dy):
-    """Compiled body of :func:`_rect_integrals`: x ln(y + r), y ln(x + r) and -r at
+    """Compiled body of :func:`rect_integrals`: x ln(y + r), y ln(x + r) and -r at
     the element corners ((i - 1/2) dx, (j - 1/2) dy) (r and the logarithms shared;
     ln(a + r) accurate for a < 0 as ln(b^2 / (r - a)), terms with a zero factor 0),
     their differences over the elements at non-negative offsets, mirrored (the
@@ -104,19 +106,95 @@ def _rect_kernel(mx, my, dx, dy):
 
 
 @lru_cache(maxsize=64)
-def _rect_integrals(mx: int, my: int, dx: float, dy: float):
-    """The element integrals of y^2/r^3, x^2/r^3 and xy/r^3 (antiderivatives x ln(y + r),
-    y ln(x + r), -r) at the offsets di in [-(mx-1), mx], dj in [-(my-1), my-1] (one
-    extra row, for the rolling difference); 1/r is the sum of the first two.
-    Computed compiled, once per grid for all the kernels."""
+def rect_integrals(mx: int, my: int, dx: float, dy: float):
+    """The element integrals of the half-space's influence functions on a grid.
+
+    The integrals over one element (dx x dy, centred at the origin) of y^2/r^3,
+    x^2/r^3 and xy/r^3 [m], r the distance from the point (x, y), at the offsets
+    between element centres di in [-(mx-1), mx], dj in [-(my-1), my-1] (one row
+    beyond the grid's offsets, for the rolling difference).  They come from the
+    antiderivatives x ln(y + r), y ln(x + r) and -r at the element's corners (Love
+    1929; Johnson 1985, sections 3.2 and 3.9: the Boussinesq and Cerruti
+    displacements of a uniformly loaded rectangle); 1/r is the sum of the first
+    two.  Every influence kernel of the half-space is a combination of them
+    (:func:`normal_coefficient`, :func:`tangential_coefficients`).
+
+    Parameters
+    ----------
+    mx, my : int
+        The grid's elements in x and y.
+    dx, dy : float
+        The element's size [m].
+
+    Returns
+    -------
+    (Lx, Ly, R) : tuple of ndarray, each of shape (2 mx, 2 my - 1)
+        The integrals of y^2/r^3, x^2/r^3 and xy/r^3 [m]; row ``di + mx - 1``,
+        column ``dj + my - 1`` the offset (di, dj).  Computed compiled, once per grid
+        (cached) for all the kernels.
+    """
     out = _rect_kernel(mx, my, float(dx), float(dy))
     return out[0], out[1], out[2]
 
 
-def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float) -> np.ndarray:
-    """Kernel A[di, dj] for offsets di in [-(mx-1), mx-1], dj in [-(my-1), my-1] [m/Pa]."""
-    Lx, Ly, _ = _rect_integrals(mx, my, float(dx), float(dy))
-    return (Lx[:-1] + Ly[:-1]) / (np.pi * contact_modulus)
+@njit(cache=True, nogil=True)
+def normal_coefficient(lx, ly, contact_modulus):
+    """The normal influence coefficient [m/Pa] of one offset: (lx + ly) / (pi E*),
+    from the element integrals lx, ly [m] of y^2/r^3 and x^2/r^3
+    (:func:`rect_integrals`; their sum the integral of 1/r) and the contact modulus
+    E* [Pa] (Boussinesq; Johnson 1985, section 3.9, for two identical bodies)."""
+    return (lx + ly) / (math.pi * contact_modulus)
+
+
+@njit(cache=True, nogil=True)
+def tangential_coefficients(lx, ly, r, c, nu):
+    """The tangential influence coefficients (xx, xy, yy) [m/Pa] of one offset
+    (:func:`tangential_kernels`' formulas), from the element integrals lx, ly, r [m]
+    of y^2/r^3, x^2/r^3 and xy/r^3 (:func:`rect_integrals`), c = 1/(pi G) [1/Pa]
+    and Poisson's ratio nu (Cerruti; Johnson 1985, eqs. 3.86-3.87)."""
+    s = lx + ly
+    return c * ((1 - nu) * s + nu * ly), c * nu * r, c * ((1 - nu) * s + nu * lx)
+
+
+@njit(cache=True, nogil=True)
+def _normal_cut(Lx, Ly, first, shape, contact_modulus):
+    """The normal kernel (:func:`normal_coefficient`) at the offsets of the grid's
+    integrals ``Lx``, ``Ly`` from row, column ``first`` on, ``shape`` of them."""
+    out = np.empty(shape)
+    for a in range(shape[0]):
+        for b in range(shape[1]):
+            out[a, b] = normal_coefficient(Lx[first[0] + a, first[1] + b],
+                                           Ly[first[0] + a, first[1] + b], contact_modulus)
+    return out
+
+
+@njit(cache=True, nogil=True)
+def _tangential_rows(Lx, Ly, R, rows, c, nu):
+    """The tangential kernels (:func:`tangential_coefficients`) at the first
+    ``rows`` rows of offsets of the grid's integrals ``Lx``, ``Ly``, ``R``."""
+    out = np.empty((3, rows, Lx.shape[1]))
+    for a in range(rows):
+        for b in range(Lx.shape[1]):
+            out[0, a, b], out[1, a, b], out[2, a, b] = tangential_coefficients(
+                Lx[a, b], Ly[a, b], R[a, b], c, nu)
+    return out
+
+
+def _check_extra_rows(extra_rows) -> None:
+    if extra_rows not in (0, 1):
+        raise InputError(f"extra_rows = {extra_rows!r}: expected 0 or 1 (the row of the "
+                         "rolling difference)")
+
+
+def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float,
+                  extra_rows: int = 0) -> np.ndarray:
+    """Kernel A[di, dj] for offsets di in [-(mx-1), mx-1+extra_rows], dj in
+    [-(my-1), my-1] [m/Pa] (:func:`normal_coefficient` of :func:`rect_integrals`);
+    ``extra_rows`` 0 or 1 (the row of the rolling difference)."""
+    _check_extra_rows(extra_rows)
+    Lx, Ly, _ = rect_integrals(mx, my, float(dx), float(dy))
+    return _normal_cut(Lx, Ly, (0, 0), (2 * mx - 1 + extra_rows, 2 * my - 1),
+                       float(contact_modulus))
 
 
 @njit(cache=True, nogil=True)
@@ -203,9 +281,9 @@ def normal_operator_block(mx: int, my: int, dx: float, dy: float, contact_modulu
 @lru_cache(maxsize=64)
 def _normal_block(mx, my, dx, dy, contact_modulus, ms, ns) -> Convolution:
     # the grid's kernel (:func:`normal_kernel`) at the block's offsets only
-    Lx, Ly, _ = _rect_integrals(mx, my, float(dx), float(dy))
-    rows, cols = slice(mx - ms, mx - 1 + ms), slice(my - ns, my - 1 + ns)
-    return Convolution((Lx[rows, cols] + Ly[rows, cols]) / (np.pi * contact_modulus), ms, ns)
+    Lx, Ly, _ = rect_integrals(mx, my, float(dx), float(dy))
+    return Convolution(_normal_cut(Lx, Ly, (mx - ms, my - ns), (2 * ms - 1, 2 * ns - 1),
+                                   float(contact_modulus)), ms, ns)
 
 
 def bounding_box(mask: np.ndarray):
@@ -246,21 +324,17 @@ def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: fl
         u_x = 1/(pi G) [ (1 - nu) I(1/r) + nu I(x^2/r^3) ] t_x + nu/(pi G) I(xy/r^3) t_y
         u_y = nu/(pi G) I(xy/r^3) t_x + 1/(pi G) [ (1 - nu) I(1/r) + nu I(y^2/r^3) ] t_y
 
-    with the rectangle integrals from the antiderivatives I(y^2/r^3) = x ln(y + r),
-    I(x^2/r^3) = y ln(x + r), I(xy/r^3) = -r.  Offsets in x run over
+    with the rectangle integrals (:func:`rect_integrals`) from the antiderivatives
+    I(y^2/r^3) = x ln(y + r), I(x^2/r^3) = y ln(x + r), I(xy/r^3) = -r
+    (:func:`tangential_coefficients`, element by element).  Offsets in x run over
     [-(mx-1), mx-1+extra_rows], ``extra_rows`` 0 or 1 (the row of the rolling
     difference).
     """
-    if extra_rows not in (0, 1):
-        raise ValueError(f"extra_rows = {extra_rows!r}: expected 0 or 1")
-    Lx, Ly, Rr = _rect_integrals(mx, my, float(dx), float(dy))
-    if extra_rows == 0:
-        Lx, Ly, Rr = Lx[:-1], Ly[:-1], Rr[:-1]
-    nu, c = poisson_ratio, 1.0 / (np.pi * shear_modulus)
-    kxx = c * ((1 - nu) * (Lx + Ly) + nu * Ly)
-    kyy = c * ((1 - nu) * (Lx + Ly) + nu * Lx)
-    kxy = c * nu * Rr
-    return kxx, kxy, kyy
+    _check_extra_rows(extra_rows)
+    Lx, Ly, Rr = rect_integrals(mx, my, float(dx), float(dy))
+    k = _tangential_rows(Lx, Ly, Rr, 2 * mx - 1 + extra_rows, 1.0 / (np.pi * shear_modulus),
+                         float(poisson_ratio))
+    return k[0], k[1], k[2]
 
 
 def _Cx(x, y):

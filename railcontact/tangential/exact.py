@@ -48,8 +48,8 @@ from scipy import fft
 from ..core.errors import InputError
 from ..core.materials import InterfaceLayer, Material, STEEL
 from ..normal.base import bilinear_at, same_grid
-from ..normal.influence import (TangentialOperator, block_size, box_bounds,
-                                _rect_integrals as rect_integrals, tangential_kernels)
+from ..normal.influence import (TangentialOperator, block_size, box_bounds, rect_integrals,
+                                tangential_coefficients, tangential_kernels)
 from ..normal.viscoelastic import (Viscoelastic, ViscoelasticOption,
                                    viscoelastic_tangential_kernels)
 from ..core.status import SolverStatus
@@ -123,7 +123,7 @@ def _elastic_block(mx, my, dx, dy, G, nu, ms, ns):
     shear modulus G [Pa] and Poisson's ratio nu) and the grid's self terms (dxx,
     dyy) [m/Pa] of the rolling difference: :func:`_block_operator` and
     :func:`_kernels` in one compiled pass over the block's offsets alone, from the
-    grid's element integrals (:func:`railcontact.normal.influence._rect_integrals`,
+    grid's element integrals (:func:`railcontact.normal.influence.rect_integrals`,
     cached per grid and shared with the normal solve): the same values, without the
     whole grid's kernels (issue 30: a new grid's set-up)."""
     rect = rect_integrals(mx, my, float(dx), float(dy))
@@ -138,29 +138,26 @@ def _block_spectra(rect, consts, sizes, shape):
     """Spectra (xx, xy, yy) on the padded grid ``shape`` of the tangential kernels
     of an ms x ns block with one extra row, and the self terms (dxx, dyy) of the
     rolling difference, from the mx x my grid's element integrals ``rect`` (Lx, Ly,
-    R: :func:`~railcontact.normal.influence.tangential_kernels`' arithmetic, element by
-    element); ``consts`` (1/(pi G), nu, dx), ``sizes`` (mx, my, ms, ns)."""
+    R: :func:`~railcontact.normal.influence.tangential_coefficients` element by
+    element, as :func:`~railcontact.normal.influence.tangential_kernels`); ``consts``
+    (1/(pi G), nu, dx), ``sizes`` (mx, my, ms, ns)."""
     Lx, Ly, Rr = rect
     c, nu, dx = consts
     mx, my, ms, ns = sizes
     N1, N2 = shape
     k = np.zeros((3, N1, N2))
-    cn = c * nu
     for a in range(2 * ms):
         ga = mx - ms + a                  # the grid kernel's row
         i = (a - (ms - 1)) % N1
         for b in range(2 * ns - 1):
             gb = my - ns + b
             j = (b - (ns - 1)) % N2
-            lx, ly = Lx[ga, gb], Ly[ga, gb]
-            k[0, i, j] = c * ((1 - nu) * (lx + ly) + nu * ly)
-            k[1, i, j] = cn * Rr[ga, gb]
-            k[2, i, j] = c * ((1 - nu) * (lx + ly) + nu * lx)
+            k[0, i, j], k[1, i, j], k[2, i, j] = tangential_coefficients(
+                Lx[ga, gb], Ly[ga, gb], Rr[ga, gb], c, nu)
     ox, oy = mx - 1, my - 1
-    s0 = Lx[ox, oy] + Ly[ox, oy]
-    s1 = Lx[ox + 1, oy] + Ly[ox + 1, oy]
-    dxx = (c * ((1 - nu) * s0 + nu * Ly[ox, oy]) - c * ((1 - nu) * s1 + nu * Ly[ox + 1, oy])) / dx
-    dyy = (c * ((1 - nu) * s0 + nu * Lx[ox, oy]) - c * ((1 - nu) * s1 + nu * Lx[ox + 1, oy])) / dx
+    xx0, _, yy0 = tangential_coefficients(Lx[ox, oy], Ly[ox, oy], Rr[ox, oy], c, nu)
+    xx1, _, yy1 = tangential_coefficients(Lx[ox + 1, oy], Ly[ox + 1, oy], Rr[ox + 1, oy], c, nu)
+    dxx, dyy = (xx0 - xx1) / dx, (yy0 - yy1) / dx
     return (np.fft.rfft2(k[0]), np.fft.rfft2(k[1]), np.fft.rfft2(k[2])), dxx, dyy
 
 

@@ -11,7 +11,7 @@ import pytest
 from railcontact.core.materials import Material
 from railcontact.normal.conformal_influence import (BlancoCoupling, blanco_coefficients,
                                                     blanco_normal_operator)
-from railcontact.normal.influence import _rect_integrals, normal_operator, tangential_kernels
+from railcontact.normal.influence import rect_integrals, normal_operator, tangential_kernels
 from railcontact.normal.polonsky_keer import polonsky_keer
 
 MAT = Material(2.0 * 8e10 * 1.28, 0.28)
@@ -24,7 +24,7 @@ def _dense(angles, extra_rows=0):
     :func:`blanco_coefficients`, output rows up to MX + extra_rows."""
     G, nu = MAT.shear_modulus, MAT.nu
     kxx, kxy, kyy = tangential_kernels(MX, MY, DX, DY, G, nu, extra_rows=1)
-    Lx, Ly, _ = _rect_integrals(MX, MY, DX, DY)
+    Lx, Ly, _ = rect_integrals(MX, MY, DX, DY)
     knn = (Lx + Ly) / (np.pi * MAT.contact_modulus)
     nout = MX + extra_rows
     B = np.zeros((nout, MY, MX, MY, 3, 3))

@@ -129,3 +129,24 @@ def test_a_block_operator_is_the_grid_kernel_cut_to_the_block():
         ref = Convolution(K[mx - a:mx - 1 + a, my - b:my - 1 + b], a, b)
         assert np.array_equal(op.kernel, ref.kernel)
         assert np.array_equal(op.khat, ref.khat)
+
+
+def test_the_kernels_share_the_element_integrals_by_the_sum_rule():
+    """``normal_kernel`` and ``tangential_kernels`` are combinations of the same
+    element integrals (``rect_integrals``): with G = E / (2 (1 + nu)) and
+    1/E* = 2 (1 - nu^2) / E, kxx + kyy = (2 - nu) / (1 - nu) A at every offset, the
+    extra row of the rolling difference included; that row leaves the grid's rows
+    as they are."""
+    from railcontact.normal.influence import rect_integrals, tangential_kernels
+    mx, my, dx, dy = 7, 5, 1.3e-4, 0.9e-4
+    A = normal_kernel(mx, my, dx, dy, MAT.contact_modulus, extra_rows=1)
+    assert A.shape == (2 * mx, 2 * my - 1)
+    assert np.array_equal(A[:-1], normal_kernel(mx, my, dx, dy, MAT.contact_modulus))
+    kxx, _, kyy = tangential_kernels(mx, my, dx, dy, MAT.shear_modulus, MAT.nu, extra_rows=1)
+    nu = MAT.nu
+    assert np.allclose(kxx + kyy, (2 - nu) / (1 - nu) * A, rtol=1e-13, atol=0)
+    Lx, Ly, _ = rect_integrals(mx, my, dx, dy)
+    assert np.allclose(A, (Lx + Ly) / (math.pi * MAT.contact_modulus), rtol=1e-15, atol=0)
+    from railcontact.core.errors import InputError
+    with pytest.raises(InputError, match="extra_rows"):
+        normal_kernel(mx, my, dx, dy, MAT.contact_modulus, extra_rows=2)
