@@ -13,7 +13,8 @@ import numpy as np
 from .bodies import build_wheelset_track, contact_search
 from .conformal import is_conformal
 from .compiled_case import case_contact, compiled_unsupported, near_pose, solve_case_forces
-from .equilibrium import Neighbour, VerticalBalance, balance as solve_balance, extrapolate_start
+from .equilibrium import (FORCE_FLOOR, JUMP_SLOPE, Neighbour, VerticalBalance,
+                          balance as solve_balance, extrapolate_start)
 from ..core.checks import shown
 from ..core.errors import ContactNotFoundError, InputError, RailContactError
 from ..geometry.locus import depth_at
@@ -417,20 +418,52 @@ def _hertz_restart(evaluate, start):
     """A warm-started case's restart from :func:`hertz_estimate` where the first
     evaluation (made here, at the balance's start) misses a side's load by more
     than ``RESTART_MISS``: returns the compiled pass's result (``evaluate`` then
-    starts from its patches) or None (no restart; the first evaluation is kept
-    for the balance's first pass)."""
+    starts from its patches) and the Jacobian d(ln F)/d(ln d) the balance starts
+    from (:func:`_restart_jacobian`), or (None, None) (no restart; the first
+    evaluation is kept for the balance's first pass)."""
     ev = evaluate(evaluate.start())
     miss = max(abs(math.log(max(ev.forces[s], 1e-6 * q) / q)) for s, q in evaluate.loads.items()
                if s in evaluate.sides)
     if miss <= RESTART_MISS:
-        return None
+        return None, None
     est = hertz_estimate(evaluate.case, start)
     if est is None:
-        return None
+        return None, None
     log.debug("first evaluation %.3g off the load: restarted from the compiled Hertz "
               "balance", miss)
     evaluate.restart(est)
-    return est
+    return est, _restart_jacobian(evaluate, ev, est.jacobian)
+
+
+def _restart_jacobian(evaluate, missed, jacobian):
+    """The Jacobian d(ln F)/d(ln d) a restarted case's balance starts from: the
+    compiled pass's (``jacobian``, the Hertzian force's), each side whose first
+    evaluation (``missed``) missed its load by more than ``RESTART_MISS`` with its
+    diagonal entry at least the secant slope between that evaluation and the
+    evaluation at the restart's start (made here; the balance's first pass takes it
+    as it is).  Both are the case's own model on either side of the flange's
+    S-shaped force, which rises across it at least that steeply, where the Hertzian
+    slope there may understate it tenfold (0.79 against a secant of 8.8 and 11-13 at
+    the load at 6.29 mm: docs/tuning.md, section "Equilibrium").  The compiled
+    pass's where the secant is not positive or beyond ``JUMP_SLOPE``."""
+    sides = list(evaluate.sides)
+    if jacobian is None or np.shape(jacobian) != (len(sides), len(sides)):
+        return jacobian
+    ev = evaluate(evaluate.start())
+    J = np.array(jacobian, dtype=float)
+    for k, s in enumerate(sides):
+        q = float(evaluate.loads[s])
+        r0, r1 = (math.log(max(float(e.forces[s]), FORCE_FLOOR * q) / q) for e in (missed, ev))
+        dv = math.log(float(ev.interpenetration[s]) / float(missed.interpenetration[s]))
+        if abs(r0) > RESTART_MISS and dv != 0.0:
+            slope = (r1 - r0) / dv
+            if J[k, k] < slope <= JUMP_SLOPE:
+                J[k, k] = slope
+    if np.linalg.det(J) <= 0:
+        return np.array(jacobian, dtype=float)
+    log.debug("restart Jacobian's diagonal %s (the compiled pass's %s)", np.diag(J),
+              np.diag(jacobian))
+    return J
 
 
 #: searches of the force-controlled balance at most (:func:`_force_controlled`)
@@ -635,8 +668,9 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     evaluate = WheelRailContact(case, nmodel, tmodel, kw, start, compiled,
                                 opt.extrapolate_ratio)
     restarted = 0
+    restart_jac = None
     if hertz and start is not None and compiled is None and RESTART_MISS > 0:
-        compiled = _hertz_restart(evaluate, start)
+        compiled, restart_jac = _hertz_restart(evaluate, start)
         restarted = int(compiled is not None)
     fc = None
     if opt.force_control and evaluate.lazy and "force-control" in nmodel.capabilities \
@@ -649,7 +683,7 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
         jac = start.balance.jacobian if start is not None and start.balance is not None \
             else None
         if compiled is not None:
-            jac = compiled.jacobian
+            jac = compiled.jacobian if restart_jac is None else restart_jac
         ev, balance = solve_balance(evaluate, evaluate.start(), evaluate.loads, rtol,
                                     max_iter - restarted, jacobian=jac)
         balance.passes += restarted             # the evaluation before the restart
