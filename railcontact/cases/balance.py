@@ -12,8 +12,11 @@ import numpy as np
 
 from .bodies import build_wheelset_track, contact_search
 from .conformal import is_conformal
-from .compiled_case import case_contact, compiled_unsupported, near_pose, solve_case_forces
-from .equilibrium import Neighbour, VerticalBalance, balance as solve_balance, extrapolate_start
+from .compiled_case import (MAX_PATCHES, NRF, case_contact, case_pass_inputs,
+                            compiled_unsupported, evaluate_wheelset, near_pose,
+                            solve_case_forces)
+from .equilibrium import (JUMP_SLOPE, Neighbour, VerticalBalance,
+                          balance as solve_balance, extrapolate_start)
 from ..core.checks import shown
 from ..core.errors import ContactNotFoundError, InputError, RailContactError
 from ..geometry.locus import depth_at
@@ -413,24 +416,85 @@ def hertz_estimate(case, neighbour=None):
     return _compiled_balance(case, ("hertz", "fastsim"), neighbour, jacobian=False)
 
 
+#: the step in ln d of :func:`hertz_jacobian`'s central differences
+SLOPE_DIFFERENCE = 0.02
+
+
+def hertz_jacobian(case, est):
+    """d(ln F)/d(ln d) of the compiled Hertz + FASTSIM balance ``est``
+    (:func:`hertz_estimate`) at its interpenetrations, each side's column by central
+    differences of ``SLOPE_DIFFERENCE`` in its ln d (four evaluations of the pass's
+    search and patches from its search memo; some 0.8 ms on the shared 2-core
+    machine, about one evaluation of the pass each): the Jacobian an exact
+    case's balance starts from there.  The pass's own Jacobian (its pose steps',
+    from the patches' exponents) cannot hold the flange root's S-shaped force: at
+    6.29-6.44 mm the differences give 11-17 where it holds 1.0-2.0, and the exact
+    force's slope there is 11-23 (docs/tuning.md, section "Equilibrium").  None
+    where an evaluation finds no pose or no force on a side, or the differences
+    leave no positive diagonal and determinant or an entry beyond ``JUMP_SLOPE``."""
+    prof, pose, model, loads = case_pass_inputs(case, "hertz", "fastsim")
+    d0 = np.array([est.interpenetration["left"], est.interpenetration["right"]])
+    out, fz = np.zeros((2 * MAX_PATCHES, NRF)), np.zeros(2)
+    J = np.empty((2, 2))
+    for k in range(2):
+        r = []
+        for sign in (1.0, -1.0):
+            d = d0.copy()
+            d[k] *= math.exp(sign * SLOPE_DIFFERENCE)
+            m, _, _ = evaluate_wheelset(prof, pose, model, d, est.memo.copy(), out, fz)
+            if m <= 0 or not np.all(fz > 0):
+                return None
+            r.append(np.log(fz / loads))
+        J[:, k] = (r[0] - r[1]) / (2.0 * SLOPE_DIFFERENCE)
+    if not (np.all(np.isfinite(J)) and np.all(np.abs(J) <= JUMP_SLOPE)
+            and np.all(np.diag(J) > 0) and np.linalg.det(J) > 0):
+        return None
+    return J
+
+
+#: a cold exact case starts from :func:`hertz_jacobian` where the compiled pass took
+#: more than this many evaluations (its steps did not settle at once: the flange's
+#: S-shaped force; on the 1000-case sweep 32 cases, all at 6.29-6.91 mm), else from
+#: the pass's own Jacobian (some 0.8 ms saved where the two agree: 2-3 evaluations
+#: in 928 of the 1000 cases, 4 in 40)
+SLOPE_PASSES = 4
+
+
+def _start_jacobian(case, est, sides, restarted=False):
+    """The Jacobian an exact case's balance starts from at the compiled pass's
+    balance ``est``: :func:`hertz_jacobian` in the order of ``sides`` where the
+    case was ``restarted`` (its first evaluation missed by more than
+    ``RESTART_MISS``) or the pass took more than ``SLOPE_PASSES`` evaluations,
+    else (or where the differences give none) the pass's own."""
+    J = None
+    if est.memo is not None and len(sides) == 2 and (restarted or est.passes > SLOPE_PASSES):
+        J = hertz_jacobian(case, est)
+    if J is None:
+        return est.jacobian
+    order = [("left", "right").index(s) for s in sides]
+    return J[np.ix_(order, order)]
+
+
 def _hertz_restart(evaluate, start):
     """A warm-started case's restart from :func:`hertz_estimate` where the first
     evaluation (made here, at the balance's start) misses a side's load by more
     than ``RESTART_MISS``: returns the compiled pass's result (``evaluate`` then
-    starts from its patches) or None (no restart; the first evaluation is kept
-    for the balance's first pass)."""
+    starts from its patches) and the Jacobian d(ln F)/d(ln d) the balance starts
+    from (:func:`_start_jacobian`: the restart says the force is S-shaped there), or
+    (None, None) (no restart; the first evaluation is kept for the balance's first
+    pass)."""
     ev = evaluate(evaluate.start())
     miss = max(abs(math.log(max(ev.forces[s], 1e-6 * q) / q)) for s, q in evaluate.loads.items()
                if s in evaluate.sides)
     if miss <= RESTART_MISS:
-        return None
+        return None, None
     est = hertz_estimate(evaluate.case, start)
     if est is None:
-        return None
+        return None, None
     log.debug("first evaluation %.3g off the load: restarted from the compiled Hertz "
               "balance", miss)
     evaluate.restart(est)
-    return est
+    return est, _start_jacobian(evaluate.case, est, evaluate.sides, restarted=True)
 
 
 #: searches of the force-controlled balance at most (:func:`_force_controlled`)
@@ -635,8 +699,11 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
     evaluate = WheelRailContact(case, nmodel, tmodel, kw, start, compiled,
                                 opt.extrapolate_ratio)
     restarted = 0
+    hertz_jac = None
+    if hertz and start is None and compiled is not None:
+        hertz_jac = _start_jacobian(case, compiled, evaluate.sides)
     if hertz and start is not None and compiled is None and RESTART_MISS > 0:
-        compiled = _hertz_restart(evaluate, start)
+        compiled, hertz_jac = _hertz_restart(evaluate, start)
         restarted = int(compiled is not None)
     fc = None
     if opt.force_control and evaluate.lazy and "force-control" in nmodel.capabilities \
@@ -649,7 +716,7 @@ def solve_wheel_rail(case, nmodel, tmodel, kw, max_iter: int = 40, rtol: float =
         jac = start.balance.jacobian if start is not None and start.balance is not None \
             else None
         if compiled is not None:
-            jac = compiled.jacobian
+            jac = compiled.jacobian if hertz_jac is None else hertz_jac
         ev, balance = solve_balance(evaluate, evaluate.start(), evaluate.loads, rtol,
                                     max_iter - restarted, jacobian=jac)
         balance.passes += restarted             # the evaluation before the restart
