@@ -13,7 +13,7 @@ from typing import NamedTuple
 import numpy as np
 from numba import njit
 
-from ..profiles.profile import _segment, ppoly_at
+from ..profiles.profile import ppoly_at
 from .locus import Locus
 from .track import Track, Wheelset
 
@@ -239,12 +239,12 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
     wheel is smooth in x) where three points before it on the line are solved,
     else from the neighbouring lines.
 
-    The wheel's projection is :func:`_wheel_newton` written out in the loop
-    (:func:`_wheel_point`: a compiled call that takes arrays and is not inlined
-    costs atomic reference counts, more than the Newton step itself); each
-    point's start, its steps and its profile interval are those of
-    :func:`_wheel_newton` (the interval a lookup starts from is a guess: it
-    moves no result).  ``LINES_TOGETHER`` lines are walked side by side, their
+    The wheel's projection is :func:`_wheel_newton` written out in the loop, and
+    its profile lookup where the previous point's piece holds the point: a
+    compiled call that takes arrays and is not inlined costs atomic reference
+    counts, more than the Newton step itself.  Each point's start, its steps and
+    its profile piece are those of :func:`_wheel_newton` (the piece holding a
+    point is unique: the interval a lookup starts from moves no result).  ``LINES_TOGETHER`` lines are walked side by side, their
     points i one after the other: a start along a line waits for the point
     before it, and the lines' solves are independent."""
     nx = x.shape[1]
@@ -327,16 +327,15 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
                             a2 = l2 + w * nl2
                             rho = math.sqrt(a0 * a0 + a2 * a2)
                             xi = l1 + w * nl1 - e
-                            # ppoly_at(xi, wb, wc, kb): the profile's cubic piece
-                            if not (wb[0] <= xi <= wb[nw]):
-                                zw, dzw = np.nan, np.nan
-                            else:
-                                if not (0 <= kb < nw and wb[kb] <= xi
-                                        and (xi < wb[kb + 1] or kb == nw - 1)):
-                                    kb = _segment(wb, xi)
+                            # ppoly_at(xi, wb, wc, kb), written out where the guess
+                            # kb is the profile's piece (the point before's, mostly)
+                            if (0 <= kb < nw and wb[kb] <= xi
+                                    and (xi < wb[kb + 1] or (kb == nw - 1 and xi <= wb[nw]))):
                                 s = xi - wb[kb]
                                 zw = ((wc[0, kb] * s + wc[1, kb]) * s + wc[2, kb]) * s + wc[3, kb]
                                 dzw = (3.0 * wc[0, kb] * s + 2.0 * wc[1, kb]) * s + wc[2, kb]
+                            else:
+                                zw, dzw, kb = ppoly_at(xi, wb, wc, kb)
                             step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
                             w -= step
                             if not abs(step) > NEWTON_TOL:
