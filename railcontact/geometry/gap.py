@@ -223,6 +223,13 @@ def _equally_spaced(ys):
 
 
 
+#: lines of a grid whose points :func:`_gap_lines_kernel` solves side by side (each
+#: point's Newton start waits for the point before it on its line; the lines' are
+#: independent, and the processor overlaps them)
+LINES_TOGETHER = 4
+
+
+
 @njit(cache=True, nogil=True)
 def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
     """Gaps of many patches sharing one rail and one wheel profile on lines of
@@ -230,12 +237,28 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
     ``F`` (``GapEvaluator.frame``).  The rail distance is computed once per line;
     every projection starts from its neighbours' solutions: along the line (the
     wheel is smooth in x) where three points before it on the line are solved,
-    else from the neighbouring lines."""
+    else from the neighbouring lines.
+
+    The wheel's projection is :func:`_wheel_newton` written out in the loop, and
+    its profile lookup where the previous point's piece holds the point: a
+    compiled call that takes arrays and is not inlined costs atomic reference
+    counts, more than the Newton step itself.  Each point's start, its steps and
+    its profile piece are those of :func:`_wheel_newton` (the piece holding a
+    point is unique: the interval a lookup starts from moves no result).  ``LINES_TOGETHER`` lines are walked side by side, their
+    points i one after the other: a start along a line waits for the point
+    before it, and the lines' solves are independent."""
     nx = x.shape[1]
-    h = np.empty((x.shape[0], nx, ys.shape[1]))
-    tw = np.zeros((3, nx))              # the last three lines' wheel distances
-    kw = np.full(nx, -1)
+    ny = ys.shape[1]
+    h = np.empty((x.shape[0], nx, ny))
+    # the wheel distance of every point of the patch (0 where not solved), each
+    # line's rail distance and the weights of its start from the lines before it
+    tw = np.zeros((ny, nx))
+    rail = np.empty(ny)
+    cs = np.zeros((ny, 3))
+    run = np.zeros(LINES_TOGETHER, dtype=np.int64)
+    kw = np.full(LINES_TOGETHER, -1)
     tr = np.zeros(3)
+    nw = wb.size - 1
     for k in range(x.shape[0]):
         f = F[k]
         C, t, n, O = f[0:3], f[3:6], f[6:9], f[19:22]
@@ -249,7 +272,8 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
         nl0 = Rt[0, 0] * n[0] + Rt[0, 1] * n[1] + Rt[0, 2] * n[2]
         nl1 = Rt[1, 0] * n[0] + Rt[1, 1] * n[1] + Rt[1, 2] * n[2]
         nl2 = Rt[2, 0] * n[0] + Rt[2, 1] * n[1] + Rt[2, 2] * n[2]
-        for j in range(ys.shape[1]):
+        tr[:] = 0.0
+        for j in range(ny):
             # Newton starts from the last lines' solutions, extrapolated quadratically
             # on equally spaced lines (else the last line's)
             if quadratic and j >= 3:
@@ -266,30 +290,63 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
                 # lines start afresh
                 c0, c1, c2 = 0.0, 0.0, 0.0
             tr[2], tr[1], tr[0] = tr[1], tr[0], (r if math.isfinite(r) else 0.0)
-            d1 = C[1] + ys[k, j] * t[1] - O[1]
-            d2 = C[2] + ys[k, j] * t[2] - O[2]
-            run = 0                     # solved points in a row before i on this line
+            rail[j] = r
+            cs[j, 0], cs[j, 1], cs[j, 2] = c0, c1, c2
+        for j0 in range(0, ny, LINES_TOGETHER):
+            j1 = min(j0 + LINES_TOGETHER, ny)
+            run[:] = 0                  # solved points in a row before i on each line
             for i in range(nx):
-                if along and run >= 3:
-                    # quadratic extrapolation along the line (equally spaced x)
-                    start = 3.0 * tw[0, i - 1] - 3.0 * tw[0, i - 2] + tw[0, i - 3]
-                else:
-                    start = c0 * tw[0, i] + c1 * tw[1, i] + c2 * tw[2, i]
                 d0 = C[0] + x[k, i] - O[0]
-                l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
-                l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
-                l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
-                w, kw[i] = _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, start,
-                                         kw[i])
-                if not math.isfinite(w) and start != 0.0:
-                    # again from the plane where the extrapolated start failed
-                    w, kw[i] = _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, 0.0,
-                                             -1)
-                g = r - w
-                h[k, i, j] = g if math.isfinite(g) else 1.0
-                tw[2, i], tw[1, i] = tw[1, i], tw[0, i]
-                tw[0, i] = w if math.isfinite(w) else 0.0
-                run = run + 1 if math.isfinite(w) else 0
+                for j in range(j0, j1):
+                    b = j - j0
+                    if along and run[b] >= 3:
+                        # quadratic extrapolation along the line (equally spaced x)
+                        start = 3.0 * tw[j, i - 1] - 3.0 * tw[j, i - 2] + tw[j, i - 3]
+                    else:
+                        start = (cs[j, 0] * (tw[j - 1, i] if j >= 1 else 0.0)
+                                 + cs[j, 1] * (tw[j - 2, i] if j >= 2 else 0.0)
+                                 + cs[j, 2] * (tw[j - 3, i] if j >= 3 else 0.0))
+                    d1 = C[1] + ys[k, j] * t[1] - O[1]
+                    d2 = C[2] + ys[k, j] * t[2] - O[2]
+                    l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
+                    l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
+                    l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
+                    w = np.nan
+                    for attempt in range(2):
+                        # Newton from the start, and again from the plane where
+                        # the extrapolated start failed (:func:`_wheel_newton`)
+                        if attempt == 1:
+                            if math.isfinite(w) or start == 0.0:
+                                break
+                            start = 0.0
+                            kw[b] = -1
+                        w = start
+                        kb = kw[b]
+                        for _ in range(NEWTON_STEPS):
+                            a0 = l0 + w * nl0
+                            a2 = l2 + w * nl2
+                            rho = math.sqrt(a0 * a0 + a2 * a2)
+                            xi = l1 + w * nl1 - e
+                            # ppoly_at(xi, wb, wc, kb), written out where the guess
+                            # kb is the profile's piece (the point before's, mostly)
+                            if (0 <= kb < nw and wb[kb] <= xi
+                                    and (xi < wb[kb + 1] or (kb == nw - 1 and xi <= wb[nw]))):
+                                s = xi - wb[kb]
+                                zw = ((wc[0, kb] * s + wc[1, kb]) * s + wc[2, kb]) * s + wc[3, kb]
+                                dzw = (3.0 * wc[0, kb] * s + 2.0 * wc[1, kb]) * s + wc[2, kb]
+                            else:
+                                zw, dzw, kb = ppoly_at(xi, wb, wc, kb)
+                            step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
+                            w -= step
+                            if not abs(step) > NEWTON_TOL:
+                                break
+                        else:
+                            w = np.nan          # not converged: no point of the wheel
+                        kw[b] = kb
+                    g = rail[j] - w
+                    h[k, i, j] = g if math.isfinite(g) else 1.0
+                    tw[j, i] = w if math.isfinite(w) else 0.0
+                    run[b] = run[b] + 1 if math.isfinite(w) else 0
     return h
 
 

@@ -36,9 +36,9 @@ from .influence import box_bounds, bounding_box, normal_operator, normal_operato
 from .polonsky_keer import flat_punch_stiffness, gap_scale, polonsky_keer
 from .viscoelastic import (ViscoelasticOption, active_set_normal, final_material,
                            viscoelastic_normal_operator)
-from .potential_area import (AREA_SAMPLES, FORCE_BOX, GROWTH_STEPS, crossings, cut_regions,
-                             edge_sides, fits, grown_box, inside_bounds, own_gap,
-                             plausible_growth,
+from .potential_area import (AREA_SAMPLES, FORCE_BOX, GROWTH_STEPS, coarse_lines,
+                             cut_regions, edge_sides, fits, grown_box, inside_bounds, own_gap,
+                             plausible_growth, region_ends,
                              strip_edges, subregions)
 
 
@@ -145,8 +145,7 @@ class ExactNormalModel:
         cx, cy = 0.5 * (x0 + x1), 0.5 * (y0 + y1)
         hx, hy = max(0.5 * (x1 - x0), 1e-4), max(0.5 * (y1 - y0), 1e-4)
         for _ in range(6):
-            xs = cx + np.linspace(-2 * hx, 2 * hx, AREA_SAMPLES)
-            ys = cy + np.linspace(-2 * hy, 2 * hy, AREA_SAMPLES)
+            xs, ys = coarse_lines(cx, hx), coarse_lines(cy, hy)
             h = geometry.gap(xs[:, None], ys[None, :]) + geometry.approach - penetration
             i0, i1, j0, j1 = inside_bounds(h, np.ascontiguousarray(geometry.foreign(ys),
                                                                    dtype=np.bool_))
@@ -172,9 +171,7 @@ class ExactNormalModel:
         between the lines, plus 1.5 coarse samples (sx, sy: where the first sample
         outside lies on average), widened by the margin.  Returns its centre and
         half-extents [m]."""
-        i0, i1, j0, j1 = bounds
-        lo_x, hi_x = crossings(xs, h.min(axis=1), i0, i1)
-        lo_y, hi_y = crossings(ys, h.min(axis=0), j0, j1)
+        lo_x, hi_x, lo_y, hi_y = region_ends(xs, ys, h, *bounds)
         return self._widened(lo_x - 1.5 * sx, hi_x + 1.5 * sx, lo_y - 1.5 * sy, hi_y + 1.5 * sy)
 
     def _widened(self, lo_x, hi_x, lo_y, hi_y):

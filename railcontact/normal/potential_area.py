@@ -64,6 +64,57 @@ def crossings(s, g, i0, i1):
 
 
 
+@njit(cache=True, nogil=True)
+def _row_min(h, i, rows):
+    """The smallest of row ``i`` of h (``rows``) or of its column i (NaN where one
+    is NaN, as ``ndarray.min``)."""
+    n = h.shape[1] if rows else h.shape[0]
+    m = h[i, 0] if rows else h[0, i]
+    for k in range(1, n):
+        v = h[i, k] if rows else h[k, i]
+        if v != v:
+            return v
+        if v < m:
+            m = v
+    return m
+
+
+
+@njit(cache=True, nogil=True)
+def region_ends(xs, ys, h, i0, i1, j0, j1):
+    """The ends (lo_x, hi_x, lo_y, hi_y) [m] of the region where the gap h on the
+    lines ``xs``, ``ys`` is negative (rows i0 to i1, columns j0 to j1, inside the
+    lines): where the smallest gap along the other axis crosses zero,
+    :func:`crossings` of ``h.min(axis=1)`` and ``h.min(axis=0)``, those minima
+    taken on the four rows and columns the crossings read."""
+    g0, g1 = _row_min(h, i0 - 1, True), _row_min(h, i0, True)
+    lo_x = xs[i0 - 1] + (xs[i0] - xs[i0 - 1]) * g0 / (g0 - g1)
+    g0, g1 = _row_min(h, i1, True), _row_min(h, i1 + 1, True)
+    hi_x = xs[i1] + (xs[i1 + 1] - xs[i1]) * g0 / (g0 - g1)
+    g0, g1 = _row_min(h, j0 - 1, False), _row_min(h, j0, False)
+    lo_y = ys[j0 - 1] + (ys[j0] - ys[j0 - 1]) * g0 / (g0 - g1)
+    g0, g1 = _row_min(h, j1, False), _row_min(h, j1 + 1, False)
+    hi_y = ys[j1] + (ys[j1 + 1] - ys[j1]) * g0 / (g0 - g1)
+    return lo_x, hi_x, lo_y, hi_y
+
+
+
+@njit(cache=True, nogil=True)
+def coarse_lines(c, half):
+    """``AREA_SAMPLES`` lines from c - 2 half to c + 2 half [m], as
+    ``c + np.linspace(-2 * half, 2 * half, AREA_SAMPLES)`` gives them (the same
+    arithmetic: i * step + start, the last at the end)."""
+    n = AREA_SAMPLES
+    start, stop = -2 * half, 2 * half
+    step = (stop - start) / (n - 1)
+    out = np.empty(n)
+    for i in range(n - 1):
+        out[i] = c + (i * step + start)
+    out[n - 1] = c + stop
+    return out
+
+
+
 #: samples per direction of the gap over twice the patch's extent each side, from
 #: which the potential contact area is found (:meth:`ExactNormalModel._area_from_gap`)
 AREA_SAMPLES = 49

@@ -8,9 +8,10 @@ import numpy as np
 import pytest
 
 from railcontact.geometry import Track, Wheelset, find_contact
-from railcontact.geometry.gap import (DEEPEST_GAP, GapEvaluator, SampledWheelGap, Spline,
-                                      _rail_distance, _rail_distances, curvatures_fd,
-                                      sane_gap)
+from railcontact.geometry.gap import (DEEPEST_GAP, LINES_TOGETHER, GapEvaluator,
+                                      SampledWheelGap, Spline, _rail_distance,
+                                      _rail_distances, _wheel_newton, curvatures_fd,
+                                      sample_gap_lines, sane_gap)
 from railcontact.profiles import rail_profile, s1002
 
 
@@ -168,3 +169,79 @@ def test_unconverged_projection_misses_the_surface():
     assert math.isnan(tr)
     tr, _ = _rail_distance(0.0, zero, n, n, 0.0, breaks, coefs, -2.0)   # near the root
     assert tr ** 3 - 2 * tr + 2 == pytest.approx(0.0, abs=1e-9)
+
+
+def _grid_one_point_at_a_time(ev, x, ys):
+    """The gap of ``ev`` on the grid x[:, None], ys[None, :] (ys in the side's sense)
+    solved point by point in Python through :func:`_rail_distance` and
+    :func:`_wheel_newton`, line after line, each Newton started as the grid kernel
+    documents it: along the line from its three points before, else from the last
+    three lines quadratically (the last line's for the first lines), again from the
+    plane where a start fails; an interval guess of -1 everywhere."""
+    f = ev.frame
+    C, t, n, y_off, Rt, O, e, r0 = f[0:3], f[3:6], f[6:9], f[9], f[10:19].reshape(3, 3), \
+        f[19:22], f[22], f[23]
+    nl = Rt @ n
+    rb, rc, wb, wc = ev.rail._breaks, ev.rail._coefs, ev.wheel._breaks, ev.wheel._coefs
+    h = np.empty((x.size, ys.size))
+    w = np.zeros((ys.size, x.size))
+    rails = [0.0, 0.0, 0.0]
+    for j in range(ys.size):
+        c = (3.0, -3.0, 1.0) if j >= 3 else (1.0 if j >= 1 else 0.0, 0.0, 0.0)
+        start = c[0] * rails[0] + c[1] * rails[1] + c[2] * rails[2]
+        r, _ = _rail_distance(ys[j], C, t, n, y_off, rb, rc, start, -1)
+        if not math.isfinite(r) and start != 0.0:
+            r, _ = _rail_distance(ys[j], C, t, n, y_off, rb, rc, 0.0, -1)
+        if not math.isfinite(r):            # the line misses the rail: 1 m
+            c = (0.0, 0.0, 0.0)
+        rails = [r if math.isfinite(r) else 0.0, rails[0], rails[1]]
+        d1 = C[1] + ys[j] * t[1] - O[1]
+        d2 = C[2] + ys[j] * t[2] - O[2]
+        for i in range(x.size):
+            if i >= 3:
+                start = 3.0 * w[j, i - 1] - 3.0 * w[j, i - 2] + w[j, i - 3]
+            else:
+                start = sum(c[m] * (w[j - 1 - m, i] if j - 1 - m >= 0 else 0.0)
+                            for m in range(3))
+            d0 = C[0] + x[i] - O[0]
+            l0 = Rt[0, 0] * d0 + Rt[0, 1] * d1 + Rt[0, 2] * d2
+            l1 = Rt[1, 0] * d0 + Rt[1, 1] * d1 + Rt[1, 2] * d2
+            l2 = Rt[2, 0] * d0 + Rt[2, 1] * d1 + Rt[2, 2] * d2
+            tw, _ = _wheel_newton(l0, l1, l2, nl[0], nl[1], nl[2], e, r0, wb, wc, start, -1)
+            if not math.isfinite(tw) and start != 0.0:
+                tw, _ = _wheel_newton(l0, l1, l2, nl[0], nl[1], nl[2], e, r0, wb, wc, 0.0, -1)
+            assert math.isfinite(tw)
+            w[j, i] = tw
+            h[i, j] = r - tw if math.isfinite(r) else 1.0
+    return h
+
+
+@pytest.mark.parametrize("yaw", [0.0, 4e-3])
+def test_grid_kernel_is_its_points_solved_one_at_a_time(yaw):
+    """The grid kernel (lines walked side by side, the wheel's Newton written out in
+    its loop, profile intervals guessed from the neighbours) gives each point of a
+    grid bit for bit the value of solving it alone with the same start
+    (:func:`_grid_one_point_at_a_time`), and within 1e-12 m that of the pointwise
+    evaluation started from the tangent plane (``GapEvaluator.points``: Newton's
+    quadratic convergence leaves kappa * NEWTON_TOL^2); the patches of a wheelset at
+    7 mm lateral shift, with and without yaw (the right wheel's flange, the left's
+    tread), on a 23 x 19 grid (lines not a multiple of LINES_TOGETHER), and each
+    as it is with all of them stacked in one call (:func:`sample_gap_lines`)."""
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    c = find_contact(ws, tr, lateral_shift=7e-3, yaw=yaw, vertical_force=6e4)
+    patches = c.patches
+    assert len(patches) >= 2 and 19 % LINES_TOGETHER != 0
+    x = np.linspace(-6e-3, 6e-3, 23)
+    y = np.linspace(-5e-3, 4e-3, 19)
+    for p in patches:
+        ev = p.gap_function
+        grid = ev(x[:, None], y[None, :])
+        assert (grid < 0).any() and (grid > 0).any()            # overlap and apart
+        assert np.array_equal(grid, _grid_one_point_at_a_time(ev, x, ev.sign * y))
+        X, Y = np.meshgrid(x, y, indexing="ij")
+        points = ev.points(X.ravel(), Y.ravel()).reshape(X.shape)
+        assert np.abs(grid - points).max() <= 1e-12
+    m = len(patches)
+    both = sample_gap_lines(patches, x + 1e-3 * np.arange(m)[:, None], np.tile(y, (m, 1)))
+    for k, p in enumerate(patches):
+        assert np.array_equal(both[k], p.gap_function((x + k * 1e-3)[:, None], y[None, :]))

@@ -6,8 +6,9 @@ from types import SimpleNamespace
 import numpy as np
 import pytest
 
-from railcontact.normal.potential_area import (crossings, edge_sides, fits, grown_box,
-                                               plausible_growth, strip_edges)
+from railcontact.normal.potential_area import (AREA_SAMPLES, coarse_lines, crossings,
+                                               edge_sides, fits, grown_box, plausible_growth,
+                                               region_ends, strip_edges)
 
 
 def test_strip_edges_of_a_mask():
@@ -25,6 +26,38 @@ def test_crossings_interpolate_the_zeros():
     g = np.array([1.0, -1.0, -2.0, -1.0, 3.0])                 # negative on 1..3
     lo, hi = crossings(s, g, 1, 3)
     assert lo == pytest.approx(0.5) and hi == pytest.approx(3.25)
+
+
+def test_region_ends_are_the_crossings_of_the_minima():
+    """region_ends (compiled, the minima on the four rows and columns it reads) gives
+    bit for bit the crossings of h.min(axis=1) and h.min(axis=0): a paraboloid's
+    negative region on uneven lines, plus noise, and a hand-made case (the ends
+    at 0.5 and 3.25 along x, as test_crossings_interpolate_the_zeros)."""
+    rng = np.random.default_rng(3)
+    for _ in range(50):
+        xs = np.linspace(-1.0, 1.0, 17) + rng.uniform(-0.04, 0.04, 17)
+        ys = np.linspace(-1.0, 1.0, 13) + rng.uniform(-0.05, 0.05, 13)
+        h = (xs[:, None] - 0.1) ** 2 + 2.0 * ys[None, :] ** 2 - 0.15 + 0.01 * rng.normal(
+            size=(17, 13))
+        i = np.flatnonzero((h < 0).any(axis=1))
+        j = np.flatnonzero((h < 0).any(axis=0))
+        i0, i1, j0, j1 = i[0], i[-1], j[0], j[-1]
+        assert 0 < i0 and i1 < 16 and 0 < j0 and j1 < 12
+        want = crossings(xs, h.min(axis=1), i0, i1) + crossings(ys, h.min(axis=0), j0, j1)
+        assert region_ends(xs, ys, h, i0, i1, j0, j1) == want
+    s = np.array([0.0, 1.0, 2.0, 3.0, 4.0])
+    h = np.array([[5.0] * 5, [1.0, -1.0, -2.0, -1.0, 3.0], [5.0] * 5]).T
+    assert region_ends(s, s[:3], h, 1, 3, 1, 1) == pytest.approx((0.5, 3.25, 5 / 7, 9 / 7))
+
+
+def test_coarse_lines_are_numpys_linspace():
+    """coarse_lines(c, half) is c + np.linspace(-2 half, 2 half, AREA_SAMPLES) bit
+    for bit (the potential area's coarse sampling, compiled)."""
+    rng = np.random.default_rng(4)
+    for _ in range(200):
+        c, half = rng.normal() * 10 ** rng.uniform(-6, -1), 10 ** rng.uniform(-4, -1)
+        want = c + np.linspace(-2 * half, 2 * half, AREA_SAMPLES)
+        assert np.array_equal(coarse_lines(c, half), want)
 
 
 def test_edge_sides_and_grown_box():
