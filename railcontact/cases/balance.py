@@ -4,7 +4,6 @@ wheel at a prescribed vertical position (CONTACT's NORM = 0)."""
 
 from __future__ import annotations
 
-import copy
 import logging
 import math
 from dataclasses import dataclass
@@ -104,14 +103,6 @@ EXTRAPOLATE_RATIO = 2.0
 #: section "Equilibrium")
 STANDIN_UNCERTAINTY = 0.1
 
-#: a case's first tangential solves (both wheels balanced; from FASTSIM's or a
-#: neighbour's tractions) stop at this tolerance of the exact tangential model
-#: (its ``tol``, where that is tighter): their forces take the balance's next step
-#: or, where they meet the loads, are solved again to the model's own tolerance,
-#: from there, at the same interpenetrations (docs/tuning.md, section
-#: "Equilibrium"); 0 turns it off
-FIRST_TANGENTIAL_TOL = 1e-3
-
 
 
 @dataclass
@@ -147,10 +138,7 @@ class WheelRailContact:
     else FASTSIM on the normal solutions stands in for the lateral forces (the
     exact solver's own first estimate), each side's uncertainty
     ``STANDIN_UNCERTAINTY`` times its lateral forces' share of the balance,
-    sum |F_y sin(d)| / Q; the other tangential models solve every time.  A case's
-    first tangential solves stop at ``FIRST_TANGENTIAL_TOL``: that
-    evaluation is not final (its uncertainty 0), and where it meets the loads the
-    same interpenetrations asked final are solved again to the model's tolerance.
+    sum |F_y sin(d)| / Q; the other tangential models solve every time.
 
     ``start``: the :class:`SolveResult` of a neighbouring case (warm start: the
     first search at its interpenetrations, the solvers from its solutions).
@@ -194,12 +182,6 @@ class WheelRailContact:
         if start is not None and start.balance is not None and start.balance.standin:
             self.neighbour = (start.patches, start.balance.standin)
         self.standin = None         # FASTSIM on the last provisional evaluation's patches
-        # the first tangential solves' model, to FIRST_TANGENTIAL_TOL (None: the
-        # case's own), and their results while no solve to the model's tolerance
-        # followed
-        self.loose_model = _loose_model(tmodel) if self.lazy and len(self.sides) > 1 \
-            else None
-        self.loose = None
         self.last = None
 
     def restart(self, compiled):
@@ -232,29 +214,13 @@ class WheelRailContact:
                                      previous=last.results if last else self.previous,
                                      normal_only=self.lazy, coupled=self.coupled,
                                      same_case=last is not None)
-        loose = False
-        if final and self.lazy and self.loose is not None and results is self.loose:
-            # the first solves' results met the loads: solved to the model's tolerance
-            results = add_tangential(
-                case, [PatchResult(r.geometry, r.normal, None, r.creepage) for r in results],
-                self.tmodel, previous=results)
-            self.tangential_start, self.loose = results, None
-        elif final and self.lazy and any(r.tangential is None for r in results):
-            first = self.loose_model is not None
-            results = add_tangential(case, results, self.loose_model if first else self.tmodel,
+        if final and self.lazy and any(r.tangential is None for r in results):
+            results = add_tangential(case, results, self.tmodel,
                                       previous=self.tangential_start or self.standin)
             self.tangential_start = results
-            self.loose_model = None
-            if first:
-                self.loose, loose = results, True
-        done = (all(r.tangential is not None for r in results) or self.tmodel is None) \
-            and not loose
-        if not loose and self.loose is not None and results is not self.loose:
-            self.loose = None
+        done = all(r.tangential is not None for r in results) or self.tmodel is None
         lateral = uncertainty = None
-        if loose:
-            uncertainty = {s: 0.0 for s in self.sides}
-        elif not done:
+        if not done:
             if last is None or last.results is not results or self.standin is None:
                 self.standin = add_tangential(case, results, get_tangential_model("fastsim"))
             fy = _standin_lateral(self.standin, self.neighbour)
@@ -266,18 +232,6 @@ class WheelRailContact:
         self.last = ContactEvaluation(dict(d), contact, results, forces, done, uncertainty)
         return self.last
 
-
-
-def _loose_model(tmodel):
-    """A copy of the exact tangential model ``tmodel`` with its tolerance widened to
-    ``FIRST_TANGENTIAL_TOL`` (None where that is off, no wider, or the model has
-    no tolerance)."""
-    tol = getattr(tmodel, "tol", None)
-    if not FIRST_TANGENTIAL_TOL > 0 or tol is None or not FIRST_TANGENTIAL_TOL > tol:
-        return None
-    out = copy.copy(tmodel)
-    out.tol = FIRST_TANGENTIAL_TOL
-    return out
 
 
 def _seed_search(case, bodies, compiled, start) -> None:
