@@ -428,7 +428,7 @@ def hertz_jacobian(case, est):
     machine, about one evaluation of the pass each): the Jacobian an exact
     case's balance starts from there.  The pass's own Jacobian (its pose steps',
     from the patches' exponents) cannot hold the flange root's S-shaped force: at
-    6.29-6.44 mm the differences give 11-17 where it holds 1.0-2.0, and the exact
+    6.29-6.44 mm the differences give 10-17 where it holds 1.0-2.0, and the exact
     force's slope there is 11-23 (docs/tuning.md, section "Equilibrium").  None
     where an evaluation finds no pose or no force on a side, or the differences
     leave no positive diagonal and determinant or an entry beyond ``JUMP_SLOPE``."""
@@ -454,7 +454,7 @@ def hertz_jacobian(case, est):
 
 #: a cold exact case starts from :func:`hertz_jacobian` where the compiled pass took
 #: more than this many evaluations (its steps did not settle at once: the flange's
-#: S-shaped force; on the 1000-case sweep 32 cases, all at 6.29-6.91 mm), else from
+#: S-shaped force; on the 1000-case sweep 32 cases, all at 6.29-6.96 mm), else from
 #: the pass's own Jacobian (some 0.8 ms saved where the two agree: 2-3 evaluations
 #: in 928 of the 1000 cases, 4 in 40)
 SLOPE_PASSES = 4

@@ -180,10 +180,13 @@ def _tangential_rows(Lx, Ly, R, rows, c, nu):
     return out
 
 
-def _check_extra_rows(extra_rows) -> None:
-    if extra_rows not in (0, 1):
-        raise InputError(f"extra_rows = {extra_rows!r}: expected 0 or 1 (the row of the "
-                         "rolling difference)")
+def _check_extra_rows(extra_rows) -> int:
+    """``extra_rows`` as the int 0 or 1 (the row of the rolling difference), or an
+    :class:`InputError` naming it (a float such as 1.0 too: the kernels index by it)."""
+    if not isinstance(extra_rows, (int, np.integer)) or extra_rows not in (0, 1):
+        raise InputError(f"extra_rows = {extra_rows!r}: expected the integer 0 or 1 (the "
+                         "row of the rolling difference)")
+    return int(extra_rows)
 
 
 def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float,
@@ -191,7 +194,7 @@ def normal_kernel(mx: int, my: int, dx: float, dy: float, contact_modulus: float
     """Kernel A[di, dj] for offsets di in [-(mx-1), mx-1+extra_rows], dj in
     [-(my-1), my-1] [m/Pa] (:func:`normal_coefficient` of :func:`rect_integrals`);
     ``extra_rows`` 0 or 1 (the row of the rolling difference)."""
-    _check_extra_rows(extra_rows)
+    extra_rows = _check_extra_rows(extra_rows)
     Lx, Ly, _ = rect_integrals(mx, my, float(dx), float(dy))
     return _normal_cut(Lx, Ly, (0, 0), (2 * mx - 1 + extra_rows, 2 * my - 1),
                        float(contact_modulus))
@@ -330,7 +333,7 @@ def tangential_kernels(mx: int, my: int, dx: float, dy: float, shear_modulus: fl
     [-(mx-1), mx-1+extra_rows], ``extra_rows`` 0 or 1 (the row of the rolling
     difference).
     """
-    _check_extra_rows(extra_rows)
+    extra_rows = _check_extra_rows(extra_rows)
     Lx, Ly, Rr = rect_integrals(mx, my, float(dx), float(dy))
     k = _tangential_rows(Lx, Ly, Rr, 2 * mx - 1 + extra_rows, 1.0 / (np.pi * shear_modulus),
                          float(poisson_ratio))

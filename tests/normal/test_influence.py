@@ -150,3 +150,7 @@ def test_the_kernels_share_the_element_integrals_by_the_sum_rule():
     from railcontact.core.errors import InputError
     with pytest.raises(InputError, match="extra_rows"):
         normal_kernel(mx, my, dx, dy, MAT.contact_modulus, extra_rows=2)
+    with pytest.raises(InputError, match="extra_rows = 1.0: expected the integer"):
+        tangential_kernels(mx, my, dx, dy, MAT.shear_modulus, MAT.nu, extra_rows=1.0)
+    assert np.array_equal(normal_kernel(mx, my, dx, dy, MAT.contact_modulus,
+                                        extra_rows=np.int64(1)), A)
