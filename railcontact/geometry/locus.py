@@ -151,6 +151,7 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     n = eta.size
     theta, P, yr, gap, slope = _locus_arrays(n)
     k = -1                      # rail interval of the previous point (the search starts there)
+    nr = rb.size - 1
     fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
     s = 0.0
     s1 = 0.0                    # the slopes at the last two points
@@ -173,7 +174,15 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
             px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
             py = py_new
             pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
-            zr, s, k = ppoly_at(py - y_off, rb, rc, k)
+            # ppoly_at(py - y_off, rb, rc, k), written out where the previous
+            # point's piece k holds the point (module docstring)
+            xr = py - y_off
+            if 0 <= k < nr and rb[k] <= xr and (xr < rb[k + 1] or (k == nr - 1 and xr <= rb[nr])):
+                q = xr - rb[k]
+                zr = ((rc[0, k] * q + rc[1, k]) * q + rc[2, k]) * q + rc[3, k]
+                s = (3.0 * rc[0, k] * q + 2.0 * rc[1, k]) * q + rc[2, k]
+            else:
+                zr, s, k = ppoly_at(xr, rb, rc, k)
             if s != s:
                 s = 0.0
             if fixed:
