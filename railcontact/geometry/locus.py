@@ -109,6 +109,7 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     h = math.sqrt(R[0, 0] * R[0, 0] + R[0, 2] * R[0, 2])
     phase = math.atan2(R[0, 2], R[0, 0])
     k = -1
+    nr = rb.size - 1
     for i in range(n):
         c = min(max(wslope[i] * R[0, 1] / h, -1.0), 1.0)
         th = math.asin(c) - phase
@@ -123,7 +124,15 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
         P[2, i] = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
         theta[i] = th
         yr[i] = P[1, i] - y_off
-        zr, s, k = ppoly_at(yr[i], rb, rc, k)
+        # ppoly_at(yr[i], rb, rc, k), written out where the previous point's
+        # piece k holds the point (module docstring)
+        xr = yr[i]
+        if 0 <= k < nr and rb[k] <= xr and (xr < rb[k + 1] or (k == nr - 1 and xr <= rb[nr])):
+            q = xr - rb[k]
+            zr = ((rc[0, k] * q + rc[1, k]) * q + rc[2, k]) * q + rc[3, k]
+            s = (3.0 * rc[0, k] * q + 2.0 * rc[1, k]) * q + rc[2, k]
+        else:
+            zr, s, k = ppoly_at(xr, rb, rc, k)
         gap[i] = zr - P[2, i] if zr == zr else np.inf
         slope[i] = s if s == s else 0.0
     return theta, P, yr, gap, slope
