@@ -419,10 +419,18 @@ def strip_spin(rail, spin, y, out):
     sign, yref, cosa, delta, phi, dphi = spin
     cdl, sdl = math.cos(delta), math.sin(delta)
     k = -1
+    rb, rc = rail.breaks, rail.coefs
+    nr = rb.size - 1
     for j in range(y.size):
         # local angle sign * atan(s) with s the rail's slope: D = that - delta, and
-        # cos D, sin D without the angles (1 / sqrt(1 + s^2) = cos(atan s))
-        _, sl, k = ppoly_at(yref + sign * y[j] * cosa, rail.breaks, rail.coefs, k)
+        # cos D, sin D without the angles (1 / sqrt(1 + s^2) = cos(atan s)); the
+        # slope ppoly_at(xr, rb, rc, k)[1], written out where the piece k holds xr
+        xr = yref + sign * y[j] * cosa
+        if 0 <= k < nr and rb[k] <= xr and (xr < rb[k + 1] or (k == nr - 1 and xr <= rb[nr])):
+            q = xr - rb[k]
+            sl = (3.0 * rc[0, k] * q + 2.0 * rc[1, k]) * q + rc[2, k]
+        else:
+            _, sl, k = ppoly_at(xr, rb, rc, k)
         if math.isfinite(sl):
             s = sign * sl
             c = 1.0 / math.sqrt(1.0 + s * s)
