@@ -184,3 +184,23 @@ def test_locus_kernel_is_its_samples_computed_one_at_a_time(rule, yaw):
         for a, w, b in zip(alone, whole, backwards):
             assert np.array_equal(a[..., 0], w[..., i], equal_nan=True)
             assert np.array_equal(a[..., 0], b[..., eta.size - 1 - i], equal_nan=True)
+
+
+@pytest.mark.parametrize("rule, yaw", [("lowest", 0.0), ("lowest", 6e-3), ("contact", 6e-3)])
+def test_locus_gaps_are_the_locus_kernels_gaps(rule, yaw):
+    """The minimum-gap searches' kernel (``_locus_gaps``: the lowest points without
+    their angle theta) gives the gaps of the locus kernel bit for bit, over every
+    sample of the wheel (on and off the rail)."""
+    from railcontact.geometry.locus import (_locus_gaps, _locus_kernel, _wheel_samples,
+                                            _wheel_slopes)
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    wheel, rail = ws.wheel("right"), tr.rail("right")
+    _, _, eta, rho = _wheel_samples(wheel, 2.5e-5, ws.wheel_offset, ws.nominal_radius)
+    slopes = _wheel_slopes(wheel, 2.5e-5) if rule == "contact" else None
+    args = (eta, rho, slopes, rotation(yaw, 1e-3),
+            np.array([0.0, 4e-3, -ws.nominal_radius - 1e-4]), tr.rail_offset("right"),
+            rail._breaks, rail._coefs)
+    gaps = _locus_gaps(*args)
+    full = _locus_kernel(*args)[3]
+    assert np.isfinite(full).sum() > 1000 and np.isinf(full).any()
+    assert np.array_equal(gaps, full)
