@@ -23,6 +23,12 @@ and its x on the wheel is kept within half the radius (CONTACT's clipping of
 near-vertical sections).  Both loci meet where wheel and rail touch; they differ
 in the interpenetration around it, most with yaw on the flange, where the
 lowest points of neighbouring circles fall far apart along x.
+
+The kernels walk the wheel's samples in order and look the rail profile up in
+the previous sample's piece, written out in their loops where it holds the
+point, else through ``ppoly_at`` (a compiled call that takes arrays and is not
+inlined costs atomic reference counts of every array, more than the lookup; the
+piece holding a point is unique, so the guess moves no result).
 """
 
 from __future__ import annotations
@@ -143,9 +149,9 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
     each wheel circle's lowest point above the rail, or CONTACT's locus where the
     wheel slopes ``wslope`` are given (one per sample; None: the lowest points).
-    The one locus kernel of the package: the Python-orchestrated search
-    (:func:`compute_locus`, :func:`min_gap`) and the compiled pass
-    (:mod:`railcontact.geometry.wheel_pass`) both call it.
+    The one locus kernel of the package (its gaps alone: :func:`_locus_gaps`):
+    the Python-orchestrated search (:func:`compute_locus`, :func:`min_gap`) and
+    the compiled pass (:mod:`railcontact.geometry.wheel_pass`) both call it.
 
     For the lowest points the rail slope s starts extrapolated from the last two
     points' (25 um apart), and the iteration on it ends, without another
