@@ -292,7 +292,9 @@ def report(t, summary, counters, unit, n, offset=0):
             f"(median {np.median(dfn) * 100:.5f} %), sum F_x within "
             f"{_top(dfx[tread]) * 100:.3f} % of mu Q below 6.2 mm shift and "
             f"{_top(dfx[~tread]) * 100:.3f} % in flange contact (median "
-            f"{np.median(dfx) * 100:.4f} %), sum F_y within {dfy.max() * 100:.3f} % of mu Q")
+            f"{np.median(dfx) * 100:.4f} %), sum F_y within {dfy.max() * 100:.3f} % of mu Q; "
+            f"sums of F_n, F_x, F_y equal bit for bit in "
+            f"{int(np.sum(np.all(a == b, axis=1)))} of {len(a)} cases")
     for (m, w), c in counters.items():
         total = t[(m, w)].sum()
         out("")

@@ -133,7 +133,7 @@ def sane_gap(h: np.ndarray) -> np.ndarray:
 
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr, k=-1):
     """Distance along n from the tangent-plane point C + ysp t to the rail surface
     (the rail is straight along x, so x does not enter): Newton on
@@ -141,8 +141,18 @@ def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr, k=-1):
     profile lookup at interval ``k``.  Returns the distance and the interval."""
     p1 = C[1] + ysp * t[1]
     p2 = C[2] + ysp * t[2]
+    nr = rb.size - 1
     for _ in range(NEWTON_STEPS):
-        zr, dzr, k = ppoly_at(p1 + tr * n[1] - y_off, rb, rc, k)
+        # ppoly_at(xr, rb, rc, k), written out where the piece k holds xr (a
+        # compiled call that takes arrays and is not inlined costs atomic reference
+        # counts, more than the lookup)
+        xr = p1 + tr * n[1] - y_off
+        if 0 <= k < nr and rb[k] <= xr and (xr < rb[k + 1] or (k == nr - 1 and xr <= rb[nr])):
+            q = xr - rb[k]
+            zr = ((rc[0, k] * q + rc[1, k]) * q + rc[2, k]) * q + rc[3, k]
+            dzr = (3.0 * rc[0, k] * q + 2.0 * rc[1, k]) * q + rc[2, k]
+        else:
+            zr, dzr, k = ppoly_at(xr, rb, rc, k)
         step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
         tr -= step
         if not abs(step) > NEWTON_TOL:
@@ -151,7 +161,7 @@ def _rail_distance(ysp, C, t, n, y_off, rb, rc, tr, k=-1):
 
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _wheel_distance(xp, ysp, frame, wheel, tw, k=-1):
     """Distance along n from the tangent-plane point C + xp (1, 0, 0) + ysp t to
     the wheel surface (radius r0 + z_w(eta - e) in wheelset axes; ``frame`` a
@@ -173,15 +183,23 @@ def _wheel_distance(xp, ysp, frame, wheel, tw, k=-1):
 
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _wheel_newton(l0, l1, l2, nl0, nl1, nl2, e, r0, wb, wc, tw, k):
     """:func:`_wheel_distance` from the point l and the direction nl in wheelset
     axes (the point's projection along n onto the wheel, by Newton)."""
+    nw = wb.size - 1
     for _ in range(NEWTON_STEPS):
         a0 = l0 + tw * nl0
         a2 = l2 + tw * nl2
         rho = math.sqrt(a0 * a0 + a2 * a2)
-        zw, dzw, k = ppoly_at(l1 + tw * nl1 - e, wb, wc, k)
+        # ppoly_at(xi, wb, wc, k), written out where the piece k holds xi
+        xi = l1 + tw * nl1 - e
+        if 0 <= k < nw and wb[k] <= xi and (xi < wb[k + 1] or (k == nw - 1 and xi <= wb[nw])):
+            q = xi - wb[k]
+            zw = ((wc[0, k] * q + wc[1, k]) * q + wc[2, k]) * q + wc[3, k]
+            dzw = (3.0 * wc[0, k] * q + 2.0 * wc[1, k]) * q + wc[2, k]
+        else:
+            zw, dzw, k = ppoly_at(xi, wb, wc, k)
         step = (rho - (r0 + zw)) / ((a0 * nl0 + a2 * nl2) / rho - dzw * nl1)
         tw -= step
         if not abs(step) > NEWTON_TOL:
@@ -401,10 +419,18 @@ def strip_spin(rail, spin, y, out):
     sign, yref, cosa, delta, phi, dphi = spin
     cdl, sdl = math.cos(delta), math.sin(delta)
     k = -1
+    rb, rc = rail.breaks, rail.coefs
+    nr = rb.size - 1
     for j in range(y.size):
         # local angle sign * atan(s) with s the rail's slope: D = that - delta, and
-        # cos D, sin D without the angles (1 / sqrt(1 + s^2) = cos(atan s))
-        _, sl, k = ppoly_at(yref + sign * y[j] * cosa, rail.breaks, rail.coefs, k)
+        # cos D, sin D without the angles (1 / sqrt(1 + s^2) = cos(atan s)); the
+        # slope ppoly_at(xr, rb, rc, k)[1], written out where the piece k holds xr
+        xr = yref + sign * y[j] * cosa
+        if 0 <= k < nr and rb[k] <= xr and (xr < rb[k + 1] or (k == nr - 1 and xr <= rb[nr])):
+            q = xr - rb[k]
+            sl = (3.0 * rc[0, k] * q + 2.0 * rc[1, k]) * q + rc[2, k]
+        else:
+            _, sl, k = ppoly_at(xr, rb, rc, k)
         if math.isfinite(sl):
             s = sign * sl
             c = 1.0 / math.sqrt(1.0 + s * s)

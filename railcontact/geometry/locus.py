@@ -23,6 +23,12 @@ and its x on the wheel is kept within half the radius (CONTACT's clipping of
 near-vertical sections).  Both loci meet where wheel and rail touch; they differ
 in the interpenetration around it, most with yaw on the flange, where the
 lowest points of neighbouring circles fall far apart along x.
+
+The kernels walk the wheel's samples in order and look the rail profile up in
+the previous sample's piece, written out in their loops where it holds the
+point, else through ``ppoly_at`` (a compiled call that takes arrays and is not
+inlined costs atomic reference counts of every array, more than the lookup; the
+piece holding a point is unique, so the guess moves no result).
 """
 
 from __future__ import annotations
@@ -109,6 +115,7 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     h = math.sqrt(R[0, 0] * R[0, 0] + R[0, 2] * R[0, 2])
     phase = math.atan2(R[0, 2], R[0, 0])
     k = -1
+    nr = rb.size - 1
     for i in range(n):
         c = min(max(wslope[i] * R[0, 1] / h, -1.0), 1.0)
         th = math.asin(c) - phase
@@ -123,7 +130,15 @@ def _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
         P[2, i] = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
         theta[i] = th
         yr[i] = P[1, i] - y_off
-        zr, s, k = ppoly_at(yr[i], rb, rc, k)
+        # ppoly_at(yr[i], rb, rc, k), written out where the previous point's
+        # piece k holds the point (module docstring)
+        xr = yr[i]
+        if 0 <= k < nr and rb[k] <= xr and (xr < rb[k + 1] or (k == nr - 1 and xr <= rb[nr])):
+            q = xr - rb[k]
+            zr = ((rc[0, k] * q + rc[1, k]) * q + rc[2, k]) * q + rc[3, k]
+            s = (3.0 * rc[0, k] * q + 2.0 * rc[1, k]) * q + rc[2, k]
+        else:
+            zr, s, k = ppoly_at(xr, rb, rc, k)
         gap[i] = zr - P[2, i] if zr == zr else np.inf
         slope[i] = s if s == s else 0.0
     return theta, P, yr, gap, slope
@@ -134,9 +149,9 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     """Angle theta, wheel point, rail coordinate, vertical gap and rail slope:
     each wheel circle's lowest point above the rail, or CONTACT's locus where the
     wheel slopes ``wslope`` are given (one per sample; None: the lowest points).
-    The one locus kernel of the package: the Python-orchestrated search
-    (:func:`compute_locus`, :func:`min_gap`) and the compiled pass
-    (:mod:`railcontact.geometry.wheel_pass`) both call it.
+    The one locus kernel of the package (its gaps alone: :func:`_locus_gaps`):
+    the Python-orchestrated search (:func:`compute_locus`, :func:`min_gap`) and
+    the compiled pass (:mod:`railcontact.geometry.wheel_pass`) both call it.
 
     For the lowest points the rail slope s starts extrapolated from the last two
     points' (25 um apart), and the iteration on it ends, without another
@@ -148,9 +163,27 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     point."""
     if wslope is not None:
         return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)
+    return _lowest_points(eta, rho, R, O, y_off, rb, rc, True)
+
+
+@njit(cache=True, nogil=True)
+def _locus_gaps(eta, rho, wslope, R, O, y_off, rb, rc):
+    """The vertical gaps of :func:`_locus_kernel`, bit for bit, for the searches
+    that read no other (the minimum gaps): the lowest points' angle theta is not
+    computed (``math.atan``, some 5 of 41 ns a sample)."""
+    if wslope is not None:
+        return _contact_locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc)[3]
+    return _lowest_points(eta, rho, R, O, y_off, rb, rc, False)[3]
+
+
+@njit(cache=True, nogil=True, inline="always")
+def _lowest_points(eta, rho, R, O, y_off, rb, rc, angles):
+    """:func:`_locus_kernel`'s lowest points; theta where ``angles`` (a constant
+    of its callers, into which it is inlined), else left unset."""
     n = eta.size
     theta, P, yr, gap, slope = _locus_arrays(n)
     k = -1                      # rail interval of the previous point (the search starts there)
+    nr = rb.size - 1
     fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
     s = 0.0
     s1 = 0.0                    # the slopes at the last two points
@@ -173,12 +206,21 @@ def _locus_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
             px = O[0] + eta[i] * R[0, 1] + rho[i] * (st * R[0, 0] + ct * R[0, 2])
             py = py_new
             pz = O[2] + eta[i] * R[2, 1] + rho[i] * (st * R[2, 0] + ct * R[2, 2])
-            zr, s, k = ppoly_at(py - y_off, rb, rc, k)
+            # ppoly_at(py - y_off, rb, rc, k), written out where the previous
+            # point's piece k holds the point (module docstring)
+            xr = py - y_off
+            if 0 <= k < nr and rb[k] <= xr and (xr < rb[k + 1] or (k == nr - 1 and xr <= rb[nr])):
+                q = xr - rb[k]
+                zr = ((rc[0, k] * q + rc[1, k]) * q + rc[2, k]) * q + rc[3, k]
+                s = (3.0 * rc[0, k] * q + 2.0 * rc[1, k]) * q + rc[2, k]
+            else:
+                zr, s, k = ppoly_at(xr, rb, rc, k)
             if s != s:
                 s = 0.0
             if fixed:
                 break
-        theta[i] = math.atan(tn)
+        if angles:
+            theta[i] = math.atan(tn)
         P[0, i] = px
         P[1, i] = py
         P[2, i] = pz
@@ -203,8 +245,8 @@ def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
     [m] of the coarse minimum (``wslope`` as in :func:`_locus_kernel`)."""
     n = eta.size
     st = MIN_GAP_STRIDE
-    _, _, _, gc, _ = _locus_kernel(eta[::st], rho[::st], _slopes_part(wslope, 0, n, st), R, O,
-                                   y_off, rb, rc)
+    gc = _locus_gaps(eta[::st], rho[::st], _slopes_part(wslope, 0, n, st), R, O, y_off, rb,
+                     rc)
     gmin = np.inf
     for g in gc:
         if g < gmin:
@@ -214,8 +256,8 @@ def _min_gap_kernel(eta, rho, wslope, R, O, y_off, rb, rc):
         if gc[c] <= gmin + MIN_GAP_WINDOW:
             lo = max(st * c - st, 0)
             hi = min(st * c + st + 1, n)
-            _, _, _, gf, _ = _locus_kernel(eta[lo:hi], rho[lo:hi], _slopes_part(wslope, lo, hi, 1),
-                                           R, O, y_off, rb, rc)
+            gf = _locus_gaps(eta[lo:hi], rho[lo:hi], _slopes_part(wslope, lo, hi, 1), R, O,
+                             y_off, rb, rc)
             for g in gf:
                 if g < best:
                     best = g

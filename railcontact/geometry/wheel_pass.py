@@ -44,8 +44,8 @@ from numba import njit
 from ..profiles.profile import ppoly_at
 from .contact import ContactGeometry, WheelsetContact
 from .gap import DEEPEST_GAP, FD_STEP, GapEvaluator, PatchFrame, Spline, _gap_kernel
-from .locus import (LOCUS_STEP, _locus_kernel, _min_gap_kernel, _slopes_at, _slopes_for,
-                    _slopes_part, _wheel_samples, side_pose)
+from .locus import (LOCUS_STEP, _locus_gaps, _locus_kernel, _min_gap_kernel, _slopes_at,
+                    _slopes_for, _slopes_part, _wheel_samples, side_pose)
 from .track import rotation
 from .pose import REGION_MARGIN, ROLL_SLOPE, WINDOW_ROLL
 from .patch_curvature import (at_fraction, deepest_fraction, deepest_gap,  # noqa: F401
@@ -197,9 +197,9 @@ def _narrow_min_gap(prof, R, O, y_off, c0, c1):
     (doubled) while the coarse minimum lies at one of its ends (not the wheel's)."""
     n = prof.eta.size
     while True:
-        _, _, _, gc, _ = _locus_kernel(prof.eta[c0:c1:8], prof.rho[c0:c1:8],
-                                       _slopes_part(prof.ws, c0, c1, 8), R, O, y_off, prof.rb,
-                                       prof.rc)
+        gc = _locus_gaps(prof.eta[c0:c1:8], prof.rho[c0:c1:8],
+                         _slopes_part(prof.ws, c0, c1, 8), R, O, y_off, prof.rb,
+                         prof.rc)
         if gc.size == 0 or not math.isfinite(np.min(gc)):
             if c0 == 0 and c1 == n:
                 return np.inf
@@ -229,9 +229,9 @@ def side_min_gap(prof, pose, s, roll, memo):
     k = 2 + 6 * s
     if not memo[k + 4] == memo[k + 4]:
         n = prof.eta.size
-        _, _, _, gc, _ = _locus_kernel(prof.eta[::8], prof.rho[::8],
-                                       _slopes_part(prof.ws, 0, n, 8), R, O, y_off, prof.rb,
-                                       prof.rc)
+        gc = _locus_gaps(prof.eta[::8], prof.rho[::8],
+                         _slopes_part(prof.ws, 0, n, 8), R, O, y_off, prof.rb,
+                         prof.rc)
         g = np.min(gc)
         if not math.isfinite(g):
             return np.inf
@@ -435,9 +435,9 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
                 idx[c] = i1 - 1
                 c += 1
             idx = idx[:c]
-            _, _, _, gc, _ = _locus_kernel(prof.eta[idx], prof.rho[idx],
-                                           _slopes_at(prof.ws, idx), R, O,
-                                           y_off, prof.rb, prof.rc)
+            gc = _locus_gaps(prof.eta[idx], prof.rho[idx],
+                             _slopes_at(prof.ws, idx), R, O,
+                             y_off, prof.rb, prof.rc)
             cmin = np.min(gc)
             th, P, yr, gap, sl = _fill_blocks(prof, R, O, y_off, i0, i1, idx, gc,
                                               cmin + window + SPARSE_SLACK)
@@ -461,9 +461,9 @@ def side_locus(prof, pose, s, z, roll, window, memo, dense=True):
                 return i0, i1, th, P, yr, gap, sl, R, O, y_off
     stride = 8
     idx = np.arange(0, n, stride)
-    _, _, _, gc, _ = _locus_kernel(prof.eta[::stride], prof.rho[::stride],
-                                   _slopes_part(prof.ws, 0, n, stride), R, O, y_off, prof.rb,
-                                   prof.rc)
+    gc = _locus_gaps(prof.eta[::stride], prof.rho[::stride],
+                     _slopes_part(prof.ws, 0, n, stride), R, O, y_off, prof.rb,
+                     prof.rc)
     gmin = np.min(gc)
     first, last = -1, -1
     for j in range(gc.size):

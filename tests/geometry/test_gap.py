@@ -245,3 +245,62 @@ def test_grid_kernel_is_its_points_solved_one_at_a_time(yaw):
     both = sample_gap_lines(patches, x + 1e-3 * np.arange(m)[:, None], np.tile(y, (m, 1)))
     for k, p in enumerate(patches):
         assert np.array_equal(both[k], p.gap_function((x + k * 1e-3)[:, None], y[None, :]))
+
+
+def _ppoly_newton_rail(ysp, C, t, n, y_off, rb, rc, tr):
+    """:func:`_rail_distance`'s Newton in Python, every lookup through ``ppoly_at``
+    from no guess."""
+    from railcontact.geometry.gap import NEWTON_STEPS, NEWTON_TOL
+    from railcontact.profiles.profile import ppoly_at
+    p1, p2 = C[1] + ysp * t[1], C[2] + ysp * t[2]
+    for _ in range(NEWTON_STEPS):
+        zr, dzr, _ = ppoly_at(p1 + tr * n[1] - y_off, rb, rc, -1)
+        step = (zr - (p2 + tr * n[2])) / (dzr * n[1] - n[2])
+        tr -= step
+        if not abs(step) > NEWTON_TOL:
+            return tr
+    return math.nan
+
+
+def test_newton_lookups_written_out_are_ppoly_at_bit_for_bit(central):
+    """:func:`_rail_distance` and :func:`_wheel_newton` evaluate the profile in the
+    piece guessed where it holds the point, written out in their loops (else
+    ``ppoly_at``): across a patch of the central position, 1 m to either side
+    included (a miss: NaN), every guess of the piece (none, the first, the last,
+    the right one) gives the distance bit for bit that of Newton with every lookup
+    through ``ppoly_at`` from no guess, and the same piece."""
+    from railcontact.geometry.gap import NEWTON_STEPS, NEWTON_TOL
+    from railcontact.profiles.profile import ppoly_at
+    ev = central["right"].gap_function
+    f = ev.frame
+    C, t, n, y_off, Rt, O, e, r0 = f[0:3], f[3:6], f[6:9], f[9], f[10:19].reshape(3, 3), \
+        f[19:22], f[22], f[23]
+    nl = Rt @ n
+    rb, rc, wb, wc = ev.rail._breaks, ev.rail._coefs, ev.wheel._breaks, ev.wheel._coefs
+    found = 0
+    for ys in list(np.linspace(-8e-3, 8e-3, 41)) + [-1.0, 1.0]:
+        ref = _ppoly_newton_rail(ys, C, t, n, y_off, rb, rc, 0.0)
+        pieces = set()
+        for k in (-1, 0, rb.size - 2, 10 ** 6):
+            tr, kr = _rail_distance(ys, C, t, n, y_off, rb, rc, 0.0, k)
+            assert tr == ref or (math.isnan(tr) and math.isnan(ref))
+            pieces.add(kr if math.isfinite(tr) else -1)
+        assert len(pieces) == 1
+        found += math.isfinite(ref)
+        # the wheel's distance at x = 3 mm, every lookup through ppoly_at
+        d = np.array([C[0] + 3e-3 - O[0], C[1] + ys * t[1] - O[1], C[2] + ys * t[2] - O[2]])
+        l0, l1, l2 = Rt @ d
+        tw, ref_w = 0.0, math.nan
+        for _ in range(NEWTON_STEPS):
+            a0, a2 = l0 + tw * nl[0], l2 + tw * nl[2]
+            rho = math.sqrt(a0 * a0 + a2 * a2)
+            zw, dzw, _ = ppoly_at(l1 + tw * nl[1] - e, wb, wc, -1)
+            step = (rho - (r0 + zw)) / ((a0 * nl[0] + a2 * nl[2]) / rho - dzw * nl[1])
+            tw -= step
+            if not abs(step) > NEWTON_TOL:
+                ref_w = tw
+                break
+        for k in (-1, 0, wb.size - 2, 10 ** 6):
+            w, _ = _wheel_newton(l0, l1, l2, nl[0], nl[1], nl[2], e, r0, wb, wc, 0.0, k)
+            assert w == ref_w or (math.isnan(w) and math.isnan(ref_w))
+    assert found >= 41

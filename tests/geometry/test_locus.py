@@ -148,3 +148,59 @@ def test_contact_locus_normal_is_perpendicular_to_the_rolling_direction():
     a = compute_locus(low, tr, "right", 3e-3, z, 1e-3, 0.0)
     b = compute_locus(con, tr, "right", 3e-3, z, 1e-3, 0.0)
     assert np.array_equal(a.gap, b.gap) and np.array_equal(a.point, b.point)
+
+
+@pytest.mark.parametrize("rule, yaw", [("lowest", 0.0), ("contact", 0.0), ("contact", 6e-3)])
+def test_locus_kernel_is_its_samples_computed_one_at_a_time(rule, yaw):
+    """The locus kernels look the rail profile up in the previous sample's piece,
+    written out in their loops, and call ``ppoly_at`` only where that piece does
+    not hold the point: where each sample's locus does not depend on its
+    neighbours' (the lowest points without yaw, CONTACT's locus always), the
+    kernel over 1600 samples of the wheel's tread and flange gives every sample
+    bit for bit its locus computed alone (one sample: the lookup always through
+    ``ppoly_at``), the sample order reversed too."""
+    from railcontact.geometry.locus import _locus_kernel, _wheel_samples, _wheel_slopes
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    wheel, rail = ws.wheel("right"), tr.rail("right")
+    _, _, eta, rho = _wheel_samples(wheel, 2.5e-5, ws.wheel_offset, ws.nominal_radius)
+    sl = slice(eta.size // 2 - 800, eta.size // 2 + 800)
+    eta, rho = np.ascontiguousarray(eta[sl]), np.ascontiguousarray(rho[sl])
+    slopes = (np.ascontiguousarray(_wheel_slopes(wheel, 2.5e-5)[sl]) if rule == "contact"
+              else None)
+    R = rotation(yaw, 1e-3)
+    O = np.array([0.0, 4e-3, -ws.nominal_radius - 1e-4])
+    y_off = tr.rail_offset("right")
+
+    def kernel(i):
+        return _locus_kernel(eta[i], rho[i], None if slopes is None else slopes[i], R, O,
+                             y_off, rail._breaks, rail._coefs)
+
+    whole = kernel(slice(None))
+    backwards = kernel(slice(None, None, -1))
+    assert np.isfinite(whole[3]).sum() > 1000                   # over the rail
+    assert np.unique(np.searchsorted(rail._breaks, whole[2][np.isfinite(whole[2])])).size > 20
+    for i in range(0, eta.size, 7):
+        alone = kernel(slice(i, i + 1))
+        for a, w, b in zip(alone, whole, backwards):
+            assert np.array_equal(a[..., 0], w[..., i], equal_nan=True)
+            assert np.array_equal(a[..., 0], b[..., eta.size - 1 - i], equal_nan=True)
+
+
+@pytest.mark.parametrize("rule, yaw", [("lowest", 0.0), ("lowest", 6e-3), ("contact", 6e-3)])
+def test_locus_gaps_are_the_locus_kernels_gaps(rule, yaw):
+    """The minimum-gap searches' kernel (``_locus_gaps``: the lowest points without
+    their angle theta) gives the gaps of the locus kernel bit for bit, over every
+    sample of the wheel (on and off the rail)."""
+    from railcontact.geometry.locus import (_locus_gaps, _locus_kernel, _wheel_samples,
+                                            _wheel_slopes)
+    ws, tr = Wheelset(s1002()), Track(rail_profile("60E1", math.atan(1 / 40)))
+    wheel, rail = ws.wheel("right"), tr.rail("right")
+    _, _, eta, rho = _wheel_samples(wheel, 2.5e-5, ws.wheel_offset, ws.nominal_radius)
+    slopes = _wheel_slopes(wheel, 2.5e-5) if rule == "contact" else None
+    args = (eta, rho, slopes, rotation(yaw, 1e-3),
+            np.array([0.0, 4e-3, -ws.nominal_radius - 1e-4]), tr.rail_offset("right"),
+            rail._breaks, rail._coefs)
+    gaps = _locus_gaps(*args)
+    full = _locus_kernel(*args)[3]
+    assert np.isfinite(full).sum() > 1000 and np.isinf(full).any()
+    assert np.array_equal(gaps, full)
