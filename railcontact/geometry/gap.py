@@ -262,7 +262,8 @@ def _gap_lines_kernel(x, ys, F, rb, rc, wb, wc):
     compiled call that takes arrays and is not inlined costs atomic reference
     counts, more than the Newton step itself.  Each point's start, its steps and
     its profile piece are those of :func:`_wheel_newton` (the piece holding a
-    point is unique: the interval a lookup starts from moves no result).  ``LINES_TOGETHER`` lines are walked side by side, their
+    point is unique: the interval a lookup starts from moves no result).
+    ``LINES_TOGETHER`` lines are walked side by side, their
     points i one after the other: a start along a line waits for the point
     before it, and the lines' solves are independent."""
     nx = x.shape[1]
