@@ -447,9 +447,16 @@ def main(n_shift=250, strips_only=False):
 
 
 if __name__ == "__main__":
-    args = [a for a in sys.argv[1:] if a != "--strips"]
+    import argparse
+    ap = argparse.ArgumentParser(description="Whole wheel-rail cases in the compiled "
+                                 "pass; run without arguments it writes compiled_case.md")
+    ap.add_argument("shifts", nargs="?", type=int, default=250,
+                    help="lateral shifts of the sweep per yaw (250: the 1000-case sweep)")
+    ap.add_argument("--strips", action="store_true",
+                    help="the strip models' table alone, printed")
+    args = ap.parse_args()
     load0 = os.getloadavg()[1]
-    report = main(int(args[0]) if args else 250, "--strips" in sys.argv)
+    report = main(args.shifts, args.strips)
     if len(sys.argv) <= 1:
         (HERE / "compiled_case.md").write_text(
             f"# Whole cases in one compiled pass ({time.strftime('%Y-%m-%d')}, "
