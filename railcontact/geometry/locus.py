@@ -177,11 +177,17 @@ def _locus_gaps(eta, rho, wslope, R, O, y_off, rb, rc):
 
 
 @njit(cache=True, nogil=True, inline="always")
-def _lowest_points(eta, rho, R, O, y_off, rb, rc, angles):
-    """:func:`_locus_kernel`'s lowest points; theta where ``angles`` (a constant
-    of its callers, into which it is inlined), else left unset."""
+def _lowest_points(eta, rho, R, O, y_off, rb, rc, full):
+    """:func:`_locus_kernel`'s lowest points where ``full`` (a constant of its
+    callers, into which it is inlined), else their gaps alone (:func:`_locus_gaps`:
+    the other outputs empty, neither allocated nor stored, some 100 ns a call of
+    the roll search's many short ones)."""
     n = eta.size
-    theta, P, yr, gap, slope = _locus_arrays(n)
+    gap = np.empty(n)
+    if full:
+        theta, P, yr, _, slope = _locus_arrays(n)
+    else:
+        theta, P, yr, _, slope = _locus_arrays(0)
     k = -1                      # rail interval of the previous point (the search starts there)
     nr = rb.size - 1
     fixed = R[1, 0] == 0.0 and R[2, 0] == 0.0
@@ -219,14 +225,14 @@ def _lowest_points(eta, rho, R, O, y_off, rb, rc, angles):
                 s = 0.0
             if fixed:
                 break
-        if angles:
+        if full:
             theta[i] = math.atan(tn)
-        P[0, i] = px
-        P[1, i] = py
-        P[2, i] = pz
-        yr[i] = py - y_off
+            P[0, i] = px
+            P[1, i] = py
+            P[2, i] = pz
+            yr[i] = py - y_off
+            slope[i] = s
         gap[i] = zr - pz if zr == zr else np.inf
-        slope[i] = s
         s2, s1 = s1, s
     return theta, P, yr, gap, slope
 

@@ -191,7 +191,7 @@ def side_frame(pose, s, z, roll):
     return R, O, pose.y_off_left
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _narrow_min_gap(prof, R, O, y_off, c0, c1):
     """Minimum vertical gap over the wheel samples [c0, c1), the range widened
     (doubled) while the coarse minimum lies at one of its ends (not the wheel's)."""
@@ -219,7 +219,7 @@ def _narrow_min_gap(prof, R, O, y_off, c0, c1):
                            R, O, y_off, prof.rb, prof.rc)
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def side_min_gap(prof, pose, s, roll, memo):
     """Minimum vertical gap [m] of side s at roll (vertical position 0), around the
     last locus's minimum (``MIN_WINDOW``); without one in the memo, around the
@@ -266,7 +266,7 @@ def illinois_update(x, f, a, fa, b, fb, side):
     return a, fa, x, f, 1
 
 
-@njit(cache=True, nogil=True)
+@njit(cache=True, nogil=True, inline="always")
 def _roll_residual(prof, pose, targets, roll, memo):
     memo[M_GAPS] += 1.0
     gl = side_min_gap(prof, pose, 0, roll, memo)
