@@ -55,12 +55,18 @@ def inside_bounds(h, foreign):
 
 
 
+@njit(cache=True, nogil=True)
+def _zero_between(s0, s1, g0, g1):
+    """Where g crosses zero between the samples s0 (g0) and s1 (g1), linearly."""
+    return s0 + (s1 - s0) * g0 / (g0 - g1)
+
+
+
 def crossings(s, g, i0, i1):
     """Where g (negative from index i0 to i1, positive just outside) crosses zero on
     either side, linearly interpolated between the samples s."""
-    lo = s[i0 - 1] + (s[i0] - s[i0 - 1]) * g[i0 - 1] / (g[i0 - 1] - g[i0])
-    hi = s[i1] + (s[i1 + 1] - s[i1]) * g[i1] / (g[i1] - g[i1 + 1])
-    return lo, hi
+    return (_zero_between(s[i0 - 1], s[i0], g[i0 - 1], g[i0]),
+            _zero_between(s[i1], s[i1 + 1], g[i1], g[i1 + 1]))
 
 
 
@@ -87,15 +93,12 @@ def region_ends(xs, ys, h, i0, i1, j0, j1):
     lines): where the smallest gap along the other axis crosses zero,
     :func:`crossings` of ``h.min(axis=1)`` and ``h.min(axis=0)``, those minima
     taken on the four rows and columns the crossings read."""
-    g0, g1 = _row_min(h, i0 - 1, True), _row_min(h, i0, True)
-    lo_x = xs[i0 - 1] + (xs[i0] - xs[i0 - 1]) * g0 / (g0 - g1)
-    g0, g1 = _row_min(h, i1, True), _row_min(h, i1 + 1, True)
-    hi_x = xs[i1] + (xs[i1 + 1] - xs[i1]) * g0 / (g0 - g1)
-    g0, g1 = _row_min(h, j0 - 1, False), _row_min(h, j0, False)
-    lo_y = ys[j0 - 1] + (ys[j0] - ys[j0 - 1]) * g0 / (g0 - g1)
-    g0, g1 = _row_min(h, j1, False), _row_min(h, j1 + 1, False)
-    hi_y = ys[j1] + (ys[j1 + 1] - ys[j1]) * g0 / (g0 - g1)
-    return lo_x, hi_x, lo_y, hi_y
+    return (_zero_between(xs[i0 - 1], xs[i0], _row_min(h, i0 - 1, True), _row_min(h, i0, True)),
+            _zero_between(xs[i1], xs[i1 + 1], _row_min(h, i1, True), _row_min(h, i1 + 1, True)),
+            _zero_between(ys[j0 - 1], ys[j0], _row_min(h, j0 - 1, False),
+                          _row_min(h, j0, False)),
+            _zero_between(ys[j1], ys[j1 + 1], _row_min(h, j1, False),
+                          _row_min(h, j1 + 1, False)))
 
 
 
